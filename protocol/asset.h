@@ -1,0 +1,88 @@
+/* The baked species asset: everything a client needs to draw and move one species of
+ * tree, and everything the server needs to simulate it. One versioned binary file per
+ * species, little-endian, fixed-width fields, checksummed; ASSET.md has the byte
+ * layout. This module turns bytes into an asset and back; it does no file I/O. */
+#ifndef GALE_ASSET_H
+#define GALE_ASSET_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "err.h"
+
+#define ASSET_VERSION 1
+#define ASSET_MAX_LODS 4
+
+/* All arrays are owned by the asset and freed by asset_fini. Per-mode per-node arrays
+ * are laid out mode-major: x[(m * n_nodes + i) * 3 + k]. Tree frame: z up, root at the
+ * origin, metres. */
+typedef struct asset {
+    /* provenance */
+    char species[64];      /* species name, NUL-terminated */
+    uint64_t source_hash;  /* hash of what it was baked from (input bytes, modes, bake version) */
+    char *params_json;     /* owned: the parameters it was baked from, as JSON text */
+
+    /* rest skeleton */
+    uint32_t n_nodes;
+    int32_t *parent;       /* [n_nodes]; -1 for the root, else parent[i] < i */
+    float *rest;           /* [3 n_nodes] rest positions [m] */
+    float *radius;         /* [n_nodes] [m] */
+    float height_m;        /* max z of the rest skeleton */
+
+    /* modes (Diener 2008 sections 3-4) */
+    uint32_t n_modes;
+    float *omega;          /* [n_modes] natural angular frequency [rad/s], ascending */
+    float *gamma;          /* [n_modes] damping [1/s], γ_i = α + β ω_i² (eq. 9) */
+    float *wind_basis;     /* [n_modes][3] p_i: modal force f_i = |v| v·p_i, v in tree frame */
+    float *phi;            /* [n_modes][n_nodes][3] linear mode translation, mass-normalised */
+    float *phi_rot;        /* [n_modes][n_nodes][3] linear mode rotation [rad per unit q] */
+
+    /* strong-wind correction (section 5.2): u = Σ q̃ v + q̃² w, q̃ = a atan(b q) */
+    float *corr_v;         /* [n_modes][n_nodes][3] */
+    float *corr_w;         /* [n_modes][n_nodes][3] */
+    float *corr_a;         /* [n_modes] */
+    float *corr_b;         /* [n_modes] */
+
+    /* tube mesh of trunk and branches, skinned to the skeleton */
+    uint32_t n_verts;
+    float *mesh_pos;       /* [3 n_verts] rest position [m] */
+    float *mesh_normal;    /* [3 n_verts] unit */
+    uint32_t *mesh_bone;   /* [2 n_verts] the two nodes a vertex follows */
+    float *mesh_weight;    /* [n_verts] weight of mesh_bone[2v+1]; bone 2v gets 1 - w */
+    uint32_t n_indices;
+    uint32_t *mesh_index;  /* [n_indices] triangles, LOD 0 first */
+    uint32_t n_lods;       /* 1..ASSET_MAX_LODS, finest first */
+    uint32_t lod_first[ASSET_MAX_LODS]; /* first index of each LOD in mesh_index */
+    uint32_t lod_count[ASSET_MAX_LODS]; /* index count of each LOD */
+
+    /* leaves on terminal nodes */
+    uint32_t n_leaves;
+    uint32_t *leaf_node;   /* [n_leaves] node the leaf follows */
+    float *leaf_offset;    /* [3 n_leaves] from that node's rest position [m] */
+    float *leaf_normal;    /* [3 n_leaves] blade normal, unit */
+    float *leaf_size;      /* [n_leaves] blade length [m] */
+
+    /* look */
+    float bark_rgb[3];
+    float leaf_rgb[3];
+    uint32_t leaf_shape;   /* 0 broad leaf, 1 palm leaflet, 2 needle tuft */
+} asset;
+
+/* Encodes a into a new buffer (*out, malloc'd, caller frees) of *len bytes. */
+int asset_encode(const asset *a, uint8_t **out, size_t *len, gale_err *err);
+
+/* Decodes len bytes into *a (caller-owned struct; arrays owned by it, free with
+ * asset_fini). Truncated, corrupt, oversized or wrong-version input is rejected with
+ * a message naming the field and offset; *a is then left empty. `name` is used in
+ * messages (a file name or URL). */
+int asset_decode(const uint8_t *buf, size_t len, const char *name, asset *a, gale_err *err);
+
+/* Frees every array of *a and zeroes it. NULL is a no-op. */
+void asset_fini(asset *a);
+
+/* The C reference reconstruction (the GPU does the same): node positions
+ * out[3 n_nodes] = rest + Σ_i q̃_i v_i + q̃_i² w_i with q̃_i = a_i atan(b_i q_i), using
+ * the first n_modes_used modes of q. */
+void asset_reconstruct(const asset *a, const float *q, uint32_t n_modes_used, float *out);
+
+#endif

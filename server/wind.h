@@ -1,0 +1,83 @@
+/* The global wind field: incompressible, inviscid stable fluids on a 3D grid
+ * (Oliapuram & Kumar 2010 section 2; Stam 1999): semi-Lagrangian advection, forces,
+ * pressure projection to a stated divergence tolerance, free-slip ground and solid
+ * obstacle boxes, inflow borders with a log-law height profile. World frame: z up,
+ * metres, grid corner at desc.origin. */
+#ifndef GALE_WIND_H
+#define GALE_WIND_H
+
+#include <stdint.h>
+
+#include "err.h"
+
+typedef struct wind_grid wind_grid;
+
+/* An axis-aligned solid box (house, wall) in world coordinates [m]. */
+typedef struct wind_box {
+    float min[3];
+    float max[3];
+} wind_box;
+
+typedef struct wind_desc {
+    int nx, ny, nz;            /* cells; 0 → 256 × 256 × 16 */
+    float cell_m;              /* cell edge [m]; 0 → 2 */
+    float origin[3];           /* world position of the grid's low corner [m] */
+    float div_reduction;       /* required ‖div‖ before / after projection; 0 → 100 */
+    int max_iterations;        /* pressure solver budget per step; 0 → solver default */
+    int threads;               /* 0 → 2 */
+    uint64_t seed;             /* turbulence jitter; same seed, same field */
+    const wind_box *obstacles; /* borrowed for the create call only */
+    int n_obstacles;
+} wind_desc;
+
+/* Inflow at the open borders: the mean wind far upstream, with a log-law height
+ * profile U(z) = U10 ln(z/z0) / ln(10/z0), z clamped below at z_min. */
+typedef struct wind_inflow {
+    float dir_rad;    /* direction the wind blows TOWARD, from +x counter-clockwise */
+    float u10_ms;     /* mean speed at 10 m [m/s] */
+    float z0_m;       /* roughness length; 0 → 0.3 (suburban, EN 1991-1-4 terrain III) */
+    float zmin_m;     /* 0 → 5 */
+    float gust[3];    /* gust velocity added uniformly this step [m/s] (from the gust process) */
+} wind_inflow;
+
+/* A Gaussian ball of force (the paper's trackball control). */
+typedef struct wind_ball {
+    float center[3];  /* [m] world */
+    float radius_m;   /* Gaussian σ */
+    float force[3];   /* acceleration at the centre [m/s²] */
+    float jitter_m;   /* random displacement of the centre each step (turbulence) */
+} wind_ball;
+
+typedef struct wind_step_stats {
+    double div_before;  /* L2 of divergence over fluid cells before projection */
+    double div_after;   /* after projection */
+    int iterations;     /* pressure solver iterations (V-cycles or CG steps) */
+    double ms;          /* wall time of the step */
+} wind_step_stats;
+
+/* Creates a wind grid at rest; NULL on failure with err filled. */
+wind_grid *wind_create(const wind_desc *d, gale_err *err);
+/* Frees the grid. NULL is a no-op. */
+void wind_destroy(wind_grid *w);
+/* The desc with every default resolved, as the grid uses it. */
+wind_desc wind_get_desc(const wind_grid *w);
+
+/* Sets the inflow used from the next step on. */
+void wind_set_inflow(wind_grid *w, const wind_inflow *in);
+/* Adds a force ball applied in the next step only. */
+void wind_add_ball(wind_grid *w, const wind_ball *b);
+/* Advances the field by dt_s; fills *st when not NULL. Fails only on a numerical
+ * breakdown (non-finite values), which the caller logs. */
+int wind_step(wind_grid *w, float dt_s, wind_step_stats *st);
+
+/* Trilinear wind velocity [m/s] at a world point; points outside the grid clamp to it. */
+void wind_sample(const wind_grid *w, const float p[3], float v[3]);
+/* The same for n points p[3n] into v[3n] (one per tree per tick). */
+void wind_sample_many(const wind_grid *w, int n, const float *p, float *v);
+
+/* Coarse copy for clients: the grid averaged over factor³ blocks (factor in z capped to
+ * nz), written as float [cz][cy][cx][3] into out (capacity floats). Returns the number of
+ * floats written and the coarse dims in dims[3], or a negative GALE_E_* if out is small. */
+int wind_coarse(const wind_grid *w, int factor, float *out, int capacity, int dims[3]);
+
+#endif
