@@ -1,0 +1,16 @@
+/* Drawable geometry of a baked tree: the tube mesh of trunk and branches with skin
+ * weights (Singh, section 2.1: vertex weighting) and coarser LODs, and the leaf slots on
+ * terminal nodes. */
+#ifndef GALE_MESH_H
+#define GALE_MESH_H
+
+#include "asset.h"
+#include "err.h"
+#include "skeleton.h"
+#include "species.h"
+
+/* Fills a's mesh_*, lod_*, leaf_* and look fields (bark_rgb, leaf_rgb, leaf_shape) from
+ * the rest skeleton and the species. The arrays become owned by a. */
+int mesh_build(const skeleton *s, const species *sp, asset *a, gale_err *err);
+
+#endif
