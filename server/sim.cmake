@@ -11,6 +11,8 @@ add_custom_command(OUTPUT ${GALE_SCENE_EMBED}
 
 add_library(gale_sim STATIC
     ${CMAKE_CURRENT_SOURCE_DIR}/scene.c
+    ${CMAKE_CURRENT_SOURCE_DIR}/leaf.c
+    ${CMAKE_CURRENT_SOURCE_DIR}/sendq.c
     ${GALE_SCENE_EMBED})
 target_include_directories(gale_sim PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
 target_link_libraries(gale_sim PUBLIC gale_common gale_protocol PkgConfig::LWS
