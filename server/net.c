@@ -15,20 +15,19 @@
 
 #include <libwebsockets.h>
 
+#include "ctl.h"
 #include "sendq.h"
+#include "wire.h"
 
 #define NET_PUB_MAX 16    /* published snapshots waiting for the service thread */
 #define NET_CTL_MAX 8     /* control replies queued per connection */
 #define NET_HTTP_CHUNK 16384
 #define NET_LOG_PER_S 20  /* rate limit of bad-input log lines */
-#define NET_CLOSE_TOO_SLOW 4008
-#define NET_CLOSE_FULL 1013 /* "try again later" */
 
 /* One queued control (text) message; data has LWS_PRE bytes of headroom. */
 typedef struct net_text {
-    uint8_t *data; /* owned unless shared */
+    uint8_t *data; /* owned */
     size_t len;
-    bool shared;   /* the server's scene description: not freed here */
 } net_text;
 
 /* Per-session data: one per WebSocket connection or HTTP transaction (lws allocates
@@ -44,8 +43,10 @@ typedef struct net_conn {
     sendq q;              /* net_snap*, one reference each */
     net_snap *cur;        /* snapshot being written, one reference */
     int cur_part;         /* 0 state, 1.. extras */
-    bool has_last;        /* last_tick is valid */
-    uint32_t last_tick;   /* tick of the last state message written */
+    uint32_t last_seq;    /* seq of the last state message written */
+    int chain;            /* 0: holds nothing usable; 1: holds last_seq (a keyframe);
+                             2: holds last_seq and last_seq - 1 */
+    bool resync;          /* the client asked for a keyframe */
     net_text ctl[NET_CTL_MAX];
     int ctl_head, ctl_n;
     uint8_t *rx;          /* owned [max_message + 1]: reassembly of fragmented messages */
@@ -78,8 +79,6 @@ struct net_server {
     int pub_n;
     atomic_ullong pool_exhausted;
     atomic_ullong pub_overflow;
-    /* the scene description, sent after each accepted hello */
-    net_text scene;
     /* rate limit of the bad-input log */
     time_t log_sec;
     int log_n;
@@ -137,7 +136,10 @@ static void snap_release_cb(void *item, void *ctx)
     snap_unref(item);
 }
 
-/* Asks that c be closed with code/reason at its next writeable callback. */
+static void conn_queue_owned(net_conn *c, uint8_t *b, size_t len);
+
+/* Asks that c be closed with code/reason at its next writeable callback, after an error
+ * message (ctl.h CTL_ERROR) that carries the same code and reason. */
 static void conn_close(net_server *s, net_conn *c, int code, const char *reason)
 {
     if (c->close_code) {
@@ -145,8 +147,19 @@ static void conn_close(net_server *s, net_conn *c, int code, const char *reason)
     }
     c->close_code = code;
     snprintf(c->close_reason, sizeof c->close_reason, "%s", reason);
-    if (code != LWS_CLOSE_STATUS_GOINGAWAY) {
-        conn_log(s, c, "closing (%d): %s", code, reason);
+    if (code != WIRE_CLOSE_GOING_AWAY) {
+        conn_log(s, c, "closing %d (%s): %s", code, wire_close_name(code), reason);
+    }
+    ctl_msg m = { .type = CTL_ERROR };
+    m.u.error.code = code;
+    snprintf(m.u.error.message, sizeof m.u.error.message, "%s", reason);
+    char buf[512];
+    size_t n = 0;
+    uint8_t *b;
+    if (c->ctl_n < NET_CTL_MAX && !ctl_encode_into(&m, buf, sizeof buf, &n, NULL) &&
+        (b = malloc(LWS_PRE + n))) {
+        memcpy(b + LWS_PRE, buf, n);
+        conn_queue_owned(c, b, n);
     }
     lws_callback_on_writable(c->wsi);
 }
@@ -157,12 +170,18 @@ static void bad_input(net_server *s, net_conn *c, int code, const char *reason)
     conn_close(s, c, code, reason);
 }
 
+static void conn_queue_owned(net_conn *c, uint8_t *b, size_t len)
+{
+    c->ctl[(c->ctl_head + c->ctl_n) % NET_CTL_MAX] = (net_text){ .data = b, .len = len };
+    c->ctl_n++;
+}
+
 /* Queues a text message (copied with LWS_PRE headroom). */
 static int conn_queue_text(net_server *s, net_conn *c, const char *text, size_t len)
 {
-    if (c->ctl_n >= NET_CTL_MAX) {
-        bad_input(s, c, LWS_CLOSE_STATUS_POLICY_VIOLATION,
-                  "control replies not read: too many requests in flight");
+    if (c->ctl_n >= NET_CTL_MAX - 1) {
+        /* one slot stays free for the error message a close sends */
+        bad_input(s, c, WIRE_CLOSE_FULL, "control replies not read: too many requests in flight");
         return -1;
     }
     uint8_t *b = malloc(LWS_PRE + len + 1);
@@ -171,21 +190,9 @@ static int conn_queue_text(net_server *s, net_conn *c, const char *text, size_t 
         return -1;
     }
     memcpy(b + LWS_PRE, text, len);
-    net_text *t = &c->ctl[(c->ctl_head + c->ctl_n) % NET_CTL_MAX];
-    *t = (net_text){ .data = b, .len = len, .shared = false };
-    c->ctl_n++;
+    conn_queue_owned(c, b, len);
     lws_callback_on_writable(c->wsi);
     return 0;
-}
-
-static void conn_queue_scene(net_server *s, net_conn *c)
-{
-    if (!s->scene.len || c->ctl_n >= NET_CTL_MAX) {
-        return;
-    }
-    c->ctl[(c->ctl_head + c->ctl_n) % NET_CTL_MAX] = s->scene;
-    c->ctl_n++;
-    lws_callback_on_writable(c->wsi);
 }
 
 static void conn_free(net_server *s, net_conn *c)
@@ -215,10 +222,7 @@ static void conn_free(net_server *s, net_conn *c)
     c->q.count = 0;
     sendq_fini(&c->q);
     for (int i = 0; i < c->ctl_n; i++) {
-        net_text *t = &c->ctl[(c->ctl_head + i) % NET_CTL_MAX];
-        if (!t->shared) {
-            free(t->data);
-        }
+        free(c->ctl[(c->ctl_head + i) % NET_CTL_MAX].data);
     }
     c->ctl_n = 0;
     free(c->rx);
@@ -390,7 +394,8 @@ static void deliver_published(net_server *s)
                 snprintf(why, sizeof why, "too slow: %u snapshots dropped in a row",
                          c->q.drop_streak);
                 atomic_fetch_add(&s->m.laggards_closed, 1);
-                conn_close(s, c, NET_CLOSE_TOO_SLOW, why);
+                sendq_clear(&c->q);
+                conn_close(s, c, WIRE_CLOSE_SLOW, why);
                 continue;
             }
             lws_callback_on_writable(c->wsi);
@@ -414,7 +419,7 @@ static int ws_write(net_server *s, net_conn *c, uint8_t *data, size_t len,
 
 static int ws_writeable(net_server *s, net_conn *c)
 {
-    if (c->close_code) {
+    if (c->close_code && !c->ctl_n) {
         lws_close_reason(c->wsi, (enum lws_close_status)c->close_code,
                          (unsigned char *)c->close_reason, strlen(c->close_reason));
         return -1;
@@ -426,13 +431,11 @@ static int ws_writeable(net_server *s, net_conn *c)
         c->ctl_head = (c->ctl_head + 1) % NET_CTL_MAX;
         c->ctl_n--;
         int rc = ws_write(s, c, t.data + LWS_PRE, t.len, LWS_WRITE_TEXT);
-        if (!t.shared) {
-            free(t.data);
-        }
+        free(t.data);
         if (rc) {
             return -1;
         }
-        if (c->ctl_n || c->q.count) {
+        if (c->ctl_n || c->q.count || c->close_code) {
             lws_callback_on_writable(c->wsi);
         }
         return 0;
@@ -447,13 +450,19 @@ static int ws_writeable(net_server *s, net_conn *c)
     net_snap *p = c->cur;
     int rc;
     if (c->cur_part == 0) {
-        if (p->delta_len && c->has_last && p->base_tick == c->last_tick) {
-            rc = ws_write(s, c, p->delta + LWS_PRE, p->delta_len, LWS_WRITE_BINARY);
+        bool next = !c->resync && c->chain > 0 && p->seq == c->last_seq + 1u;
+        if (next && c->chain >= 2 && p->delta2_len) {
+            rc = ws_write(s, c, p->delta2 + LWS_PRE, p->delta2_len, LWS_WRITE_BINARY);
+            c->chain = 2;
+        } else if (next && p->delta1_len) {
+            rc = ws_write(s, c, p->delta1 + LWS_PRE, p->delta1_len, LWS_WRITE_BINARY);
+            c->chain = 2;
         } else {
             rc = ws_write(s, c, p->key + LWS_PRE, p->key_len, LWS_WRITE_BINARY);
+            c->chain = 1;
         }
-        c->has_last = true;
-        c->last_tick = p->tick;
+        c->resync = false;
+        c->last_seq = p->seq;
         c->cur_part = 1;
     } else {
         int e = c->cur_part - 1;
@@ -483,14 +492,15 @@ static int ws_receive(net_server *s, net_conn *c, const void *in, size_t len)
         return 0; /* already on its way out: ignore what follows */
     }
     if (lws_frame_is_binary(c->wsi)) {
-        bad_input(s, c, LWS_CLOSE_STATUS_UNACCEPTABLE_OPCODE,
+        bad_input(s, c, WIRE_CLOSE_BINARY,
                   "binary message: only JSON text control messages are accepted");
         return 0;
     }
     if (c->rx_len + len > s->d.max_message) {
         char why[100];
-        snprintf(why, sizeof why, "message too large: limit %zu bytes", s->d.max_message);
-        bad_input(s, c, LWS_CLOSE_STATUS_MESSAGE_TOO_LARGE, why);
+        snprintf(why, sizeof why, "message too large: expected <= %zu bytes, got %zu+",
+                 s->d.max_message, c->rx_len + len);
+        bad_input(s, c, WIRE_CLOSE_TOO_BIG, why);
         return 0;
     }
     memcpy(c->rx + c->rx_len, in, len);
@@ -499,31 +509,27 @@ static int ws_receive(net_server *s, net_conn *c, const void *in, size_t len)
         return 0;
     }
     c->rx[c->rx_len] = 0;
-    char reply[1024];
-    reply[0] = 0;
-    int role = c->role;
-    int code = s->d.control(s->d.control_user, c->id, &role, (const char *)c->rx, c->rx_len,
-                            reply, sizeof reply);
+    char *reply = NULL, why[100];
+    size_t reply_len = 0;
+    why[0] = 0;
+    net_peer peer = { .id = c->id, .addr = c->peer, .role = c->role };
+    int code = s->d.control(s->d.control_user, &peer, (const char *)c->rx, c->rx_len, &reply,
+                            &reply_len, why, sizeof why);
     c->rx_len = 0;
-    if (code >= 1000) {
-        bad_input(s, c, code, reply);
+    if (code) {
+        free(reply);
+        bad_input(s, c, code, why[0] ? why : "rejected");
         return 0;
     }
-    if (role != c->role && role > NET_ROLE_NONE && role < NET_ROLE_COUNT) {
-        bool first = c->role == NET_ROLE_NONE;
+    if (peer.role != c->role && peer.role > NET_ROLE_NONE && peer.role < NET_ROLE_COUNT) {
         atomic_fetch_sub(&s->m.clients[c->role], 1);
-        atomic_fetch_add(&s->m.clients[role], 1);
-        c->role = role;
-        if (reply[0]) {
-            conn_queue_text(s, c, reply, strlen(reply));
-        }
-        if (first) {
-            conn_queue_scene(s, c);
-        }
-        return 0;
+        atomic_fetch_add(&s->m.clients[peer.role], 1);
+        c->role = peer.role;
     }
-    if (reply[0]) {
-        conn_queue_text(s, c, reply, strlen(reply));
+    c->resync = c->resync || peer.resync;
+    if (reply) {
+        conn_queue_text(s, c, reply, reply_len);
+        free(reply);
     }
     return 0;
 }
@@ -541,7 +547,7 @@ static int net_callback(struct lws *wsi, enum lws_callback_reasons reason, void 
         }
         if (atomic_load(&s->stop)) {
             for (net_conn *k = s->conns; k; k = k->next) {
-                conn_close(s, k, LWS_CLOSE_STATUS_GOINGAWAY, "server shutting down");
+                conn_close(s, k, WIRE_CLOSE_GOING_AWAY, "server shutting down");
             }
         }
         deliver_published(s);
@@ -585,9 +591,9 @@ static int net_callback(struct lws *wsi, enum lws_callback_reasons reason, void 
         atomic_fetch_add(&s->m.clients[NET_ROLE_NONE], 1);
         atomic_fetch_add(&s->m.connections_total, 1);
         if (atomic_load(&s->stop)) {
-            conn_close(s, c, LWS_CLOSE_STATUS_GOINGAWAY, "server shutting down");
+            conn_close(s, c, WIRE_CLOSE_GOING_AWAY, "server shutting down");
         } else if (s->n_conns > s->d.max_clients) {
-            conn_close(s, c, NET_CLOSE_FULL, "server full: try again later");
+            conn_close(s, c, WIRE_CLOSE_FULL, "server full: try again later");
         }
         return 0;
     }
@@ -637,7 +643,10 @@ net_server *net_create(const net_desc *desc, gale_err *err)
         s->d.lag_limit = 90;
     }
     if (!s->d.max_message) {
-        s->d.max_message = 16384;
+        s->d.max_message = CTL_MAX_CLIENT_BYTES;
+    }
+    if (!s->d.extra_cap) {
+        s->d.extra_cap = 65536;
     }
     pthread_mutex_init(&s->pub_lock, NULL);
     if (!s->d.control || !s->d.snap_cap) {
@@ -655,11 +664,13 @@ net_server *net_create(const net_desc *desc, gale_err *err)
     for (int i = 0; i < s->n_pool; i++) {
         net_snap *p = &s->pool[i];
         p->cap = s->d.snap_cap;
+        p->extra_cap = s->d.extra_cap;
         p->key = malloc(LWS_PRE + p->cap);
-        p->delta = malloc(LWS_PRE + p->cap);
-        bool ok = p->key && p->delta;
+        p->delta1 = malloc(LWS_PRE + p->cap);
+        p->delta2 = malloc(LWS_PRE + p->cap);
+        bool ok = p->key && p->delta1 && p->delta2;
         for (int e = 0; e < NET_SNAP_MAX_EXTRA; e++) {
-            p->extra[e] = malloc(LWS_PRE + p->cap);
+            p->extra[e] = malloc(LWS_PRE + p->extra_cap);
             ok = ok && p->extra[e];
         }
         if (!ok) {
@@ -667,16 +678,6 @@ net_server *net_create(const net_desc *desc, gale_err *err)
                       s->n_pool, p->cap);
             goto fail;
         }
-    }
-    if (s->d.scene_json_len) {
-        s->scene.data = malloc(LWS_PRE + s->d.scene_json_len);
-        if (!s->scene.data) {
-            gale_errf(err, GALE_E_NOMEM, "net_create: no memory for the scene description");
-            goto fail;
-        }
-        memcpy(s->scene.data + LWS_PRE, s->d.scene_json, s->d.scene_json_len);
-        s->scene.len = s->d.scene_json_len;
-        s->scene.shared = true;
     }
 
     s->protocols[0] = (struct lws_protocols){
@@ -721,13 +722,13 @@ void net_destroy(net_server *s)
     }
     for (int i = 0; s->pool && i < s->n_pool; i++) {
         free(s->pool[i].key);
-        free(s->pool[i].delta);
+        free(s->pool[i].delta1);
+        free(s->pool[i].delta2);
         for (int e = 0; e < NET_SNAP_MAX_EXTRA; e++) {
             free(s->pool[i].extra[e]);
         }
     }
     free(s->pool);
-    free(s->scene.data);
     pthread_mutex_destroy(&s->pub_lock);
     free(s);
 }
@@ -748,7 +749,7 @@ net_snap *net_snap_acquire(net_server *s)
         int zero = 0;
         if (atomic_compare_exchange_strong(&s->pool[i].refs, &zero, 1)) {
             net_snap *p = &s->pool[i];
-            p->key_len = p->delta_len = 0;
+            p->key_len = p->delta1_len = p->delta2_len = 0;
             for (int e = 0; e < NET_SNAP_MAX_EXTRA; e++) {
                 p->extra_len[e] = 0;
             }

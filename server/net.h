@@ -19,22 +19,26 @@ typedef struct net_server net_server;
 enum { NET_ROLE_NONE, NET_ROLE_VIEWER, NET_ROLE_KIOSK, NET_ROLE_WALL, NET_ROLE_LOAD,
        NET_ROLE_COUNT };
 
-/* One published snapshot: the binary messages of one snapshot tick. Every message is
- * stored after LWS_PRE bytes of headroom. The keyframe is sent to a connection that
- * has not received the snapshot the delta is based on (late joiners, and after drops);
- * the others get the delta. Extra messages (leaf seeds, coarse wind) follow. */
+/* One published snapshot: the binary messages of one snapshot (sequence number seq),
+ * each encoded once and shared by every connection; every buffer has LWS_PRE bytes of
+ * headroom. A connection that holds snapshots seq-1 and seq-2 gets delta2 (linear
+ * prediction from both), one that holds only seq-1 (it was a keyframe) gets delta1,
+ * any other (late joiner, after drops, after a resync request) the keyframe. Extra
+ * messages (leaf seeds, coarse wind) follow the state. */
 #define NET_SNAP_MAX_EXTRA 2
 typedef struct net_snap {
     atomic_int refs;        /* 0 = free in the pool */
-    uint32_t tick;          /* simulation tick of the state */
-    uint32_t base_tick;     /* tick the delta is relative to; meaningless if !delta_len */
-    size_t cap;             /* capacity of each buffer after LWS_PRE */
-    size_t key_len;         /* keyframe bytes */
-    size_t delta_len;       /* delta bytes, 0 = no delta (the keyframe goes to everyone) */
+    uint32_t seq;           /* snapshot sequence number (wire.h) */
+    size_t cap;             /* capacity of each state buffer after LWS_PRE */
+    size_t extra_cap;       /* capacity of each extra buffer after LWS_PRE */
+    size_t key_len;         /* keyframe bytes (required) */
+    size_t delta1_len;      /* delta against seq-1 only; 0 = none */
+    size_t delta2_len;      /* delta against seq-1 and seq-2; 0 = none */
     size_t extra_len[NET_SNAP_MAX_EXTRA]; /* 0 = absent */
     uint8_t *key;           /* owned [LWS_PRE + cap] */
-    uint8_t *delta;         /* owned [LWS_PRE + cap] */
-    uint8_t *extra[NET_SNAP_MAX_EXTRA]; /* owned [LWS_PRE + cap] */
+    uint8_t *delta1;        /* owned [LWS_PRE + cap] */
+    uint8_t *delta2;        /* owned [LWS_PRE + cap] */
+    uint8_t *extra[NET_SNAP_MAX_EXTRA]; /* owned [LWS_PRE + extra_cap] */
 } net_snap;
 
 /* A baked asset served at /assets/<hash>.gasset (bytes borrowed for the server's life). */
@@ -44,12 +48,20 @@ typedef struct net_asset {
     size_t len;
 } net_asset;
 
-/* What the server does with a client's control message, answered by the owner (srv_main)
- * on the lws thread. Return 0 to accept; a reply (NUL-terminated JSON text, copied) may be
- * written to reply[reply_cap]. Return a WebSocket close code (>= 1000) to close the
- * connection, with a short reason in reply. */
-typedef int (*net_control_fn)(void *user, uint32_t conn_id, int *role, const char *text,
-                              size_t len, char *reply, size_t reply_cap);
+/* A connection as the control handler sees it (and may change). */
+typedef struct net_peer {
+    uint32_t id;          /* connection id, for logs and welcome.client_id */
+    const char *addr;     /* peer address */
+    int role;             /* NET_ROLE_*; set it when a hello is accepted */
+    bool resync;          /* set to send a keyframe next */
+} net_peer;
+
+/* What the server does with a client's control (text) message, on the lws thread.
+ * Return 0 to accept; *reply may be set to a malloc'd text of *reply_len bytes that net
+ * sends and frees. Return a close code (enum wire_close) to close the connection, with
+ * the reason written to why[why_cap]. */
+typedef int (*net_control_fn)(void *user, net_peer *peer, const char *text, size_t len,
+                              char **reply, size_t *reply_len, char *why, size_t why_cap);
 
 typedef struct net_desc {
     int port;                 /* 0 → 8080; -1 → an ephemeral port (tests) */
@@ -57,16 +69,13 @@ typedef struct net_desc {
     int max_clients;          /* 0 → 2048 */
     int queue_frames;         /* per-connection snapshot queue; 0 → 8 */
     int lag_limit;            /* drops in a row before a laggard is closed; 0 → 90 (3 s at 30/s) */
-    size_t snap_cap;          /* bytes per snapshot message (after LWS_PRE); required */
-    size_t max_message;       /* largest control message accepted; 0 → 16384 */
+    size_t snap_cap;          /* bytes per state message (after LWS_PRE); required */
+    size_t extra_cap;         /* bytes per extra message; 0 → 65536 */
+    size_t max_message;       /* largest control message accepted; 0 → CTL_MAX_CLIENT_BYTES */
     const net_asset *assets;  /* borrowed for the server's life */
     int n_assets;
     net_control_fn control;   /* required */
     void *control_user;
-    /* Text sent to a viewer right after its hello is accepted (the scene description);
-     * borrowed for the server's life. */
-    const char *scene_json;
-    size_t scene_json_len;
 } net_desc;
 
 /* Counters, readable from any thread; the simulation thread writes the tick ones. */
