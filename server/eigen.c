@@ -112,7 +112,7 @@ static void start_vector(double *v, int n)
 static int solve_arpack(const fem_model *f, int nm, eigen_result *r, gale_err *err)
 {
     const int nd = f->n_dof;
-    int ncv = 2 * nm + 16;
+    int ncv = getenv("NCV") ? atoi(getenv("NCV")) : 2 * nm + 16;
     if (ncv > nd) {
         ncv = nd;
     }

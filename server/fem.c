@@ -290,3 +290,22 @@ void fem_dense(const fem_model *f, double *k, double *mass)
         }
     }
 }
+
+void fem_split_modes(const fem_model *f, const double *phi, int n_modes, double *trans,
+                     double *rot)
+{
+    const int n = f->n_nodes;
+    for (int m = 0; m < n_modes; m++) {
+        const double *x = phi + (size_t)m * f->n_dof;
+        double *t = trans + (size_t)m * 3 * n, *r = rot + (size_t)m * 3 * n;
+        for (int k = 0; k < 3; k++) {
+            t[k] = r[k] = 0.0;
+        }
+        for (int i = 1; i < n; i++) {
+            for (int k = 0; k < 3; k++) {
+                t[3 * i + k] = x[FEM_DOF(i) + k];
+                r[3 * i + k] = x[FEM_DOF(i) + 3 + k];
+            }
+        }
+    }
+}

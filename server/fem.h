@@ -55,6 +55,11 @@ void fem_fini(fem_model *f);
 void fem_mul_k(const fem_model *f, const double *x, double *y);
 void fem_mul_m(const fem_model *f, const double *x, double *y);
 
+/* Splits n_modes free vectors phi[n_modes][n_dof] into per-node translations
+ * trans[n_modes][n_nodes][3] and rotations rot[n_modes][n_nodes][3], the root rows zero. */
+void fem_split_modes(const fem_model *f, const double *phi, int n_modes, double *trans,
+                     double *rot);
+
 /* Dense n_dof x n_dof K and M (row-major, caller-allocated), for tests of small models. */
 void fem_dense(const fem_model *f, double *k, double *mass);
 
