@@ -24,7 +24,7 @@ typedef enum scenario_kind {
  * y north, z up. All speeds at 10 m above ground. */
 typedef struct scenario_state {
     wind_inflow inflow;         /* for wind_set_inflow: mean (sustained) speed + this gust */
-    double t_s;                 /* server time of this state, since the (re)start [s] */
+    double t_s;                 /* scenario time of this state: server time − start [s] */
     double storm_min;           /* scenario clock: storm time from the track's reference [min];
                                    for steady scenarios the scenario time in minutes */
     char clock_utc[24];         /* "1992-08-24 09:24Z" for a dated replay, "" otherwise */
@@ -62,10 +62,10 @@ scenario_kind scenario_get_kind(const scenario *s);
 /* Length of a replay in server seconds (storm span / time_scale); 0 = endless. */
 double scenario_duration_s(const scenario *s);
 
-/* The state at server time t_s (seconds since the scenario's start or last restart).
- * Deterministic: the same seed and the same sequence of t_s give the same states. The gust
- * process advances by t_s − (previous t_s); an earlier t_s than the previous call restarts
- * the gust process from its seed. Does not allocate. */
+/* The state at server time t_s [s]. The scenario starts at server time 0, or at the time
+ * given to scenario_restart. Deterministic: the same seed and the same sequence of t_s give
+ * the same states. The gust process advances by t_s − (previous t_s); an earlier t_s than
+ * the previous call restarts the gust process from its seed. Does not allocate. */
 void scenario_eval(scenario *s, double t_s, scenario_state *out);
 /* scenario_eval, then wind_set_inflow(w, &out->inflow) and wind_add_ball for each of the
  * scenario's force balls. Call once before each wind_step. out may be NULL. */
@@ -81,8 +81,8 @@ int scenario_set_category(scenario *s, saffir_class c, gale_err *err);
 int scenario_set_direction(scenario *s, double from_deg, gale_err *err);
 /* Drops the dial and direction holds; the scripted wind resumes (ramped). */
 void scenario_clear_override(scenario *s);
-/* Restarts the scripted timeline (a replay from its first minute) and the gust process;
- * later evals take t_s from this restart. Overrides are kept. */
-void scenario_restart(scenario *s);
+/* Restarts the scripted timeline (a replay from its first minute) and the gust process at
+ * server time t_s. Overrides are kept. */
+void scenario_restart(scenario *s, double t_s);
 
 #endif
