@@ -147,6 +147,9 @@ int ctl_encode(const ctl_msg *m, char **out, size_t *len, gale_err *err);
  * error). GALE_E_RANGE when it does not fit. Does not allocate outside cJSON. */
 int ctl_encode_into(const ctl_msg *m, char *buf, size_t cap, size_t *len, gale_err *err);
 
+/* True for the types a client may send (hello, view, wind, resync, ping). */
+bool ctl_from_client(int type);
+
 /* Role and type names as on the wire ("viewer", "wall-tile", "hello", ...); NULL for an
  * unknown value. */
 const char *ctl_role_name(int role);

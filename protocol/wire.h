@@ -5,7 +5,6 @@
 #ifndef GALE_WIRE_H
 #define GALE_WIRE_H
 
-#include <math.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -127,21 +126,16 @@ int wire_get_header(wire_reader *r, wire_header *h, gale_err *err);
 
 #define WIRE_QMAX 32767 /* quantised q is int16 in [-WIRE_QMAX, WIRE_QMAX] */
 
-/* round(x * inv_step) clamped to +-WIRE_QMAX; NaN -> 0, +-inf and +-1e30 clamp. The
- * clamp happens in float before the cast (an out-of-range cast is undefined). */
+/* round(x * inv_step) (halves away from zero) clamped to +-WIRE_QMAX; NaN -> 0, +-inf
+ * and +-1e30 clamp. The clamp happens in float before the cast (an out-of-range cast is
+ * undefined). Branch-free enough for the compiler to vectorise the modal loop. */
 static inline int16_t wire_quantize(float x, float inv_step)
 {
     float s = x * inv_step;
-    if (!(s == s)) {
-        return 0;
-    }
-    if (s > (float)WIRE_QMAX) {
-        s = (float)WIRE_QMAX;
-    }
-    if (s < -(float)WIRE_QMAX) {
-        s = -(float)WIRE_QMAX;
-    }
-    return (int16_t)lrintf(s);
+    s = s == s ? s : 0.0f;
+    s = s > (float)WIRE_QMAX ? (float)WIRE_QMAX : s;
+    s = s < -(float)WIRE_QMAX ? -(float)WIRE_QMAX : s;
+    return (int16_t)(int32_t)(s + (s < 0.0f ? -0.5f : 0.5f));
 }
 
 static inline float wire_dequantize(int16_t v, float step)
