@@ -3,6 +3,12 @@
  * position, writeable callbacks; minimal-http-server-dynamic: headers then body in
  * HTTP_WRITEABLE). Everything here but net_snap_acquire, net_publish and net_stop runs
  * on the one lws service thread. */
+/* protocol/limits.h shadows the C library's <limits.h> on the include path, and the
+ * OpenSSL headers lws pulls in need INT_MAX: supply it from the compiler's builtin. */
+#ifndef INT_MAX
+#define INT_MAX __INT_MAX__
+#endif
+
 #include "net.h"
 
 #include <inttypes.h>
@@ -452,13 +458,13 @@ static int ws_writeable(net_server *s, net_conn *c)
     if (c->cur_part == 0) {
         bool next = !c->resync && c->chain > 0 && p->seq == c->last_seq + 1u;
         if (next && c->chain >= 2 && p->delta2_len) {
-            rc = ws_write(s, c, p->delta2 + LWS_PRE, p->delta2_len, LWS_WRITE_BINARY);
+            rc = ws_write(s, c, p->delta2, p->delta2_len, LWS_WRITE_BINARY);
             c->chain = 2;
         } else if (next && p->delta1_len) {
-            rc = ws_write(s, c, p->delta1 + LWS_PRE, p->delta1_len, LWS_WRITE_BINARY);
+            rc = ws_write(s, c, p->delta1, p->delta1_len, LWS_WRITE_BINARY);
             c->chain = 2;
         } else {
-            rc = ws_write(s, c, p->key + LWS_PRE, p->key_len, LWS_WRITE_BINARY);
+            rc = ws_write(s, c, p->key, p->key_len, LWS_WRITE_BINARY);
             c->chain = 1;
         }
         c->resync = false;
@@ -466,7 +472,7 @@ static int ws_writeable(net_server *s, net_conn *c)
         c->cur_part = 1;
     } else {
         int e = c->cur_part - 1;
-        rc = ws_write(s, c, p->extra[e] + LWS_PRE, p->extra_len[e], LWS_WRITE_BINARY);
+        rc = ws_write(s, c, p->extra[e], p->extra_len[e], LWS_WRITE_BINARY);
         c->cur_part++;
     }
     if (rc) {
@@ -619,6 +625,20 @@ static int net_callback(struct lws *wsi, enum lws_callback_reasons reason, void 
 
 /* --- life cycle ----------------------------------------------------------------------- */
 
+/* A buffer of cap bytes with LWS_PRE bytes of headroom before the returned pointer. */
+static uint8_t *pre_alloc(size_t cap)
+{
+    uint8_t *b = malloc(LWS_PRE + cap);
+    return b ? b + LWS_PRE : NULL;
+}
+
+static void pre_free(uint8_t *p)
+{
+    if (p) {
+        free(p - LWS_PRE);
+    }
+}
+
 net_server *net_create(const net_desc *desc, gale_err *err)
 {
     net_server *s = calloc(1, sizeof *s);
@@ -665,12 +685,12 @@ net_server *net_create(const net_desc *desc, gale_err *err)
         net_snap *p = &s->pool[i];
         p->cap = s->d.snap_cap;
         p->extra_cap = s->d.extra_cap;
-        p->key = malloc(LWS_PRE + p->cap);
-        p->delta1 = malloc(LWS_PRE + p->cap);
-        p->delta2 = malloc(LWS_PRE + p->cap);
+        p->key = pre_alloc(p->cap);
+        p->delta1 = pre_alloc(p->cap);
+        p->delta2 = pre_alloc(p->cap);
         bool ok = p->key && p->delta1 && p->delta2;
         for (int e = 0; e < NET_SNAP_MAX_EXTRA; e++) {
-            p->extra[e] = malloc(LWS_PRE + p->extra_cap);
+            p->extra[e] = pre_alloc(p->extra_cap);
             ok = ok && p->extra[e];
         }
         if (!ok) {
@@ -721,11 +741,11 @@ void net_destroy(net_server *s)
         snap_unref(s->pub[i]);
     }
     for (int i = 0; s->pool && i < s->n_pool; i++) {
-        free(s->pool[i].key);
-        free(s->pool[i].delta1);
-        free(s->pool[i].delta2);
+        pre_free(s->pool[i].key);
+        pre_free(s->pool[i].delta1);
+        pre_free(s->pool[i].delta2);
         for (int e = 0; e < NET_SNAP_MAX_EXTRA; e++) {
-            free(s->pool[i].extra[e]);
+            pre_free(s->pool[i].extra[e]);
         }
     }
     free(s->pool);

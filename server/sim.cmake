@@ -15,7 +15,8 @@ add_library(gale_sim STATIC
     ${CMAKE_CURRENT_SOURCE_DIR}/sendq.c
     ${CMAKE_CURRENT_SOURCE_DIR}/net.c
     ${CMAKE_CURRENT_SOURCE_DIR}/tick.c
+    ${CMAKE_CURRENT_SOURCE_DIR}/srv.c
     ${GALE_SCENE_EMBED})
 target_include_directories(gale_sim PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
-target_link_libraries(gale_sim PUBLIC gale_common gale_protocol PkgConfig::LWS
+target_link_libraries(gale_sim PUBLIC gale_common gale_scenario gale_protocol PkgConfig::LWS
     Threads::Threads ${MATH_LIB})
