@@ -19,6 +19,8 @@
 #include <string.h>
 #include <time.h>
 
+#include <sys/socket.h>
+
 #include <libwebsockets.h>
 
 #include "ctl.h"
@@ -344,7 +346,8 @@ static int http_request(net_server *s, net_conn *c, const char *uri)
         for (int i = 0; i < s->d.n_assets; i++) {
             const net_asset *a = &s->d.assets[i];
             size_t hl = strlen(a->hash);
-            if (!strncmp(h, a->hash, hl) && (!strcmp(h + hl, ".gasset") || !h[hl])) {
+            if (a->bytes && hl && !strncmp(h, a->hash, hl) &&
+                (!strcmp(h + hl, ".gasset") || !h[hl])) {
                 return http_respond(s, c, HTTP_STATUS_OK, "application/octet-stream", a->bytes,
                                     a->len);
             }
@@ -587,6 +590,10 @@ static int net_callback(struct lws *wsi, enum lws_callback_reasons reason, void 
             c->rx = NULL;
             return -1;
         }
+        if (s->d.sndbuf > 0) {
+            int fd = lws_get_socket_fd(wsi);
+            setsockopt(fd, SOL_SOCKET, SO_SNDBUF, &s->d.sndbuf, sizeof s->d.sndbuf);
+        }
         c->next = s->conns;
         if (s->conns) {
             s->conns->prev = c;
@@ -664,6 +671,9 @@ net_server *net_create(const net_desc *desc, gale_err *err)
     }
     if (!s->d.max_message) {
         s->d.max_message = CTL_MAX_CLIENT_BYTES;
+    }
+    if (!s->d.sndbuf) {
+        s->d.sndbuf = 262144;
     }
     if (!s->d.extra_cap) {
         s->d.extra_cap = 65536;

@@ -18,6 +18,7 @@ struct srv {
     net_server *net;
     net_asset assets[SCENE_MAX_SPECIES];
     tick_sim *tick;
+    tick_species ts[SCENE_MAX_SPECIES]; /* what the tick borrows */
     pthread_t thread;
     atomic_int stop;
     pthread_mutex_t scen_lock;   /* scenario: evaluated by the sim thread, dialled by kiosks */
@@ -326,7 +327,7 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     pthread_mutex_init(&s->hist_lock, NULL);
     const scene *sc = d->sc;
     const int n = sc->n_trees;
-    tick_species ts[SCENE_MAX_SPECIES];
+    tick_species *ts = s->ts;
     for (int i = 0; i < sc->n_species; i++) {
         ts[i] = d->species[i].modal;
         if (ts[i].n_modes > WIRE_MAX_MODES) {
@@ -407,6 +408,7 @@ srv *srv_create(const srv_desc *d, gale_err *err)
                                      .max_clients = d->max_clients,
                                      .queue_frames = d->queue_frames,
                                      .lag_limit = d->lag_limit,
+                                     .sndbuf = d->sndbuf,
                                      .snap_cap = cap,
                                      .extra_cap = extra,
                                      .assets = s->assets,

@@ -33,6 +33,7 @@ typedef struct srv_desc {
     int queue_frames;             /* per-connection snapshot queue; 0 → 8 */
     int lag_limit;                /* 0 → net default */
     int max_clients;              /* 0 → net default */
+    int sndbuf;                   /* 0 → net default */
     int quiet;                    /* 1: no start-up lines */
     int history;                  /* snapshots of float q kept for srv_history_q; 0 → none */
 } srv_desc;
