@@ -1,1 +1,2 @@
-# (empty until this area lands)
+# Client application: jitter buffer, asset cache, HUD, camera; integration with gale-server.
+gale_test(test_jitter LABEL unit SOURCES test_jitter.c LIBS gale_client)
