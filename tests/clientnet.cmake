@@ -2,3 +2,4 @@
 gale_test(test_jitter LABEL unit SOURCES test_jitter.c LIBS gale_client)
 gale_test(test_asset_cache LABEL unit SOURCES test_asset_cache.c LIBS gale_client)
 gale_test(test_hud LABEL render SOURCES test_hud.c LIBS gale_client PkgConfig::GLFW)
+gale_test(test_camera LABEL unit SOURCES test_camera.c LIBS gale_client)
