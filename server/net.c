@@ -3,12 +3,6 @@
  * position, writeable callbacks; minimal-http-server-dynamic: headers then body in
  * HTTP_WRITEABLE). Everything here but net_snap_acquire, net_publish and net_stop runs
  * on the one lws service thread. */
-/* protocol/limits.h shadows the C library's <limits.h> on the include path, and the
- * OpenSSL headers lws pulls in need INT_MAX: supply it from the compiler's builtin. */
-#ifndef INT_MAX
-#define INT_MAX __INT_MAX__
-#endif
-
 #include "net.h"
 
 #include <inttypes.h>
