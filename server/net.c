@@ -412,8 +412,7 @@ static int ws_write(net_server *s, net_conn *c, uint8_t *data, size_t len,
 {
     int n = lws_write(c->wsi, data, len, kind);
     if (n < (int)len) {
-        conn_log(s, c, "write failed (%d of %zu bytes)", n, len);
-        return -1;
+        return -1; /* the peer is gone: lws closes the connection */
     }
     atomic_fetch_add_explicit(&s->m.bytes_sent, len, memory_order_relaxed);
     atomic_fetch_add_explicit(&s->m.frames_sent, 1, memory_order_relaxed);

@@ -239,7 +239,6 @@ static void *sim_main(void *arg)
     const uint64_t period_ns = (uint64_t)(dt * 1e9);
     struct timespec next;
     clock_gettime(CLOCK_MONOTONIC, &next);
-    uint64_t t0 = mono_us();
     while (!atomic_load(&s->stop)) {
         uint32_t tick = tick_now(s->tick);
         if (s->scen) {
@@ -285,10 +284,11 @@ static void *sim_main(void *arg)
         }
         int64_t late_ns = (int64_t)(now.tv_sec - next.tv_sec) * 1000000000LL +
                           (now.tv_nsec - next.tv_nsec);
-        if (late_ns > 0) {
-            /* Overrun: this tick ended after the next was due. It is run anyway (ticks are
-             * never skipped: simulated time stays exact); the loop catches up back to back,
-             * and a schedule more than 0.25 s behind restarts from now. */
+        if (late_ns > (int64_t)period_ns || ns > period_ns) {
+            /* Overrun: the tick's work took longer than a period, or the loop fell a whole
+             * period behind. The tick is still run (ticks are never skipped, simulated
+             * time stays exact); the loop catches up back to back, and a schedule more
+             * than 0.25 s behind restarts from now. */
             unsigned long long k = atomic_fetch_add(&mt->overruns, 1) + 1;
             time_t sec = time(NULL);
             if (sec != s->olog_sec) {
@@ -297,18 +297,18 @@ static void *sim_main(void *arg)
             }
             if (s->olog_n++ < 5) {
                 fprintf(stderr,
-                        "gale-server: tick %u overran: took %.2f ms (wind %.2f ms), budget "
-                        "%.2f ms, %.2f ms late; %llu overruns so far\n",
+                        "gale-server: tick %u overran: work %.2f ms (wind %.2f ms) of a %.2f ms "
+                        "budget, finished %.2f ms after the next tick was due; %llu overruns\n",
                         tick, ts.ms, ts.wind_ms, dt * 1e3, (double)late_ns * 1e-6, k);
             }
             if (late_ns > 250000000LL) {
                 next = now;
             }
-        } else {
+        }
+        if (late_ns <= 0) {
             clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next, NULL);
         }
     }
-    (void)t0;
     return NULL;
 }
 

@@ -6,3 +6,6 @@ gale_test(test_server_sendq LABEL unit SOURCES test_server_sendq.c LIBS gale_sim
 gale_test(test_server_leaf LABEL unit SOURCES test_server_leaf.c LIBS gale_sim TIMEOUT 30)
 gale_test(test_server_tick LABEL unit SOURCES test_server_tick.c LIBS gale_sim TIMEOUT 30)
 gale_test(test_server_net LABEL net SOURCES test_server_net.c LIBS gale_sim TIMEOUT 60)
+gale_test(test_server_load LABEL net SOURCES test_server_load.c LIBS gale_sim TIMEOUT 60)
+add_dependencies(test_server_load gale-load)
+target_compile_definitions(test_server_load PRIVATE GALE_LOAD_EXE="$<TARGET_FILE:gale-load>")
