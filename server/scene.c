@@ -258,7 +258,7 @@ static int parse_leaves(scene *s, const cfg_doc *d, const cJSON *root, gale_err 
 static int parse_species(scene *s, const cfg_doc *d, const cJSON *root, const char *base,
                          gale_err *err)
 {
-    static const char *const keys[] = { "name", "file", NULL };
+    static const char *const keys[] = { "name", "file", "modes", NULL };
     const cJSON *arr = cfg_child(d, root, "", "species", cJSON_Array, true, NULL, err);
     if (!arr) {
         return err ? err->code : GALE_E_PARSE;
@@ -273,8 +273,9 @@ static int parse_species(scene *s, const cfg_doc *d, const cJSON *root, const ch
         cfg_path_index(p, sizeof p, "species", i);
         const cJSON *e = cJSON_GetArrayItem(arr, i);
         char file[SCENE_PATH_MAX];
+        long long modes = 32;
         int rc = cfg_check_keys(d, e, p, keys, err);
-        if (rc ||
+        if (rc || (rc = cfg_int(d, e, p, "modes", false, 32, 1, 64, &modes, err)) ||
             (rc = cfg_string(d, e, p, "name", true, NULL, s->species[i].name,
                              sizeof s->species[i].name, err)) ||
             (rc = cfg_string(d, e, p, "file", true, NULL, file, sizeof file, err))) {
@@ -291,6 +292,7 @@ static int parse_species(scene *s, const cfg_doc *d, const cJSON *root, const ch
                                  d->name, p, s->species[i].name, j);
             }
         }
+        s->species[i].modes = (int)modes;
         if (!resolve_path(s->species[i].file, sizeof s->species[i].file, base, file)) {
             return gale_errf(err, GALE_E_RANGE, "%s: %s.file: path too long", d->name, p);
         }

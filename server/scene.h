@@ -22,6 +22,7 @@
 typedef struct scene_species {
     char name[64];                /* referenced by trees[].species */
     char file[SCENE_PATH_MAX];    /* species JSON, resolved against the config's folder */
+    int modes;                    /* modes baked and streamed; default 32, 1..64 */
 } scene_species;
 
 typedef struct scene_tree {
