@@ -20,3 +20,12 @@ add_library(gale_sim STATIC
 target_include_directories(gale_sim PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
 target_link_libraries(gale_sim PUBLIC gale_common gale_scenario gale_protocol PkgConfig::LWS
     Threads::Threads ${MATH_LIB})
+
+# gale-server needs the bake (species -> asset), the geometry (L-system, species files,
+# asset files) and the wind solver; it is built once those areas are in the tree.
+if(TARGET gale_wind AND TARGET gale_geom AND EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/bake.c)
+    add_executable(gale-server
+        ${CMAKE_CURRENT_SOURCE_DIR}/srv_main.c
+        ${CMAKE_CURRENT_SOURCE_DIR}/species_cache.c)
+    target_link_libraries(gale-server PRIVATE gale_sim gale_bake gale_geom gale_wind)
+endif()
