@@ -297,9 +297,11 @@ static void *sim_main(void *arg)
             }
             if (s->olog_n++ < 5) {
                 fprintf(stderr,
-                        "gale-server: tick %u overran: work %.2f ms (wind %.2f ms) of a %.2f ms "
-                        "budget, finished %.2f ms after the next tick was due; %llu overruns\n",
-                        tick, ts.ms, ts.wind_ms, dt * 1e3, (double)late_ns * 1e-6, k);
+                        "gale-server: tick %u overran: work %.2f ms (wind %.2f ms, %d pressure "
+                        "iterations) of a %.2f ms budget, finished %.2f ms after the next tick "
+                        "was due; %llu overruns\n",
+                        tick, ts.ms, ts.wind_ms, ts.wind_iters, dt * 1e3, (double)late_ns * 1e-6,
+                        k);
             }
             if (late_ns > 250000000LL) {
                 next = now;

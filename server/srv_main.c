@@ -162,6 +162,7 @@ int main(int argc, char **argv)
                                          .cell_m = sc.cell_m,
                                          .origin = { sc.origin[0], sc.origin[1], sc.origin[2] },
                                          .seed = sc.leaf_seed + 1,
+                                         .threads = sc.wind_threads,
                                          .obstacles = sc.obstacles,
                                          .n_obstacles = sc.n_obstacles },
                            &err);
