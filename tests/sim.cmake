@@ -9,3 +9,10 @@ gale_test(test_server_net LABEL net SOURCES test_server_net.c LIBS gale_sim TIME
 gale_test(test_server_load LABEL net SOURCES test_server_load.c LIBS gale_sim TIMEOUT 60)
 add_dependencies(test_server_load gale-load)
 target_compile_definitions(test_server_load PRIVATE GALE_LOAD_EXE="$<TARGET_FILE:gale-load>")
+if(TARGET gale-server)
+    gale_test(test_server_sigterm LABEL net SOURCES test_server_sigterm.c LIBS gale_protocol
+        TIMEOUT 120)
+    add_dependencies(test_server_sigterm gale-server)
+    target_compile_definitions(test_server_sigterm PRIVATE
+        GALE_SERVER_EXE="$<TARGET_FILE:gale-server>")
+endif()
