@@ -63,6 +63,15 @@ static void *wait_signal(void *arg)
 
 int main(int argc, char **argv)
 {
+    /* SIGINT/SIGTERM go to one waiting thread: block them before any thread starts (the
+     * BLAS and OpenMP pools of the bake included), so every thread inherits the mask. */
+    sig_waiter sw;
+    sigemptyset(&sw.set);
+    sigaddset(&sw.set, SIGINT);
+    sigaddset(&sw.set, SIGTERM);
+    sigaddset(&sw.set, SIGUSR1); /* wakes the waiter at a normal exit */
+    pthread_sigmask(SIG_BLOCK, &sw.set, NULL);
+    signal(SIGPIPE, SIG_IGN);
     const char *config = NULL, *iface = NULL, *cache = NULL;
     long port = 8080;
     int check = 0;
@@ -179,15 +188,6 @@ int main(int argc, char **argv)
         status = 0;
         goto done;
     }
-
-    /* SIGINT/SIGTERM go to one waiting thread; block them before any other thread starts. */
-    sig_waiter sw;
-    sigemptyset(&sw.set);
-    sigaddset(&sw.set, SIGINT);
-    sigaddset(&sw.set, SIGTERM);
-    sigaddset(&sw.set, SIGUSR1); /* wakes the waiter at a normal exit */
-    pthread_sigmask(SIG_BLOCK, &sw.set, NULL);
-    signal(SIGPIPE, SIG_IGN);
 
     s = srv_create(&(srv_desc){ .sc = &sc, .species = sp, .scen = scen,
                                 .wind = sc.grid_on ? &tw : NULL,
