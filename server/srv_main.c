@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "scenario.h"
 #include "scene.h"
@@ -43,34 +44,43 @@ static void w_sample(void *ctx, int n, const float *p, float *v)
     wind_sample_many(ctx, n, p, v);
 }
 
-typedef struct sig_waiter {
-    sigset_t set;
-    srv *s;
-} sig_waiter;
+/* SIGINT/SIGTERM: the handler only writes the signal number to a pipe (async-signal
+ * safe, and whichever thread the kernel picks, the BLAS pool's included); a waiting
+ * thread reads it and stops the server from ordinary code. */
+static int sig_pipe[2] = { -1, -1 };
 
-/* A thread that waits for SIGINT/SIGTERM (blocked everywhere else) and stops the server:
- * srv_stop is then called from an ordinary thread, not from a signal handler. */
+static void on_signal(int sig)
+{
+    unsigned char b = (unsigned char)sig;
+    ssize_t n = write(sig_pipe[1], &b, 1);
+    (void)n;
+}
+
 static void *wait_signal(void *arg)
 {
-    sig_waiter *w = arg;
-    int sig = 0;
-    if (sigwait(&w->set, &sig) == 0 && sig != SIGUSR1) {
-        fprintf(stderr, "gale-server: %s: shutting down\n", sig == SIGINT ? "SIGINT" : "SIGTERM");
-        srv_stop(w->s);
+    srv *s = arg;
+    unsigned char b = 0;
+    while (read(sig_pipe[0], &b, 1) < 0 && errno == EINTR) {
+    }
+    if (b == SIGINT || b == SIGTERM) {
+        fprintf(stderr, "gale-server: %s: shutting down\n", b == SIGINT ? "SIGINT" : "SIGTERM");
+        srv_stop(s);
     }
     return NULL;
 }
 
 int main(int argc, char **argv)
 {
-    /* SIGINT/SIGTERM go to one waiting thread: block them before any thread starts (the
-     * BLAS and OpenMP pools of the bake included), so every thread inherits the mask. */
-    sig_waiter sw;
-    sigemptyset(&sw.set);
-    sigaddset(&sw.set, SIGINT);
-    sigaddset(&sw.set, SIGTERM);
-    sigaddset(&sw.set, SIGUSR1); /* wakes the waiter at a normal exit */
-    pthread_sigmask(SIG_BLOCK, &sw.set, NULL);
+    if (pipe(sig_pipe) != 0) {
+        fprintf(stderr, "gale-server: pipe: %s\n", strerror(errno));
+        return 1;
+    }
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
     signal(SIGPIPE, SIG_IGN);
     const char *config = NULL, *iface = NULL, *cache = NULL;
     long port = 8080;
@@ -197,16 +207,15 @@ int main(int argc, char **argv)
         fprintf(stderr, "gale-server: %s\n", err.msg);
         goto done;
     }
-    sw.s = s;
     pthread_t sig_thread;
-    if (pthread_create(&sig_thread, NULL, wait_signal, &sw)) {
+    if (pthread_create(&sig_thread, NULL, wait_signal, s)) {
         fprintf(stderr, "gale-server: cannot start the signal thread\n");
         goto done;
     }
     printf("gale-server: listening on port %d\n", srv_port(s));
     fflush(stdout);
     rc = srv_run(s);
-    pthread_kill(sig_thread, SIGUSR1);
+    on_signal(0); /* wakes the waiter when the server stopped on its own */
     pthread_join(sig_thread, NULL);
     net_metrics *m = srv_metrics(s);
     fprintf(stderr,
