@@ -2,3 +2,5 @@
 gale_test(test_lsystem LABEL unit SOURCES test_lsystem.c LIBS gale_geom)
 gale_test(test_species LABEL unit SOURCES test_species.c LIBS gale_geom)
 gale_test(test_plot LABEL unit SOURCES test_plot.c LIBS gale_geom)
+gale_test(test_asset LABEL unit SOURCES test_asset.c LIBS gale_geom)
+gale_fuzz(asset LIBS gale_protocol)
