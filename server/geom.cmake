@@ -4,6 +4,7 @@ find_library(STB_LIB stb REQUIRED)
 add_library(gale_geom STATIC
     ${CMAKE_CURRENT_LIST_DIR}/lsystem.c
     ${CMAKE_CURRENT_LIST_DIR}/species.c
+    ${CMAKE_CURRENT_LIST_DIR}/skeleton_csv.c
     ${CMAKE_CURRENT_LIST_DIR}/plot.c
     ${CMAKE_CURRENT_LIST_DIR}/asset_file.c)
 target_include_directories(gale_geom PUBLIC ${CMAKE_CURRENT_LIST_DIR})
