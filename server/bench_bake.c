@@ -68,6 +68,8 @@ static void child(int n, int modes, int fd)
     _exit(0);
 }
 
+int bench_bake(int argc, char **argv);
+
 int bench_bake(int argc, char **argv)
 {
     int json = 0, modes = 32;
