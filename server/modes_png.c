@@ -23,19 +23,34 @@ static void deform(const asset *a, uint32_t m, double q, float *out)
     }
 }
 
+/* Draws the skeleton x seen across horizontal direction e. With base != NULL each segment
+ * is coloured by how far it moved from the rest pose: base (still) to col (moving by
+ * umove or more), so the part of the tree a mode moves stands out. */
 static void draw(plot *p, const asset *a, const float *x, const double e[2], double sc,
-                 double ox, double oy, const uint8_t col[3], double wscale)
+                 double ox, double oy, const uint8_t col[3], const uint8_t *base, double umove)
 {
     for (uint32_t i = 1; i < a->n_nodes; i++) {
         const uint32_t j = (uint32_t)a->parent[i];
+        uint8_t c[3] = { col[0], col[1], col[2] };
+        if (base) {
+            double d = 0.0;
+            for (int k = 0; k < 3; k++) {
+                const double dk = (double)(x[3 * i + k] - a->rest[3 * i + k]);
+                d += dk * dk;
+            }
+            const double t = fmin(1.0, sqrt(d) / umove);
+            for (int k = 0; k < 3; k++) {
+                c[k] = (uint8_t)lrint((1.0 - t) * base[k] + t * col[k]);
+            }
+        }
         const double u0 = e[0] * (double)x[3 * j] + e[1] * (double)x[3 * j + 1];
         const double u1 = e[0] * (double)x[3 * i] + e[1] * (double)x[3 * i + 1];
-        double w = wscale * (double)(a->radius[i] + a->radius[j]) * sc;
+        double w = (double)(a->radius[i] + a->radius[j]) * sc;
         if (w < 1.0) {
             w = 1.0;
         }
         plot_line(p, (float)(ox + sc * u0), (float)(oy - sc * (double)x[3 * j + 2]),
-                  (float)(ox + sc * u1), (float)(oy - sc * (double)x[3 * i + 2]), (float)w, col);
+                  (float)(ox + sc * u1), (float)(oy - sc * (double)x[3 * i + 2]), (float)w, c);
     }
 }
 
@@ -97,11 +112,12 @@ int modes_png_write(const asset *a, const char *path, gale_err *err)
             light[k] = (uint8_t)(255 - (255 - col[k]) / 2);
         }
         plot_rect(&p, px + 4, (int)oy, px + PANEL_W - 4, (int)oy + 2, ink);
-        draw(&p, a, a->rest, dir[m], sc, ox, oy, grey, 1.0);
+        const double umove = 0.02 * h;
+        draw(&p, a, a->rest, dir[m], sc, ox, oy, grey, NULL, 1.0);
         deform(a, m, -q[m], xm);
-        draw(&p, a, xm, dir[m], sc, ox, oy, light, 1.0);
+        draw(&p, a, xm, dir[m], sc, ox, oy, light, grey, umove);
         deform(a, m, q[m], xp);
-        draw(&p, a, xp, dir[m], sc, ox, oy, col, 1.0);
+        draw(&p, a, xp, dir[m], sc, ox, oy, col, grey, umove);
         char title[64];
         snprintf(title, sizeof title, "mode %u  %.2f Hz", m + 1,
                  (double)a->omega[m] / (2.0 * M_PI));
