@@ -142,6 +142,7 @@ int bench_wind(int argc, char **argv)
     double *ms = malloc((size_t)steps * sizeof *ms);
     double *red = malloc((size_t)steps * sizeof *red);
     double *its = malloc((size_t)steps * sizeof *its);
+    double phase[4] = { 0, 0, 0, 0 };
     if (!ms || !red || !its) {
         wind_destroy(w);
         free(ms);
@@ -169,6 +170,10 @@ int bench_wind(int argc, char **argv)
         red[s] = st.div_after > 0.0 ? st.div_before / st.div_after : 1e30;
         its[s] = st.iterations;
         its_sum += st.iterations;
+        phase[0] += st.ms_advect;
+        phase[1] += st.ms_forces;
+        phase[2] += st.ms_solve;
+        phase[3] += st.ms_project;
         worst = red[s] < worst ? red[s] : worst;
     }
     double div_rms = wind_divergence_rms(w);
@@ -185,9 +190,12 @@ int bench_wind(int argc, char **argv)
            "\"divergence_reduction_min\": %.1f, \"iterations_median\": %g, "
            "\"iterations_mean\": %.2f, \"final_divergence_rms_per_s\": %.4g, "
            "\"failed_steps\": %d, \"machine_gb_per_s\": %.2f, \"bytes_per_step_model\": %.0f, "
-           "\"solver_effective_gb_per_s\": %.2f, \"bandwidth_fraction\": %.3f}\n",
+           "\"solver_effective_gb_per_s\": %.2f, \"bandwidth_fraction\": %.3f, "
+           "\"ms_mean_advect\": %.3f, \"ms_mean_forces_bc_divergence\": %.3f, "
+           "\"ms_mean_pressure_solve\": %.3f, \"ms_mean_projection\": %.3f}\n",
            nx, ny, nz, steps, threads, houses, (double)d.div_reduction, med, p95, red_med, worst,
-           it_med, its_sum / steps, div_rms, failed, gbs, bytes, eff, gbs > 0.0 ? eff / gbs : 0.0);
+           it_med, its_sum / steps, div_rms, failed, gbs, bytes, eff, gbs > 0.0 ? eff / gbs : 0.0,
+           phase[0] / steps, phase[1] / steps, phase[2] / steps, phase[3] / steps);
     free(ms);
     free(red);
     free(its);

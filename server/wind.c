@@ -542,18 +542,21 @@ int wind_step(wind_grid *w, float dt_s, wind_step_stats *st)
     }
     wind_fill_ghosts(w);
     wind_advect(w, dt_s / w->h);
+    double t1 = now_ms();
     for (int b = 0; b < w->n_balls; b++) {
         apply_ball(w, &w->balls[b], dt_s);
     }
     w->n_balls = 0;
     apply_bc(w);
     double b0 = divergence_rhs(w);
+    double t2 = now_ms();
     double r1 = 0.0;
     int it = wind_mg_solve(w, b0 / (double)w->d.div_reduction, w->d.max_iterations, &r1);
     if (!isfinite(b0) || !isfinite(r1)) {
         reset_field(w);
         return GALE_E_NUMERIC;
     }
+    double t3 = now_ms();
     project(w);
     if (st) {
         double norm = w->n_fluid > 0 ? 1.0 / (sqrt((double)w->n_fluid) * (double)w->h) : 0.0;
@@ -562,6 +565,10 @@ int wind_step(wind_grid *w, float dt_s, wind_step_stats *st)
         st->iterations = it;
         st->residual = b0 > 0.0 ? r1 / b0 : 0.0;
         st->ms = now_ms() - t0;
+        st->ms_advect = t1 - t0;
+        st->ms_forces = t2 - t1;
+        st->ms_solve = t3 - t2;
+        st->ms_project = t0 + st->ms - t3;
     }
     return 0;
 }

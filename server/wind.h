@@ -54,6 +54,10 @@ typedef struct wind_step_stats {
     int iterations;     /* pressure solver iterations (V-cycles or CG steps) */
     double residual;    /* final ||b - A p|| / ||b|| of the pressure solve (= after / before) */
     double ms;          /* wall time of the step */
+    double ms_advect;   /* of which: advection (with ghost filling) */
+    double ms_forces;   /*           forces, boundary conditions, divergence */
+    double ms_solve;    /*           pressure solve */
+    double ms_project;  /*           projection */
 } wind_step_stats;
 
 /* Creates a wind grid at rest; NULL on failure with err filled. */

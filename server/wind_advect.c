@@ -7,69 +7,75 @@
 
 #include "wind_int.h"
 
-/* Trilinear read of a padded component at index coordinates (fx, fy, fz), clamped to the
- * ghost range [-1, n]: branch-free apart from the clamps. */
-static inline float trilin(const float *restrict d, int sy, int sz, const int n[3], float fx,
-                           float fy, float fz)
+/* One row (j, k) of component a. The other two components are averaged from their four
+ * nearest samples to the position of each sample of a (exactly their trilinear value
+ * there): pa / pb point at the first of those four samples for i = 0, at offsets
+ * 0, da0, da1, da0 + da1. The foot of the characteristic (eq. 4) is read from src by
+ * trilinear interpolation, clamped to the ghost range [-1, n]. Written with 32-bit
+ * offsets and no calls so that it vectorises (gathers); cloned for AVX-512 and AVX2 with
+ * a run-time choice, so the build stays portable. The clones do the same IEEE operations
+ * per element (no contraction in ISO C mode), so the field is the same bits on each. */
+WIND_CLONES static void advect_row(int a, float s, int j, int k, const int n[3], int sy, int sz,
+                              const float *restrict own, const float *restrict pa, int da0,
+                              int da1, const float *restrict pb, int db0, int db1,
+                              const float *restrict src, float *restrict dst)
 {
-    fx = fminf(fmaxf(fx, -1.0f), (float)n[0]);
-    fy = fminf(fmaxf(fy, -1.0f), (float)n[1]);
-    fz = fminf(fmaxf(fz, -1.0f), (float)n[2]);
-    int i = (int)(fx + 1.0f) - 1, j = (int)(fy + 1.0f) - 1, k = (int)(fz + 1.0f) - 1;
-    i = i < n[0] ? i : n[0] - 1;
-    j = j < n[1] ? j : n[1] - 1;
-    k = k < n[2] ? k : n[2] - 1;
-    float tx = fx - (float)i, ty = fy - (float)j, tz = fz - (float)k;
-    const float *q = d + wind_idx(sy, sz, i, j, k);
-    const ptrdiff_t y = sy, z = sz;
-    float c00 = q[0] + tx * (q[1] - q[0]);
-    float c10 = q[y] + tx * (q[y + 1] - q[y]);
-    float c01 = q[z] + tx * (q[z + 1] - q[z]);
-    float c11 = q[z + y] + tx * (q[z + y + 1] - q[z + y]);
-    float c0 = c00 + ty * (c10 - c00);
-    float c1 = c01 + ty * (c11 - c01);
-    return c0 + tz * (c1 - c0);
+    const int nx = n[0];
+    const float hx = (float)n[0], hy = (float)n[1], hz = (float)n[2];
+    const int mx = n[0] - 1, my = n[1] - 1, mz = n[2] - 1;
+    const float fj = (float)j, fk = (float)k;
+    for (int i = 0; i < nx; i++) {
+        float ea = 0.25f * (pa[i] + pa[i + da0] + pa[i + da1] + pa[i + da0 + da1]);
+        float eb = 0.25f * (pb[i] + pb[i + db0] + pb[i + db1] + pb[i + db0 + db1]);
+        float o = own[i];
+        float uu = a == 0 ? o : ea;
+        float vv = a == 0 ? ea : a == 1 ? o : eb;
+        float ww = a == 2 ? o : eb;
+        float fx = (float)i - s * uu, fy = fj - s * vv, fz = fk - s * ww;
+        fx = fx < -1.0f ? -1.0f : fx > hx ? hx : fx;
+        fy = fy < -1.0f ? -1.0f : fy > hy ? hy : fy;
+        fz = fz < -1.0f ? -1.0f : fz > hz ? hz : fz;
+        int ii = (int)(fx + 1.0f) - 1, jj = (int)(fy + 1.0f) - 1, kk = (int)(fz + 1.0f) - 1;
+        ii = ii < mx ? ii : mx;
+        jj = jj < my ? jj : my;
+        kk = kk < mz ? kk : mz;
+        float tx = fx - (float)ii, ty = fy - (float)jj, tz = fz - (float)kk;
+        int q = (kk + 1) * sz + (jj + 1) * sy + ii + 1;
+        float c00 = src[q] + tx * (src[q + 1] - src[q]);
+        float c10 = src[q + sy] + tx * (src[q + sy + 1] - src[q + sy]);
+        float c01 = src[q + sz] + tx * (src[q + sz + 1] - src[q + sz]);
+        float c11 = src[q + sz + sy] + tx * (src[q + sz + sy + 1] - src[q + sz + sy]);
+        float c0 = c00 + ty * (c10 - c00);
+        float c1 = c01 + ty * (c11 - c01);
+        dst[i] = c0 + tz * (c1 - c0);
+    }
 }
 
-/* Advects component a; the other two are averaged from their four nearest samples to the
- * position of each sample of a (exactly their trilinear value there). */
 static void advect_comp(wind_grid *w, int a, float s)
 {
-    wind_comp *cu = &w->c[0], *cv = &w->c[1], *cw = &w->c[2], *ca = &w->c[a];
-    const float *restrict U = cu->d, *restrict V = cv->d, *restrict W = cw->d;
-    const float *restrict src = ca->d;
-    float *restrict dst = ca->tmp;
-    const int nx = ca->n[0], ny = ca->n[1], nz = ca->n[2], rows = ny * nz;
-    const ptrdiff_t usy = cu->sy, usz = cu->sz, vsy = cv->sy, vsz = cv->sz, wsy = cw->sy,
-                    wsz = cw->sz;
-    const int threads = (size_t)nx * (size_t)rows >= WIND_PAR_MIN ? w->d.threads : 1;
+    const wind_comp *cu = &w->c[0], *cv = &w->c[1], *cw = &w->c[2], *ca = &w->c[a];
+    const int ny = ca->n[1], nz = ca->n[2], rows = ny * nz;
+    const int threads = (size_t)ca->n[0] * (size_t)rows >= WIND_PAR_MIN ? w->d.threads : 1;
 #pragma omp parallel for schedule(static) num_threads(threads)
     for (int r = 0; r < rows; r++) {
         int j = r % ny, k = r / ny;
-        for (int i = 0; i < nx; i++) {
-            float uu, vv, ww;
-            if (a == 0) {
-                const float *v0 = V + wind_idx(cv->sy, cv->sz, i - 1, j, k);
-                const float *w0 = W + wind_idx(cw->sy, cw->sz, i - 1, j, k);
-                uu = U[wind_idx(cu->sy, cu->sz, i, j, k)];
-                vv = 0.25f * (v0[0] + v0[1] + v0[vsy] + v0[vsy + 1]);
-                ww = 0.25f * (w0[0] + w0[1] + w0[wsz] + w0[wsz + 1]);
-            } else if (a == 1) {
-                const float *u0 = U + wind_idx(cu->sy, cu->sz, i, j - 1, k);
-                const float *w0 = W + wind_idx(cw->sy, cw->sz, i, j - 1, k);
-                uu = 0.25f * (u0[0] + u0[1] + u0[usy] + u0[usy + 1]);
-                vv = V[wind_idx(cv->sy, cv->sz, i, j, k)];
-                ww = 0.25f * (w0[0] + w0[wsy] + w0[wsz] + w0[wsz + wsy]);
-            } else {
-                const float *u0 = U + wind_idx(cu->sy, cu->sz, i, j, k - 1);
-                const float *v0 = V + wind_idx(cv->sy, cv->sz, i, j, k - 1);
-                uu = 0.25f * (u0[0] + u0[1] + u0[usz] + u0[usz + 1]);
-                vv = 0.25f * (v0[0] + v0[vsy] + v0[vsz] + v0[vsz + vsy]);
-                ww = W[wind_idx(cw->sy, cw->sz, i, j, k)];
-            }
-            /* index coordinates of the foot of the characteristic on a's own lattice */
-            float fx = (float)i - s * uu, fy = (float)j - s * vv, fz = (float)k - s * ww;
-            dst[wind_idx(ca->sy, ca->sz, i, j, k)] = trilin(src, ca->sy, ca->sz, ca->n, fx, fy, fz);
+        const float *own = ca->d + wind_idx(ca->sy, ca->sz, 0, j, k);
+        float *dst = ca->tmp + wind_idx(ca->sy, ca->sz, 0, j, k);
+        if (a == 0) {
+            /* v at (i-1..i, j..j+1), w at (i-1..i, k..k+1) */
+            advect_row(0, s, j, k, ca->n, ca->sy, ca->sz, own,
+                       cv->d + wind_idx(cv->sy, cv->sz, -1, j, k), 1, cv->sy,
+                       cw->d + wind_idx(cw->sy, cw->sz, -1, j, k), 1, cw->sz, ca->d, dst);
+        } else if (a == 1) {
+            /* u at (i..i+1, j-1..j), w at (j-1..j, k..k+1) */
+            advect_row(1, s, j, k, ca->n, ca->sy, ca->sz, own,
+                       cu->d + wind_idx(cu->sy, cu->sz, 0, j - 1, k), 1, cu->sy,
+                       cw->d + wind_idx(cw->sy, cw->sz, 0, j - 1, k), cw->sy, cw->sz, ca->d, dst);
+        } else {
+            /* u at (i..i+1, k-1..k), v at (j..j+1, k-1..k) */
+            advect_row(2, s, j, k, ca->n, ca->sy, ca->sz, own,
+                       cu->d + wind_idx(cu->sy, cu->sz, 0, j, k - 1), 1, cu->sz,
+                       cv->d + wind_idx(cv->sy, cv->sz, 0, j, k - 1), cv->sy, cv->sz, ca->d, dst);
         }
     }
 }

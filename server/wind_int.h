@@ -12,6 +12,15 @@
 /* Kernels with fewer cells than this run on one thread: fork/join costs more there. */
 #define WIND_PAR_MIN 32768
 
+/* Hot row kernels are compiled for AVX-512 and AVX2 besides the baseline and chosen at
+ * load time (GNU ifunc); sanitizer builds keep one version. */
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__) && \
+    !defined(__clang__)
+#define WIND_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
+#else
+#define WIND_CLONES
+#endif
+
 /* Most force balls queued for one step; further ones in the same step are dropped and
  * counted in wind_grid.balls_dropped. */
 #define WIND_MAX_BALLS 16
@@ -82,6 +91,7 @@ struct wind_grid {
     long balls_dropped;
     uint64_t rng;               /* jitter generator state */
     double *rowsum;             /* owned: per-row partial sums for stats (ny * nz) */
+    float *scratch;             /* owned: one row (nx + 2 floats) per thread */
 };
 
 /* wind.c: fills the ghost layer of the three components from the inflow (open sides)
