@@ -43,7 +43,7 @@ typedef struct load_run {
     bool ending;
     load_conn *conns;     /* owned [n] */
     int connected, welcomed, open_now;
-    uint64_t frames, state_frames, keyframes, leaf_frames, bytes, decode_errors, seq_gaps,
+    uint64_t frames, state_frames, keyframes, leaf_frames, wind_frames, bytes, decode_errors, seq_gaps,
         skipped_seqs, disconnects, connect_errors, text_msgs;
     int close_codes[8];   /* first few unexpected close codes, for the report */
     int n_close_codes;
@@ -118,6 +118,8 @@ static void on_binary(load_run *r, load_conn *c, const uint8_t *b, size_t len)
         }
     } else if (f.hdr.type == WIRE_MSG_LEAVES) {
         r->leaf_frames++;
+    } else if (f.hdr.type == WIRE_MSG_WIND) {
+        r->wind_frames++;
     }
 }
 
@@ -449,13 +451,14 @@ int main(int argc, char **argv)
         printf("{\"url\": \"%s\", \"clients\": %d, \"seconds\": %.1f, \"role\": \"%s\", "
                "\"connected\": %d, \"welcomed\": %d, \"connect_errors\": %" PRIu64 ", "
                "\"frames\": %" PRIu64 ", \"state_frames\": %" PRIu64 ", \"keyframes\": %" PRIu64
-               ", \"leaf_frames\": %" PRIu64 ", \"bytes\": %" PRIu64 ", "
+               ", \"leaf_frames\": %" PRIu64 ", \"wind_frames\": %" PRIu64 ", \"bytes\": %" PRIu64 ", "
                "\"state_frames_per_client_s\": %.2f, \"decode_errors\": %" PRIu64
                ", \"sequence_gaps\": %" PRIu64 ", \"skipped_snapshots\": %" PRIu64
                ", \"disconnects\": %" PRIu64 ", \"latency_ms\": {\"p50\": %.3f, \"p95\": %.3f, "
                "\"p99\": %.3f, \"max\": %.3f, \"samples\": %" PRIu64 "}",
                url, r.n, elapsed, ctl_role_name(r.role), r.connected, r.welcomed,
-               r.connect_errors, r.frames, r.state_frames, r.keyframes, r.leaf_frames, r.bytes,
+               r.connect_errors, r.frames, r.state_frames, r.keyframes, r.leaf_frames,
+               r.wind_frames, r.bytes,
                r.connected ? (double)r.state_frames / r.connected / elapsed : 0.0,
                r.decode_errors, r.seq_gaps, r.skipped_seqs, r.disconnects, p50, p95, p99, maxms,
                r.lat_n);
@@ -472,12 +475,13 @@ int main(int argc, char **argv)
         printf("gale-load: %s, %d clients, %.1f s\n"
                "  connected %d (welcomed %d, connect errors %" PRIu64 ")\n"
                "  frames %" PRIu64 " (state %" PRIu64 ", keyframes %" PRIu64 ", leaves %" PRIu64
-               "), bytes %" PRIu64 "\n"
+               ", wind %" PRIu64 "), bytes %" PRIu64 "\n"
                "  decode errors %" PRIu64 " (sequence gaps %" PRIu64 "), snapshots skipped by "
                "the server %" PRIu64 ", disconnects %" PRIu64 "\n"
                "  latency ms: p50 %.3f  p95 %.3f  p99 %.3f  max %.3f (%" PRIu64 " samples)\n",
                url, r.n, elapsed, r.connected, r.welcomed, r.connect_errors, r.frames,
-               r.state_frames, r.keyframes, r.leaf_frames, r.bytes, r.decode_errors, r.seq_gaps,
+               r.state_frames, r.keyframes, r.leaf_frames, r.wind_frames, r.bytes, r.decode_errors,
+               r.seq_gaps,
                r.skipped_seqs, r.disconnects, p50, p95, p99, maxms, r.lat_n);
         if (r.first_error[0]) {
             printf("  first error: %s\n", r.first_error);

@@ -42,10 +42,17 @@ struct srv {
     float *hist;                 /* owned [history][n_trees * stride] */
     uint32_t *hist_seq;          /* owned [history] */
     int stride;
+    /* coarse wind slices (sim thread): a WIND frame every SRV_WIND_EVERY snapshots */
+    float *coarse;               /* owned [coarse_cap] */
+    int coarse_cap;
+    int8_t *slice;               /* owned [WIRE_MAX_WIND_SIDE² × 3] */
     /* overrun log rate limit (sim thread) */
     time_t olog_sec;
     int olog_n;
 };
+
+#define SRV_WIND_EVERY 15  /* snapshots between coarse wind slices (2 per second at 30/s) */
+#define SRV_WIND_FACTOR 4  /* grid cells per coarse cell along each axis */
 
 static uint64_t mono_us(void)
 {
@@ -169,6 +176,36 @@ static int on_control(void *user, net_peer *p, const char *text, size_t len, cha
 
 /* --- simulation thread ------------------------------------------------------------------ */
 
+/* The lowest layer of the grid averaged over SRV_WIND_FACTOR³ blocks, as a WIND frame
+ * (clients drift falling leaves with it). */
+static int encode_wind(srv *s, wire_header *h, net_snap *p, gale_err *e)
+{
+    int dims[3];
+    const scene *sc = s->d.sc;
+    if (s->d.wind->coarse(s->d.wind->ctx, SRV_WIND_FACTOR, s->coarse, s->coarse_cap, dims) < 0 ||
+        dims[0] > (int)WIRE_MAX_WIND_SIDE || dims[1] > (int)WIRE_MAX_WIND_SIDE) {
+        return gale_errf(e, GALE_E_RANGE, "coarse wind: the grid does not fit a slice");
+    }
+    float vmax = 0.05f;
+    const int cells = dims[0] * dims[1];
+    for (int i = 0; i < 3 * cells; i++) {
+        float a = fabsf(s->coarse[i]);
+        vmax = a > vmax && isfinite(a) ? a : vmax;
+    }
+    wire_wind w = { .x0_m = sc->origin[0], .y0_m = sc->origin[1],
+                    .z_m = sc->origin[2] + 0.5f * (float)SRV_WIND_FACTOR * sc->cell_m,
+                    .cell_m = (float)SRV_WIND_FACTOR * sc->cell_m, .scale_ms = vmax / 127.0f,
+                    .nx = (uint16_t)dims[0], .ny = (uint16_t)dims[1], .v = s->slice };
+    if (sc->grid[2] < SRV_WIND_FACTOR) {
+        w.z_m = sc->origin[2] + 0.5f * (float)sc->grid[2] * sc->cell_m;
+    }
+    for (int i = 0; i < 3 * cells; i++) {
+        s->slice[i] = wire_wind_quantize(s->coarse[i], w.scale_ms);
+    }
+    h->type = WIRE_MSG_WIND;
+    return wire_encode_wind(h, &w, p->extra[1], p->extra_cap, &p->extra_len[1], e);
+}
+
 static void publish(srv *s, uint32_t tick)
 {
     const int n = s->d.sc->n_trees, stride = s->stride;
@@ -211,6 +248,9 @@ static void publish(srv *s, uint32_t tick)
         if (!rc && s->held >= 2) {
             rc = wire_encode_delta(&h, s->seq, &s->wscene, &ws, &prev, &prev2,
                                    p->delta2, p->cap, &p->delta2_len, &e);
+        }
+        if (!rc && s->coarse && s->seq % SRV_WIND_EVERY == 1) {
+            rc = encode_wind(s, &h, p, &e);
         }
         if (!rc && s->n_leaves) {
             h.type = WIRE_MSG_LEAVES;
@@ -403,8 +443,25 @@ srv *srv_create(const srv_desc *d, gale_err *err)
             goto fail;
         }
     }
+    if (d->wind && d->wind->coarse && sc->grid_on) {
+        int cd[3];
+        for (int a = 0; a < 3; a++) {
+            int f = SRV_WIND_FACTOR < sc->grid[a] ? SRV_WIND_FACTOR : sc->grid[a];
+            cd[a] = (sc->grid[a] + f - 1) / f;
+        }
+        s->coarse_cap = 3 * cd[0] * cd[1] * cd[2];
+        s->coarse = calloc((size_t)s->coarse_cap, sizeof *s->coarse);
+        s->slice = calloc((size_t)WIRE_MAX_WIND_SIDE * WIRE_MAX_WIND_SIDE * 3, 1);
+        if (!s->coarse || !s->slice) {
+            gale_errf(err, GALE_E_NOMEM, "srv_create: no memory for the coarse wind");
+            goto fail;
+        }
+    }
     size_t cap = wire_state_bound((uint32_t)n, (uint32_t)s->stride, (uint32_t)sc->n_species);
     size_t extra = WIRE_HEADER_BYTES + 64 + (size_t)WIRE_MAX_LEAVES * 16;
+    if (s->coarse && extra < WIRE_HEADER_BYTES + 64 + (size_t)s->coarse_cap) {
+        extra = WIRE_HEADER_BYTES + 64 + (size_t)s->coarse_cap; /* one layer ≤ all layers */
+    }
     s->net = net_create(&(net_desc){ .port = d->port,
                                      .iface = d->iface,
                                      .max_clients = d->max_clients,
@@ -469,6 +526,8 @@ void srv_destroy(srv *s)
     free(s->winst);
     free(s->hist);
     free(s->hist_seq);
+    free(s->coarse);
+    free(s->slice);
     pthread_mutex_destroy(&s->scen_lock);
     pthread_mutex_destroy(&s->hist_lock);
     free(s);

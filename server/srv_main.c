@@ -44,6 +44,11 @@ static void w_sample(void *ctx, int n, const float *p, float *v)
     wind_sample_many(ctx, n, p, v);
 }
 
+static int w_coarse(void *ctx, int factor, float *out, int capacity, int dims[3])
+{
+    return wind_coarse(ctx, factor, out, capacity, dims);
+}
+
 /* SIGINT/SIGTERM: the handler only writes the signal number to a pipe (async-signal
  * safe, and whichever thread the kernel picks, the BLAS pool's included); a waiting
  * thread reads it and stops the server from ordinary code. */
@@ -190,7 +195,7 @@ int main(int argc, char **argv)
             goto done;
         }
         tw = (tick_wind){ .ctx = grid, .set_inflow = w_inflow, .step = w_step,
-                          .sample_many = w_sample };
+                          .sample_many = w_sample, .coarse = w_coarse };
     }
     if (check) {
         fprintf(stderr, "gale-server: %s: config ok: %d trees, %d species\n",

@@ -29,6 +29,8 @@ typedef struct tick_wind {
     void (*set_inflow)(void *ctx, const wind_inflow *in);
     int (*step)(void *ctx, float dt_s, wind_step_stats *st);
     void (*sample_many)(void *ctx, int n, const float *p, float *v);
+    /* wind_coarse: the grid averaged over factor³ blocks; may be NULL */
+    int (*coarse)(void *ctx, int factor, float *out, int capacity, int dims[3]);
 } tick_wind;
 
 typedef struct tick_desc {
