@@ -258,7 +258,8 @@ static void print_line(const scenario_state *st, const float gv[3])
 
 /* Colour of obstacles cut by the slice, and of those below it (outline). */
 static const uint8_t solid_cut[3] = { 70, 70, 78 };
-static const uint8_t solid_below[3] = { 235, 235, 240 };
+static const uint8_t solid_below[3] = { 255, 110, 60 };
+static const uint8_t arrow_edge[3] = { 20, 20, 28 };
 static const uint8_t white[3] = { 255, 255, 255 };
 static const uint8_t black[3] = { 0, 0, 0 };
 static const uint8_t bg[3] = { 248, 248, 246 };
@@ -267,7 +268,7 @@ static int write_slice(const opts *o, const wind_grid *w, const scenario *s,
                        const scenario_state *st, const char *path)
 {
     wind_desc wd = wind_get_desc(w);
-    double ox = ox, oy = oy, cell = wd.cell_m;
+    double ox = wd.origin[0], oy = wd.origin[1], cell = wd.cell_m;
     double ext_x = wd.nx * cell, ext_y = wd.ny * cell;
     const int map = 640;
     double ppm = map / (ext_x > ext_y ? ext_x : ext_y); /* pixels per metre */
@@ -322,17 +323,18 @@ static int write_slice(const opts *o, const wind_grid *w, const scenario *s,
         float y0 = (float)(top + (oy + ext_y - (double)bx->max[1]) * ppm);
         float y1 = (float)(top + (oy + ext_y - (double)bx->min[1]) * ppm);
         if ((double)bx->min[2] <= z && (double)bx->max[2] >= z) {
-            plot_rect(&p, (int)x0, (int)y0, (int)x1, (int)y1, solid_cut);
+            plot_rect(&p, (int)lroundf(x0), (int)lroundf(y0), (int)lroundf(x1), (int)lroundf(y1),
+                      solid_cut);
         } else if ((double)bx->max[2] < z) {
-            plot_line(&p, x0, y0, x1, y0, 1.5f, solid_below);
-            plot_line(&p, x1, y0, x1, y1, 1.5f, solid_below);
-            plot_line(&p, x1, y1, x0, y1, 1.5f, solid_below);
-            plot_line(&p, x0, y1, x0, y0, 1.5f, solid_below);
+            plot_line(&p, x0, y0, x1, y0, 2.0f, solid_below);
+            plot_line(&p, x1, y0, x1, y1, 2.0f, solid_below);
+            plot_line(&p, x1, y1, x0, y1, 2.0f, solid_below);
+            plot_line(&p, x0, y1, x0, y0, 2.0f, solid_below);
         }
     }
-    /* arrows on a lattice of about 24 per side, length ∝ speed (a full lattice step at
-     * the scale's top) */
-    double step_m = (ext_x > ext_y ? ext_x : ext_y) / 24.0;
+    /* arrows on a lattice of 16 per side, length ∝ speed (a full lattice step at the
+     * scale's top), white on a dark edge so they read on every colour */
+    double step_m = (ext_x > ext_y ? ext_x : ext_y) / 16.0;
     double alen = step_m * ppm * 0.95;
     for (double y = oy + step_m / 2; y < oy + ext_y; y += step_m) {
         for (double x = ox + step_m / 2; x < ox + ext_x; x += step_m) {
@@ -346,6 +348,7 @@ static int write_slice(const opts *o, const wind_grid *w, const scenario *s,
             float cx = (float)(left + (x - ox) * ppm);
             float cy = (float)(top + (oy + ext_y - y) * ppm);
             float dx = (float)(l * (double)v[0] / sp / 2), dy = (float)(-l * (double)v[1] / sp / 2);
+            plot_arrow(&p, cx - dx, cy - dy, cx + dx, cy + dy, 3.5f, arrow_edge);
             plot_arrow(&p, cx - dx, cy - dy, cx + dx, cy + dy, 1.5f, white);
         }
     }
@@ -387,7 +390,12 @@ static int write_slice(const opts *o, const wind_grid *w, const scenario *s,
     }
     plot_rect(&p, lx, ty + 76, lx + 14, ty + 86, solid_cut);
     plot_text(&p, lx + 20, ty + 78, 1, "solid at z", black);
-    plot_line(&p, (float)lx, (float)(ty + 96), (float)(lx + 14), (float)(ty + 96), 1.5f,
+    plot_line(&p, (float)lx, (float)(ty + 92), (float)(lx + 14), (float)(ty + 92), 2.0f,
+              solid_below);
+    plot_line(&p, (float)lx, (float)(ty + 100), (float)(lx + 14), (float)(ty + 100), 2.0f,
+              solid_below);
+    plot_line(&p, (float)lx, (float)(ty + 92), (float)lx, (float)(ty + 100), 2.0f, solid_below);
+    plot_line(&p, (float)(lx + 14), (float)(ty + 92), (float)(lx + 14), (float)(ty + 100), 2.0f,
               solid_below);
     plot_text(&p, lx + 20, ty + 93, 1, "roof below z", black);
     snprintf(line, sizeof line, "x east, y north, %.0f m", ext_x);
