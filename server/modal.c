@@ -199,7 +199,10 @@ uint32_t modal_tree_modes(const modal *m, uint32_t t)
     return t < m->n_trees ? m->sp[m->blocks[m->tree_block[t]].species].n_modes : 0;
 }
 
-/* One block: wind into the tree frame, forces, exact update, quantisation. */
+/* One block: wind into the tree frame, forces, exact update, quantisation. Cloned for
+ * AVX-512 and AVX2 (chosen at load time by the CPU); the default build targets SSE4.2.
+ * -std=c11 leaves floating-point contraction off, so every clone rounds alike. */
+__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 static void block_tick(const modal *m, const modal_block *bl, const float *wind_world,
                        int16_t *qsnap)
 {
@@ -212,6 +215,11 @@ static void block_tick(const modal *m, const modal_block *bl, const float *wind_
             wx = wind_world[3 * (size_t)t];
             wy = wind_world[3 * (size_t)t + 1];
             wz = wind_world[3 * (size_t)t + 2];
+            /* A non-finite or absurd sample (> 1 km/s) would poison the state for good:
+             * treat it as calm air for this tick. */
+            if (!(wx * wx + wy * wy + wz * wz <= 1.0e6f)) {
+                wx = wy = wz = 0.0f;
+            }
         }
         /* World -> tree frame: rotate by -yaw about z (the tree's yaw maps tree to world). */
         vx[l] = bl->cos_yaw[l] * wx + bl->sin_yaw[l] * wy;
