@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "limits.h"
+#include "wire_limits.h"
 #include "oscillator.h"
 #include "wire.h"
 
