@@ -17,8 +17,10 @@ void main()
         if (depth < 1.0) {
             vec2 c = g.xy;
             float n1 = sin(c.x * 0.11 + sin(c.y * 0.07) * 2.0) * sin(c.y * 0.13 + sin(c.x * 0.05));
-            float n2 = hash01(uint(floor(c.x * 3.0)) * 73856093u ^ uint(floor(c.y * 3.0)) * 19349663u);
-            vec3 albedo = u_ground_col * (0.85 + 0.18 * n1 + 0.1 * n2);
+            float n2 = sin(c.x * 0.9 + sin(c.y * 0.6)) * sin(c.y * 1.1 + sin(c.x * 0.4));
+            // fine detail fades with distance so it does not alias
+            float near = clamp(1.0 - t / 60.0, 0.0, 1.0);
+            vec3 albedo = u_ground_col * (0.85 + 0.18 * n1 + 0.08 * n2 * near);
             vec3 col = light(albedo, vec3(0.0, 0.0, 1.0), g, 0.02, 8.0);
             o_col = vec4(fog_apply(col, g), 1.0);
             gl_FragDepth = depth;
