@@ -189,7 +189,10 @@ void gl_ctx_destroy(gl_ctx *c)
     if (c->kind == GL_CTX_EGL && c->egl_display) {
         eglMakeCurrent(c->egl_display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
         eglDestroyContext(c->egl_display, c->egl_context);
-        eglTerminate(c->egl_display);
+        /* No eglTerminate: the platform display is a per-process singleton that a later
+           context reuses, and terminating it unloads the driver under LeakSanitizer,
+           which then cannot name (or suppress) the driver's process-lifetime caches. */
+        eglReleaseThread();
     } else if (c->window) {
         glfwDestroyWindow(c->window);
         if (--glfw_users == 0) {

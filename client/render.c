@@ -756,8 +756,8 @@ int render_add_species(render *r, const asset *a, gale_err *err)
     glVertexAttribPointer(3, 1, GL_FLOAT, GL_FALSE, 0, (const void *)o_w);
     glGenBuffers(1, &s->ibo);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, s->ibo);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)((size_t)a->n_indices * 4 + 4),
-                 a->mesh_index, GL_STATIC_DRAW);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(a->n_indices ? (size_t)a->n_indices * 4 : 4),
+                 a->n_indices ? a->mesh_index : NULL, GL_STATIC_DRAW);
     glBindVertexArray(0);
 
     s->rest = dup_f(a->rest, 3 * nn);

@@ -8,6 +8,7 @@ int bench_bake(int argc, char **argv) __attribute__((weak));
 int bench_wind(int argc, char **argv) __attribute__((weak));
 int bench_modal(int argc, char **argv) __attribute__((weak));
 int bench_client(int argc, char **argv) __attribute__((weak));
+int bench_render(int argc, char **argv) __attribute__((weak));
 
 typedef struct bench_cmd {
     const char *name;
@@ -22,6 +23,7 @@ int main(int argc, char **argv)
         { "wind", bench_wind, "wind solver ms/step, divergence reduction, bandwidth (JSON)" },
         { "modal", bench_modal, "per-tick modal update of many trees (JSON)" },
         { "client", bench_client, "client CPU per frame: receive, decode, upload (JSON)" },
+        { "render", bench_render, "frame time of gale_render, headless (JSON)" },
     };
     const int n = (int)(sizeof cmds / sizeof cmds[0]);
     if (argc >= 2) {
