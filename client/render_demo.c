@@ -148,7 +148,7 @@ int render_demo_asset(asset *a, const render_demo_desc *desc, gale_err *err)
     uint32_t nbranch = 1;
     uint32_t per_branch = 4;
     uint32_t trunk_first = nt / 3;
-    for (uint32_t pass = 0; b.n + per_branch + 1 < d.n_nodes && pass < 64; pass++) {
+    for (uint32_t pass = 0; b.n + per_branch + 1 < d.n_nodes && pass < d.n_nodes; pass++) {
         uint32_t from;
         if (pass < 2 * (nt - trunk_first)) {
             from = trunk_first + pass % (nt - trunk_first);
