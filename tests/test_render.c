@@ -312,6 +312,18 @@ static void test_bad_input(void)
     render_instance in = { .species = 9 };
     CHECK(render_set_instances(R, 1, &in, &e) == GALE_E_RANGE);
     CHECK_STR_HAS(e.msg, "species 9 not added");
+    CHECK(render_set_wind(R, &(render_wind){ .nx = 4, .ny = 4, .nz = 2 }, &e) == GALE_E_RANGE);
+    CHECK_STR_HAS(e.msg, "grid 4x4x2");
+    /* a real grid: calm on the west half, a gale on the east; the frame still renders */
+    float v[4 * 4 * 2 * 3] = { 0 };
+    for (int c = 0; c < 32; c++) {
+        v[3 * c] = (c % 4) >= 2 ? 30.0f : 0.0f;
+    }
+    CHECK(render_set_wind(R, &(render_wind){ .nx = 4, .ny = 4, .nz = 2,
+                                             .origin = { -20.0f, -20.0f, 0.0f },
+                                             .cell = { 10.0f, 10.0f, 10.0f }, .v = v }, &e) == 0);
+    uint8_t *img = shot(&CAM, 2.0);
+    free(img);
     CHECK(render_create(&(render_desc){ .width = -3 }, &e) == NULL);
     CHECK_STR_HAS(e.msg, "size -3x");
 }
