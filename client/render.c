@@ -1281,9 +1281,13 @@ int render_frame(render *r, const render_camera *cam, double time_s, gale_err *e
     memset(&r->stats, 0, sizeof r->stats);
     float t = (float)rel_time(r, time_s);
     camera_matrices(r, cam);
-    /* one upload of every tree's q */
-    buf_tex_upload(&r->q, GL_R32F, r->q_stage,
-                   (size_t)(r->cap_trees + 1) * r->q_stride * sizeof(float));
+    /* one upload of every tree's q (the rest slot at cap_trees is uploaded when used) */
+    if (r->n_trees > 0) {
+        glBindBuffer(GL_TEXTURE_BUFFER, r->q.buf);
+        glBufferSubData(GL_TEXTURE_BUFFER, 0,
+                        (GLsizeiptr)((size_t)r->n_trees * r->q_stride * sizeof(float)),
+                        r->q_stage);
+    }
     build_lists(r);
     uint32_t rows = r->tree_row[r->cap_trees];
     int maxw = 1;

@@ -19,7 +19,8 @@ static void usage(void)
     fprintf(stderr,
             "usage: gale-render --out FILE.png [--size WxH] [--trees N] [--species 1..3]\n"
             "       [--nodes N] [--modes N] [--spacing M] [--wind X,Y,Z] [--time S]\n"
-            "       [--falling N] [--eye X,Y,Z] [--target X,Y,Z] [--asset FILE]...\n");
+            "       [--falling N] [--eye X,Y,Z] [--target X,Y,Z] [--asset FILE]...\n"
+            "       [--q Q0,Q1,...]   (the same modal vector for every tree instead of --wind)\n");
 }
 
 static int parse3(const char *s, float v[3])
@@ -60,6 +61,8 @@ int main(int argc, char **argv)
     float spacing = 9.0f, wind[3] = { 0, 0, 0 }, time_s = 0.0f;
     float eye[3] = { 0, -22, 6 }, target[3] = { 0, 0, 4.5f };
     bool eye_set = false;
+    float qfix[64] = { 0 };
+    int nqfix = -1;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         int bad = 0;
@@ -91,6 +94,17 @@ int main(int argc, char **argv)
             eye_set = true;
         } else if (!strcmp(a, "--target")) {
             bad = parse3(v, target);
+        } else if (!strcmp(a, "--q")) {
+            nqfix = 0;
+            for (const char *p = v; *p && nqfix < 64;) {
+                char *end;
+                qfix[nqfix++] = strtof(p, &end);
+                bad |= end == p || !isfinite(qfix[nqfix - 1]);
+                if (bad) {
+                    break;
+                }
+                p = *end == ',' ? end + 1 : end;
+            }
         } else if (!strcmp(a, "--asset") && nfiles < 8) {
             files[nfiles++] = v;
         } else {
@@ -149,6 +163,11 @@ int main(int argc, char **argv)
         float c = cosf(inst[t].yaw), s = sinf(inst[t].yaw);
         float wl[3] = { c * wind[0] + s * wind[1], -s * wind[0] + c * wind[1], wind[2] };
         render_demo_pose(a, wl, time_s, t, q);
+        if (nqfix >= 0) {
+            for (uint32_t m = 0; m < a->n_modes; m++) {
+                q[m] = (int)m < nqfix ? qfix[m] : 0.0f;
+            }
+        }
         rc = render_set_q(r, t, q, a->n_modes, &err);
     }
     if (rc == 0) {
