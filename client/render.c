@@ -1114,6 +1114,7 @@ static void draw_leaves(render *r, const rs_species *s, uint32_t base, uint32_t 
     glUniform1i(uloc(p, "u_base"), (GLint)base);
     glUniform1i(uloc(p, "u_nleaves"), (GLint)s->n_leaves);
     glUniform1f(uloc(p, "u_aspect"), leaf_aspect[s->leaf_shape]);
+    glUniform2f(uloc(p, "u_crown"), s->crown_r, s->height);
     glUniform3fv(uloc(p, "u_leafcol"), 1, s->leaf_rgb);
     glUniform1i(uloc(p, "u_shape"), (GLint)s->leaf_shape);
     bind_tree_inputs(r, s);

@@ -7,6 +7,7 @@ in vec3 v_nrm;
 in vec2 v_uv;                  // s along the blade 0..1, t across -1..1
 flat in float v_fade;
 flat in float v_var;
+flat in float v_ao;
 out vec4 o_col;
 
 bool inside(vec2 uv)
@@ -44,7 +45,7 @@ void main()
     base.r *= 0.9 + 0.25 * v_var * v_var;
     float rib = u_shape == 0 ? smoothstep(0.06, 0.0, abs(v_uv.y)) * 0.15 : 0.0;
     base *= 1.0 - rib;
-    vec3 c = light(base, n, v_wpos, 0.12, 28.0);
+    vec3 c = light(base, n, v_wpos, 0.12, 28.0) * v_ao;
     // sunlight through the blade from behind
     float back = max(-dot(n, u_sun_dir), 0.0);
     c += base * vec3(0.9, 1.1, 0.45) * u_sun_col * back * 0.45;

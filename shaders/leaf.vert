@@ -10,11 +10,13 @@ uniform samplerBuffer u_leaf;  // per leaf: offset xyz, node; normal xyz, size
 uniform int u_base;
 uniform int u_nleaves;
 uniform float u_aspect;        // blade width / length for this species' shape
+uniform vec2 u_crown;          // crown radius, tree height [m, tree frame]
 out vec3 v_wpos;
 out vec3 v_nrm;
 out vec2 v_uv;
 flat out float v_fade;
 flat out float v_var;
+flat out float v_ao;
 
 void main()
 {
@@ -68,5 +70,10 @@ void main()
     v_uv = vec2(s, t * 2.0);
     v_fade = e.w;
     v_var = hash01(h + 2u);
+    // leaves deep inside and low in the crown get less sky: cheap ambient occlusion
+    vec3 rl = nj.xyz + l0.xyz;
+    float outer = clamp(length(rl.xy) / max(u_crown.x, 1e-3), 0.0, 1.0);
+    float high = clamp(rl.z / max(u_crown.y, 1e-3), 0.0, 1.0);
+    v_ao = mix(0.5, 1.0, clamp(0.55 * outer + 0.6 * high, 0.0, 1.0));
     gl_Position = u_viewproj * vec4(v_wpos, 1.0);
 }
