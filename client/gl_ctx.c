@@ -160,8 +160,10 @@ int gl_ctx_create(gl_ctx *c, int width, int height, bool headless, bool vsync,
         if (rc < 0) {
             rc = glfw_create(c, width, height, false, false, title, err);
             if (rc < 0) {
+                char glfw_msg[256];
+                snprintf(glfw_msg, sizeof glfw_msg, "%s", err ? err->msg : "");
                 return gale_errf(err, rc, "gl_ctx: headless: EGL: %s; GLFW: %s",
-                                 egl_err.msg[0] ? egl_err.msg : "disabled", err->msg);
+                                 egl_err.msg[0] ? egl_err.msg : "disabled", glfw_msg);
             }
         }
     } else {

@@ -610,8 +610,9 @@ static int species_impostor(render *r, rs_species *s, uint32_t sid, gale_err *er
                    (size_t)(r->cap_trees + 1) * r->q_stride * sizeof(float));
     float ent[4] = { (float)slot, 0.0f, (float)s->n_modes, 1.0f };
     buf_tex_upload(&r->list_buf, GL_RGBA32F, ent, sizeof ent);
-    if (skel_ensure(r, (int)s->n_nodes, 1, err) < 0) {
-        return err->code;
+    int rc = skel_ensure(r, (int)s->n_nodes, 1, err);
+    if (rc < 0) {
+        return rc;
     }
     draw_skeleton(r, s, 0, 1);
 
@@ -907,6 +908,10 @@ static void wind_sample(const render *r, const float p[3], float out[3])
     uint32_t ijk[3];
     for (int k = 0; k < 3; k++) {
         float c = (p[k] - r->wind_origin[k]) / r->wind_cell[k];
+        if (k == 2) {
+            /* a slice or a low grid applies at every height: clamp vertically */
+            c = fminf(fmaxf(c, 0.0f), (float)r->wind_n[2] - 0.5f);
+        }
         if (!(c >= 0.0f) || c >= (float)r->wind_n[k]) {
             return;
         }
@@ -1295,8 +1300,9 @@ int render_frame(render *r, const render_camera *cam, double time_s, gale_err *e
     for (uint32_t s = 0; s < r->n_species; s++) {
         maxw = (int)r->sp[s].n_nodes > maxw ? (int)r->sp[s].n_nodes : maxw;
     }
-    if (skel_ensure(r, maxw, rows > 0 ? (int)rows : 1, err) < 0) {
-        return err->code;
+    int rc = skel_ensure(r, maxw, rows > 0 ? (int)rows : 1, err);
+    if (rc < 0) {
+        return rc;
     }
     for (uint32_t s = 0; s < r->n_species; s++) {
         draw_skeleton(r, &r->sp[s], r->grp_base[s][G_SKEL], r->grp_n[s][G_SKEL]);
@@ -1463,8 +1469,9 @@ int render_read_skeleton(render *r, uint32_t tree, float *out, gale_err *err)
                    (size_t)(r->cap_trees + 1) * r->q_stride * sizeof(float));
     float ent[4] = { (float)tree, 0.0f, (float)s->n_modes, 1.0f };
     buf_tex_upload(&r->list_buf, GL_RGBA32F, ent, sizeof ent);
-    if (skel_ensure(r, (int)s->n_nodes, 1, err) < 0) {
-        return err->code;
+    int rc = skel_ensure(r, (int)s->n_nodes, 1, err);
+    if (rc < 0) {
+        return rc;
     }
     draw_skeleton(r, s, 0, 1);
     float *px = malloc((size_t)s->n_nodes * 4 * sizeof(float));

@@ -53,6 +53,7 @@ vec3 wind_at(vec3 wpos)
         return u_wind_uniform;
     }
     vec3 t = (wpos - u_wind_origin) / u_wind_extent;
+    t.z = clamp(t.z, 0.0, 1.0); // a slice or a low grid applies at every height
     if (any(lessThan(t, vec3(0.0))) || any(greaterThan(t, vec3(1.0)))) {
         return u_wind_uniform;
     }

@@ -335,7 +335,10 @@ static void test_bad_input(void)
     CHECK_STR_HAS(e.msg, "tree 7 of 3");
     CHECK(render_set_q(R, 0, q, A[0].n_modes + 1, &e) == GALE_E_RANGE);
     CHECK_STR_HAS(e.msg, "modes, species has");
+    /* a NULL error buffer is allowed everywhere */
+    CHECK(render_set_q(R, 99, q, 8, NULL) == GALE_E_RANGE);
     render_leaf_seed s = { .tree = 1, .slot = 1u << 30 };
+    CHECK(render_add_falling_leaf(R, &s, NULL) == GALE_E_RANGE);
     CHECK(render_add_falling_leaf(R, &s, &e) == GALE_E_RANGE);
     CHECK_STR_HAS(e.msg, "slot 1073741824 of");
     render_instance in = { .species = 9 };
