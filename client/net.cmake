@@ -5,6 +5,8 @@ add_library(gale_client STATIC
     ${CMAKE_CURRENT_LIST_DIR}/jitter.c
     ${CMAKE_CURRENT_LIST_DIR}/asset_cache.c
     ${CMAKE_CURRENT_LIST_DIR}/hud.c
-    ${CMAKE_CURRENT_LIST_DIR}/camera.c)
+    ${CMAKE_CURRENT_LIST_DIR}/camera.c
+    ${CMAKE_CURRENT_LIST_DIR}/net.c)
 target_include_directories(gale_client PUBLIC ${CMAKE_CURRENT_LIST_DIR})
-target_link_libraries(gale_client PUBLIC gale_protocol PkgConfig::EPOXY PkgConfig::CLIENT_STB ${MATH_LIB})
+target_link_libraries(gale_client PUBLIC gale_protocol PkgConfig::LWS PkgConfig::EPOXY
+    PkgConfig::CLIENT_STB ${MATH_LIB})
