@@ -457,6 +457,7 @@ net *net_create(const net_desc *d, const net_handler *h, gale_err *err)
         goto fail;
     }
 
+    lws_set_log_level(LLL_ERR, NULL); /* our own lines say what went wrong */
     struct lws_context_creation_info info;
     memset(&info, 0, sizeof info);
     info.port = CONTEXT_PORT_NO_LISTEN;
