@@ -4,11 +4,6 @@
  * blocking HTTP GETs of assets over the same context. */
 #include "net.h"
 
-/* protocol/limits.h shadows the C library's <limits.h> on our include path, and the
- * OpenSSL headers under libwebsockets need INT_MAX from it. */
-#ifndef INT_MAX
-#define INT_MAX __INT_MAX__
-#endif
 #include <libwebsockets.h>
 
 #include <errno.h>

@@ -10,3 +10,10 @@ add_library(gale_client STATIC
 target_include_directories(gale_client PUBLIC ${CMAKE_CURRENT_LIST_DIR})
 target_link_libraries(gale_client PUBLIC gale_protocol PkgConfig::LWS PkgConfig::EPOXY
     PkgConfig::CLIENT_STB ${MATH_LIB})
+
+# The executable needs the render library (client/render.cmake, included before this).
+if(TARGET gale_render)
+    add_executable(gale-client ${CMAKE_CURRENT_LIST_DIR}/main.c)
+    target_link_libraries(gale-client PRIVATE gale_client gale_render gale_protocol
+        PkgConfig::LWS PkgConfig::GLFW PkgConfig::EPOXY ${MATH_LIB})
+endif()
