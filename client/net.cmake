@@ -17,3 +17,8 @@ if(TARGET gale_render)
     target_link_libraries(gale-client PRIVATE gale_client gale_render gale_protocol
         PkgConfig::LWS PkgConfig::GLFW PkgConfig::EPOXY ${MATH_LIB})
 endif()
+
+# gale-bench client: client CPU per frame (receive, decode, jitter, upload).
+set_property(GLOBAL APPEND PROPERTY GALE_BENCH_SOURCES ${CMAKE_CURRENT_LIST_DIR}/bench_client.c)
+set_property(GLOBAL APPEND PROPERTY GALE_BENCH_LIBS gale_client gale_protocol PkgConfig::GLFW
+    PkgConfig::EPOXY)
