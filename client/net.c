@@ -312,8 +312,10 @@ static int http_callback(net *n, struct lws *wsi, enum lws_callback_reasons reas
 {
     switch (reason) {
     case LWS_CALLBACK_CLIENT_CONNECTION_ERROR:
-        snprintf(n->fetch_err, sizeof n->fetch_err, "connect: %s",
-                 in ? (const char *)in : "error");
+        if (!n->fetch_err[0]) { /* keep the reason we closed it for (an HTTP status) */
+            snprintf(n->fetch_err, sizeof n->fetch_err, "connect: %s",
+                     in ? (const char *)in : "error");
+        }
         n->fetch_done = true;
         n->http = NULL;
         return 0;
