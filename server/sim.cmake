@@ -18,7 +18,7 @@ add_library(gale_sim STATIC
     ${CMAKE_CURRENT_SOURCE_DIR}/srv.c
     ${GALE_SCENE_EMBED})
 target_include_directories(gale_sim PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
-target_link_libraries(gale_sim PUBLIC gale_common gale_scenario gale_protocol PkgConfig::LWS
+target_link_libraries(gale_sim PUBLIC gale_common gale_modal gale_scenario gale_protocol PkgConfig::LWS
     Threads::Threads ${MATH_LIB})
 
 # gale-server needs the bake (species -> asset), the geometry (L-system, species files,

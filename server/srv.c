@@ -209,22 +209,15 @@ static int encode_wind(srv *s, wire_header *h, net_snap *p, gale_err *e)
 static void publish(srv *s, uint32_t tick)
 {
     const int n = s->d.sc->n_trees, stride = s->stride;
-    const float *q = tick_q(s->tick);
-    int16_t *cur = s->qbuf[s->cur];
-    for (int t = 0; t < n; t++) {
-        const float *st = s->d.species[s->tree_species[t]].qstep;
-        int nm = s->tree_modes[t];
-        for (int m = 0; m < stride; m++) {
-            cur[t * stride + m] =
-                m < nm ? wire_quantize(q[(size_t)t * (size_t)stride + (size_t)m], 1.0f / st[m]) : 0;
-        }
-    }
+    int16_t *cur = s->qbuf[s->cur]; /* filled by tick_step (modal_tick quantised it) */
     s->seq++;
     if (s->hist) {
         int k = (int)(s->seq % (uint32_t)s->d.history);
         pthread_mutex_lock(&s->hist_lock);
-        memcpy(s->hist + (size_t)k * (size_t)n * (size_t)stride, q,
-               sizeof(float) * (size_t)n * (size_t)stride);
+        float *h = s->hist + (size_t)k * (size_t)n * (size_t)stride;
+        for (int t = 0; t < n; t++) {
+            tick_get_q(s->tick, t, h + (size_t)t * (size_t)stride, stride);
+        }
         s->hist_seq[k] = s->seq;
         pthread_mutex_unlock(&s->hist_lock);
     }
@@ -290,7 +283,8 @@ static void *sim_main(void *arg)
         }
         tick_stats ts;
         gale_err e;
-        if (tick_step(s->tick, &ts, &e)) {
+        bool snap = (tick + 1) % (uint32_t)s->ticks_per_snap == 0;
+        if (tick_step(s->tick, snap ? s->qbuf[s->cur] : NULL, &ts, &e)) {
             fprintf(stderr, "gale-server: %s: stopping the simulation\n", e.msg);
             net_stop(s->net);
             break;
@@ -303,7 +297,7 @@ static void *sim_main(void *arg)
                                                     .spawn_tick = ls[i].spawn_tick,
                                                     .seed = ls[i].variation };
         }
-        if ((tick + 1) % (uint32_t)s->ticks_per_snap == 0) {
+        if (snap) {
             publish(s, tick + 1);
         }
         uint64_t ns = 0;
@@ -372,6 +366,7 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     tick_species *ts = s->ts;
     for (int i = 0; i < sc->n_species; i++) {
         ts[i] = d->species[i].modal;
+        ts[i].qstep = d->species[i].qstep;
         if (ts[i].n_modes > WIRE_MAX_MODES) {
             gale_errf(err, GALE_E_RANGE, "srv_create: species %s: expected <= %u modes, got %u",
                       sc->species[i].name, WIRE_MAX_MODES, ts[i].n_modes);

@@ -1,27 +1,21 @@
 /* The fixed-step simulation: see tick.h. */
 #include "tick.h"
 
+#include "modal.h"
+
 #include <math.h>
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
-/* Exact transition of q'' + γq' + ω²q = f over dt with f held constant (a 2×2 matrix
- * exponential plus a forcing column), per species and mode. */
-typedef struct tick_coef {
-    float a11, a12, a21, a22, b1, b2;
-} tick_coef;
-
 struct tick_sim {
     tick_desc d;
     float dt_s;
     int n_trees, stride;
-    float *q, *qd;          /* owned [n_trees][stride] */
-    tick_coef *coef;        /* owned [n_species][stride] */
+    modal *m;               /* owned: q, q' of every tree and mode */
     float *crown;           /* owned [n_trees][3] sample points, world */
     float *vel;             /* owned [n_trees][3] sampled wind */
-    float *cos_yaw, *sin_yaw; /* owned [n_trees] */
     leaf_seed *leaves;      /* owned [max_leaves_per_tick] */
     int n_leaves;
     uint32_t tick;
@@ -30,35 +24,6 @@ struct tick_sim {
     wind_inflow inflow;
     bool inflow_dirty;
 };
-
-/* x(dt) = E (x0 - xp) + xp with xp = (f/ω², 0) and E = exp(A dt), A = [[0,1],[-ω²,-γ]].
- * E = e^{-γdt/2} [c I + s (A + γ/2 I)] with c, s = cos, sin(ω_d dt)/ω_d (under-damped),
- * cosh, sinh (over-damped) or 1, dt (critical), ω_d² = |ω² - γ²/4|. */
-static tick_coef coef_exact(double w, double g, double dt)
-{
-    double disc = 0.25 * g * g - w * w, c, s;
-    if (disc < -1e-12 * w * w) {
-        double wd = sqrt(-disc);
-        c = cos(wd * dt);
-        s = sin(wd * dt) / wd;
-    } else if (disc > 1e-12 * w * w) {
-        double wd = sqrt(disc);
-        c = cosh(wd * dt);
-        s = sinh(wd * dt) / wd;
-    } else {
-        c = 1;
-        s = dt;
-    }
-    double e = exp(-0.5 * g * dt);
-    double e11 = e * (c + 0.5 * g * s), e12 = e * s, e21 = -e * s * w * w,
-           e22 = e * (c - 0.5 * g * s);
-    return (tick_coef){ .a11 = (float)e11,
-                        .a12 = (float)e12,
-                        .a21 = (float)e21,
-                        .a22 = (float)e22,
-                        .b1 = (float)((1 - e11) / (w * w)),
-                        .b2 = (float)(-e21 / (w * w)) };
-}
 
 tick_sim *tick_create(const tick_desc *d, gale_err *err)
 {
@@ -75,48 +40,25 @@ tick_sim *tick_create(const tick_desc *d, gale_err *err)
     }
     t->dt_s = (float)(1.0 / sc->tick_hz);
     t->n_trees = sc->n_trees;
+    modal_species ms[SCENE_MAX_SPECIES];
     for (int i = 0; i < sc->n_species; i++) {
         const tick_species *sp = &d->species[i];
-        if (sp->n_modes < 1 || sp->n_modes > 256) {
-            gale_errf(err, GALE_E_RANGE, "tick_create: species %s: expected 1..256 modes, got %u",
-                      sc->species[i].name, sp->n_modes);
-            goto fail;
-        }
-        for (uint32_t m = 0; m < sp->n_modes; m++) {
-            if (!(sp->omega[m] > 0) || !(sp->gamma[m] >= 0) || !isfinite(sp->omega[m]) ||
-                !isfinite(sp->gamma[m])) {
-                gale_errf(err, GALE_E_RANGE,
-                          "tick_create: species %s mode %u: expected omega > 0 and gamma >= 0, "
-                          "got %g and %g",
-                          sc->species[i].name, m, (double)sp->omega[m], (double)sp->gamma[m]);
-                goto fail;
-            }
-        }
-        if ((int)sp->n_modes > t->stride) {
-            t->stride = (int)sp->n_modes;
-        }
+        ms[i] = (modal_species){ .n_modes = sp->n_modes,
+                                 .omega = sp->omega,
+                                 .gamma = sp->gamma,
+                                 .wind_basis = sp->wind_basis,
+                                 .qstep = sp->qstep };
     }
-    size_t nq = (size_t)t->n_trees * (size_t)t->stride;
-    t->q = calloc(nq, sizeof *t->q);
-    t->qd = calloc(nq, sizeof *t->qd);
-    t->coef = calloc((size_t)sc->n_species * (size_t)t->stride, sizeof *t->coef);
+    uint8_t *species = calloc((size_t)t->n_trees, 1);
+    float *yaw = calloc((size_t)t->n_trees, sizeof *yaw);
     t->crown = calloc((size_t)t->n_trees * 3, sizeof *t->crown);
     t->vel = calloc((size_t)t->n_trees * 3, sizeof *t->vel);
-    t->cos_yaw = calloc((size_t)t->n_trees, sizeof *t->cos_yaw);
-    t->sin_yaw = calloc((size_t)t->n_trees, sizeof *t->sin_yaw);
     t->leaves = calloc((size_t)t->d.max_leaves_per_tick, sizeof *t->leaves);
-    if (!t->q || !t->qd || !t->coef || !t->crown || !t->vel || !t->cos_yaw || !t->sin_yaw ||
-        !t->leaves) {
-        gale_errf(err, GALE_E_NOMEM, "tick_create: no memory for %d trees x %d modes",
-                  t->n_trees, t->stride);
+    if (!species || !yaw || !t->crown || !t->vel || !t->leaves) {
+        free(species);
+        free(yaw);
+        gale_errf(err, GALE_E_NOMEM, "tick_create: no memory for %d trees", t->n_trees);
         goto fail;
-    }
-    for (int i = 0; i < sc->n_species; i++) {
-        const tick_species *sp = &d->species[i];
-        for (uint32_t m = 0; m < sp->n_modes; m++) {
-            t->coef[i * t->stride + (int)m] =
-                coef_exact((double)sp->omega[m], (double)sp->gamma[m], (double)t->dt_s);
-        }
     }
     for (int k = 0; k < t->n_trees; k++) {
         const scene_tree *tr = &sc->trees[k];
@@ -124,9 +66,24 @@ tick_sim *tick_create(const tick_desc *d, gale_err *err)
         t->crown[3 * k + 0] = tr->pos[0];
         t->crown[3 * k + 1] = tr->pos[1];
         t->crown[3 * k + 2] = tr->pos[2] + 0.7f * h;
-        t->cos_yaw[k] = cosf(tr->yaw_rad);
-        t->sin_yaw[k] = sinf(tr->yaw_rad);
+        species[k] = (uint8_t)tr->species;
+        yaw[k] = tr->yaw_rad;
     }
+    /* one thread: the tick shares two cores with the service thread and the wind */
+    t->m = modal_create(&(modal_desc){ .n_trees = (uint32_t)t->n_trees,
+                                       .n_species = (uint32_t)sc->n_species,
+                                       .species = ms,
+                                       .tree_species = species,
+                                       .tree_yaw_rad = yaw,
+                                       .dt_s = (double)t->dt_s,
+                                       .n_threads = 1 },
+                        err);
+    free(species);
+    free(yaw);
+    if (!t->m) {
+        goto fail;
+    }
+    t->stride = (int)modal_stride(t->m);
     t->leaf = (leaf_desc){ .rate_hz = sc->leaf_rate_hz,
                            .calm_ms = sc->leaf_calm_ms,
                            .ref_ms = sc->leaf_ref_ms,
@@ -145,13 +102,9 @@ void tick_destroy(tick_sim *t)
     if (!t) {
         return;
     }
-    free(t->q);
-    free(t->qd);
-    free(t->coef);
+    modal_destroy(t->m);
     free(t->crown);
     free(t->vel);
-    free(t->cos_yaw);
-    free(t->sin_yaw);
     free(t->leaves);
     pthread_mutex_destroy(&t->lock);
     free(t);
@@ -188,7 +141,7 @@ static double now_ms(void)
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
-int tick_step(tick_sim *t, tick_stats *st, gale_err *err)
+int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
 {
     tick_stats local = { 0 };
     double t0 = now_ms();
@@ -224,29 +177,17 @@ int tick_step(tick_sim *t, tick_stats *st, gale_err *err)
         sample_profile(t, &in);
     }
 
-    /* 3. forces and the exact modal update; 4. leaves */
+    /* 3. forces and the exact modal update (modal.h), quantised on snapshot ticks */
+    modal_tick(t->m, t->vel, qsnap);
+
+    /* 4. leaves: the shedding rate follows the wind speed at each crown */
     t->n_leaves = 0;
-    const int stride = t->stride;
     for (int k = 0; k < t->n_trees; k++) {
-        const scene_tree *tr = &sc->trees[k];
-        const tick_species *sp = &t->d.species[tr->species];
-        const tick_coef *cf = &t->coef[tr->species * stride];
-        float vx = t->vel[3 * k], vy = t->vel[3 * k + 1], vz = t->vel[3 * k + 2];
-        /* world → tree frame: rotate by -yaw about z */
-        float c = t->cos_yaw[k], s = t->sin_yaw[k];
-        float lx = c * vx + s * vy, ly = -s * vx + c * vy, lz = vz;
-        float speed = sqrtf(vx * vx + vy * vy + vz * vz);
+        const tick_species *sp = &t->d.species[sc->trees[k].species];
+        const float *v = &t->vel[3 * k];
+        float speed = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
         if (speed > local.max_speed_ms) {
             local.max_speed_ms = speed;
-        }
-        float *q = &t->q[(size_t)k * (size_t)stride], *qd = &t->qd[(size_t)k * (size_t)stride];
-        const float *p = sp->wind_basis;
-        for (uint32_t m = 0; m < sp->n_modes; m++) {
-            /* Diener 2008 section 4: f_i = |v| v·p_i, v in the tree frame */
-            float f = speed * (lx * p[3 * m] + ly * p[3 * m + 1] + lz * p[3 * m + 2]);
-            float q0 = q[m], v0 = qd[m];
-            q[m] = cf[m].a11 * q0 + cf[m].a12 * v0 + cf[m].b1 * f;
-            qd[m] = cf[m].a21 * q0 + cf[m].a22 * v0 + cf[m].b2 * f;
         }
         if (sp->n_leaves) {
             local.leaves_lost +=
@@ -278,9 +219,13 @@ int tick_stride(const tick_sim *t)
     return t->stride;
 }
 
-const float *tick_q(const tick_sim *t)
+int tick_get_q(const tick_sim *t, int tree, float *q, int cap)
 {
-    return t->q;
+    float buf[256];
+    uint32_t n = modal_get(t->m, (uint32_t)tree, buf, NULL);
+    int k = (int)n < cap ? (int)n : cap;
+    memcpy(q, buf, sizeof(float) * (size_t)k);
+    return k;
 }
 
 int tick_leaves(const tick_sim *t, const leaf_seed **out)

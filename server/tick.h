@@ -1,7 +1,8 @@
 /* The fixed-step simulation (DESIGN.md "Data flow", server tick): step the wind grid
  * (every k ticks), sample the wind at each tree's crown, rotate it into the tree frame,
- * force each mode with f_i = |v| v·p_i (Diener 2008 section 4), advance each mode by
- * the exact discrete oscillator update (DESIGN.md "Integration"), and shed leaves. */
+ * force each mode with f_i = |v| v·p_i (Diener 2008 section 4) and advance each mode by
+ * the exact discrete oscillator update (modal.h, DESIGN.md "Integration"), quantise q
+ * into the snapshot buffer on snapshot ticks, and shed leaves (leaf.h). */
 #ifndef GALE_TICK_H
 #define GALE_TICK_H
 
@@ -18,6 +19,7 @@ typedef struct tick_species {
     const float *omega;      /* [n_modes] [rad/s] */
     const float *gamma;      /* [n_modes] [1/s] */
     const float *wind_basis; /* [n_modes][3] p_i, tree frame */
+    const float *qstep;      /* [n_modes] quantisation step of the snapshot (wire_quant_steps) */
     float height_m;          /* rest height: the wind is sampled at 0.7 of it */
     uint32_t n_leaves;       /* leaf slots per tree */
 } tick_species;
@@ -52,14 +54,16 @@ typedef struct tick_stats {
 
 typedef struct tick_sim tick_sim;
 
-/* Allocates the state (q, q' per tree and mode; per-species transitions for dt =
- * 1/tick_hz); NULL on failure with err filled. */
+/* Allocates the state (modal.h: q, q' per tree and mode, per-species transitions for
+ * dt = 1/tick_hz); NULL on failure with err filled. */
 tick_sim *tick_create(const tick_desc *d, gale_err *err);
 /* NULL is a no-op. */
 void tick_destroy(tick_sim *t);
 
-/* Runs one tick. No allocation. Fails only when the wind step breaks down. */
-int tick_step(tick_sim *t, tick_stats *st, gale_err *err);
+/* Runs one tick. When qsnap is not NULL it receives the quantised q of every tree,
+ * [n_trees][stride] (a snapshot tick). No allocation. Fails only when the wind step
+ * breaks down. */
+int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err);
 
 /* Sets the inflow (from the scenario: mean wind, direction, profile and this instant's
  * gust). Safe from another thread; applied at the next tick. */
@@ -70,8 +74,8 @@ uint32_t tick_now(const tick_sim *t);
 /* Number of trees and the mode count stored per tree (the maximum over species). */
 int tick_n_trees(const tick_sim *t);
 int tick_stride(const tick_sim *t);
-/* q of every tree, [n_trees][stride]; modes beyond a species' count are zero. */
-const float *tick_q(const tick_sim *t);
+/* Float q of tree `tree` into q[cap]; returns its mode count. */
+int tick_get_q(const tick_sim *t, int tree, float *q, int cap);
 /* The leaf seeds of the last tick. */
 int tick_leaves(const tick_sim *t, const leaf_seed **out);
 /* The wind velocity [m/s, world] sampled at each crown during the last tick, [n_trees][3]. */
