@@ -140,7 +140,8 @@ static int on_control(void *user, net_peer *p, const char *text, size_t len, cha
         } else if (s->scen) {
             pthread_mutex_lock(&s->scen_lock);
             if (w->has_speed) {
-                scenario_set_dial(s->scen, (double)w->speed_ms, NULL);
+                /* the scenario's dial holds a sustained wind in [0, 90] m/s */
+                scenario_set_dial(s->scen, w->speed_ms > 90.0f ? 90.0 : (double)w->speed_ms, NULL);
             }
             if (w->has_dir) {
                 /* ctl: toward, from +x counter-clockwise; scenario: from, clockwise from
