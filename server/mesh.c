@@ -104,10 +104,13 @@ static void mesh_work_free(mesh_work *w)
 static void put_ring(asset *a, uint32_t v0, const float *centre, double r, mesh_vec axis,
                      mesh_vec ref, uint32_t bone0, uint32_t bone1, float weight)
 {
+    /* cos and sin of 2 pi k / 8 */
+    static const double ck[MESH_SIDES] = { 1.0, 0.70710678118654752, 0.0, -0.70710678118654752,
+                                           -1.0, -0.70710678118654752, 0.0, 0.70710678118654752 };
     mesh_vec b = mv_cross(axis, ref);
     for (uint32_t k = 0; k < MESH_SIDES; k++) {
-        double th = 2.0 * MESH_PI * k / MESH_SIDES;
-        mesh_vec n = mv_add(mv_scale(ref, cos(th)), mv_scale(b, sin(th)));
+        double c = ck[k], sn = ck[(k + MESH_SIDES - MESH_SIDES / 4) % MESH_SIDES];
+        mesh_vec n = mv_add(mv_scale(ref, c), mv_scale(b, sn));
         uint32_t v = v0 + k;
         a->mesh_pos[3 * v + 0] = (float)((double)centre[0] + r * n.x);
         a->mesh_pos[3 * v + 1] = (float)((double)centre[1] + r * n.y);
