@@ -126,7 +126,6 @@ static void w_bytes(asset_writer *w, const void *src, size_t n)
     }
 }
 
-/* NULL arrays are written as zeros: an asset under construction stays encodable. */
 static void w_f32s(asset_writer *w, const float *v, size_t n)
 {
     for (size_t i = 0; i < n; i++) {
@@ -301,6 +300,19 @@ int asset_encode(const asset *a, uint8_t **out, size_t *len, gale_err *err)
                          a->n_nodes, ASSET_MAX_NODES, a->n_modes, ASSET_MAX_MODES, a->n_verts,
                          a->n_indices, a->n_leaves, a->n_lods);
     }
+    const char *missing = !a->parent ? "parent" : !a->rest ? "rest" : !a->radius ? "radius"
+        : a->n_modes && (!a->omega || !a->gamma || !a->wind_basis || !a->phi || !a->phi_rot)
+            ? "omega, gamma, wind_basis, phi or phi_rot"
+        : a->n_verts && (!a->mesh_pos || !a->mesh_normal || !a->mesh_bone || !a->mesh_weight)
+            ? "mesh_pos, mesh_normal, mesh_bone or mesh_weight"
+        : a->n_indices && !a->mesh_index ? "mesh_index"
+        : a->n_leaves && (!a->leaf_node || !a->leaf_offset || !a->leaf_normal || !a->leaf_size)
+            ? "leaf_node, leaf_offset, leaf_normal or leaf_size"
+            : NULL;
+    if (missing) {
+        return gale_errf(err, GALE_E_ARG, "asset encode: %s: array missing for a non-zero count",
+                         missing);
+    }
     size_t plen = a->params_json ? strlen(a->params_json) : 0;
     if (plen > ASSET_MAX_PARAMS) {
         return gale_errf(err, GALE_E_RANGE, "asset encode: params_json: %zu bytes, limit %u",
@@ -324,7 +336,7 @@ int asset_encode(const asset *a, uint8_t **out, size_t *len, gale_err *err)
     w_u32(&w, a->n_nodes);
     w_f32(&w, a->height_m);
     for (size_t i = 0; i < nn; i++) {
-        w_u32(&w, a->parent ? (uint32_t)a->parent[i] : (i ? (uint32_t)(i - 1) : 0xffffffffu));
+        w_u32(&w, (uint32_t)a->parent[i]);
     }
     w_f32s(&w, a->rest, 3 * nn);
     w_f32s(&w, a->radius, nn);

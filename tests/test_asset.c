@@ -178,6 +178,12 @@ static void test_round_trip(void)
     CHECK(asset_encode(&b, &buf2, &len2, &err) == 0);
     CHECK(len2 == len && memcmp(buf, buf2, len) == 0);
     free(buf2);
+    /* a count without its array is refused */
+    float *keep_phi = a.phi;
+    a.phi = NULL;
+    CHECK(asset_encode(&a, &buf2, &len2, &err) == GALE_E_ARG);
+    CHECK_STR_HAS(err.msg, "asset encode: omega, gamma, wind_basis, phi or phi_rot: array missing");
+    a.phi = keep_phi;
     /* without correction terms the CORR section is one flag */
     free(a.corr_v);
     a.corr_v = NULL;
