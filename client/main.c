@@ -24,11 +24,6 @@
 
 #define MAX_SPECIES WIRE_MAX_SPECIES
 
-/* The asset decoder is weak so the client links while protocol/asset.c is absent; it then
- * reports that it cannot read assets. */
-int asset_decode(const uint8_t *buf, size_t len, const char *name, asset *a, gale_err *err)
-    __attribute__((weak));
-void asset_fini(asset *a) __attribute__((weak));
 
 typedef struct cli_args {
     const char *url;
@@ -355,9 +350,7 @@ static int load_species_asset(cli *c, const ctl_species *s, asset *a, gale_err *
             return rc;
         }
     }
-    int rc = asset_decode ? asset_decode(buf, len, s->url, a, err)
-                          : gale_errf(err, GALE_E_STATE, "%s: this build cannot decode assets",
-                                      s->url);
+    int rc = asset_decode(buf, len, s->url, a, err);
     if (rc == 0 && !cached && c->cache) {
         gale_err serr = { 0 };
         if (asset_cache_store(c->cache, key, buf, len, &serr) != 0) {
@@ -411,9 +404,7 @@ static int setup_scene(cli *c, gale_err *err)
             return rc;
         }
         int id = render_add_species(c->r, &a, err);
-        if (asset_fini) {
-            asset_fini(&a);
-        }
+        asset_fini(&a);
         if (id < 0) {
             return id;
         }
