@@ -21,7 +21,7 @@
 #define LOAD_MAX_CLIENTS 5000
 #define LOAD_MAX_SECONDS 3600
 #define LAT_BUCKET_US 10          /* latency histogram resolution */
-#define LAT_BUCKETS 200000        /* 10 µs x 200 000 = 2 s; slower goes to the last bucket */
+#define LAT_BUCKETS 3000000       /* 10 µs x 3 000 000 = 30 s; slower goes to the last bucket */
 
 typedef struct load_conn {
     struct lws *wsi;

@@ -13,6 +13,8 @@
 #include <string.h>
 #include <time.h>
 
+#include <netinet/in.h>
+#include <netinet/tcp.h>
 #include <sys/socket.h>
 
 #include <libwebsockets.h>
@@ -583,10 +585,12 @@ static int net_callback(struct lws *wsi, enum lws_callback_reasons reason, void 
             c->rx = NULL;
             return -1;
         }
+        int fd = lws_get_socket_fd(wsi), one = 1;
         if (s->d.sndbuf > 0) {
-            int fd = lws_get_socket_fd(wsi);
             setsockopt(fd, SOL_SOCKET, SO_SNDBUF, &s->d.sndbuf, sizeof s->d.sndbuf);
         }
+        /* Small state frames back to back: no Nagle wait for the previous one's ACK. */
+        setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
         c->next = s->conns;
         if (s->conns) {
             s->conns->prev = c;
@@ -666,7 +670,7 @@ net_server *net_create(const net_desc *desc, gale_err *err)
         s->d.max_message = CTL_MAX_CLIENT_BYTES;
     }
     if (!s->d.sndbuf) {
-        s->d.sndbuf = 65536;
+        s->d.sndbuf = 262144;
     }
     if (!s->d.extra_cap) {
         s->d.extra_cap = 65536;
