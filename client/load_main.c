@@ -6,6 +6,7 @@
  * host's CLOCK_MONOTONIC) percentiles. Loopback only; bounded in count and time. */
 #include <ctype.h>
 #include <inttypes.h>
+#include <pthread.h>
 #include <signal.h>
 #include <stdbool.h>
 #include <stdio.h>
@@ -20,6 +21,7 @@
 
 #define LOAD_MAX_CLIENTS 5000
 #define LOAD_MAX_SECONDS 3600
+#define LOAD_MAX_THREADS 16
 #define LAT_BUCKET_US 10          /* latency histogram resolution */
 #define LAT_BUCKETS 3000000       /* 10 µs x 3 000 000 = 30 s; slower goes to the last bucket */
 
@@ -50,9 +52,12 @@ typedef struct load_run {
     uint32_t *lat;        /* owned [LAT_BUCKETS] histogram */
     uint64_t lat_n, lat_max_us;
     char first_error[256];
+    int first;            /* index of this thread's first client */
+    bool failed;          /* lws_create_context failed */
+    double elapsed;       /* [s] */
 } load_run;
 
-static volatile sig_atomic_t interrupted;
+static volatile sig_atomic_t interrupted; /* read by every service thread */
 
 static void on_signal(int sig)
 {
@@ -257,6 +262,74 @@ static const struct lws_protocols protocols[] = {
     { NULL, NULL, 0, 0, 0, NULL, 0 },
 };
 
+/* One service thread: connects its share of the clients, services them for the run's
+ * length, then closes them (1000) and waits up to 3 s for the closes. */
+static void *run_part(void *arg)
+{
+    load_run *r = arg;
+    struct lws_context_creation_info info;
+    memset(&info, 0, sizeof info);
+    info.port = CONTEXT_PORT_NO_LISTEN;
+    info.protocols = protocols;
+    info.user = r;
+    info.fd_limit_per_thread = (unsigned int)(r->n + 16);
+    info.timeout_secs = 10;
+    r->ctx = lws_create_context(&info);
+    if (!r->ctx) {
+        r->failed = true;
+        return NULL;
+    }
+    /* Connect in batches of 50 per service pass so the listen backlog is never flooded. */
+    uint64_t t_start = mono_us(), t_end = 0;
+    int next = 0;
+    while (!interrupted) {
+        for (int k = 0; k < 50 && next < r->n; k++, next++) {
+            load_conn *c = &r->conns[next];
+            c->index = r->first + next;
+            struct lws_client_connect_info ci;
+            memset(&ci, 0, sizeof ci);
+            ci.context = r->ctx;
+            ci.address = r->host;
+            ci.port = r->port;
+            ci.path = r->path;
+            ci.host = r->host;
+            ci.origin = r->host;
+            ci.protocol = "gale";
+            ci.pwsi = &c->wsi;
+            ci.userdata = c;
+            if (!lws_client_connect_via_info(&ci)) {
+                r->connect_errors++;
+                c->closed = true;
+            }
+        }
+        lws_service(r->ctx, 0);
+        uint64_t now = mono_us();
+        if (!r->ending && (double)(now - t_start) * 1e-6 >= r->seconds) {
+            r->ending = true;
+            t_end = now;
+            for (int i = 0; i < r->n; i++) {
+                load_conn *c = &r->conns[i];
+                if (c->wsi && c->established && !c->closed) {
+                    c->closing = true;
+                    lws_callback_on_writable(c->wsi);
+                }
+            }
+        }
+        if (r->ending && (r->open_now <= 0 || now - t_end > 3000000)) {
+            break;
+        }
+    }
+    r->elapsed = (double)((t_end ? t_end : mono_us()) - t_start) * 1e-6;
+    lws_context_destroy(r->ctx);
+    for (int i = 0; i < r->n; i++) {
+        free(r->conns[i].rx);
+        r->conns[i].rx = NULL;
+        wire_decoder_destroy(r->conns[i].dec);
+        r->conns[i].dec = NULL;
+    }
+    return NULL;
+}
+
 static double lat_pct(const load_run *r, double p)
 {
     if (!r->lat_n) {
@@ -310,7 +383,7 @@ static int parse_url(load_run *r, const char *url)
 static void usage(void)
 {
     fprintf(stderr, "usage: gale-load --url ws://HOST:PORT --clients N --seconds S "
-                    "[--role viewer|kiosk|wall-tile|load] [--token T] [--json]\n"
+                    "[--role viewer|kiosk|wall-tile|load] [--token T] [--threads T] [--json]\n"
                     "  N in 1..%d, S in 1..%d; HOST must be loopback\n",
             LOAD_MAX_CLIENTS, LOAD_MAX_SECONDS);
 }
@@ -321,6 +394,7 @@ int main(int argc, char **argv)
     memset(&r, 0, sizeof r);
     r.role = CTL_ROLE_LOAD;
     bool json = false;
+    int threads = 2;
     const char *url = NULL;
     long n = 0;
     double secs = 0;
@@ -362,6 +436,15 @@ int main(int argc, char **argv)
             }
             r.role = k;
             i++;
+        } else if (!strcmp(a, "--threads") && v) {
+            long t = strtol(v, &end, 10);
+            if (*end || t < 1 || t > LOAD_MAX_THREADS) {
+                fprintf(stderr, "gale-load: --threads: expected 1..%d, got \"%s\"\n",
+                        LOAD_MAX_THREADS, v);
+                return 2;
+            }
+            threads = (int)t;
+            i++;
         } else if (!strcmp(a, "--token") && v) {
             snprintf(r.token, sizeof r.token, "%s", v);
             i++;
@@ -380,70 +463,72 @@ int main(int argc, char **argv)
     }
     r.n = (int)n;
     r.seconds = secs;
-    r.conns = calloc((size_t)r.n, sizeof *r.conns);
-    r.lat = calloc(LAT_BUCKETS, sizeof *r.lat);
-    if (!r.conns || !r.lat) {
-        fprintf(stderr, "gale-load: no memory\n");
-        return 1;
-    }
     signal(SIGINT, on_signal);
     signal(SIGTERM, on_signal);
-
-    struct lws_context_creation_info info;
-    memset(&info, 0, sizeof info);
-    info.port = CONTEXT_PORT_NO_LISTEN;
-    info.protocols = protocols;
-    info.user = &r;
-    info.fd_limit_per_thread = (unsigned int)(r.n + 16);
-    info.timeout_secs = 10;
     lws_set_log_level(LLL_ERR, NULL);
-    r.ctx = lws_create_context(&info);
-    if (!r.ctx) {
-        fprintf(stderr, "gale-load: lws_create_context failed\n");
-        return 1;
+    /* The clients are split over `threads` service threads, each with its own lws
+     * context, so decoding is not held to one core. */
+    if (threads > r.n) {
+        threads = r.n;
     }
-    /* Connect in batches of 50 per service pass so the listen backlog is never flooded. */
-    uint64_t t_start = mono_us(), t_end = 0;
-    int next = 0;
-    while (!interrupted) {
-        for (int k = 0; k < 50 && next < r.n; k++, next++) {
-            load_conn *c = &r.conns[next];
-            c->index = next;
-            struct lws_client_connect_info ci;
-            memset(&ci, 0, sizeof ci);
-            ci.context = r.ctx;
-            ci.address = r.host;
-            ci.port = r.port;
-            ci.path = r.path;
-            ci.host = r.host;
-            ci.origin = r.host;
-            ci.protocol = "gale";
-            ci.pwsi = &c->wsi;
-            ci.userdata = c;
-            if (!lws_client_connect_via_info(&ci)) {
-                r.connect_errors++;
-                c->closed = true;
-            }
-        }
-        lws_service(r.ctx, 0);
-        uint64_t now = mono_us();
-        if (!r.ending && (double)(now - t_start) * 1e-6 >= r.seconds) {
-            r.ending = true;
-            t_end = now;
-            for (int i = 0; i < r.n; i++) {
-                load_conn *c = &r.conns[i];
-                if (c->wsi && c->established && !c->closed) {
-                    c->closing = true;
-                    lws_callback_on_writable(c->wsi);
-                }
-            }
-        }
-        if (r.ending && (r.open_now <= 0 || now - t_end > 3000000)) {
-            break;
+    load_run parts[LOAD_MAX_THREADS];
+    pthread_t tid[LOAD_MAX_THREADS];
+    int first = 0;
+    for (int i = 0; i < threads; i++) {
+        parts[i] = r;
+        parts[i].n = r.n / threads + (i < r.n % threads);
+        parts[i].first = first;
+        first += parts[i].n;
+        parts[i].conns = calloc((size_t)parts[i].n, sizeof *parts[i].conns);
+        parts[i].lat = calloc(LAT_BUCKETS, sizeof *parts[i].lat);
+        if (!parts[i].conns || !parts[i].lat) {
+            fprintf(stderr, "gale-load: no memory\n");
+            return 1;
         }
     }
-    double elapsed = (double)((t_end ? t_end : mono_us()) - t_start) * 1e-6;
-    lws_context_destroy(r.ctx);
+    for (int i = 0; i < threads; i++) {
+        if (pthread_create(&tid[i], NULL, run_part, &parts[i])) {
+            fprintf(stderr, "gale-load: cannot start a thread\n");
+            return 1;
+        }
+    }
+    double elapsed = 0;
+    r.lat = parts[0].lat;
+    for (int i = 0; i < threads; i++) {
+        pthread_join(tid[i], NULL);
+        load_run *q = &parts[i];
+        if (q->failed) {
+            fprintf(stderr, "gale-load: lws_create_context failed\n");
+            return 1;
+        }
+        elapsed = q->elapsed > elapsed ? q->elapsed : elapsed;
+        r.connected += q->connected;
+        r.welcomed += q->welcomed;
+        r.frames += q->frames;
+        r.state_frames += q->state_frames;
+        r.keyframes += q->keyframes;
+        r.leaf_frames += q->leaf_frames;
+        r.wind_frames += q->wind_frames;
+        r.bytes += q->bytes;
+        r.decode_errors += q->decode_errors;
+        r.seq_gaps += q->seq_gaps;
+        r.skipped_seqs += q->skipped_seqs;
+        r.disconnects += q->disconnects;
+        r.connect_errors += q->connect_errors;
+        r.lat_n += q->lat_n;
+        r.lat_max_us = q->lat_max_us > r.lat_max_us ? q->lat_max_us : r.lat_max_us;
+        for (int k = 0; k < q->n_close_codes && r.n_close_codes < 8; k++) {
+            r.close_codes[r.n_close_codes++] = q->close_codes[k];
+        }
+        if (!r.first_error[0] && q->first_error[0]) {
+            memcpy(r.first_error, q->first_error, sizeof r.first_error);
+        }
+        if (i > 0) {
+            for (int k = 0; k < LAT_BUCKETS; k++) {
+                r.lat[k] += q->lat[k];
+            }
+        }
+    }
 
     double p50 = lat_pct(&r, 0.50), p95 = lat_pct(&r, 0.95), p99 = lat_pct(&r, 0.99);
     double maxms = (double)r.lat_max_us * 1e-3;
@@ -487,12 +572,10 @@ int main(int argc, char **argv)
             printf("  first error: %s\n", r.first_error);
         }
     }
-    for (int i = 0; i < r.n; i++) {
-        free(r.conns[i].rx);
-        wire_decoder_destroy(r.conns[i].dec);
+    for (int i = 0; i < threads; i++) {
+        free(parts[i].conns);
+        free(parts[i].lat);
     }
-    free(r.conns);
-    free(r.lat);
     bool ok = r.connected == r.n && r.decode_errors == 0 && r.disconnects == 0;
     return ok ? 0 : 1;
 }
