@@ -14,6 +14,8 @@
 #include <string.h>
 #include <time.h>
 
+#include <sys/socket.h>
+
 #include <libwebsockets.h>
 
 #include "ctl.h"
@@ -173,12 +175,17 @@ static int callback(struct lws *wsi, enum lws_callback_reasons reason, void *use
             note_error(r, "connect", in ? (const char *)in : "failed");
         }
         break;
-    case LWS_CALLBACK_CLIENT_ESTABLISHED:
+    case LWS_CALLBACK_CLIENT_ESTABLISHED: {
+        /* A viewer-sized receive buffer: backlog stays in the server's bounded queue
+         * (newest wins) instead of seconds of frames in this socket. */
+        int fd = lws_get_socket_fd(wsi), rcv = 16384;
+        setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &rcv, sizeof rcv);
         c->established = true;
         r->connected++;
         r->open_now++;
         lws_callback_on_writable(wsi);
         break;
+    }
     case LWS_CALLBACK_CLIENT_WRITEABLE: {
         if (c->closing) {
             lws_close_reason(wsi, LWS_CLOSE_STATUS_NORMAL, (unsigned char *)"done", 4);

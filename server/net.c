@@ -670,7 +670,7 @@ net_server *net_create(const net_desc *desc, gale_err *err)
         s->d.max_message = CTL_MAX_CLIENT_BYTES;
     }
     if (!s->d.sndbuf) {
-        s->d.sndbuf = 262144;
+        s->d.sndbuf = 32768;
     }
     if (!s->d.extra_cap) {
         s->d.extra_cap = 65536;

@@ -71,7 +71,7 @@ typedef struct net_desc {
     size_t snap_cap;          /* bytes per state message (after LWS_PRE); required */
     size_t extra_cap;         /* bytes per extra message; 0 → 65536 */
     size_t max_message;       /* largest control message accepted; 0 → CTL_MAX_CLIENT_BYTES */
-    int sndbuf;               /* kernel send buffer per connection [bytes]; 0 → 262144,
+    int sndbuf;               /* kernel send buffer per connection [bytes]; 0 → 32768,
                                  -1 → the kernel's own (bounds what a stalled client pins) */
     const net_asset *assets;  /* borrowed for the server's life */
     int n_assets;
