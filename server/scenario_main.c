@@ -19,6 +19,7 @@ typedef struct opts {
     const char *scenario_path, *scene_path, *png;
     double seconds, time_scale, height_m, at_s, dt_s, every_s, spinup_s;
     int timeline;
+    int no_grid;
     int nx, ny, nz;
     double cell_m;
     double origin[3];
@@ -31,15 +32,18 @@ static void usage(FILE *o)
 {
     fprintf(o,
             "usage: gale-wind --scenario F.json [--seconds T] [--time-scale K] [--timeline]\n"
-            "                 [--every S] [--slice-png out.png] [--height Z] [--at T]\n"
+            "                 [--no-grid] [--every S] [--slice-png out.png] [--height Z] [--at T]\n"
             "                 [--grid NXxNYxNZ] [--cell M] [--origin X,Y,Z] [--dt S]\n"
             "                 [--box X0,Y0,Z0,X1,Y1,Z1]... [--scene scene.json] [--spinup S]\n"
             "  --seconds   server seconds to run (default: the replay's length, or 60)\n"
             "  --time-scale  override the scenario's time compression\n"
             "  --timeline  print one line per --every seconds (default length/40)\n"
+            "  --no-grid   the scenario alone, without the wind grid (fast; no picture)\n"
             "  --slice-png write the horizontal slice at height --height (10 m) at --at\n"
             "              (default: the end) as PNG\n"
             "  --grid, --cell, --origin  the wind grid (64x64x16, 2 m, centred on 0,0)\n"
+            "  --dt        wind step [s] (default 1/30: a 60 Hz server stepping it every\n"
+            "              second tick)\n"
             "  --box       a solid obstacle (repeatable); --scene takes the obstacles and\n"
             "              wind grid of a scene file\n"
             "  --spinup    the grid starts this many seconds before --at (default 60;\n"
@@ -150,6 +154,10 @@ static int parse_args(opts *o, int argc, char **argv)
             o->timeline = 1;
             continue;
         }
+        if (strcmp(a, "--no-grid") == 0) {
+            o->no_grid = 1;
+            continue;
+        }
         if (!v) {
             fprintf(stderr, "gale-wind: %s: missing value (see --help)\n", a);
             return -1;
@@ -218,6 +226,10 @@ static int parse_args(opts *o, int argc, char **argv)
             }
         }
     }
+    if (o->no_grid && o->png) {
+        fprintf(stderr, "gale-wind: --slice-png needs the grid (drop --no-grid)\n");
+        return -1;
+    }
     if (!o->scenario_path) {
         fprintf(stderr, "gale-wind: --scenario is required\n");
         usage(stderr);
@@ -246,14 +258,19 @@ static void print_header(void)
            "bft  p_hPa   dist_km grid_ms grid_from\n");
 }
 
-static void print_line(const scenario_state *st, const float gv[3])
+static void print_line(const scenario_state *st, const float *gv)
 {
-    double gs = hypot((double)gv[0], (double)gv[1]);
-    double gfrom = fmod(270.0 - atan2((double)gv[1], (double)gv[0]) * 180.0 / M_PI + 720.0, 360.0);
-    printf("%7.1f  %-17s %9.1f  %7.1f %7.1f %8.1f %-20s %3d %7.1f %9.1f %7.1f %9.1f\n", st->t_s,
+    printf("%7.1f  %-17s %9.1f  %7.1f %7.1f %8.1f %-20s %3d %7.1f %9.1f", st->t_s,
            st->clock_utc[0] ? st->clock_utc : "-", st->storm_min, st->sustained_ms, st->gust_ms,
-           st->dir_from_deg, st->category_name, st->beaufort, st->pressure_hpa, st->distance_km,
-           gs, gfrom);
+           st->dir_from_deg, st->category_name, st->beaufort, st->pressure_hpa, st->distance_km);
+    if (gv) {
+        double gs = hypot((double)gv[0], (double)gv[1]);
+        double gfrom = fmod(270.0 - atan2((double)gv[1], (double)gv[0]) * 180.0 / M_PI + 720.0,
+                            360.0);
+        printf(" %7.1f %9.1f\n", gs, gfrom);
+    } else {
+        printf("       -         -\n");
+    }
 }
 
 /* Colour of obstacles cut by the slice, and of those below it (outline). */
@@ -376,7 +393,7 @@ static int write_slice(const opts *o, const wind_grid *w, const scenario *s,
     int ty = ly + bar_h + 30;
     snprintf(line, sizeof line, "sustained %.1f m/s", st->sustained_ms);
     plot_text(&p, lx, ty, 1, line, black);
-    snprintf(line, sizeof line, "gust      %.1f m/s", st->gust_ms);
+    snprintf(line, sizeof line, "now       %.1f m/s", st->gust_ms);
     plot_text(&p, lx, ty + 14, 1, line, black);
     snprintf(line, sizeof line, "from      %.0f deg", st->dir_from_deg);
     plot_text(&p, lx, ty + 28, 1, line, black);
@@ -410,7 +427,8 @@ static int write_slice(const opts *o, const wind_grid *w, const scenario *s,
 
 int main(int argc, char **argv)
 {
-    opts o;
+    static opts o; /* 256 boxes: off the stack */
+    setvbuf(stdout, NULL, _IOLBF, 0);
     if (parse_args(&o, argc, argv) < 0) {
         return 2;
     }
@@ -439,8 +457,8 @@ int main(int argc, char **argv)
     for (int k = 0; k < 3; k++) {
         wd.origin[k] = (float)o.origin[k];
     }
-    wind_grid *w = wind_create(&wd, &err);
-    if (!w) {
+    wind_grid *w = o.no_grid ? NULL : wind_create(&wd, &err);
+    if (!w && !o.no_grid) {
         fprintf(stderr, "gale-wind: %s\n", err.msg);
         scenario_destroy(s);
         return 1;
@@ -467,7 +485,7 @@ int main(int argc, char **argv)
     for (long i = 0; i <= n; i++) {
         double t = i * o.dt_s;
         scenario_state st;
-        if (t >= grid_from) {
+        if (w && t >= grid_from) {
             scenario_apply(s, w, t, &st);
             if (wind_step(w, (float)o.dt_s, &ws) < 0) {
                 fprintf(stderr, "gale-wind: t %.2f s: the wind grid broke down\n", t);
@@ -482,8 +500,10 @@ int main(int argc, char **argv)
         }
         if (o.timeline && t + 1e-9 >= next_print) {
             float gv[3] = { 0, 0, 0 };
-            wind_sample(w, probe, gv);
-            print_line(&st, gv);
+            if (w) {
+                wind_sample(w, probe, gv);
+            }
+            print_line(&st, w ? gv : NULL);
             next_print += o.every_s;
         }
         if (o.png && !png_done && t + 1e-9 >= o.at_s) {
