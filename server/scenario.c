@@ -479,6 +479,12 @@ const char *scenario_name(const scenario *s)
     return s->name;
 }
 
+int scenario_balls(const scenario *s, const wind_ball **out)
+{
+    *out = s->balls;
+    return s->n_balls;
+}
+
 scenario_kind scenario_get_kind(const scenario *s)
 {
     return s->kind;

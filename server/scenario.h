@@ -71,6 +71,10 @@ void scenario_eval(scenario *s, double t_s, scenario_state *out);
  * scenario's force balls. Call once before each wind_step. out may be NULL. */
 void scenario_apply(scenario *s, wind_grid *w, double t_s, scenario_state *out);
 
+/* The scenario's force balls (*out borrowed for the scenario's lifetime); returns their
+ * count. For callers that set the inflow themselves and add the balls before each step. */
+int scenario_balls(const scenario *s, const wind_ball **out);
+
 /* Kiosk controls. Each takes effect at the next eval and moves the wind there at a bounded
  * rate ("dial_rate_ms2" in the file, default 4 m/s per second) so trees never see a jump.
  * Dial: hold this 1-minute sustained wind [m/s], in [0, 90], until cleared. */

@@ -32,6 +32,7 @@ static double angle_between(double a, double b)
 
 static void test_shipped_files(void)
 {
+    scenario *s;
     static const char *const files[] = { "calm", "breeze", "gusty", "storm",
                                          "andrew1992", "charley2004", "cat3-synthetic" };
     for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
@@ -50,8 +51,19 @@ static void test_shipped_files(void)
         CHECK(st.inflow.z0_m > 0.0f);
         scenario_destroy(s);
     }
+    /* gusty.json carries two force balls */
+    s = scenario_load(CONFIGS "gusty.json", NULL);
+    const wind_ball *balls = NULL;
+    CHECK(s && scenario_balls(s, &balls) == 2);
+    if (s && balls) {
+        CHECK_NEAR(balls[1].center[1], -20.0, 0.0);
+        CHECK_NEAR(balls[1].radius_m, 12.0, 0.0);
+        CHECK_NEAR(balls[1].force[2], 0.5, 0.0);
+        CHECK_NEAR(balls[1].jitter_m, 10.0, 0.0);
+    }
+    scenario_destroy(s);
     /* the steady ones classify as their names say */
-    scenario *s = scenario_load(CONFIGS "breeze.json", NULL);
+    s = scenario_load(CONFIGS "breeze.json", NULL);
     scenario_state st;
     scenario_eval(s, 0.0, &st);
     CHECK(st.beaufort == 3);
