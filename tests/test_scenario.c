@@ -39,7 +39,7 @@ static void test_shipped_files(void)
         char path[512];
         snprintf(path, sizeof path, CONFIGS "%s.json", files[i]);
         gale_err err = { 0 };
-        scenario *s = scenario_load(path, &err);
+        s = scenario_load(path, &err);
         CHECK(s != NULL);
         if (!s) {
             fprintf(stderr, "%s\n", err.msg);
