@@ -323,7 +323,16 @@ static int write_slice(const opts *o, const wind_grid *w, const scenario *s,
             }
         }
     }
-    double top_ms = vmax <= 5.0 ? 5.0 : 5.0 * ceil(vmax / 5.0);
+    /* a round tick step (1, 2 or 5 × 10^k) giving at most 5 ticks, and the scale's top
+     * the first tick at or above the slice's fastest wind */
+    double raw = (vmax > 1.0 ? vmax : 1.0) / 5.0, mag = pow(10.0, floor(log10(raw)));
+    double tick = raw <= mag ? mag : raw <= 2.0 * mag ? 2.0 * mag : raw <= 5.0 * mag ? 5.0 * mag
+                                                                                   : 10.0 * mag;
+    int n_ticks = (int)ceil(vmax / tick - 1e-9);
+    if (n_ticks < 1) {
+        n_ticks = 1;
+    }
+    double top_ms = n_ticks * tick;
     for (int j = 0; j < mh; j++) {
         for (int i = 0; i < mw; i++) {
             uint8_t c[3];
@@ -384,10 +393,10 @@ static int write_slice(const opts *o, const wind_grid *w, const scenario *s,
         plot_colormap(1.0f - (float)j / (float)(bar_h - 1), c);
         plot_rect(&p, lx, ly + 10 + j, lx + 24, ly + 11 + j, c);
     }
-    for (int k = 0; k <= 5; k++) {
-        int yy = ly + 10 + (int)lround((bar_h - 1) * (1.0 - k / 5.0));
+    for (int k = 0; k <= n_ticks; k++) {
+        int yy = ly + 10 + (int)lround((bar_h - 1) * (1.0 - (double)k / n_ticks));
         plot_line(&p, (float)(lx + 24), (float)yy, (float)(lx + 30), (float)yy, 1.0f, black);
-        snprintf(line, sizeof line, "%.0f", top_ms * k / 5.0);
+        snprintf(line, sizeof line, "%g", tick * k);
         plot_text(&p, lx + 34, yy - 4, 1, line, black);
     }
     int ty = ly + bar_h + 30;
