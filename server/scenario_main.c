@@ -84,8 +84,8 @@ static int read_scene(opts *o, const char *path)
     if (cJSON_IsObject(w)) {
         double g[3] = { o->nx, o->ny, o->nz }, org[3];
         if (cfg_vec(&d, w, "wind", "grid", false, 3, g, 4, 1024, g, &err) < 0 ||
-            cfg_number(&d, w, "wind", "cell_m", false, o->cell_m, 0.05, 100, &o->cell_m,
-                       &err) < 0) {
+            cfg_number(&d, w, "wind", "cell_m", false, o->cell_m, 0.05, 100, &o->cell_m, &err) <
+                0) {
             rc = -1;
         } else {
             o->nx = (int)g[0];
@@ -190,8 +190,10 @@ static int parse_args(opts *o, int argc, char **argv)
         } else if (strcmp(a, "--grid") == 0) {
             if (sscanf(v, "%dx%dx%d", &o->nx, &o->ny, &o->nz) != 3 || o->nx < 4 || o->ny < 4 ||
                 o->nz < 2 || o->nx > 1024 || o->ny > 1024 || o->nz > 256) {
-                fprintf(stderr, "gale-wind: --grid: expected NXxNYxNZ (4..1024, 2..256), got "
-                                "'%s'\n", v);
+                fprintf(stderr,
+                        "gale-wind: --grid: expected NXxNYxNZ (4..1024, 2..256), got "
+                        "'%s'\n",
+                        v);
                 return -1;
             }
         } else if (strcmp(a, "--origin") == 0) {
@@ -204,8 +206,10 @@ static int parse_args(opts *o, int argc, char **argv)
             double b[6];
             if (o->n_boxes == MAX_BOXES || parse_list(v, b, 6) < 0 || b[3] <= b[0] ||
                 b[4] <= b[1] || b[5] <= b[2]) {
-                fprintf(stderr, "gale-wind: --box: expected X0,Y0,Z0,X1,Y1,Z1 with max > min, "
-                                "got '%s'\n", v);
+                fprintf(stderr,
+                        "gale-wind: --box: expected X0,Y0,Z0,X1,Y1,Z1 with max > min, "
+                        "got '%s'\n",
+                        v);
                 return -1;
             }
             wind_box *wb = &o->boxes[o->n_boxes++];
@@ -265,8 +269,8 @@ static void print_line(const scenario_state *st, const float *gv)
            st->dir_from_deg, st->category_name, st->beaufort, st->pressure_hpa, st->distance_km);
     if (gv) {
         double gs = hypot((double)gv[0], (double)gv[1]);
-        double gfrom = fmod(270.0 - atan2((double)gv[1], (double)gv[0]) * 180.0 / M_PI + 720.0,
-                            360.0);
+        double gfrom =
+            fmod(270.0 - atan2((double)gv[1], (double)gv[0]) * 180.0 / M_PI + 720.0, 360.0);
         printf(" %7.1f %9.1f\n", gs, gfrom);
     } else {
         printf("       -         -\n");
@@ -312,8 +316,8 @@ static int write_slice(const opts *o, const wind_grid *w, const scenario *s,
     double vmax = 0.0;
     for (int j = 0; j < mh; j++) {
         for (int i = 0; i < mw; i++) {
-            float pt[3] = { (float)(ox + (i + 0.5) / ppm),
-                            (float)(oy + ext_y - (j + 0.5) / ppm), (float)z };
+            float pt[3] = { (float)(ox + (i + 0.5) / ppm), (float)(oy + ext_y - (j + 0.5) / ppm),
+                            (float)z };
             float v[3];
             wind_sample(w, pt, v);
             double sp = sqrt((double)(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
@@ -326,8 +330,10 @@ static int write_slice(const opts *o, const wind_grid *w, const scenario *s,
     /* a round tick step (1, 2 or 5 × 10^k) giving at most 5 ticks, and the scale's top
      * the first tick at or above the slice's fastest wind */
     double raw = (vmax > 1.0 ? vmax : 1.0) / 5.0, mag = pow(10.0, floor(log10(raw)));
-    double tick = raw <= mag ? mag : raw <= 2.0 * mag ? 2.0 * mag : raw <= 5.0 * mag ? 5.0 * mag
-                                                                                   : 10.0 * mag;
+    double tick = raw <= mag         ? mag
+                  : raw <= 2.0 * mag ? 2.0 * mag
+                  : raw <= 5.0 * mag ? 5.0 * mag
+                                     : 10.0 * mag;
     int n_ticks = (int)ceil(vmax / tick - 1e-9);
     if (n_ticks < 1) {
         n_ticks = 1;
@@ -406,9 +412,9 @@ static int write_slice(const opts *o, const wind_grid *w, const scenario *s,
     plot_text(&p, lx, ty + 14, 1, line, black);
     snprintf(line, sizeof line, "from      %.0f deg", st->dir_from_deg);
     plot_text(&p, lx, ty + 28, 1, line, black);
-    snprintf(line, sizeof line, "%s", st->sustained_ms >= saffir_lower_ms(SAFFIR_TS)
-                                          ? st->category_name
-                                          : saffir_beaufort_name(st->beaufort));
+    snprintf(line, sizeof line, "%s",
+             st->sustained_ms >= saffir_lower_ms(SAFFIR_TS) ? st->category_name
+                                                            : saffir_beaufort_name(st->beaufort));
     plot_text(&p, lx, ty + 42, 1, line, black);
     if (st->distance_km >= 0.0) {
         snprintf(line, sizeof line, "%.0f hPa, eye %.1f km", st->pressure_hpa, st->distance_km);
@@ -461,8 +467,13 @@ int main(int argc, char **argv)
     if (o.every_s <= 0.0) {
         o.every_s = end / 40.0;
     }
-    wind_desc wd = { .nx = o.nx, .ny = o.ny, .nz = o.nz, .cell_m = (float)o.cell_m,
-                     .seed = s->seed, .obstacles = o.boxes, .n_obstacles = o.n_boxes };
+    wind_desc wd = { .nx = o.nx,
+                     .ny = o.ny,
+                     .nz = o.nz,
+                     .cell_m = (float)o.cell_m,
+                     .seed = s->seed,
+                     .obstacles = o.boxes,
+                     .n_obstacles = o.n_boxes };
     for (int k = 0; k < 3; k++) {
         wd.origin[k] = (float)o.origin[k];
     }
@@ -482,8 +493,7 @@ int main(int argc, char **argv)
         grid_from = 0.0;
     }
     if (o.timeline) {
-        printf("# %s: %s%s\n", o.scenario_path, scenario_name(s),
-               len > 0.0 ? "" : " (steady)");
+        printf("# %s: %s%s\n", o.scenario_path, scenario_name(s), len > 0.0 ? "" : " (steady)");
         print_header();
     }
     int rc = 0, png_done = 0;
@@ -519,8 +529,7 @@ int main(int argc, char **argv)
             if (write_slice(&o, w, s, &st, o.png) < 0) {
                 rc = 1;
             } else {
-                fprintf(stderr, "gale-wind: wrote %s (z %.1f m, t %.1f s)\n", o.png, o.height_m,
-                        t);
+                fprintf(stderr, "gale-wind: wrote %s (z %.1f m, t %.1f s)\n", o.png, o.height_m, t);
             }
             png_done = 1;
         }

@@ -39,8 +39,12 @@ static void test_steady_on_grid(void)
                        "\"gust\":{\"enabled\":false}}";
     gale_err err = { 0 };
     scenario *s = scenario_parse("grid.json", json, strlen(json), &err);
-    wind_grid *w = wind_create(&(wind_desc){ .nx = 32, .ny = 32, .nz = 12, .cell_m = 2.0f,
-                                             .origin = { -32.0f, -32.0f, 0.0f }, .seed = 5 },
+    wind_grid *w = wind_create(&(wind_desc){ .nx = 32,
+                                             .ny = 32,
+                                             .nz = 12,
+                                             .cell_m = 2.0f,
+                                             .origin = { -32.0f, -32.0f, 0.0f },
+                                             .seed = 5 },
                                &err);
     CHECK(s && w);
     if (!s || !w) {
@@ -60,8 +64,8 @@ static void test_steady_on_grid(void)
     CHECK(scenario_set_dial(s, 20.0, &err) == 0);
     CHECK(scenario_set_direction(s, 0.0, &err) == 0);
     settle(s, w, 30.0, 40.0, m);
-    fprintf(stderr, "dial 20 from 0: grid (%.2f, %.2f, %.2f) m/s\n", (double)m[0],
-            (double)m[1], (double)m[2]);
+    fprintf(stderr, "dial 20 from 0: grid (%.2f, %.2f, %.2f) m/s\n", (double)m[0], (double)m[1],
+            (double)m[2]);
     CHECK_NEAR(m[0], 0.0, 2.0);
     CHECK_NEAR(m[1], -20.0, 3.0);
     scenario_destroy(s);
