@@ -5,6 +5,7 @@
 #include "scenario.h"
 
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,13 +19,11 @@
 #define MAX_BALLS  64
 #define KM_PER_DEG 111.195 /* mean Earth radius 6371 km × π/180 */
 
-/* Error helper: "<doc>: <path>: <what>". */
+/* A config error: "<doc>: <path>: <what>". */
 #define CFG_ERR(err, code, d, p, ...) scenario_cfg_err(err, code, d, p, __VA_ARGS__)
 
 static int scenario_cfg_err(gale_err *err, int code, const cfg_doc *d, const char *p,
                             const char *fmt, ...) __attribute__((format(printf, 5, 6)));
-
-#include <stdarg.h>
 
 static int scenario_cfg_err(gale_err *err, int code, const cfg_doc *d, const char *p,
                             const char *fmt, ...)
