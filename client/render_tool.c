@@ -9,10 +9,6 @@
 #include "render.h"
 #include "render_demo.h"
 
-/* asset decoding lives in gale_protocol once that module is built in */
-int asset_decode(const uint8_t *buf, size_t len, const char *name, asset *a, gale_err *err)
-    __attribute__((weak));
-void asset_fini(asset *a) __attribute__((weak));
 
 static void usage(void)
 {
@@ -30,10 +26,6 @@ static int parse3(const char *s, float v[3])
 
 static int load_file(const char *path, asset *a, gale_err *err)
 {
-    if (!asset_decode) {
-        return gale_errf(err, GALE_E_STATE, "%s: asset decoding is not built into this gale",
-                         path);
-    }
     FILE *f = fopen(path, "rb");
     if (!f) {
         return gale_errf(err, GALE_E_IO, "%s: cannot open", path);
@@ -198,7 +190,7 @@ int main(int argc, char **argv)
                st.trees_culled, st.draw_calls, st.falling_live);
     }
     for (int s = 0; s < nas; s++) {
-        if (nfiles && asset_fini) {
+        if (nfiles) {
             asset_fini(&as[s]);
         } else if (!nfiles) {
             render_demo_free(&as[s]);
