@@ -91,8 +91,12 @@ struct wind_grid {
     long balls_dropped;
     uint64_t rng;               /* jitter generator state */
     double *rowsum;             /* owned: per-row partial sums for stats (ny * nz) */
-    float *scratch;             /* owned: one row (nx + 2 floats) per thread */
+    float *scratch;             /* owned: WIND_SCRATCH_ROW floats per thread */
 };
+
+/* Per-thread scratch: three displacement rows of up to nx + 1 samples (advection) or
+ * one stencil row (multigrid). */
+#define WIND_SCRATCH_ROW(w) ((size_t)3 * (size_t)((w)->nx + 4))
 
 /* wind.c: fills the ghost layer of the three components from the inflow (open sides)
  * and by free-slip reflection (ground, lid). */

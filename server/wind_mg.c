@@ -80,7 +80,7 @@ int wind_mg_alloc(wind_grid *w, gale_err *err)
             n[a] = (n[a] + l->r[a] - 1) / l->r[a];
         }
     }
-    w->scratch = calloc((size_t)w->d.threads * (size_t)(w->nx + 2), sizeof(float));
+    w->scratch = calloc((size_t)w->d.threads * WIND_SCRATCH_ROW(w), sizeof(float));
     if (!w->scratch) {
         return gale_errf(err, GALE_E_NOMEM, "wind: multigrid scratch: out of memory");
     }
@@ -293,7 +293,7 @@ WIND_CLONES static void row_stencil(int nx, ptrdiff_t sy, ptrdiff_t sz, const fl
 
 static float *row_scratch(const wind_grid *w)
 {
-    return w->scratch + (size_t)omp_get_thread_num() * (size_t)(w->nx + 2);
+    return w->scratch + (size_t)omp_get_thread_num() * WIND_SCRATCH_ROW(w);
 }
 
 /* One red-black Gauss-Seidel sweep. Each colour reads only the other colour, so the
