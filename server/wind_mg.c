@@ -384,10 +384,26 @@ static double residual_restrict(const wind_grid *w, wind_level *f, wind_level *c
     return sqrt(wind_sum_rows(c->rowsum, crows));
 }
 
+/* Fine row of the prolongation where x is coarsened by two: each coarse cell I feeds fine
+ * cells 2I and 2I + 1. base already holds the y and z terms per coarse cell. */
+WIND_CLONES static void prolong_row_x2(int n_pairs, const float *restrict e,
+                                       const float *restrict axc, const float *restrict base,
+                                       const float *restrict fid, float *restrict fp)
+{
+    for (int I = 0; I < n_pairs; I++) {
+        float e0 = e[I];
+        float lo = axc[I] > 0.0f ? e[I - 1] : e0;
+        float hi = axc[I + 1] > 0.0f ? e[I + 1] : e0;
+        float m0 = fid[2 * I] != 0.0f ? 1.0f : 0.0f, m1 = fid[2 * I + 1] != 0.0f ? 1.0f : 0.0f;
+        fp[2 * I] += m0 * (base[I] + 0.25f * (lo - e0));
+        fp[2 * I + 1] += m1 * (base[I] + 0.25f * (hi - e0));
+    }
+}
+
 /* Adds the coarse correction to level f: linear interpolation from the coarse cell and
  * its neighbour on the fine cell's side along each axis where the coarse cell has two
  * children (weight 1/4 each, the rest on the cell itself); across closed faces the cell's
- * own value stands in for the neighbour (Neumann). */
+ * own value stands in for the neighbour (Neumann). Closed fine cells get nothing. */
 static void prolong_add(const wind_grid *w, wind_level *f, const wind_level *c)
 {
     const int *rf = f->r;
@@ -398,31 +414,35 @@ static void prolong_add(const wind_grid *w, wind_level *f, const wind_level *c)
         int j = r % ny, k = r / ny;
         int J = j / rf[1], K = k / rf[2];
         size_t f0 = wind_idx(f->sy, f->sz, 0, j, k);
+        size_t c0 = wind_idx(c->sy, c->sz, 0, J, K);
         ptrdiff_t dy = rf[1] == 2 && c->wd[1][J] > f->wd[1][j] ? ((j & 1) ? csy : -csy) : 0;
         ptrdiff_t dz = rf[2] == 2 && c->wd[2][K] > f->wd[2][k] ? ((k & 1) ? csz : -csz) : 0;
-        for (int i = 0; i < f->nx; i++) {
-            size_t fc = f0 + (size_t)i;
-            if (f->idiag[fc] == 0.0f) {
-                continue;
-            }
-            int I = i / rf[0];
-            size_t cc = wind_idx(c->sy, c->sz, I, J, K);
-            const float e0 = c->p[cc];
-            float e = e0;
-            if (rf[0] == 2 && c->wd[0][I] > f->wd[0][i]) {
-                ptrdiff_t dx = (i & 1) ? 1 : -1;
-                float a = c->ax[(i & 1) ? cc + 1 : cc];
-                e += 0.25f * ((a > 0.0f ? c->p[(ptrdiff_t)cc + dx] : e0) - e0);
-            }
+        /* y and z terms per coarse cell of this row, into the scratch row */
+        float *base = row_scratch(w);
+        const float *e = c->p + c0;
+        const float *fy = c->ay + c0 + (dy > 0 ? csy : 0), *fz = c->az + c0 + (dz > 0 ? csz : 0);
+        for (int I = 0; I < c->nx; I++) {
+            float e0 = e[I], t = 0.0f;
             if (dy) {
-                float a = c->ay[dy > 0 ? cc + (size_t)csy : cc];
-                e += 0.25f * ((a > 0.0f ? c->p[(ptrdiff_t)cc + dy] : e0) - e0);
+                t += 0.25f * ((fy[I] > 0.0f ? e[I + dy] : e0) - e0);
             }
             if (dz) {
-                float a = c->az[dz > 0 ? cc + (size_t)csz : cc];
-                e += 0.25f * ((a > 0.0f ? c->p[(ptrdiff_t)cc + dz] : e0) - e0);
+                t += 0.25f * ((fz[I] > 0.0f ? e[I + dz] : e0) - e0);
             }
-            f->p[fc] += e;
+            base[I] = e0 + t;
+        }
+        float *fp = f->p + f0;
+        const float *fid = f->idiag + f0;
+        int done = 0;
+        if (rf[0] == 2) {
+            done = 2 * (f->nx / 2);
+            prolong_row_x2(f->nx / 2, e, c->ax + c0, base, fid, fp);
+        }
+        /* x not coarsened, or the single child of an odd row's last coarse cell */
+        for (int i = done; i < f->nx; i++) {
+            if (fid[i] != 0.0f) {
+                fp[i] += base[i / rf[0]];
+            }
         }
     }
 }
