@@ -104,8 +104,8 @@ struct wind_grid {
  * and by free-slip reflection (ground, lid). */
 void wind_fill_ghosts(wind_grid *w);
 
-/* wind_advect.c: advects the three components through themselves over dt (cell units
- * per second in vel_scale = dt / h) into c[].tmp, then swaps d and tmp. */
+/* wind_advect.c: advects the three components through themselves over dt (dt_over_h =
+ * dt / h turns m/s into cells per step) into c[].tmp, then swaps d and tmp. */
 void wind_advect(wind_grid *w, float dt_over_h);
 
 /* wind_mg.c */
