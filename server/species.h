@@ -21,10 +21,14 @@ typedef struct species {
     /* look */
     float bark_rgb[3];
     float leaf_rgb[3];
-    int leaf_shape;       /* 0 broad leaf, 1 palm frond leaflet, 2 needle tuft */
-    float leaf_size_m;    /* blade length */
-    int leaves_per_tip;   /* leaf slots on each terminal node */
+    int leaf_shape;        /* 0 broad leaf, 1 palm frond leaflet, 2 needle tuft */
+    float leaf_size_m;     /* blade length */
+    int leaves_per_tip;    /* leaf slots on each terminal node */
+    float leaf_spread_deg; /* how far blade normals stray from the twig's side [deg] */
 } species;
+
+/* The defaults every key falls back to (a plain broadleaf, E = 1e10 Pa, ρ = 1000). */
+void species_default(species *sp);
 
 /* Parses a species JSON document (text of `name`, for messages) into *sp. Unknown keys,
  * wrong types and out-of-range values are errors naming the key path and line. */

@@ -1,0 +1,551 @@
+/* Client HUD: stb_truetype glyph atlas and layout, the HUD's text (wind in m/s, km/h and
+ * mph with the Saffir–Simpson class as REFERENCE.md tabulates it, connection, fps,
+ * latency) and a GL 3.3 overlay pass of alpha-blended quads. */
+#include <epoxy/gl.h>
+
+#include "hud.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <stb_truetype.h>
+
+#define ATLAS_W 1024
+#define ATLAS_H 512
+#define OVERSAMPLE 2
+
+static const int extra_codepoints[] = { 0x00B0, 0x00B7, 0x00B1, 0x2013, 0x2014 };
+#define N_ASCII 95 /* 32..126 */
+#define N_EXTRA ((int)(sizeof extra_codepoints / sizeof extra_codepoints[0]))
+
+struct hud_font {
+    uint8_t *ttf;   /* owned: the font file */
+    uint8_t *atlas; /* owned: ATLAS_W × ATLAS_H coverage */
+    stbtt_fontinfo info;
+    stbtt_packedchar ascii[N_ASCII];
+    stbtt_packedchar extra[N_EXTRA];
+    float px, scale; /* em height [px], font units → px */
+    float ascent, descent, line_gap;
+};
+
+/* ---- font --------------------------------------------------------------------------- */
+
+hud_font *hud_font_load(const char *ttf_path, float px, gale_err *err)
+{
+    hud_font *f = NULL;
+    FILE *fp = NULL;
+    if (!(px >= 4.0f && px <= 200.0f)) {
+        gale_errf(err, GALE_E_ARG, "hud font size: expected 4..200 px, got %g", (double)px);
+        return NULL;
+    }
+    f = calloc(1, sizeof *f);
+    if (!f) {
+        goto nomem;
+    }
+    fp = fopen(ttf_path, "rb");
+    if (!fp) {
+        gale_errf(err, GALE_E_IO, "%s: cannot open font", ttf_path);
+        goto fail;
+    }
+    fseek(fp, 0, SEEK_END);
+    long n = ftell(fp);
+    fseek(fp, 0, SEEK_SET);
+    if (n <= 12 || n > (64L << 20)) {
+        gale_errf(err, GALE_E_FORMAT, "%s: font size expected 12 B..64 MiB, got %ld", ttf_path,
+                  n);
+        goto fail;
+    }
+    f->ttf = malloc((size_t)n);
+    f->atlas = calloc(ATLAS_W * ATLAS_H, 1);
+    if (!f->ttf || !f->atlas) {
+        goto nomem;
+    }
+    if (fread(f->ttf, 1, (size_t)n, fp) != (size_t)n) {
+        gale_errf(err, GALE_E_IO, "%s: short read", ttf_path);
+        goto fail;
+    }
+    fclose(fp);
+    fp = NULL;
+    int off = stbtt_GetFontOffsetForIndex(f->ttf, 0);
+    if (off < 0 || !stbtt_InitFont(&f->info, f->ttf, off)) {
+        gale_errf(err, GALE_E_FORMAT, "%s: not a TrueType font", ttf_path);
+        goto fail;
+    }
+    f->px = px;
+    f->scale = stbtt_ScaleForPixelHeight(&f->info, px);
+    int asc, desc, gap;
+    stbtt_GetFontVMetrics(&f->info, &asc, &desc, &gap);
+    f->ascent = (float)asc * f->scale;
+    f->descent = (float)desc * f->scale;
+    f->line_gap = (float)gap * f->scale;
+
+    stbtt_pack_context pc;
+    if (!stbtt_PackBegin(&pc, f->atlas, ATLAS_W, ATLAS_H, 0, 1, NULL)) {
+        goto nomem;
+    }
+    stbtt_PackSetOversampling(&pc, OVERSAMPLE, OVERSAMPLE);
+    int extra[N_EXTRA];
+    memcpy(extra, extra_codepoints, sizeof extra);
+    stbtt_pack_range ranges[2] = {
+        { .font_size = px, .first_unicode_codepoint_in_range = 32, .num_chars = N_ASCII,
+          .chardata_for_range = f->ascii },
+        { .font_size = px, .array_of_unicode_codepoints = extra, .num_chars = N_EXTRA,
+          .chardata_for_range = f->extra },
+    };
+    int ok = stbtt_PackFontRanges(&pc, f->ttf, 0, ranges, 2);
+    stbtt_PackEnd(&pc);
+    if (!ok) {
+        gale_errf(err, GALE_E_RANGE, "%s: glyphs at %g px do not fit a %dx%d atlas", ttf_path,
+                  (double)px, ATLAS_W, ATLAS_H);
+        goto fail;
+    }
+    return f;
+nomem:
+    gale_errf(err, GALE_E_NOMEM, "%s: no memory for the font", ttf_path);
+fail:
+    if (fp) {
+        fclose(fp);
+    }
+    hud_font_unload(f);
+    return NULL;
+}
+
+void hud_font_unload(hud_font *f)
+{
+    if (!f) {
+        return;
+    }
+    free(f->ttf);
+    free(f->atlas);
+    free(f);
+}
+
+void hud_font_metrics(const hud_font *f, float *ascent, float *descent, float *line_gap)
+{
+    *ascent = f->ascent;
+    *descent = f->descent;
+    *line_gap = f->line_gap;
+}
+
+const uint8_t *hud_font_atlas(const hud_font *f, int *w, int *h)
+{
+    *w = ATLAS_W;
+    *h = ATLAS_H;
+    return f->atlas;
+}
+
+/* Next code point of a UTF-8 string; malformed bytes give '?' and advance one byte. */
+static int utf8_next(const unsigned char **s)
+{
+    const unsigned char *p = *s;
+    int c = p[0], n = 0, cp;
+    if (c < 0x80) {
+        *s = p + 1;
+        return c;
+    } else if ((c & 0xE0) == 0xC0) {
+        n = 1;
+        cp = c & 0x1F;
+    } else if ((c & 0xF0) == 0xE0) {
+        n = 2;
+        cp = c & 0x0F;
+    } else if ((c & 0xF8) == 0xF0) {
+        n = 3;
+        cp = c & 0x07;
+    } else {
+        *s = p + 1;
+        return '?';
+    }
+    for (int i = 1; i <= n; i++) {
+        if ((p[i] & 0xC0) != 0x80) {
+            *s = p + 1;
+            return '?';
+        }
+        cp = (cp << 6) | (p[i] & 0x3F);
+    }
+    *s = p + n + 1;
+    return cp;
+}
+
+/* Packed glyph of a code point and the code point actually drawn ('?' when absent). */
+static const stbtt_packedchar *glyph(const hud_font *f, int *cp)
+{
+    if (*cp >= 32 && *cp < 32 + N_ASCII) {
+        return &f->ascii[*cp - 32];
+    }
+    for (int i = 0; i < N_EXTRA; i++) {
+        if (extra_codepoints[i] == *cp) {
+            return &f->extra[i];
+        }
+    }
+    *cp = '?';
+    return &f->ascii['?' - 32];
+}
+
+uint32_t hud_text_quads(const hud_font *f, float x, float y, const char *utf8, hud_quad *q,
+                        uint32_t max, float *pen_x)
+{
+    const unsigned char *s = (const unsigned char *)utf8;
+    uint32_t n = 0;
+    int prev = 0;
+    while (*s) {
+        int cp = utf8_next(&s);
+        const stbtt_packedchar *g = glyph(f, &cp);
+        if (prev) {
+            x += f->scale * (float)stbtt_GetCodepointKernAdvance(&f->info, prev, cp);
+        }
+        if (cp != ' ' && n < max && q) {
+            /* packed glyph box relative to the pen, in atlas pixels scaled back by the
+             * oversampling (stbtt_GetPackedQuad without integer alignment) */
+            q[n].x0 = x + g->xoff;
+            q[n].y0 = y + g->yoff;
+            q[n].x1 = x + g->xoff2;
+            q[n].y1 = y + g->yoff2;
+            q[n].s0 = (float)g->x0 / ATLAS_W;
+            q[n].t0 = (float)g->y0 / ATLAS_H;
+            q[n].s1 = (float)g->x1 / ATLAS_W;
+            q[n].t1 = (float)g->y1 / ATLAS_H;
+            n++;
+        }
+        x += g->xadvance;
+        prev = cp;
+    }
+    if (pen_x) {
+        *pen_x = x;
+    }
+    return n;
+}
+
+float hud_text_width(const hud_font *f, const char *utf8)
+{
+    float end;
+    hud_text_quads(f, 0.0f, 0.0f, utf8, NULL, 0, &end);
+    return end;
+}
+
+/* ---- content ------------------------------------------------------------------------ */
+
+int hud_saffir_simpson(float speed_ms)
+{
+    /* classify in knots (REFERENCE.md table; 1 kt = 0.514444 m/s) */
+    double kt = floor((double)speed_ms / 0.514444 + 0.5);
+    if (!(kt >= 34.0)) {
+        return -1;
+    }
+    if (kt < 64.0) {
+        return 0;
+    }
+    if (kt < 83.0) {
+        return 1;
+    }
+    if (kt < 96.0) {
+        return 2;
+    }
+    if (kt < 113.0) {
+        return 3;
+    }
+    if (kt < 137.0) {
+        return 4;
+    }
+    return 5;
+}
+
+const char *hud_category_name(int cls)
+{
+    static const char *names[] = { "Tropical depression",  "Tropical storm",
+                                   "Category 1 hurricane", "Category 2 hurricane",
+                                   "Category 3 hurricane", "Category 4 hurricane",
+                                   "Category 5 hurricane" };
+    if (cls < -1 || cls > 5) {
+        return "?";
+    }
+    return names[cls + 1];
+}
+
+int hud_format(const hud_state *s, char lines[HUD_MAX_LINES][HUD_LINE_CHARS])
+{
+    int n = 0;
+    if (s->have_wind) {
+        float v = s->wind_ms;
+        snprintf(lines[n++], HUD_LINE_CHARS, "Wind %.1f m/s \xC2\xB7 %.0f km/h \xC2\xB7 %.0f mph",
+                 (double)v, (double)v * 3.6, (double)v / 0.44704);
+        snprintf(lines[n++], HUD_LINE_CHARS, "%s", hud_category_name(hud_saffir_simpson(v)));
+    } else {
+        snprintf(lines[n++], HUD_LINE_CHARS, "Wind \xE2\x80\x93 (no wind data yet)");
+    }
+    const char *srv = s->server ? s->server : "";
+    switch (s->conn) {
+    case HUD_CONN_LIVE:
+        snprintf(lines[n++], HUD_LINE_CHARS, "Live \xC2\xB7 %s \xC2\xB7 %s", srv,
+                 s->role ? s->role : "viewer");
+        break;
+    case HUD_CONN_WAIT_KEY:
+        snprintf(lines[n++], HUD_LINE_CHARS, "Connected \xC2\xB7 %s \xC2\xB7 waiting for a keyframe",
+                 srv);
+        break;
+    case HUD_CONN_RECONNECTING:
+        snprintf(lines[n++], HUD_LINE_CHARS,
+                 "Server lost \xC2\xB7 retry %u in %.1f s \xC2\xB7 showing last state",
+                 s->attempt, s->retry_in_s);
+        break;
+    case HUD_CONN_FAILED:
+        snprintf(lines[n++], HUD_LINE_CHARS, "Disconnected \xC2\xB7 %s", srv);
+        break;
+    default:
+        snprintf(lines[n++], HUD_LINE_CHARS, "Connecting to %s\xE2\x80\xA6", srv);
+        break;
+    }
+    char lat[48];
+    if (s->latency_ms >= 0.0f) {
+        snprintf(lat, sizeof lat, "%.1f ms", (double)s->latency_ms);
+    } else {
+        snprintf(lat, sizeof lat, "\xE2\x80\x93");
+    }
+    snprintf(lines[n++], HUD_LINE_CHARS, "%.0f fps \xC2\xB7 latency %s \xC2\xB7 delay %.0f ms",
+             (double)s->fps, lat, (double)s->delay_ms);
+    if (s->frames_bad) {
+        snprintf(lines[n++], HUD_LINE_CHARS, "%llu bad frames dropped",
+                 (unsigned long long)s->frames_bad);
+    }
+    return n;
+}
+
+/* ---- GL pass ------------------------------------------------------------------------ */
+
+#define VERT_FLOATS 8 /* x y s t r g b a; s < 0: solid colour */
+#define HUD_MAX_VERTS (6 * (HUD_MAX_GLYPHS + 16))
+
+struct hud {
+    hud_font *font; /* owned */
+    GLuint prog, vao, vbo, tex;
+    GLint u_size, u_atlas;
+    float verts[HUD_MAX_VERTS * VERT_FLOATS];
+    uint32_t n_verts;
+    hud_quad quads[HUD_MAX_GLYPHS];
+};
+
+static const char *hud_vs =
+    "#version 330 core\n"
+    "layout(location = 0) in vec2 a_pos;\n"
+    "layout(location = 1) in vec2 a_st;\n"
+    "layout(location = 2) in vec4 a_rgba;\n"
+    "uniform vec2 u_size;\n"
+    "out vec2 v_st;\n"
+    "out vec4 v_rgba;\n"
+    "void main() {\n"
+    "    v_st = a_st;\n"
+    "    v_rgba = a_rgba;\n"
+    "    gl_Position = vec4(a_pos.x / u_size.x * 2.0 - 1.0, 1.0 - a_pos.y / u_size.y * 2.0,\n"
+    "                       0.0, 1.0);\n"
+    "}\n";
+
+static const char *hud_fs =
+    "#version 330 core\n"
+    "in vec2 v_st;\n"
+    "in vec4 v_rgba;\n"
+    "uniform sampler2D u_atlas;\n"
+    "out vec4 o_color;\n"
+    "void main() {\n"
+    "    float cov = v_st.x < 0.0 ? 1.0 : texture(u_atlas, v_st).r;\n"
+    "    o_color = vec4(v_rgba.rgb, v_rgba.a * cov);\n"
+    "}\n";
+
+static GLuint compile(GLenum type, const char *src, gale_err *err)
+{
+    GLuint s = glCreateShader(type);
+    glShaderSource(s, 1, &src, NULL);
+    glCompileShader(s);
+    GLint ok = 0;
+    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char log[200];
+        glGetShaderInfoLog(s, sizeof log, NULL, log);
+        gale_errf(err, GALE_E_STATE, "hud %s shader: %s",
+                  type == GL_VERTEX_SHADER ? "vertex" : "fragment", log);
+        glDeleteShader(s);
+        return 0;
+    }
+    return s;
+}
+
+hud *hud_create(const hud_desc *d, gale_err *err)
+{
+    hud_desc r = d ? *d : (hud_desc){ 0 };
+    if (!r.font_path) {
+        r.font_path = HUD_DEFAULT_FONT;
+    }
+    if (r.px == 0.0f) {
+        r.px = 18.0f;
+    }
+    hud *h = calloc(1, sizeof *h);
+    if (!h) {
+        gale_errf(err, GALE_E_NOMEM, "hud: no memory");
+        return NULL;
+    }
+    h->font = hud_font_load(r.font_path, r.px, err);
+    if (!h->font) {
+        free(h);
+        return NULL;
+    }
+    GLuint vs = compile(GL_VERTEX_SHADER, hud_vs, err);
+    GLuint fs = vs ? compile(GL_FRAGMENT_SHADER, hud_fs, err) : 0;
+    if (!vs || !fs) {
+        if (vs) {
+            glDeleteShader(vs);
+        }
+        hud_destroy(h);
+        return NULL;
+    }
+    h->prog = glCreateProgram();
+    glAttachShader(h->prog, vs);
+    glAttachShader(h->prog, fs);
+    glLinkProgram(h->prog);
+    glDeleteShader(vs);
+    glDeleteShader(fs);
+    GLint ok = 0;
+    glGetProgramiv(h->prog, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        gale_errf(err, GALE_E_STATE, "hud shader program does not link");
+        hud_destroy(h);
+        return NULL;
+    }
+    h->u_size = glGetUniformLocation(h->prog, "u_size");
+    h->u_atlas = glGetUniformLocation(h->prog, "u_atlas");
+
+    int aw, ah;
+    const uint8_t *atlas = hud_font_atlas(h->font, &aw, &ah);
+    glGenTextures(1, &h->tex);
+    glBindTexture(GL_TEXTURE_2D, h->tex);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_R8, aw, ah, 0, GL_RED, GL_UNSIGNED_BYTE, atlas);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+
+    glGenVertexArrays(1, &h->vao);
+    glGenBuffers(1, &h->vbo);
+    glBindVertexArray(h->vao);
+    glBindBuffer(GL_ARRAY_BUFFER, h->vbo);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)sizeof h->verts, NULL, GL_STREAM_DRAW);
+    const GLsizei stride = VERT_FLOATS * sizeof(float);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, stride, (void *)0);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, stride, (void *)(2 * sizeof(float)));
+    glEnableVertexAttribArray(2);
+    glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, stride, (void *)(4 * sizeof(float)));
+    glBindVertexArray(0);
+    return h;
+}
+
+void hud_destroy(hud *h)
+{
+    if (!h) {
+        return;
+    }
+    if (h->prog) {
+        glDeleteProgram(h->prog);
+    }
+    if (h->vbo) {
+        glDeleteBuffers(1, &h->vbo);
+    }
+    if (h->vao) {
+        glDeleteVertexArrays(1, &h->vao);
+    }
+    if (h->tex) {
+        glDeleteTextures(1, &h->tex);
+    }
+    hud_font_unload(h->font);
+    free(h);
+}
+
+const hud_font *hud_get_font(const hud *h)
+{
+    return h->font;
+}
+
+static void push_rect(hud *h, float x0, float y0, float x1, float y1, float s0, float t0,
+                      float s1, float t1, const float rgba[4])
+{
+    if (h->n_verts + 6 > HUD_MAX_VERTS) {
+        return;
+    }
+    const float c[6][4] = { { x0, y0, s0, t0 }, { x1, y0, s1, t0 }, { x1, y1, s1, t1 },
+                            { x0, y0, s0, t0 }, { x1, y1, s1, t1 }, { x0, y1, s0, t1 } };
+    for (int i = 0; i < 6; i++) {
+        float *v = h->verts + (size_t)h->n_verts * VERT_FLOATS;
+        v[0] = c[i][0];
+        v[1] = c[i][1];
+        v[2] = c[i][2];
+        v[3] = c[i][3];
+        memcpy(v + 4, rgba, 4 * sizeof(float));
+        h->n_verts++;
+    }
+}
+
+static void push_text(hud *h, float x, float y, const char *s, const float rgba[4])
+{
+    uint32_t n = hud_text_quads(h->font, x, y, s, h->quads, HUD_MAX_GLYPHS, NULL);
+    for (uint32_t i = 0; i < n; i++) {
+        const hud_quad *q = &h->quads[i];
+        push_rect(h, q->x0, q->y0, q->x1, q->y1, q->s0, q->t0, q->s1, q->t1, rgba);
+    }
+}
+
+void hud_draw_lines(hud *h, const char *const *lines, int n, int accent_line, float x, float y,
+                    int fb_w, int fb_h)
+{
+    if (fb_w <= 0 || fb_h <= 0 || n <= 0) {
+        return;
+    }
+    const float pad = 0.6f * h->font->px;
+    const float line_h =
+        h->font->ascent - h->font->descent + h->font->line_gap + 0.25f * h->font->px;
+    float w = 0.0f;
+    for (int i = 0; i < n; i++) {
+        w = fmaxf(w, hud_text_width(h->font, lines[i]));
+    }
+    const float panel[4] = { 0.05f, 0.07f, 0.10f, 0.62f };
+    const float shadow[4] = { 0.0f, 0.0f, 0.0f, 0.85f };
+    const float ink[4] = { 0.97f, 0.97f, 0.93f, 1.0f };
+    const float accent[4] = { 1.0f, 0.80f, 0.30f, 1.0f };
+    h->n_verts = 0;
+    push_rect(h, x, y, x + w + 2 * pad, y + n * line_h - 0.25f * h->font->px + 2 * pad, -1, 0,
+              -1, 0, panel);
+    for (int i = 0; i < n; i++) {
+        float bx = floorf(x + pad), by = floorf(y + pad + h->font->ascent + i * line_h);
+        push_text(h, bx + 1, by + 1, lines[i], shadow);
+        push_text(h, bx, by, lines[i], i == accent_line ? accent : ink);
+    }
+    glUseProgram(h->prog);
+    glUniform2f(h->u_size, (float)fb_w, (float)fb_h);
+    glUniform1i(h->u_atlas, 0);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, h->tex);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    glViewport(0, 0, fb_w, fb_h);
+    glBindVertexArray(h->vao);
+    glBindBuffer(GL_ARRAY_BUFFER, h->vbo);
+    glBufferSubData(GL_ARRAY_BUFFER, 0,
+                    (GLsizeiptr)((size_t)h->n_verts * VERT_FLOATS * sizeof(float)), h->verts);
+    glDrawArrays(GL_TRIANGLES, 0, (GLsizei)h->n_verts);
+    glBindVertexArray(0);
+    glUseProgram(0);
+}
+
+void hud_draw(hud *h, const hud_state *s, int fb_w, int fb_h)
+{
+    char lines[HUD_MAX_LINES][HUD_LINE_CHARS];
+    const char *ptrs[HUD_MAX_LINES];
+    int n = hud_format(s, lines);
+    for (int i = 0; i < n; i++) {
+        ptrs[i] = lines[i];
+    }
+    float margin = 0.8f * h->font->px;
+    hud_draw_lines(h, ptrs, n, s->have_wind ? 1 : -1, margin, margin, fb_w, fb_h);
+}

@@ -1,0 +1,108 @@
+/* Client HUD (DESIGN.md "Hurricane scenario": the HUD shows speed and the Saffir–Simpson
+ * category): a TrueType font baked into a glyph atlas with stb_truetype, text layout,
+ * the HUD's lines (wind in m/s, km/h, mph; category; connection; fps; latency) and one
+ * small OpenGL 3.3 pass that draws them over the rendered frame. */
+#ifndef GALE_HUD_H
+#define GALE_HUD_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "err.h"
+
+#define HUD_DEFAULT_FONT "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"
+#define HUD_MAX_GLYPHS 2048 /* glyph quads per frame: the HUD uses ~200 */
+#define HUD_MAX_LINES 8
+#define HUD_LINE_CHARS 128
+
+/* ---- font and layout (no GL) -------------------------------------------------------- */
+
+typedef struct hud_font hud_font;
+
+/* Reads a TrueType file and bakes printable ASCII plus ° · – — ± at px pixels (em height)
+ * into a one-channel atlas. NULL with err on a missing or unreadable font. Free with
+ * hud_font_unload. */
+hud_font *hud_font_load(const char *ttf_path, float px, gale_err *err);
+void hud_font_unload(hud_font *f); /* NULL is a no-op */
+
+/* Pen advance of a UTF-8 string [px], kerning included; characters not in the atlas are
+ * drawn (and measured) as '?'. Invalid UTF-8 bytes count as '?'. */
+float hud_text_width(const hud_font *f, const char *utf8);
+
+/* Ascent, descent (negative) and line advance [px]. */
+void hud_font_metrics(const hud_font *f, float *ascent, float *descent, float *line_gap);
+
+/* The atlas (owned by f): w × h bytes of coverage, row 0 at the top. */
+const uint8_t *hud_font_atlas(const hud_font *f, int *w, int *h);
+
+/* One glyph quad: screen rectangle [px, y down] and atlas texture coordinates. */
+typedef struct hud_quad {
+    float x0, y0, x1, y1;
+    float s0, t0, s1, t1;
+} hud_quad;
+
+/* Lays out a string starting at pen (x, baseline y) [px, y down]: writes at most max
+ * quads (spaces make none) and returns how many; *pen_x (may be NULL) gets the final pen. */
+uint32_t hud_text_quads(const hud_font *f, float x, float y, const char *utf8, hud_quad *q,
+                        uint32_t max, float *pen_x);
+
+/* ---- what the HUD says (no GL) ------------------------------------------------------ */
+
+/* Saffir–Simpson class of a 1-minute sustained 10 m wind, classified in knots (NHC):
+ * -1 tropical depression (≤ 33 kt), 0 tropical storm (34–63 kt), 1..5 hurricane category
+ * (64, 83, 96, 113, 137 kt). Speeds are rounded to the nearest knot first. */
+int hud_saffir_simpson(float speed_ms);
+const char *hud_category_name(int cls); /* "Tropical depression", "Category 3 hurricane" */
+
+enum hud_conn {
+    HUD_CONN_CONNECTING = 0,
+    HUD_CONN_LIVE,         /* receiving state */
+    HUD_CONN_WAIT_KEY,     /* connected, waiting for a keyframe */
+    HUD_CONN_RECONNECTING, /* server went away; retrying */
+    HUD_CONN_FAILED,
+};
+
+typedef struct hud_state {
+    bool have_wind;
+    float wind_ms;          /* wind speed [m/s] shown */
+    int conn;               /* enum hud_conn */
+    const char *server;     /* "host:port" (borrowed) */
+    double retry_in_s;      /* RECONNECTING: seconds to the next attempt */
+    uint32_t attempt;       /* RECONNECTING: attempt number */
+    float fps;
+    float latency_ms;       /* one-way estimate (rtt/2); < 0 = unknown */
+    float delay_ms;         /* playout delay */
+    uint64_t frames_bad;    /* frames dropped as undecodable */
+    const char *role;       /* "viewer", "kiosk", "wall-tile" (borrowed) */
+} hud_state;
+
+/* Formats the HUD lines into lines[HUD_MAX_LINES][HUD_LINE_CHARS]; returns the count. */
+int hud_format(const hud_state *s, char lines[HUD_MAX_LINES][HUD_LINE_CHARS]);
+
+/* ---- GL pass ------------------------------------------------------------------------ */
+
+typedef struct hud_desc {
+    const char *font_path; /* NULL = HUD_DEFAULT_FONT */
+    float px;              /* text size [px]; 0 = 18 */
+} hud_desc;
+
+typedef struct hud hud;
+
+/* Loads the font and creates the GL objects (shader, atlas texture, vertex buffer); a GL
+ * 3.3 core context must be current. NULL with err on failure. */
+hud *hud_create(const hud_desc *d, gale_err *err);
+void hud_destroy(hud *h); /* NULL is a no-op; the context must still be current */
+
+/* The font hud_create loaded (owned by h). */
+const hud_font *hud_get_font(const hud *h);
+
+/* Draws the HUD panel for s in the top-left corner of the bound framebuffer of fb_w × fb_h
+ * pixels, alpha-blended, depth test off. No allocation. */
+void hud_draw(hud *h, const hud_state *s, int fb_w, int fb_h);
+
+/* Draws text lines in a panel at (x, y) [px from the top left]; line accent_line (or none,
+ * -1) in the accent colour. */
+void hud_draw_lines(hud *h, const char *const *lines, int n, int accent_line, float x, float y,
+                    int fb_w, int fb_h);
+
+#endif

@@ -1,0 +1,148 @@
+/* gale_render: draws a forest from baked species assets and per-tree modal vectors q.
+ * Skeletons are rebuilt on the GPU in the strong-wind form (Diener 2008 sections 5.1-5.2),
+ * tube meshes skinned from them (Singh sections 2.1-2.4), leaves and falling leaves on one
+ * shared path (Vazquez 2008 sections 3-5), LOD down to billboards. OpenGL 3.3 core. */
+#ifndef GALE_RENDER_H
+#define GALE_RENDER_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "asset.h"
+#include "err.h"
+
+/* World frame: z up, metres, ground plane z = 0 (as the asset's tree frame). */
+
+typedef struct render render;
+struct GLFWwindow;
+
+typedef struct render_desc {
+    int width, height;         /* framebuffer size [px]; 0 = 1280 x 720 */
+    bool headless;             /* offscreen: EGL (surfaceless or device), else a hidden
+                                  GLFW window (needs X, e.g. Xvfb) */
+    bool vsync;                /* windowed only */
+    const char *title;         /* window title; NULL = "gale" */
+    const char *shader_dir;    /* where the .vert/.frag files are read at run time;
+                                  NULL = $GALE_SHADER_DIR, else GALE_SOURCE_DIR "/shaders" */
+    uint32_t max_trees;        /* capacity of instances; 0 = 8192 */
+    uint32_t max_falling;      /* ring of falling + landed leaves; 0 = 16384. The oldest
+                                  record is reused when full (landed leaves kept up to this) */
+    float lod_mode_dist;       /* distance [m] where the mode count starts to drop; 0 = 40 */
+    float lod_billboard_dist;  /* distance [m] where trees become billboards; 0 = 220 */
+    float fog_dist;            /* distance [m] of ~63 % fog; 0 = 450 */
+} render_desc;
+
+/* One tree of the scene. Its q (render_set_q) has the species' n_modes entries. */
+typedef struct render_instance {
+    uint32_t species;          /* id from render_add_species */
+    float pos[3];              /* root position, world [m] */
+    float yaw;                 /* rotation about z [rad] */
+    float scale;               /* uniform scale; 0 = 1 */
+} render_instance;
+
+/* Camera. view/proj are derived from eye/target/up/fov unless `matrices` is set, in
+ * which case view and proj (column-major, OpenGL clip conventions) are used as given
+ * (off-axis wall tiles). */
+typedef struct render_camera {
+    float eye[3], target[3], up[3]; /* world; up zero = +z */
+    float fov_y_deg;               /* vertical field of view; 0 = 50 */
+    float z_near, z_far;           /* [m]; 0 = 0.3, 3000 */
+    bool matrices;
+    float view[16], proj[16];
+} render_camera;
+
+/* Coarse wind the caller passes on (the streamed slice). Cell (i,j,k) of a grid of
+ * nx*ny*nz cells has its centre at origin + ((i+.5) dx, (j+.5) dy, (k+.5) dz) and velocity
+ * v[3 (i + nx (j + ny k))] [m/s], world frame. nx = 0: the uniform `uniform` vector only. */
+typedef struct render_wind {
+    float uniform[3];          /* [m/s], used when there is no grid and outside it */
+    uint32_t nx, ny, nz;
+    float origin[3];           /* [m] */
+    float cell[3];             /* cell size [m] */
+    const float *v;            /* borrowed for the call; copied */
+} render_wind;
+
+/* A shed leaf as streamed: it leaves slot `slot` of tree `tree` at spawn_time_s (the same
+ * clock as render_frame's time_s; the caller turns ticks into seconds). */
+typedef struct render_leaf_seed {
+    uint32_t tree;             /* instance index */
+    uint32_t slot;             /* leaf slot of that tree's species */
+    double spawn_time_s;
+    uint32_t seed;             /* variation seed */
+} render_leaf_seed;
+
+typedef struct render_stats {
+    uint32_t trees_full;       /* drawn as skinned meshes this frame */
+    uint32_t trees_billboard;  /* drawn as billboards this frame (some in both while fading) */
+    uint32_t trees_culled;
+    uint32_t draw_calls;
+    uint32_t falling_live;     /* leaf records in the ring */
+    uint64_t leaves_drawn;     /* attached leaves drawn */
+} render_stats;
+
+/* Creates the GL context (window or offscreen) and all GPU state. NULL on failure with
+ * the reason in err. Free with render_destroy. */
+render *render_create(const render_desc *desc, gale_err *err);
+
+/* Destroys everything render_create made, the context included. NULL is a no-op. */
+void render_destroy(render *r);
+
+/* The GLFW window when windowed, for input, HUD and swapping; NULL when headless.
+ * The GL context is current on the creating thread. */
+struct GLFWwindow *render_window(render *r);
+
+/* Uploads one species (skeleton, modes, correction, mesh with LODs, leaves, look) and
+ * renders its billboard impostor. The asset is not kept: the caller may free it after.
+ * Returns the species id (0, 1, ...) or a negative GALE_E_* with err set. */
+int render_add_species(render *r, const asset *a, gale_err *err);
+
+/* Sets the scene's trees (copied). Instance index = tree index for q and leaf seeds.
+ * Resets q to zero and clears falling leaves. 0 or negative GALE_E_*. */
+int render_set_instances(render *r, uint32_t n, const render_instance *inst, gale_err *err);
+
+/* Stages q for one tree (n must equal its species' n_modes, else error). Staged q goes
+ * to the GPU in one upload at the next render_frame. */
+int render_set_q(render *r, uint32_t tree, const float *q, uint32_t n, gale_err *err);
+
+/* The staging array itself, for writing q without a copy: tree t's modes are at
+ * q[t * stride + i], i < n_modes of its species. Valid until render_set_instances. */
+float *render_q_staging(render *r, uint32_t *stride);
+
+/* Sets the coarse wind (copied); drives leaf flutter and falling-leaf drift. */
+int render_set_wind(render *r, const render_wind *w, gale_err *err);
+
+/* Starts one falling leaf from the tree's current (staged) pose. Bad tree/slot is an
+ * error; a full ring reuses the oldest record. */
+int render_add_falling_leaf(render *r, const render_leaf_seed *s, gale_err *err);
+
+/* Drops every falling and landed leaf. */
+void render_clear_falling(render *r);
+
+/* Draws one frame of the scene at time_s (seconds, the caller's clock; flutter and
+ * falling leaves use it) into the default framebuffer (window) or the offscreen one.
+ * Afterwards that framebuffer stays bound with depth test off and blending set for
+ * overlays, so the caller may draw a HUD on top, then call render_present. */
+int render_frame(render *r, const render_camera *cam, double time_s, gale_err *err);
+
+/* Swaps buffers (windowed); headless: glFinish. */
+void render_present(render *r);
+
+/* Changes the framebuffer size (window resize, or offscreen re-allocation). */
+int render_resize(render *r, int width, int height, gale_err *err);
+void render_size(const render *r, int *width, int *height);
+
+/* Reads the last frame as tightly packed RGB, top row first: width*height*3 bytes. */
+int render_read_rgb(render *r, uint8_t *rgb, gale_err *err);
+
+/* Writes the last frame as a PNG file. */
+int render_write_png(render *r, const char *path, gale_err *err);
+
+/* Reconstructs tree `tree`'s skeleton on the GPU with the same shader the frame uses,
+ * all modes, and reads it back: out[3 n_nodes] node positions in the tree frame (before
+ * the instance transform), to compare with asset_reconstruct. */
+int render_read_skeleton(render *r, uint32_t tree, float *out, gale_err *err);
+
+/* Counters of the last frame. */
+render_stats render_get_stats(const render *r);
+
+#endif

@@ -1,0 +1,168 @@
+/* The JSON control half of the gale wire (DESIGN.md "Wire"): hello, welcome (scene
+ * description), view, wind commands, resync, ping/pong, error. Text in, structs out and
+ * back, through cJSON; every rejection names the field and carries its close code
+ * (wire.h enum wire_close). PROTOCOL.md lists the messages and their fields. */
+#ifndef GALE_CTL_H
+#define GALE_CTL_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "err.h"
+#include "wire_limits.h"
+
+enum ctl_type {
+    CTL_NONE = 0,
+    /* client -> server */
+    CTL_HELLO,  /* first message: role, protocol version, optional view, optional token */
+    CTL_VIEW,   /* change the view (interest region) */
+    CTL_WIND,   /* kiosk wind command (token required) */
+    CTL_RESYNC, /* client saw a gap: send a keyframe */
+    CTL_PING,   /* round trip, echoes the client time */
+    /* server -> client */
+    CTL_WELCOME, /* scene description, rates, asset URLs, instances */
+    CTL_PONG,    /* reply to ping, with server time and tick */
+    CTL_ERROR,   /* sent before closing: code and reason */
+};
+
+enum ctl_role {
+    CTL_ROLE_VIEWER = 0,
+    CTL_ROLE_KIOSK,
+    CTL_ROLE_WALL_TILE,
+    CTL_ROLE_LOAD,
+};
+
+/* Interest region: trees inside it get full modes, trees beyond lod_m fewer, trees
+ * outside are not sent. kind NONE: the whole scene. Coordinates in scene metres, z up. */
+enum ctl_view_kind {
+    CTL_VIEW_ALL = 0,
+    CTL_VIEW_CIRCLE, /* centre (x, y), radius_m */
+    CTL_VIEW_FRUSTUM /* eye, dir (need not be unit), half-angle fov_deg / 2, far_m */
+};
+
+typedef struct ctl_view {
+    int kind;            /* enum ctl_view_kind */
+    float x, y, radius_m; /* CIRCLE; radius_m in (0, 1e6] */
+    float eye[3], dir[3]; /* FRUSTUM; |dir| > 0 */
+    float fov_deg;        /* FRUSTUM; full cone angle (0, 180) */
+    float far_m;          /* FRUSTUM; (0, 1e6] */
+    float lod_m;          /* beyond this distance fewer modes; 0 = no LOD */
+} ctl_view;
+
+typedef struct ctl_hello {
+    int protocol;                /* must be WIRE_PROTOCOL_VERSION */
+    int role;                    /* enum ctl_role */
+    ctl_view view;               /* optional ("view" absent: CTL_VIEW_ALL) */
+    char token[CTL_MAX_TOKEN];   /* optional; "" when absent */
+} ctl_hello;
+
+/* Wind command from a kiosk. Each field optional; has_* says which were given. */
+typedef struct ctl_wind {
+    char token[CTL_MAX_TOKEN]; /* required */
+    bool has_speed, has_dir, has_gust, has_scenario;
+    float speed_ms;            /* [m/s] at 10 m, [0, 100] */
+    float dir_deg;             /* direction the wind blows towards, [0, 360) from +x, ccw */
+    float gust;                /* turbulence intensity, [0, 1] */
+    char scenario[CTL_MAX_NAME]; /* "" = none (manual), else a scenario name from the config */
+} ctl_wind;
+
+typedef struct ctl_ping {
+    uint32_t id;           /* echoed */
+    uint64_t client_us;    /* client clock [us], echoed */
+} ctl_ping;
+
+typedef struct ctl_pong {
+    uint32_t id;
+    uint64_t client_us;    /* from the ping */
+    uint64_t server_us;    /* server clock [us] when answered */
+    uint32_t tick;         /* server tick then */
+} ctl_pong;
+
+typedef struct ctl_species {
+    char name[CTL_MAX_NAME];
+    char url[CTL_MAX_URL];  /* asset path on the server, e.g. "/assets/oak-<hash>.gasset" */
+    char hash[17];          /* 16 hex digits: content hash of the asset file */
+    uint32_t n_modes;       /* modes streamed for it */
+} ctl_species;
+
+typedef struct ctl_instance {
+    uint32_t species;      /* index into species[] */
+    float pos[3];          /* [m] scene frame, z up */
+    float yaw_rad;         /* rotation about z */
+    float scale;           /* uniform, > 0 */
+} ctl_instance;
+
+typedef struct ctl_welcome {
+    int protocol;
+    uint32_t client_id;
+    int role;                   /* the role granted */
+    float tick_hz;              /* simulation rate */
+    float snapshot_hz;          /* state frames per second */
+    uint64_t server_us;         /* server clock at send [us] */
+    uint32_t tick;              /* server tick at send */
+    uint32_t n_species;
+    ctl_species *species;       /* [n_species]; owned by the message when decoded */
+    uint32_t n_instances;
+    ctl_instance *instances;    /* [n_instances]; owned by the message when decoded */
+} ctl_welcome;
+
+typedef struct ctl_error {
+    int code;                  /* enum wire_close */
+    char message[CTL_MAX_ERROR];
+} ctl_error;
+
+typedef struct ctl_msg {
+    int type; /* enum ctl_type */
+    union {
+        ctl_hello hello;
+        ctl_view view;      /* CTL_VIEW */
+        ctl_wind wind;
+        uint32_t resync_seq; /* CTL_RESYNC: last seq the client holds (0 = none) */
+        ctl_ping ping;
+        ctl_welcome welcome;
+        ctl_pong pong;
+        ctl_error error;
+    } u;
+} ctl_msg;
+
+/* Parses one control message of len bytes (not NUL-terminated necessarily) into *m.
+ * max_len is the size limit for this direction (CTL_MAX_CLIENT_BYTES on the server,
+ * CTL_MAX_SERVER_BYTES on the client; 0 = CTL_MAX_CLIENT_BYTES). On failure returns a
+ * negative GALE_E_*, fills err with "where: what: expected, got" (the key path, and line:col
+ * for bad JSON) and sets *close_code (enum wire_close) when close_code is not NULL; *m is
+ * then empty. A decoded welcome owns its arrays: release with ctl_msg_fini. */
+int ctl_decode(const char *text, size_t len, size_t max_len, ctl_msg *m, int *close_code,
+               gale_err *err);
+
+/* Frees what a decoded message owns and zeroes it. NULL is a no-op. */
+void ctl_msg_fini(ctl_msg *m);
+
+/* Encodes *m as one line of JSON into a new NUL-terminated buffer *out (malloc'd, caller
+ * frees with free()) of *len bytes (without the NUL). Rejects values a decoder would
+ * reject (GALE_E_RANGE / GALE_E_ARG). */
+int ctl_encode(const ctl_msg *m, char **out, size_t *len, gale_err *err);
+
+/* Encodes *m into buf[cap] (NUL-terminated); for small messages on hot paths (pong,
+ * error). GALE_E_RANGE when it does not fit. Does not allocate outside cJSON. */
+int ctl_encode_into(const ctl_msg *m, char *buf, size_t cap, size_t *len, gale_err *err);
+
+/* Interest and LOD for one client: n_modes[t] = 0 for trees outside the view (a tree
+ * counts as inside when any point within margin_m of its base pos[3t..3t+2] is), the
+ * tree's full_modes[t] when inside and within v->lod_m of the view origin (circle centre
+ * or frustum eye; lod_m = 0: no LOD), else min(full_modes[t], lod_modes) (lod_modes >= 1).
+ * CTL_VIEW_ALL keeps every tree. Does not allocate; for the server's per-client
+ * snapshot (wire_state.n_modes). */
+void ctl_view_select(const ctl_view *v, uint32_t n_trees, const float *pos,
+                     const uint8_t *full_modes, float margin_m, uint32_t lod_modes,
+                     uint8_t *n_modes);
+
+/* True for the types a client may send (hello, view, wind, resync, ping). */
+bool ctl_from_client(int type);
+
+/* Role and type names as on the wire ("viewer", "wall-tile", "hello", ...); NULL for an
+ * unknown value. */
+const char *ctl_role_name(int role);
+const char *ctl_type_name(int type);
+
+#endif

@@ -1,0 +1,568 @@
+/* KEYFRAME and DELTA state frames: quantised modal coordinates q of every tree in view
+ * (Diener 2008 section 3). Values are coded per group of 8 modes as bit-packed zigzag
+ * residuals against a chosen predictor (zero, previous snapshot, linear extrapolation of
+ * the two previous); PROTOCOL.md "State frames" has the byte table. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "wire.h"
+#include "wire_int.h"
+
+#define GROUP 8u        /* modes per group; a full group of width w is exactly w bytes */
+#define MAX_WIDTH 18u   /* |v - pred| <= 4 * WIRE_QMAX < 2^17, zigzag < 2^18 */
+
+enum { PRED_ZERO = 0, PRED_PREV = 1, PRED_LINEAR = 2 };
+enum { SET_SAME = 0, SET_RUNS = 1 };
+enum { MODES_FULL = 0, MODES_LIST = 1 };
+
+static unsigned bit_width(uint32_t v)
+{
+    return v ? 32u - (unsigned)__builtin_clz(v) : 0u;
+}
+
+size_t wire_state_bound(uint32_t n_trees, uint32_t max_modes, uint32_t n_species)
+{
+    size_t groups = (max_modes + GROUP - 1) / GROUP;
+    size_t per_tree = groups + ((size_t)max_modes * MAX_WIDTH + 7) / 8;
+    size_t runs = ((size_t)n_trees / 2 + 1) * 10; /* (gap, len) varints, <= 5 bytes each */
+    return WIRE_HEADER_BYTES + 4 + 4 + 1 + (size_t)n_species * (1 + 4 * (size_t)max_modes) +
+           n_trees + 2 + 5 + runs + 1 + n_trees + (size_t)n_trees * per_tree;
+}
+
+/* Value m of tree t in state s, 0 when not sent. */
+static inline int32_t state_at(const wire_state *s, uint32_t t, uint32_t m)
+{
+    if (!s || m >= s->n_modes[t]) {
+        return 0;
+    }
+    return s->q[(size_t)t * s->stride + m];
+}
+
+static int check_scene(const wire_scene *sc, const char *what, gale_err *err)
+{
+    if (sc->n_trees == 0 || sc->n_trees > WIRE_MAX_TREES) {
+        return gale_errf(err, GALE_E_RANGE, "%s: scene.n_trees: expected 1..%u, got %u", what,
+                         WIRE_MAX_TREES, sc->n_trees);
+    }
+    if (sc->n_species == 0 || sc->n_species > WIRE_MAX_SPECIES) {
+        return gale_errf(err, GALE_E_RANGE, "%s: scene.n_species: expected 1..%u, got %u",
+                         what, WIRE_MAX_SPECIES, sc->n_species);
+    }
+    for (uint32_t s = 0; s < sc->n_species; s++) {
+        if (sc->n_modes[s] == 0 || sc->n_modes[s] > WIRE_MAX_MODES) {
+            return gale_errf(err, GALE_E_RANGE,
+                             "%s: scene.n_modes[%u]: expected 1..%u, got %u", what, s,
+                             WIRE_MAX_MODES, (unsigned)sc->n_modes[s]);
+        }
+        for (uint32_t m = 0; m < sc->n_modes[s]; m++) {
+            float st = sc->step[s][m];
+            if (!(st > 0.0f) || !isfinite(st)) {
+                return gale_errf(err, GALE_E_RANGE,
+                                 "%s: scene.step[%u][%u]: expected finite > 0, got %g", what,
+                                 s, m, (double)st);
+            }
+        }
+    }
+    return 0;
+}
+
+static int check_state(const wire_scene *sc, const wire_state *st, const char *what,
+                       const char *name, gale_err *err)
+{
+    if (st->n_trees != sc->n_trees) {
+        return gale_errf(err, GALE_E_ARG, "%s: %s.n_trees: expected %u (the scene), got %u",
+                         what, name, sc->n_trees, st->n_trees);
+    }
+    for (uint32_t t = 0; t < st->n_trees; t++) {
+        uint32_t sp = sc->species[t];
+        if (sp >= sc->n_species) {
+            return gale_errf(err, GALE_E_RANGE, "%s: scene.species[%u]: expected < %u, got %u",
+                             what, t, sc->n_species, sp);
+        }
+        uint32_t n = st->n_modes[t];
+        if (n > sc->n_modes[sp] || n > st->stride) {
+            return gale_errf(err, GALE_E_RANGE,
+                             "%s: %s.n_modes[%u]: expected <= %u (species %u) and <= stride %u, got %u",
+                             what, name, t, (unsigned)sc->n_modes[sp], sp, st->stride, n);
+        }
+        const int16_t *q = st->q + (size_t)t * st->stride;
+        for (uint32_t m = 0; m < n; m++) {
+            if (q[m] < -WIRE_QMAX) {
+                return gale_errf(err, GALE_E_RANGE,
+                                 "%s: %s.q[%u][%u]: expected >= %d, got %d", what, name, t, m,
+                                 -WIRE_QMAX, q[m]);
+            }
+        }
+    }
+    return 0;
+}
+
+/* Writes k zigzag values of width w bits, LSB first. */
+static void put_bits(wire_writer *w, const uint32_t *z, uint32_t k, unsigned width)
+{
+    uint64_t acc = 0;
+    unsigned nacc = 0;
+    for (uint32_t i = 0; i < k; i++) {
+        acc |= (uint64_t)z[i] << nacc;
+        nacc += width;
+        while (nacc >= 8) {
+            wire_put_u8(w, (uint8_t)(acc & 0xffu));
+            acc >>= 8;
+            nacc -= 8;
+        }
+    }
+    if (nacc > 0) {
+        wire_put_u8(w, (uint8_t)(acc & 0xffu));
+    }
+}
+
+static void get_bits(wire_reader *r, uint32_t *z, uint32_t k, unsigned width)
+{
+    uint64_t acc = 0;
+    unsigned nacc = 0;
+    const uint32_t mask = width ? (uint32_t)((1u << width) - 1u) : 0u;
+    for (uint32_t i = 0; i < k; i++) {
+        while (nacc < width) {
+            acc |= (uint64_t)wire_get_u8(r) << nacc;
+            nacc += 8;
+        }
+        z[i] = (uint32_t)(acc & mask);
+        acc >>= width;
+        nacc -= width;
+    }
+    /* Padding bits of the last byte must be zero (one encoding per value). */
+    if (acc != 0) {
+        r->bad = true;
+    }
+}
+
+/* Tree set and per-tree mode counts. */
+static void put_set(wire_writer *w, const wire_scene *sc, const wire_state *cur)
+{
+    uint32_t n_runs = 0;
+    bool full = true;
+    for (uint32_t t = 0; t < cur->n_trees; t++) {
+        if (cur->n_modes[t] && (t == 0 || !cur->n_modes[t - 1])) {
+            n_runs++;
+        }
+        if (cur->n_modes[t] && cur->n_modes[t] != sc->n_modes[sc->species[t]]) {
+            full = false;
+        }
+    }
+    wire_put_u8(w, SET_RUNS);
+    wire_put_varint(w, n_runs);
+    uint32_t end = 0; /* end of the previous run */
+    for (uint32_t t = 0; t < cur->n_trees;) {
+        if (!cur->n_modes[t]) {
+            t++;
+            continue;
+        }
+        uint32_t start = t;
+        while (t < cur->n_trees && cur->n_modes[t]) {
+            t++;
+        }
+        wire_put_varint(w, start - end);
+        wire_put_varint(w, t - start);
+        end = t;
+    }
+    wire_put_u8(w, full ? MODES_FULL : MODES_LIST);
+    if (!full) {
+        for (uint32_t t = 0; t < cur->n_trees; t++) {
+            if (cur->n_modes[t]) {
+                wire_put_u8(w, cur->n_modes[t]);
+            }
+        }
+    }
+}
+
+static bool same_set(const wire_state *a, const wire_state *b)
+{
+    return memcmp(a->n_modes, b->n_modes, a->n_trees) == 0;
+}
+
+/* Values of every tree in view, group by group with the narrowest predictor. */
+static void put_values(wire_writer *w, const wire_state *cur, const wire_state *prev,
+                       const wire_state *prev2)
+{
+    uint32_t z[3][GROUP];
+    for (uint32_t t = 0; t < cur->n_trees; t++) {
+        uint32_t n = cur->n_modes[t];
+        const int16_t *q = cur->q + (size_t)t * cur->stride;
+        for (uint32_t g0 = 0; g0 < n; g0 += GROUP) {
+            uint32_t k = n - g0 < GROUP ? n - g0 : GROUP;
+            uint32_t zmax[3] = { 0, 0, 0 };
+            for (uint32_t i = 0; i < k; i++) {
+                uint32_t m = g0 + i;
+                int32_t v = q[m];
+                int32_t a = state_at(prev, t, m);
+                int32_t b = state_at(prev2, t, m);
+                z[PRED_ZERO][i] = wire_zigzag(v);
+                z[PRED_PREV][i] = wire_zigzag(v - a);
+                z[PRED_LINEAR][i] = wire_zigzag(v - (2 * a - b));
+                for (int p = 0; p < 3; p++) {
+                    zmax[p] = z[p][i] > zmax[p] ? z[p][i] : zmax[p];
+                }
+            }
+            int best = PRED_ZERO;
+            int n_pred = prev2 ? 3 : prev ? 2 : 1;
+            for (int p = 1; p < n_pred; p++) {
+                if (bit_width(zmax[p]) < bit_width(zmax[best])) {
+                    best = p;
+                }
+            }
+            unsigned width = bit_width(zmax[best]);
+            wire_put_u8(w, (uint8_t)((unsigned)best << 5 | width));
+            put_bits(w, z[best], k, width);
+        }
+    }
+}
+
+static int finish(wire_writer *w, uint8_t *buf, size_t cap, size_t *len, const char *what,
+                  gale_err *err)
+{
+    if (w->bad) {
+        return gale_errf(err, GALE_E_RANGE, "%s: buffer: expected room, %zu bytes too small",
+                         what, cap);
+    }
+    *len = (size_t)(w->p - buf);
+    return 0;
+}
+
+int wire_encode_keyframe(const wire_header *h, uint32_t seq, const wire_scene *scene,
+                         const wire_state *cur, uint8_t *buf, size_t cap, size_t *len,
+                         gale_err *err)
+{
+    const char *what = "wire_encode_keyframe";
+    int rc = check_scene(scene, what, err);
+    if (!rc) {
+        rc = check_state(scene, cur, what, "cur", err);
+    }
+    if (rc) {
+        return rc;
+    }
+    wire_writer w = wire_writer_make(buf, cap);
+    wire_header hh = *h;
+    hh.type = WIRE_MSG_KEYFRAME;
+    hh.flags = 0;
+    wire_put_header(&w, &hh);
+    wire_put_u32(&w, seq);
+    wire_put_u32(&w, scene->n_trees);
+    wire_put_u8(&w, (uint8_t)scene->n_species);
+    for (uint32_t s = 0; s < scene->n_species; s++) {
+        wire_put_u8(&w, scene->n_modes[s]);
+        for (uint32_t m = 0; m < scene->n_modes[s]; m++) {
+            wire_put_f32(&w, scene->step[s][m]);
+        }
+    }
+    for (uint32_t t = 0; t < scene->n_trees; t++) {
+        wire_put_u8(&w, scene->species[t]);
+    }
+    put_set(&w, scene, cur);
+    put_values(&w, cur, NULL, NULL);
+    return finish(&w, buf, cap, len, what, err);
+}
+
+int wire_encode_delta(const wire_header *h, uint32_t seq, const wire_scene *scene,
+                      const wire_state *cur, const wire_state *prev, const wire_state *prev2,
+                      uint8_t *buf, size_t cap, size_t *len, gale_err *err)
+{
+    const char *what = "wire_encode_delta";
+    if (!prev) {
+        return gale_errf(err, GALE_E_ARG, "%s: prev: expected the snapshot seq - 1, got NULL",
+                         what);
+    }
+    int rc = check_scene(scene, what, err);
+    if (!rc) {
+        rc = check_state(scene, cur, what, "cur", err);
+    }
+    if (!rc) {
+        rc = check_state(scene, prev, what, "prev", err);
+    }
+    if (!rc && prev2) {
+        rc = check_state(scene, prev2, what, "prev2", err);
+    }
+    if (rc) {
+        return rc;
+    }
+    wire_writer w = wire_writer_make(buf, cap);
+    wire_header hh = *h;
+    hh.type = WIRE_MSG_DELTA;
+    hh.flags = 0;
+    wire_put_header(&w, &hh);
+    wire_put_u32(&w, seq);
+    wire_put_u8(&w, prev2 ? 2 : 1);
+    if (same_set(cur, prev)) {
+        wire_put_u8(&w, SET_SAME);
+    } else {
+        put_set(&w, scene, cur);
+    }
+    put_values(&w, cur, prev, prev2);
+    return finish(&w, buf, cap, len, what, err);
+}
+
+/* ---- decoding ---------------------------------------------------------------------- */
+
+#define FAIL(...) return gale_errf(err, GALE_E_FORMAT, __VA_ARGS__)
+
+/* Reads the tree set into n_modes[n_trees] (0 = absent). */
+static int get_set(wire_reader *r, const uint8_t *start, const char *where,
+                   const wire_scene *sc, const uint8_t *prev_modes, uint32_t max_modes,
+                   bool keyframe, uint8_t *n_modes, gale_err *err)
+{
+    size_t at = wire_offset(r, start);
+    uint8_t kind = wire_get_u8(r);
+    if (r->bad) {
+        FAIL("%s: tree set at byte %zu: truncated", where, at);
+    }
+    if (kind == SET_SAME && !keyframe) {
+        memcpy(n_modes, prev_modes, sc->n_trees);
+        return 0;
+    }
+    if (kind != SET_RUNS) {
+        FAIL("%s: tree set kind at byte %zu: expected %s, got %u", where, at,
+             keyframe ? "1 (runs)" : "0 (same) or 1 (runs)", (unsigned)kind);
+    }
+    memset(n_modes, 0, sc->n_trees);
+    at = wire_offset(r, start);
+    uint32_t n_runs = wire_get_varint(r);
+    if (r->bad) {
+        FAIL("%s: run count at byte %zu: truncated or bad varint", where, at);
+    }
+    if (n_runs > sc->n_trees) {
+        FAIL("%s: run count at byte %zu: expected <= %u trees, got %u", where, at, sc->n_trees,
+             n_runs);
+    }
+    uint32_t pos = 0;
+    uint32_t n_present = 0;
+    for (uint32_t i = 0; i < n_runs; i++) {
+        at = wire_offset(r, start);
+        uint32_t gap = wire_get_varint(r);
+        uint32_t len = wire_get_varint(r);
+        if (r->bad) {
+            FAIL("%s: run %u at byte %zu: truncated or bad varint", where, i, at);
+        }
+        if (len == 0 || (i > 0 && gap == 0)) {
+            FAIL("%s: run %u at byte %zu: expected gap >= %u and length >= 1, got %u, %u",
+                 where, i, at, i > 0 ? 1u : 0u, gap, len);
+        }
+        if (gap > sc->n_trees - pos || len > sc->n_trees - pos - gap) {
+            FAIL("%s: run %u at byte %zu: expected to end <= %u trees, got %u + %u + %u", where,
+                 i, at, sc->n_trees, pos, gap, len);
+        }
+        pos += gap;
+        for (uint32_t t = pos; t < pos + len; t++) {
+            n_modes[t] = 1; /* marked; the count follows */
+        }
+        pos += len;
+        n_present += len;
+    }
+    at = wire_offset(r, start);
+    uint8_t mk = wire_get_u8(r);
+    if (r->bad) {
+        FAIL("%s: mode list kind at byte %zu: truncated", where, at);
+    }
+    if (mk != MODES_FULL && mk != MODES_LIST) {
+        FAIL("%s: mode list kind at byte %zu: expected 0 (full) or 1 (list), got %u", where, at,
+             (unsigned)mk);
+    }
+    if (mk == MODES_LIST && wire_reader_left(r) < n_present) {
+        FAIL("%s: mode list at byte %zu: truncated: expected %u bytes, got %zu", where,
+             wire_offset(r, start), n_present, wire_reader_left(r));
+    }
+    for (uint32_t t = 0; t < sc->n_trees; t++) {
+        if (!n_modes[t]) {
+            continue;
+        }
+        uint32_t full = sc->n_modes[sc->species[t]];
+        uint32_t n = full;
+        if (mk == MODES_LIST) {
+            at = wire_offset(r, start);
+            n = wire_get_u8(r);
+            if (n == 0 || n > full) {
+                FAIL("%s: modes of tree %u at byte %zu: expected 1..%u, got %u", where, t, at,
+                     full, n);
+            }
+        }
+        if (n > max_modes) {
+            return gale_errf(err, GALE_E_RANGE,
+                             "%s: modes of tree %u: expected <= %u (decoder capacity), got %u",
+                             where, t, max_modes, n);
+        }
+        n_modes[t] = (uint8_t)n;
+    }
+    return 0;
+}
+
+static int get_values(wire_reader *r, const uint8_t *start, const char *where, uint32_t n_trees,
+                      uint32_t stride, const uint8_t *n_modes, const int16_t *prev,
+                      const int16_t *prev2, int hist, int16_t *q, gale_err *err)
+{
+    uint32_t z[GROUP];
+    for (uint32_t t = 0; t < n_trees; t++) {
+        int16_t *qt = q + (size_t)t * stride;
+        uint32_t n = n_modes[t];
+        memset(qt + n, 0, (stride - n) * sizeof *qt);
+        for (uint32_t g0 = 0; g0 < n; g0 += GROUP) {
+            uint32_t k = n - g0 < GROUP ? n - g0 : GROUP;
+            size_t at = wire_offset(r, start);
+            uint8_t gh = wire_get_u8(r);
+            unsigned width = gh & 0x1fu;
+            int pred = gh >> 5;
+            if (r->bad) {
+                FAIL("%s: tree %u group %u at byte %zu: truncated", where, t, g0 / GROUP, at);
+            }
+            if (width > MAX_WIDTH || pred > hist) {
+                FAIL("%s: tree %u group %u at byte %zu: expected width <= %u and predictor <= %d, got %u, %d",
+                     where, t, g0 / GROUP, at, MAX_WIDTH, hist, width, pred);
+            }
+            get_bits(r, z, k, width);
+            if (r->bad) {
+                FAIL("%s: tree %u group %u at byte %zu: truncated or nonzero padding", where, t,
+                     g0 / GROUP, at);
+            }
+            for (uint32_t i = 0; i < k; i++) {
+                size_t ix = (size_t)t * stride + g0 + i;
+                int32_t a = pred >= PRED_PREV ? prev[ix] : 0;
+                int32_t b = pred == PRED_LINEAR ? prev2[ix] : 0;
+                int32_t p = pred == PRED_LINEAR ? 2 * a - b : a;
+                int32_t v = p + wire_unzigzag(z[i]);
+                if (v < -WIRE_QMAX || v > WIRE_QMAX) {
+                    FAIL("%s: tree %u mode %u at byte %zu: expected |q| <= %d, got %d", where,
+                         t, g0 + i, at, WIRE_QMAX, v);
+                }
+                qt[g0 + i] = (int16_t)v;
+            }
+        }
+    }
+    return 0;
+}
+
+int wire_decode_state(wire_decoder *d, wire_reader *r, const wire_header *h, wire_frame *out,
+                      gale_err *err)
+{
+    const uint8_t *start = r->p - WIRE_HEADER_BYTES;
+    const bool key = h->type == WIRE_MSG_KEYFRAME;
+    char where[64];
+    snprintf(where, sizeof where, "wire: %s tick %u", wire_type_name(h->type), h->tick);
+    uint32_t seq = wire_get_u32(r);
+    if (r->bad) {
+        FAIL("%s: seq at byte %u: truncated", where, WIRE_HEADER_BYTES);
+    }
+    wire_slot *dst = &d->slot[d->scratch];
+    const wire_slot *last = &d->slot[d->last];
+    const wire_slot *before = &d->slot[d->before];
+    wire_scene *sc = &d->scene[d->scene_cur];
+    int hist = 0;
+    if (key) {
+        sc = &d->scene[1 - d->scene_cur];
+        size_t at = wire_offset(r, start);
+        sc->n_trees = wire_get_u32(r);
+        if (r->bad) {
+            FAIL("%s: n_trees at byte %zu: truncated", where, at);
+        }
+        if (sc->n_trees == 0 || sc->n_trees > WIRE_MAX_TREES) {
+            FAIL("%s: n_trees at byte %zu: expected 1..%u, got %u", where, at, WIRE_MAX_TREES,
+                 sc->n_trees);
+        }
+        if (sc->n_trees > d->max_trees) {
+            return gale_errf(err, GALE_E_RANGE,
+                             "%s: n_trees: expected <= %u (decoder capacity), got %u", where,
+                             d->max_trees, sc->n_trees);
+        }
+        at = wire_offset(r, start);
+        sc->n_species = wire_get_u8(r);
+        if (r->bad || sc->n_species == 0 || sc->n_species > WIRE_MAX_SPECIES) {
+            FAIL("%s: n_species at byte %zu: expected 1..%u, got %s%u", where, at,
+                 WIRE_MAX_SPECIES, r->bad ? "truncated " : "", sc->n_species);
+        }
+        for (uint32_t s = 0; s < sc->n_species; s++) {
+            at = wire_offset(r, start);
+            uint8_t nm = wire_get_u8(r);
+            if (r->bad || nm == 0 || nm > WIRE_MAX_MODES) {
+                FAIL("%s: species %u n_modes at byte %zu: expected 1..%u, got %s%u", where, s,
+                     at, WIRE_MAX_MODES, r->bad ? "truncated " : "", (unsigned)nm);
+            }
+            sc->n_modes[s] = nm;
+            for (uint32_t m = 0; m < nm; m++) {
+                at = wire_offset(r, start);
+                float st = wire_get_f32(r);
+                if (r->bad) {
+                    FAIL("%s: species %u step %u at byte %zu: truncated", where, s, m, at);
+                }
+                if (!(st > 0.0f) || !isfinite(st)) {
+                    FAIL("%s: species %u step %u at byte %zu: expected finite > 0, got %g",
+                         where, s, m, at, (double)st);
+                }
+                sc->step[s][m] = st;
+            }
+        }
+        at = wire_offset(r, start);
+        if (wire_reader_left(r) < sc->n_trees) {
+            FAIL("%s: species of trees at byte %zu: truncated: expected %u bytes, got %zu",
+                 where, at, sc->n_trees, wire_reader_left(r));
+        }
+        uint8_t *species = d->species[1 - d->scene_cur];
+        for (uint32_t t = 0; t < sc->n_trees; t++) {
+            species[t] = wire_get_u8(r);
+            if (species[t] >= sc->n_species) {
+                FAIL("%s: species of tree %u at byte %zu: expected < %u, got %u", where, t,
+                     at + t, sc->n_species, (unsigned)species[t]);
+            }
+        }
+    } else {
+        if (!d->synced) {
+            return gale_errf(err, GALE_E_STATE,
+                             "%s: seq %u: no keyframe yet: waiting for a keyframe", where, seq);
+        }
+        if (seq != last->seq + 1u) {
+            return gale_errf(err, GALE_E_STATE,
+                             "%s: seq %u: gap: expected seq %u (holding %u): waiting for a keyframe",
+                             where, seq, last->seq + 1u, last->seq);
+        }
+        size_t at = wire_offset(r, start);
+        uint8_t hb = wire_get_u8(r);
+        if (r->bad) {
+            FAIL("%s: history at byte %zu: truncated", where, at);
+        }
+        if (hb < 1 || hb > 2) {
+            FAIL("%s: history at byte %zu: expected 1 or 2, got %u", where, at, (unsigned)hb);
+        }
+        if (hb == 2 && !d->have_before) {
+            return gale_errf(err, GALE_E_STATE,
+                             "%s: seq %u: predicts from seq %u which this decoder does not hold: waiting for a keyframe",
+                             where, seq, seq - 2u);
+        }
+        hist = hb;
+    }
+    int rc = get_set(r, start, where, sc, last->n_modes, d->max_modes, key, dst->n_modes, err);
+    if (rc) {
+        return rc;
+    }
+    rc = get_values(r, start, where, sc->n_trees, d->max_modes, dst->n_modes, last->q,
+                    before->q, hist, dst->q, err);
+    if (rc) {
+        return rc;
+    }
+    if (wire_reader_left(r) != 0) {
+        FAIL("%s: length: expected %zu bytes, got %zu (trailing bytes)", where,
+             wire_offset(r, start), wire_offset(r, start) + wire_reader_left(r));
+    }
+    /* The whole frame is valid: commit. */
+    dst->seq = seq;
+    int old_before = d->before;
+    if (key) {
+        d->scene_cur = 1 - d->scene_cur;
+        d->have_before = false;
+        d->scratch = d->last;
+        d->last = (int)(dst - d->slot);
+    } else {
+        d->before = d->last;
+        d->last = d->scratch;
+        d->scratch = old_before;
+        d->have_before = true;
+    }
+    d->synced = true;
+    out->seq = seq;
+    return 0;
+}

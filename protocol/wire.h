@@ -1,0 +1,269 @@
+/* The binary half of the gale wire (DESIGN.md "Wire"): frame header, little-endian
+ * cursor reader/writer, quantisation of modal coordinates q (Diener 2008 section 3),
+ * state keyframes and deltas, leaf seeds (Vazquez 2008) and coarse wind slices
+ * (Oliapuram & Kumar section 2). PROTOCOL.md has the byte tables. */
+#ifndef GALE_WIRE_H
+#define GALE_WIRE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "err.h"
+#include "wire_limits.h"
+
+/* ---- frame header: every binary frame starts with it (20 bytes) ---------------------- */
+
+#define WIRE_MAGIC 0x454C4147u /* "GALE" as bytes G A L E */
+#define WIRE_HEADER_BYTES 20u
+
+enum wire_msg_type {
+    WIRE_MSG_KEYFRAME = 1, /* absolute quantised q of the trees in view */
+    WIRE_MSG_DELTA = 2,    /* q relative to the previous snapshot (seq - 1) */
+    WIRE_MSG_LEAVES = 3,   /* leaf seeds shed this tick */
+    WIRE_MSG_WIND = 4,     /* coarse horizontal wind slice */
+};
+
+typedef struct wire_header {
+    uint32_t magic;          /* WIRE_MAGIC */
+    uint16_t version;        /* WIRE_PROTOCOL_VERSION */
+    uint8_t type;            /* enum wire_msg_type */
+    uint8_t flags;           /* reserved, 0 */
+    uint32_t tick;           /* server simulation tick the frame describes */
+    uint64_t server_time_us; /* server clock [us] at that tick (CLOCK_MONOTONIC based) */
+} wire_header;
+
+/* ---- close codes (WebSocket close status; 4000-4999 are application codes) ----------- */
+
+enum wire_close {
+    WIRE_CLOSE_NORMAL = 1000,      /* client or server is done */
+    WIRE_CLOSE_GOING_AWAY = 1001,  /* server shutting down (SIGINT/SIGTERM) */
+    WIRE_CLOSE_BAD_JSON = 4000,    /* control message is not valid JSON (or not an object) */
+    WIRE_CLOSE_UNKNOWN_TYPE = 4001,/* "type" missing, not a string, or not a known message */
+    WIRE_CLOSE_BAD_FIELD = 4002,   /* a field missing, of the wrong type, or out of range */
+    WIRE_CLOSE_VERSION = 4003,     /* hello.protocol is not WIRE_PROTOCOL_VERSION */
+    WIRE_CLOSE_TOO_BIG = 4004,     /* message longer than CTL_MAX_CLIENT_BYTES */
+    WIRE_CLOSE_BINARY = 4005,      /* client sent a binary frame (clients send JSON only) */
+    WIRE_CLOSE_FORBIDDEN = 4006,   /* role may not send this (a viewer sending wind) */
+    WIRE_CLOSE_BAD_TOKEN = 4007,   /* kiosk token wrong */
+    WIRE_CLOSE_SLOW = 4008,        /* client stayed too far behind; its queue overflowed */
+    WIRE_CLOSE_ORDER = 4009,       /* message before hello, or a second hello */
+    WIRE_CLOSE_FULL = 4010,        /* server at its connection limit */
+    WIRE_CLOSE_BAD_FRAME = 4011,   /* (client side) server frame failed to decode */
+};
+
+/* Name of a close code ("bad-json", "version", ...), "unknown" for others. */
+const char *wire_close_name(int code);
+
+/* ---- little-endian cursor (STYLE.md 4.6) -------------------------------------------- */
+
+/* Reader: a cursor with a sticky bad flag; any short read sets bad and returns 0. Check
+ * bad once before acting on what was read. */
+typedef struct wire_reader {
+    const uint8_t *p, *end;
+    bool bad;
+} wire_reader;
+
+/* Writer: same for output; an overflowing put sets bad and writes nothing. */
+typedef struct wire_writer {
+    uint8_t *p, *end;
+    bool bad;
+} wire_writer;
+
+static inline wire_reader wire_reader_make(const uint8_t *buf, size_t len)
+{
+    wire_reader r = { buf, buf + len, false };
+    return r;
+}
+
+static inline wire_writer wire_writer_make(uint8_t *buf, size_t cap)
+{
+    wire_writer w = { buf, buf + cap, false };
+    return w;
+}
+
+static inline size_t wire_reader_left(const wire_reader *r)
+{
+    return (size_t)(r->end - r->p);
+}
+
+uint8_t wire_get_u8(wire_reader *r);
+uint16_t wire_get_u16(wire_reader *r);
+uint32_t wire_get_u32(wire_reader *r);
+uint64_t wire_get_u64(wire_reader *r);
+float wire_get_f32(wire_reader *r);
+/* LEB128 unsigned varint, at most 5 bytes for 32 bits; overlong or >32-bit sets bad. */
+uint32_t wire_get_varint(wire_reader *r);
+
+void wire_put_u8(wire_writer *w, uint8_t v);
+void wire_put_u16(wire_writer *w, uint16_t v);
+void wire_put_u32(wire_writer *w, uint32_t v);
+void wire_put_u64(wire_writer *w, uint64_t v);
+void wire_put_f32(wire_writer *w, float v);
+void wire_put_varint(wire_writer *w, uint32_t v);
+
+static inline uint32_t wire_zigzag(int32_t v)
+{
+    return ((uint32_t)v << 1) ^ (uint32_t)(v >> 31);
+}
+
+static inline int32_t wire_unzigzag(uint32_t v)
+{
+    return (int32_t)(v >> 1) ^ -(int32_t)(v & 1u);
+}
+
+/* ---- frame header ------------------------------------------------------------------- */
+
+/* Writes h (magic and version are written as WIRE_MAGIC / WIRE_PROTOCOL_VERSION). */
+void wire_put_header(wire_writer *w, const wire_header *h);
+
+/* Reads and checks a header: bad magic -> GALE_E_FORMAT, other version ->
+ * GALE_E_VERSION, unknown type or short frame -> GALE_E_FORMAT; messages name the field
+ * and what was expected. */
+int wire_get_header(wire_reader *r, wire_header *h, gale_err *err);
+
+/* ---- quantisation of q (PROTOCOL.md "Quantisation") -------------------------------- */
+
+#define WIRE_QMAX 32767 /* quantised q is int16 in [-WIRE_QMAX, WIRE_QMAX] */
+
+/* round(x * inv_step) (halves away from zero) clamped to +-WIRE_QMAX; NaN -> 0, +-inf
+ * and +-1e30 clamp. The clamp happens in float before the cast (an out-of-range cast is
+ * undefined). Branch-free enough for the compiler to vectorise the modal loop. */
+static inline int16_t wire_quantize(float x, float inv_step)
+{
+    float s = x * inv_step;
+    s = s == s ? s : 0.0f;
+    s = s > (float)WIRE_QMAX ? (float)WIRE_QMAX : s;
+    s = s < -(float)WIRE_QMAX ? -(float)WIRE_QMAX : s;
+    return (int16_t)(int32_t)(s + (s < 0.0f ? -0.5f : 0.5f));
+}
+
+static inline float wire_dequantize(int16_t v, float step)
+{
+    return (float)v * step;
+}
+
+/* Default relative node error per mode: step_i = eps * H / max_node |d u / d q_i|. */
+#define WIRE_DEFAULT_EPS 1.0e-3f
+
+struct asset;
+
+/* Quantisation steps for one species: steps[i] = eps * H / s_i with s_i the largest
+ * displacement per unit q_i over all nodes (for the strong-wind form u = q~ v + q~^2 w,
+ * q~ = a atan(b q), that is |a_i b_i| max |v_i| at q = 0; phi is used when no correction
+ * is baked). eps = 0 means WIRE_DEFAULT_EPS. Writes a->n_modes steps (caller-owned,
+ * at least WIRE_MAX_MODES long). A mode that moves nothing gets step = eps * H. */
+int wire_quant_steps(const struct asset *a, float eps, float *steps, gale_err *err);
+
+/* ---- scene and snapshots (server and client share the picture) --------------------- */
+
+/* What both ends know about the scene for the state frames: sent in every keyframe. */
+typedef struct wire_scene {
+    uint32_t n_trees;                                  /* instances, <= WIRE_MAX_TREES */
+    uint32_t n_species;                                /* <= WIRE_MAX_SPECIES */
+    uint8_t n_modes[WIRE_MAX_SPECIES];                 /* modes per species, 1..WIRE_MAX_MODES */
+    float step[WIRE_MAX_SPECIES][WIRE_MAX_MODES];      /* quantisation step per mode, > 0 */
+    const uint8_t *species;                            /* [n_trees] borrowed (encoder side) */
+} wire_scene;
+
+/* One snapshot of quantised q, tree-major. n_modes[t] = 0: tree t not sent (out of the
+ * client's view); n_modes[t] < its species' modes: LOD. Entries at m >= n_modes[t] are
+ * read as 0 by both encoder and decoder (they need not be zeroed in q). */
+typedef struct wire_state {
+    uint32_t n_trees;        /* instances */
+    uint32_t stride;         /* int16 per tree in q, >= every n_modes[t] */
+    const uint8_t *n_modes;  /* [n_trees] borrowed */
+    const int16_t *q;        /* [n_trees * stride] borrowed */
+} wire_state;
+
+/* Worst-case bytes of one KEYFRAME or DELTA for these sizes (to size a buffer once). */
+size_t wire_state_bound(uint32_t n_trees, uint32_t max_modes, uint32_t n_species);
+
+/* Encodes a KEYFRAME (absolute q) of snapshot `seq` into buf[cap]; *len gets its size.
+ * h->type is ignored (set to KEYFRAME). Fails with GALE_E_RANGE when buf is too small
+ * or a count breaks a limit. Does not allocate. */
+int wire_encode_keyframe(const wire_header *h, uint32_t seq, const wire_scene *scene,
+                         const wire_state *cur, uint8_t *buf, size_t cap, size_t *len,
+                         gale_err *err);
+
+/* Encodes a DELTA of snapshot `seq` against prev (snapshot seq - 1) and, when not NULL,
+ * prev2 (seq - 2, enabling linear prediction). prev/prev2 must be what the client
+ * decoded (the encoder's own previous inputs). Does not allocate. */
+int wire_encode_delta(const wire_header *h, uint32_t seq, const wire_scene *scene,
+                      const wire_state *cur, const wire_state *prev, const wire_state *prev2,
+                      uint8_t *buf, size_t cap, size_t *len, gale_err *err);
+
+/* ---- leaf seeds and coarse wind ----------------------------------------------------- */
+
+typedef struct wire_leaf {
+    uint32_t instance;   /* tree index, < n_trees */
+    uint16_t slot;       /* leaf slot on that tree's species (asset.n_leaves) */
+    uint32_t spawn_tick; /* tick it detached */
+    uint32_t seed;       /* per-leaf variation seed (rotation, scale, start) */
+} wire_leaf;
+
+/* Encodes n leaf seeds (n <= WIRE_MAX_LEAVES). Does not allocate. */
+int wire_encode_leaves(const wire_header *h, const wire_leaf *leaves, uint32_t n,
+                       uint8_t *buf, size_t cap, size_t *len, gale_err *err);
+
+/* A horizontal slice of the wind at height z_m: nx * ny cells, 3 components int8 each,
+ * v = value * scale_ms. Cell (i, j) centre: (x0_m + (i + 0.5) cell_m, y0_m + (j + 0.5) cell_m). */
+typedef struct wire_wind {
+    float x0_m, y0_m, z_m, cell_m;  /* origin corner, height, cell size [m] */
+    float scale_ms;                 /* [m/s] per unit, > 0 */
+    uint16_t nx, ny;                /* 1..WIRE_MAX_WIND_SIDE */
+    const int8_t *v;                /* [ny][nx][3] borrowed (encode) / decoder-owned (decode) */
+} wire_wind;
+
+/* Quantises a world wind component [m/s] for a slice with scale_ms (clamps, NaN -> 0). */
+int8_t wire_wind_quantize(float v_ms, float scale_ms);
+
+int wire_encode_wind(const wire_header *h, const wire_wind *wind, uint8_t *buf, size_t cap,
+                     size_t *len, gale_err *err);
+
+/* ---- decoder (client side) ---------------------------------------------------------- */
+
+typedef struct wire_decoder_desc {
+    uint32_t max_trees; /* 0 = WIRE_MAX_TREES; capacity fixed at create */
+    uint32_t max_modes; /* 0 = WIRE_MAX_MODES */
+} wire_decoder_desc;
+
+typedef struct wire_decoder wire_decoder;
+
+/* Allocates a decoder holding the last two decoded snapshots; NULL on failure. */
+wire_decoder *wire_decoder_create(const wire_decoder_desc *d, gale_err *err);
+void wire_decoder_destroy(wire_decoder *d); /* NULL is a no-op */
+
+/* What one decoded frame was. Pointers are owned by the decoder and valid until the next
+ * wire_decode on it. */
+typedef struct wire_frame {
+    wire_header hdr;
+    uint32_t seq;               /* KEYFRAME / DELTA: snapshot sequence number */
+    uint32_t n_leaves;          /* LEAVES */
+    const wire_leaf *leaves;    /* LEAVES: [n_leaves] */
+    wire_wind wind;             /* WIND */
+} wire_frame;
+
+/* Decodes one binary frame. KEYFRAME replaces the decoder's state; DELTA applies to it.
+ * Nothing in the decoder changes unless the whole frame is valid. Errors: GALE_E_FORMAT
+ * (truncated, bad magic/type/count, trailing bytes, a value outside its range),
+ * GALE_E_VERSION, GALE_E_RANGE (more trees/modes than the decoder was created for),
+ * GALE_E_STATE (a DELTA whose base the decoder does not hold: a gap; wait for or ask
+ * for a keyframe). Never allocates. */
+int wire_decode(wire_decoder *d, const uint8_t *buf, size_t len, wire_frame *out,
+                gale_err *err);
+
+/* True once a keyframe has been decoded (and no gap since). */
+bool wire_decoder_synced(const wire_decoder *d);
+/* Sequence number of the last decoded snapshot (0 before any). */
+uint32_t wire_decoder_seq(const wire_decoder *d);
+/* The scene of the last keyframe (species pointer owned by the decoder). */
+const wire_scene *wire_decoder_scene(const wire_decoder *d);
+/* Quantised state of the last decoded snapshot (arrays owned by the decoder). */
+wire_state wire_decoder_state(const wire_decoder *d);
+
+/* Dequantised q of tree t from the last snapshot into q[max_modes] (zeros beyond what
+ * was sent); returns the number of modes sent (0: tree not in view or t out of range). */
+uint32_t wire_decoder_q(const wire_decoder *d, uint32_t t, float *q, uint32_t max_modes);
+
+#endif

@@ -1,0 +1,49 @@
+/* Private to the wire module: the decoder's storage and the per-message decoders that
+ * wire_decode dispatches to. Not installed; included by wire.c and msg_*.c only. */
+#ifndef GALE_WIRE_INT_H
+#define GALE_WIRE_INT_H
+
+#include "wire.h"
+
+/* One decoded snapshot slot: n_modes per tree and q tree-major with stride max_modes. */
+typedef struct wire_slot {
+    uint8_t *n_modes; /* owned: [max_trees] */
+    int16_t *q;       /* owned: [max_trees * max_modes] */
+    uint32_t seq;
+} wire_slot;
+
+struct wire_decoder {
+    uint32_t max_trees, max_modes;
+    /* Three rotating slots: last (seq), before (seq - 1, when have_before), and a scratch
+     * that a frame is decoded into and that becomes last only when the frame is valid. */
+    wire_slot slot[3];
+    int last, before, scratch; /* indices into slot */
+    bool synced;               /* a keyframe was decoded; last is valid */
+    bool have_before;          /* before holds seq(last) - 1 */
+    /* Scenes of the last keyframe and a scratch one (swapped on a valid keyframe). */
+    wire_scene scene[2];
+    uint8_t *species[2]; /* owned: [max_trees] each, the scenes' species arrays */
+    int scene_cur;
+    wire_leaf leaves[WIRE_MAX_LEAVES];
+    int8_t *wind;        /* owned: [WIRE_MAX_WIND_SIDE^2 * 3] */
+};
+
+/* Body decoders (after the header). Return 0 or GALE_E_*; leave the decoder's visible
+ * state untouched on failure. */
+int wire_decode_state(wire_decoder *d, wire_reader *r, const wire_header *h, wire_frame *out,
+                      gale_err *err);
+int wire_decode_leaves(wire_reader *r, const wire_header *h, wire_leaf *leaves,
+                       uint32_t *n, gale_err *err);
+int wire_decode_wind(wire_reader *r, const wire_header *h, int8_t *v, wire_wind *out,
+                     gale_err *err);
+
+/* Short message type name for errors ("KEYFRAME", ...). */
+const char *wire_type_name(unsigned type);
+
+/* Byte offset of the cursor from the frame start, for messages. */
+static inline size_t wire_offset(const wire_reader *r, const uint8_t *start)
+{
+    return (size_t)(r->p - start);
+}
+
+#endif

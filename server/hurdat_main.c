@@ -1,0 +1,244 @@
+/* gale-hurdat: turns the HURDAT2 best-track rows of one storm around a landfall into a
+ * hurricane scenario file (track times relative to a reference, pressure, Rmax, Vmax in
+ * SI units), so configs/scenarios/andrew1992.json and charley2004.json can be rebuilt
+ * from data/hurdat2-andrew1992-charley2004.txt. See configs/scenarios/README.md. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cjson/cJSON.h>
+
+#include "hurdat.h"
+#include "saffir.h"
+#include "scenario.h"
+
+#define KM_PER_NM 1.852
+
+static void usage(FILE *o)
+{
+    fprintf(o,
+            "usage: gale-hurdat --in HURDAT2.txt --storm ID|NAME --ref YYYY-MM-DDTHH:MMZ\n"
+            "         --from YYYY-MM-DDTHH:MMZ --to YYYY-MM-DDTHH:MMZ\n"
+            "         --site-lat DEG --site-lon DEG [--site-label TEXT] [--over-water]\n"
+            "         [--time-scale K] [--start-min M] [--end-min M] [--ambient-hpa P]\n"
+            "         [--rmax-km R] [--seed N] [--name TEXT] [--out FILE]\n"
+            "Writes a hurricane scenario (JSON) with the storm's rows in [from, to]; rows\n"
+            "without a radius of maximum wind take the nearest row's that has one (or\n"
+            "--rmax-km). The file is validated by loading it back.\n");
+}
+
+static int parse_utc(const char *s, long long *out)
+{
+    int y, mo, d, h, mi;
+    char z = 0;
+    if (!s || sscanf(s, "%4d-%2d-%2dT%2d:%2d%c", &y, &mo, &d, &h, &mi, &z) != 6 || z != 'Z') {
+        return -1;
+    }
+    *out = hurdat_civil_minutes(y, mo, d, h, mi);
+    return 0;
+}
+
+static int parse_num(const char *s, double *out)
+{
+    char *end;
+    if (!s) {
+        return -1;
+    }
+    *out = strtod(s, &end);
+    return (*end || end == s || !isfinite(*out)) ? -1 : 0;
+}
+
+/* A JSON string literal for s (escaped by cJSON). */
+static void put_string(FILE *o, const char *s)
+{
+    cJSON *j = cJSON_CreateString(s);
+    char *t = j ? cJSON_PrintUnformatted(j) : NULL;
+    fputs(t ? t : "\"\"", o);
+    cJSON_free(t);
+    cJSON_Delete(j);
+}
+
+int main(int argc, char **argv)
+{
+    const char *in = NULL, *storm = NULL, *ref = NULL, *from = NULL, *to = NULL;
+    const char *label = "", *name = NULL, *out_path = NULL;
+    double site_lat = NAN, site_lon = NAN, time_scale = 1.0, start_min = NAN, end_min = NAN;
+    double ambient = 1013.0, rmax_km = NAN, seed = 1.0;
+    int over_land = 1;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+        int num = 0;
+        double *dst = NULL;
+        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+            usage(stdout);
+            return 0;
+        } else if (strcmp(a, "--over-water") == 0) {
+            over_land = 0;
+            continue;
+        } else if (strcmp(a, "--in") == 0) {
+            in = v;
+        } else if (strcmp(a, "--storm") == 0) {
+            storm = v;
+        } else if (strcmp(a, "--ref") == 0) {
+            ref = v;
+        } else if (strcmp(a, "--from") == 0) {
+            from = v;
+        } else if (strcmp(a, "--to") == 0) {
+            to = v;
+        } else if (strcmp(a, "--site-label") == 0) {
+            label = v;
+        } else if (strcmp(a, "--name") == 0) {
+            name = v;
+        } else if (strcmp(a, "--out") == 0) {
+            out_path = v;
+        } else if (strcmp(a, "--site-lat") == 0) {
+            dst = &site_lat;
+        } else if (strcmp(a, "--site-lon") == 0) {
+            dst = &site_lon;
+        } else if (strcmp(a, "--time-scale") == 0) {
+            dst = &time_scale;
+        } else if (strcmp(a, "--start-min") == 0) {
+            dst = &start_min;
+        } else if (strcmp(a, "--end-min") == 0) {
+            dst = &end_min;
+        } else if (strcmp(a, "--ambient-hpa") == 0) {
+            dst = &ambient;
+        } else if (strcmp(a, "--rmax-km") == 0) {
+            dst = &rmax_km;
+        } else if (strcmp(a, "--seed") == 0) {
+            dst = &seed;
+        } else {
+            fprintf(stderr, "gale-hurdat: unknown argument '%s'\n", a);
+            usage(stderr);
+            return 2;
+        }
+        if (!v) {
+            fprintf(stderr, "gale-hurdat: %s: missing value\n", a);
+            return 2;
+        }
+        if (dst && (num = parse_num(v, dst)) != 0) {
+            fprintf(stderr, "gale-hurdat: %s: expected a number, got '%s'\n", a, v);
+            return 2;
+        }
+        i++;
+    }
+    long long ref_m, from_m, to_m;
+    if (!in || !storm || isnan(site_lat) || isnan(site_lon)) {
+        fprintf(stderr, "gale-hurdat: --in, --storm, --site-lat and --site-lon are required\n");
+        usage(stderr);
+        return 2;
+    }
+    if (parse_utc(ref, &ref_m) != 0 || parse_utc(from, &from_m) != 0 ||
+        parse_utc(to, &to_m) != 0) {
+        fprintf(stderr, "gale-hurdat: --ref, --from, --to: expected YYYY-MM-DDTHH:MMZ\n");
+        return 2;
+    }
+    hurdat_file hf;
+    gale_err err = { 0 };
+    if (hurdat_load(&hf, in, &err) < 0) {
+        fprintf(stderr, "gale-hurdat: %s\n", err.msg);
+        return 1;
+    }
+    const hurdat_storm *st = hurdat_find(&hf, storm);
+    if (!st) {
+        fprintf(stderr, "gale-hurdat: %s: no storm '%s'\n", in, storm);
+        hurdat_fini(&hf);
+        return 1;
+    }
+    int first = -1, last = -1;
+    for (int i = 0; i < st->n_rows; i++) {
+        long long m = hurdat_minutes(&st->rows[i]);
+        if (m >= from_m && m <= to_m) {
+            if (first < 0) {
+                first = i;
+            }
+            last = i;
+        }
+    }
+    if (first < 0 || last == first) {
+        fprintf(stderr, "gale-hurdat: %s: fewer than 2 rows of %s between %s and %s\n", in,
+                st->id, from, to);
+        hurdat_fini(&hf);
+        return 1;
+    }
+    FILE *o = out_path ? fopen(out_path, "w") : stdout;
+    if (!o) {
+        fprintf(stderr, "gale-hurdat: %s: cannot write\n", out_path);
+        hurdat_fini(&hf);
+        return 1;
+    }
+    char title[160];
+    snprintf(title, sizeof title, "%s %d", name ? name : st->name, st->rows[first].year);
+    char src[240];
+    snprintf(src, sizeof src,
+             "NHC HURDAT2 %s (%s), rows %s..%s of %s; Vmax kt x 0.514444, RMW nm x 1.852",
+             st->id, st->name, from, to, in);
+    fprintf(o, "{\n  \"name\": ");
+    put_string(o, title);
+    fprintf(o, ",\n  \"kind\": \"hurricane\",\n  \"seed\": %.0f,\n  \"z0_m\": 0.3,\n", seed);
+    fprintf(o, "  \"hurricane\": {\n    \"source\": ");
+    put_string(o, src);
+    fprintf(o, ",\n    \"site\": { \"lat_deg\": %.4f, \"lon_deg\": %.4f, \"over_land\": %s, "
+               "\"label\": ",
+            site_lat, site_lon, over_land ? "true" : "false");
+    put_string(o, label);
+    fprintf(o, " },\n    \"ref_utc\": \"%s\",\n    \"ambient_hpa\": %g,\n", ref, ambient);
+    fprintf(o, "    \"time_scale\": %g,\n", time_scale);
+    if (!isnan(start_min)) {
+        fprintf(o, "    \"start_min\": %g,\n", start_min);
+    }
+    if (!isnan(end_min)) {
+        fprintf(o, "    \"end_min\": %g,\n", end_min);
+    }
+    fprintf(o, "    \"track\": [\n");
+    int rc = 0;
+    for (int i = first; i <= last; i++) {
+        const hurdat_row *r = &st->rows[i];
+        /* nearest row (in time) of this storm that carries a radius of maximum wind */
+        double rkm = rmax_km;
+        if (isnan(rkm) || r->rmw_nm != HURDAT_MISSING) {
+            long long best = -1;
+            for (int j = 0; j < st->n_rows; j++) {
+                if (st->rows[j].rmw_nm == HURDAT_MISSING) {
+                    continue;
+                }
+                long long dtm = llabs(hurdat_minutes(&st->rows[j]) - hurdat_minutes(r));
+                if (best < 0 || dtm < best) {
+                    best = dtm;
+                    rkm = st->rows[j].rmw_nm * KM_PER_NM;
+                }
+            }
+        }
+        if (isnan(rkm) || r->vmax_kt == HURDAT_MISSING || r->pmin_mb == HURDAT_MISSING) {
+            fprintf(stderr, "gale-hurdat: %s:%d: %s lacks %s\n", in, r->line, st->id,
+                    isnan(rkm) ? "a radius of maximum wind (give --rmax-km)"
+                               : "max wind or pressure");
+            rc = 1;
+            break;
+        }
+        fprintf(o,
+                "      { \"t_min\": %lld, \"lat_deg\": %.1f, \"lon_deg\": %.1f, "
+                "\"p_hpa\": %d, \"rmax_km\": %.2f, \"vmax_ms\": %.2f }%s\n",
+                hurdat_minutes(r) - ref_m, r->lat_deg, r->lon_deg, r->pmin_mb, rkm,
+                r->vmax_kt * SAFFIR_MS_PER_KT, i < last ? "," : "");
+    }
+    fprintf(o, "    ]\n  }\n}\n");
+    hurdat_fini(&hf);
+    if (out_path) {
+        if (fclose(o) != 0) {
+            fprintf(stderr, "gale-hurdat: %s: write error\n", out_path);
+            return 1;
+        }
+        if (rc == 0) {
+            scenario *s = scenario_load(out_path, &err);
+            if (!s) {
+                fprintf(stderr, "gale-hurdat: the written file does not load: %s\n", err.msg);
+                return 1;
+            }
+            scenario_destroy(s);
+        }
+    }
+    return rc;
+}

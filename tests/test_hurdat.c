@@ -1,0 +1,136 @@
+/* HURDAT2 reader: the shipped Andrew and Charley rows, landfall values from REFERENCE.md,
+ * calendar arithmetic, and bad input with exact messages naming the line. */
+#include <string.h>
+
+#include "check.h"
+#include "hurdat.h"
+
+static void test_shipped_rows(void)
+{
+    hurdat_file f;
+    gale_err err = { 0 };
+    int rc = hurdat_load(&f, GALE_SOURCE_DIR "/tests/data/hurdat2-andrew1992-charley2004.txt",
+                         &err);
+    CHECK(rc == 0);
+    if (rc < 0) {
+        fprintf(stderr, "%s\n", err.msg);
+        return;
+    }
+    CHECK(f.n_storms == 2);
+    const hurdat_storm *a = hurdat_find(&f, "andrew");
+    const hurdat_storm *c = hurdat_find(&f, "AL032004");
+    CHECK(a && c);
+    if (!a || !c) {
+        hurdat_fini(&f);
+        return;
+    }
+    CHECK(a->n_rows == 52);
+    CHECK(c->n_rows == 30);
+    CHECK_STR_HAS(c->name, "CHARLEY");
+    /* Andrew's mainland landfall: 1992-08-24 09:05 UTC, 25.5N 80.3W, 145 kt, 922 mb, RMW 10 */
+    const hurdat_row *l = NULL;
+    for (int i = 0; i < a->n_rows; i++) {
+        if (a->rows[i].day == 24 && a->rows[i].hour == 9 && a->rows[i].minute == 5) {
+            l = &a->rows[i];
+        }
+    }
+    CHECK(l != NULL);
+    if (l) {
+        CHECK(l->record == 'L');
+        CHECK_STR_HAS(l->status, "HU");
+        CHECK_NEAR(l->lat_deg, 25.5, 1e-12);
+        CHECK_NEAR(l->lon_deg, -80.3, 1e-12);
+        CHECK(l->vmax_kt == 145);
+        CHECK(l->pmin_mb == 922);
+        CHECK(l->rmw_nm == 10);
+        CHECK(l[-1].rmw_nm == HURDAT_MISSING);
+    }
+    hurdat_fini(&f);
+}
+
+static void test_calendar(void)
+{
+    CHECK(hurdat_civil_minutes(1970, 1, 1, 0, 0) == 0);
+    CHECK(hurdat_civil_minutes(1970, 1, 2, 0, 1) == 1441);
+    /* 2004 is a leap year: Feb 29 exists */
+    CHECK(hurdat_civil_minutes(2004, 3, 1, 0, 0) - hurdat_civil_minutes(2004, 2, 28, 0, 0) ==
+          2 * 1440);
+    long long m = hurdat_civil_minutes(1992, 8, 24, 9, 5);
+    int y, mo, d, h, mi;
+    hurdat_civil_from_minutes(m + 19, &y, &mo, &d, &h, &mi);
+    CHECK(y == 1992 && mo == 8 && d == 24 && h == 9 && mi == 24);
+    hurdat_civil_from_minutes(m + 15 * 60, &y, &mo, &d, &h, &mi);
+    CHECK(y == 1992 && mo == 8 && d == 25 && h == 0 && mi == 5);
+}
+
+static void expect_error(const char *text, const char *msg)
+{
+    hurdat_file f;
+    gale_err err = { 0 };
+    int rc = hurdat_parse(&f, "t.txt", text, strlen(text), &err);
+    CHECK(rc < 0);
+    CHECK(f.n_storms == 0 && f.storms == NULL);
+    if (rc < 0 && !strstr(err.msg, msg)) {
+        fprintf(stderr, "got: %s\n", err.msg);
+    }
+    CHECK_STR_HAS(err.msg, msg);
+}
+
+#define HDR "AL041992,             ANDREW,      2,\n"
+#define ROW1 "19920824, 0600,  , HU, 25.4N,  79.3W, 130,  937, -999, -999, -999, -999, -999, " \
+             "-999, -999, -999, -999, -999, -999, -999, -999\n"
+#define ROW2 "19920824, 0905, L, HU, 25.5N,  80.3W, 145,  922, -999, -999, -999, -999, -999, " \
+             "-999, -999, -999, -999, -999, -999, -999,   10\n"
+
+static void test_errors(void)
+{
+    hurdat_file f;
+    gale_err err = { 0 };
+    const char *ok = HDR ROW1 ROW2;
+    CHECK(hurdat_parse(&f, "t.txt", ok, strlen(ok), &err) == 0);
+    CHECK(f.n_storms == 1 && f.storms[0].n_rows == 2);
+    hurdat_fini(&f);
+
+    expect_error("", "t.txt: no storms");
+    expect_error("hello\n", "t.txt:1: expected a storm header like 'AL041992, ANDREW, 52,', "
+                            "got 'hello'");
+    expect_error("AL04199X, ANDREW, 2,\n", "t.txt:1: storm id: expected 2 letters and 6 "
+                                           "digits, got 'AL04199X'");
+    expect_error("AL041992, ANDREW, 0,\n", "t.txt:1: row count: expected an integer in "
+                                           "[1, 2000], got 0");
+    expect_error(HDR ROW1, "t.txt:2: end of file, but AL041992 (line 1) declared 1 more rows");
+    expect_error(HDR ROW1 HDR, "t.txt:3: storm header, but AL041992 (line 1) declared 1 more "
+                               "rows");
+    expect_error(HDR ROW2 ROW1, "t.txt:3: time goes backwards (previous row 2)");
+    expect_error(HDR ROW1 "19920824, 0905, L, HU, 25.5N,  80.3W, 145\n",
+                 "t.txt:3: data row: expected 20 or 21 comma-separated fields, got 7");
+    expect_error(HDR ROW1 "19920824, 0905, L, HU, 25.5Q,  80.3W, 145,  922, -999, -999, -999, "
+                          "-999, -999, -999, -999, -999, -999, -999, -999, -999,   10\n",
+                 "t.txt:3: field 5 (latitude): expected degrees with N or S, like 25.5N, got "
+                 "'25.5Q'");
+    expect_error(HDR ROW1 "19920824, 0905, L, HU, 25.5N,  80.3W, 145,  999x, -999, -999, -999, "
+                          "-999, -999, -999, -999, -999, -999, -999, -999, -999,   10\n",
+                 "t.txt:3: field 8 (pressure): expected millibars in [800, 1100] or -999, got "
+                 "'999x'");
+    expect_error(HDR ROW1 "19920824, 2505, L, HU, 25.5N,  80.3W, 145,  922, -999, -999, -999, "
+                          "-999, -999, -999, -999, -999, -999, -999, -999, -999,   10\n",
+                 "t.txt:3: field 2 (time): expected hhmm UTC, got '2505'");
+    expect_error(HDR ROW1 "19921324, 0905, L, HU, 25.5N,  80.3W, 145,  922, -999, -999, -999, "
+                          "-999, -999, -999, -999, -999, -999, -999, -999, -999,   10\n",
+                 "t.txt:3: field 1 (date): expected a date YYYYMMDD, got '19921324'");
+    expect_error(HDR ROW1 "19920824, 0905, L, HU, 25.5N,  80.3W, 300,  922, -999, -999, -999, "
+                          "-999, -999, -999, -999, -999, -999, -999, -999, -999,   10\n",
+                 "t.txt:3: field 7 (max wind): expected knots in [0, 250] or -999, got '300'");
+    expect_error(HDR ROW1 "19920824, 0905, L, HU, 25.5N,  80.3W, 145,  922, -999, -999, -999, "
+                          "-999, -999, -999, -999, -999, -999, -999, -999, -999,    0\n",
+                 "t.txt:3: field 21 (radius of max wind): expected nautical miles in [1, 500] "
+                 "or -999, got '0'");
+}
+
+int main(void)
+{
+    RUN(test_shipped_rows);
+    RUN(test_calendar);
+    RUN(test_errors);
+    return check_report();
+}
