@@ -65,8 +65,8 @@ typedef struct wind_level {
     float *diag;    /* owned: sum of the six g, 0 in cells without any open face */
     float *idiag;   /* owned: 1 / diag, 0 where diag is 0 */
     int *wd[3];     /* owned: cell width per axis in finest cells */
-    float *rowg;    /* owned: per row (j, k) the face g (x, y, z) shared by every face of its
-                     * cells 1 .. nx-2, or -1 in x where they differ (solids, borders) */
+    float *rowg;    /* owned: per row (j, k) the six face g (x, y, z low/high) shared by its
+                     * cells 1 .. nx-2, or g[0] = -1 where they differ (solids) */
     int r[3];       /* coarsening factor to the next level, 1 or 2 */
     double *rowsum; /* owned: per-row partial sums (ny * nz), summed in a fixed order */
 } wind_level;

@@ -58,7 +58,7 @@ int wind_mg_alloc(wind_grid *w, gale_err *err)
         l->diag = calloc(l->count, sizeof(float));
         l->idiag = calloc(l->count, sizeof(float));
         l->rowsum = calloc((size_t)n[1] * (size_t)n[2], sizeof(double));
-        l->rowg = calloc((size_t)3 * (size_t)n[1] * (size_t)n[2], sizeof(float));
+        l->rowg = calloc((size_t)6 * (size_t)n[1] * (size_t)n[2], sizeof(float));
         for (int a = 0; a < 3; a++) {
             l->wd[a] = calloc((size_t)n[a], sizeof(int));
         }
@@ -264,16 +264,19 @@ static void setup_diag(wind_level *l)
                 l->idiag[c] = d > 0.0f ? 1.0f / d : 0.0f;
             }
             /* constant-coefficient rows take a kernel that reads only p and b */
-            float *g = l->rowg + 3 * ((size_t)k * (size_t)l->ny + (size_t)j);
+            float *g = l->rowg + 6 * ((size_t)k * (size_t)l->ny + (size_t)j);
             size_t c1 = lidx(l, 1, j, k);
             g[0] = l->ax[c1];
-            g[1] = l->ay[c1];
-            g[2] = l->az[c1];
-            int same = l->nx >= 3 && g[0] > 0.0f;
+            g[1] = l->ax[c1 + 1];
+            g[2] = l->ay[c1];
+            g[3] = l->ay[c1 + sy];
+            g[4] = l->az[c1];
+            g[5] = l->az[c1 + sz];
+            int same = l->nx >= 3 && g[0] > 0.0f && g[1] > 0.0f;
             for (int i = 1; i < l->nx - 1 && same; i++) {
                 size_t c = lidx(l, i, j, k);
-                same = l->ax[c] == g[0] && l->ax[c + 1] == g[0] && l->ay[c] == g[1] &&
-                       l->ay[c + sy] == g[1] && l->az[c] == g[2] && l->az[c + sz] == g[2];
+                same = l->ax[c] == g[0] && l->ax[c + 1] == g[1] && l->ay[c] == g[2] &&
+                       l->ay[c + sy] == g[3] && l->az[c] == g[4] && l->az[c + sz] == g[5];
             }
             if (!same) {
                 g[0] = -1.0f;
@@ -308,25 +311,37 @@ WIND_CLONES static void row_stencil(int nx, ptrdiff_t sy, ptrdiff_t sz, const fl
     }
 }
 
-/* row_stencil for a row whose faces all have g = (gx, gy, gz): the same arithmetic in the
- * same order, without reading the coefficient arrays (a third of the traffic). */
+/* row_stencil for a row whose interior faces have the same six g (x low/high, y low/high,
+ * z low/high) in every cell: the same arithmetic in the same order, without reading the
+ * coefficient arrays (a third of the traffic). */
 WIND_CLONES static void row_stencil_const(int nx, ptrdiff_t sy, ptrdiff_t sz,
                                           const float *restrict p, const float *restrict b,
-                                          float gx, float gy, float gz, float dg,
-                                          int want_resid, float *restrict out)
+                                          const float *restrict g, float dg, int want_resid,
+                                          float *restrict out)
 {
+    const float g0 = g[0], g1 = g[1], g2 = g[2], g3 = g[3], g4 = g[4], g5 = g[5];
     for (int i = 0; i < nx; i++) {
-        float nb = gx * p[i - 1] + gx * p[i + 1] + gy * p[i - sy] + gy * p[i + sy] +
-                   gz * p[i - sz] + gz * p[i + sz];
+        float nb = g0 * p[i - 1] + g1 * p[i + 1] + g2 * p[i - sy] + g3 * p[i + sy] +
+                   g4 * p[i - sz] + g5 * p[i + sz];
         out[i] = want_resid ? b[i] - (dg * p[i] - nb) : b[i] + nb;
     }
+}
+
+/* One cell of row_stencil, for the ends of constant rows. */
+static inline float cell_stencil(ptrdiff_t sy, ptrdiff_t sz, const float *p, const float *b,
+                                 const float *ax, const float *ay, const float *az,
+                                 const float *dg, int want_resid)
+{
+    float nb = ax[0] * p[-1] + ax[1] * p[1] + ay[0] * p[-sy] + ay[sy] * p[sy] + az[0] * p[-sz] +
+               az[sz] * p[sz];
+    return want_resid ? b[0] - (dg[0] * p[0] - nb) : b[0] + nb;
 }
 
 /* Stencil of row r (first cell c0) of level l into out, by the constant-coefficient
  * kernel where the row allows it. */
 static void row_eval(const wind_level *l, int r, size_t c0, int want_resid, float *out)
 {
-    const float *g = l->rowg + 3 * (size_t)r;
+    const float *g = l->rowg + 6 * (size_t)r;
     const float *p = l->p + c0, *b = l->b + c0;
     if (g[0] < 0.0f) {
         row_stencil(l->nx, l->sy, l->sz, p, b, l->ax + c0, l->ay + c0, l->az + c0,
@@ -334,12 +349,12 @@ static void row_eval(const wind_level *l, int r, size_t c0, int want_resid, floa
         return;
     }
     const size_t e = (size_t)l->nx - 1;
-    row_stencil(1, l->sy, l->sz, p, b, l->ax + c0, l->ay + c0, l->az + c0, l->diag + c0,
-                want_resid, out);
-    row_stencil_const(l->nx - 2, l->sy, l->sz, p + 1, b + 1, g[0], g[1], g[2],
-                      l->diag[c0 + 1], want_resid, out + 1);
-    row_stencil(1, l->sy, l->sz, p + e, b + e, l->ax + c0 + e, l->ay + c0 + e, l->az + c0 + e,
-                l->diag + c0 + e, want_resid, out + e);
+    out[0] = cell_stencil(l->sy, l->sz, p, b, l->ax + c0, l->ay + c0, l->az + c0, l->diag + c0,
+                          want_resid);
+    row_stencil_const(l->nx - 2, l->sy, l->sz, p + 1, b + 1, g, l->diag[c0 + 1], want_resid,
+                      out + 1);
+    out[e] = cell_stencil(l->sy, l->sz, p + e, b + e, l->ax + c0 + e, l->ay + c0 + e,
+                          l->az + c0 + e, l->diag + c0 + e, want_resid);
 }
 
 static float *row_scratch(const wind_grid *w)
@@ -347,9 +362,25 @@ static float *row_scratch(const wind_grid *w)
     return w->scratch + (size_t)omp_get_thread_num() * WIND_SCRATCH_ROW(w);
 }
 
+/* Gauss-Seidel update of every second cell of a constant-coefficient row: cells 0, 2, ..
+ * of p (2 cnt - 1 at most), whose neighbours are all of the other colour. The same
+ * arithmetic in the same order as row_stencil; vectorises with interleaved loads. */
+WIND_CLONES static void rb_row_const(int cnt, ptrdiff_t sy, ptrdiff_t sz, float *restrict p,
+                                     const float *restrict b, const float *restrict g, float id)
+{
+    const float g0 = g[0], g1 = g[1], g2 = g[2], g3 = g[3], g4 = g[4], g5 = g[5];
+    for (int m = 0; m < cnt; m++) {
+        ptrdiff_t i = 2 * (ptrdiff_t)m;
+        float nb = g0 * p[i - 1] + g1 * p[i + 1] + g2 * p[i - sy] + g3 * p[i + sy] +
+                   g4 * p[i - sz] + g5 * p[i + sz];
+        p[i] = (b[i] + nb) * id;
+    }
+}
+
 /* One red-black Gauss-Seidel sweep. Each colour reads only the other colour, so the
- * result does not depend on the thread partition. A row's numerators are computed for
- * every cell (vectorised) and only the current colour's are stored. */
+ * result does not depend on the thread partition. Constant-coefficient rows update their
+ * interior cells of the colour directly; other rows compute every cell's numerator
+ * (vectorised) and store the current colour's. */
 static void smooth(const wind_grid *w, wind_level *l)
 {
     const int nx = l->nx, ny = l->ny, nz = l->nz, rows = ny * nz;
@@ -358,12 +389,34 @@ static void smooth(const wind_grid *w, wind_level *l)
         for (int r = 0; r < rows; r++) {
             int j = r % ny, k = r / ny;
             size_t c0 = wind_idx(l->sy, l->sz, 0, j, k);
-            float *t = row_scratch(w);
-            row_eval(l, r, c0, 0, t);
             float *p = l->p + c0;
             const float *id = l->idiag + c0;
-            for (int i = (colour + j + k) & 1; i < nx; i += 2) {
-                p[i] = t[i] * id[i];
+            const float *g = l->rowg + 6 * (size_t)r;
+            int first = (colour + j + k) & 1;
+            float *t = row_scratch(w);
+            if (g[0] < 0.0f) {
+                row_stencil(nx, l->sy, l->sz, p, l->b + c0, l->ax + c0, l->ay + c0, l->az + c0,
+                            l->diag + c0, 0, t);
+                for (int i = first; i < nx; i += 2) {
+                    p[i] = t[i] * id[i];
+                }
+                continue;
+            }
+            /* the end cells through the general kernel, the interior by the constant one */
+            int ends[2] = { 0, nx - 1 };
+            for (int e = 0; e < 2; e++) {
+                int i = ends[e];
+                if (((i + first) & 1) == 0) {
+                    size_t c = c0 + (size_t)i;
+                    p[i] = cell_stencil(l->sy, l->sz, l->p + c, l->b + c, l->ax + c, l->ay + c,
+                                        l->az + c, l->diag + c, 0) *
+                           id[i];
+                }
+            }
+            int i1 = first == 1 ? 1 : 2; /* first interior cell of this colour */
+            int cnt = (nx - 2 - i1 + 2) / 2;
+            if (cnt > 0) {
+                rb_row_const(cnt, l->sy, l->sz, p + i1, l->b + c0 + (size_t)i1, g, id[1]);
             }
         }
     }
