@@ -135,6 +135,10 @@ static int solve_arpack(const fem_model *f, int nm, eigen_result *r, gale_err *e
         goto done;
     }
     start_vector(resid, nd);
+    /* The BLAS work here is matrix-vector products on a few tens of columns: threads cost
+     * more in wake-ups than they save (measured), so ARPACK runs single-threaded. */
+    const int blas_threads = openblas_get_num_threads();
+    openblas_set_num_threads(1);
     a_int iparam[11] = { 0 }, ipntr[14] = { 0 };
     iparam[0] = 1;   /* exact shifts */
     iparam[2] = 500; /* max restart cycles */
@@ -161,6 +165,7 @@ static int solve_arpack(const fem_model *f, int nm, eigen_result *r, gale_err *e
             break;
         }
     }
+    openblas_set_num_threads(blas_threads);
     if (info < 0 || info == 1) {
         rc = gale_errf(err, GALE_E_NUMERIC,
                        "eigen: ARPACK dsaupd failed (info %d, %d of %d modes converged after "

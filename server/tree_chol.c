@@ -36,7 +36,7 @@ static int chol6(double *a)
 }
 
 /* x = L^{-1} x for lower L (6x6). */
-static void fwd6(const double *l, double *x)
+static inline void fwd6(const double *restrict l, double *restrict x)
 {
     for (int i = 0; i < 6; i++) {
         double s = x[i];
@@ -48,7 +48,7 @@ static void fwd6(const double *l, double *x)
 }
 
 /* x = L^{-T} x for lower L (6x6). */
-static void bwd6(const double *l, double *x)
+static inline void bwd6(const double *restrict l, double *restrict x)
 {
     for (int i = 5; i >= 0; i--) {
         double s = x[i];
