@@ -10,7 +10,7 @@
 #include <stdint.h>
 
 #include "err.h"
-#include "limits.h"
+#include "wire_limits.h"
 
 enum ctl_type {
     CTL_NONE = 0,

@@ -10,7 +10,7 @@
 #include <stdint.h>
 
 #include "err.h"
-#include "limits.h"
+#include "wire_limits.h"
 
 /* ---- frame header: every binary frame starts with it (20 bytes) ---------------------- */
 

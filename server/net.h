@@ -1,0 +1,122 @@
+/* Serving over libwebsockets on one port (DESIGN.md "Wire"): the gale WebSocket
+ * protocol (JSON control in, binary state out), HTTP GET of baked assets by content
+ * hash, /healthz and /metrics (Prometheus text). One lws service thread; the simulation
+ * thread publishes encoded snapshots, each encoded once and shared by every connection
+ * through a bounded per-connection queue (sendq.h), so a slow client never slows others. */
+#ifndef GALE_NET_H
+#define GALE_NET_H
+
+#include <stdatomic.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "err.h"
+
+typedef struct net_server net_server;
+
+/* Client roles (hello.role). */
+enum { NET_ROLE_NONE, NET_ROLE_VIEWER, NET_ROLE_KIOSK, NET_ROLE_WALL, NET_ROLE_LOAD,
+       NET_ROLE_COUNT };
+
+/* One published snapshot: the binary messages of one snapshot (sequence number seq),
+ * each encoded once and shared by every connection; every buffer has LWS_PRE bytes of
+ * headroom. A connection that holds snapshots seq-1 and seq-2 gets delta2 (linear
+ * prediction from both), one that holds only seq-1 (it was a keyframe) gets delta1,
+ * any other (late joiner, after drops, after a resync request) the keyframe. Extra
+ * messages (leaf seeds, coarse wind) follow the state. */
+#define NET_SNAP_MAX_EXTRA 2
+typedef struct net_snap {
+    atomic_int refs;        /* 0 = free in the pool */
+    uint32_t seq;           /* snapshot sequence number (wire.h) */
+    size_t cap;             /* capacity of each state buffer after LWS_PRE */
+    size_t extra_cap;       /* capacity of each extra buffer after LWS_PRE */
+    size_t key_len;         /* keyframe bytes (required) */
+    size_t delta1_len;      /* delta against seq-1 only; 0 = none */
+    size_t delta2_len;      /* delta against seq-1 and seq-2; 0 = none */
+    size_t extra_len[NET_SNAP_MAX_EXTRA]; /* 0 = absent */
+    uint8_t *key;           /* owned [LWS_PRE + cap] */
+    uint8_t *delta1;        /* owned [LWS_PRE + cap] */
+    uint8_t *delta2;        /* owned [LWS_PRE + cap] */
+    uint8_t *extra[NET_SNAP_MAX_EXTRA]; /* owned [LWS_PRE + extra_cap] */
+} net_snap;
+
+/* A baked asset served at /assets/<hash>.gasset (bytes borrowed for the server's life). */
+typedef struct net_asset {
+    char hash[24];          /* 16 hex digits, lower case */
+    const uint8_t *bytes;
+    size_t len;
+} net_asset;
+
+/* A connection as the control handler sees it (and may change). */
+typedef struct net_peer {
+    uint32_t id;          /* connection id, for logs and welcome.client_id */
+    const char *addr;     /* peer address */
+    int role;             /* NET_ROLE_*; set it when a hello is accepted */
+    bool resync;          /* set to send a keyframe next */
+} net_peer;
+
+/* What the server does with a client's control (text) message, on the lws thread.
+ * Return 0 to accept; *reply may be set to a malloc'd text of *reply_len bytes that net
+ * sends and frees. Return a close code (enum wire_close) to close the connection, with
+ * the reason written to why[why_cap]. */
+typedef int (*net_control_fn)(void *user, net_peer *peer, const char *text, size_t len,
+                              char **reply, size_t *reply_len, char *why, size_t why_cap);
+
+typedef struct net_desc {
+    int port;                 /* 0 → 8080; -1 → an ephemeral port (tests) */
+    const char *iface;        /* NULL → all interfaces; "127.0.0.1" for loopback only */
+    int max_clients;          /* 0 → 2048 */
+    int queue_frames;         /* per-connection snapshot queue; 0 → 8 */
+    int lag_limit;            /* drops in a row before a laggard is closed; 0 → 90 (3 s at 30/s) */
+    size_t snap_cap;          /* bytes per state message (after LWS_PRE); required */
+    size_t extra_cap;         /* bytes per extra message; 0 → 65536 */
+    size_t max_message;       /* largest control message accepted; 0 → CTL_MAX_CLIENT_BYTES */
+    const net_asset *assets;  /* borrowed for the server's life */
+    int n_assets;
+    net_control_fn control;   /* required */
+    void *control_user;
+} net_desc;
+
+/* Counters, readable from any thread; the simulation thread writes the tick ones. */
+typedef struct net_metrics {
+    atomic_ullong ticks;
+    atomic_ullong tick_ns_sum;
+    atomic_ullong tick_ns_max;
+    atomic_ullong overruns;
+    atomic_ullong snapshots;
+    atomic_ullong bytes_sent;
+    atomic_ullong frames_sent;
+    atomic_ullong frames_dropped;
+    atomic_ullong bad_messages;
+    atomic_ullong laggards_closed;
+    atomic_ullong connections_total;
+    atomic_ullong leaves_shed;
+    atomic_int clients[NET_ROLE_COUNT];
+    atomic_uint current_tick;
+} net_metrics;
+
+/* Creates the lws context and listens; NULL on failure (port in use...) with err filled.
+ * Allocates the snapshot pool up front. */
+net_server *net_create(const net_desc *d, gale_err *err);
+/* Closes every connection and frees everything. NULL is a no-op. */
+void net_destroy(net_server *s);
+/* The port actually listened on. */
+int net_port(const net_server *s);
+/* Shared counters. */
+net_metrics *net_get_metrics(net_server *s);
+
+/* Simulation thread: a free snapshot from the pool to fill (refs set to 1), or NULL when
+ * all are still in flight (counted; the caller skips publishing this one). */
+net_snap *net_snap_acquire(net_server *s);
+/* Simulation thread: hands a filled snapshot to the service thread, which queues it on
+ * every ready connection and drops the caller's reference. Wakes the service loop. */
+void net_publish(net_server *s, net_snap *snap);
+
+/* Service thread: runs lws until net_stop; then tells every client (close 1001) and
+ * returns after they are closed or grace_ms passed. */
+int net_run(net_server *s, int grace_ms);
+/* Any thread or a signal handler: asks net_run to finish. */
+void net_stop(net_server *s);
+
+#endif

@@ -1,0 +1,81 @@
+/* The fixed-step simulation (DESIGN.md "Data flow", server tick): step the wind grid
+ * (every k ticks), sample the wind at each tree's crown, rotate it into the tree frame,
+ * force each mode with f_i = |v| v·p_i (Diener 2008 section 4), advance each mode by
+ * the exact discrete oscillator update (DESIGN.md "Integration"), and shed leaves. */
+#ifndef GALE_TICK_H
+#define GALE_TICK_H
+
+#include <stdint.h>
+
+#include "err.h"
+#include "leaf.h"
+#include "scene.h"
+#include "wind.h"
+
+/* The modal data of one species the simulation needs (borrowed from its asset). */
+typedef struct tick_species {
+    uint32_t n_modes;
+    const float *omega;      /* [n_modes] [rad/s] */
+    const float *gamma;      /* [n_modes] [1/s] */
+    const float *wind_basis; /* [n_modes][3] p_i, tree frame */
+    float height_m;          /* rest height: the wind is sampled at 0.7 of it */
+    uint32_t n_leaves;       /* leaf slots per tree */
+} tick_species;
+
+/* The wind grid as the tick drives it (wind.h functions on a wind_grid in the server;
+ * the indirection keeps this library free of the solver, so tests can run without it). */
+typedef struct tick_wind {
+    void *ctx;
+    void (*set_inflow)(void *ctx, const wind_inflow *in);
+    int (*step)(void *ctx, float dt_s, wind_step_stats *st);
+    void (*sample_many)(void *ctx, int n, const float *p, float *v);
+} tick_wind;
+
+typedef struct tick_desc {
+    const scene *sc;                /* borrowed for the simulation's life */
+    const tick_species *species;    /* [sc->n_species], borrowed likewise */
+    const tick_wind *wind;          /* borrowed; NULL → the steady inflow profile alone */
+    int max_leaves_per_tick;        /* 0 → 4096 */
+} tick_desc;
+
+typedef struct tick_stats {
+    double ms;          /* wall time of this tick */
+    double wind_ms;     /* of which the wind step */
+    int wind_iters;     /* pressure iterations of the wind step, 0 if none this tick */
+    double wind_div;    /* divergence after projection */
+    int leaves;         /* leaf seeds emitted */
+    int leaves_lost;    /* shed but over the per-tick cap */
+    float max_speed_ms; /* strongest wind at a crown */
+} tick_stats;
+
+typedef struct tick_sim tick_sim;
+
+/* Allocates the state (q, q' per tree and mode; per-species transitions for dt =
+ * 1/tick_hz); NULL on failure with err filled. */
+tick_sim *tick_create(const tick_desc *d, gale_err *err);
+/* NULL is a no-op. */
+void tick_destroy(tick_sim *t);
+
+/* Runs one tick. No allocation. Fails only when the wind step breaks down. */
+int tick_step(tick_sim *t, tick_stats *st, gale_err *err);
+
+/* Sets the steady inflow (kiosk dial): direction the wind blows toward [rad] and 10 m
+ * speed [m/s]. Safe from another thread; applied at the next tick. */
+void tick_set_inflow(tick_sim *t, float dir_rad, float u10_ms);
+/* Adds a gust velocity [m/s] to the inflow (from the scenario's gust process); the same
+ * threading rule. */
+void tick_set_gust(tick_sim *t, const float gust[3]);
+
+/* Ticks run so far (the tick number of the state tick_q shows). */
+uint32_t tick_now(const tick_sim *t);
+/* Number of trees and the mode count stored per tree (the maximum over species). */
+int tick_n_trees(const tick_sim *t);
+int tick_stride(const tick_sim *t);
+/* q of every tree, [n_trees][stride]; modes beyond a species' count are zero. */
+const float *tick_q(const tick_sim *t);
+/* The leaf seeds of the last tick. */
+int tick_leaves(const tick_sim *t, const leaf_seed **out);
+/* The wind velocity [m/s, world] sampled at each crown during the last tick, [n_trees][3]. */
+const float *tick_crown_wind(const tick_sim *t);
+
+#endif

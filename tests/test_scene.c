@@ -1,0 +1,130 @@
+/* Scene config: defaults, forest layout (count, spacing, obstacles, determinism) and the
+ * exact error text for bad configs (key path, expected, got). */
+#include "check.h"
+#include "scene.h"
+
+#include <stdlib.h>
+
+static int parse(scene *s, const char *text, gale_err *e)
+{
+    return scene_parse(s, "t.json", text, strlen(text), "/base", e);
+}
+
+#define SP "\"species\": [{\"name\": \"oak\", \"file\": \"oak.json\"}]"
+
+static void test_defaults(void)
+{
+    scene s;
+    gale_err e;
+    CHECK(parse(&s, "{" SP ", \"trees\": [{\"species\": \"oak\", \"pos\": [1, 2]}]}", &e) == 0);
+    CHECK_NEAR(s.tick_hz, 60, 0);
+    CHECK_NEAR(s.snapshot_hz, 30, 0);
+    CHECK(s.n_trees == 1 && s.n_species == 1);
+    CHECK_STR_HAS(s.species[0].file, "/base/oak.json");
+    CHECK_NEAR(s.trees[0].pos[0], 1, 0);
+    CHECK_NEAR(s.trees[0].pos[1], 2, 0);
+    CHECK_NEAR(s.trees[0].scale, 1, 0);
+    CHECK(!s.grid_on);
+    CHECK(s.kiosk_token[0] == 0);
+    scene_fini(&s);
+    scene_fini(&s); /* a second fini is a no-op */
+}
+
+static void test_forest_spacing(void)
+{
+    const char *cfg = "{" SP ", \"obstacles\": [{\"min\": [-5, -5, 0], \"max\": [5, 5, 6]}],"
+                      "\"trees\": [{\"species\": \"oak\", \"pos\": [20, 20], \"yaw_deg\": 90}],"
+                      "\"forest\": [{\"species\": \"oak\", \"count\": 400, \"area_min\": [-50, -50],"
+                      " \"area_max\": [50, 50], \"min_spacing_m\": 3, \"seed\": 5,"
+                      " \"scale\": [0.5, 2]}]}";
+    scene a, b;
+    gale_err e;
+    CHECK(parse(&a, cfg, &e) == 0);
+    CHECK(parse(&b, cfg, &e) == 0);
+    CHECK(a.n_trees == 401);
+    CHECK_NEAR(a.trees[0].yaw_rad, 1.5707963, 1e-6);
+    double dmin = 1e9;
+    int in_box = 0, out_area = 0, bad_scale = 0;
+    for (int i = 0; i < a.n_trees; i++) {
+        const float *p = a.trees[i].pos;
+        in_box += p[0] >= -5 && p[0] <= 5 && p[1] >= -5 && p[1] <= 5;
+        out_area += i > 0 && (p[0] < -50 || p[0] > 50 || p[1] < -50 || p[1] > 50);
+        bad_scale += i > 0 && (a.trees[i].scale < 0.5f || a.trees[i].scale > 2.0f);
+        for (int j = 0; j < i; j++) {
+            double dx = p[0] - a.trees[j].pos[0], dy = p[1] - a.trees[j].pos[1];
+            double d = sqrt(dx * dx + dy * dy);
+            dmin = d < dmin ? d : dmin;
+        }
+    }
+    CHECK(dmin >= 3.0 - 1e-4);
+    CHECK(in_box == 0 && out_area == 0 && bad_scale == 0);
+    CHECK(!memcmp(a.trees, b.trees, sizeof *a.trees * (size_t)a.n_trees)); /* same seed */
+    scene_fini(&a);
+    scene_fini(&b);
+}
+
+static void check_err(const char *text, const char *want)
+{
+    scene s;
+    gale_err e = { 0 };
+    int rc = parse(&s, text, &e);
+    CHECK(rc < 0);
+    CHECK(s.trees == NULL);
+    CHECK_STR_HAS(e.msg, want);
+}
+
+static void test_errors(void)
+{
+    check_err("{" SP ", \"tick_hz\": 0, \"trees\": [{\"species\": \"oak\", \"pos\": [0,0]}]}",
+              "t.json: tick_hz: expected a number in [1, 1000], got 0");
+    check_err("{" SP ", \"tik_hz\": 5}", "tik_hz");
+    check_err("{" SP ", \"trees\": [{\"species\": \"elm\", \"pos\": [0,0]}]}",
+              "trees[0].species: expected one of the names in species[], got \"elm\"");
+    check_err("{" SP ", \"trees\": [{\"species\": \"oak\", \"pos\": \"x\"}]}", "trees[0].pos");
+    check_err("{" SP ", \"trees\": []}", "expected 1 to 200000 trees in all, got 0");
+    check_err("{" SP ", \"forest\": [{\"species\": \"oak\", \"count\": 500, \"area_min\": [0,0],"
+              " \"area_max\": [10,10], \"min_spacing_m\": 5}]}",
+              "forest[0]: placed only");
+    check_err("{" SP ", \"snapshot_hz\": 90, \"trees\": [{\"species\": \"oak\", \"pos\": [0,0]}]}",
+              "snapshot_hz: expected <= tick_hz (60), got 90");
+    check_err("{" SP ", \"obstacles\": [{\"min\": [0,0,0], \"max\": [1,1,-1]}],"
+              " \"trees\": [{\"species\": \"oak\", \"pos\": [0,0]}]}",
+              "obstacles[0].max[2]: expected > min[2] (0), got -1");
+    check_err("{" SP ", \"wind\": 3, \"trees\": [{\"species\": \"oak\", \"pos\": [0,0]}]}",
+              "wind: expected an object, got a number");
+    check_err("{\"species\": [], \"trees\": []}", "species: expected 1 to 16 entries, got 0");
+    check_err("{" SP ",\n \"trees\": [", "t.json:2:");
+    /* NULL err: still fails cleanly */
+    scene s;
+    CHECK(scene_parse(&s, "t", "{\"wind\": 1}", 11, NULL, NULL) < 0);
+}
+
+static void test_default_scene(void)
+{
+    scene s;
+    gale_err e = { 0 };
+    int rc = scene_load_default(&s, NULL, &e);
+    if (rc) {
+        fprintf(stderr, "default scene: %s\n", e.msg);
+    }
+    CHECK(rc == 0);
+    CHECK(s.n_trees >= 100 && s.n_obstacles >= 3 && s.grid_on);
+    CHECK_NEAR(s.tick_hz, 60, 0);
+    CHECK(s.kiosk_token[0] != 0);
+    scene_fini(&s);
+    /* the file on disk parses the same */
+    CHECK(scene_load(&s, GALE_SOURCE_DIR "/configs/scenes/default.json", &e) == 0);
+    CHECK(s.n_trees >= 100);
+    scene_fini(&s);
+    CHECK(scene_load(&s, "/nonexistent/scene.json", &e) == GALE_E_IO);
+    CHECK_STR_HAS(e.msg, "/nonexistent/scene.json: cannot open");
+}
+
+int main(void)
+{
+    RUN(test_defaults);
+    RUN(test_forest_spacing);
+    RUN(test_errors);
+    RUN(test_default_scene);
+    return check_report();
+}

@@ -1,0 +1,70 @@
+/* Leaf shedding: zero in calm air, the rate law, Poisson counts against their expected
+ * mean, reproducibility and the output cap. */
+#include "check.h"
+#include "leaf.h"
+
+static const leaf_desc D = { .rate_hz = 0.01f, .calm_ms = 3, .ref_ms = 20, .seed = 42 };
+
+static void test_rate_law(void)
+{
+    CHECK(leaf_rate(&D, 0) == 0);
+    CHECK(leaf_rate(&D, 3) == 0);
+    CHECK_NEAR(leaf_rate(&D, 20), 0.01, 1e-8); /* rate_hz is a float */
+    CHECK_NEAR(leaf_rate(&D, 37), 0.04, 4e-8); /* twice the excess speed: four times */
+    CHECK(leaf_rate(&D, 10) < leaf_rate(&D, 11));
+    CHECK(leaf_rate(&D, NAN) == 0);
+}
+
+static void test_calm_sheds_nothing(void)
+{
+    leaf_seed out[16];
+    int n = 0;
+    for (uint32_t t = 0; t < 10000; t++) {
+        leaf_shed(&D, 1, 1000, 2.9, t, 1.0 / 60, out, 16, &n);
+    }
+    CHECK(n == 0);
+}
+
+static void test_poisson_mean(void)
+{
+    /* 1000 slots at 20 m/s: 10 leaves/s; 60 s at 60 Hz → 600 expected, σ ≈ 24.5 */
+    static leaf_seed out[4096];
+    int n = 0, lost = 0;
+    for (uint32_t t = 0; t < 3600; t++) {
+        lost += leaf_shed(&D, 7, 1000, 20, t, 1.0 / 60, out, 4096, &n);
+    }
+    CHECK(lost == 0);
+    CHECK_NEAR(n, 600, 5 * 24.5);
+    int bad = 0;
+    for (int i = 0; i < n; i++) {
+        bad += out[i].instance != 7 || out[i].slot >= 1000 || out[i].spawn_tick >= 3600;
+    }
+    CHECK(bad == 0);
+    /* same inputs, same leaves */
+    static leaf_seed again[4096];
+    int m = 0;
+    for (uint32_t t = 0; t < 3600; t++) {
+        leaf_shed(&D, 7, 1000, 20, t, 1.0 / 60, again, 4096, &m);
+    }
+    CHECK(m == n && !memcmp(out, again, sizeof *out * (size_t)n));
+}
+
+static void test_cap(void)
+{
+    leaf_seed out[4];
+    int n = 0, lost = 0;
+    for (uint32_t t = 0; t < 100; t++) {
+        lost += leaf_shed(&D, 1, 100000, 60, t, 1.0 / 60, out, 4, &n);
+    }
+    CHECK(n == 4);
+    CHECK(lost > 0);
+}
+
+int main(void)
+{
+    RUN(test_rate_law);
+    RUN(test_calm_sheds_nothing);
+    RUN(test_poisson_mean);
+    RUN(test_cap);
+    return check_report();
+}
