@@ -138,6 +138,9 @@ int corr_fit(const double *rest, const int *parent, int n_nodes, const double *p
         corr_result_fini(r);
         return gale_errf(err, GALE_E_NOMEM, "correction: out of memory for %d nodes", n);
     }
+    /* small BLAS calls: single-threaded (see eigen.c) */
+    const int blas_threads = openblas_get_num_threads();
+    openblas_set_num_threads(1);
     for (int m = 0; m < nm; m++) {
         const double *ph = phi + (size_t)m * nc, *rot = phi_rot + (size_t)m * nc;
         double rmax = 0.0;
@@ -232,6 +235,7 @@ int corr_fit(const double *rest, const int *parent, int n_nodes, const double *p
             }
         }
     }
+    openblas_set_num_threads(blas_threads);
     free(u), free(ev), free(ax), free(mag);
     return GALE_OK;
 }
