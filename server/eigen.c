@@ -175,7 +175,7 @@ static int solve_arpack(const fem_model *f, int nm, eigen_result *r, gale_err *e
                 tree_chol_solve(&c, tmp);
                 memcpy(y, tmp, (size_t)nd * sizeof *y);
             }
-            r->n_op++;
+            r->n_op += power;
         } else if (ido == 2) {
             fem_mul_m(f, x, y);
         } else {
