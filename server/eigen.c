@@ -1,6 +1,7 @@
 /* Shift-invert Lanczos (ARPACK dsaupd/dseupd, mode 3, B = M, σ = 0) for the lowest modes
- * of the tree frame model: OP x = K^{-1} M x through the leaves-first block Cholesky,
- * M-inner products by the block sparse product. Small models use LAPACK dsygvd. */
+ * of the tree frame model: OP x = (K^{-1} M)² x through the leaves-first block Cholesky,
+ * M-inner products by the block sparse product, ω² from Rayleigh quotients. Small models
+ * use LAPACK dsygvd. */
 #include "eigen.h"
 
 #include <math.h>

@@ -1,7 +1,7 @@
 /* Lowest natural modes of a frame model, K φ = ω² M φ (Diener 2008 section 3.2), by
- * ARPACK's implicitly restarted Lanczos in shift-invert mode: the operator K^{-1} M is
- * applied with the zero-fill tree Cholesky of K (tree_chol.h) and sparse M products, so
- * work and memory grow linearly with the node count. */
+ * ARPACK's implicitly restarted Lanczos in shift-invert mode: the operator (K^{-1} M)²
+ * is applied with the zero-fill tree Cholesky of K (tree_chol.h) and sparse M products,
+ * so work and memory grow linearly with the node count. */
 #ifndef GALE_EIGEN_H
 #define GALE_EIGEN_H
 
