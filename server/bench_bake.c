@@ -116,10 +116,16 @@ int bench_bake(int argc, char **argv)
                             3.0;
         }
     }
+    /* wall times mean little on a shared machine without the load they ran under */
+    double load[1] = { -1.0 };
+    if (getloadavg(load, 1) != 1) {
+        load[0] = -1.0;
+    }
     if (json) {
         printf("{\n  \"bench\": \"bake\",\n  \"modes\": %d,\n  \"trees\": \"synthetic "
-               "(bake_tree_generate, seed 42)\",\n  \"sizes\": [\n",
-               modes);
+               "(bake_tree_generate, seed 42)\",\n  \"load_average_1min\": %.2f,\n"
+               "  \"sizes\": [\n",
+               modes, load[0]);
         for (int k = 0; k < 4; k++) {
             const bench_row *r = &rows[k];
             printf("    { \"nodes\": %d, \"ok\": %s, \"seconds\": %.4f, \"seconds_runs\": [%.4f, "
@@ -137,6 +143,7 @@ int bench_bake(int argc, char **argv)
     } else {
         printf("%8s %10s %10s %10s %10s %8s %12s\n", "nodes", "bake [s]", "eigen [s]", "corr [s]",
                "cpu [s]", "solves", "peak RSS MB");
+        printf("(load average %.2f)\n", load[0]);
         for (int k = 0; k < 4; k++) {
             const bench_row *r = &rows[k];
             printf("%8d %10.4f %10.4f %10.4f %10.4f %8d %12.1f%s\n", r->nodes, median3(r->seconds),
