@@ -24,33 +24,11 @@
 
 int bench_wire(int argc, char **argv);
 
-/* asset.c may not be linked into this build yet: use it when it is. */
-#pragma weak asset_reconstruct
-
 static double now_s(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
-/* The same reconstruction as asset_reconstruct (asset.h), for builds without asset.c. */
-static void reconstruct(const asset *a, const float *q, uint32_t n_modes, float *out)
-{
-    if (asset_reconstruct) {
-        asset_reconstruct(a, q, n_modes, out);
-        return;
-    }
-    memcpy(out, a->rest, sizeof(float) * 3 * a->n_nodes);
-    for (uint32_t m = 0; m < n_modes; m++) {
-        float qt = a->corr_a[m] * atanf(a->corr_b[m] * q[m]);
-        float q2 = qt * qt;
-        const float *v = a->corr_v + (size_t)m * a->n_nodes * 3;
-        const float *w = a->corr_w + (size_t)m * a->n_nodes * 3;
-        for (uint32_t i = 0; i < 3 * a->n_nodes; i++) {
-            out[i] += qt * v[i] + q2 * w[i];
-        }
-    }
 }
 
 static float *to_float(const double *d, size_t n)
@@ -347,8 +325,8 @@ int bench_wire(int argc, char **argv)
             const asset *a = &sp[species[t]];
             modal_get(m, (uint32_t)t, qf, NULL);
             wire_decoder_q(dec, (uint32_t)t, qd, (uint32_t)n_modes);
-            reconstruct(a, qf, (uint32_t)n_modes, pa);
-            reconstruct(a, qd, (uint32_t)n_modes, pb);
+            asset_reconstruct(a, qf, (uint32_t)n_modes, pa);
+            asset_reconstruct(a, qd, (uint32_t)n_modes, pb);
             for (uint32_t i = 0; i < a->n_nodes; i++) {
                 double dx = (double)pa[3 * i] - (double)pb[3 * i];
                 double dy = (double)pa[3 * i + 1] - (double)pb[3 * i + 1];
@@ -372,7 +350,7 @@ int bench_wire(int argc, char **argv)
     double per_tree_key = n_key ? (double)bytes_key / (double)n_key / n_trees : 0.0;
     double p50 = hist_pct(hist, n_err, 0.50), p99 = hist_pct(hist, n_err, 0.99);
     double kbps = (double)(bytes_key + bytes_delta) / seconds * 8.0 / 1000.0;
-    const char *recon = asset_reconstruct ? "asset_reconstruct" : "bench copy of asset_reconstruct";
+    const char *recon = "asset_reconstruct";
     if (json) {
         printf("{\"bench\":\"wire\",\"seconds\":%.1f,\"trees\":%d,\"modes\":%d,\"species\":%d,"
                "\"species_nodes\":[%d,%d,%d],\"assets\":\"baked here: bake_tree_generate + fem + "
