@@ -55,6 +55,8 @@ jitter *jitter_create(const jitter_desc *d, gale_err *err)
     if (!j->store || !j->slot_tick || !j->slot_t || !j->order || !j->free_slots) {
         goto fail;
     }
+    /* touch every page now, so the first inserts of a frame loop do not fault them in */
+    memset(j->store, 0, (size_t)r.capacity * r.n_values * sizeof(float));
     jitter_reset(j);
     return j;
 fail:

@@ -24,7 +24,7 @@
  * stay under 400 MB. */
 #define ASSET_MAX_MODE_NODES 8388608u
 /* 2^22 vertices and 2^24 indices: an 8-sided tube of 2^18 nodes needs ~2.4 M and 12 M. */
-#define ASSET_MAX_VERTS 4194304u
+#define ASSET_MAX_VERTS   4194304u
 #define ASSET_MAX_INDICES 16777216u
 /* 2^20 leaf slots: 64 per tip on 16 K tips. */
 #define ASSET_MAX_LEAVES 1048576u
@@ -32,12 +32,13 @@
 #define ASSET_MAX_PARAMS 1048576u
 
 #define ASSET_HEADER_BYTES 24u
-#define ASSET_SECTIONS 7
+#define ASSET_SECTIONS     7
 
 static const uint8_t asset_magic[4] = { 'G', 'A', 'S', 'T' };
 
 /* Section tags, in file order (the four characters read as a little-endian u32). */
-#define TAG(a, b, c, d) ((uint32_t)(a) | (uint32_t)(b) << 8 | (uint32_t)(c) << 16 | (uint32_t)(d) << 24)
+#define TAG(a, b, c, d) \
+    ((uint32_t)(a) | (uint32_t)(b) << 8 | (uint32_t)(c) << 16 | (uint32_t)(d) << 24)
 static const uint32_t asset_tags[ASSET_SECTIONS] = {
     TAG('M', 'E', 'T', 'A'), TAG('S', 'K', 'E', 'L'), TAG('M', 'O', 'D', 'E'),
     TAG('C', 'O', 'R', 'R'), TAG('M', 'E', 'S', 'H'), TAG('L', 'E', 'A', 'F'),
@@ -126,7 +127,6 @@ static void w_bytes(asset_writer *w, const void *src, size_t n)
     }
 }
 
-/* NULL arrays are written as zeros: an asset under construction stays encodable. */
 static void w_f32s(asset_writer *w, const float *v, size_t n)
 {
     for (size_t i = 0; i < n; i++) {
@@ -206,8 +206,7 @@ static uint32_t r_u32(asset_reader *r, const char *field)
         return 0;
     }
     const uint8_t *p = r->buf + r->pos;
-    uint32_t v = (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 |
-                 (uint32_t)p[3] << 24;
+    uint32_t v = (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
     r->pos += 4;
     return v;
 }
@@ -292,19 +291,35 @@ int asset_encode(const asset *a, uint8_t **out, size_t *len, gale_err *err)
     *out = NULL;
     *len = 0;
     if (a->n_nodes == 0 || a->n_nodes > ASSET_MAX_NODES || a->n_modes > ASSET_MAX_MODES ||
-        (uint64_t)a->n_modes * a->n_nodes > ASSET_MAX_MODE_NODES ||
-        a->n_verts > ASSET_MAX_VERTS || a->n_indices > ASSET_MAX_INDICES ||
-        a->n_leaves > ASSET_MAX_LEAVES || a->n_lods > ASSET_MAX_LODS) {
+        (uint64_t)a->n_modes * a->n_nodes > ASSET_MAX_MODE_NODES || a->n_verts > ASSET_MAX_VERTS ||
+        a->n_indices > ASSET_MAX_INDICES || a->n_leaves > ASSET_MAX_LEAVES ||
+        a->n_lods > ASSET_MAX_LODS) {
         return gale_errf(err, GALE_E_RANGE,
                          "asset encode: counts out of range: nodes %u (1..%u), modes %u (<= %u), "
                          "verts %u, indices %u, leaves %u, lods %u",
                          a->n_nodes, ASSET_MAX_NODES, a->n_modes, ASSET_MAX_MODES, a->n_verts,
                          a->n_indices, a->n_leaves, a->n_lods);
     }
+    const char *missing =
+        !a->parent   ? "parent"
+        : !a->rest   ? "rest"
+        : !a->radius ? "radius"
+        : a->n_modes && (!a->omega || !a->gamma || !a->wind_basis || !a->phi || !a->phi_rot)
+            ? "omega, gamma, wind_basis, phi or phi_rot"
+        : a->n_verts && (!a->mesh_pos || !a->mesh_normal || !a->mesh_bone || !a->mesh_weight)
+            ? "mesh_pos, mesh_normal, mesh_bone or mesh_weight"
+        : a->n_indices && !a->mesh_index ? "mesh_index"
+        : a->n_leaves && (!a->leaf_node || !a->leaf_offset || !a->leaf_normal || !a->leaf_size)
+            ? "leaf_node, leaf_offset, leaf_normal or leaf_size"
+            : NULL;
+    if (missing) {
+        return gale_errf(err, GALE_E_ARG, "asset encode: %s: array missing for a non-zero count",
+                         missing);
+    }
     size_t plen = a->params_json ? strlen(a->params_json) : 0;
     if (plen > ASSET_MAX_PARAMS) {
-        return gale_errf(err, GALE_E_RANGE, "asset encode: params_json: %zu bytes, limit %u",
-                         plen, ASSET_MAX_PARAMS);
+        return gale_errf(err, GALE_E_RANGE, "asset encode: params_json: %zu bytes, limit %u", plen,
+                         ASSET_MAX_PARAMS);
     }
     size_t nn = a->n_nodes, nm = a->n_modes, nmn = nm * nn;
     asset_writer w = { 0 };
@@ -324,7 +339,7 @@ int asset_encode(const asset *a, uint8_t **out, size_t *len, gale_err *err)
     w_u32(&w, a->n_nodes);
     w_f32(&w, a->height_m);
     for (size_t i = 0; i < nn; i++) {
-        w_u32(&w, a->parent ? (uint32_t)a->parent[i] : (i ? (uint32_t)(i - 1) : 0xffffffffu));
+        w_u32(&w, (uint32_t)a->parent[i]);
     }
     w_f32s(&w, a->rest, 3 * nn);
     w_f32s(&w, a->radius, nn);
@@ -430,14 +445,14 @@ static void r_section_end(asset_reader *r, int section, size_t end)
     }
 }
 
-static void r_check_unit(asset_reader *r, const float *v, size_t n, const char *field,
-                         size_t base)
+static void r_check_unit(asset_reader *r, const float *v, size_t n, const char *field, size_t base)
 {
     for (size_t i = 0; i < n && !r->bad; i++) {
         double x = v[3 * i], y = v[3 * i + 1], z = v[3 * i + 2];
         double l = sqrt(x * x + y * y + z * z);
         if (fabs(l - 1.0) > 1e-3) {
-            r_fail(r, GALE_E_FORMAT, field, base + 12 * i, "item %zu: not a unit vector (length %g)", i, l);
+            r_fail(r, GALE_E_FORMAT, field, base + 12 * i,
+                   "item %zu: not a unit vector (length %g)", i, l);
         }
     }
 }
@@ -491,8 +506,8 @@ static void r_skel(asset_reader *r, asset *a)
         uint32_t p = r_u32(r, "parent");
         bool ok = i == 0 ? p == 0xffffffffu : p < i;
         if (!ok && !r->bad) {
-            r_fail(r, GALE_E_FORMAT, "parent", at + 4 * i,
-                   "node %zu: parent %d, expected %s", i, (int)p, i == 0 ? "-1 for the root" : "an earlier node");
+            r_fail(r, GALE_E_FORMAT, "parent", at + 4 * i, "node %zu: parent %d, expected %s", i,
+                   (int)p, i == 0 ? "-1 for the root" : "an earlier node");
         }
         a->parent[i] = i == 0 ? -1 : (int32_t)p;
     }
@@ -514,14 +529,14 @@ static void r_modes(asset_reader *r, asset *a)
     size_t at = r->pos;
     a->n_modes = r_count(r, "n_modes", ASSET_MAX_MODES, 20);
     if (!r->bad && (uint64_t)a->n_modes * a->n_nodes > ASSET_MAX_MODE_NODES) {
-        r_fail(r, GALE_E_FORMAT, "n_modes", at, "%u modes x %u nodes over the limit %u",
-               a->n_modes, a->n_nodes, ASSET_MAX_MODE_NODES);
+        r_fail(r, GALE_E_FORMAT, "n_modes", at, "%u modes x %u nodes over the limit %u", a->n_modes,
+               a->n_nodes, ASSET_MAX_MODE_NODES);
     }
     size_t nm = a->n_modes, nmn = nm * a->n_nodes;
     /* phi and phi_rot must fit in what is left before allocating them */
     if (!r->bad && 24 * nmn > r->len - r->pos) {
-        r_fail(r, GALE_E_FORMAT, "n_modes", at, "%zu modes need %zu bytes, %zu left", nm,
-               24 * nmn, r->len - r->pos);
+        r_fail(r, GALE_E_FORMAT, "n_modes", at, "%zu modes need %zu bytes, %zu left", nm, 24 * nmn,
+               r->len - r->pos);
     }
     a->omega = r_alloc(r, nm, sizeof(float), "omega");
     a->gamma = r_alloc(r, nm, sizeof(float), "gamma");
@@ -607,8 +622,8 @@ static void r_mesh(asset_reader *r, asset *a)
     r_u32s(r, a->mesh_index, a->n_indices, "mesh_index");
     for (size_t i = 0; i < a->n_indices && !r->bad; i++) {
         if (a->mesh_index[i] >= a->n_verts) {
-            r_fail(r, GALE_E_FORMAT, "mesh_index", at + 4 * i, "index %zu: vertex %u, expected < %u",
-                   i, a->mesh_index[i], a->n_verts);
+            r_fail(r, GALE_E_FORMAT, "mesh_index", at + 4 * i,
+                   "index %zu: vertex %u, expected < %u", i, a->mesh_index[i], a->n_verts);
         }
     }
     at = r->pos;
@@ -708,16 +723,15 @@ int asset_decode(const uint8_t *buf, size_t len, const char *name, asset *a, gal
                          name, hcrc, hcrc_now);
     }
     if (version != ASSET_VERSION) {
-        return gale_errf(err, GALE_E_VERSION,
-                         "%s: version at byte 4: expected %d, got %u", name, ASSET_VERSION,
-                         version);
+        return gale_errf(err, GALE_E_VERSION, "%s: version at byte 4: expected %d, got %u", name,
+                         ASSET_VERSION, version);
     }
     if (payload != (uint64_t)(len - ASSET_HEADER_BYTES)) {
         return gale_errf(err, GALE_E_FORMAT,
                          "%s: payload_length at byte 8: header states %llu bytes, file has %zu%s",
                          name, (unsigned long long)payload, len - ASSET_HEADER_BYTES,
                          payload > (uint64_t)(len - ASSET_HEADER_BYTES) ? " (truncated)"
-                                                                         : " (trailing bytes)");
+                                                                        : " (trailing bytes)");
     }
     uint32_t pcrc_now = hash_crc32(buf + ASSET_HEADER_BYTES, len - ASSET_HEADER_BYTES);
     if (pcrc != pcrc_now) {

@@ -12,7 +12,7 @@
 #define MESH_PI 3.14159265358979323846
 /* Sides of a ring at LOD 0; LOD 1 and 2 use every other vertex (4 sides). */
 #define MESH_SIDES 8
-#define MESH_LODS 3
+#define MESH_LODS  3
 /* LOD 1 drops elements thinner than this fraction of the root radius, LOD 2 this one;
  * an element whose parent element is dropped is dropped too. */
 #define MESH_LOD1_RADIUS 0.08
@@ -81,12 +81,12 @@ static double mesh_uniform(uint64_t *s)
 }
 
 typedef struct mesh_work {
-    int *cont;        /* [n] continuation child of each node, -1 if none */
-    int *nchild;      /* [n] */
-    mesh_vec *axis;   /* [n] ring axis at each node */
-    mesh_vec *frame;  /* [n] ring reference normal at each node */
-    int *ring;        /* [n] first vertex of the node's ring */
-    int *start_ring;  /* [n] first vertex of the ring element (parent -> i) starts at */
+    int *cont;           /* [n] continuation child of each node, -1 if none */
+    int *nchild;         /* [n] */
+    mesh_vec *axis;      /* [n] ring axis at each node */
+    mesh_vec *frame;     /* [n] ring reference normal at each node */
+    int *ring;           /* [n] first vertex of the node's ring */
+    int *start_ring;     /* [n] first vertex of the ring element (parent -> i) starts at */
     unsigned char *keep; /* [n * MESH_LODS] element (parent -> i) drawn at LOD l */
 } mesh_work;
 
@@ -104,10 +104,13 @@ static void mesh_work_free(mesh_work *w)
 static void put_ring(asset *a, uint32_t v0, const float *centre, double r, mesh_vec axis,
                      mesh_vec ref, uint32_t bone0, uint32_t bone1, float weight)
 {
+    /* cos and sin of 2 pi k / 8 */
+    static const double ck[MESH_SIDES] = { 1.0,  0.70710678118654752,  0.0, -0.70710678118654752,
+                                           -1.0, -0.70710678118654752, 0.0, 0.70710678118654752 };
     mesh_vec b = mv_cross(axis, ref);
     for (uint32_t k = 0; k < MESH_SIDES; k++) {
-        double th = 2.0 * MESH_PI * k / MESH_SIDES;
-        mesh_vec n = mv_add(mv_scale(ref, cos(th)), mv_scale(b, sin(th)));
+        double c = ck[k], sn = ck[(k + MESH_SIDES - MESH_SIDES / 4) % MESH_SIDES];
+        mesh_vec n = mv_add(mv_scale(ref, c), mv_scale(b, sn));
         uint32_t v = v0 + k;
         a->mesh_pos[3 * v + 0] = (float)((double)centre[0] + r * n.x);
         a->mesh_pos[3 * v + 1] = (float)((double)centre[1] + r * n.y);
@@ -156,8 +159,8 @@ int mesh_build(const skeleton *s, const species *sp, asset *a, gale_err *err)
         if (p < 0 || p >= i) {
             free(best);
             mesh_work_free(&w);
-            return gale_errf(err, GALE_E_ARG, "mesh: node %d: parent %d is not an earlier node",
-                             i, p);
+            return gale_errf(err, GALE_E_ARG, "mesh: node %d: parent %d is not an earlier node", i,
+                             p);
         }
         w.nchild[p]++;
         mesh_vec in = p == 0 ? (mesh_vec){ 0, 0, 1 }
@@ -228,8 +231,9 @@ int mesh_build(const skeleton *s, const species *sp, asset *a, gale_err *err)
     /* the asset format's limits (ASSET.md): 2^22 vertices, 2^24 indices */
     if (nverts > 4194304u || nidx > 16777216u) {
         mesh_work_free(&w);
-        return gale_errf(err, GALE_E_RANGE, "mesh: %zu vertices, %zu indices for %zu elements: too many",
-                         nverts, nidx, nelem);
+        return gale_errf(err, GALE_E_RANGE,
+                         "mesh: %zu vertices, %zu indices for %zu elements: too many", nverts, nidx,
+                         nelem);
     }
     /* leaves: on terminal nodes */
     size_t nleaves = 0;
@@ -335,8 +339,8 @@ int mesh_build(const skeleton *s, const species *sp, asset *a, gale_err *err)
             mesh_vec side = mv_add(mv_scale(ref, cos(az)), mv_scale(b, sin(az)));
             double sz = size * (0.8 + 0.4 * mesh_uniform(&rng));
             /* the blade's base sits at the tip, its centre half a blade out and forward */
-            mesh_vec off = mv_scale(mv_unit(mv_add(mv_scale(side, 0.8), mv_scale(d, 0.6)), d),
-                                    0.5 * sz);
+            mesh_vec off =
+                mv_scale(mv_unit(mv_add(mv_scale(side, 0.8), mv_scale(d, 0.6)), d), 0.5 * sz);
             double tilt = spread * mesh_uniform(&rng), tilt_az = 2.0 * MESH_PI * mesh_uniform(&rng);
             mesh_vec nrm = { sin(tilt) * cos(tilt_az), sin(tilt) * sin(tilt_az), cos(tilt) };
             a->leaf_node[li] = (uint32_t)i;

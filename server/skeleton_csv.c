@@ -152,8 +152,7 @@ static int is_blank(const char *p, const char *end)
     return 1;
 }
 
-int skeleton_parse_csv(const char *text, size_t len, const char *name, skeleton *s,
-                       gale_err *err)
+int skeleton_parse_csv(const char *text, size_t len, const char *name, skeleton *s, gale_err *err)
 {
     static const char *const cols[6] = { "id", "parent", "x", "y", "z", "radius" };
     memset(s, 0, sizeof *s);
@@ -237,8 +236,8 @@ int skeleton_parse_csv(const char *text, size_t len, const char *name, skeleton 
                 goto fail;
             }
             if (c == 0 && (v < 0 || v > INT32_MAX)) {
-                rc = gale_errf(err, GALE_E_RANGE, "%s:%d: id: expected 0..%d, got %lld", name,
-                               line, INT32_MAX, v);
+                rc = gale_errf(err, GALE_E_RANGE, "%s:%d: id: expected 0..%d, got %lld", name, line,
+                               INT32_MAX, v);
                 goto fail;
             }
             if (c == 1 && (v < -1 || v > INT32_MAX)) {
@@ -289,9 +288,9 @@ int skeleton_parse_csv(const char *text, size_t len, const char *name, skeleton 
         nrows++;
     }
     if (!header_seen) {
-        rc = gale_errf(err, GALE_E_PARSE,
-                       "%s: empty file: expected a header line \"id,parent,x,y,z,radius\" and nodes",
-                       name);
+        rc = gale_errf(
+            err, GALE_E_PARSE,
+            "%s: empty file: expected a header line \"id,parent,x,y,z,radius\" and nodes", name);
         goto fail;
     }
     if (nrows == 0) {

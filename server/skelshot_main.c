@@ -14,15 +14,14 @@
 
 static void usage(FILE *f)
 {
-    fprintf(f,
-            "usage: gale-skelshot (--species FILE.json | --skeleton FILE.csv) --out FILE.png\n"
-            "                     [--nodes N] [--size PX]\n"
-            "  --species FILE   generate the skeleton from a species file\n"
-            "  --skeleton FILE  read a skeleton CSV (id,parent,x,y,z,radius)\n"
-            "  --out FILE       PNG to write: side view, top view, tube mesh (LOD 0, 1, 2)\n"
-            "  --nodes N        generate about N nodes (species only; overrides target_nodes)\n"
-            "  --size PX        height of each view in pixels (default 600)\n"
-            "  --help           this text\n");
+    fprintf(f, "usage: gale-skelshot (--species FILE.json | --skeleton FILE.csv) --out FILE.png\n"
+               "                     [--nodes N] [--size PX]\n"
+               "  --species FILE   generate the skeleton from a species file\n"
+               "  --skeleton FILE  read a skeleton CSV (id,parent,x,y,z,radius)\n"
+               "  --out FILE       PNG to write: side view, top view, tube mesh (LOD 0, 1, 2)\n"
+               "  --nodes N        generate about N nodes (species only; overrides target_nodes)\n"
+               "  --size PX        height of each view in pixels (default 600)\n"
+               "  --help           this text\n");
 }
 
 typedef struct view {
@@ -120,8 +119,8 @@ static void draw_mesh(plot *pl, const view *v, const asset *a, int lod)
     }
     for (size_t t = 0; t < nt; t++) {
         const uint32_t *ix = &a->mesh_index[first + 3 * t];
-        keys[t].depth = a->mesh_pos[3 * ix[0] + 1] + a->mesh_pos[3 * ix[1] + 1] +
-                        a->mesh_pos[3 * ix[2] + 1];
+        keys[t].depth =
+            a->mesh_pos[3 * ix[0] + 1] + a->mesh_pos[3 * ix[1] + 1] + a->mesh_pos[3 * ix[2] + 1];
         keys[t].first = first + (uint32_t)(3 * t);
     }
     qsort(keys, nt, sizeof *keys, tri_cmp);
@@ -250,12 +249,20 @@ int main(int argc, char **argv)
         asset_fini(&a);
         return 1;
     }
-    view side = { .ox = 0.5f * (float)size, .oy = (float)(size + margin),
+    view side = { .ox = 0.5f * (float)size,
+                  .oy = (float)(size + margin),
                   .scale = (float)(size - 2 * margin) / span_side,
-                  .cx = 0.5f * (lo[0] + hi[0]), .cy = 0.0f, .ax = 0, .ay = 2 };
-    view top = { .ox = 1.5f * (float)size, .oy = (float)margin + 0.5f * (float)size,
+                  .cx = 0.5f * (lo[0] + hi[0]),
+                  .cy = 0.0f,
+                  .ax = 0,
+                  .ay = 2 };
+    view top = { .ox = 1.5f * (float)size,
+                 .oy = (float)margin + 0.5f * (float)size,
                  .scale = (float)(size - 2 * margin) / span_top,
-                 .cx = 0.5f * (lo[0] + hi[0]), .cy = 0.5f * (lo[1] + hi[1]), .ax = 0, .ay = 1 };
+                 .cx = 0.5f * (lo[0] + hi[0]),
+                 .cy = 0.5f * (lo[1] + hi[1]),
+                 .ax = 0,
+                 .ay = 1 };
     plot_line(&pl, 0.0f, side.oy, (float)size, side.oy, 1.0f, grid);
     plot_line(&pl, (float)size, 0.0f, (float)size, (float)pl.h, 1.0f, grid);
     draw_view(&pl, &side, &s, have_mesh ? &a : NULL);

@@ -40,10 +40,11 @@ static void make_tiny(asset *a)
     a->n_modes = 2;
     static const float omega[2] = { 3.0f, 7.5f }, gamma[2] = { 0.2f, 0.4f };
     static const float wb[6] = { 1, 2, 3, 4, 5, 6 };
-    static const float phi[18] = { 0, 0, 0, 0.1f, 0, 0, 0.3f, 0, 0,
-                                   0, 0, 0, 0, 0.2f, 0, 0, 0.5f, 0 };
-    static const float rot[18] = { 0, 0.1f, 0, 0, 0.2f, 0, 0, 0.3f, 0,
-                                   0.1f, 0, 0, 0.2f, 0, 0, 0.3f, 0, 0 };
+    static const float phi[18] = {
+        0, 0, 0, 0.1f, 0, 0, 0.3f, 0, 0, 0, 0, 0, 0, 0.2f, 0, 0, 0.5f, 0
+    };
+    static const float rot[18] = { 0,    0.1f, 0, 0,    0.2f, 0, 0,    0.3f, 0,
+                                   0.1f, 0,    0, 0.2f, 0,    0, 0.3f, 0,    0 };
     static const float cw[18] = { 0, 0, 0, 0, 0, -0.01f, 0, 0, -0.04f,
                                   0, 0, 0, 0, 0, -0.02f, 0, 0, -0.05f };
     static const float ca[2] = { 2.0f, 1.5f }, cb[2] = { 0.5f, 0.0f };
@@ -153,7 +154,8 @@ static void test_hash(void)
     /* FNV-1a 64 of "a" is 0xaf63dc4c8601ec8c before the final mix */
     CHECK(hash64_update(HASH64_INIT, "a", 1) == 0xaf63dc4c8601ec8cull);
     CHECK(hash64("a", 1) != hash64("b", 1));
-    CHECK(hash64("oak", 3) == hash64_final(hash64_update(hash64_update(HASH64_INIT, "o", 1), "ak", 2)));
+    CHECK(hash64("oak", 3) ==
+          hash64_final(hash64_update(hash64_update(HASH64_INIT, "o", 1), "ak", 2)));
 }
 
 static void test_round_trip(void)
@@ -178,6 +180,12 @@ static void test_round_trip(void)
     CHECK(asset_encode(&b, &buf2, &len2, &err) == 0);
     CHECK(len2 == len && memcmp(buf, buf2, len) == 0);
     free(buf2);
+    /* a count without its array is refused */
+    float *keep_phi = a.phi;
+    a.phi = NULL;
+    CHECK(asset_encode(&a, &buf2, &len2, &err) == GALE_E_ARG);
+    CHECK_STR_HAS(err.msg, "asset encode: omega, gamma, wind_basis, phi or phi_rot: array missing");
+    a.phi = keep_phi;
     /* without correction terms the CORR section is one flag */
     free(a.corr_v);
     a.corr_v = NULL;
@@ -219,12 +227,13 @@ static void test_golden(void)
     uint8_t want[24 + 90 + 40 + 16 + 16 + 56 + 16 + 40];
     memset(want, 0, sizeof want);
     size_t o = 0;
-#define B4(a0, a1, a2, a3) (want[o] = a0, want[o + 1] = a1, want[o + 2] = a2, want[o + 3] = a3, o += 4)
+#define B4(a0, a1, a2, a3) \
+    (want[o] = a0, want[o + 1] = a1, want[o + 2] = a2, want[o + 3] = a3, o += 4)
     B4('G', 'A', 'S', 'T');
-    B4(1, 0, 0, 0);                 /* version */
-    B4(0x12, 0x01, 0, 0);           /* payload length 274, low word */
-    B4(0, 0, 0, 0);                 /* high word */
-    o += 8;                         /* two CRCs, checked below */
+    B4(1, 0, 0, 0);       /* version */
+    B4(0x12, 0x01, 0, 0); /* payload length 274, low word */
+    B4(0, 0, 0, 0);       /* high word */
+    o += 8;               /* two CRCs, checked below */
     B4('M', 'E', 'T', 'A');
     B4(78, 0, 0, 0);
     B4(0, 0, 0, 0);
@@ -238,23 +247,23 @@ static void test_golden(void)
     B4('S', 'K', 'E', 'L');
     B4(28, 0, 0, 0);
     B4(0, 0, 0, 0);
-    B4(1, 0, 0, 0);                 /* n_nodes */
-    B4(0, 0, 0x80, 0x3f);           /* height 1.0f */
-    B4(0xff, 0xff, 0xff, 0xff);     /* parent -1 */
-    o += 12;                        /* rest 0,0,0 */
-    B4(0, 0, 0, 0x3f);              /* radius 0.5f */
+    B4(1, 0, 0, 0);             /* n_nodes */
+    B4(0, 0, 0x80, 0x3f);       /* height 1.0f */
+    B4(0xff, 0xff, 0xff, 0xff); /* parent -1 */
+    o += 12;                    /* rest 0,0,0 */
+    B4(0, 0, 0, 0x3f);          /* radius 0.5f */
     B4('M', 'O', 'D', 'E');
     B4(4, 0, 0, 0);
     B4(0, 0, 0, 0);
-    o += 4;                         /* n_modes 0 */
+    o += 4; /* n_modes 0 */
     B4('C', 'O', 'R', 'R');
     B4(4, 0, 0, 0);
     B4(0, 0, 0, 0);
-    o += 4;                         /* no correction */
+    o += 4; /* no correction */
     B4('M', 'E', 'S', 'H');
     B4(44, 0, 0, 0);
     B4(0, 0, 0, 0);
-    o += 4 + 4 + 4 + 32;            /* n_verts, n_indices, n_lods, LOD table */
+    o += 4 + 4 + 4 + 32; /* n_verts, n_indices, n_lods, LOD table */
     B4('L', 'E', 'A', 'F');
     B4(4, 0, 0, 0);
     B4(0, 0, 0, 0);
@@ -262,9 +271,9 @@ static void test_golden(void)
     B4('L', 'O', 'O', 'K');
     B4(28, 0, 0, 0);
     B4(0, 0, 0, 0);
-    B4(0, 0, 0x80, 0x3f);           /* bark r 1.0f */
+    B4(0, 0, 0x80, 0x3f); /* bark r 1.0f */
     o += 20;
-    B4(1, 0, 0, 0);                 /* leaf_shape */
+    B4(1, 0, 0, 0); /* leaf_shape */
 #undef B4
     CHECK(o == sizeof want);
     CHECK(len == sizeof want);
@@ -312,7 +321,8 @@ static void test_truncation(void)
         bad += rc != GALE_E_FORMAT;
     }
     CHECK(bad == 0);
-    expect_reject(buf, 10, GALE_E_FORMAT, "t.asset: header at byte 0: truncated: need 24 bytes, got 10");
+    expect_reject(buf, 10, GALE_E_FORMAT,
+                  "t.asset: header at byte 0: truncated: need 24 bytes, got 10");
     expect_reject(buf, len - 1, GALE_E_FORMAT, "payload_length at byte 8: header states");
     expect_reject(buf, len - 1, GALE_E_FORMAT, "(truncated)");
     /* a trailing byte is no better */
@@ -374,7 +384,8 @@ static void test_absurd_counts(void)
     CHECK(buf[n_nodes_at] == 3);
     put32(buf, n_nodes_at, 0xffffffffu);
     fix_crcs(buf, len);
-    expect_reject(buf, len, GALE_E_FORMAT, "n_nodes at byte 137: count 4294967295 over the limit 262144");
+    expect_reject(buf, len, GALE_E_FORMAT,
+                  "n_nodes at byte 137: count 4294967295 over the limit 262144");
     put32(buf, n_nodes_at, 100000);
     fix_crcs(buf, len);
     expect_reject(buf, len, GALE_E_FORMAT, "n_nodes at byte 137: count 100000 needs 2000000 bytes");
@@ -385,7 +396,8 @@ static void test_absurd_counts(void)
     /* node 2's parent pointing forward */
     put32(buf, n_nodes_at + 8 + 8, 5);
     fix_crcs(buf, len);
-    expect_reject(buf, len, GALE_E_FORMAT, "parent at byte 153: node 2: parent 5, expected an earlier node");
+    expect_reject(buf, len, GALE_E_FORMAT,
+                  "parent at byte 153: node 2: parent 5, expected an earlier node");
     put32(buf, n_nodes_at + 8 + 8, 1);
     /* a NaN coordinate */
     put32(buf, n_nodes_at + 20, 0x7fc00000u);

@@ -71,12 +71,14 @@ static void test_faults(void)
            "t.csv: empty file: expected a header line \"id,parent,x,y,z,radius\" and nodes");
     expect("\n\n  \n", GALE_E_PARSE, "t.csv: empty file");
     expect(H, GALE_E_PARSE, "t.csv: no nodes after the header");
-    expect("0,-1,0,0,0,0.1\n", GALE_E_PARSE,
-           "t.csv:1: header missing: expected \"id,parent,x,y,z,radius\" as the first line, got data \"0...\"");
+    expect(
+        "0,-1,0,0,0,0.1\n", GALE_E_PARSE,
+        "t.csv:1: header missing: expected \"id,parent,x,y,z,radius\" as the first line, got data \"0...\"");
     expect("id,parent,x,y,radius\n", GALE_E_PARSE, "t.csv:1: header missing");
     expect(H "0,-1,0,0,0\n", GALE_E_PARSE,
            "t.csv:2: expected 6 columns (id,parent,x,y,z,radius), got 5");
-    expect(H "0,-1,0,0,0,0.1,7\n", GALE_E_PARSE, "t.csv:2: expected 6 columns (id,parent,x,y,z,radius), got 7");
+    expect(H "0,-1,0,0,0,0.1,7\n", GALE_E_PARSE,
+           "t.csv:2: expected 6 columns (id,parent,x,y,z,radius), got 7");
     expect(H "0,-1,0,0,0,0.1\n,0,0,0,1,0.1\n", GALE_E_PARSE, "t.csv:3: id: missing");
     expect(H "0,-1,0,0,0,0.1\n1,,0,0,1,0.1\n", GALE_E_PARSE, "t.csv:3: parent: missing");
     expect(H "0,-1,0,0,0,0.1\nseven,0,0,0,1,0.1\n", GALE_E_PARSE,

@@ -1,0 +1,252 @@
+/* gale-bench client: client CPU time per display frame for a stream of T trees × M modes
+ * (DESIGN.md "Data flow", client frame): receive (copy of the frame bytes as the socket
+ * layer reassembles them), decode, dequantise into a snapshot, jitter insert, Hermite
+ * interpolation into the q staging array, and the GL upload when a context can be made. */
+#include <epoxy/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "jitter.h"
+#include "wire.h"
+
+int bench_client(int argc, char **argv);
+
+#define N_STAGES 6
+static const char *stage_name[N_STAGES] = { "receive", "decode", "dequantize",
+                                            "jitter_insert", "interpolate", "gl_upload" };
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+static double quantile(double *v, int n, double p)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    int i = (int)floor(p * (n - 1) + 0.5);
+    return v[i];
+}
+
+/* q of tree t, mode m at snapshot k: a smooth sway, different per tree and mode. */
+static float sway(uint32_t t, uint32_t m, uint32_t k)
+{
+    double w = 0.8 + 0.37 * m, ph = 0.013 * t + 0.7 * m;
+    return (float)(0.6 / (1.0 + m) * sin(w * k / 60.0 + ph));
+}
+
+int bench_client(int argc, char **argv)
+{
+    uint32_t trees = 4000, modes = 32, frames = 600;
+    bool want_gl = true;
+    for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--trees") && i + 1 < argc) {
+            trees = (uint32_t)atoi(argv[++i]);
+        } else if (!strcmp(argv[i], "--modes") && i + 1 < argc) {
+            modes = (uint32_t)atoi(argv[++i]);
+        } else if (!strcmp(argv[i], "--frames") && i + 1 < argc) {
+            frames = (uint32_t)atoi(argv[++i]);
+        } else if (!strcmp(argv[i], "--no-gl")) {
+            want_gl = false;
+        } else if (!strcmp(argv[i], "--json")) {
+            /* JSON is the only output */
+        } else {
+            fprintf(stderr,
+                    "usage: gale-bench client [--trees N] [--modes M] [--frames F] [--no-gl] "
+                    "[--json]\n  per-frame client CPU: receive, decode, dequantize, jitter "
+                    "insert, interpolate, GL upload (target <= 1 ms)\n");
+            return 2;
+        }
+    }
+    if (trees < 1 || trees > WIRE_MAX_TREES || modes < 1 || modes > WIRE_MAX_MODES ||
+        frames < 10) {
+        fprintf(stderr, "gale-bench client: expected 1..%u trees, 1..%u modes, >= 10 frames\n",
+                WIRE_MAX_TREES, WIRE_MAX_MODES);
+        return 2;
+    }
+    gale_err err = { 0 };
+    int status = 1;
+    /* the server side: one species, quantised sway, a keyframe then deltas (not timed) */
+    const uint32_t n_pre = 64; /* distinct encoded frames, replayed as a loop of deltas */
+    wire_scene scene = { .n_trees = trees, .n_species = 1 };
+    scene.n_modes[0] = (uint8_t)modes;
+    for (uint32_t m = 0; m < modes; m++) {
+        scene.step[0][m] = 1e-4f;
+    }
+    uint8_t *species = calloc(trees, 1), *nm = malloc(trees);
+    int16_t *qs[3];
+    size_t bound = wire_state_bound(trees, modes, 1);
+    uint8_t **enc = calloc(n_pre + 1, sizeof *enc);
+    size_t *enc_len = calloc(n_pre + 1, sizeof *enc_len);
+    uint8_t *rx = malloc(bound);
+    float *snap = malloc((size_t)trees * modes * sizeof(float));
+    float *staging = malloc((size_t)trees * modes * sizeof(float));
+    wire_decoder *dec = wire_decoder_create(
+        &(wire_decoder_desc){ .max_trees = trees, .max_modes = modes }, &err);
+    jitter *jit = jitter_create(&(jitter_desc){ .n_values = trees * modes, .capacity = 32,
+                                                .playout_delay_s = 0.1 },
+                                &err);
+    double *t_stage[N_STAGES];
+    for (int s = 0; s < N_STAGES; s++) {
+        t_stage[s] = calloc(frames, sizeof(double));
+    }
+    double *t_total = calloc(frames, sizeof(double));
+    for (int k = 0; k < 3; k++) {
+        qs[k] = malloc((size_t)trees * modes * sizeof(int16_t));
+    }
+    scene.species = species;
+    if (!species || !nm || !enc || !enc_len || !rx || !snap || !staging || !dec || !jit ||
+        !t_total || !qs[0] || !qs[1] || !qs[2]) {
+        fprintf(stderr, "gale-bench client: setup: %s\n", err.msg[0] ? err.msg : "no memory");
+        goto done;
+    }
+    memset(nm, (int)modes, trees);
+    double bytes_sum = 0;
+    for (uint32_t k = 0; k <= n_pre; k++) {
+        int16_t *cur = qs[k % 3];
+        for (uint32_t t = 0; t < trees; t++) {
+            for (uint32_t m = 0; m < modes; m++) {
+                cur[t * modes + m] = wire_quantize(sway(t, m, k), 1.0f / scene.step[0][m]);
+            }
+        }
+        wire_state sc = { trees, modes, nm, cur };
+        wire_state sp = { trees, modes, nm, qs[(k + 2) % 3] };
+        wire_state sp2 = { trees, modes, nm, qs[(k + 1) % 3] };
+        wire_header h = { .tick = k, .server_time_us = (uint64_t)k * 1000000 / 60 };
+        enc[k] = malloc(bound);
+        int rc = !enc[k] ? GALE_E_NOMEM
+                 : k == 0 ? wire_encode_keyframe(&h, k + 1, &scene, &sc, enc[k], bound,
+                                                 &enc_len[k], &err)
+                          : wire_encode_delta(&h, k + 1, &scene, &sc, &sp, k >= 2 ? &sp2 : NULL,
+                                              enc[k], bound, &enc_len[k], &err);
+        if (rc != 0) {
+            fprintf(stderr, "gale-bench client: encode: %s\n", err.msg);
+            goto done;
+        }
+        if (k > 0) {
+            bytes_sum += (double)enc_len[k];
+        }
+    }
+
+    /* optional GL context for the upload stage */
+    GLFWwindow *win = NULL;
+    GLuint buf = 0;
+    if (want_gl && getenv("DISPLAY") && glfwInit()) {
+        glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
+        glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+        glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+        glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+        glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+        win = glfwCreateWindow(64, 64, "bench", NULL, NULL);
+        if (win) {
+            glfwMakeContextCurrent(win);
+            glGenBuffers(1, &buf);
+            glBindBuffer(GL_ARRAY_BUFFER, buf);
+            glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)((size_t)trees * modes * sizeof(float)),
+                         NULL, GL_STREAM_DRAW);
+        }
+    }
+
+    /* the client: the keyframe first, then one delta per display frame (60 Hz both) */
+    wire_frame f;
+    if (wire_decode(dec, enc[0], enc_len[0], &f, &err) != 0) {
+        fprintf(stderr, "gale-bench client: decode keyframe: %s\n", err.msg);
+        goto done;
+    }
+    uint64_t decode_errors = 0;
+    uint32_t seq_base = 0;
+    for (uint32_t i = 0; i < frames; i++) {
+        uint32_t k = 1 + i % n_pre;
+        if (i > 0 && k == 1) {
+            /* the loop of deltas restarts: resync from the keyframe (untimed) */
+            seq_base += n_pre;
+            wire_decoder_destroy(dec);
+            dec = wire_decoder_create(&(wire_decoder_desc){ .max_trees = trees, .max_modes = modes },
+                                      &err);
+            wire_decode(dec, enc[0], enc_len[0], &f, &err);
+        }
+        double t[N_STAGES + 1];
+        t[0] = now_s();
+        memcpy(rx, enc[k], enc_len[k]);
+        t[1] = now_s();
+        if (wire_decode(dec, rx, enc_len[k], &f, &err) != 0) {
+            decode_errors++;
+        }
+        t[2] = now_s();
+        for (uint32_t tr = 0; tr < trees; tr++) {
+            wire_decoder_q(dec, tr, snap + (size_t)tr * modes, modes);
+        }
+        t[3] = now_s();
+        double ts = ((double)(seq_base + k)) / 60.0;
+        jitter_insert(jit, seq_base + k, ts, snap, NULL);
+        t[4] = now_s();
+        /* render 0.1 s behind the newest: between two held snapshots, all four present */
+        jitter_sample(jit, ts - 0.1 + 0.37 / 60.0, staging, NULL);
+        t[5] = now_s();
+        if (win) {
+            glBufferSubData(GL_ARRAY_BUFFER, 0,
+                            (GLsizeiptr)((size_t)trees * modes * sizeof(float)), staging);
+            glFinish();
+        }
+        t[6] = now_s();
+        for (int s = 0; s < N_STAGES; s++) {
+            t_stage[s][i] = (t[s + 1] - t[s]) * 1e3;
+        }
+        t_total[i] = (t[6] - t[0]) * 1e3;
+    }
+    printf("{\"bench\": \"client\", \"trees\": %u, \"modes\": %u, \"frames\": %u,\n", trees,
+           modes, frames);
+    printf(" \"delta_bytes_mean\": %.0f, \"keyframe_bytes\": %zu, \"decode_errors\": %llu,\n",
+           bytes_sum / n_pre, enc_len[0], (unsigned long long)decode_errors);
+    printf(" \"gl_upload\": %s,\n \"stages_ms\": {", win ? "true" : "false");
+    for (int s = 0; s < N_STAGES; s++) {
+        double med = quantile(t_stage[s], (int)frames, 0.5);
+        double p95 = quantile(t_stage[s], (int)frames, 0.95);
+        printf("%s\"%s\": {\"median\": %.4f, \"p95\": %.4f}", s ? ", " : "", stage_name[s], med,
+               p95);
+    }
+    double med = quantile(t_total, (int)frames, 0.5), p95 = quantile(t_total, (int)frames, 0.95);
+    printf("},\n \"total_ms\": {\"median\": %.4f, \"p95\": %.4f}, \"target_ms\": 1.0, "
+           "\"meets_target\": %s}\n",
+           med, p95, med <= 1.0 ? "true" : "false");
+    status = 0;
+    if (win) {
+        glDeleteBuffers(1, &buf);
+        glfwDestroyWindow(win);
+        glfwTerminate();
+    }
+done:
+    for (uint32_t k = 0; enc && k <= n_pre; k++) {
+        free(enc[k]);
+    }
+    for (int s = 0; s < N_STAGES; s++) {
+        free(t_stage[s]);
+    }
+    for (int k = 0; k < 3; k++) {
+        free(qs[k]);
+    }
+    free(t_total);
+    free(enc);
+    free(enc_len);
+    free(species);
+    free(nm);
+    free(rx);
+    free(snap);
+    free(staging);
+    wire_decoder_destroy(dec);
+    jitter_destroy(jit);
+    return status;
+}
