@@ -24,11 +24,11 @@
 
 #define MAX_SPECIES WIRE_MAX_SPECIES
 
-/* The asset decoder is weak so the client links while protocol/asset.c is absent; it then
- * reports that it cannot read assets. */
-int asset_decode(const uint8_t *buf, size_t len, const char *name, asset *a, gale_err *err)
-    __attribute__((weak));
-void asset_fini(asset *a) __attribute__((weak));
+/* GALE_HAVE_ASSET (set by client/net.cmake when protocol/asset.c is in the tree): without
+ * the asset decoder the client links but reports that it cannot read assets. */
+#ifndef GALE_HAVE_ASSET
+#define GALE_HAVE_ASSET 0
+#endif
 
 typedef struct cli_args {
     const char *url;
@@ -355,9 +355,12 @@ static int load_species_asset(cli *c, const ctl_species *s, asset *a, gale_err *
             return rc;
         }
     }
-    int rc = asset_decode ? asset_decode(buf, len, s->url, a, err)
-                          : gale_errf(err, GALE_E_STATE, "%s: this build cannot decode assets",
-                                      s->url);
+#if GALE_HAVE_ASSET
+    int rc = asset_decode(buf, len, s->url, a, err);
+#else
+    (void)a;
+    int rc = gale_errf(err, GALE_E_STATE, "%s: this build cannot decode assets", s->url);
+#endif
     if (rc == 0 && !cached && c->cache) {
         gale_err serr = { 0 };
         if (asset_cache_store(c->cache, key, buf, len, &serr) != 0) {
@@ -411,9 +414,9 @@ static int setup_scene(cli *c, gale_err *err)
             return rc;
         }
         int id = render_add_species(c->r, &a, err);
-        if (asset_fini) {
-            asset_fini(&a);
-        }
+#if GALE_HAVE_ASSET
+        asset_fini(&a);
+#endif
         if (id < 0) {
             return id;
         }
@@ -461,6 +464,8 @@ static int setup_scene(cli *c, gale_err *err)
         camera_set = true;
     }
     c->scene_ready = true;
+    fprintf(stderr, "gale-client: scene ready: %u species on the GPU, %u trees, %u q per tree\n",
+            c->n_loaded, n, c->stride);
     return 0;
 }
 
@@ -723,7 +728,8 @@ int main(int argc, char **argv)
 
     const double start = net_now();
     c.last_frame_s = start;
-    int frames_after_state = 0;
+    int frames_after_state = 0, fps_frames = 0;
+    double fps_t0 = start;
     status = 0;
     while (!quit_flag && !(win && glfwWindowShouldClose(win))) {
         double now = net_now();
@@ -737,8 +743,12 @@ int main(int argc, char **argv)
         }
         double dt = now - c.last_frame_s;
         c.last_frame_s = now;
-        if (dt > 0.0) {
-            c.fps = c.fps == 0.0 ? 1.0 / dt : 0.95 * c.fps + 0.05 / dt;
+        /* frames counted over half-second windows */
+        fps_frames++;
+        if (now - fps_t0 >= 0.5) {
+            c.fps = fps_frames / (now - fps_t0);
+            fps_frames = 0;
+            fps_t0 = now;
         }
         if (win) {
             glfwPollEvents();
