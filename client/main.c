@@ -77,6 +77,7 @@ typedef struct cli {
     float kiosk_speed_ms;          /* kiosk dial */
 
     bool got_state;
+    bool live_since_welcome;       /* state taken since the last welcome */
     uint64_t frames_mismatch;      /* state frames whose tree count disagreed with the scene */
     uint64_t leaves_bad;
     double fps, last_frame_s;
@@ -236,6 +237,7 @@ static void on_welcome(void *user, const ctl_welcome *w)
     c->w.instances = c->w_instances;
     c->scene_pending = true;
     c->scene_ready = false;
+    c->live_since_welcome = false;
     fprintf(stderr, "gale-client: %s: welcome as %s, %u species, %u trees, %.0f Hz snapshots\n",
             net_server_name(c->net), ctl_role_name(w->role) ? ctl_role_name(w->role) : "?",
             w->n_species, w->n_instances, (double)w->snapshot_hz);
@@ -256,6 +258,10 @@ static void take_state(cli *c, const wire_frame *f, const wire_decoder *dec)
                       &err) < 0) {
         fprintf(stderr, "gale-client: %s\n", err.msg);
         return;
+    }
+    if (!c->live_since_welcome) {
+        c->live_since_welcome = true;
+        fprintf(stderr, "gale-client: receiving state from tick %u\n", f->hdr.tick);
     }
     c->got_state = true;
 }
