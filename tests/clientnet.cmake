@@ -7,7 +7,7 @@ gale_test(test_client_net LABEL net SOURCES test_client_net.c LIBS gale_client T
 
 # Live tests against the real gale-server and gale-client (built once both areas are in).
 if(TARGET gale-server AND TARGET gale-client)
-    gale_test(test_client_live LABEL net SOURCES test_client_live.c LIBS PkgConfig::CLIENT_STB
+    gale_test(test_client_live LABEL net SOURCES test_client_live.c LIBS gale_client
         TIMEOUT 900)
     target_compile_definitions(test_client_live PRIVATE
         GALE_SERVER_EXE="$<TARGET_FILE:gale-server>" GALE_CLIENT_EXE="$<TARGET_FILE:gale-client>")
