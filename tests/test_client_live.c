@@ -4,6 +4,7 @@
  * reconnected to and the stream resumes from its next keyframe. */
 #include <errno.h>
 #include <signal.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
