@@ -24,11 +24,6 @@
 
 #define MAX_SPECIES WIRE_MAX_SPECIES
 
-/* GALE_HAVE_ASSET (set by client/net.cmake when protocol/asset.c is in the tree): without
- * the asset decoder the client links but reports that it cannot read assets. */
-#ifndef GALE_HAVE_ASSET
-#define GALE_HAVE_ASSET 0
-#endif
 
 typedef struct cli_args {
     const char *url;
@@ -361,12 +356,7 @@ static int load_species_asset(cli *c, const ctl_species *s, asset *a, gale_err *
             return rc;
         }
     }
-#if GALE_HAVE_ASSET
     int rc = asset_decode(buf, len, s->url, a, err);
-#else
-    (void)a;
-    int rc = gale_errf(err, GALE_E_STATE, "%s: this build cannot decode assets", s->url);
-#endif
     if (rc == 0 && !cached && c->cache) {
         gale_err serr = { 0 };
         if (asset_cache_store(c->cache, key, buf, len, &serr) != 0) {
@@ -420,9 +410,7 @@ static int setup_scene(cli *c, gale_err *err)
             return rc;
         }
         int id = render_add_species(c->r, &a, err);
-#if GALE_HAVE_ASSET
         asset_fini(&a);
-#endif
         if (id < 0) {
             return id;
         }

@@ -16,9 +16,6 @@ if(TARGET gale_render)
     add_executable(gale-client ${CMAKE_CURRENT_LIST_DIR}/main.c)
     target_link_libraries(gale-client PRIVATE gale_client gale_render gale_protocol
         PkgConfig::LWS PkgConfig::GLFW PkgConfig::EPOXY ${MATH_LIB})
-    if(EXISTS ${CMAKE_SOURCE_DIR}/protocol/asset.c)
-        target_compile_definitions(gale-client PRIVATE GALE_HAVE_ASSET=1)
-    endif()
 endif()
 
 # gale-bench client: client CPU per frame (receive, decode, jitter, upload).

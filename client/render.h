@@ -22,7 +22,7 @@ typedef struct render_desc {
                                   GLFW window (needs X, e.g. Xvfb) */
     bool vsync;                /* windowed only */
     const char *title;         /* window title; NULL = "gale" */
-    const char *shader_dir;    /* where *.vert/*.frag are read at run time;
+    const char *shader_dir;    /* where the .vert/.frag files are read at run time;
                                   NULL = $GALE_SHADER_DIR, else GALE_SOURCE_DIR "/shaders" */
     uint32_t max_trees;        /* capacity of instances; 0 = 8192 */
     uint32_t max_falling;      /* ring of falling + landed leaves; 0 = 16384. The oldest

@@ -15,4 +15,6 @@ echo "== tests: RelWithDebInfo =="
 run_ctest build
 echo "== tests: Debug + ASan/UBSan =="
 run_ctest build-asan
-echo "gale: all tests passed (release and sanitizer builds)"
+echo "== fuzz: every decoder, bounded time, ASan+UBSan (libFuzzer)"
+bash deploy/fuzz.sh "${GALE_FUZZ_SECONDS:-15}"
+echo "gale: all tests passed (release and sanitizer builds, fuzzing)"

@@ -1,6 +1,6 @@
 # The bake: skeleton -> FEM frame elements -> lowest modes -> wind basis -> strong-wind
 # correction -> asset file (gale-bake), and the exact modal oscillator shared with the
-# simulation.
+# simulation. The pipeline, gale-bake and its benchmark need the geometry library.
 add_library(gale_bake STATIC
     ${CMAKE_CURRENT_SOURCE_DIR}/oscillator.c
     ${CMAKE_CURRENT_SOURCE_DIR}/fem.c
@@ -12,3 +12,14 @@ add_library(gale_bake STATIC
 target_include_directories(gale_bake PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
 target_link_libraries(gale_bake PUBLIC gale_common ${ARPACK_LIB} ${LAPACKE_LIB} ${OPENBLAS_LIB}
     ${MATH_LIB})
+
+if(TARGET gale_geom AND EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/asset_file.c)
+    target_sources(gale_bake PRIVATE
+        ${CMAKE_CURRENT_SOURCE_DIR}/bake.c
+        ${CMAKE_CURRENT_SOURCE_DIR}/modes_png.c)
+    target_link_libraries(gale_bake PUBLIC gale_geom PkgConfig::CJSON)
+    add_executable(gale-bake ${CMAKE_CURRENT_SOURCE_DIR}/bake_main.c)
+    target_link_libraries(gale-bake PRIVATE gale_bake)
+    set_property(GLOBAL APPEND PROPERTY GALE_BENCH_SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/bench_bake.c)
+    set_property(GLOBAL APPEND PROPERTY GALE_BENCH_LIBS gale_bake)
+endif()

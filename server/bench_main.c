@@ -7,7 +7,9 @@
 int bench_bake(int argc, char **argv) __attribute__((weak));
 int bench_wind(int argc, char **argv) __attribute__((weak));
 int bench_modal(int argc, char **argv) __attribute__((weak));
+int bench_wire(int argc, char **argv) __attribute__((weak));
 int bench_client(int argc, char **argv) __attribute__((weak));
+int bench_render(int argc, char **argv) __attribute__((weak));
 
 typedef struct bench_cmd {
     const char *name;
@@ -21,7 +23,9 @@ int main(int argc, char **argv)
         { "bake", bench_bake, "bake time and peak memory for generated trees (JSON)" },
         { "wind", bench_wind, "wind solver ms/step, divergence reduction, bandwidth (JSON)" },
         { "modal", bench_modal, "per-tick modal update of many trees (JSON)" },
+        { "wire", bench_wire, "state stream bytes per tree and node error, gusty run (JSON)" },
         { "client", bench_client, "client CPU per frame: receive, decode, upload (JSON)" },
+        { "render", bench_render, "frame time of gale_render, headless (JSON)" },
     };
     const int n = (int)(sizeof cmds / sizeof cmds[0]);
     if (argc >= 2) {

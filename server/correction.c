@@ -19,42 +19,30 @@ void corr_result_fini(corr_result *r)
     memset(r, 0, sizeof *r);
 }
 
-/* y = Rot(t) x, Rodrigues' formula for the rotation vector t. */
-static void rotate(const double t[3], const double x[3], double y[3])
-{
-    const double th = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
-    if (th < 1e-12) {
-        y[0] = x[0] + t[1] * x[2] - t[2] * x[1];
-        y[1] = x[1] + t[2] * x[0] - t[0] * x[2];
-        y[2] = x[2] + t[0] * x[1] - t[1] * x[0];
-        return;
-    }
-    const double k[3] = { t[0] / th, t[1] / th, t[2] / th }, c = cos(th), s = sin(th);
-    const double kx[3] = { k[1] * x[2] - k[2] * x[1], k[2] * x[0] - k[0] * x[2],
-                           k[0] * x[1] - k[1] * x[0] };
-    const double kd = k[0] * x[0] + k[1] * x[1] + k[2] * x[2];
-    for (int j = 0; j < 3; j++) {
-        y[j] = x[j] * c + kx[j] * s + k[j] * kd * (1.0 - c);
-    }
-}
-
 /* u[3 n] = length-preserving pose of one mode at q, minus rest: each segment p -> i is the
- * rest segment rotated by q (θ_p + θ_i)/2, the mean node rotation over the element. */
-static void pose(const double *rest, const int *parent, int n, const double *rot, double q,
-                 double *u)
+ * rest segment rotated by q (θ_p + θ_i)/2, the mean node rotation over the element, given
+ * here as unit axis ax[3 i] and magnitude mag[i] (Rodrigues' formula). */
+static void pose(const double *rest, const int *parent, int n, const double *ax,
+                 const double *mag, double q, double *u)
 {
     u[0] = u[1] = u[2] = 0.0;
     for (int i = 1; i < n; i++) {
         const int p = parent[i];
-        const double t[3] = { 0.5 * q * (rot[3 * p] + rot[3 * i]),
-                              0.5 * q * (rot[3 * p + 1] + rot[3 * i + 1]),
-                              0.5 * q * (rot[3 * p + 2] + rot[3 * i + 2]) };
         const double seg[3] = { rest[3 * i] - rest[3 * p], rest[3 * i + 1] - rest[3 * p + 1],
                                 rest[3 * i + 2] - rest[3 * p + 2] };
-        double y[3];
-        rotate(t, seg, y);
+        const double th = q * mag[i];
+        double d[3] = { 0, 0, 0 };
+        if (th != 0.0) {
+            const double *k = ax + 3 * i, s = sin(th), c1 = 1.0 - cos(th);
+            const double kx[3] = { k[1] * seg[2] - k[2] * seg[1], k[2] * seg[0] - k[0] * seg[2],
+                                   k[0] * seg[1] - k[1] * seg[0] };
+            const double kd = k[0] * seg[0] + k[1] * seg[1] + k[2] * seg[2];
+            for (int j = 0; j < 3; j++) {
+                d[j] = kx[j] * s + (k[j] * kd - seg[j]) * c1;
+            }
+        }
         for (int k = 0; k < 3; k++) {
-            u[3 * i + k] = u[3 * p + k] + y[k] - seg[k];
+            u[3 * i + k] = u[3 * p + k] + d[k];
         }
     }
 }
@@ -128,7 +116,7 @@ int corr_fit(const double *rest, const int *parent, int n_nodes, const double *p
         cd.fit_range = 2.0;
     }
     if (cd.n_samples <= 0) {
-        cd.n_samples = 17;
+        cd.n_samples = 9;
     }
     if (cd.n_samples < 5 || cd.n_samples > 63 || cd.n_samples % 2 == 0) {
         return gale_errf(err, GALE_E_RANGE, "correction: n_samples %d, expected odd in 5..63",
@@ -143,9 +131,10 @@ int corr_fit(const double *rest, const int *parent, int n_nodes, const double *p
     r->q_amp = calloc((size_t)nm, sizeof *r->q_amp);
     double *u = malloc((size_t)ns * nc * sizeof *u); /* samples x coords */
     double *ev = malloc((size_t)nc * sizeof *ev);
+    double *ax = malloc((size_t)nc * sizeof *ax), *mag = malloc((size_t)n * sizeof *mag);
     double g[63 * 63];
-    if (!r->v || !r->w || !r->a || !r->b || !r->q_amp || !u || !ev) {
-        free(u), free(ev);
+    if (!r->v || !r->w || !r->a || !r->b || !r->q_amp || !u || !ev || !ax || !mag) {
+        free(u), free(ev), free(ax), free(mag);
         corr_result_fini(r);
         return gale_errf(err, GALE_E_NOMEM, "correction: out of memory for %d nodes", n);
     }
@@ -158,10 +147,24 @@ int corr_fit(const double *rest, const int *parent, int n_nodes, const double *p
         }
         const double qa = rmax > 0.0 ? cd.amp_rot_rad / rmax : 1.0, qf = cd.fit_range * qa;
         r->q_amp[m] = qa;
+        mag[0] = 0.0;
+        for (int i = 1; i < n; i++) {
+            const int p = parent[i];
+            double t[3], tn = 0.0;
+            for (int k = 0; k < 3; k++) {
+                t[k] = 0.5 * (rot[3 * p + k] + rot[3 * i + k]);
+                tn += t[k] * t[k];
+            }
+            tn = sqrt(tn);
+            mag[i] = tn;
+            for (int k = 0; k < 3; k++) {
+                ax[3 * i + k] = tn > 0.0 ? t[k] / tn : 0.0;
+            }
+        }
         double qs[63];
         for (int k = 0; k < ns; k++) {
             qs[k] = qf * (2.0 * k / (ns - 1) - 1.0);
-            pose(rest, parent, n, rot, qs[k], u + (size_t)k * nc);
+            pose(rest, parent, n, ax, mag, qs[k], u + (size_t)k * nc);
         }
         cblas_dsyrk(CblasRowMajor, CblasUpper, CblasNoTrans, ns, nc, 1.0, u, nc, 0.0, g, ns);
         /* coarse log scan of b q_f in [0.02, 20], then golden section around the best */
@@ -223,10 +226,12 @@ int corr_fit(const double *rest, const int *parent, int n_nodes, const double *p
                 ev[c] = x1 * v[c] + x1 * x1 * w[c];
             }
             r->err_corrected = fmax(r->err_corrected, length_error(rest, parent, n, ev));
-            pose(rest, parent, n, rot, qe[k], ev);
-            r->err_pose = fmax(r->err_pose, length_error(rest, parent, n, ev));
+            if (k == 0 || k == 3) {
+                pose(rest, parent, n, ax, mag, qe[k], ev);
+                r->err_pose = fmax(r->err_pose, length_error(rest, parent, n, ev));
+            }
         }
     }
-    free(u), free(ev);
+    free(u), free(ev), free(ax), free(mag);
     return GALE_OK;
 }

@@ -10,7 +10,7 @@ typedef struct corr_desc {
     double amp_rot_rad; /* stated strong-wind amplitude: each mode alone at the q where its
                          * largest node rotation is this [rad]; 0: 0.35 (20 degrees) */
     double fit_range;   /* poses are fitted over |q| <= fit_range x that q; 0: 2 */
-    int n_samples;      /* poses sampled over the fit range (odd, >= 5); 0: 17 */
+    int n_samples;      /* poses sampled over the fit range (odd, >= 5); 0: 9 */
 } corr_desc;
 
 typedef struct corr_result {

@@ -112,7 +112,7 @@ static void start_vector(double *v, int n)
 static int solve_arpack(const fem_model *f, int nm, eigen_result *r, gale_err *err)
 {
     const int nd = f->n_dof;
-    int ncv = getenv("NCV") ? atoi(getenv("NCV")) : 2 * nm + 16;
+    int ncv = 2 * nm + 8;
     if (ncv > nd) {
         ncv = nd;
     }
@@ -140,7 +140,7 @@ static int solve_arpack(const fem_model *f, int nm, eigen_result *r, gale_err *e
     iparam[2] = 500; /* max restart cycles */
     iparam[6] = 3;   /* shift-invert, generalized: OP = (K - σM)^{-1} M, B = M */
     a_int ido = 0, info = 1; /* info = 1: resid holds the start vector */
-    const double tol = 1e-12;
+    const double tol = 1e-10;
     r->n_op = 0;
     for (;;) {
         dsaupd_c(&ido, "G", nd, "LM", nm, tol, resid, ncv, v, nd, iparam, ipntr, workd, workl,

@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define LS_PI 3.14159265358979323846
+#define LS_PI  3.14159265358979323846
 #define LS_DEG (LS_PI / 180.0)
 /* control pieces per stem axis: the curve is fixed by these, not by the segmentation */
 #define LS_KNOTS 8
@@ -23,15 +23,15 @@
 #define LS_MIN_RADIUS 0.002
 
 typedef struct ls_stem {
-    int parent;  /* stem index, -1 for the trunk */
-    int depth;   /* 0 trunk */
-    double t;    /* attachment as a fraction of the parent's length */
-    double len;  /* arc length [m] */
-    double r0, r1; /* base and tip radius [m] */
-    double pt[LS_KNOTS + 1][3];  /* axis knots, equal arc length apart */
-    double dir[LS_KNOTS][3];     /* unit direction of each piece */
-    double nrm[LS_KNOTS][3];     /* unit normal of each piece (parallel-transported) */
-    uint64_t key; /* random stream of this stem */
+    int parent;                 /* stem index, -1 for the trunk */
+    int depth;                  /* 0 trunk */
+    double t;                   /* attachment as a fraction of the parent's length */
+    double len;                 /* arc length [m] */
+    double r0, r1;              /* base and tip radius [m] */
+    double pt[LS_KNOTS + 1][3]; /* axis knots, equal arc length apart */
+    double dir[LS_KNOTS][3];    /* unit direction of each piece */
+    double nrm[LS_KNOTS][3];    /* unit normal of each piece (parallel-transported) */
+    uint64_t key;               /* random stream of this stem */
 } ls_stem;
 
 typedef struct ls_stems {
@@ -153,9 +153,9 @@ static void ls_fix_normal(const double d[3], double n[3])
 /* Lays the axis of stem s from base point, start direction d and normal n: LS_KNOTS
  * equal pieces, each turned by the bend toward ±z (or toward `side` for the trunk
  * curve) and a random wobble about a random perpendicular. */
-static void ls_grow_axis(ls_stem *s, const double base[3], const double d0[3],
-                         const double n0[3], double bend_rad, const double bend_target[3],
-                         double wobble_rad, uint64_t *rng)
+static void ls_grow_axis(ls_stem *s, const double base[3], const double d0[3], const double n0[3],
+                         double bend_rad, const double bend_target[3], double wobble_rad,
+                         uint64_t *rng)
 {
     double d[3] = { d0[0], d0[1], d0[2] };
     double n[3] = { n0[0], n0[1], n0[2] };
@@ -212,8 +212,8 @@ static ls_stem *ls_push(ls_stems *st, gale_err *err)
 {
     if (st->n == st->cap) {
         if (st->cap >= LS_MAX_STEMS) {
-            gale_errf(err, GALE_E_RANGE,
-                      "lsystem: more than %d stems: lower depth or branching", LS_MAX_STEMS);
+            gale_errf(err, GALE_E_RANGE, "lsystem: more than %d stems: lower depth or branching",
+                      LS_MAX_STEMS);
             return NULL;
         }
         int cap = st->cap ? 2 * st->cap : 256;
@@ -309,16 +309,19 @@ static int ls_expand(const lsystem_params *p, int depth, ls_stems *st, gale_err 
             double spacing = r->whorls > 1 ? (r->end - r->start) / (r->whorls - 1) : 0.0;
             double t = r->start + (r->end - r->start) * f + 0.25 * spacing * ls_signed(&rng);
             t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-            double az = az0 + w * p->twist_deg * LS_DEG + p->twist_jitter_deg * LS_DEG * ls_signed(&rng);
+            double az =
+                az0 + w * p->twist_deg * LS_DEG + p->twist_jitter_deg * LS_DEG * ls_signed(&rng);
             double lmul = 1.0 + (r->length_top - 1.0) * f;
             for (int c = 0; c < r->per_whorl; c++) {
                 double ang = (r->angle_deg + r->angle_jitter_deg * ls_signed(&rng)) * LS_DEG;
                 double phi = az + 2.0 * LS_PI * c / r->per_whorl +
                              0.3 * LS_PI / r->per_whorl * ls_signed(&rng);
-                double len = plen * r->length_ratio * lmul * (1.0 + r->length_jitter * ls_signed(&rng));
+                double len =
+                    plen * r->length_ratio * lmul * (1.0 + r->length_jitter * ls_signed(&rng));
                 int grow = ls_uniform(&rng) >= r->prune_prob;
                 if (grow) {
-                    int rc = ls_add_child(st, si, child_no, t, ang, phi, len, r, min_len, wobble, err);
+                    int rc =
+                        ls_add_child(st, si, child_no, t, ang, phi, len, r, min_len, wobble, err);
                     if (rc != 0) {
                         return rc;
                     }
@@ -334,7 +337,8 @@ static int ls_expand(const lsystem_params *p, int depth, ls_stems *st, gale_err 
             double len = plen * r->length_ratio * (1.0 + r->length_jitter * ls_signed(&rng));
             int grow = ls_uniform(&rng) >= r->prune_prob;
             if (grow) {
-                int rc = ls_add_child(st, si, child_no, 1.0, ang, phi, len, r, min_len, wobble, err);
+                int rc =
+                    ls_add_child(st, si, child_no, 1.0, ang, phi, len, r, min_len, wobble, err);
                 if (rc != 0) {
                     return rc;
                 }
@@ -432,26 +436,29 @@ static int ls_check_rule(const lsystem_rule *r, const char *name, gale_err *err)
 {
     if (r->whorls < 0 || r->whorls > 64 || r->per_whorl < 0 || r->per_whorl > 16 ||
         r->tip_children < 0 || r->tip_children > 32) {
-        return gale_errf(err, GALE_E_RANGE,
-                         "lsystem: %s: whorls 0..64, per_whorl 0..16, tip_children 0..32, got %d, %d, %d",
-                         name, r->whorls, r->per_whorl, r->tip_children);
+        return gale_errf(
+            err, GALE_E_RANGE,
+            "lsystem: %s: whorls 0..64, per_whorl 0..16, tip_children 0..32, got %d, %d, %d", name,
+            r->whorls, r->per_whorl, r->tip_children);
     }
     if (!(r->start >= 0.0 && r->start <= r->end && r->end <= 1.0)) {
-        return gale_errf(err, GALE_E_RANGE, "lsystem: %s: expected 0 <= start <= end <= 1, got %g, %g",
-                         name, r->start, r->end);
+        return gale_errf(err, GALE_E_RANGE,
+                         "lsystem: %s: expected 0 <= start <= end <= 1, got %g, %g", name, r->start,
+                         r->end);
     }
-    if (!(r->length_ratio > 0.0 && r->length_ratio <= 2.0) || !(r->radius_ratio > 0.0 && r->radius_ratio <= 1.0) ||
+    if (!(r->length_ratio > 0.0 && r->length_ratio <= 2.0) ||
+        !(r->radius_ratio > 0.0 && r->radius_ratio <= 1.0) ||
         !(r->taper > 0.0 && r->taper <= 1.0) || !(r->length_top > 0.0 && r->length_top <= 4.0) ||
         !(r->length_jitter >= 0.0 && r->length_jitter <= 0.9) ||
         !(r->prune_prob >= 0.0 && r->prune_prob <= 1.0) ||
-        !(r->continue_ratio >= 0.0 && r->continue_ratio <= 2.0) ||
-        !isfinite(r->angle_deg) || !isfinite(r->tip_angle_deg) ||
-        !isfinite(r->angle_jitter_deg) || !isfinite(r->bend_deg)) {
-        return gale_errf(err, GALE_E_RANGE, "lsystem: %s: a ratio, taper, jitter or angle is out of range",
-                         name);
+        !(r->continue_ratio >= 0.0 && r->continue_ratio <= 2.0) || !isfinite(r->angle_deg) ||
+        !isfinite(r->tip_angle_deg) || !isfinite(r->angle_jitter_deg) || !isfinite(r->bend_deg)) {
+        return gale_errf(err, GALE_E_RANGE,
+                         "lsystem: %s: a ratio, taper, jitter or angle is out of range", name);
     }
     if (r->tip_continue && !(r->continue_ratio > 0.0)) {
-        return gale_errf(err, GALE_E_RANGE, "lsystem: %s: tip_continue needs continue_ratio > 0", name);
+        return gale_errf(err, GALE_E_RANGE, "lsystem: %s: tip_continue needs continue_ratio > 0",
+                         name);
     }
     return GALE_OK;
 }
@@ -469,16 +476,35 @@ lsystem_params lsystem_params_default(void)
     p.twist_deg = 137.5;
     p.twist_jitter_deg = 20.0;
     p.wobble_deg = 10.0;
-    p.trunk = (lsystem_rule){ .whorls = 3, .per_whorl = 1, .start = 0.45, .end = 0.85,
-                              .angle_deg = 50.0, .tip_children = 3, .tip_angle_deg = 30.0,
-                              .angle_jitter_deg = 10.0, .length_ratio = 0.7, .length_top = 0.8,
-                              .length_jitter = 0.15, .radius_ratio = 0.55, .taper = 0.4,
+    p.trunk = (lsystem_rule){ .whorls = 3,
+                              .per_whorl = 1,
+                              .start = 0.45,
+                              .end = 0.85,
+                              .angle_deg = 50.0,
+                              .tip_children = 3,
+                              .tip_angle_deg = 30.0,
+                              .angle_jitter_deg = 10.0,
+                              .length_ratio = 0.7,
+                              .length_top = 0.8,
+                              .length_jitter = 0.15,
+                              .radius_ratio = 0.55,
+                              .taper = 0.4,
                               .bend_deg = 10.0 };
-    p.branch = (lsystem_rule){ .whorls = 2, .per_whorl = 1, .start = 0.35, .end = 0.8,
-                               .angle_deg = 45.0, .tip_children = 2, .tip_angle_deg = 25.0,
-                               .angle_jitter_deg = 12.0, .length_ratio = 0.62, .length_top = 0.9,
-                               .length_jitter = 0.15, .radius_ratio = 0.6, .taper = 0.45,
-                               .bend_deg = 5.0, .prune_prob = 0.05 };
+    p.branch = (lsystem_rule){ .whorls = 2,
+                               .per_whorl = 1,
+                               .start = 0.35,
+                               .end = 0.8,
+                               .angle_deg = 45.0,
+                               .tip_children = 2,
+                               .tip_angle_deg = 25.0,
+                               .angle_jitter_deg = 12.0,
+                               .length_ratio = 0.62,
+                               .length_top = 0.9,
+                               .length_jitter = 0.15,
+                               .radius_ratio = 0.6,
+                               .taper = 0.45,
+                               .bend_deg = 5.0,
+                               .prune_prob = 0.05 };
     return p;
 }
 
@@ -490,9 +516,10 @@ int lsystem_generate(const lsystem_params *p, skeleton *out, gale_err *err)
     }
     if (!(p->trunk_length_m > 0.0 && p->trunk_length_m <= 200.0) ||
         !(p->trunk_radius_m > 0.0 && p->trunk_radius_m <= 10.0)) {
-        return gale_errf(err, GALE_E_RANGE,
-                         "lsystem: trunk: expected length in (0, 200] m and radius in (0, 10] m, got %g, %g",
-                         p->trunk_length_m, p->trunk_radius_m);
+        return gale_errf(
+            err, GALE_E_RANGE,
+            "lsystem: trunk: expected length in (0, 200] m and radius in (0, 10] m, got %g, %g",
+            p->trunk_length_m, p->trunk_radius_m);
     }
     if (!(p->trunk_taper > 0.0 && p->trunk_taper <= 1.0) || !(p->segment_m >= 0.0) ||
         !isfinite(p->segment_m) || !isfinite(p->trunk_bend_deg) || !isfinite(p->twist_deg) ||

@@ -35,17 +35,17 @@ typedef struct lsystem_params {
     uint64_t seed;
     int target_nodes; /* 0: as the grammar gives; > 0: refine segments to about this many */
     /* the generator's grammar parameters follow; lsystem.c documents each */
-    int depth;             /* recursion levels below the trunk, 0..10 */
-    double trunk_length_m; /* arc length of the trunk stem [m] */
-    double trunk_radius_m; /* trunk radius at the root [m] */
-    double trunk_taper;    /* trunk tip radius / root radius, (0, 1] */
-    double trunk_bend_deg; /* total curve of the trunk toward a random side [deg] */
-    double segment_m;      /* element length the stems are cut into [m]; 0: trunk / 10 */
-    double twist_deg;      /* azimuth step between successive whorls (phyllotaxis) [deg] */
+    int depth;               /* recursion levels below the trunk, 0..10 */
+    double trunk_length_m;   /* arc length of the trunk stem [m] */
+    double trunk_radius_m;   /* trunk radius at the root [m] */
+    double trunk_taper;      /* trunk tip radius / root radius, (0, 1] */
+    double trunk_bend_deg;   /* total curve of the trunk toward a random side [deg] */
+    double segment_m;        /* element length the stems are cut into [m]; 0: trunk / 10 */
+    double twist_deg;        /* azimuth step between successive whorls (phyllotaxis) [deg] */
     double twist_jitter_deg; /* random extra rotation about the axis per whorl [deg] */
-    double wobble_deg;     /* random deviation of a stem's direction along its length [deg] */
-    lsystem_rule trunk;    /* how the trunk spawns the first branches */
-    lsystem_rule branch;   /* how every deeper stem spawns its children */
+    double wobble_deg;       /* random deviation of a stem's direction along its length [deg] */
+    lsystem_rule trunk;      /* how the trunk spawns the first branches */
+    lsystem_rule branch;     /* how every deeper stem spawns its children */
 } lsystem_params;
 
 /* A parameter set that gives a plain broadleaf tree; species files start from it. */

@@ -13,6 +13,8 @@
 #include <string.h>
 #include <time.h>
 
+#include <sys/socket.h>
+
 #include <libwebsockets.h>
 
 #include "ctl.h"
@@ -338,7 +340,8 @@ static int http_request(net_server *s, net_conn *c, const char *uri)
         for (int i = 0; i < s->d.n_assets; i++) {
             const net_asset *a = &s->d.assets[i];
             size_t hl = strlen(a->hash);
-            if (!strncmp(h, a->hash, hl) && (!strcmp(h + hl, ".gasset") || !h[hl])) {
+            if (a->bytes && hl && !strncmp(h, a->hash, hl) &&
+                (!strcmp(h + hl, ".gasset") || !h[hl])) {
                 return http_respond(s, c, HTTP_STATUS_OK, "application/octet-stream", a->bytes,
                                     a->len);
             }
@@ -409,8 +412,7 @@ static int ws_write(net_server *s, net_conn *c, uint8_t *data, size_t len,
 {
     int n = lws_write(c->wsi, data, len, kind);
     if (n < (int)len) {
-        conn_log(s, c, "write failed (%d of %zu bytes)", n, len);
-        return -1;
+        return -1; /* the peer is gone: lws closes the connection */
     }
     atomic_fetch_add_explicit(&s->m.bytes_sent, len, memory_order_relaxed);
     atomic_fetch_add_explicit(&s->m.frames_sent, 1, memory_order_relaxed);
@@ -452,13 +454,13 @@ static int ws_writeable(net_server *s, net_conn *c)
     if (c->cur_part == 0) {
         bool next = !c->resync && c->chain > 0 && p->seq == c->last_seq + 1u;
         if (next && c->chain >= 2 && p->delta2_len) {
-            rc = ws_write(s, c, p->delta2 + LWS_PRE, p->delta2_len, LWS_WRITE_BINARY);
+            rc = ws_write(s, c, p->delta2, p->delta2_len, LWS_WRITE_BINARY);
             c->chain = 2;
         } else if (next && p->delta1_len) {
-            rc = ws_write(s, c, p->delta1 + LWS_PRE, p->delta1_len, LWS_WRITE_BINARY);
+            rc = ws_write(s, c, p->delta1, p->delta1_len, LWS_WRITE_BINARY);
             c->chain = 2;
         } else {
-            rc = ws_write(s, c, p->key + LWS_PRE, p->key_len, LWS_WRITE_BINARY);
+            rc = ws_write(s, c, p->key, p->key_len, LWS_WRITE_BINARY);
             c->chain = 1;
         }
         c->resync = false;
@@ -466,7 +468,7 @@ static int ws_writeable(net_server *s, net_conn *c)
         c->cur_part = 1;
     } else {
         int e = c->cur_part - 1;
-        rc = ws_write(s, c, p->extra[e] + LWS_PRE, p->extra_len[e], LWS_WRITE_BINARY);
+        rc = ws_write(s, c, p->extra[e], p->extra_len[e], LWS_WRITE_BINARY);
         c->cur_part++;
     }
     if (rc) {
@@ -581,6 +583,10 @@ static int net_callback(struct lws *wsi, enum lws_callback_reasons reason, void 
             c->rx = NULL;
             return -1;
         }
+        if (s->d.sndbuf > 0) {
+            int fd = lws_get_socket_fd(wsi);
+            setsockopt(fd, SOL_SOCKET, SO_SNDBUF, &s->d.sndbuf, sizeof s->d.sndbuf);
+        }
         c->next = s->conns;
         if (s->conns) {
             s->conns->prev = c;
@@ -619,6 +625,20 @@ static int net_callback(struct lws *wsi, enum lws_callback_reasons reason, void 
 
 /* --- life cycle ----------------------------------------------------------------------- */
 
+/* A buffer of cap bytes with LWS_PRE bytes of headroom before the returned pointer. */
+static uint8_t *pre_alloc(size_t cap)
+{
+    uint8_t *b = malloc(LWS_PRE + cap);
+    return b ? b + LWS_PRE : NULL;
+}
+
+static void pre_free(uint8_t *p)
+{
+    if (p) {
+        free(p - LWS_PRE);
+    }
+}
+
 net_server *net_create(const net_desc *desc, gale_err *err)
 {
     net_server *s = calloc(1, sizeof *s);
@@ -645,6 +665,9 @@ net_server *net_create(const net_desc *desc, gale_err *err)
     if (!s->d.max_message) {
         s->d.max_message = CTL_MAX_CLIENT_BYTES;
     }
+    if (!s->d.sndbuf) {
+        s->d.sndbuf = 262144;
+    }
     if (!s->d.extra_cap) {
         s->d.extra_cap = 65536;
     }
@@ -665,12 +688,12 @@ net_server *net_create(const net_desc *desc, gale_err *err)
         net_snap *p = &s->pool[i];
         p->cap = s->d.snap_cap;
         p->extra_cap = s->d.extra_cap;
-        p->key = malloc(LWS_PRE + p->cap);
-        p->delta1 = malloc(LWS_PRE + p->cap);
-        p->delta2 = malloc(LWS_PRE + p->cap);
+        p->key = pre_alloc(p->cap);
+        p->delta1 = pre_alloc(p->cap);
+        p->delta2 = pre_alloc(p->cap);
         bool ok = p->key && p->delta1 && p->delta2;
         for (int e = 0; e < NET_SNAP_MAX_EXTRA; e++) {
-            p->extra[e] = malloc(LWS_PRE + p->extra_cap);
+            p->extra[e] = pre_alloc(p->extra_cap);
             ok = ok && p->extra[e];
         }
         if (!ok) {
@@ -721,11 +744,11 @@ void net_destroy(net_server *s)
         snap_unref(s->pub[i]);
     }
     for (int i = 0; s->pool && i < s->n_pool; i++) {
-        free(s->pool[i].key);
-        free(s->pool[i].delta1);
-        free(s->pool[i].delta2);
+        pre_free(s->pool[i].key);
+        pre_free(s->pool[i].delta1);
+        pre_free(s->pool[i].delta2);
         for (int e = 0; e < NET_SNAP_MAX_EXTRA; e++) {
-            free(s->pool[i].extra[e]);
+            pre_free(s->pool[i].extra[e]);
         }
     }
     free(s->pool);

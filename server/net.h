@@ -20,8 +20,7 @@ enum { NET_ROLE_NONE, NET_ROLE_VIEWER, NET_ROLE_KIOSK, NET_ROLE_WALL, NET_ROLE_L
        NET_ROLE_COUNT };
 
 /* One published snapshot: the binary messages of one snapshot (sequence number seq),
- * each encoded once and shared by every connection; every buffer has LWS_PRE bytes of
- * headroom. A connection that holds snapshots seq-1 and seq-2 gets delta2 (linear
+ * each encoded once and shared by every connection. A connection that holds snapshots seq-1 and seq-2 gets delta2 (linear
  * prediction from both), one that holds only seq-1 (it was a keyframe) gets delta1,
  * any other (late joiner, after drops, after a resync request) the keyframe. Extra
  * messages (leaf seeds, coarse wind) follow the state. */
@@ -35,10 +34,10 @@ typedef struct net_snap {
     size_t delta1_len;      /* delta against seq-1 only; 0 = none */
     size_t delta2_len;      /* delta against seq-1 and seq-2; 0 = none */
     size_t extra_len[NET_SNAP_MAX_EXTRA]; /* 0 = absent */
-    uint8_t *key;           /* owned [LWS_PRE + cap] */
-    uint8_t *delta1;        /* owned [LWS_PRE + cap] */
-    uint8_t *delta2;        /* owned [LWS_PRE + cap] */
-    uint8_t *extra[NET_SNAP_MAX_EXTRA]; /* owned [LWS_PRE + extra_cap] */
+    uint8_t *key;           /* owned [cap], with LWS_PRE bytes of headroom before it */
+    uint8_t *delta1;        /* owned [cap], likewise */
+    uint8_t *delta2;        /* owned [cap], likewise */
+    uint8_t *extra[NET_SNAP_MAX_EXTRA]; /* owned [extra_cap], likewise */
 } net_snap;
 
 /* A baked asset served at /assets/<hash>.gasset (bytes borrowed for the server's life). */
@@ -72,6 +71,8 @@ typedef struct net_desc {
     size_t snap_cap;          /* bytes per state message (after LWS_PRE); required */
     size_t extra_cap;         /* bytes per extra message; 0 → 65536 */
     size_t max_message;       /* largest control message accepted; 0 → CTL_MAX_CLIENT_BYTES */
+    int sndbuf;               /* kernel send buffer per connection [bytes]; 0 → 262144,
+                                 -1 → the kernel's own (bounds what a stalled client pins) */
     const net_asset *assets;  /* borrowed for the server's life */
     int n_assets;
     net_control_fn control;   /* required */

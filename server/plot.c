@@ -80,8 +80,7 @@ static int plot_clampi(float v, int lo, int hi)
     return (int)v;
 }
 
-void plot_line(plot *p, float x0, float y0, float x1, float y1, float width,
-               const uint8_t c[3])
+void plot_line(plot *p, float x0, float y0, float x1, float y1, float width, const uint8_t c[3])
 {
     if (!p->rgb || !isfinite(x0) || !isfinite(y0) || !isfinite(x1) || !isfinite(y1)) {
         return;
@@ -130,8 +129,7 @@ void plot_rect(plot *p, int x0, int y0, int x1, int y1, const uint8_t c[3])
     }
 }
 
-void plot_arrow(plot *p, float x0, float y0, float x1, float y1, float width,
-                const uint8_t c[3])
+void plot_arrow(plot *p, float x0, float y0, float x1, float y1, float width, const uint8_t c[3])
 {
     plot_line(p, x0, y0, x1, y1, width, c);
     float dx = x1 - x0, dy = y1 - y0;
@@ -189,9 +187,8 @@ void plot_colormap(float t, uint8_t out[3])
 {
     /* viridis sampled at nine points, linear in between */
     static const float k[9][3] = {
-        { 68, 1, 84 },    { 71, 44, 122 },  { 59, 81, 139 },  { 44, 113, 142 },
-        { 33, 144, 141 }, { 39, 173, 129 }, { 92, 200, 99 },  { 170, 220, 50 },
-        { 253, 231, 37 },
+        { 68, 1, 84 },    { 71, 44, 122 }, { 59, 81, 139 },  { 44, 113, 142 }, { 33, 144, 141 },
+        { 39, 173, 129 }, { 92, 200, 99 }, { 170, 220, 50 }, { 253, 231, 37 },
     };
     if (!(t > 0.0f)) {
         t = 0.0f;

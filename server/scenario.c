@@ -496,6 +496,8 @@ void scenario_restart(scenario *s, double t_s)
 {
     s->t0 = t_s;
     s->have_last = false;
+    s->ramping = false;
+    s->last_dir = s->kind == SCENARIO_STEADY ? (270.0 - s->dir_from_deg) * M_PI / 180.0 : 0.0;
     gust_init(&s->gust, &s->gd);
 }
 
@@ -663,7 +665,9 @@ void scenario_eval(scenario *s, double t_s, scenario_state *out)
     s->have_last = true;
 
     double speed = hypot(u[0], u[1]);
-    double to = speed > 0.0 ? atan2(u[1], u[0]) : 0.0;
+    /* in a dead calm (the eye) keep the last direction rather than report a jump */
+    double to = speed > 1e-6 ? atan2(u[1], u[0]) : s->last_dir;
+    s->last_dir = to;
     double g[3] = { 0.0, 0.0, 0.0 };
     if (s->gust_on) {
         gust_step(&s->gust, dt, speed, g);

@@ -16,3 +16,10 @@ endif()
 
 add_executable(gale-hurdat ${CMAKE_CURRENT_SOURCE_DIR}/hurdat_main.c)
 target_link_libraries(gale-hurdat PRIVATE gale_scenario)
+
+# gale-wind runs a scenario on the real solver and draws with the plot raster: built once
+# both libraries are in the tree.
+if(TARGET gale_wind AND TARGET gale_geom)
+    add_executable(gale-wind ${CMAKE_CURRENT_SOURCE_DIR}/scenario_main.c)
+    target_link_libraries(gale-wind PRIVATE gale_scenario gale_wind gale_geom)
+endif()

@@ -58,6 +58,7 @@ struct scenario {
     double last_t; /* scenario time of the previous eval */
     bool have_last;
     double last_w[2]; /* mean wind of the previous eval [m/s] */
+    double last_dir;  /* direction of the previous eval [rad, toward, from +x] */
     bool ramping;
     bool dial_on, dir_on;
     double dial_ms, dir_hold_deg;

@@ -164,8 +164,8 @@ static int place_forest(scene *s, const cfg_doc *d, const char *path, int sp, in
 
 static int parse_wind(scene *s, const cfg_doc *d, const cJSON *root, gale_err *err)
 {
-    static const char *const keys[] = { "grid",      "cell_m",  "origin", "every",
-                                        "dir_deg",   "u10_ms",  "solver", NULL };
+    static const char *const keys[] = { "grid",    "cell_m", "origin", "every",   "dir_deg",
+                                        "u10_ms",  "solver", "threads", NULL };
     bool found = false;
     const cJSON *w = cfg_child(d, root, "", "wind", cJSON_Object, false, &found, err);
     s->grid[0] = 64;
@@ -174,6 +174,7 @@ static int parse_wind(scene *s, const cfg_doc *d, const cJSON *root, gale_err *e
     s->cell_m = 2;
     s->wind_u10_ms = 8;
     s->wind_every = 1;
+    s->wind_threads = 1;
     if (!found) {
         if (err->code) {
             return err->code;
@@ -187,14 +188,17 @@ static int parse_wind(scene *s, const cfg_doc *d, const cJSON *root, gale_err *e
     }
     bool solver = true;
     double g[3] = { 64, 64, 16 }, cell = 2, o[3], every = 1, dir = 0, u10 = 8;
+    long long threads = 1;
     if ((rc = cfg_bool(d, w, "wind", "solver", false, true, &solver, err)) ||
         (rc = cfg_vec(d, w, "wind", "grid", false, 3, g, 4, 1024, g, err)) ||
         (rc = cfg_number(d, w, "wind", "cell_m", false, 2, 0.1, 50, &cell, err)) ||
         (rc = cfg_number(d, w, "wind", "every", false, 1, 1, 64, &every, err)) ||
         (rc = cfg_number(d, w, "wind", "dir_deg", false, 0, -360, 360, &dir, err)) ||
-        (rc = cfg_number(d, w, "wind", "u10_ms", false, 8, 0, 120, &u10, err))) {
+        (rc = cfg_number(d, w, "wind", "u10_ms", false, 8, 0, 120, &u10, err)) ||
+        (rc = cfg_int(d, w, "wind", "threads", false, 1, 1, 64, &threads, err))) {
         return rc;
     }
+    s->wind_threads = (int)threads;
     for (int i = 0; i < 3; i++) {
         if (g[i] != floor(g[i])) {
             return gale_errf(err, GALE_E_RANGE, "%s: wind.grid[%d]: expected an integer, got %g",
@@ -258,7 +262,7 @@ static int parse_leaves(scene *s, const cfg_doc *d, const cJSON *root, gale_err 
 static int parse_species(scene *s, const cfg_doc *d, const cJSON *root, const char *base,
                          gale_err *err)
 {
-    static const char *const keys[] = { "name", "file", NULL };
+    static const char *const keys[] = { "name", "file", "modes", NULL };
     const cJSON *arr = cfg_child(d, root, "", "species", cJSON_Array, true, NULL, err);
     if (!arr) {
         return err ? err->code : GALE_E_PARSE;
@@ -273,8 +277,9 @@ static int parse_species(scene *s, const cfg_doc *d, const cJSON *root, const ch
         cfg_path_index(p, sizeof p, "species", i);
         const cJSON *e = cJSON_GetArrayItem(arr, i);
         char file[SCENE_PATH_MAX];
+        long long modes = 32;
         int rc = cfg_check_keys(d, e, p, keys, err);
-        if (rc ||
+        if (rc || (rc = cfg_int(d, e, p, "modes", false, 32, 1, 64, &modes, err)) ||
             (rc = cfg_string(d, e, p, "name", true, NULL, s->species[i].name,
                              sizeof s->species[i].name, err)) ||
             (rc = cfg_string(d, e, p, "file", true, NULL, file, sizeof file, err))) {
@@ -291,6 +296,7 @@ static int parse_species(scene *s, const cfg_doc *d, const cJSON *root, const ch
                                  d->name, p, s->species[i].name, j);
             }
         }
+        s->species[i].modes = (int)modes;
         if (!resolve_path(s->species[i].file, sizeof s->species[i].file, base, file)) {
             return gale_errf(err, GALE_E_RANGE, "%s: %s.file: path too long", d->name, p);
         }

@@ -22,6 +22,7 @@
 typedef struct scene_species {
     char name[64];                /* referenced by trees[].species */
     char file[SCENE_PATH_MAX];    /* species JSON, resolved against the config's folder */
+    int modes;                    /* modes baked and streamed; default 32, 1..64 */
 } scene_species;
 
 typedef struct scene_tree {
@@ -43,6 +44,8 @@ typedef struct scene {
     bool grid_on;
     int grid[3];                  /* cells; default 64 x 64 x 16 */
     float cell_m;                 /* default 2 */
+    int wind_threads;             /* solver threads; default 1 (the tick shares 2 cores with
+                                     the service thread) */
     float origin[3];              /* default: grid centred on (0,0) at the ground */
     float wind_dir_deg;           /* steady inflow direction the wind blows toward */
     float wind_u10_ms;            /* steady inflow speed at 10 m; default 8 */

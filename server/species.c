@@ -1,8 +1,10 @@
 /* Species files (configs/species/NAME.json): generator parameters for the L-system of
  * Oliapuram & Kumar 2010 section 1.4, wood and damping constants for the bake (Diener
- * 2008 section 3, eq. 9), the look of bark and leaves. Validated through cfg.h. */
+ * 2008 section 3, eq. 9), the look of bark and leaves. Validated through cfg.h from
+ * tables of keys with their ranges; JSON keys are the struct field names. */
 #include "species.h"
 
+#include <stddef.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -32,21 +34,173 @@ void species_default(species *sp)
     sp->leaf_spread_deg = 40.0f;
 }
 
-static int sp_int(const cfg_doc *d, const cJSON *o, const char *path, const char *key,
-                  long long min, long long max, int *out, gale_err *err)
+typedef enum sp_kind {
+    SP_INT,  /* int */
+    SP_BOOL, /* int, 0 or 1, from a JSON boolean */
+    SP_DBL,  /* double */
+    SP_FLT,  /* float */
+    SP_RGB,  /* float[3], each in [min, max] */
+    SP_SEED, /* uint64_t, an integer below 2^53 so that JSON holds it exactly */
+} sp_kind;
+
+/* One optional key: its kind, allowed range, and where it lands in the struct. */
+typedef struct sp_field {
+    const char *key;
+    sp_kind kind;
+    double min, max;
+    size_t off;
+} sp_field;
+
+/* clang-format off */
+#define RULE(k, kind, lo, hi) { #k, kind, lo, hi, offsetof(lsystem_rule, k) }
+/* clang-format on */
+static const sp_field rule_fields[] = {
+    RULE(whorls, SP_INT, 0, 64),
+    RULE(per_whorl, SP_INT, 0, 16),
+    RULE(start, SP_DBL, 0.0, 1.0),
+    RULE(end, SP_DBL, 0.0, 1.0),
+    RULE(angle_deg, SP_DBL, 0.0, 180.0),
+    RULE(tip_children, SP_INT, 0, 32),
+    RULE(tip_angle_deg, SP_DBL, 0.0, 180.0),
+    RULE(tip_continue, SP_BOOL, 0, 1),
+    RULE(continue_ratio, SP_DBL, 0.0, 2.0),
+    RULE(angle_jitter_deg, SP_DBL, 0.0, 90.0),
+    RULE(length_ratio, SP_DBL, 0.01, 2.0),
+    RULE(length_top, SP_DBL, 0.01, 4.0),
+    RULE(length_jitter, SP_DBL, 0.0, 0.9),
+    RULE(radius_ratio, SP_DBL, 0.01, 1.0),
+    RULE(taper, SP_DBL, 0.01, 1.0),
+    RULE(bend_deg, SP_DBL, -180.0, 180.0),
+    RULE(prune_prob, SP_DBL, 0.0, 1.0),
+};
+#undef RULE
+
+/* clang-format off */
+#define GEN(k, kind, lo, hi) { #k, kind, lo, hi, offsetof(lsystem_params, k) }
+/* clang-format on */
+static const sp_field gen_fields[] = {
+    GEN(seed, SP_SEED, 0.0, 9007199254740992.0),
+    GEN(target_nodes, SP_INT, 0, 1000000),
+    GEN(depth, SP_INT, 0, 10),
+    GEN(trunk_length_m, SP_DBL, 0.1, 200.0),
+    GEN(trunk_radius_m, SP_DBL, 0.001, 10.0),
+    GEN(trunk_taper, SP_DBL, 0.01, 1.0),
+    GEN(trunk_bend_deg, SP_DBL, -180.0, 180.0),
+    GEN(segment_m, SP_DBL, 0.0, 100.0),
+    GEN(twist_deg, SP_DBL, -360.0, 360.0),
+    GEN(twist_jitter_deg, SP_DBL, 0.0, 180.0),
+    GEN(wobble_deg, SP_DBL, 0.0, 90.0),
+};
+#undef GEN
+
+/* clang-format off */
+#define SPF(k, kind, lo, hi) { #k, kind, lo, hi, offsetof(species, k) }
+/* clang-format on */
+/* wood: E of green timber is 5-15 GPa, palm stems 2-8 GPa; the bounds leave room for
+ * model tests. G is read separately: absent means E / 2.6. */
+static const sp_field top_fields[] = {
+    SPF(E_pa, SP_DBL, 1e6, 1e12),
+    SPF(rho_kg_m3, SP_DBL, 10.0, 20000.0),
+    SPF(rayleigh_alpha, SP_DBL, 0.0, 100.0),
+    SPF(rayleigh_beta, SP_DBL, 0.0, 1.0),
+    SPF(drag_c, SP_DBL, 0.0, 100.0),
+};
+static const sp_field look_fields[] = {
+    SPF(bark_rgb, SP_RGB, 0.0, 1.0),          SPF(leaf_rgb, SP_RGB, 0.0, 1.0),
+    SPF(leaf_size_m, SP_FLT, 0.005, 10.0),    SPF(leaves_per_tip, SP_INT, 0, 64),
+    SPF(leaf_spread_deg, SP_FLT, 0.0, 180.0),
+};
+#undef SPF
+
+#define COUNT(a) (sizeof(a) / sizeof((a)[0]))
+
+/* Reads every present key of `fields` from obj (at key path `path`) into base. */
+static int sp_read(const cfg_doc *d, const cJSON *obj, const char *path, const sp_field *fields,
+                   size_t n, void *base, gale_err *err)
 {
-    long long v;
-    int rc = cfg_int(d, o, path, key, false, *out, min, max, &v, err);
-    if (rc == 0) {
-        *out = (int)v;
+    for (size_t i = 0; i < n; i++) {
+        const sp_field *f = &fields[i];
+        void *dst = (char *)base + f->off;
+        int rc = GALE_OK;
+        switch (f->kind) {
+        case SP_INT: {
+            int v;
+            long long ll;
+            memcpy(&v, dst, sizeof v);
+            rc = cfg_int(d, obj, path, f->key, false, v, (long long)f->min, (long long)f->max, &ll,
+                         err);
+            v = (int)ll;
+            memcpy(dst, &v, sizeof v);
+            break;
+        }
+        case SP_BOOL: {
+            int v;
+            bool b;
+            memcpy(&v, dst, sizeof v);
+            rc = cfg_bool(d, obj, path, f->key, false, v != 0, &b, err);
+            v = b ? 1 : 0;
+            memcpy(dst, &v, sizeof v);
+            break;
+        }
+        case SP_DBL: {
+            double v;
+            memcpy(&v, dst, sizeof v);
+            rc = cfg_number(d, obj, path, f->key, false, v, f->min, f->max, &v, err);
+            memcpy(dst, &v, sizeof v);
+            break;
+        }
+        case SP_FLT: {
+            float fv;
+            memcpy(&fv, dst, sizeof fv);
+            double v = fv;
+            rc = cfg_number(d, obj, path, f->key, false, v, f->min, f->max, &v, err);
+            fv = (float)v;
+            memcpy(dst, &fv, sizeof fv);
+            break;
+        }
+        case SP_RGB: {
+            float fv[3];
+            memcpy(fv, dst, sizeof fv);
+            double v[3] = { fv[0], fv[1], fv[2] };
+            rc = cfg_vec(d, obj, path, f->key, false, 3, v, f->min, f->max, v, err);
+            for (int k = 0; k < 3; k++) {
+                fv[k] = (float)v[k];
+            }
+            memcpy(dst, fv, sizeof fv);
+            break;
+        }
+        case SP_SEED: {
+            uint64_t v;
+            memcpy(&v, dst, sizeof v);
+            long long ll = (long long)(v & 0x001fffffffffffffull);
+            rc = cfg_int(d, obj, path, f->key, false, ll, (long long)f->min, (long long)f->max, &ll,
+                         err);
+            v = (uint64_t)ll;
+            memcpy(dst, &v, sizeof v);
+            break;
+        }
+        }
+        if (rc != 0) {
+            return rc;
+        }
     }
-    return rc;
+    return GALE_OK;
 }
 
-static int sp_num(const cfg_doc *d, const cJSON *o, const char *path, const char *key,
-                  double min, double max, double *out, gale_err *err)
+/* Fails naming the first key of obj that is neither in `fields` nor in `extra`. */
+static int sp_keys(const cfg_doc *d, const cJSON *obj, const char *path, const sp_field *fields,
+                   size_t n, const char *const *extra, gale_err *err)
 {
-    return cfg_number(d, o, path, key, false, *out, min, max, out, err);
+    const char *keys[32];
+    size_t k = 0;
+    for (size_t i = 0; i < n && k < COUNT(keys) - 1; i++) {
+        keys[k++] = fields[i].key;
+    }
+    for (; extra && *extra && k < COUNT(keys) - 1; extra++) {
+        keys[k++] = *extra;
+    }
+    keys[k] = NULL;
+    return cfg_check_keys(d, obj, path, keys, err);
 }
 
 /* obj[key] as an optional object: *o NULL when absent; a wrong type is an error. */
@@ -65,44 +219,23 @@ static int sp_section(const cfg_doc *d, const cJSON *parent, const char *path, c
     return GALE_OK;
 }
 
-static int sp_rule(const cfg_doc *d, const cJSON *parent, const char *path, const char *key,
-                   lsystem_rule *r, gale_err *err)
+static int sp_rule(const cfg_doc *d, const cJSON *gen, const char *key, lsystem_rule *r,
+                   gale_err *err)
 {
-    static const char *const keys[] = { "whorls", "per_whorl", "start", "end", "angle_deg",
-                                        "tip_children", "tip_angle_deg", "tip_continue",
-                                        "continue_ratio", "angle_jitter_deg", "length_ratio",
-                                        "length_top", "length_jitter", "radius_ratio", "taper",
-                                        "bend_deg", "prune_prob", NULL };
     const cJSON *o;
-    int src = sp_section(d, parent, path, key, &o, err);
-    if (src != 0 || !o) {
-        return src;
+    char p[64];
+    cfg_path(p, sizeof p, "generator", key);
+    int rc = sp_section(d, gen, "generator", key, &o, err);
+    if (rc != 0 || !o) {
+        return rc;
     }
-    char p[256];
-    cfg_path(p, sizeof p, path, key);
-    int rc = cfg_check_keys(d, o, p, keys, err);
-    bool cont = r->tip_continue != 0;
-    if (rc == 0) rc = sp_int(d, o, p, "whorls", 0, 64, &r->whorls, err);
-    if (rc == 0) rc = sp_int(d, o, p, "per_whorl", 0, 16, &r->per_whorl, err);
-    if (rc == 0) rc = sp_num(d, o, p, "start", 0.0, 1.0, &r->start, err);
-    if (rc == 0) rc = sp_num(d, o, p, "end", 0.0, 1.0, &r->end, err);
-    if (rc == 0) rc = sp_num(d, o, p, "angle_deg", 0.0, 180.0, &r->angle_deg, err);
-    if (rc == 0) rc = sp_int(d, o, p, "tip_children", 0, 32, &r->tip_children, err);
-    if (rc == 0) rc = sp_num(d, o, p, "tip_angle_deg", 0.0, 180.0, &r->tip_angle_deg, err);
-    if (rc == 0) rc = cfg_bool(d, o, p, "tip_continue", false, cont, &cont, err);
-    if (rc == 0) rc = sp_num(d, o, p, "continue_ratio", 0.0, 2.0, &r->continue_ratio, err);
-    if (rc == 0) rc = sp_num(d, o, p, "angle_jitter_deg", 0.0, 90.0, &r->angle_jitter_deg, err);
-    if (rc == 0) rc = sp_num(d, o, p, "length_ratio", 0.01, 2.0, &r->length_ratio, err);
-    if (rc == 0) rc = sp_num(d, o, p, "length_top", 0.01, 4.0, &r->length_top, err);
-    if (rc == 0) rc = sp_num(d, o, p, "length_jitter", 0.0, 0.9, &r->length_jitter, err);
-    if (rc == 0) rc = sp_num(d, o, p, "radius_ratio", 0.01, 1.0, &r->radius_ratio, err);
-    if (rc == 0) rc = sp_num(d, o, p, "taper", 0.01, 1.0, &r->taper, err);
-    if (rc == 0) rc = sp_num(d, o, p, "bend_deg", -180.0, 180.0, &r->bend_deg, err);
-    if (rc == 0) rc = sp_num(d, o, p, "prune_prob", 0.0, 1.0, &r->prune_prob, err);
+    rc = sp_keys(d, o, p, rule_fields, COUNT(rule_fields), NULL, err);
+    if (rc == 0) {
+        rc = sp_read(d, o, p, rule_fields, COUNT(rule_fields), r, err);
+    }
     if (rc != 0) {
         return rc;
     }
-    r->tip_continue = cont ? 1 : 0;
     if (r->start > r->end) {
         return gale_errf(err, GALE_E_RANGE, "%s: %s.start: expected <= end (%g), got %g", d->name,
                          p, r->end, r->start);
@@ -116,78 +249,46 @@ static int sp_rule(const cfg_doc *d, const cJSON *parent, const char *path, cons
 
 static int sp_generator(const cfg_doc *d, const cJSON *root, lsystem_params *g, gale_err *err)
 {
-    static const char *const keys[] = { "seed", "target_nodes", "depth", "trunk_length_m",
-                                        "trunk_radius_m", "trunk_taper", "trunk_bend_deg",
-                                        "segment_m", "twist_deg", "twist_jitter_deg",
-                                        "wobble_deg", "trunk", "branch", NULL };
+    static const char *const subs[] = { "trunk", "branch", NULL };
     const cJSON *o;
-    int src = sp_section(d, root, "", "generator", &o, err);
-    if (src != 0 || !o) {
-        return src;
+    int rc = sp_section(d, root, "", "generator", &o, err);
+    if (rc != 0 || !o) {
+        return rc;
     }
-    const char *p = "generator";
-    int rc = cfg_check_keys(d, o, p, keys, err);
-    long long seed = (long long)(g->seed & 0x7fffffffffffffffull);
-    /* 2^53: every integer below it is exact in a JSON number */
-    if (rc == 0) rc = cfg_int(d, o, p, "seed", false, seed, 0, 9007199254740992LL, &seed, err);
-    if (rc == 0) rc = sp_int(d, o, p, "target_nodes", 0, 1000000, &g->target_nodes, err);
-    if (rc == 0) rc = sp_int(d, o, p, "depth", 0, 10, &g->depth, err);
-    if (rc == 0) rc = sp_num(d, o, p, "trunk_length_m", 0.1, 200.0, &g->trunk_length_m, err);
-    if (rc == 0) rc = sp_num(d, o, p, "trunk_radius_m", 0.001, 10.0, &g->trunk_radius_m, err);
-    if (rc == 0) rc = sp_num(d, o, p, "trunk_taper", 0.01, 1.0, &g->trunk_taper, err);
-    if (rc == 0) rc = sp_num(d, o, p, "trunk_bend_deg", -180.0, 180.0, &g->trunk_bend_deg, err);
-    if (rc == 0) rc = sp_num(d, o, p, "segment_m", 0.0, 100.0, &g->segment_m, err);
-    if (rc == 0) rc = sp_num(d, o, p, "twist_deg", -360.0, 360.0, &g->twist_deg, err);
-    if (rc == 0) rc = sp_num(d, o, p, "twist_jitter_deg", 0.0, 180.0, &g->twist_jitter_deg, err);
-    if (rc == 0) rc = sp_num(d, o, p, "wobble_deg", 0.0, 90.0, &g->wobble_deg, err);
-    if (rc == 0) rc = sp_rule(d, o, p, "trunk", &g->trunk, err);
-    if (rc == 0) rc = sp_rule(d, o, p, "branch", &g->branch, err);
+    rc = sp_keys(d, o, "generator", gen_fields, COUNT(gen_fields), subs, err);
     if (rc == 0) {
-        g->seed = (uint64_t)seed;
+        rc = sp_read(d, o, "generator", gen_fields, COUNT(gen_fields), g, err);
     }
-    return rc;
-}
-
-static int sp_rgb(const cfg_doc *d, const cJSON *o, const char *path, const char *key,
-                  float rgb[3], gale_err *err)
-{
-    double v[3] = { rgb[0], rgb[1], rgb[2] };
-    int rc = cfg_vec(d, o, path, key, false, 3, v, 0.0, 1.0, v, err);
     if (rc == 0) {
-        for (int i = 0; i < 3; i++) {
-            rgb[i] = (float)v[i];
-        }
+        rc = sp_rule(d, o, "trunk", &g->trunk, err);
+    }
+    if (rc == 0) {
+        rc = sp_rule(d, o, "branch", &g->branch, err);
     }
     return rc;
 }
 
 static int sp_look(const cfg_doc *d, const cJSON *root, species *sp, gale_err *err)
 {
-    static const char *const keys[] = { "bark_rgb", "leaf_rgb", "leaf_shape", "leaf_size_m",
-                                        "leaves_per_tip", "leaf_spread_deg", NULL };
+    static const char *const extra[] = { "leaf_shape", NULL };
     static const char *const shapes[] = { "broad", "palm", "needle" };
     const cJSON *o;
-    int src = sp_section(d, root, "", "look", &o, err);
-    if (src != 0 || !o) {
-        return src;
+    int rc = sp_section(d, root, "", "look", &o, err);
+    if (rc != 0 || !o) {
+        return rc;
     }
-    const char *p = "look";
-    int rc = cfg_check_keys(d, o, p, keys, err);
-    char shape[16];
-    double size = sp->leaf_size_m, spread = sp->leaf_spread_deg;
-    if (rc == 0) rc = sp_rgb(d, o, p, "bark_rgb", sp->bark_rgb, err);
-    if (rc == 0) rc = sp_rgb(d, o, p, "leaf_rgb", sp->leaf_rgb, err);
+    rc = sp_keys(d, o, "look", look_fields, COUNT(look_fields), extra, err);
     if (rc == 0) {
-        rc = cfg_string(d, o, p, "leaf_shape", false, shapes[sp->leaf_shape], shape, sizeof shape, err);
+        rc = sp_read(d, o, "look", look_fields, COUNT(look_fields), sp, err);
     }
-    if (rc == 0) rc = cfg_number(d, o, p, "leaf_size_m", false, size, 0.005, 10.0, &size, err);
-    if (rc == 0) rc = sp_int(d, o, p, "leaves_per_tip", 0, 64, &sp->leaves_per_tip, err);
-    if (rc == 0) rc = cfg_number(d, o, p, "leaf_spread_deg", false, spread, 0.0, 180.0, &spread, err);
+    char shape[16];
+    if (rc == 0) {
+        rc = cfg_string(d, o, "look", "leaf_shape", false, shapes[sp->leaf_shape], shape,
+                        sizeof shape, err);
+    }
     if (rc != 0) {
         return rc;
     }
-    sp->leaf_size_m = (float)size;
-    sp->leaf_spread_deg = (float)spread;
     for (int i = 0; i < 3; i++) {
         if (strcmp(shape, shapes[i]) == 0) {
             sp->leaf_shape = i;
@@ -201,21 +302,25 @@ static int sp_look(const cfg_doc *d, const cJSON *root, species *sp, gale_err *e
 
 static int sp_from_doc(const cfg_doc *d, species *sp, gale_err *err)
 {
-    static const char *const keys[] = { "name", "E_pa", "rho_kg_m3", "G_pa", "rayleigh_alpha",
-                                        "rayleigh_beta", "drag_c", "generator", "look", NULL };
+    static const char *const extra[] = { "name", "G_pa", "generator", "look", NULL };
     const cJSON *r = d->root;
-    int rc = cfg_check_keys(d, r, "", keys, err);
     double G = -1.0;
-    if (rc == 0) rc = cfg_string(d, r, "", "name", true, NULL, sp->name, sizeof sp->name, err);
-    /* wood: E of green timber is 5-15 GPa; palm stems ~2-8 GPa; the bounds allow model tests */
-    if (rc == 0) rc = sp_num(d, r, "", "E_pa", 1e6, 1e12, &sp->E_pa, err);
-    if (rc == 0) rc = sp_num(d, r, "", "rho_kg_m3", 10.0, 20000.0, &sp->rho_kg_m3, err);
-    if (rc == 0) rc = cfg_number(d, r, "", "G_pa", false, -1.0, 1e5, 1e12, &G, err);
-    if (rc == 0) rc = sp_num(d, r, "", "rayleigh_alpha", 0.0, 100.0, &sp->rayleigh_alpha, err);
-    if (rc == 0) rc = sp_num(d, r, "", "rayleigh_beta", 0.0, 1.0, &sp->rayleigh_beta, err);
-    if (rc == 0) rc = sp_num(d, r, "", "drag_c", 0.0, 100.0, &sp->drag_c, err);
-    if (rc == 0) rc = sp_generator(d, r, &sp->gen, err);
-    if (rc == 0) rc = sp_look(d, r, sp, err);
+    int rc = sp_keys(d, r, "", top_fields, COUNT(top_fields), extra, err);
+    if (rc == 0) {
+        rc = cfg_string(d, r, "", "name", true, NULL, sp->name, sizeof sp->name, err);
+    }
+    if (rc == 0) {
+        rc = sp_read(d, r, "", top_fields, COUNT(top_fields), sp, err);
+    }
+    if (rc == 0) {
+        rc = cfg_number(d, r, "", "G_pa", false, -1.0, 1e5, 1e12, &G, err);
+    }
+    if (rc == 0) {
+        rc = sp_generator(d, r, &sp->gen, err);
+    }
+    if (rc == 0) {
+        rc = sp_look(d, r, sp, err);
+    }
     if (rc != 0) {
         return rc;
     }

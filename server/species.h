@@ -21,9 +21,9 @@ typedef struct species {
     /* look */
     float bark_rgb[3];
     float leaf_rgb[3];
-    int leaf_shape;       /* 0 broad leaf, 1 palm frond leaflet, 2 needle tuft */
-    float leaf_size_m;    /* blade length */
-    int leaves_per_tip;   /* leaf slots on each terminal node */
+    int leaf_shape;        /* 0 broad leaf, 1 palm frond leaflet, 2 needle tuft */
+    float leaf_size_m;     /* blade length */
+    int leaves_per_tip;    /* leaf slots on each terminal node */
     float leaf_spread_deg; /* how far blade normals stray from the twig's side [deg] */
 } species;
 

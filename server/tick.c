@@ -26,8 +26,8 @@ struct tick_sim {
     int n_leaves;
     uint32_t tick;
     leaf_desc leaf;
-    pthread_mutex_t lock;   /* guards inflow and gust below */
-    float dir_rad, u10_ms, gust[3];
+    pthread_mutex_t lock;   /* guards inflow below */
+    wind_inflow inflow;
     bool inflow_dirty;
 };
 
@@ -131,8 +131,8 @@ tick_sim *tick_create(const tick_desc *d, gale_err *err)
                            .calm_ms = sc->leaf_calm_ms,
                            .ref_ms = sc->leaf_ref_ms,
                            .seed = sc->leaf_seed };
-    t->dir_rad = sc->wind_dir_deg * 0.017453292f;
-    t->u10_ms = sc->wind_u10_ms;
+    t->inflow = (wind_inflow){ .dir_rad = sc->wind_dir_deg * 0.017453292f,
+                               .u10_ms = sc->wind_u10_ms };
     t->inflow_dirty = true;
     return t;
 fail:
@@ -157,29 +157,21 @@ void tick_destroy(tick_sim *t)
     free(t);
 }
 
-void tick_set_inflow(tick_sim *t, float dir_rad, float u10_ms)
+void tick_set_inflow(tick_sim *t, const wind_inflow *in)
 {
     pthread_mutex_lock(&t->lock);
-    t->dir_rad = dir_rad;
-    t->u10_ms = u10_ms;
+    t->inflow = *in;
     t->inflow_dirty = true;
     pthread_mutex_unlock(&t->lock);
 }
 
-void tick_set_gust(tick_sim *t, const float gust[3])
+/* The log-law profile alone (no grid): U(z) = U10 ln(z/z0) / ln(10/z0), z clamped below
+ * at zmin (defaults z0 = 0.3 m, EN 1991-1-4 terrain III, and 5 m), plus the gust. */
+static void sample_profile(tick_sim *t, const wind_inflow *in)
 {
-    pthread_mutex_lock(&t->lock);
-    memcpy(t->gust, gust, sizeof t->gust);
-    t->inflow_dirty = true;
-    pthread_mutex_unlock(&t->lock);
-}
-
-/* The steady log-law profile (no grid): U(z) = U10 ln(z/z0) / ln(10/z0), z >= 5 m,
- * z0 = 0.3 m (EN 1991-1-4 terrain III), plus the gust. */
-static void sample_profile(tick_sim *t, float dir, float u10, const float gust[3])
-{
-    const float z0 = 0.3f, zmin = 5.0f;
-    float cx = cosf(dir), cy = sinf(dir), l10 = logf(10.0f / z0);
+    const float z0 = in->z0_m > 0 ? in->z0_m : 0.3f, zmin = in->zmin_m > 0 ? in->zmin_m : 5.0f;
+    const float u10 = in->u10_ms, *gust = in->gust;
+    float cx = cosf(in->dir_rad), cy = sinf(in->dir_rad), l10 = logf(10.0f / z0);
     for (int k = 0; k < t->n_trees; k++) {
         float z = t->crown[3 * k + 2] < zmin ? zmin : t->crown[3 * k + 2];
         float u = u10 * logf(z / z0) / l10;
@@ -201,12 +193,10 @@ int tick_step(tick_sim *t, tick_stats *st, gale_err *err)
     tick_stats local = { 0 };
     double t0 = now_ms();
     const scene *sc = t->d.sc;
-    float dir, u10, gust[3];
+    wind_inflow in;
     bool dirty;
     pthread_mutex_lock(&t->lock);
-    dir = t->dir_rad;
-    u10 = t->u10_ms;
-    memcpy(gust, t->gust, sizeof gust);
+    in = t->inflow;
     dirty = t->inflow_dirty;
     t->inflow_dirty = false;
     pthread_mutex_unlock(&t->lock);
@@ -214,8 +204,6 @@ int tick_step(tick_sim *t, tick_stats *st, gale_err *err)
     /* 1. wind */
     if (t->d.wind) {
         if (dirty) {
-            wind_inflow in = { .dir_rad = dir, .u10_ms = u10 };
-            memcpy(in.gust, gust, sizeof gust);
             t->d.wind->set_inflow(t->d.wind->ctx, &in);
         }
         int every = sc->wind_every > 0 ? sc->wind_every : 1;
@@ -233,7 +221,7 @@ int tick_step(tick_sim *t, tick_stats *st, gale_err *err)
         /* 2. sample the wind at every crown */
         t->d.wind->sample_many(t->d.wind->ctx, t->n_trees, t->crown, t->vel);
     } else {
-        sample_profile(t, dir, u10, gust);
+        sample_profile(t, &in);
     }
 
     /* 3. forces and the exact modal update; 4. leaves */

@@ -59,12 +59,9 @@ void tick_destroy(tick_sim *t);
 /* Runs one tick. No allocation. Fails only when the wind step breaks down. */
 int tick_step(tick_sim *t, tick_stats *st, gale_err *err);
 
-/* Sets the steady inflow (kiosk dial): direction the wind blows toward [rad] and 10 m
- * speed [m/s]. Safe from another thread; applied at the next tick. */
-void tick_set_inflow(tick_sim *t, float dir_rad, float u10_ms);
-/* Adds a gust velocity [m/s] to the inflow (from the scenario's gust process); the same
- * threading rule. */
-void tick_set_gust(tick_sim *t, const float gust[3]);
+/* Sets the inflow (from the scenario: mean wind, direction, profile and this instant's
+ * gust). Safe from another thread; applied at the next tick. */
+void tick_set_inflow(tick_sim *t, const wind_inflow *in);
 
 /* Ticks run so far (the tick number of the state tick_q shows). */
 uint32_t tick_now(const tick_sim *t);

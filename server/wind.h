@@ -52,7 +52,12 @@ typedef struct wind_step_stats {
     double div_before;  /* L2 of divergence over fluid cells before projection */
     double div_after;   /* after projection */
     int iterations;     /* pressure solver iterations (V-cycles or CG steps) */
+    double residual;    /* final ||b - A p|| / ||b|| of the pressure solve (= after / before) */
     double ms;          /* wall time of the step */
+    double ms_advect;   /* of which: advection (with ghost filling) */
+    double ms_forces;   /*           forces, boundary conditions, divergence */
+    double ms_solve;    /*           pressure solve */
+    double ms_project;  /*           projection */
 } wind_step_stats;
 
 /* Creates a wind grid at rest; NULL on failure with err filled. */
@@ -69,6 +74,13 @@ void wind_add_ball(wind_grid *w, const wind_ball *b);
 /* Advances the field by dt_s; fills *st when not NULL. Fails only on a numerical
  * breakdown (non-finite values), which the caller logs. */
 int wind_step(wind_grid *w, float dt_s, wind_step_stats *st);
+
+/* Sets the whole field to the current inflow profile (solid faces, ground and lid at
+ * zero normal velocity) and clears the pressure warm start: a start already in the wind. */
+void wind_fill_inflow(wind_grid *w);
+/* RMS divergence [1/s] of the current field over fluid cells, computed from the face
+ * velocities in double, independently of the solver. */
+double wind_divergence_rms(const wind_grid *w);
 
 /* Trilinear wind velocity [m/s] at a world point; points outside the grid clamp to it. */
 void wind_sample(const wind_grid *w, const float p[3], float v[3]);

@@ -232,8 +232,8 @@ static void test_conifer_shape(void)
                 a = s.parent[a];
             }
             if (a == i && s.order[j] == 1) {
-                reach = fmax(reach, hypot(s.pos[3 * j] - s.pos[3 * p],
-                                          s.pos[3 * j + 1] - s.pos[3 * p + 1]));
+                reach = fmax(
+                    reach, hypot(s.pos[3 * j] - s.pos[3 * p], s.pos[3 * j + 1] - s.pos[3 * p + 1]));
             }
         }
         if ((double)s.pos[3 * p + 2] < 0.5 * h) {

@@ -21,6 +21,7 @@ static void test_defaults(void)
     CHECK_NEAR(s.snapshot_hz, 30, 0);
     CHECK(s.n_trees == 1 && s.n_species == 1);
     CHECK_STR_HAS(s.species[0].file, "/base/oak.json");
+    CHECK(s.species[0].modes == 32);
     CHECK_NEAR(s.trees[0].pos[0], 1, 0);
     CHECK_NEAR(s.trees[0].pos[1], 2, 0);
     CHECK_NEAR(s.trees[0].scale, 1, 0);
@@ -93,6 +94,8 @@ static void test_errors(void)
     check_err("{" SP ", \"wind\": 3, \"trees\": [{\"species\": \"oak\", \"pos\": [0,0]}]}",
               "wind: expected an object, got a number");
     check_err("{\"species\": [], \"trees\": []}", "species: expected 1 to 16 entries, got 0");
+    check_err("{\"species\": [{\"name\": \"a\", \"file\": \"f\", \"modes\": 65}]}",
+              "species[0].modes: expected an integer in [1, 64], got 65");
     check_err("{" SP ",\n \"trees\": [", "t.json:2:");
     /* NULL err: still fails cleanly */
     scene s;

@@ -76,7 +76,7 @@ static void test_leaves_and_errors(void)
         total += tick_leaves(t, &ls);
     }
     CHECK(total == 0);
-    tick_set_inflow(t, 0, 30); /* a storm: 2000 · 0.01 · ((30-3)/17)² ≈ 50 leaves/s */
+    tick_set_inflow(t, &(wind_inflow){ .u10_ms = 30 }); /* a storm: 2000 · 0.01 · ((30-3)/17)² ≈ 50 leaves/s */
     tick_stats st;
     for (int n = 0; n < 600; n++) {
         tick_step(t, &st, NULL);

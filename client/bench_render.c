@@ -1,0 +1,144 @@
+/* gale-bench render: frame time of gale_render, headless (EGL, else hidden window). Default:
+ * a small forest for llvmpipe; --trees 4000 --nodes 3500 --size 1920x1080 is the paper's
+ * scene (Diener 2008 section 6) for a real GPU. Prints JSON with the median. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <epoxy/gl.h>
+
+#include "render.h"
+#include "render_demo.h"
+
+int bench_render(int argc, char **argv);
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int cmp_d(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+int bench_render(int argc, char **argv)
+{
+    uint32_t trees = 64, nodes = 200, modes = 16, frames = 20, falling = 500;
+    int w = 960, h = 540;
+    float spacing = 9.0f;
+    for (int i = 1; i < argc; i++) {
+        const char *v = i + 1 < argc ? argv[i + 1] : "";
+        if (!strcmp(argv[i], "--trees")) {
+            trees = (uint32_t)strtoul(v, NULL, 10);
+        } else if (!strcmp(argv[i], "--nodes")) {
+            nodes = (uint32_t)strtoul(v, NULL, 10);
+        } else if (!strcmp(argv[i], "--modes")) {
+            modes = (uint32_t)strtoul(v, NULL, 10);
+        } else if (!strcmp(argv[i], "--frames")) {
+            frames = (uint32_t)strtoul(v, NULL, 10);
+        } else if (!strcmp(argv[i], "--falling")) {
+            falling = (uint32_t)strtoul(v, NULL, 10);
+        } else if (!strcmp(argv[i], "--spacing")) {
+            spacing = strtof(v, NULL);
+        } else if (!strcmp(argv[i], "--size")) {
+            if (sscanf(v, "%dx%d", &w, &h) != 2) {
+                w = 0;
+            }
+        } else {
+            fprintf(stderr, "usage: gale-bench render [--trees N] [--nodes N] [--modes N] "
+                            "[--size WxH] [--frames N] [--falling N] [--spacing M]\n");
+            return 2;
+        }
+        i++;
+    }
+    if (trees == 0 || frames == 0 || w <= 0 || modes < 2 || modes > 64) {
+        fprintf(stderr, "gale-bench render: bad arguments\n");
+        return 2;
+    }
+    gale_err err = { 0 };
+    render *r = render_create(&(render_desc){ .width = w, .height = h, .headless = true,
+                                              .max_trees = trees,
+                                              .max_falling = falling + 1 }, &err);
+    if (!r) {
+        fprintf(stderr, "gale-bench render: %s\n", err.msg);
+        return 1;
+    }
+    asset a[2];
+    int nsp = 2;
+    for (int s = 0; s < nsp; s++) {
+        if (render_demo_asset(&a[s], &(render_demo_desc){ .n_nodes = nodes, .n_modes = modes,
+                                     .leaf_shape = (uint32_t)s * 2, .seed = (uint32_t)s + 3 },
+                              &err) < 0 ||
+            render_add_species(r, &a[s], &err) < 0) {
+            fprintf(stderr, "gale-bench render: %s\n", err.msg);
+            render_destroy(r);
+            return 1;
+        }
+    }
+    render_instance *inst = calloc(trees, sizeof *inst);
+    render_demo_forest(inst, trees, (uint32_t)nsp, spacing, 11);
+    if (render_set_instances(r, trees, inst, &err) < 0) {
+        fprintf(stderr, "gale-bench render: %s\n", err.msg);
+        return 1;
+    }
+    for (uint32_t k = 0; k < falling; k++) {
+        uint32_t t = (k * 2654435761u) % trees;
+        render_add_falling_leaf(r, &(render_leaf_seed){ .tree = t, .slot = k % a[inst[t].species].n_leaves,
+                                                        .spawn_time_s = 0.01 * k, .seed = k },
+                                &err);
+    }
+    render_set_wind(r, &(render_wind){ .uniform = { 12.0f, 3.0f, 0.0f } }, &err);
+    float ext = spacing * sqrtf((float)trees);
+    render_camera cam = { .eye = { 0.0f, -0.5f * ext - 20.0f, 12.0f },
+                          .target = { 0.0f, -0.5f * ext + 30.0f, 4.0f } };
+    double *ft = calloc(frames, sizeof *ft), *cpu = calloc(frames, sizeof *cpu);
+    uint32_t stride;
+    float *q = render_q_staging(r, &stride);
+    render_stats st = { 0 };
+    for (uint32_t f = 0; f < frames + 2; f++) {
+        double t = 5.0 + f / 60.0;
+        for (uint32_t i = 0; i < trees; i++) {
+            const float wl[3] = { 12.0f, 3.0f, 0.0f };
+            render_demo_pose(&a[inst[i].species], wl, (float)t, i, &q[(size_t)i * stride]);
+        }
+        double t0 = now_s();
+        if (render_frame(r, &cam, t, &err) < 0) {
+            fprintf(stderr, "gale-bench render: %s\n", err.msg);
+            return 1;
+        }
+        double t1 = now_s();
+        glFinish();
+        double t2 = now_s();
+        if (f >= 2) {
+            cpu[f - 2] = 1e3 * (t1 - t0);
+            ft[f - 2] = 1e3 * (t2 - t0);
+        }
+        st = render_get_stats(r);
+    }
+    qsort(ft, frames, sizeof *ft, cmp_d);
+    qsort(cpu, frames, sizeof *cpu, cmp_d);
+    const char *rend = (const char *)glGetString(GL_RENDERER);
+    printf("{\"bench\":\"render\",\"renderer\":\"%s\",\"trees\":%u,\"nodes\":%u,\"modes\":%u,"
+           "\"size\":\"%dx%d\",\"frames\":%u,\"frame_ms_median\":%.3f,\"frame_ms_min\":%.3f,"
+           "\"frame_ms_max\":%.3f,\"fps_median\":%.1f,\"cpu_submit_ms_median\":%.3f,"
+           "\"trees_full\":%u,\"trees_billboard\":%u,\"culled\":%u,\"draw_calls\":%u,"
+           "\"leaves_drawn\":%llu,\"falling\":%u}\n",
+           rend ? rend : "?", trees, a[0].n_nodes, modes, w, h, frames, ft[frames / 2], ft[0],
+           ft[frames - 1], 1e3 / ft[frames / 2], cpu[frames / 2], st.trees_full,
+           st.trees_billboard, st.trees_culled, st.draw_calls,
+           (unsigned long long)st.leaves_drawn, st.falling_live);
+    free(ft);
+    free(cpu);
+    free(inst);
+    for (int s = 0; s < nsp; s++) {
+        render_demo_free(&a[s]);
+    }
+    render_destroy(r);
+    return 0;
+}

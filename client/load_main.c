@@ -1,0 +1,494 @@
+/* gale-load: a headless load client (DESIGN.md "load-testing clients"). N WebSocket
+ * connections on one lws service thread (after the v4.1.6 minimal-ws-client example);
+ * each says hello, reads the welcome, then decodes every binary frame with the protocol
+ * library, checking sequence and integrity. Reports connected, frames, bytes, decode
+ * errors, disconnects and end-to-end latency (server timestamp to decode, both on this
+ * host's CLOCK_MONOTONIC) percentiles. Loopback only; bounded in count and time. */
+#include <ctype.h>
+#include <inttypes.h>
+#include <signal.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <libwebsockets.h>
+
+#include "ctl.h"
+#include "wire.h"
+
+#define LOAD_MAX_CLIENTS 5000
+#define LOAD_MAX_SECONDS 3600
+#define LAT_BUCKET_US 10          /* latency histogram resolution */
+#define LAT_BUCKETS 200000        /* 10 µs x 200 000 = 2 s; slower goes to the last bucket */
+
+typedef struct load_conn {
+    struct lws *wsi;
+    int index;
+    bool established, hello_sent, welcomed, closed, closing;
+    uint8_t *rx;          /* owned: message reassembly */
+    size_t rx_len, rx_cap;
+    wire_decoder *dec;    /* owned, sized from the welcome */
+    uint32_t last_seq;
+    int close_code;
+} load_conn;
+
+typedef struct load_run {
+    struct lws_context *ctx;
+    char host[128], path[128];
+    int port, n, role;
+    char token[CTL_MAX_TOKEN];
+    double seconds;
+    bool ending;
+    load_conn *conns;     /* owned [n] */
+    int connected, welcomed, open_now;
+    uint64_t frames, state_frames, keyframes, leaf_frames, bytes, decode_errors, seq_gaps,
+        skipped_seqs, disconnects, connect_errors, text_msgs;
+    int close_codes[8];   /* first few unexpected close codes, for the report */
+    int n_close_codes;
+    uint32_t *lat;        /* owned [LAT_BUCKETS] histogram */
+    uint64_t lat_n, lat_max_us;
+    char first_error[256];
+} load_run;
+
+static volatile sig_atomic_t interrupted;
+
+static void on_signal(int sig)
+{
+    (void)sig;
+    interrupted = 1;
+}
+
+static uint64_t mono_us(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (uint64_t)t.tv_sec * 1000000ull + (uint64_t)t.tv_nsec / 1000u;
+}
+
+/* Keeps the first error of the run for the report: "what: message". */
+static void note_error(load_run *r, const char *what, const char *msg)
+{
+    if (!r->first_error[0]) {
+        int n = snprintf(r->first_error, sizeof r->first_error, "%s: %.200s", what, msg);
+        (void)n;
+    }
+}
+
+static void on_binary(load_run *r, load_conn *c, const uint8_t *b, size_t len)
+{
+    r->frames++;
+    if (!c->dec) {
+        r->decode_errors++;
+        note_error(r, "frame", "binary frame before the welcome");
+        return;
+    }
+    wire_frame f;
+    gale_err e;
+    int rc = wire_decode(c->dec, b, len, &f, &e);
+    uint64_t now = mono_us();
+    if (rc) {
+        if (rc == GALE_E_STATE) {
+            r->seq_gaps++;
+        }
+        r->decode_errors++;
+        note_error(r, "decode", e.msg);
+        return;
+    }
+    if (f.hdr.type == WIRE_MSG_KEYFRAME || f.hdr.type == WIRE_MSG_DELTA) {
+        r->state_frames++;
+        if (f.hdr.type == WIRE_MSG_KEYFRAME) {
+            r->keyframes++;
+            if (c->last_seq && f.seq > c->last_seq + 1u) {
+                r->skipped_seqs += f.seq - c->last_seq - 1u; /* the server dropped them for us */
+            }
+        }
+        if (c->last_seq && f.seq <= c->last_seq) {
+            r->decode_errors++;
+            note_error(r, "sequence", "went backwards");
+        }
+        c->last_seq = f.seq;
+        uint64_t lat = now > f.hdr.server_time_us ? now - f.hdr.server_time_us : 0;
+        uint64_t k = lat / LAT_BUCKET_US;
+        r->lat[k < LAT_BUCKETS ? k : LAT_BUCKETS - 1]++;
+        r->lat_n++;
+        if (lat > r->lat_max_us) {
+            r->lat_max_us = lat;
+        }
+    } else if (f.hdr.type == WIRE_MSG_LEAVES) {
+        r->leaf_frames++;
+    }
+}
+
+static void on_text(load_run *r, load_conn *c, const char *t, size_t len)
+{
+    r->text_msgs++;
+    ctl_msg m;
+    gale_err e;
+    if (ctl_decode(t, len, CTL_MAX_SERVER_BYTES, &m, NULL, &e)) {
+        r->decode_errors++;
+        note_error(r, "control", e.msg);
+        return;
+    }
+    if (m.type == CTL_WELCOME && !c->dec) {
+        uint32_t modes = 1;
+        for (uint32_t i = 0; i < m.u.welcome.n_species; i++) {
+            modes = m.u.welcome.species[i].n_modes > modes ? m.u.welcome.species[i].n_modes
+                                                            : modes;
+        }
+        c->dec = wire_decoder_create(
+            &(wire_decoder_desc){ .max_trees = m.u.welcome.n_instances ? m.u.welcome.n_instances : 1,
+                                  .max_modes = modes },
+            &e);
+        if (!c->dec) {
+            note_error(r, "decoder", e.msg);
+        } else {
+            c->welcomed = true;
+            r->welcomed++;
+        }
+    } else if (m.type == CTL_ERROR) {
+        note_error(r, "server error", m.u.error.message);
+    }
+    ctl_msg_fini(&m);
+}
+
+static int callback(struct lws *wsi, enum lws_callback_reasons reason, void *user, void *in,
+                    size_t len)
+{
+    load_run *r = lws_context_user(lws_get_context(wsi));
+    load_conn *c = user;
+    switch (reason) {
+    case LWS_CALLBACK_CLIENT_CONNECTION_ERROR:
+        if (c) {
+            r->connect_errors++;
+            c->closed = true;
+            note_error(r, "connect", in ? (const char *)in : "failed");
+        }
+        break;
+    case LWS_CALLBACK_CLIENT_ESTABLISHED:
+        c->established = true;
+        r->connected++;
+        r->open_now++;
+        lws_callback_on_writable(wsi);
+        break;
+    case LWS_CALLBACK_CLIENT_WRITEABLE: {
+        if (c->closing) {
+            lws_close_reason(wsi, LWS_CLOSE_STATUS_NORMAL, (unsigned char *)"done", 4);
+            return -1;
+        }
+        if (c->hello_sent) {
+            break;
+        }
+        c->hello_sent = true;
+        char buf[LWS_PRE + 256];
+        ctl_msg m = { .type = CTL_HELLO };
+        m.u.hello.protocol = WIRE_PROTOCOL_VERSION;
+        m.u.hello.role = r->role;
+        snprintf(m.u.hello.token, sizeof m.u.hello.token, "%s", r->token);
+        size_t n = 0;
+        if (ctl_encode_into(&m, buf + LWS_PRE, sizeof buf - LWS_PRE, &n, NULL) ||
+            lws_write(wsi, (unsigned char *)buf + LWS_PRE, n, LWS_WRITE_TEXT) < (int)n) {
+            return -1;
+        }
+        break;
+    }
+    case LWS_CALLBACK_CLIENT_RECEIVE: {
+        size_t need = c->rx_len + len;
+        if (need > WIRE_MAX_FRAME_BYTES) {
+            r->decode_errors++;
+            note_error(r, "receive", "message over WIRE_MAX_FRAME_BYTES");
+            return -1;
+        }
+        if (need > c->rx_cap) {
+            size_t cap = c->rx_cap ? c->rx_cap : 65536;
+            while (cap < need) {
+                cap *= 2;
+            }
+            uint8_t *nb = realloc(c->rx, cap);
+            if (!nb) {
+                return -1;
+            }
+            c->rx = nb;
+            c->rx_cap = cap;
+        }
+        memcpy(c->rx + c->rx_len, in, len);
+        c->rx_len += len;
+        if (!lws_is_final_fragment(wsi) || lws_remaining_packet_payload(wsi)) {
+            break;
+        }
+        r->bytes += c->rx_len;
+        if (lws_frame_is_binary(wsi)) {
+            on_binary(r, c, c->rx, c->rx_len);
+        } else {
+            on_text(r, c, (const char *)c->rx, c->rx_len);
+        }
+        c->rx_len = 0;
+        break;
+    }
+    case LWS_CALLBACK_WS_PEER_INITIATED_CLOSE:
+        if (len >= 2) {
+            const uint8_t *p = in;
+            c->close_code = p[0] << 8 | p[1];
+        }
+        break;
+    case LWS_CALLBACK_CLIENT_CLOSED:
+        if (c && !c->closed) {
+            c->closed = true;
+            r->open_now--;
+            if (!c->closing) {
+                r->disconnects++;
+                if (r->n_close_codes < 8) {
+                    r->close_codes[r->n_close_codes++] = c->close_code;
+                }
+            }
+        }
+        break;
+    default:
+        break;
+    }
+    return 0;
+}
+
+static const struct lws_protocols protocols[] = {
+    { "gale", callback, 0, 65536, 0, NULL, 0 },
+    { NULL, NULL, 0, 0, 0, NULL, 0 },
+};
+
+static double lat_pct(const load_run *r, double p)
+{
+    if (!r->lat_n) {
+        return 0;
+    }
+    uint64_t want = (uint64_t)(p * (double)r->lat_n + 0.5), acc = 0;
+    want = want < 1 ? 1 : want;
+    for (int k = 0; k < LAT_BUCKETS; k++) {
+        acc += r->lat[k];
+        if (acc >= want) {
+            return (double)(k + 1) * LAT_BUCKET_US * 1e-3; /* upper edge of the bucket [ms] */
+        }
+    }
+    return (double)r->lat_max_us * 1e-3;
+}
+
+static int parse_url(load_run *r, const char *url)
+{
+    if (strncmp(url, "ws://", 5)) {
+        fprintf(stderr, "gale-load: --url: expected ws://HOST:PORT[/path], got \"%s\"\n", url);
+        return -1;
+    }
+    const char *h = url + 5, *colon = strchr(h, ':'), *slash = strchr(h, '/');
+    if (!colon || (slash && slash < colon) || (size_t)(colon - h) >= sizeof r->host) {
+        fprintf(stderr, "gale-load: --url: expected ws://HOST:PORT[/path], got \"%s\"\n", url);
+        return -1;
+    }
+    memcpy(r->host, h, (size_t)(colon - h));
+    r->host[colon - h] = 0;
+    char *end;
+    long port = strtol(colon + 1, &end, 10);
+    if (port < 1 || port > 65535 || (*end && *end != '/')) {
+        fprintf(stderr, "gale-load: --url: port: expected 1..65535, got \"%s\"\n", colon + 1);
+        return -1;
+    }
+    r->port = (int)port;
+    snprintf(r->path, sizeof r->path, "%s", *end ? end : "/");
+    /* loopback only: this tool opens hundreds of connections on purpose */
+    if (strcmp(r->host, "localhost") && strncmp(r->host, "127.", 4)) {
+        fprintf(stderr, "gale-load: --url: host: expected loopback (127.x.x.x or localhost), "
+                        "got \"%s\"\n",
+                r->host);
+        return -1;
+    }
+    if (!strcmp(r->host, "localhost")) {
+        snprintf(r->host, sizeof r->host, "127.0.0.1");
+    }
+    return 0;
+}
+
+static void usage(void)
+{
+    fprintf(stderr, "usage: gale-load --url ws://HOST:PORT --clients N --seconds S "
+                    "[--role viewer|kiosk|wall-tile|load] [--token T] [--json]\n"
+                    "  N in 1..%d, S in 1..%d; HOST must be loopback\n",
+            LOAD_MAX_CLIENTS, LOAD_MAX_SECONDS);
+}
+
+int main(int argc, char **argv)
+{
+    load_run r;
+    memset(&r, 0, sizeof r);
+    r.role = CTL_ROLE_LOAD;
+    bool json = false;
+    const char *url = NULL;
+    long n = 0;
+    double secs = 0;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        char *end = NULL;
+        if (!strcmp(a, "--json")) {
+            json = true;
+        } else if (!strcmp(a, "--url") && v) {
+            url = v;
+            i++;
+        } else if (!strcmp(a, "--clients") && v) {
+            n = strtol(v, &end, 10);
+            if (*end || n < 1 || n > LOAD_MAX_CLIENTS) {
+                fprintf(stderr, "gale-load: --clients: expected 1..%d, got \"%s\"\n",
+                        LOAD_MAX_CLIENTS, v);
+                return 2;
+            }
+            i++;
+        } else if (!strcmp(a, "--seconds") && v) {
+            secs = strtod(v, &end);
+            if (*end || !(secs >= 1 && secs <= LOAD_MAX_SECONDS)) {
+                fprintf(stderr, "gale-load: --seconds: expected 1..%d, got \"%s\"\n",
+                        LOAD_MAX_SECONDS, v);
+                return 2;
+            }
+            i++;
+        } else if (!strcmp(a, "--role") && v) {
+            int k = -1;
+            for (int j = 0; j < 4; j++) {
+                if (ctl_role_name(j) && !strcmp(ctl_role_name(j), v)) {
+                    k = j;
+                }
+            }
+            if (k < 0) {
+                fprintf(stderr, "gale-load: --role: expected viewer|kiosk|wall-tile|load, got \"%s\"\n",
+                        v);
+                return 2;
+            }
+            r.role = k;
+            i++;
+        } else if (!strcmp(a, "--token") && v) {
+            snprintf(r.token, sizeof r.token, "%s", v);
+            i++;
+        } else {
+            fprintf(stderr, "gale-load: unknown or incomplete argument \"%s\"\n", a);
+            usage();
+            return 2;
+        }
+    }
+    if (!url || !n || !secs) {
+        usage();
+        return 2;
+    }
+    if (parse_url(&r, url)) {
+        return 2;
+    }
+    r.n = (int)n;
+    r.seconds = secs;
+    r.conns = calloc((size_t)r.n, sizeof *r.conns);
+    r.lat = calloc(LAT_BUCKETS, sizeof *r.lat);
+    if (!r.conns || !r.lat) {
+        fprintf(stderr, "gale-load: no memory\n");
+        return 1;
+    }
+    signal(SIGINT, on_signal);
+    signal(SIGTERM, on_signal);
+
+    struct lws_context_creation_info info;
+    memset(&info, 0, sizeof info);
+    info.port = CONTEXT_PORT_NO_LISTEN;
+    info.protocols = protocols;
+    info.user = &r;
+    info.fd_limit_per_thread = (unsigned int)(r.n + 16);
+    info.timeout_secs = 10;
+    lws_set_log_level(LLL_ERR, NULL);
+    r.ctx = lws_create_context(&info);
+    if (!r.ctx) {
+        fprintf(stderr, "gale-load: lws_create_context failed\n");
+        return 1;
+    }
+    /* Connect in batches of 50 per service pass so the listen backlog is never flooded. */
+    uint64_t t_start = mono_us(), t_end = 0;
+    int next = 0;
+    while (!interrupted) {
+        for (int k = 0; k < 50 && next < r.n; k++, next++) {
+            load_conn *c = &r.conns[next];
+            c->index = next;
+            struct lws_client_connect_info ci;
+            memset(&ci, 0, sizeof ci);
+            ci.context = r.ctx;
+            ci.address = r.host;
+            ci.port = r.port;
+            ci.path = r.path;
+            ci.host = r.host;
+            ci.origin = r.host;
+            ci.protocol = "gale";
+            ci.pwsi = &c->wsi;
+            ci.userdata = c;
+            if (!lws_client_connect_via_info(&ci)) {
+                r.connect_errors++;
+                c->closed = true;
+            }
+        }
+        lws_service(r.ctx, 0);
+        uint64_t now = mono_us();
+        if (!r.ending && (double)(now - t_start) * 1e-6 >= r.seconds) {
+            r.ending = true;
+            t_end = now;
+            for (int i = 0; i < r.n; i++) {
+                load_conn *c = &r.conns[i];
+                if (c->wsi && c->established && !c->closed) {
+                    c->closing = true;
+                    lws_callback_on_writable(c->wsi);
+                }
+            }
+        }
+        if (r.ending && (r.open_now <= 0 || now - t_end > 3000000)) {
+            break;
+        }
+    }
+    double elapsed = (double)((t_end ? t_end : mono_us()) - t_start) * 1e-6;
+    lws_context_destroy(r.ctx);
+
+    double p50 = lat_pct(&r, 0.50), p95 = lat_pct(&r, 0.95), p99 = lat_pct(&r, 0.99);
+    double maxms = (double)r.lat_max_us * 1e-3;
+    if (json) {
+        printf("{\"url\": \"%s\", \"clients\": %d, \"seconds\": %.1f, \"role\": \"%s\", "
+               "\"connected\": %d, \"welcomed\": %d, \"connect_errors\": %" PRIu64 ", "
+               "\"frames\": %" PRIu64 ", \"state_frames\": %" PRIu64 ", \"keyframes\": %" PRIu64
+               ", \"leaf_frames\": %" PRIu64 ", \"bytes\": %" PRIu64 ", "
+               "\"state_frames_per_client_s\": %.2f, \"decode_errors\": %" PRIu64
+               ", \"sequence_gaps\": %" PRIu64 ", \"skipped_snapshots\": %" PRIu64
+               ", \"disconnects\": %" PRIu64 ", \"latency_ms\": {\"p50\": %.3f, \"p95\": %.3f, "
+               "\"p99\": %.3f, \"max\": %.3f, \"samples\": %" PRIu64 "}",
+               url, r.n, elapsed, ctl_role_name(r.role), r.connected, r.welcomed,
+               r.connect_errors, r.frames, r.state_frames, r.keyframes, r.leaf_frames, r.bytes,
+               r.connected ? (double)r.state_frames / r.connected / elapsed : 0.0,
+               r.decode_errors, r.seq_gaps, r.skipped_seqs, r.disconnects, p50, p95, p99, maxms,
+               r.lat_n);
+        printf(", \"close_codes\": [");
+        for (int i = 0; i < r.n_close_codes; i++) {
+            printf("%s%d", i ? ", " : "", r.close_codes[i]);
+        }
+        printf("], \"first_error\": \"");
+        for (const char *p = r.first_error; *p; p++) {
+            putchar(*p == '"' || *p == '\\' ? '\'' : (isprint((unsigned char)*p) ? *p : ' '));
+        }
+        printf("\"}\n");
+    } else {
+        printf("gale-load: %s, %d clients, %.1f s\n"
+               "  connected %d (welcomed %d, connect errors %" PRIu64 ")\n"
+               "  frames %" PRIu64 " (state %" PRIu64 ", keyframes %" PRIu64 ", leaves %" PRIu64
+               "), bytes %" PRIu64 "\n"
+               "  decode errors %" PRIu64 " (sequence gaps %" PRIu64 "), snapshots skipped by "
+               "the server %" PRIu64 ", disconnects %" PRIu64 "\n"
+               "  latency ms: p50 %.3f  p95 %.3f  p99 %.3f  max %.3f (%" PRIu64 " samples)\n",
+               url, r.n, elapsed, r.connected, r.welcomed, r.connect_errors, r.frames,
+               r.state_frames, r.keyframes, r.leaf_frames, r.bytes, r.decode_errors, r.seq_gaps,
+               r.skipped_seqs, r.disconnects, p50, p95, p99, maxms, r.lat_n);
+        if (r.first_error[0]) {
+            printf("  first error: %s\n", r.first_error);
+        }
+    }
+    for (int i = 0; i < r.n; i++) {
+        free(r.conns[i].rx);
+        wire_decoder_destroy(r.conns[i].dec);
+    }
+    free(r.conns);
+    free(r.lat);
+    bool ok = r.connected == r.n && r.decode_errors == 0 && r.disconnects == 0;
+    return ok ? 0 : 1;
+}

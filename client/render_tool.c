@@ -1,0 +1,202 @@
+/* gale-render: renders a forest of demo species (or baked assets) posed by a uniform wind
+ * to a PNG, offscreen (EGL, else a hidden window under Xvfb). For tests, pictures and
+ * quick looks. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render.h"
+#include "render_demo.h"
+
+
+static void usage(void)
+{
+    fprintf(stderr,
+            "usage: gale-render --out FILE.png [--size WxH] [--trees N] [--species 1..3]\n"
+            "       [--nodes N] [--modes N] [--spacing M] [--wind X,Y,Z] [--time S]\n"
+            "       [--falling N] [--eye X,Y,Z] [--target X,Y,Z] [--asset FILE]...\n"
+            "       [--q Q0,Q1,...]   (the same modal vector for every tree instead of --wind)\n");
+}
+
+static int parse3(const char *s, float v[3])
+{
+    return sscanf(s, "%f,%f,%f", &v[0], &v[1], &v[2]) == 3 ? 0 : -1;
+}
+
+static int load_file(const char *path, asset *a, gale_err *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        return gale_errf(err, GALE_E_IO, "%s: cannot open", path);
+    }
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    uint8_t *buf = n > 0 ? malloc((size_t)n) : NULL;
+    if (!buf || fread(buf, 1, (size_t)n, f) != (size_t)n) {
+        fclose(f);
+        free(buf);
+        return gale_errf(err, GALE_E_IO, "%s: cannot read", path);
+    }
+    fclose(f);
+    int rc = asset_decode(buf, (size_t)n, path, a, err);
+    free(buf);
+    return rc;
+}
+
+int main(int argc, char **argv)
+{
+    const char *out = NULL, *files[8];
+    int nfiles = 0, w = 960, h = 540;
+    uint32_t trees = 1, nspecies = 1, nodes = 60, modes = 8, falling = 0;
+    float spacing = 9.0f, wind[3] = { 0, 0, 0 }, time_s = 0.0f;
+    float eye[3] = { 0, -22, 6 }, target[3] = { 0, 0, 4.5f };
+    bool eye_set = false;
+    float qfix[64] = { 0 };
+    int nqfix = -1;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        int bad = 0;
+        if (!v) {
+            bad = 1;
+        } else if (!strcmp(a, "--out")) {
+            out = v;
+        } else if (!strcmp(a, "--size")) {
+            bad = sscanf(v, "%dx%d", &w, &h) != 2;
+        } else if (!strcmp(a, "--trees")) {
+            trees = (uint32_t)strtoul(v, NULL, 10);
+        } else if (!strcmp(a, "--species")) {
+            nspecies = (uint32_t)strtoul(v, NULL, 10);
+            bad = nspecies < 1 || nspecies > 3;
+        } else if (!strcmp(a, "--nodes")) {
+            nodes = (uint32_t)strtoul(v, NULL, 10);
+        } else if (!strcmp(a, "--modes")) {
+            modes = (uint32_t)strtoul(v, NULL, 10);
+        } else if (!strcmp(a, "--spacing")) {
+            spacing = strtof(v, NULL);
+        } else if (!strcmp(a, "--wind")) {
+            bad = parse3(v, wind);
+        } else if (!strcmp(a, "--time")) {
+            time_s = strtof(v, NULL);
+        } else if (!strcmp(a, "--falling")) {
+            falling = (uint32_t)strtoul(v, NULL, 10);
+        } else if (!strcmp(a, "--eye")) {
+            bad = parse3(v, eye);
+            eye_set = true;
+        } else if (!strcmp(a, "--target")) {
+            bad = parse3(v, target);
+        } else if (!strcmp(a, "--q")) {
+            nqfix = 0;
+            for (const char *p = v; *p && nqfix < 64;) {
+                char *end;
+                qfix[nqfix++] = strtof(p, &end);
+                bad |= end == p || !isfinite(qfix[nqfix - 1]);
+                if (bad) {
+                    break;
+                }
+                p = *end == ',' ? end + 1 : end;
+            }
+        } else if (!strcmp(a, "--asset") && nfiles < 8) {
+            files[nfiles++] = v;
+        } else {
+            bad = 1;
+        }
+        if (bad) {
+            fprintf(stderr, "gale-render: bad option %s %s\n", a, v ? v : "(missing value)");
+            usage();
+            return 2;
+        }
+        i++;
+    }
+    if (!out || trees == 0) {
+        usage();
+        return 2;
+    }
+    if (!eye_set && trees > 1) {
+        float ext = spacing * sqrtf((float)trees);
+        eye[1] = -0.5f * ext - 25.0f;
+        eye[2] = 9.0f;
+        target[1] = -0.5f * ext + 10.0f;
+    }
+    gale_err err = { 0 };
+    render *r = render_create(&(render_desc){ .width = w, .height = h, .headless = true,
+                                              .max_trees = trees, .max_falling = falling + 1 },
+                              &err);
+    if (!r) {
+        fprintf(stderr, "gale-render: %s\n", err.msg);
+        return 1;
+    }
+    asset as[8];
+    int nas = nfiles ? nfiles : (int)nspecies;
+    memset(as, 0, sizeof as);
+    for (int s = 0; s < nas; s++) {
+        int rc = nfiles ? load_file(files[s], &as[s], &err)
+                        : render_demo_asset(&as[s], &(render_demo_desc){ .n_nodes = nodes,
+                                                   .n_modes = modes, .leaf_shape = (uint32_t)s,
+                                                   .seed = (uint32_t)s + 1 }, &err);
+        if (rc < 0 || render_add_species(r, &as[s], &err) < 0) {
+            fprintf(stderr, "gale-render: %s\n", err.msg);
+            render_destroy(r);
+            return 1;
+        }
+    }
+    render_instance *inst = calloc(trees, sizeof *inst);
+    render_demo_forest(inst, trees, (uint32_t)nas, spacing, 7);
+    if (trees == 1) {
+        inst[0].yaw = 0.0f;
+        inst[0].scale = 1.0f;
+        inst[0].pos[0] = inst[0].pos[1] = 0.0f;
+    }
+    int rc = render_set_instances(r, trees, inst, &err);
+    float q[64];
+    for (uint32_t t = 0; rc == 0 && t < trees; t++) {
+        const asset *a = &as[inst[t].species];
+        float c = cosf(inst[t].yaw), s = sinf(inst[t].yaw);
+        float wl[3] = { c * wind[0] + s * wind[1], -s * wind[0] + c * wind[1], wind[2] };
+        render_demo_pose(a, wl, time_s, t, q);
+        if (nqfix >= 0) {
+            for (uint32_t m = 0; m < a->n_modes; m++) {
+                q[m] = (int)m < nqfix ? qfix[m] : 0.0f;
+            }
+        }
+        rc = render_set_q(r, t, q, a->n_modes, &err);
+    }
+    if (rc == 0) {
+        rc = render_set_wind(r, &(render_wind){ .uniform = { wind[0], wind[1], wind[2] } },
+                             &err);
+    }
+    for (uint32_t k = 0; rc == 0 && k < falling; k++) {
+        uint32_t t = k % trees;
+        const asset *a = &as[inst[t].species];
+        render_leaf_seed ls = { .tree = t, .slot = (k * 7919u) % a->n_leaves,
+                                .spawn_time_s = (double)time_s * k / falling, .seed = k + 1 };
+        rc = render_add_falling_leaf(r, &ls, &err);
+    }
+    render_camera cam = { .eye = { eye[0], eye[1], eye[2] },
+                          .target = { target[0], target[1], target[2] } };
+    if (rc == 0) {
+        rc = render_frame(r, &cam, time_s, &err);
+    }
+    if (rc == 0) {
+        rc = render_write_png(r, out, &err);
+    }
+    if (rc < 0) {
+        fprintf(stderr, "gale-render: %s\n", err.msg);
+    } else {
+        render_stats st = render_get_stats(r);
+        printf("{\"out\":\"%s\",\"trees_full\":%u,\"trees_billboard\":%u,\"culled\":%u,"
+               "\"draw_calls\":%u,\"falling\":%u}\n", out, st.trees_full, st.trees_billboard,
+               st.trees_culled, st.draw_calls, st.falling_live);
+    }
+    for (int s = 0; s < nas; s++) {
+        if (nfiles) {
+            asset_fini(&as[s]);
+        } else if (!nfiles) {
+            render_demo_free(&as[s]);
+        }
+    }
+    free(inst);
+    render_destroy(r);
+    return rc < 0 ? 1 : 0;
+}

@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# Builds every tests/fuzz/fuzz_*.c with clang -fsanitize=fuzzer,address,undefined against
+# the project's static libraries (protocol/ and server/, built with clang into build-fuzz/)
+# and runs each for a bounded time from its seed corpus tests/fuzz/corpus/<name>/.
+# Usage: deploy/fuzz.sh [SECONDS per target, default 20] [NAME ...]
+# Exits non-zero when any target crashes, leaks or trips a sanitizer; the crashing input
+# is left in build-fuzz/artifacts/.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+secs="${1:-20}"
+shift || true
+case "$secs" in
+    ''|*[!0-9]*) echo "fuzz.sh: SECONDS must be a whole number, got '$secs'" >&2; exit 2 ;;
+esac
+command -v clang >/dev/null || { echo "fuzz.sh: clang not found (apt-get install clang)" >&2; exit 2; }
+
+san="-fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all"
+cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_BUILD_TYPE=Debug \
+    -DCMAKE_C_FLAGS="-O1 -g -fno-omit-frame-pointer -fsanitize=fuzzer-no-link $san" >/dev/null
+# Every static library of protocol/ and server/ (the decoders a fuzz target may call);
+# one that does not build with clang is skipped with a note, not fatal.
+mapfile -t targets < <(grep -ho 'add_library(gale_[a-z_]* STATIC' protocol/*.txt protocol/*.cmake \
+    server/*.txt server/*.cmake 2>/dev/null | sed 's/add_library(\(gale_[a-z_]*\) STATIC/\1/' | sort -u)
+for t in "${targets[@]}"; do
+    cmake --build build-fuzz -j 2 --target "$t" >/dev/null 2>&1 ||
+        echo "fuzz.sh: note: library $t did not build with clang; targets needing it will fail" >&2
+done
+mapfile -t libs < <(find build-fuzz/protocol build-fuzz/server -maxdepth 1 -name 'libgale_*.a' | sort)
+
+mkdir -p build-fuzz/bin build-fuzz/artifacts
+if [ "$#" -gt 0 ]; then
+    names=("$@")
+else
+    names=()
+    for src in tests/fuzz/fuzz_*.c; do
+        n="$(basename "$src" .c)"
+        names+=("${n#fuzz_}")
+    done
+fi
+fail=0
+for name in "${names[@]}"; do
+    src="tests/fuzz/fuzz_${name}.c"
+    [ -f "$src" ] || { echo "fuzz.sh: no $src" >&2; fail=1; continue; }
+    bin="build-fuzz/bin/fuzz_${name}"
+    clang -std=c11 -D_GNU_SOURCE -O1 -g -fno-omit-frame-pointer -fsanitize=fuzzer $san \
+        -Iprotocol -Iserver -Itests "$src" -Wl,--start-group "${libs[@]}" -Wl,--end-group \
+        -lcjson -llapacke -lopenblas -larpack -lstb -lm -lpthread -fopenmp -o "$bin" || {
+        echo "fuzz ${name}: FAILED to build" >&2
+        fail=1
+        continue
+    }
+    work="$(mktemp -d)"
+    seeds="tests/fuzz/corpus/${name}"
+    dirs=("$work")
+    [ -d "$seeds" ] && dirs+=("$seeds")
+    echo "== fuzz ${name}: ${secs} s from $(find "$seeds" -type f 2>/dev/null | wc -l) seeds"
+    if ! "$bin" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+            -print_final_stats=1 -artifact_prefix="build-fuzz/artifacts/${name}-" \
+            "${dirs[@]}" 2>"build-fuzz/fuzz_${name}.log"; then
+        echo "fuzz ${name}: FAILED (log build-fuzz/fuzz_${name}.log):" >&2
+        tail -40 "build-fuzz/fuzz_${name}.log" >&2
+        fail=1
+    else
+        grep -E 'stat::number_of_executed_units|cov:' "build-fuzz/fuzz_${name}.log" | tail -2 || true
+    fi
+    rm -rf "$work"
+done
+exit "$fail"

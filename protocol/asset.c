@@ -1,0 +1,814 @@
+/* The baked species asset file (ASSET.md): a 24-byte header (magic, version, payload
+ * length, payload CRC-32, header CRC-32) and seven sections in fixed order, every field
+ * little-endian and fixed-width, written and read byte by byte. Counts are checked
+ * against the limits below and against the bytes left before anything is allocated.
+ * asset_reconstruct is the strong-wind deformation of Diener 2008 section 5.2. */
+#include "asset.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "hash.h"
+
+/* Limits, each with its reason. A count above one is refused before any allocation. */
+/* 2^18 nodes: 25 times the largest benchmark tree (10^4 nodes); FEM bakes beyond that
+ * are not interactive material. */
+#define ASSET_MAX_NODES 262144u
+/* 256 modes: eight times the default 32; the client's uniform budget is far smaller. */
+#define ASSET_MAX_MODES 256u
+/* modes x nodes <= 2^23: the four per-mode arrays (phi, phi_rot, corr_v, corr_w) then
+ * stay under 400 MB. */
+#define ASSET_MAX_MODE_NODES 8388608u
+/* 2^22 vertices and 2^24 indices: an 8-sided tube of 2^18 nodes needs ~2.4 M and 12 M. */
+#define ASSET_MAX_VERTS   4194304u
+#define ASSET_MAX_INDICES 16777216u
+/* 2^20 leaf slots: 64 per tip on 16 K tips. */
+#define ASSET_MAX_LEAVES 1048576u
+/* 1 MiB of parameter JSON: a species file is a few kB. */
+#define ASSET_MAX_PARAMS 1048576u
+
+#define ASSET_HEADER_BYTES 24u
+#define ASSET_SECTIONS     7
+
+static const uint8_t asset_magic[4] = { 'G', 'A', 'S', 'T' };
+
+/* Section tags, in file order (the four characters read as a little-endian u32). */
+#define TAG(a, b, c, d) \
+    ((uint32_t)(a) | (uint32_t)(b) << 8 | (uint32_t)(c) << 16 | (uint32_t)(d) << 24)
+static const uint32_t asset_tags[ASSET_SECTIONS] = {
+    TAG('M', 'E', 'T', 'A'), TAG('S', 'K', 'E', 'L'), TAG('M', 'O', 'D', 'E'),
+    TAG('C', 'O', 'R', 'R'), TAG('M', 'E', 'S', 'H'), TAG('L', 'E', 'A', 'F'),
+    TAG('L', 'O', 'O', 'K'),
+};
+static const char *const asset_tag_names[ASSET_SECTIONS] = { "META", "SKEL", "MODE", "CORR",
+                                                             "MESH", "LEAF", "LOOK" };
+
+/* ---- writer: a growing buffer with a sticky out-of-memory flag ---- */
+
+typedef struct asset_writer {
+    uint8_t *buf;
+    size_t len, cap;
+    bool oom;
+} asset_writer;
+
+static uint8_t *w_room(asset_writer *w, size_t n)
+{
+    if (w->oom) {
+        return NULL;
+    }
+    if (w->cap - w->len < n) {
+        size_t cap = w->cap ? w->cap : 4096;
+        while (cap - w->len < n) {
+            if (cap > SIZE_MAX / 2) {
+                w->oom = true;
+                return NULL;
+            }
+            cap *= 2;
+        }
+        uint8_t *b = realloc(w->buf, cap);
+        if (!b) {
+            w->oom = true;
+            return NULL;
+        }
+        w->buf = b;
+        w->cap = cap;
+    }
+    uint8_t *p = w->buf + w->len;
+    w->len += n;
+    return p;
+}
+
+static void put_u32_at(uint8_t *p, uint32_t v)
+{
+    p[0] = (uint8_t)(v & 0xffu);
+    p[1] = (uint8_t)((v >> 8) & 0xffu);
+    p[2] = (uint8_t)((v >> 16) & 0xffu);
+    p[3] = (uint8_t)((v >> 24) & 0xffu);
+}
+
+static void put_u64_at(uint8_t *p, uint64_t v)
+{
+    put_u32_at(p, (uint32_t)(v & 0xffffffffu));
+    put_u32_at(p + 4, (uint32_t)(v >> 32));
+}
+
+static void w_u32(asset_writer *w, uint32_t v)
+{
+    uint8_t *p = w_room(w, 4);
+    if (p) {
+        put_u32_at(p, v);
+    }
+}
+
+static void w_u64(asset_writer *w, uint64_t v)
+{
+    uint8_t *p = w_room(w, 8);
+    if (p) {
+        put_u64_at(p, v);
+    }
+}
+
+static void w_f32(asset_writer *w, float f)
+{
+    uint32_t v;
+    memcpy(&v, &f, sizeof v);
+    w_u32(w, v);
+}
+
+static void w_bytes(asset_writer *w, const void *src, size_t n)
+{
+    uint8_t *p = w_room(w, n);
+    if (p && n) {
+        memcpy(p, src, n);
+    }
+}
+
+static void w_f32s(asset_writer *w, const float *v, size_t n)
+{
+    for (size_t i = 0; i < n; i++) {
+        w_f32(w, v ? v[i] : 0.0f);
+    }
+}
+
+static void w_u32s(asset_writer *w, const uint32_t *v, size_t n)
+{
+    for (size_t i = 0; i < n; i++) {
+        w_u32(w, v ? v[i] : 0u);
+    }
+}
+
+/* Opens a section: tag and a length patched by w_end. Returns the length's offset. */
+static size_t w_begin(asset_writer *w, int section)
+{
+    w_u32(w, asset_tags[section]);
+    size_t at = w->len;
+    w_u64(w, 0);
+    return at;
+}
+
+static void w_end(asset_writer *w, size_t at)
+{
+    if (!w->oom) {
+        put_u64_at(w->buf + at, (uint64_t)(w->len - at - 8));
+    }
+}
+
+/* ---- reader: a cursor with a sticky bad flag; the first fault is kept for the message ---- */
+
+typedef struct asset_reader {
+    const uint8_t *buf;
+    size_t pos, len;
+    bool bad;
+    int code;          /* GALE_E_* of the first fault */
+    const char *field; /* field of the first fault */
+    size_t at;         /* its byte offset in the file */
+    char why[128];
+} asset_reader;
+
+static void r_fail(asset_reader *r, int code, const char *field, size_t at, const char *fmt, ...)
+    __attribute__((format(printf, 5, 6)));
+
+static void r_fail(asset_reader *r, int code, const char *field, size_t at, const char *fmt, ...)
+{
+    if (r->bad) {
+        return;
+    }
+    r->bad = true;
+    r->code = code;
+    r->field = field;
+    r->at = at;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(r->why, sizeof r->why, fmt, ap);
+    va_end(ap);
+}
+
+static bool r_need(asset_reader *r, size_t n, const char *field)
+{
+    if (r->bad) {
+        return false;
+    }
+    if (r->len - r->pos < n) {
+        r_fail(r, GALE_E_FORMAT, field, r->pos, "truncated: need %zu bytes, %zu left", n,
+               r->len - r->pos);
+        return false;
+    }
+    return true;
+}
+
+static uint32_t r_u32(asset_reader *r, const char *field)
+{
+    if (!r_need(r, 4, field)) {
+        return 0;
+    }
+    const uint8_t *p = r->buf + r->pos;
+    uint32_t v = (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+    r->pos += 4;
+    return v;
+}
+
+static uint64_t r_u64(asset_reader *r, const char *field)
+{
+    uint64_t lo = r_u32(r, field);
+    uint64_t hi = r_u32(r, field);
+    return lo | hi << 32;
+}
+
+static float r_f32(asset_reader *r, const char *field)
+{
+    size_t at = r->pos;
+    uint32_t v = r_u32(r, field);
+    float f;
+    memcpy(&f, &v, sizeof f);
+    if (!r->bad && !isfinite(f)) {
+        r_fail(r, GALE_E_FORMAT, field, at, "not a finite number (bits 0x%08x)", v);
+        return 0.0f;
+    }
+    return f;
+}
+
+static void r_f32s(asset_reader *r, float *dst, size_t n, const char *field)
+{
+    if (!r_need(r, 4 * n, field)) {
+        return;
+    }
+    for (size_t i = 0; i < n && !r->bad; i++) {
+        dst[i] = r_f32(r, field);
+    }
+}
+
+static void r_u32s(asset_reader *r, uint32_t *dst, size_t n, const char *field)
+{
+    if (!r_need(r, 4 * n, field)) {
+        return;
+    }
+    for (size_t i = 0; i < n; i++) {
+        dst[i] = r_u32(r, field);
+    }
+}
+
+/* A count: at most `max` (the limit's reason is beside its #define), and no more items of
+ * `item_bytes` each than the bytes left could hold. */
+static uint32_t r_count(asset_reader *r, const char *field, uint32_t max, size_t item_bytes)
+{
+    size_t at = r->pos;
+    uint32_t n = r_u32(r, field);
+    if (r->bad) {
+        return 0;
+    }
+    if (n > max) {
+        r_fail(r, GALE_E_FORMAT, field, at, "count %u over the limit %u", n, max);
+        return 0;
+    }
+    if (item_bytes && (size_t)n > (r->len - r->pos) / item_bytes) {
+        r_fail(r, GALE_E_FORMAT, field, at, "count %u needs %zu bytes, %zu left", n,
+               (size_t)n * item_bytes, r->len - r->pos);
+        return 0;
+    }
+    return n;
+}
+
+static void *r_alloc(asset_reader *r, size_t n, size_t size, const char *field)
+{
+    if (r->bad) {
+        return NULL;
+    }
+    void *p = calloc(n ? n : 1, size);
+    if (!p) {
+        r_fail(r, GALE_E_NOMEM, field, r->pos, "out of memory for %zu items", n);
+    }
+    return p;
+}
+
+/* ---- encode ---- */
+
+int asset_encode(const asset *a, uint8_t **out, size_t *len, gale_err *err)
+{
+    *out = NULL;
+    *len = 0;
+    if (a->n_nodes == 0 || a->n_nodes > ASSET_MAX_NODES || a->n_modes > ASSET_MAX_MODES ||
+        (uint64_t)a->n_modes * a->n_nodes > ASSET_MAX_MODE_NODES || a->n_verts > ASSET_MAX_VERTS ||
+        a->n_indices > ASSET_MAX_INDICES || a->n_leaves > ASSET_MAX_LEAVES ||
+        a->n_lods > ASSET_MAX_LODS) {
+        return gale_errf(err, GALE_E_RANGE,
+                         "asset encode: counts out of range: nodes %u (1..%u), modes %u (<= %u), "
+                         "verts %u, indices %u, leaves %u, lods %u",
+                         a->n_nodes, ASSET_MAX_NODES, a->n_modes, ASSET_MAX_MODES, a->n_verts,
+                         a->n_indices, a->n_leaves, a->n_lods);
+    }
+    const char *missing =
+        !a->parent   ? "parent"
+        : !a->rest   ? "rest"
+        : !a->radius ? "radius"
+        : a->n_modes && (!a->omega || !a->gamma || !a->wind_basis || !a->phi || !a->phi_rot)
+            ? "omega, gamma, wind_basis, phi or phi_rot"
+        : a->n_verts && (!a->mesh_pos || !a->mesh_normal || !a->mesh_bone || !a->mesh_weight)
+            ? "mesh_pos, mesh_normal, mesh_bone or mesh_weight"
+        : a->n_indices && !a->mesh_index ? "mesh_index"
+        : a->n_leaves && (!a->leaf_node || !a->leaf_offset || !a->leaf_normal || !a->leaf_size)
+            ? "leaf_node, leaf_offset, leaf_normal or leaf_size"
+            : NULL;
+    if (missing) {
+        return gale_errf(err, GALE_E_ARG, "asset encode: %s: array missing for a non-zero count",
+                         missing);
+    }
+    size_t plen = a->params_json ? strlen(a->params_json) : 0;
+    if (plen > ASSET_MAX_PARAMS) {
+        return gale_errf(err, GALE_E_RANGE, "asset encode: params_json: %zu bytes, limit %u", plen,
+                         ASSET_MAX_PARAMS);
+    }
+    size_t nn = a->n_nodes, nm = a->n_modes, nmn = nm * nn;
+    asset_writer w = { 0 };
+    w_room(&w, ASSET_HEADER_BYTES);
+
+    size_t at = w_begin(&w, 0); /* META */
+    char name[64];
+    memset(name, 0, sizeof name);
+    memcpy(name, a->species, strnlen(a->species, sizeof name - 1));
+    w_bytes(&w, name, sizeof name);
+    w_u64(&w, a->source_hash);
+    w_u32(&w, (uint32_t)plen);
+    w_bytes(&w, a->params_json, plen);
+    w_end(&w, at);
+
+    at = w_begin(&w, 1); /* SKEL */
+    w_u32(&w, a->n_nodes);
+    w_f32(&w, a->height_m);
+    for (size_t i = 0; i < nn; i++) {
+        w_u32(&w, (uint32_t)a->parent[i]);
+    }
+    w_f32s(&w, a->rest, 3 * nn);
+    w_f32s(&w, a->radius, nn);
+    w_end(&w, at);
+
+    at = w_begin(&w, 2); /* MODE */
+    w_u32(&w, a->n_modes);
+    w_f32s(&w, a->omega, nm);
+    w_f32s(&w, a->gamma, nm);
+    w_f32s(&w, a->wind_basis, 3 * nm);
+    w_f32s(&w, a->phi, 3 * nmn);
+    w_f32s(&w, a->phi_rot, 3 * nmn);
+    w_end(&w, at);
+
+    at = w_begin(&w, 3); /* CORR */
+    uint32_t has_corr = a->corr_v && a->corr_w && a->corr_a && a->corr_b ? 1u : 0u;
+    w_u32(&w, has_corr);
+    if (has_corr) {
+        w_f32s(&w, a->corr_v, 3 * nmn);
+        w_f32s(&w, a->corr_w, 3 * nmn);
+        w_f32s(&w, a->corr_a, nm);
+        w_f32s(&w, a->corr_b, nm);
+    }
+    w_end(&w, at);
+
+    at = w_begin(&w, 4); /* MESH */
+    w_u32(&w, a->n_verts);
+    w_f32s(&w, a->mesh_pos, 3 * (size_t)a->n_verts);
+    w_f32s(&w, a->mesh_normal, 3 * (size_t)a->n_verts);
+    w_u32s(&w, a->mesh_bone, 2 * (size_t)a->n_verts);
+    w_f32s(&w, a->mesh_weight, a->n_verts);
+    w_u32(&w, a->n_indices);
+    w_u32s(&w, a->mesh_index, a->n_indices);
+    w_u32(&w, a->n_lods);
+    for (int l = 0; l < ASSET_MAX_LODS; l++) {
+        w_u32(&w, a->lod_first[l]);
+        w_u32(&w, a->lod_count[l]);
+    }
+    w_end(&w, at);
+
+    at = w_begin(&w, 5); /* LEAF */
+    w_u32(&w, a->n_leaves);
+    w_u32s(&w, a->leaf_node, a->n_leaves);
+    w_f32s(&w, a->leaf_offset, 3 * (size_t)a->n_leaves);
+    w_f32s(&w, a->leaf_normal, 3 * (size_t)a->n_leaves);
+    w_f32s(&w, a->leaf_size, a->n_leaves);
+    w_end(&w, at);
+
+    at = w_begin(&w, 6); /* LOOK */
+    w_f32s(&w, a->bark_rgb, 3);
+    w_f32s(&w, a->leaf_rgb, 3);
+    w_u32(&w, a->leaf_shape);
+    w_end(&w, at);
+
+    if (w.oom) {
+        free(w.buf);
+        return gale_errf(err, GALE_E_NOMEM, "asset encode: out of memory");
+    }
+    uint8_t *h = w.buf;
+    size_t payload = w.len - ASSET_HEADER_BYTES;
+    memcpy(h, asset_magic, 4);
+    put_u32_at(h + 4, ASSET_VERSION);
+    put_u64_at(h + 8, (uint64_t)payload);
+    put_u32_at(h + 16, hash_crc32(h + ASSET_HEADER_BYTES, payload));
+    put_u32_at(h + 20, hash_crc32(h, 20));
+    *out = w.buf;
+    *len = w.len;
+    return GALE_OK;
+}
+
+/* ---- decode ---- */
+
+/* Reads a section header; checks the tag and that the stated length fits. Returns the
+ * offset where the section must end. */
+static size_t r_section(asset_reader *r, int section)
+{
+    size_t at = r->pos;
+    uint32_t tag = r_u32(r, "section tag");
+    uint64_t slen = r_u64(r, "section length");
+    if (r->bad) {
+        return 0;
+    }
+    if (tag != asset_tags[section]) {
+        r_fail(r, GALE_E_FORMAT, "section tag", at, "expected %s (0x%08x), got 0x%08x",
+               asset_tag_names[section], asset_tags[section], tag);
+        return 0;
+    }
+    if (slen > (uint64_t)(r->len - r->pos)) {
+        r_fail(r, GALE_E_FORMAT, asset_tag_names[section], at + 4,
+               "section length %llu, only %zu bytes left", (unsigned long long)slen,
+               r->len - r->pos);
+        return 0;
+    }
+    return r->pos + (size_t)slen;
+}
+
+static void r_section_end(asset_reader *r, int section, size_t end)
+{
+    if (!r->bad && r->pos != end) {
+        r_fail(r, GALE_E_FORMAT, asset_tag_names[section], r->pos,
+               "section length disagrees with its content (ends at %zu, content at %zu)", end,
+               r->pos);
+    }
+}
+
+static void r_check_unit(asset_reader *r, const float *v, size_t n, const char *field, size_t base)
+{
+    for (size_t i = 0; i < n && !r->bad; i++) {
+        double x = v[3 * i], y = v[3 * i + 1], z = v[3 * i + 2];
+        double l = sqrt(x * x + y * y + z * z);
+        if (fabs(l - 1.0) > 1e-3) {
+            r_fail(r, GALE_E_FORMAT, field, base + 12 * i,
+                   "item %zu: not a unit vector (length %g)", i, l);
+        }
+    }
+}
+
+static void r_meta(asset_reader *r, asset *a)
+{
+    size_t end = r_section(r, 0);
+    size_t at = r->pos;
+    if (r_need(r, 64, "species")) {
+        memcpy(a->species, r->buf + r->pos, 64);
+        r->pos += 64;
+        if (!memchr(a->species, 0, 64)) {
+            r_fail(r, GALE_E_FORMAT, "species", at, "name not NUL-terminated within 64 bytes");
+        }
+    }
+    a->source_hash = r_u64(r, "source_hash");
+    at = r->pos;
+    uint32_t plen = r_count(r, "params_json length", ASSET_MAX_PARAMS, 1);
+    a->params_json = r_alloc(r, (size_t)plen + 1, 1, "params_json");
+    if (r->bad) {
+        return;
+    }
+    memcpy(a->params_json, r->buf + r->pos, plen);
+    a->params_json[plen] = '\0';
+    if (memchr(a->params_json, 0, plen)) {
+        r_fail(r, GALE_E_FORMAT, "params_json", at + 4, "contains a NUL byte");
+    }
+    r->pos += plen;
+    r_section_end(r, 0, end);
+}
+
+static void r_skel(asset_reader *r, asset *a)
+{
+    size_t end = r_section(r, 1);
+    size_t at = r->pos;
+    /* per node: parent, 3 coordinates, radius */
+    a->n_nodes = r_count(r, "n_nodes", ASSET_MAX_NODES, 20);
+    if (!r->bad && a->n_nodes == 0) {
+        r_fail(r, GALE_E_FORMAT, "n_nodes", at, "expected at least 1 node, got 0");
+    }
+    a->height_m = r_f32(r, "height_m");
+    size_t nn = a->n_nodes;
+    a->parent = r_alloc(r, nn, sizeof *a->parent, "parent");
+    a->rest = r_alloc(r, 3 * nn, sizeof *a->rest, "rest");
+    a->radius = r_alloc(r, nn, sizeof *a->radius, "radius");
+    if (r->bad) {
+        return;
+    }
+    at = r->pos;
+    for (size_t i = 0; i < nn && !r->bad; i++) {
+        uint32_t p = r_u32(r, "parent");
+        bool ok = i == 0 ? p == 0xffffffffu : p < i;
+        if (!ok && !r->bad) {
+            r_fail(r, GALE_E_FORMAT, "parent", at + 4 * i, "node %zu: parent %d, expected %s", i,
+                   (int)p, i == 0 ? "-1 for the root" : "an earlier node");
+        }
+        a->parent[i] = i == 0 ? -1 : (int32_t)p;
+    }
+    r_f32s(r, a->rest, 3 * nn, "rest");
+    at = r->pos;
+    r_f32s(r, a->radius, nn, "radius");
+    for (size_t i = 0; i < nn && !r->bad; i++) {
+        if (!(a->radius[i] > 0.0f)) {
+            r_fail(r, GALE_E_FORMAT, "radius", at + 4 * i, "node %zu: radius %g, expected > 0", i,
+                   (double)a->radius[i]);
+        }
+    }
+    r_section_end(r, 1, end);
+}
+
+static void r_modes(asset_reader *r, asset *a)
+{
+    size_t end = r_section(r, 2);
+    size_t at = r->pos;
+    a->n_modes = r_count(r, "n_modes", ASSET_MAX_MODES, 20);
+    if (!r->bad && (uint64_t)a->n_modes * a->n_nodes > ASSET_MAX_MODE_NODES) {
+        r_fail(r, GALE_E_FORMAT, "n_modes", at, "%u modes x %u nodes over the limit %u", a->n_modes,
+               a->n_nodes, ASSET_MAX_MODE_NODES);
+    }
+    size_t nm = a->n_modes, nmn = nm * a->n_nodes;
+    /* phi and phi_rot must fit in what is left before allocating them */
+    if (!r->bad && 24 * nmn > r->len - r->pos) {
+        r_fail(r, GALE_E_FORMAT, "n_modes", at, "%zu modes need %zu bytes, %zu left", nm, 24 * nmn,
+               r->len - r->pos);
+    }
+    a->omega = r_alloc(r, nm, sizeof(float), "omega");
+    a->gamma = r_alloc(r, nm, sizeof(float), "gamma");
+    a->wind_basis = r_alloc(r, 3 * nm, sizeof(float), "wind_basis");
+    a->phi = r_alloc(r, 3 * nmn, sizeof(float), "phi");
+    a->phi_rot = r_alloc(r, 3 * nmn, sizeof(float), "phi_rot");
+    at = r->pos;
+    r_f32s(r, a->omega, nm, "omega");
+    for (size_t i = 1; i < nm && !r->bad; i++) {
+        if (a->omega[i] < a->omega[i - 1]) {
+            r_fail(r, GALE_E_FORMAT, "omega", at + 4 * i, "mode %zu: not ascending (%g after %g)",
+                   i, (double)a->omega[i], (double)a->omega[i - 1]);
+        }
+    }
+    r_f32s(r, a->gamma, nm, "gamma");
+    r_f32s(r, a->wind_basis, 3 * nm, "wind_basis");
+    r_f32s(r, a->phi, 3 * nmn, "phi");
+    r_f32s(r, a->phi_rot, 3 * nmn, "phi_rot");
+    r_section_end(r, 2, end);
+}
+
+static void r_corr(asset_reader *r, asset *a)
+{
+    size_t end = r_section(r, 3);
+    size_t at = r->pos;
+    uint32_t has = r_u32(r, "has_correction");
+    if (!r->bad && has > 1) {
+        r_fail(r, GALE_E_FORMAT, "has_correction", at, "expected 0 or 1, got %u", has);
+    }
+    if (!r->bad && has) {
+        size_t nm = a->n_modes, nmn = nm * a->n_nodes;
+        if (24 * nmn + 8 * nm > r->len - r->pos) {
+            r_fail(r, GALE_E_FORMAT, "corr_v", r->pos, "needs %zu bytes, %zu left",
+                   24 * nmn + 8 * nm, r->len - r->pos);
+        }
+        a->corr_v = r_alloc(r, 3 * nmn, sizeof(float), "corr_v");
+        a->corr_w = r_alloc(r, 3 * nmn, sizeof(float), "corr_w");
+        a->corr_a = r_alloc(r, nm, sizeof(float), "corr_a");
+        a->corr_b = r_alloc(r, nm, sizeof(float), "corr_b");
+        r_f32s(r, a->corr_v, 3 * nmn, "corr_v");
+        r_f32s(r, a->corr_w, 3 * nmn, "corr_w");
+        r_f32s(r, a->corr_a, nm, "corr_a");
+        r_f32s(r, a->corr_b, nm, "corr_b");
+    }
+    r_section_end(r, 3, end);
+}
+
+static void r_mesh(asset_reader *r, asset *a)
+{
+    size_t end = r_section(r, 4);
+    /* per vertex: position, normal, two bones, weight */
+    a->n_verts = r_count(r, "n_verts", ASSET_MAX_VERTS, 36);
+    size_t nv = a->n_verts;
+    a->mesh_pos = r_alloc(r, 3 * nv, sizeof(float), "mesh_pos");
+    a->mesh_normal = r_alloc(r, 3 * nv, sizeof(float), "mesh_normal");
+    a->mesh_bone = r_alloc(r, 2 * nv, sizeof(uint32_t), "mesh_bone");
+    a->mesh_weight = r_alloc(r, nv, sizeof(float), "mesh_weight");
+    r_f32s(r, a->mesh_pos, 3 * nv, "mesh_pos");
+    size_t at = r->pos;
+    r_f32s(r, a->mesh_normal, 3 * nv, "mesh_normal");
+    if (!r->bad) {
+        r_check_unit(r, a->mesh_normal, nv, "mesh_normal", at);
+    }
+    at = r->pos;
+    r_u32s(r, a->mesh_bone, 2 * nv, "mesh_bone");
+    for (size_t i = 0; i < 2 * nv && !r->bad; i++) {
+        if (a->mesh_bone[i] >= a->n_nodes) {
+            r_fail(r, GALE_E_FORMAT, "mesh_bone", at + 4 * i, "vertex %zu: node %u, expected < %u",
+                   i / 2, a->mesh_bone[i], a->n_nodes);
+        }
+    }
+    at = r->pos;
+    r_f32s(r, a->mesh_weight, nv, "mesh_weight");
+    for (size_t i = 0; i < nv && !r->bad; i++) {
+        if (!(a->mesh_weight[i] >= 0.0f && a->mesh_weight[i] <= 1.0f)) {
+            r_fail(r, GALE_E_FORMAT, "mesh_weight", at + 4 * i,
+                   "vertex %zu: weight %g, expected in [0, 1]", i, (double)a->mesh_weight[i]);
+        }
+    }
+    a->n_indices = r_count(r, "n_indices", ASSET_MAX_INDICES, 4);
+    a->mesh_index = r_alloc(r, a->n_indices, sizeof(uint32_t), "mesh_index");
+    at = r->pos;
+    r_u32s(r, a->mesh_index, a->n_indices, "mesh_index");
+    for (size_t i = 0; i < a->n_indices && !r->bad; i++) {
+        if (a->mesh_index[i] >= a->n_verts) {
+            r_fail(r, GALE_E_FORMAT, "mesh_index", at + 4 * i,
+                   "index %zu: vertex %u, expected < %u", i, a->mesh_index[i], a->n_verts);
+        }
+    }
+    at = r->pos;
+    a->n_lods = r_u32(r, "n_lods");
+    if (!r->bad && (a->n_lods > ASSET_MAX_LODS || (a->n_lods == 0 && a->n_indices > 0))) {
+        r_fail(r, GALE_E_FORMAT, "n_lods", at, "expected 1..%d, got %u", ASSET_MAX_LODS, a->n_lods);
+    }
+    for (uint32_t l = 0; l < ASSET_MAX_LODS && !r->bad; l++) {
+        at = r->pos;
+        a->lod_first[l] = r_u32(r, "lod_first");
+        a->lod_count[l] = r_u32(r, "lod_count");
+        uint64_t last = (uint64_t)a->lod_first[l] + a->lod_count[l];
+        if (!r->bad && (last > a->n_indices || a->lod_count[l] % 3 != 0 ||
+                        (l >= a->n_lods && (a->lod_first[l] | a->lod_count[l]) != 0))) {
+            r_fail(r, GALE_E_FORMAT, "lod_first", at,
+                   "LOD %u: [%u, +%u) not whole triangles within %u indices (or set past n_lods)",
+                   l, a->lod_first[l], a->lod_count[l], a->n_indices);
+        }
+    }
+    r_section_end(r, 4, end);
+}
+
+static void r_leaves(asset_reader *r, asset *a)
+{
+    size_t end = r_section(r, 5);
+    /* per leaf: node, offset, normal, size */
+    a->n_leaves = r_count(r, "n_leaves", ASSET_MAX_LEAVES, 32);
+    size_t nl = a->n_leaves;
+    a->leaf_node = r_alloc(r, nl, sizeof(uint32_t), "leaf_node");
+    a->leaf_offset = r_alloc(r, 3 * nl, sizeof(float), "leaf_offset");
+    a->leaf_normal = r_alloc(r, 3 * nl, sizeof(float), "leaf_normal");
+    a->leaf_size = r_alloc(r, nl, sizeof(float), "leaf_size");
+    size_t at = r->pos;
+    r_u32s(r, a->leaf_node, nl, "leaf_node");
+    for (size_t i = 0; i < nl && !r->bad; i++) {
+        if (a->leaf_node[i] >= a->n_nodes) {
+            r_fail(r, GALE_E_FORMAT, "leaf_node", at + 4 * i, "leaf %zu: node %u, expected < %u", i,
+                   a->leaf_node[i], a->n_nodes);
+        }
+    }
+    r_f32s(r, a->leaf_offset, 3 * nl, "leaf_offset");
+    at = r->pos;
+    r_f32s(r, a->leaf_normal, 3 * nl, "leaf_normal");
+    if (!r->bad) {
+        r_check_unit(r, a->leaf_normal, nl, "leaf_normal", at);
+    }
+    at = r->pos;
+    r_f32s(r, a->leaf_size, nl, "leaf_size");
+    for (size_t i = 0; i < nl && !r->bad; i++) {
+        if (!(a->leaf_size[i] > 0.0f)) {
+            r_fail(r, GALE_E_FORMAT, "leaf_size", at + 4 * i, "leaf %zu: size %g, expected > 0", i,
+                   (double)a->leaf_size[i]);
+        }
+    }
+    r_section_end(r, 5, end);
+}
+
+static void r_look(asset_reader *r, asset *a)
+{
+    size_t end = r_section(r, 6);
+    r_f32s(r, a->bark_rgb, 3, "bark_rgb");
+    r_f32s(r, a->leaf_rgb, 3, "leaf_rgb");
+    size_t at = r->pos;
+    a->leaf_shape = r_u32(r, "leaf_shape");
+    if (!r->bad && a->leaf_shape > 2) {
+        r_fail(r, GALE_E_FORMAT, "leaf_shape", at, "expected 0..2, got %u", a->leaf_shape);
+    }
+    r_section_end(r, 6, end);
+}
+
+int asset_decode(const uint8_t *buf, size_t len, const char *name, asset *a, gale_err *err)
+{
+    memset(a, 0, sizeof *a);
+    if (!name) {
+        name = "<asset>";
+    }
+    if (!buf || len < ASSET_HEADER_BYTES) {
+        return gale_errf(err, GALE_E_FORMAT,
+                         "%s: header at byte 0: truncated: need %u bytes, got %zu", name,
+                         ASSET_HEADER_BYTES, buf ? len : 0);
+    }
+    if (memcmp(buf, asset_magic, 4) != 0) {
+        return gale_errf(err, GALE_E_FORMAT,
+                         "%s: magic at byte 0: expected \"GAST\", got %02x %02x %02x %02x", name,
+                         buf[0], buf[1], buf[2], buf[3]);
+    }
+    asset_reader r = { .buf = buf, .len = len, .pos = 4 };
+    uint32_t version = r_u32(&r, "version");
+    uint64_t payload = r_u64(&r, "payload_length");
+    uint32_t pcrc = r_u32(&r, "payload_crc32");
+    uint32_t hcrc = r_u32(&r, "header_crc32");
+    uint32_t hcrc_now = hash_crc32(buf, 20);
+    if (hcrc != hcrc_now) {
+        return gale_errf(err, GALE_E_CHECKSUM,
+                         "%s: header_crc32 at byte 20: checksum mismatch: stored 0x%08x, "
+                         "computed 0x%08x",
+                         name, hcrc, hcrc_now);
+    }
+    if (version != ASSET_VERSION) {
+        return gale_errf(err, GALE_E_VERSION, "%s: version at byte 4: expected %d, got %u", name,
+                         ASSET_VERSION, version);
+    }
+    if (payload != (uint64_t)(len - ASSET_HEADER_BYTES)) {
+        return gale_errf(err, GALE_E_FORMAT,
+                         "%s: payload_length at byte 8: header states %llu bytes, file has %zu%s",
+                         name, (unsigned long long)payload, len - ASSET_HEADER_BYTES,
+                         payload > (uint64_t)(len - ASSET_HEADER_BYTES) ? " (truncated)"
+                                                                        : " (trailing bytes)");
+    }
+    uint32_t pcrc_now = hash_crc32(buf + ASSET_HEADER_BYTES, len - ASSET_HEADER_BYTES);
+    if (pcrc != pcrc_now) {
+        return gale_errf(err, GALE_E_CHECKSUM,
+                         "%s: payload_crc32 at byte 16: checksum mismatch: stored 0x%08x, "
+                         "computed 0x%08x (corrupt file)",
+                         name, pcrc, pcrc_now);
+    }
+    r_meta(&r, a);
+    r_skel(&r, a);
+    r_modes(&r, a);
+    r_corr(&r, a);
+    r_mesh(&r, a);
+    r_leaves(&r, a);
+    r_look(&r, a);
+    if (!r.bad && r.pos != len) {
+        r_fail(&r, GALE_E_FORMAT, "end", r.pos, "%zu bytes after the last section", len - r.pos);
+    }
+    if (r.bad) {
+        asset_fini(a);
+        return gale_errf(err, r.code, "%s: %s at byte %zu: %s", name, r.field, r.at, r.why);
+    }
+    return GALE_OK;
+}
+
+void asset_fini(asset *a)
+{
+    if (!a) {
+        return;
+    }
+    free(a->params_json);
+    free(a->parent);
+    free(a->rest);
+    free(a->radius);
+    free(a->omega);
+    free(a->gamma);
+    free(a->wind_basis);
+    free(a->phi);
+    free(a->phi_rot);
+    free(a->corr_v);
+    free(a->corr_w);
+    free(a->corr_a);
+    free(a->corr_b);
+    free(a->mesh_pos);
+    free(a->mesh_normal);
+    free(a->mesh_bone);
+    free(a->mesh_weight);
+    free(a->mesh_index);
+    free(a->leaf_node);
+    free(a->leaf_offset);
+    free(a->leaf_normal);
+    free(a->leaf_size);
+    memset(a, 0, sizeof *a);
+}
+
+void asset_reconstruct(const asset *a, const float *q, uint32_t n_modes_used, float *out)
+{
+    size_t nn = a->n_nodes;
+    if (n_modes_used > a->n_modes) {
+        n_modes_used = a->n_modes;
+    }
+    for (size_t i = 0; i < 3 * nn; i++) {
+        out[i] = a->rest[i];
+    }
+    bool corr = a->corr_v && a->corr_w && a->corr_a && a->corr_b;
+    for (size_t m = 0; m < n_modes_used; m++) {
+        const float *v = corr ? a->corr_v + 3 * m * nn : a->phi + 3 * m * nn;
+        const float *w = corr ? a->corr_w + 3 * m * nn : NULL;
+        /* Diener 2008 section 5.2: q̃ = a atan(b q) saturates the modal coordinate;
+         * b == 0 (no fit) leaves it linear, q̃ = q. */
+        float qt = q[m];
+        if (corr && a->corr_b[m] != 0.0f) {
+            qt = a->corr_a[m] * atanf(a->corr_b[m] * q[m]);
+        }
+        float qt2 = qt * qt;
+        for (size_t i = 0; i < 3 * nn; i++) {
+            out[i] += qt * v[i] + (w ? qt2 * w[i] : 0.0f);
+        }
+    }
+}

@@ -1,0 +1,24 @@
+/* Content hashes: a 64-bit hash that names what an asset was baked from (the bake
+ * cache key), and CRC-32 (IEEE 802.3, the zlib/PNG polynomial) for file checksums. */
+#ifndef GALE_HASH_H
+#define GALE_HASH_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* Start value of an incremental 64-bit hash. */
+#define HASH64_INIT 0xcbf29ce484222325ull
+
+/* Folds len bytes into the running 64-bit hash h (FNV-1a, 64-bit) and returns it. */
+uint64_t hash64_update(uint64_t h, const void *data, size_t len);
+/* Finishes a running hash with an avalanche step, so that near inputs differ in every bit. */
+uint64_t hash64_final(uint64_t h);
+/* One-shot: hash64_final(hash64_update(HASH64_INIT, data, len)). */
+uint64_t hash64(const void *data, size_t len);
+
+/* CRC-32 of len bytes continuing from crc (0 to start): crc32("123456789") = 0xcbf43926. */
+uint32_t hash_crc32_update(uint32_t crc, const void *data, size_t len);
+/* One-shot CRC-32. */
+uint32_t hash_crc32(const void *data, size_t len);
+
+#endif

@@ -1,0 +1,277 @@
+/* The bake pipeline: frame model (fem.c), shift-invert modes (eigen.c), Rayleigh damping
+ * γ_i = α + β ω_i² (Diener 2008 eq. 9), wind basis (basis.c, section 4), correction
+ * (correction.c, section 5.2), mesh (mesh.h); everything the asset holds. */
+#include "bake.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <cjson/cJSON.h>
+
+#include "basis.h"
+#include "eigen.h"
+#include "fem.h"
+#include "mesh.h"
+
+static double now_s(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+uint64_t bake_hash(uint64_t h, const void *data, size_t n)
+{
+    const unsigned char *p = data;
+    for (size_t i = 0; i < n; i++) {
+        h ^= p[i];
+        h *= 0x100000001b3ull;
+    }
+    return h;
+}
+
+static float *to_float(const double *x, size_t n)
+{
+    float *y = malloc((n ? n : 1) * sizeof *y);
+    if (y) {
+        for (size_t i = 0; i < n; i++) {
+            y[i] = (float)x[i];
+        }
+    }
+    return y;
+}
+
+int bake_run(const skeleton *s, const species *sp, const bake_desc *d, asset *a,
+             bake_report *rep, gale_err *err)
+{
+    const double t0 = now_s();
+    bake_desc bd = d ? *d : (bake_desc){ 0 };
+    bake_report r;
+    memset(&r, 0, sizeof r);
+    memset(a, 0, sizeof *a);
+    if (bd.n_modes == 0) {
+        bd.n_modes = 32;
+    }
+    if (bd.n_modes < 1 || bd.n_modes > BAKE_MAX_MODES) {
+        return gale_errf(err, GALE_E_RANGE, "bake: %d modes, expected 1..%d", bd.n_modes,
+                         BAKE_MAX_MODES);
+    }
+    const int n = s->n, nm = bd.n_modes;
+    if (n < 2) {
+        return gale_errf(err, GALE_E_RANGE, "bake: skeleton has %d nodes, expected at least 2",
+                         n);
+    }
+    if (6 * (n - 1) <= nm) {
+        return gale_errf(err, GALE_E_RANGE,
+                         "bake: %d modes requested but a %d-node skeleton has only %d degrees "
+                         "of freedom",
+                         nm, n, 6 * (n - 1));
+    }
+    fem_model f;
+    eigen_result er;
+    corr_result cr;
+    memset(&er, 0, sizeof er);
+    memset(&cr, 0, sizeof cr);
+    double *tr = NULL, *rot = NULL, *rest = NULL, *p = NULL;
+    int rc = fem_build(s, &(fem_material){ sp->E_pa, sp->rho_kg_m3, sp->G_pa }, &f, err);
+    if (rc != GALE_OK) {
+        return rc;
+    }
+    for (int i = 1; i < n; i++) {
+        r.mass_kg += f.mat.rho_kg_m3 * M_PI * f.radius_m[i] * f.radius_m[i] * f.len_m[i];
+    }
+    const double t1 = now_s();
+    rc = eigen_lowest(&f, nm, &er, err);
+    if (rc != GALE_OK) {
+        goto fail;
+    }
+    const double t2 = now_s();
+    tr = malloc((size_t)nm * n * 3 * sizeof *tr);
+    rot = malloc((size_t)nm * n * 3 * sizeof *rot);
+    rest = malloc((size_t)n * 3 * sizeof *rest);
+    p = malloc((size_t)nm * 3 * sizeof *p);
+    if (!tr || !rot || !rest || !p) {
+        rc = gale_errf(err, GALE_E_NOMEM, "bake: out of memory for %d modes x %d nodes", nm, n);
+        goto fail;
+    }
+    fem_split_modes(&f, er.phi, nm, tr, rot);
+    basis_compute(&f, er.phi, nm, sp->drag_c, p);
+    const double t3 = now_s();
+    for (int i = 0; i < 3 * n; i++) {
+        rest[i] = (double)s->pos[i];
+    }
+    rc = corr_fit(rest, f.parent, n, tr, rot, nm, &bd.corr, &cr, err);
+    if (rc != GALE_OK) {
+        goto fail;
+    }
+    const double t4 = now_s();
+
+    /* the asset */
+    snprintf(a->species, sizeof a->species, "%s", sp->name);
+    a->source_hash = bd.source_hash;
+    a->params_json = strdup(bd.params_json ? bd.params_json : "{}");
+    a->n_nodes = (uint32_t)n;
+    a->parent = malloc((size_t)n * sizeof *a->parent);
+    a->rest = malloc((size_t)n * 3 * sizeof *a->rest);
+    a->radius = malloc((size_t)n * sizeof *a->radius);
+    a->n_modes = (uint32_t)nm;
+    a->omega = malloc((size_t)nm * sizeof *a->omega);
+    a->gamma = malloc((size_t)nm * sizeof *a->gamma);
+    a->wind_basis = to_float(p, (size_t)nm * 3);
+    a->phi = to_float(tr, (size_t)nm * n * 3);
+    a->phi_rot = to_float(rot, (size_t)nm * n * 3);
+    a->corr_v = to_float(cr.v, (size_t)nm * n * 3);
+    a->corr_w = to_float(cr.w, (size_t)nm * n * 3);
+    a->corr_a = to_float(cr.a, (size_t)nm);
+    a->corr_b = to_float(cr.b, (size_t)nm);
+    if (!a->params_json || !a->parent || !a->rest || !a->radius || !a->omega || !a->gamma ||
+        !a->wind_basis || !a->phi || !a->phi_rot || !a->corr_v || !a->corr_w || !a->corr_a ||
+        !a->corr_b) {
+        rc = gale_errf(err, GALE_E_NOMEM, "bake: out of memory filling the asset");
+        goto fail;
+    }
+    a->height_m = 0.0f;
+    for (int i = 0; i < n; i++) {
+        a->parent[i] = s->parent[i];
+        a->radius[i] = s->radius[i];
+        for (int k = 0; k < 3; k++) {
+            a->rest[3 * i + k] = s->pos[3 * i + k];
+        }
+        if (s->pos[3 * i + 2] > a->height_m) {
+            a->height_m = s->pos[3 * i + 2];
+        }
+    }
+    for (int m = 0; m < nm; m++) {
+        const double w = sqrt(er.omega2[m]);
+        a->omega[m] = (float)w;
+        /* Diener 2008 eq. 9: γ_i = α + β ω_i² */
+        a->gamma[m] = (float)(sp->rayleigh_alpha + sp->rayleigh_beta * er.omega2[m]);
+    }
+    rc = mesh_build(s, sp, a, err);
+    if (rc != GALE_OK) {
+        goto fail;
+    }
+    const double t5 = now_s();
+
+    r.nodes = n;
+    r.modes = nm;
+    r.seconds_fem = t1 - t0;
+    r.seconds_eigen = t2 - t1;
+    r.seconds_basis = t3 - t2;
+    r.seconds_correction = t4 - t3;
+    r.seconds_mesh = t5 - t4;
+    r.eigen_dense = er.dense;
+    r.eigen_iterations = er.iterations;
+    r.eigen_solves = er.n_op;
+    r.eigen_residual = er.max_residual;
+    r.ortho_error = er.ortho_error;
+    r.amp_rot_rad = cr.amp_rot_rad;
+    r.length_err_linear = cr.err_linear;
+    r.length_err_corrected = cr.err_corrected;
+    r.seconds = now_s() - t0;
+    if (rep) {
+        *rep = r;
+    }
+    rc = GALE_OK;
+    goto done;
+fail:
+    asset_fini(a);
+    memset(a, 0, sizeof *a);
+done:
+    free(tr), free(rot), free(rest), free(p);
+    corr_result_fini(&cr);
+    eigen_result_fini(&er);
+    fem_fini(&f);
+    return rc;
+}
+
+char *bake_report_json(const asset *a, const bake_report *rep)
+{
+    cJSON *o = cJSON_CreateObject();
+    if (!o) {
+        return NULL;
+    }
+    cJSON_AddStringToObject(o, "species", a->species);
+    cJSON_AddNumberToObject(o, "nodes", rep->nodes);
+    cJSON_AddNumberToObject(o, "modes", rep->modes);
+    cJSON_AddNumberToObject(o, "height_m", (double)a->height_m);
+    cJSON_AddNumberToObject(o, "mass_kg", rep->mass_kg);
+    cJSON *fh = cJSON_AddArrayToObject(o, "frequencies_hz");
+    cJSON *dr = cJSON_AddArrayToObject(o, "damping_ratios");
+    cJSON *pn = cJSON_AddArrayToObject(o, "wind_basis_norm");
+    for (uint32_t m = 0; m < a->n_modes; m++) {
+        const double w = (double)a->omega[m];
+        cJSON_AddItemToArray(fh, cJSON_CreateNumber(w / (2.0 * M_PI)));
+        /* ζ = γ / (2 ω) for q'' + γ q' + ω² q */
+        cJSON_AddItemToArray(dr, cJSON_CreateNumber((double)a->gamma[m] / (2.0 * w)));
+        const float *p = a->wind_basis + 3 * m;
+        cJSON_AddItemToArray(pn, cJSON_CreateNumber(sqrt((double)(p[0] * p[0] + p[1] * p[1] +
+                                                                  p[2] * p[2]))));
+    }
+    cJSON_AddNumberToObject(o, "seconds", rep->seconds);
+    cJSON *bl = cJSON_AddObjectToObject(o, "branch_length_error");
+    char amp[160];
+    snprintf(amp, sizeof amp,
+             "each mode alone at |q| up to the amplitude where its largest node rotation is "
+             "%.2f rad (%.0f deg)",
+             rep->amp_rot_rad, rep->amp_rot_rad * 180.0 / M_PI);
+    cJSON_AddStringToObject(bl, "amplitude", amp);
+    cJSON_AddNumberToObject(bl, "amplitude_rad", rep->amp_rot_rad);
+    cJSON_AddNumberToObject(bl, "without_correction", rep->length_err_linear);
+    cJSON_AddNumberToObject(bl, "with_correction", rep->length_err_corrected);
+    cJSON *e = cJSON_AddObjectToObject(o, "eigen");
+    cJSON_AddStringToObject(e, "method", rep->eigen_dense ? "dense LAPACK dsygvd"
+                                                          : "ARPACK shift-invert Lanczos, "
+                                                            "tree Cholesky");
+    cJSON_AddNumberToObject(e, "restarts", rep->eigen_iterations);
+    cJSON_AddNumberToObject(e, "solves", rep->eigen_solves);
+    cJSON_AddNumberToObject(e, "max_residual", rep->eigen_residual);
+    cJSON_AddNumberToObject(e, "orthonormality_error", rep->ortho_error);
+    cJSON_AddNumberToObject(o, "orthonormality_error", rep->ortho_error);
+    cJSON_AddNumberToObject(o, "eigen_residual", rep->eigen_residual);
+    cJSON *t = cJSON_AddObjectToObject(o, "stage_seconds");
+    cJSON_AddNumberToObject(t, "fem", rep->seconds_fem);
+    cJSON_AddNumberToObject(t, "eigen", rep->seconds_eigen);
+    cJSON_AddNumberToObject(t, "basis", rep->seconds_basis);
+    cJSON_AddNumberToObject(t, "correction", rep->seconds_correction);
+    cJSON_AddNumberToObject(t, "mesh", rep->seconds_mesh);
+    cJSON_AddNumberToObject(o, "mesh_vertices", a->n_verts);
+    cJSON_AddNumberToObject(o, "mesh_triangles", a->n_indices / 3);
+    cJSON_AddNumberToObject(o, "leaves", a->n_leaves);
+    char hash[24];
+    snprintf(hash, sizeof hash, "%016llx", (unsigned long long)a->source_hash);
+    cJSON_AddStringToObject(o, "source_hash", hash);
+    char *text = cJSON_Print(o);
+    cJSON_Delete(o);
+    return text;
+}
+
+void bake_report_print(FILE *out, const asset *a, const bake_report *rep)
+{
+    fprintf(out, "species %s: %d nodes, height %.2f m, mass %.1f kg\n", a->species, rep->nodes,
+            (double)a->height_m, rep->mass_kg);
+    fprintf(out, "%d modes (%s, %d restarts, %d solves), residual %.1e, M-orthonormality %.1e\n",
+            rep->modes, rep->eigen_dense ? "dense" : "shift-invert Lanczos",
+            rep->eigen_iterations, rep->eigen_solves, rep->eigen_residual, rep->ortho_error);
+    fprintf(out, "  mode   freq [Hz]  damping ratio  |p| [kg^0.5/m]\n");
+    for (uint32_t m = 0; m < a->n_modes; m++) {
+        const double w = (double)a->omega[m];
+        const float *p = a->wind_basis + 3 * m;
+        fprintf(out, "  %4u  %10.4f  %13.4f  %14.4g\n", m + 1, w / (2.0 * M_PI),
+                (double)a->gamma[m] / (2.0 * w),
+                sqrt((double)(p[0] * p[0] + p[1] * p[1] + p[2] * p[2])));
+    }
+    fprintf(out,
+            "branch-length error at %.2f rad (largest node rotation, each mode alone): "
+            "%.2f%% linear, %.2f%% corrected\n",
+            rep->amp_rot_rad, 100.0 * rep->length_err_linear,
+            100.0 * rep->length_err_corrected);
+    fprintf(out, "mesh %u vertices, %u triangles, %u LODs, %u leaves\n", a->n_verts,
+            a->n_indices / 3, a->n_lods, a->n_leaves);
+    fprintf(out,
+            "bake %.3f s (fem %.3f, eigen %.3f, basis %.3f, correction %.3f, mesh %.3f)\n",
+            rep->seconds, rep->seconds_fem, rep->seconds_eigen, rep->seconds_basis,
+            rep->seconds_correction, rep->seconds_mesh);
+}

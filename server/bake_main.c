@@ -1,0 +1,258 @@
+/* gale-bake: bakes one species (L-system from a species JSON) or one skeleton CSV into an
+ * asset file, printing a readable report; optionally the report as JSON and a PNG of the
+ * first mode shapes. Outputs appear whole or not at all. */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <cjson/cJSON.h>
+
+#include "asset_file.h"
+#include "bake.h"
+#include "lsystem.h"
+#include "modes_png.h"
+#include "skeleton.h"
+#include "species.h"
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+            "usage: gale-bake (--skeleton FILE.csv | --species FILE.json) [--modes N] --out FILE\n"
+            "                 [--report FILE.json] [--modes-png FILE.png]\n"
+            "\n"
+            "Bakes a tree into a gale asset: frame-element model, lowest modes, wind basis,\n"
+            "strong-wind correction, tube mesh and leaves (Diener 2008).\n"
+            "\n"
+            "  --skeleton FILE.csv  skeleton to bake: id,parent,x,y,z,radius with a header line,\n"
+            "                       parent -1 for the single root, z up, metres; default wood\n"
+            "                       (E 1e10 Pa, rho 1000 kg/m^3) and damping\n"
+            "  --species FILE.json  species to bake: its L-system generates the skeleton, its\n"
+            "                       wood, damping, drag and look constants are used\n"
+            "  --modes N            modes to keep, 1..%d (default 32)\n"
+            "  --out FILE           asset file to write (written atomically)\n"
+            "  --report FILE.json   also write the report as JSON: nodes, modes, frequencies_hz,\n"
+            "                       damping_ratios, seconds, branch_length_error, eigen figures\n"
+            "  --modes-png FILE.png also draw the first six mode shapes (side view, rest in grey)\n"
+            "  --help               this text\n"
+            "\n"
+            "Exit status 0 on success; 2 on bad arguments; 1 when the input is bad or the bake\n"
+            "fails (the message names the file, line or key). Nothing is written on failure.\n",
+            BAKE_MAX_MODES);
+}
+
+static int read_file(const char *path, char **out, size_t *len, gale_err *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        return gale_errf(err, GALE_E_IO, "%s: cannot open: %s", path, strerror(errno));
+    }
+    size_t cap = 65536, n = 0;
+    char *buf = malloc(cap + 1);
+    while (buf) {
+        n += fread(buf + n, 1, cap - n, f);
+        if (n < cap) {
+            break;
+        }
+        cap *= 2;
+        char *nb = realloc(buf, cap + 1);
+        if (!nb) {
+            free(buf);
+            buf = NULL;
+        } else {
+            buf = nb;
+        }
+    }
+    const int bad = ferror(f);
+    fclose(f);
+    if (!buf) {
+        return gale_errf(err, GALE_E_NOMEM, "%s: out of memory reading", path);
+    }
+    if (bad) {
+        free(buf);
+        return gale_errf(err, GALE_E_IO, "%s: read error", path);
+    }
+    buf[n] = '\0';
+    *out = buf;
+    *len = n;
+    return GALE_OK;
+}
+
+/* Writes len bytes to tmp (created fresh); the caller renames it into place. */
+static int write_file(const char *tmp, const char *data, size_t len, gale_err *err)
+{
+    FILE *f = fopen(tmp, "wb");
+    if (!f) {
+        return gale_errf(err, GALE_E_IO, "%s: cannot create: %s", tmp, strerror(errno));
+    }
+    const size_t w = fwrite(data, 1, len, f);
+    const int fl = fflush(f);
+    const int sy = fsync(fileno(f));
+    if (fclose(f) != 0 || w != len || fl != 0 || sy != 0) {
+        unlink(tmp);
+        return gale_errf(err, GALE_E_IO, "%s: write failed", tmp);
+    }
+    return GALE_OK;
+}
+
+static int arg_fail(const char *msg, const char *what)
+{
+    fprintf(stderr, "gale-bake: %s%s\n(see gale-bake --help)\n", msg, what ? what : "");
+    return 2;
+}
+
+int main(int argc, char **argv)
+{
+    const char *skel_path = NULL, *species_path = NULL, *out = NULL, *report = NULL, *png = NULL;
+    int n_modes = 32;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+            usage(stdout);
+            return 0;
+        }
+        const int has_val = i + 1 < argc;
+        if (strcmp(a, "--skeleton") == 0 || strcmp(a, "--species") == 0 ||
+            strcmp(a, "--modes") == 0 || strcmp(a, "--out") == 0 || strcmp(a, "--report") == 0 ||
+            strcmp(a, "--modes-png") == 0) {
+            if (!has_val) {
+                return arg_fail("missing value after ", a);
+            }
+            const char *v = argv[++i];
+            if (strcmp(a, "--skeleton") == 0) {
+                skel_path = v;
+            } else if (strcmp(a, "--species") == 0) {
+                species_path = v;
+            } else if (strcmp(a, "--out") == 0) {
+                out = v;
+            } else if (strcmp(a, "--report") == 0) {
+                report = v;
+            } else if (strcmp(a, "--modes-png") == 0) {
+                png = v;
+            } else {
+                char *end = NULL;
+                errno = 0;
+                long m = strtol(v, &end, 10);
+                if (errno || end == v || *end != '\0' || m < 1 || m > BAKE_MAX_MODES) {
+                    fprintf(stderr, "gale-bake: --modes: expected an integer in 1..%d, got '%s'\n",
+                            BAKE_MAX_MODES, v);
+                    return 2;
+                }
+                n_modes = (int)m;
+            }
+        } else {
+            return arg_fail("unknown argument ", a);
+        }
+    }
+    if (!skel_path == !species_path) {
+        return arg_fail("give exactly one of --skeleton FILE.csv or --species FILE.json", NULL);
+    }
+    if (!out) {
+        return arg_fail("--out FILE is required", NULL);
+    }
+
+    gale_err err;
+    gale_err_clear(&err);
+    const char *in_path = skel_path ? skel_path : species_path;
+    char *text = NULL, *params = NULL, *report_text = NULL;
+    size_t len = 0;
+    species sp;
+    skeleton s;
+    asset a;
+    bake_report rep;
+    memset(&s, 0, sizeof s);
+    memset(&a, 0, sizeof a);
+    char tmp_report[4096] = "", tmp_png[4096] = "";
+    int status = 1;
+    if (read_file(in_path, &text, &len, &err) != GALE_OK) {
+        goto fail;
+    }
+    if (species_path) {
+        if (species_parse(text, len, species_path, &sp, &err) != GALE_OK ||
+            lsystem_generate(&sp.gen, &s, &err) != GALE_OK) {
+            goto fail;
+        }
+        params = strdup(text);
+    } else {
+        if (skeleton_parse_csv(text, len, skel_path, &s, &err) != GALE_OK) {
+            goto fail;
+        }
+        species_default(&sp);
+        const char *base = strrchr(skel_path, '/');
+        base = base ? base + 1 : skel_path;
+        snprintf(sp.name, sizeof sp.name, "%.*s", (int)strcspn(base, "."), base);
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddStringToObject(o, "skeleton", base);
+        cJSON_AddNumberToObject(o, "E_pa", sp.E_pa);
+        cJSON_AddNumberToObject(o, "rho_kg_m3", sp.rho_kg_m3);
+        cJSON_AddNumberToObject(o, "G_pa", sp.G_pa);
+        cJSON_AddNumberToObject(o, "rayleigh_alpha", sp.rayleigh_alpha);
+        cJSON_AddNumberToObject(o, "rayleigh_beta", sp.rayleigh_beta);
+        cJSON_AddNumberToObject(o, "drag_c", sp.drag_c);
+        params = cJSON_PrintUnformatted(o);
+        cJSON_Delete(o);
+    }
+    if (!params) {
+        gale_errf(&err, GALE_E_NOMEM, "out of memory");
+        goto fail;
+    }
+    uint64_t h = bake_hash(BAKE_HASH_SEED, text, len);
+    const int ver = BAKE_VERSION;
+    h = bake_hash(h, &n_modes, sizeof n_modes);
+    h = bake_hash(h, &ver, sizeof ver);
+    bake_desc d = { .n_modes = n_modes, .params_json = params, .source_hash = h };
+    if (bake_run(&s, &sp, &d, &a, &rep, &err) != GALE_OK) {
+        goto fail;
+    }
+    if (png) {
+        snprintf(tmp_png, sizeof tmp_png, "%s.tmp-%ld.png", png, (long)getpid());
+        if (modes_png_write(&a, tmp_png, &err) != GALE_OK) {
+            unlink(tmp_png);
+            tmp_png[0] = '\0';
+            goto fail;
+        }
+    }
+    if (report) {
+        report_text = bake_report_json(&a, &rep);
+        if (!report_text) {
+            gale_errf(&err, GALE_E_NOMEM, "out of memory writing the report");
+            goto fail;
+        }
+        snprintf(tmp_report, sizeof tmp_report, "%s.tmp-%ld", report, (long)getpid());
+        if (write_file(tmp_report, report_text, strlen(report_text), &err) != GALE_OK) {
+            tmp_report[0] = '\0';
+            goto fail;
+        }
+    }
+    if (asset_save(&a, out, &err) != GALE_OK) {
+        goto fail;
+    }
+    if ((tmp_report[0] && rename(tmp_report, report) != 0) ||
+        (tmp_png[0] && rename(tmp_png, png) != 0)) {
+        gale_errf(&err, GALE_E_IO, "cannot rename %s into place: %s",
+                  tmp_report[0] ? report : png, strerror(errno));
+        unlink(out);
+        goto fail;
+    }
+    tmp_report[0] = '\0';
+    tmp_png[0] = '\0';
+    bake_report_print(stdout, &a, &rep);
+    printf("wrote %s%s%s%s%s\n", out, report ? ", " : "", report ? report : "", png ? ", " : "",
+           png ? png : "");
+    status = 0;
+    goto done;
+fail:
+    fprintf(stderr, "gale-bake: %s\n", err.msg[0] ? err.msg : "failed");
+done:
+    if (tmp_report[0]) {
+        unlink(tmp_report);
+    }
+    if (tmp_png[0]) {
+        unlink(tmp_png);
+    }
+    free(text), free(params), free(report_text);
+    asset_fini(&a);
+    skeleton_fini(&s);
+    return status;
+}

@@ -1,0 +1,202 @@
+/* gale-bench modal: the per-tick cost of the batch modal update (server/modal.c) for
+ * many trees: wind sampled at each tree (trilinear, from a synthetic gusty grid until the
+ * scene's wind field is wired in), forces f_i = |v| v.p_i in the tree frame, exact
+ * update, quantisation into the snapshot buffer. Prints JSON; medians over the ticks. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "modal.h"
+#include "wire.h"
+
+int bench_modal(int argc, char **argv);
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double pct(double *v, int n, double p)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    int i = (int)(p * (n - 1) + 0.5);
+    return v[i];
+}
+
+/* Synthetic wind grid GX x GY x GZ over a square of side L metres. */
+enum { GX = 64, GY = 64, GZ = 8 };
+
+static void sample_trilinear(const float *g, float side_m, float h_m, const float *pos, int n,
+                             float *out)
+{
+    const float sx = (GX - 1) / side_m, sz = (GZ - 1) / h_m;
+#pragma omp parallel for schedule(static) num_threads(2) if (n > 4096)
+    for (int t = 0; t < n; t++) {
+        float fx = pos[3 * t] * sx, fy = pos[3 * t + 1] * sx, fz = pos[3 * t + 2] * sz;
+        int ix = (int)fx, iy = (int)fy, iz = (int)fz;
+        ix = ix < 0 ? 0 : ix > GX - 2 ? GX - 2 : ix;
+        iy = iy < 0 ? 0 : iy > GY - 2 ? GY - 2 : iy;
+        iz = iz < 0 ? 0 : iz > GZ - 2 ? GZ - 2 : iz;
+        float ax = fx - (float)ix, ay = fy - (float)iy, az = fz - (float)iz;
+        float acc[3] = { 0.0f, 0.0f, 0.0f };
+        for (int c = 0; c < 8; c++) {
+            int dx = c & 1, dy = c >> 1 & 1, dz = c >> 2;
+            float w = (dx ? ax : 1 - ax) * (dy ? ay : 1 - ay) * (dz ? az : 1 - az);
+            const float *gv = g + (((iz + dz) * GY + iy + dy) * GX + ix + dx) * 3;
+            acc[0] += w * gv[0];
+            acc[1] += w * gv[1];
+            acc[2] += w * gv[2];
+        }
+        out[3 * t] = acc[0];
+        out[3 * t + 1] = acc[1];
+        out[3 * t + 2] = acc[2];
+    }
+}
+
+int bench_modal(int argc, char **argv)
+{
+    int n_trees = 100000, n_modes = 32, ticks = 300, n_species = 3, threads = 2;
+    bool json = false;
+    for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--trees") == 0 && i + 1 < argc) {
+            n_trees = atoi(argv[++i]);
+        } else if (strcmp(argv[i], "--modes") == 0 && i + 1 < argc) {
+            n_modes = atoi(argv[++i]);
+        } else if (strcmp(argv[i], "--ticks") == 0 && i + 1 < argc) {
+            ticks = atoi(argv[++i]);
+        } else if (strcmp(argv[i], "--species") == 0 && i + 1 < argc) {
+            n_species = atoi(argv[++i]);
+        } else if (strcmp(argv[i], "--threads") == 0 && i + 1 < argc) {
+            threads = atoi(argv[++i]);
+        } else if (strcmp(argv[i], "--json") == 0) {
+            json = true;
+        } else {
+            fprintf(stderr, "usage: gale-bench modal [--trees N] [--modes M] [--species S] "
+                            "[--ticks K] [--threads T] [--json]\n");
+            return 2;
+        }
+    }
+    if (n_trees < 1 || n_trees > (int)WIRE_MAX_TREES || n_modes < 1 ||
+        n_modes > (int)WIRE_MAX_MODES || ticks < 10 || n_species < 1 ||
+        n_species > (int)WIRE_MAX_SPECIES || threads < 1 || threads > 64) {
+        fprintf(stderr, "gale-bench modal: --trees 1..%u, --modes 1..%u, --species 1..%u, "
+                        "--ticks >= 10, --threads 1..64\n",
+                WIRE_MAX_TREES, WIRE_MAX_MODES, WIRE_MAX_SPECIES);
+        return 2;
+    }
+    uint64_t s = 12345;
+#define RND() ((s = s * 6364136223846793005ull + 1442695040888963407ull), (float)(s >> 40) / 16777216.0f)
+    float *omega = malloc(sizeof(float) * (size_t)n_species * (size_t)n_modes);
+    float *gamma = malloc(sizeof(float) * (size_t)n_species * (size_t)n_modes);
+    float *p = malloc(sizeof(float) * 3 * (size_t)n_species * (size_t)n_modes);
+    float *step = malloc(sizeof(float) * (size_t)n_species * (size_t)n_modes);
+    modal_species *sp = calloc((size_t)n_species, sizeof *sp);
+    uint8_t *ts = malloc((size_t)n_trees);
+    float *yaw = malloc(sizeof(float) * (size_t)n_trees);
+    float *pos = malloc(sizeof(float) * 3 * (size_t)n_trees);
+    float *wind = malloc(sizeof(float) * 3 * (size_t)n_trees);
+    float *grid = malloc(sizeof(float) * 3 * GX * GY * GZ);
+    int16_t *snap = malloc(sizeof(int16_t) * (size_t)n_trees * (size_t)n_modes);
+    double *t_sample = malloc(sizeof(double) * (size_t)ticks);
+    double *t_modal = malloc(sizeof(double) * (size_t)ticks);
+    double *t_total = malloc(sizeof(double) * (size_t)ticks);
+    if (!omega || !gamma || !p || !step || !sp || !ts || !yaw || !pos || !wind || !grid ||
+        !snap || !t_sample || !t_modal || !t_total) {
+        fprintf(stderr, "gale-bench modal: out of memory\n");
+        return 1;
+    }
+    for (int k = 0; k < n_species; k++) {
+        for (int i = 0; i < n_modes; i++) {
+            int j = k * n_modes + i;
+            /* First modes 0.3-2 Hz rising to tens of Hz (DESIGN.md "Modes"). */
+            omega[j] = 6.2831853f * (0.3f + 0.7f * (float)i * (float)i / 4.0f + RND());
+            gamma[j] = 0.1f + 1e-3f * omega[j] * omega[j] * 0.01f;
+            for (int c = 0; c < 3; c++) {
+                p[3 * j + c] = 0.01f * (RND() - 0.5f);
+            }
+            step[j] = 1e-4f;
+        }
+        sp[k] = (modal_species){ (uint32_t)n_modes, omega + k * n_modes, gamma + k * n_modes,
+                                 p + 3 * k * n_modes, step + k * n_modes };
+    }
+    const float side = 2000.0f, height = 40.0f;
+    for (int t = 0; t < n_trees; t++) {
+        ts[t] = (uint8_t)(t % n_species);
+        yaw[t] = 6.2831853f * RND();
+        pos[3 * t] = side * RND();
+        pos[3 * t + 1] = side * RND();
+        pos[3 * t + 2] = 5.0f + 10.0f * RND();
+    }
+    gale_err err;
+    modal *m = modal_create(&(modal_desc){ .n_trees = (uint32_t)n_trees,
+                                           .n_species = (uint32_t)n_species, .species = sp,
+                                           .tree_species = ts, .tree_yaw_rad = yaw,
+                                           .dt_s = 1.0 / 60, .n_threads = threads },
+                            &err);
+    if (!m) {
+        fprintf(stderr, "gale-bench modal: %s\n", err.msg);
+        return 1;
+    }
+    for (int i = 0; i < 3 * GX * GY * GZ; i++) {
+        grid[i] = 20.0f * RND();
+    }
+    for (int k = -20; k < ticks; k++) { /* 20 warm-up ticks */
+        /* The field changes a little every tick (cost outside the timed region). */
+        int cell = (int)(RND() * (3 * GX * GY * GZ - 1));
+        grid[cell] = 20.0f * RND();
+        double t0 = now_ms();
+        sample_trilinear(grid, side, height, pos, n_trees, wind);
+        double t1 = now_ms();
+        modal_tick(m, wind, snap);
+        double t2 = now_ms();
+        if (k >= 0) {
+            t_sample[k] = t1 - t0;
+            t_modal[k] = t2 - t1;
+            t_total[k] = t2 - t0;
+        }
+    }
+    long check = 0;
+    for (int i = 0; i < n_trees * n_modes; i += 97) {
+        check += snap[i];
+    }
+    double med_s = pct(t_sample, ticks, 0.5), med_m = pct(t_modal, ticks, 0.5);
+    double med_t = pct(t_total, ticks, 0.5), p95_t = pct(t_total, ticks, 0.95);
+    double max_t = t_total[ticks - 1];
+    if (json) {
+        printf("{\"bench\":\"modal\",\"trees\":%d,\"modes\":%d,\"species\":%d,\"threads\":%d,"
+               "\"ticks\":%d,\"sample_ms_median\":%.3f,\"update_quantise_ms_median\":%.3f,"
+               "\"tick_ms_median\":%.3f,\"tick_ms_p95\":%.3f,\"tick_ms_max\":%.3f,"
+               "\"ns_per_tree_mode\":%.3f,\"target_ms\":3.0,\"checksum\":%ld}\n",
+               n_trees, n_modes, n_species, threads, ticks, med_s, med_m, med_t, p95_t, max_t,
+               med_t * 1e6 / ((double)n_trees * n_modes), check);
+    } else {
+        printf("modal: %d trees x %d modes, %d threads: tick median %.3f ms (sample %.3f, "
+               "update+quantise %.3f), p95 %.3f, max %.3f\n",
+               n_trees, n_modes, threads, med_t, med_s, med_m, p95_t, max_t);
+    }
+    modal_destroy(m);
+    free(omega);
+    free(gamma);
+    free(p);
+    free(step);
+    free(sp);
+    free(ts);
+    free(yaw);
+    free(pos);
+    free(wind);
+    free(grid);
+    free(snap);
+    free(t_sample);
+    free(t_modal);
+    free(t_total);
+    return 0;
+}

@@ -1,0 +1,401 @@
+/* gale-bench wire: bytes per tree per snapshot and skeleton node error of the state
+ * stream (protocol/PROTOCOL.md) over a gusty run. Trees are baked here from seeded
+ * synthetic skeletons through the real bake path (FEM, lowest modes, wind basis p_i,
+ * strong-wind correction: Diener 2008 sections 3-5.2), driven by a mean wind with an
+ * Ornstein-Uhlenbeck gust process per tree, advanced by gale_modal at 60 Hz, encoded at
+ * 30 snapshots/s by the real encoder and decoded by the real decoder. Node error: the
+ * client's decoded q against the server's float q, both through the reconstruction
+ * u = rest + sum q~ v + q~^2 w, as a fraction of tree height. Prints JSON. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "asset.h"
+#include "bake_tree.h"
+#include "basis.h"
+#include "correction.h"
+#include "eigen.h"
+#include "fem.h"
+#include "gust.h"
+#include "modal.h"
+#include "wire.h"
+
+int bench_wire(int argc, char **argv);
+
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+static float *to_float(const double *d, size_t n)
+{
+    float *f = malloc(sizeof(float) * (n ? n : 1));
+    for (size_t i = 0; f && i < n; i++) {
+        f[i] = (float)d[i];
+    }
+    return f;
+}
+
+/* Bakes one species from a seeded synthetic skeleton into *a (arrays owned by a; free
+ * with free_species). Rayleigh damping alpha, beta (Diener 2008 eq. 9). */
+static int bake_species(int n_nodes, uint64_t seed, int n_modes, double alpha, double beta,
+                        asset *a, gale_err *err)
+{
+    skeleton sk = { 0 };
+    fem_model fm = { 0 };
+    eigen_result er = { 0 };
+    corr_result cr = { 0 };
+    double *trans = NULL, *rot = NULL, *p = NULL, *rest = NULL;
+    int rc = bake_tree_generate(n_nodes, seed, &sk, err);
+    if (!rc) {
+        rc = fem_build(&sk, &(fem_material){ 0 }, &fm, err);
+    }
+    if (!rc) {
+        rc = eigen_lowest(&fm, n_modes, &er, err);
+    }
+    if (rc) {
+        goto done;
+    }
+    size_t nn = (size_t)sk.n;
+    trans = calloc((size_t)n_modes * nn * 3, sizeof *trans);
+    rot = calloc((size_t)n_modes * nn * 3, sizeof *rot);
+    p = calloc((size_t)n_modes * 3, sizeof *p);
+    rest = calloc(nn * 3, sizeof *rest);
+    if (!trans || !rot || !p || !rest) {
+        rc = gale_errf(err, GALE_E_NOMEM, "bench wire: out of memory");
+        goto done;
+    }
+    fem_split_modes(&fm, er.phi, n_modes, trans, rot);
+    /* C = 1/2 rho_air C_D with rho_air = 1.2 kg/m^3, C_D = 1 for a cylinder. */
+    basis_compute(&fm, er.phi, n_modes, 0.6, p);
+    for (size_t i = 0; i < 3 * nn; i++) {
+        rest[i] = sk.pos[i];
+    }
+    rc = corr_fit(rest, sk.parent, sk.n, trans, rot, n_modes, &(corr_desc){ 0 }, &cr, err);
+    if (rc) {
+        goto done;
+    }
+    memset(a, 0, sizeof *a);
+    snprintf(a->species, sizeof a->species, "synthetic-%d-%llu", n_nodes,
+             (unsigned long long)seed);
+    a->n_nodes = (uint32_t)sk.n;
+    a->n_modes = (uint32_t)n_modes;
+    a->parent = malloc(sizeof(int32_t) * nn);
+    a->rest = to_float(rest, 3 * nn);
+    a->radius = to_float(rest, nn); /* unused here */
+    a->omega = malloc(sizeof(float) * (size_t)n_modes);
+    a->gamma = malloc(sizeof(float) * (size_t)n_modes);
+    a->wind_basis = to_float(p, 3 * (size_t)n_modes);
+    a->phi = to_float(trans, (size_t)n_modes * nn * 3);
+    a->corr_v = to_float(cr.v, (size_t)n_modes * nn * 3);
+    a->corr_w = to_float(cr.w, (size_t)n_modes * nn * 3);
+    a->corr_a = to_float(cr.a, (size_t)n_modes);
+    a->corr_b = to_float(cr.b, (size_t)n_modes);
+    if (!a->parent || !a->rest || !a->omega || !a->gamma || !a->wind_basis || !a->phi ||
+        !a->corr_v || !a->corr_w || !a->corr_a || !a->corr_b) {
+        rc = gale_errf(err, GALE_E_NOMEM, "bench wire: out of memory");
+        goto done;
+    }
+    for (size_t i = 0; i < nn; i++) {
+        a->parent[i] = sk.parent[i];
+        a->height_m = sk.pos[3 * i + 2] > a->height_m ? sk.pos[3 * i + 2] : a->height_m;
+    }
+    for (int m = 0; m < n_modes; m++) {
+        double w2 = er.omega2[m];
+        a->omega[m] = (float)sqrt(w2);
+        a->gamma[m] = (float)(alpha + beta * w2);
+    }
+done:
+    free(trans);
+    free(rot);
+    free(p);
+    free(rest);
+    corr_result_fini(&cr);
+    eigen_result_fini(&er);
+    fem_fini(&fm);
+    skeleton_fini(&sk);
+    return rc;
+}
+
+static void free_species(asset *a)
+{
+    free(a->parent);
+    free(a->rest);
+    free(a->radius);
+    free(a->omega);
+    free(a->gamma);
+    free(a->wind_basis);
+    free(a->phi);
+    free(a->corr_v);
+    free(a->corr_w);
+    free(a->corr_a);
+    free(a->corr_b);
+    memset(a, 0, sizeof *a);
+}
+
+#define HBINS 4000
+#define HMAX 0.02 /* histogram of node error / H over [0, 2 %] */
+
+static double hist_pct(const uint64_t *h, uint64_t n, double p)
+{
+    uint64_t want = (uint64_t)ceil(p * (double)n), acc = 0;
+    for (int i = 0; i < HBINS; i++) {
+        acc += h[i];
+        if (acc >= want) {
+            return (i + 1) * (HMAX / HBINS);
+        }
+    }
+    return HMAX;
+}
+
+int bench_wire(int argc, char **argv)
+{
+    double seconds = 60.0, mean_ms = 20.0, intensity = 0.3, eps = WIRE_DEFAULT_EPS;
+    double keyframe_s = 10.0;
+    int n_trees = 200, n_modes = 32, error_every = 3;
+    bool json = false;
+    for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--seconds") == 0 && i + 1 < argc) {
+            seconds = atof(argv[++i]);
+        } else if (strcmp(argv[i], "--trees") == 0 && i + 1 < argc) {
+            n_trees = atoi(argv[++i]);
+        } else if (strcmp(argv[i], "--modes") == 0 && i + 1 < argc) {
+            n_modes = atoi(argv[++i]);
+        } else if (strcmp(argv[i], "--wind") == 0 && i + 1 < argc) {
+            mean_ms = atof(argv[++i]);
+        } else if (strcmp(argv[i], "--gust") == 0 && i + 1 < argc) {
+            intensity = atof(argv[++i]);
+        } else if (strcmp(argv[i], "--eps") == 0 && i + 1 < argc) {
+            eps = atof(argv[++i]);
+        } else if (strcmp(argv[i], "--keyframe-s") == 0 && i + 1 < argc) {
+            keyframe_s = atof(argv[++i]);
+        } else if (strcmp(argv[i], "--json") == 0) {
+            json = true;
+        } else {
+            fprintf(stderr, "usage: gale-bench wire [--seconds S] [--trees N] [--modes M] "
+                            "[--wind MEAN_MS] [--gust INTENSITY] [--eps E] [--keyframe-s K] "
+                            "[--json]\n");
+            return 2;
+        }
+    }
+    if (!(seconds >= 1 && seconds <= 3600) || n_trees < 1 || n_trees > 100000 || n_modes < 1 ||
+        n_modes > (int)WIRE_MAX_MODES || !(mean_ms >= 0 && mean_ms <= 100) ||
+        !(intensity >= 0 && intensity <= 1) || !(eps > 0 && eps < 0.1) || !(keyframe_s > 0)) {
+        fprintf(stderr, "gale-bench wire: --seconds 1..3600, --trees 1..100000, --modes 1..%u, "
+                        "--wind 0..100, --gust 0..1, --eps (0, 0.1), --keyframe-s > 0\n",
+                WIRE_MAX_MODES);
+        return 2;
+    }
+    gale_err err;
+    enum { NS = 3 };
+    static const int nodes[NS] = { 300, 450, 220 };
+    asset sp[NS];
+    float steps[NS][WIRE_MAX_MODES];
+    modal_species msp[NS];
+    double t_bake = now_s();
+    for (int s = 0; s < NS; s++) {
+        if (bake_species(nodes[s], 101 + (uint64_t)s, n_modes, 0.3, 2e-3, &sp[s], &err) ||
+            wire_quant_steps(&sp[s], (float)eps, steps[s], &err)) {
+            fprintf(stderr, "gale-bench wire: species %d: %s\n", s, err.msg);
+            return 1;
+        }
+        msp[s] = (modal_species){ (uint32_t)n_modes, sp[s].omega, sp[s].gamma,
+                                  sp[s].wind_basis, steps[s] };
+    }
+    t_bake = now_s() - t_bake;
+
+    uint8_t *species = malloc((size_t)n_trees);
+    float *yaw = malloc(sizeof(float) * (size_t)n_trees);
+    float *wind = malloc(sizeof(float) * 3 * (size_t)n_trees);
+    gust *gu = malloc(sizeof(gust) * (size_t)n_trees);
+    const size_t stride = (size_t)n_modes;
+    int16_t *snap[3];
+    for (int k = 0; k < 3; k++) {
+        snap[k] = calloc((size_t)n_trees * stride, sizeof(int16_t));
+    }
+    uint8_t *nm = malloc((size_t)n_trees);
+    size_t cap = wire_state_bound((uint32_t)n_trees, (uint32_t)n_modes, NS);
+    uint8_t *frame = malloc(cap);
+    uint32_t max_nodes = 0;
+    for (int s = 0; s < NS; s++) {
+        max_nodes = sp[s].n_nodes > max_nodes ? sp[s].n_nodes : max_nodes;
+    }
+    float *pa = malloc(sizeof(float) * 3 * max_nodes), *pb = malloc(sizeof(float) * 3 * max_nodes);
+    float *qf = malloc(sizeof(float) * stride), *qd = malloc(sizeof(float) * stride);
+    uint64_t *hist = calloc(HBINS, sizeof *hist);
+    if (!species || !yaw || !wind || !gu || !snap[0] || !snap[1] || !snap[2] || !nm ||
+        !frame || !pa || !pb || !qf || !qd || !hist) {
+        fprintf(stderr, "gale-bench wire: out of memory\n");
+        return 1;
+    }
+    wire_scene scene = { .n_trees = (uint32_t)n_trees, .n_species = NS, .species = species };
+    for (int s = 0; s < NS; s++) {
+        scene.n_modes[s] = (uint8_t)n_modes;
+        memcpy(scene.step[s], steps[s], sizeof(float) * (size_t)n_modes);
+    }
+    uint64_t rs = 777;
+    for (int t = 0; t < n_trees; t++) {
+        species[t] = (uint8_t)(t % NS);
+        rs = rs * 6364136223846793005ull + 1442695040888963407ull;
+        yaw[t] = (float)((double)(rs >> 11) * (6.283185307179586 / 9007199254740992.0));
+        nm[t] = (uint8_t)n_modes;
+        gust_init(&gu[t], &(gust_desc){ .seed = 1000 + (uint64_t)t, .intensity = intensity,
+                                        .z_m = 8.0 });
+    }
+    modal *m = modal_create(&(modal_desc){ .n_trees = (uint32_t)n_trees, .n_species = NS,
+                                           .species = msp, .tree_species = species,
+                                           .tree_yaw_rad = yaw, .dt_s = 1.0 / 60,
+                                           .n_threads = 1 },
+                            &err);
+    wire_decoder *dec = wire_decoder_create(&(wire_decoder_desc){ .max_trees = (uint32_t)n_trees,
+                                                                  .max_modes = (uint32_t)n_modes },
+                                            &err);
+    if (!m || !dec) {
+        fprintf(stderr, "gale-bench wire: %s\n", err.msg);
+        return 1;
+    }
+    /* Wind blows towards +x on average; gusts along, across, up. Warm up 10 s so the
+     * trees are swaying when measuring starts. */
+    const double dt = 1.0 / 60;
+    const int warm = 600, ticks = (int)(seconds * 60.0);
+    const int key_every = (int)(keyframe_s * 30.0 + 0.5) > 0 ? (int)(keyframe_s * 30.0 + 0.5) : 1;
+    uint64_t bytes_key = 0, bytes_delta = 0, n_key = 0, n_delta = 0, n_err = 0;
+    double err_max = 0.0, q_disp_max = 0.0, enc_s = 0.0, dec_s = 0.0;
+    int decode_errors = 0, mismatches = 0, hist_n = 0;
+    uint32_t seq = 0;
+    for (int k = -warm; k < ticks; k++) {
+        for (int t = 0; t < n_trees; t++) {
+            double g[3];
+            gust_step(&gu[t], dt, mean_ms, g);
+            wind[3 * t] = (float)(mean_ms + g[0]);
+            wind[3 * t + 1] = (float)g[1];
+            wind[3 * t + 2] = (float)g[2];
+        }
+        bool snap_tick = k >= 0 && k % 2 == 0; /* 60 Hz ticks, 30 snapshots/s */
+        int16_t *cur = snap[(seq + 1) % 3];
+        modal_tick(m, wind, snap_tick ? cur : NULL);
+        if (!snap_tick) {
+            continue;
+        }
+        seq++;
+        wire_state sc = { (uint32_t)n_trees, (uint32_t)stride, nm, cur };
+        wire_state sp1 = { (uint32_t)n_trees, (uint32_t)stride, nm, snap[(seq + 2) % 3] };
+        wire_state sp2 = { (uint32_t)n_trees, (uint32_t)stride, nm, snap[(seq + 1) % 3] };
+        wire_header h = { .tick = (uint32_t)(k + warm), .server_time_us = (uint64_t)k * 16667 };
+        size_t len = 0;
+        double t0 = now_s();
+        int since_key = (int)((seq - 1) % (uint32_t)key_every);
+        int rc;
+        if (since_key == 0) {
+            rc = wire_encode_keyframe(&h, seq, &scene, &sc, frame, cap, &len, &err);
+        } else {
+            rc = wire_encode_delta(&h, seq, &scene, &sc, &sp1, since_key >= 2 ? &sp2 : NULL,
+                                   frame, cap, &len, &err);
+        }
+        double t1 = now_s();
+        if (rc) {
+            fprintf(stderr, "gale-bench wire: encode: %s\n", err.msg);
+            return 1;
+        }
+        wire_frame f;
+        if (wire_decode(dec, frame, len, &f, &err) != 0) {
+            decode_errors++;
+        }
+        dec_s += now_s() - t1;
+        enc_s += t1 - t0;
+        if (since_key == 0) {
+            bytes_key += len;
+            n_key++;
+        } else {
+            bytes_delta += len;
+            n_delta++;
+        }
+        wire_state ds = wire_decoder_state(dec);
+        if (memcmp(ds.q, cur, sizeof(int16_t) * (size_t)n_trees * stride) != 0) {
+            mismatches++;
+        }
+        if ((seq % (uint32_t)error_every) != 0) {
+            continue;
+        }
+        for (int t = 0; t < n_trees; t++) {
+            const asset *a = &sp[species[t]];
+            modal_get(m, (uint32_t)t, qf, NULL);
+            wire_decoder_q(dec, (uint32_t)t, qd, (uint32_t)n_modes);
+            asset_reconstruct(a, qf, (uint32_t)n_modes, pa);
+            asset_reconstruct(a, qd, (uint32_t)n_modes, pb);
+            for (uint32_t i = 0; i < a->n_nodes; i++) {
+                double dx = (double)pa[3 * i] - (double)pb[3 * i];
+                double dy = (double)pa[3 * i + 1] - (double)pb[3 * i + 1];
+                double dz = (double)pa[3 * i + 2] - (double)pb[3 * i + 2];
+                double e = sqrt(dx * dx + dy * dy + dz * dz) / (double)a->height_m;
+                int bin = (int)(e / HMAX * HBINS);
+                hist[bin < HBINS ? bin : HBINS - 1]++;
+                n_err++;
+                err_max = e > err_max ? e : err_max;
+                double ux = (double)pa[3 * i] - (double)a->rest[3 * i];
+                double uy = (double)pa[3 * i + 1] - (double)a->rest[3 * i + 1];
+                double disp = sqrt(ux * ux + uy * uy) / (double)a->height_m;
+                q_disp_max = disp > q_disp_max ? disp : q_disp_max;
+            }
+        }
+        hist_n++;
+    }
+    uint64_t snaps = n_key + n_delta;
+    double per_tree = (double)(bytes_key + bytes_delta) / (double)snaps / n_trees;
+    double per_tree_delta = n_delta ? (double)bytes_delta / (double)n_delta / n_trees : 0.0;
+    double per_tree_key = n_key ? (double)bytes_key / (double)n_key / n_trees : 0.0;
+    double p50 = hist_pct(hist, n_err, 0.50), p99 = hist_pct(hist, n_err, 0.99);
+    double kbps = (double)(bytes_key + bytes_delta) / seconds * 8.0 / 1000.0;
+    const char *recon = "asset_reconstruct";
+    if (json) {
+        printf("{\"bench\":\"wire\",\"seconds\":%.1f,\"trees\":%d,\"modes\":%d,\"species\":%d,"
+               "\"species_nodes\":[%d,%d,%d],\"assets\":\"baked here: bake_tree_generate + fem + "
+               "eigen + basis + correction\",\"reconstruction\":\"%s\",\"bake_s\":%.2f,"
+               "\"wind_mean_ms\":%.1f,\"gust_intensity\":%.2f,\"eps\":%g,\"snapshot_hz\":30,"
+               "\"keyframe_every_s\":%.1f,\"snapshots\":%llu,\"keyframes\":%llu,"
+               "\"bytes_per_tree_per_snapshot\":%.2f,\"bytes_per_tree_delta\":%.2f,"
+               "\"bytes_per_tree_keyframe\":%.2f,\"stream_kbit_s\":%.1f,"
+               "\"node_error_p50_of_height\":%.6f,\"node_error_p99_of_height\":%.6f,"
+               "\"node_error_max_of_height\":%.6f,\"node_samples\":%llu,"
+               "\"max_node_displacement_of_height\":%.4f,\"decode_errors\":%d,"
+               "\"state_mismatches\":%d,\"encode_us_per_tree\":%.3f,\"decode_us_per_tree\":%.3f,"
+               "\"target_bytes\":24,\"target_p99\":0.005}\n",
+               seconds, n_trees, n_modes, NS, nodes[0], nodes[1], nodes[2], recon, t_bake,
+               mean_ms, intensity, eps, keyframe_s, (unsigned long long)snaps,
+               (unsigned long long)n_key, per_tree, per_tree_delta, per_tree_key, kbps, p50, p99,
+               err_max, (unsigned long long)n_err, q_disp_max, decode_errors, mismatches,
+               enc_s / (double)snaps / n_trees * 1e6, dec_s / (double)snaps / n_trees * 1e6);
+    } else {
+        printf("wire: %d trees x %d modes, %.0f s gusty (mean %.1f m/s, I %.2f): %.2f bytes/tree/"
+               "snapshot (deltas %.2f, keyframes %.2f), node error p99 %.4f%% of H (max %.4f%%), "
+               "max sway %.2f%% of H, %d decode errors\n",
+               n_trees, n_modes, seconds, mean_ms, intensity, per_tree, per_tree_delta,
+               per_tree_key, p99 * 100, err_max * 100, q_disp_max * 100, decode_errors);
+    }
+    (void)hist_n;
+    modal_destroy(m);
+    wire_decoder_destroy(dec);
+    for (int s = 0; s < NS; s++) {
+        free_species(&sp[s]);
+    }
+    for (int k = 0; k < 3; k++) {
+        free(snap[k]);
+    }
+    free(species);
+    free(yaw);
+    free(wind);
+    free(gu);
+    free(nm);
+    free(frame);
+    free(pa);
+    free(pb);
+    free(qf);
+    free(qd);
+    free(hist);
+    return decode_errors || mismatches ? 1 : 0;
+}

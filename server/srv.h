@@ -1,0 +1,62 @@
+/* The running server: a simulation thread (tick.h at tick_hz, a snapshot every
+ * tick_hz/snapshot_hz ticks, quantised and encoded once with protocol/wire.h) handing
+ * frames to the lws service thread (net.h), and the control protocol (ctl.h: hello,
+ * welcome, kiosk wind commands, resync, ping). DESIGN.md "Data flow" and "Wire". */
+#ifndef GALE_SRV_H
+#define GALE_SRV_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "err.h"
+#include "net.h"
+#include "scenario.h"
+#include "scene.h"
+#include "tick.h"
+
+/* One species as served: its modal data, quantisation steps and asset file. */
+typedef struct srv_species {
+    tick_species modal;        /* arrays borrowed for the server's life */
+    const float *qstep;        /* [modal.n_modes] quantisation step per mode (wire_quant_steps) */
+    char hash[17];             /* content hash of the asset file, 16 hex digits; "" = none */
+    const uint8_t *asset_bytes; /* borrowed; NULL = not served */
+    size_t asset_len;
+} srv_species;
+
+typedef struct srv_desc {
+    const scene *sc;              /* borrowed for the server's life */
+    const srv_species *species;   /* [sc->n_species], borrowed likewise */
+    scenario *scen;               /* borrowed; NULL → the scene's steady inflow */
+    const tick_wind *wind;        /* borrowed; NULL → log-law profile, no grid */
+    int port;                     /* 0 → 8080, -1 → ephemeral */
+    const char *iface;            /* NULL → all interfaces */
+    int queue_frames;             /* per-connection snapshot queue; 0 → 8 */
+    int lag_limit;                /* 0 → net default */
+    int max_clients;              /* 0 → net default */
+    int sndbuf;                   /* 0 → net default */
+    int quiet;                    /* 1: no start-up lines */
+    int history;                  /* snapshots of float q kept for srv_history_q; 0 → none */
+} srv_desc;
+
+typedef struct srv srv;
+
+/* Builds the simulation and starts listening (not yet serving); NULL with err filled. */
+srv *srv_create(const srv_desc *d, gale_err *err);
+/* Runs the simulation thread and serves on the calling thread until srv_stop; then
+ * closes every client with 1001 and returns 0. */
+int srv_run(srv *s);
+/* Any thread or a signal handler: ends srv_run. */
+void srv_stop(srv *s);
+/* NULL is a no-op. */
+void srv_destroy(srv *s);
+
+int srv_port(const srv *s);
+net_metrics *srv_metrics(srv *s);
+/* Float q (before quantisation) of tree t at snapshot seq, kept when desc.history > 0
+ * (tests compare decoded frames with it): copies up to cap modes and returns the count,
+ * or -1 when that snapshot is no longer (or not yet) held. Thread-safe. */
+int srv_history_q(srv *s, uint32_t seq, int t, float *q, int cap);
+/* The quantisation step of mode m of tree t's species. */
+float srv_qstep(const srv *s, int t, int m);
+
+#endif

@@ -1,0 +1,241 @@
+/* gale-server: arguments, scene config, species assets, wind grid and scenario, then the
+ * server (srv.h) until SIGINT/SIGTERM; teardown. After the lws minimal-ws-server main:
+ * everything else lives in its module. */
+#include <errno.h>
+#include <pthread.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "scenario.h"
+#include "scene.h"
+#include "species_cache.h"
+#include "srv.h"
+#include "wind.h"
+
+static void usage(FILE *f)
+{
+    fprintf(f, "usage: gale-server [--config FILE.json] [--port N] [--iface ADDR] [--cache DIR]\n"
+               "                   [--check]\n"
+               "  --config FILE  scene config (default: the embedded town block,\n"
+               "                 configs/scenes/default.json)\n"
+               "  --port N       listen port, 0 for any free one (default 8080)\n"
+               "  --iface ADDR   listen address (default: all)\n"
+               "  --cache DIR    baked species assets (default $XDG_CACHE_HOME/gale-server\n"
+               "                 or ~/.cache/gale-server)\n"
+               "  --check        validate the config, bake or load the species, and exit\n");
+}
+
+/* The wind grid behind tick.h's tick_wind. */
+static void w_inflow(void *ctx, const wind_inflow *in)
+{
+    wind_set_inflow(ctx, in);
+}
+
+static int w_step(void *ctx, float dt_s, wind_step_stats *st)
+{
+    return wind_step(ctx, dt_s, st);
+}
+
+static void w_sample(void *ctx, int n, const float *p, float *v)
+{
+    wind_sample_many(ctx, n, p, v);
+}
+
+/* SIGINT/SIGTERM: the handler only writes the signal number to a pipe (async-signal
+ * safe, and whichever thread the kernel picks, the BLAS pool's included); a waiting
+ * thread reads it and stops the server from ordinary code. */
+static int sig_pipe[2] = { -1, -1 };
+
+static void on_signal(int sig)
+{
+    unsigned char b = (unsigned char)sig;
+    ssize_t n = write(sig_pipe[1], &b, 1);
+    (void)n;
+}
+
+static void *wait_signal(void *arg)
+{
+    srv *s = arg;
+    unsigned char b = 0;
+    while (read(sig_pipe[0], &b, 1) < 0 && errno == EINTR) {
+    }
+    if (b == SIGINT || b == SIGTERM) {
+        fprintf(stderr, "gale-server: %s: shutting down\n", b == SIGINT ? "SIGINT" : "SIGTERM");
+        srv_stop(s);
+    }
+    return NULL;
+}
+
+int main(int argc, char **argv)
+{
+    if (pipe(sig_pipe) != 0) {
+        fprintf(stderr, "gale-server: pipe: %s\n", strerror(errno));
+        return 1;
+    }
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    signal(SIGPIPE, SIG_IGN);
+    const char *config = NULL, *iface = NULL, *cache = NULL;
+    long port = 8080;
+    int check = 0;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!strcmp(a, "--config") && v) {
+            config = v;
+            i++;
+        } else if (!strcmp(a, "--port") && v) {
+            char *end;
+            port = strtol(v, &end, 10);
+            if (*end || port < 0 || port > 65535) {
+                fprintf(stderr, "gale-server: --port: expected 0..65535, got \"%s\"\n", v);
+                return 2;
+            }
+            i++;
+        } else if (!strcmp(a, "--iface") && v) {
+            iface = v;
+            i++;
+        } else if (!strcmp(a, "--cache") && v) {
+            cache = v;
+            i++;
+        } else if (!strcmp(a, "--check")) {
+            check = 1;
+        } else if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            usage(stdout);
+            return 0;
+        } else {
+            fprintf(stderr, "gale-server: unknown or incomplete argument \"%s\"\n", a);
+            usage(stderr);
+            return 2;
+        }
+    }
+    char cache_dir[512];
+    if (cache) {
+        snprintf(cache_dir, sizeof cache_dir, "%s", cache);
+    } else if (getenv("XDG_CACHE_HOME") && getenv("XDG_CACHE_HOME")[0]) {
+        snprintf(cache_dir, sizeof cache_dir, "%s/gale-server", getenv("XDG_CACHE_HOME"));
+    } else if (getenv("HOME") && getenv("HOME")[0]) {
+        snprintf(cache_dir, sizeof cache_dir, "%s/.cache/gale-server", getenv("HOME"));
+    } else {
+        snprintf(cache_dir, sizeof cache_dir, "/tmp/gale-server-cache");
+    }
+
+    gale_err err;
+    gale_err_clear(&err);
+    scene sc;
+    int rc = config ? scene_load(&sc, config, &err) : scene_load_default(&sc, getenv("GALE_SHARE"), &err);
+    if (rc) {
+        /* a bad config: say why and refuse to start (Redis FATAL CONFIG) */
+        fprintf(stderr, "gale-server: bad config: %s\n", err.msg);
+        return 1;
+    }
+    int status = 1;
+    species_entry ent[SCENE_MAX_SPECIES];
+    srv_species sp[SCENE_MAX_SPECIES];
+    memset(ent, 0, sizeof ent);
+    scenario *scen = NULL;
+    wind_grid *grid = NULL;
+    srv *s = NULL;
+    for (int i = 0; i < sc.n_species; i++) {
+        if (species_cache_get(sc.species[i].file, sc.species[i].modes, cache_dir, &ent[i], &err)) {
+            fprintf(stderr, "gale-server: species[%d] %s: %s\n", i, sc.species[i].name, err.msg);
+            goto done;
+        }
+        const asset *a = &ent[i].a;
+        fprintf(stderr,
+                "gale-server: species %s: %u nodes, %u modes, %.2f..%.2f Hz, %u leaves; %s in "
+                "%.2f s (%s)\n",
+                sc.species[i].name, a->n_nodes, a->n_modes,
+                (double)a->omega[0] / 6.283185307179586,
+                (double)a->omega[a->n_modes - 1] / 6.283185307179586, a->n_leaves,
+                ent[i].baked ? "baked" : "loaded", ent[i].seconds, ent[i].path);
+        sp[i] = (srv_species){ .modal = { .n_modes = a->n_modes,
+                                          .omega = a->omega,
+                                          .gamma = a->gamma,
+                                          .wind_basis = a->wind_basis,
+                                          .height_m = a->height_m,
+                                          .n_leaves = a->n_leaves },
+                               .qstep = ent[i].qstep,
+                               .asset_bytes = ent[i].bytes,
+                               .asset_len = ent[i].len };
+        snprintf(sp[i].hash, sizeof sp[i].hash, "%s", ent[i].hash);
+    }
+    if (sc.scenario[0]) {
+        scen = scenario_load(sc.scenario, &err);
+        if (!scen) {
+            fprintf(stderr, "gale-server: bad config: scenario: %s\n", err.msg);
+            goto done;
+        }
+    }
+    tick_wind tw = { 0 };
+    if (sc.grid_on) {
+        grid = wind_create(&(wind_desc){ .nx = sc.grid[0],
+                                         .ny = sc.grid[1],
+                                         .nz = sc.grid[2],
+                                         .cell_m = sc.cell_m,
+                                         .origin = { sc.origin[0], sc.origin[1], sc.origin[2] },
+                                         .seed = sc.leaf_seed + 1,
+                                         .threads = sc.wind_threads,
+                                         .obstacles = sc.obstacles,
+                                         .n_obstacles = sc.n_obstacles },
+                           &err);
+        if (!grid) {
+            fprintf(stderr, "gale-server: wind grid: %s\n", err.msg);
+            goto done;
+        }
+        tw = (tick_wind){ .ctx = grid, .set_inflow = w_inflow, .step = w_step,
+                          .sample_many = w_sample };
+    }
+    if (check) {
+        fprintf(stderr, "gale-server: %s: config ok: %d trees, %d species\n",
+                config ? config : "<embedded default>", sc.n_trees, sc.n_species);
+        status = 0;
+        goto done;
+    }
+
+    s = srv_create(&(srv_desc){ .sc = &sc, .species = sp, .scen = scen,
+                                .wind = sc.grid_on ? &tw : NULL,
+                                .port = port ? (int)port : -1, .iface = iface },
+                   &err);
+    if (!s) {
+        fprintf(stderr, "gale-server: %s\n", err.msg);
+        goto done;
+    }
+    pthread_t sig_thread;
+    if (pthread_create(&sig_thread, NULL, wait_signal, s)) {
+        fprintf(stderr, "gale-server: cannot start the signal thread\n");
+        goto done;
+    }
+    printf("gale-server: listening on port %d\n", srv_port(s));
+    fflush(stdout);
+    rc = srv_run(s);
+    on_signal(0); /* wakes the waiter when the server stopped on its own */
+    pthread_join(sig_thread, NULL);
+    net_metrics *m = srv_metrics(s);
+    fprintf(stderr,
+            "gale-server: stopped after %llu ticks (%llu overruns, max tick %.2f ms), %llu "
+            "snapshots, %llu frames sent, %llu dropped for slow clients, %llu bad messages\n",
+            (unsigned long long)atomic_load(&m->ticks),
+            (unsigned long long)atomic_load(&m->overruns),
+            (double)atomic_load(&m->tick_ns_max) * 1e-6,
+            (unsigned long long)atomic_load(&m->snapshots),
+            (unsigned long long)atomic_load(&m->frames_sent),
+            (unsigned long long)atomic_load(&m->frames_dropped),
+            (unsigned long long)atomic_load(&m->bad_messages));
+    status = rc ? 1 : 0;
+done:
+    srv_destroy(s);
+    wind_destroy(grid);
+    scenario_destroy(scen);
+    for (int i = 0; i < sc.n_species; i++) {
+        species_entry_fini(&ent[i]);
+    }
+    scene_fini(&sc);
+    return status;
+}

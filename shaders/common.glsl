@@ -1,0 +1,108 @@
+// Shared by every gale_render shader (prepended after the #version line): scene
+// uniforms, sky colour, fog, lighting (Singh section 2.4: diffuse + specular with the
+// skinned normal, plus sky ambient), small helpers.
+uniform mat4 u_viewproj;
+uniform vec3 u_eye;
+uniform vec3 u_sun_dir;     // unit, towards the sun
+uniform vec3 u_sun_col;
+uniform vec3 u_sky_zenith;
+uniform vec3 u_sky_horizon;
+uniform vec3 u_ground_col;
+uniform float u_fog_dist;   // [m]
+uniform float u_time;       // [s]
+uniform sampler3D u_wind;   // coarse wind [m/s], world
+uniform vec3 u_wind_origin; // grid corner [m]
+uniform vec3 u_wind_extent; // grid size [m]; 0 = uniform wind only
+uniform vec3 u_wind_uniform;
+
+vec3 sky_color(vec3 dir)
+{
+    float h = clamp(dir.z, -1.0, 1.0);
+    vec3 c = mix(u_sky_horizon, u_sky_zenith, pow(max(h, 0.0), 0.55));
+    if (h < 0.0) {
+        c = mix(u_sky_horizon, u_ground_col * 0.8 + u_sky_horizon * 0.2, min(-h * 6.0, 1.0));
+    }
+    float s = max(dot(dir, u_sun_dir), 0.0);
+    c += u_sun_col * (pow(s, 900.0) * 6.0 + pow(s, 12.0) * 0.18);
+    return c;
+}
+
+vec3 fog_apply(vec3 c, vec3 wpos)
+{
+    vec3 d = wpos - u_eye;
+    float dist = length(d);
+    // exponential-squared fog, thicker near the ground
+    float f = 1.0 - exp(-pow(dist / u_fog_dist, 1.6));
+    vec3 fc = sky_color(normalize(vec3(d.xy, max(d.z, 0.0) * 0.3)));
+    return mix(c, fc, clamp(f, 0.0, 1.0));
+}
+
+vec3 light(vec3 albedo, vec3 n, vec3 wpos, float spec_k, float shininess)
+{
+    vec3 v = normalize(u_eye - wpos);
+    float ndl = dot(n, u_sun_dir);
+    vec3 hv = normalize(u_sun_dir + v);
+    float spec = ndl > 0.0 ? pow(max(dot(n, hv), 0.0), shininess) * spec_k : 0.0;
+    vec3 amb = mix(u_ground_col * 0.9, u_sky_zenith, 0.5 + 0.5 * n.z) * 0.55;
+    return albedo * (amb + u_sun_col * max(ndl, 0.0)) + u_sun_col * spec;
+}
+
+vec3 wind_at(vec3 wpos)
+{
+    if (u_wind_extent.x <= 0.0) {
+        return u_wind_uniform;
+    }
+    vec3 t = (wpos - u_wind_origin) / u_wind_extent;
+    t.z = clamp(t.z, 0.0, 1.0); // a slice or a low grid applies at every height
+    if (any(lessThan(t, vec3(0.0))) || any(greaterThan(t, vec3(1.0)))) {
+        return u_wind_uniform;
+    }
+    return texture(u_wind, t).xyz;
+}
+
+uint hash_u(uint x)
+{
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
+}
+
+float hash01(uint x)
+{
+    return float(hash_u(x) >> 8) * (1.0 / 16777216.0);
+}
+
+// rotation taking unit a to unit b (minimal arc)
+mat3 rot_between(vec3 a, vec3 b)
+{
+    vec3 v = cross(a, b);
+    float c = dot(a, b);
+    if (c < -0.9999) {
+        return mat3(-1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, -1.0);
+    }
+    mat3 vx = mat3(0.0, v.z, -v.y, -v.z, 0.0, v.x, v.y, -v.x, 0.0);
+    return mat3(1.0) + vx + vx * vx * (1.0 / (1.0 + c));
+}
+
+#ifdef GALE_FRAG
+// screen-door dither for LOD transitions: f > 0 keeps a fraction f of the pixels,
+// f < 0 keeps the complementary 1 - |f|... fraction |f| of the others
+bool dither_keep(float f)
+{
+    if (f >= 1.0) {
+        return true;
+    }
+    uvec2 p = uvec2(gl_FragCoord.xy);
+    float r = hash01(p.x * 73856093u ^ p.y * 19349663u);
+    return f >= 0.0 ? r < f : r >= 1.0 + f;
+}
+#endif
+
+mat3 rot_z(float a)
+{
+    float c = cos(a), s = sin(a);
+    return mat3(c, s, 0.0, -s, c, 0.0, 0.0, 0.0, 1.0);
+}

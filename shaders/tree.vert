@@ -1,0 +1,50 @@
+// Trunk and branch tubes skinned on the GPU from the reconstructed skeleton (Singh
+// section 2.1, eq. 1: v' = Σ w_i M_i v with two bones); each bone is the node's position and
+// the rotation of its incoming segment, so normals turn with the wood.
+layout(location = 0) in vec3 a_pos;
+layout(location = 1) in vec3 a_nrm;
+layout(location = 2) in ivec2 a_bone;
+layout(location = 3) in float a_w;
+uniform sampler2D u_skel;
+uniform samplerBuffer u_node;
+uniform samplerBuffer u_list;
+uniform samplerBuffer u_trees; // per tree: pos xyz, yaw; scale, species
+uniform int u_base;
+out vec3 v_wpos;
+out vec3 v_nrm;
+out vec3 v_local;
+flat out float v_fade;
+
+void bone(int j, int row, out vec3 x, out vec3 rest, out mat3 r)
+{
+    vec4 nj = texelFetch(u_node, j);
+    rest = nj.xyz;
+    x = texelFetch(u_skel, ivec2(j, row), 0).xyz;
+    int p = int(nj.w);
+    if (p < 0) {
+        r = mat3(1.0);
+        return;
+    }
+    vec3 xp = texelFetch(u_skel, ivec2(p, row), 0).xyz;
+    vec3 rp = texelFetch(u_node, p).xyz;
+    r = rot_between(normalize(rest - rp), normalize(x - xp));
+}
+
+void main()
+{
+    vec4 e = texelFetch(u_list, u_base + gl_InstanceID);
+    int tree = int(e.x), row = int(e.y);
+    vec3 x0, x1, r0, r1;
+    mat3 m0, m1;
+    bone(a_bone.x, row, x0, r0, m0);
+    bone(a_bone.y, row, x1, r1, m1);
+    vec3 p = (1.0 - a_w) * (x0 + m0 * (a_pos - r0)) + a_w * (x1 + m1 * (a_pos - r1));
+    vec3 n = (1.0 - a_w) * (m0 * a_nrm) + a_w * (m1 * a_nrm);
+    vec4 t0 = texelFetch(u_trees, tree * 2), t1 = texelFetch(u_trees, tree * 2 + 1);
+    mat3 rz = rot_z(t0.w);
+    v_wpos = t0.xyz + rz * (p * t1.x);
+    v_nrm = rz * n;
+    v_local = a_pos;
+    v_fade = e.w;
+    gl_Position = u_viewproj * vec4(v_wpos, 1.0);
+}

@@ -1,0 +1,487 @@
+/* Asset file format (protocol/ASSET.md): round trip of every field, golden bytes of a
+ * minimal asset, rejection of every truncation, flipped bytes, wrong magic and version,
+ * absurd counts (with the field and offset in the message); the strong-wind
+ * reconstruction against hand-computed values; atomic save and load. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "asset.h"
+#include "asset_file.h"
+#include "check.h"
+#include "hash.h"
+
+static void *dup_mem(const void *src, size_t n)
+{
+    void *p = malloc(n);
+    memcpy(p, src, n);
+    return p;
+}
+
+#define DUP(arr) dup_mem(arr, sizeof arr)
+
+/* 3 nodes in a chain, 2 modes with correction, a 4-vertex quad, 2 leaves. */
+static void make_tiny(asset *a)
+{
+    memset(a, 0, sizeof *a);
+    snprintf(a->species, sizeof a->species, "tiny");
+    a->source_hash = 0x0123456789abcdefull;
+    a->params_json = dup_mem("{\"E_pa\":1e10}", 14);
+    a->n_nodes = 3;
+    static const int32_t parent[3] = { -1, 0, 1 };
+    static const float rest[9] = { 0, 0, 0, 0, 0, 1, 0.5f, 0, 2 };
+    static const float radius[3] = { 0.2f, 0.1f, 0.05f };
+    a->parent = DUP(parent);
+    a->rest = DUP(rest);
+    a->radius = DUP(radius);
+    a->height_m = 2.0f;
+    a->n_modes = 2;
+    static const float omega[2] = { 3.0f, 7.5f }, gamma[2] = { 0.2f, 0.4f };
+    static const float wb[6] = { 1, 2, 3, 4, 5, 6 };
+    static const float phi[18] = {
+        0, 0, 0, 0.1f, 0, 0, 0.3f, 0, 0, 0, 0, 0, 0, 0.2f, 0, 0, 0.5f, 0
+    };
+    static const float rot[18] = { 0,    0.1f, 0, 0,    0.2f, 0, 0,    0.3f, 0,
+                                   0.1f, 0,    0, 0.2f, 0,    0, 0.3f, 0,    0 };
+    static const float cw[18] = { 0, 0, 0, 0, 0, -0.01f, 0, 0, -0.04f,
+                                  0, 0, 0, 0, 0, -0.02f, 0, 0, -0.05f };
+    static const float ca[2] = { 2.0f, 1.5f }, cb[2] = { 0.5f, 0.0f };
+    a->omega = DUP(omega);
+    a->gamma = DUP(gamma);
+    a->wind_basis = DUP(wb);
+    a->phi = DUP(phi);
+    a->phi_rot = DUP(rot);
+    a->corr_v = DUP(phi);
+    a->corr_w = DUP(cw);
+    a->corr_a = DUP(ca);
+    a->corr_b = DUP(cb);
+    a->n_verts = 4;
+    static const float mp[12] = { -0.1f, 0, 0, 0.1f, 0, 0, -0.1f, 0, 1, 0.1f, 0, 1 };
+    static const float mn[12] = { 0, -1, 0, 0, -1, 0, 0, -1, 0, 0, -1, 0 };
+    static const uint32_t mb[8] = { 0, 1, 0, 1, 0, 1, 0, 1 };
+    static const float mw[4] = { 0, 0, 1, 1 };
+    static const uint32_t mi[6] = { 0, 1, 2, 2, 1, 3 };
+    a->mesh_pos = DUP(mp);
+    a->mesh_normal = DUP(mn);
+    a->mesh_bone = DUP(mb);
+    a->mesh_weight = DUP(mw);
+    a->n_indices = 6;
+    a->mesh_index = DUP(mi);
+    a->n_lods = 1;
+    a->lod_first[0] = 0;
+    a->lod_count[0] = 6;
+    a->n_leaves = 2;
+    static const uint32_t ln[2] = { 2, 2 };
+    static const float lo[6] = { 0.05f, 0, 0, -0.05f, 0, 0 };
+    static const float lnm[6] = { 0, 0, 1, 0, 1, 0 };
+    static const float ls[2] = { 0.1f, 0.12f };
+    a->leaf_node = DUP(ln);
+    a->leaf_offset = DUP(lo);
+    a->leaf_normal = DUP(lnm);
+    a->leaf_size = DUP(ls);
+    a->bark_rgb[0] = 0.3f;
+    a->bark_rgb[1] = 0.2f;
+    a->bark_rgb[2] = 0.1f;
+    a->leaf_rgb[1] = 0.5f;
+    a->leaf_shape = 2;
+}
+
+static int same_f(const float *x, const float *y, size_t n)
+{
+    return (x == NULL && y == NULL) || (x && y && memcmp(x, y, n * sizeof *x) == 0);
+}
+
+static void check_equal(const asset *a, const asset *b)
+{
+    CHECK(strcmp(a->species, b->species) == 0);
+    CHECK(a->source_hash == b->source_hash);
+    CHECK(strcmp(a->params_json, b->params_json) == 0);
+    CHECK(a->n_nodes == b->n_nodes && a->n_modes == b->n_modes);
+    size_t nn = a->n_nodes, nm = a->n_modes;
+    CHECK(memcmp(a->parent, b->parent, nn * sizeof *a->parent) == 0);
+    CHECK(same_f(a->rest, b->rest, 3 * nn) && same_f(a->radius, b->radius, nn));
+    CHECK(a->height_m == b->height_m);
+    CHECK(same_f(a->omega, b->omega, nm) && same_f(a->gamma, b->gamma, nm));
+    CHECK(same_f(a->wind_basis, b->wind_basis, 3 * nm));
+    CHECK(same_f(a->phi, b->phi, 3 * nm * nn) && same_f(a->phi_rot, b->phi_rot, 3 * nm * nn));
+    CHECK(same_f(a->corr_v, b->corr_v, 3 * nm * nn) && same_f(a->corr_w, b->corr_w, 3 * nm * nn));
+    CHECK(same_f(a->corr_a, b->corr_a, nm) && same_f(a->corr_b, b->corr_b, nm));
+    CHECK(a->n_verts == b->n_verts && a->n_indices == b->n_indices && a->n_lods == b->n_lods);
+    CHECK(same_f(a->mesh_pos, b->mesh_pos, 3 * (size_t)a->n_verts));
+    CHECK(same_f(a->mesh_normal, b->mesh_normal, 3 * (size_t)a->n_verts));
+    CHECK(same_f(a->mesh_weight, b->mesh_weight, a->n_verts));
+    CHECK(memcmp(a->mesh_bone, b->mesh_bone, 2 * a->n_verts * sizeof(uint32_t)) == 0);
+    CHECK(memcmp(a->mesh_index, b->mesh_index, a->n_indices * sizeof(uint32_t)) == 0);
+    CHECK(memcmp(a->lod_first, b->lod_first, sizeof a->lod_first) == 0);
+    CHECK(memcmp(a->lod_count, b->lod_count, sizeof a->lod_count) == 0);
+    CHECK(a->n_leaves == b->n_leaves);
+    CHECK(memcmp(a->leaf_node, b->leaf_node, a->n_leaves * sizeof(uint32_t)) == 0);
+    CHECK(same_f(a->leaf_offset, b->leaf_offset, 3 * (size_t)a->n_leaves));
+    CHECK(same_f(a->leaf_normal, b->leaf_normal, 3 * (size_t)a->n_leaves));
+    CHECK(same_f(a->leaf_size, b->leaf_size, a->n_leaves));
+    CHECK(same_f(a->bark_rgb, b->bark_rgb, 3) && same_f(a->leaf_rgb, b->leaf_rgb, 3));
+    CHECK(a->leaf_shape == b->leaf_shape);
+}
+
+/* Recomputes both checksums after a deliberate edit, so the edit reaches the parser. */
+static void fix_crcs(uint8_t *b, size_t len)
+{
+    uint32_t p = hash_crc32(b + 24, len - 24);
+    for (int i = 0; i < 4; i++) {
+        b[16 + i] = (uint8_t)(p >> (8 * i));
+    }
+    uint32_t h = hash_crc32(b, 20);
+    for (int i = 0; i < 4; i++) {
+        b[20 + i] = (uint8_t)(h >> (8 * i));
+    }
+}
+
+static void put32(uint8_t *b, size_t at, uint32_t v)
+{
+    for (int i = 0; i < 4; i++) {
+        b[at + (size_t)i] = (uint8_t)(v >> (8 * i));
+    }
+}
+
+static void test_hash(void)
+{
+    CHECK(hash_crc32("123456789", 9) == 0xcbf43926u);
+    CHECK(hash_crc32("", 0) == 0u);
+    uint32_t c = hash_crc32_update(hash_crc32_update(0, "1234", 4), "56789", 5);
+    CHECK(c == 0xcbf43926u);
+    /* FNV-1a 64 of "a" is 0xaf63dc4c8601ec8c before the final mix */
+    CHECK(hash64_update(HASH64_INIT, "a", 1) == 0xaf63dc4c8601ec8cull);
+    CHECK(hash64("a", 1) != hash64("b", 1));
+    CHECK(hash64("oak", 3) ==
+          hash64_final(hash64_update(hash64_update(HASH64_INIT, "o", 1), "ak", 2)));
+}
+
+static void test_round_trip(void)
+{
+    asset a, b;
+    make_tiny(&a);
+    uint8_t *buf;
+    size_t len;
+    gale_err err = { 0 };
+    CHECK(asset_encode(&a, &buf, &len, &err) == 0);
+    int rc = asset_decode(buf, len, "tiny.asset", &b, &err);
+    if (rc) {
+        fprintf(stderr, "%s\n", err.msg);
+    }
+    CHECK(rc == 0);
+    if (rc == 0) {
+        check_equal(&a, &b);
+    }
+    /* encoding the decoded asset gives the same bytes */
+    uint8_t *buf2;
+    size_t len2;
+    CHECK(asset_encode(&b, &buf2, &len2, &err) == 0);
+    CHECK(len2 == len && memcmp(buf, buf2, len) == 0);
+    free(buf2);
+    /* a count without its array is refused */
+    float *keep_phi = a.phi;
+    a.phi = NULL;
+    CHECK(asset_encode(&a, &buf2, &len2, &err) == GALE_E_ARG);
+    CHECK_STR_HAS(err.msg, "asset encode: omega, gamma, wind_basis, phi or phi_rot: array missing");
+    a.phi = keep_phi;
+    /* without correction terms the CORR section is one flag */
+    free(a.corr_v);
+    a.corr_v = NULL;
+    CHECK(asset_encode(&a, &buf2, &len2, &err) == 0);
+    asset c;
+    CHECK(asset_decode(buf2, len2, "nocorr", &c, &err) == 0);
+    CHECK(c.corr_v == NULL && c.corr_w == NULL && c.corr_a == NULL && c.corr_b == NULL);
+    CHECK(len2 == len - 4 * (2 * 18 + 2 * 2));
+    asset_fini(&c);
+    free(buf2);
+    free(buf);
+    asset_fini(&a);
+    asset_fini(&b);
+    asset_fini(NULL);
+}
+
+static void test_golden(void)
+{
+    /* one root node, nothing else: every byte known (ASSET.md) */
+    asset a;
+    memset(&a, 0, sizeof a);
+    snprintf(a.species, sizeof a.species, "g");
+    a.source_hash = 0x1122334455667788ull;
+    a.params_json = dup_mem("{}", 3);
+    a.n_nodes = 1;
+    int32_t parent = -1;
+    float rest[3] = { 0, 0, 0 }, radius = 0.5f;
+    a.parent = &parent;
+    a.rest = rest;
+    a.radius = &radius;
+    a.height_m = 1.0f;
+    a.bark_rgb[0] = 1.0f;
+    a.leaf_shape = 1;
+    uint8_t *buf;
+    size_t len;
+    gale_err err = { 0 };
+    CHECK(asset_encode(&a, &buf, &len, &err) == 0);
+    free(a.params_json);
+    uint8_t want[24 + 90 + 40 + 16 + 16 + 56 + 16 + 40];
+    memset(want, 0, sizeof want);
+    size_t o = 0;
+#define B4(a0, a1, a2, a3) \
+    (want[o] = a0, want[o + 1] = a1, want[o + 2] = a2, want[o + 3] = a3, o += 4)
+    B4('G', 'A', 'S', 'T');
+    B4(1, 0, 0, 0);       /* version */
+    B4(0x12, 0x01, 0, 0); /* payload length 274, low word */
+    B4(0, 0, 0, 0);       /* high word */
+    o += 8;               /* two CRCs, checked below */
+    B4('M', 'E', 'T', 'A');
+    B4(78, 0, 0, 0);
+    B4(0, 0, 0, 0);
+    want[o] = 'g';
+    o += 64;
+    B4(0x88, 0x77, 0x66, 0x55);
+    B4(0x44, 0x33, 0x22, 0x11);
+    B4(2, 0, 0, 0);
+    want[o++] = '{';
+    want[o++] = '}';
+    B4('S', 'K', 'E', 'L');
+    B4(28, 0, 0, 0);
+    B4(0, 0, 0, 0);
+    B4(1, 0, 0, 0);             /* n_nodes */
+    B4(0, 0, 0x80, 0x3f);       /* height 1.0f */
+    B4(0xff, 0xff, 0xff, 0xff); /* parent -1 */
+    o += 12;                    /* rest 0,0,0 */
+    B4(0, 0, 0, 0x3f);          /* radius 0.5f */
+    B4('M', 'O', 'D', 'E');
+    B4(4, 0, 0, 0);
+    B4(0, 0, 0, 0);
+    o += 4; /* n_modes 0 */
+    B4('C', 'O', 'R', 'R');
+    B4(4, 0, 0, 0);
+    B4(0, 0, 0, 0);
+    o += 4; /* no correction */
+    B4('M', 'E', 'S', 'H');
+    B4(44, 0, 0, 0);
+    B4(0, 0, 0, 0);
+    o += 4 + 4 + 4 + 32; /* n_verts, n_indices, n_lods, LOD table */
+    B4('L', 'E', 'A', 'F');
+    B4(4, 0, 0, 0);
+    B4(0, 0, 0, 0);
+    o += 4;
+    B4('L', 'O', 'O', 'K');
+    B4(28, 0, 0, 0);
+    B4(0, 0, 0, 0);
+    B4(0, 0, 0x80, 0x3f); /* bark r 1.0f */
+    o += 20;
+    B4(1, 0, 0, 0); /* leaf_shape */
+#undef B4
+    CHECK(o == sizeof want);
+    CHECK(len == sizeof want);
+    if (len == sizeof want) {
+        CHECK(memcmp(buf, want, 16) == 0);
+        CHECK(memcmp(buf + 24, want + 24, len - 24) == 0);
+        uint32_t pc = (uint32_t)buf[16] | (uint32_t)buf[17] << 8 | (uint32_t)buf[18] << 16 |
+                      (uint32_t)buf[19] << 24;
+        CHECK(pc == hash_crc32(want + 24, len - 24));
+    }
+    free(buf);
+}
+
+static void expect_reject(const uint8_t *buf, size_t len, int code, const char *msg)
+{
+    asset a;
+    gale_err err = { 0 };
+    uint8_t *copy = malloc(len ? len : 1); /* exact size, so ASan sees any overread */
+    memcpy(copy, buf, len);
+    int rc = asset_decode(copy, len, "t.asset", &a, &err);
+    free(copy);
+    CHECK(rc == code);
+    if (msg) {
+        CHECK_STR_HAS(err.msg, msg);
+    }
+    CHECK(a.n_nodes == 0 && a.parent == NULL && a.phi == NULL);
+}
+
+static void test_truncation(void)
+{
+    asset a;
+    make_tiny(&a);
+    uint8_t *buf;
+    size_t len;
+    gale_err err = { 0 };
+    CHECK(asset_encode(&a, &buf, &len, &err) == 0);
+    asset_fini(&a);
+    int bad = 0;
+    for (size_t n = 0; n < len; n++) {
+        asset b;
+        uint8_t *copy = malloc(n ? n : 1);
+        memcpy(copy, buf, n);
+        int rc = asset_decode(copy, n, "t.asset", &b, &err);
+        free(copy);
+        bad += rc != GALE_E_FORMAT;
+    }
+    CHECK(bad == 0);
+    expect_reject(buf, 10, GALE_E_FORMAT,
+                  "t.asset: header at byte 0: truncated: need 24 bytes, got 10");
+    expect_reject(buf, len - 1, GALE_E_FORMAT, "payload_length at byte 8: header states");
+    expect_reject(buf, len - 1, GALE_E_FORMAT, "(truncated)");
+    /* a trailing byte is no better */
+    uint8_t *more = calloc(len + 1, 1);
+    memcpy(more, buf, len);
+    expect_reject(more, len + 1, GALE_E_FORMAT, "(trailing bytes)");
+    free(more);
+    free(buf);
+}
+
+static void test_corruption(void)
+{
+    asset a;
+    make_tiny(&a);
+    uint8_t *buf;
+    size_t len;
+    gale_err err = { 0 };
+    CHECK(asset_encode(&a, &buf, &len, &err) == 0);
+    asset_fini(&a);
+    /* every single flipped byte past the magic is caught by a checksum */
+    int missed = 0;
+    for (size_t i = 4; i < len; i++) {
+        buf[i] ^= 0x5a;
+        asset b;
+        int rc = asset_decode(buf, len, "t.asset", &b, &err);
+        /* in the header a flip may show as a length fault before the payload CRC */
+        missed += !(rc == GALE_E_CHECKSUM || (i < 24 && rc == GALE_E_FORMAT));
+        buf[i] ^= 0x5a;
+    }
+    CHECK(missed == 0);
+    buf[200] ^= 1;
+    expect_reject(buf, len, GALE_E_CHECKSUM, "payload_crc32 at byte 16: checksum mismatch");
+    buf[200] ^= 1;
+    buf[0] = 'X';
+    expect_reject(buf, len, GALE_E_FORMAT, "magic at byte 0: expected \"GAST\"");
+    buf[0] = 'G';
+    put32(buf, 4, 2);
+    fix_crcs(buf, len);
+    expect_reject(buf, len, GALE_E_VERSION, "t.asset: version at byte 4: expected 1, got 2");
+    put32(buf, 4, 1);
+    fix_crcs(buf, len);
+    asset ok;
+    CHECK(asset_decode(buf, len, "t.asset", &ok, &err) == 0);
+    asset_fini(&ok);
+    free(buf);
+}
+
+static void test_absurd_counts(void)
+{
+    asset a;
+    make_tiny(&a);
+    uint8_t *buf;
+    size_t len;
+    gale_err err = { 0 };
+    CHECK(asset_encode(&a, &buf, &len, &err) == 0);
+    asset_fini(&a);
+    /* META: 24 header + 12 section header + 64 + 8 + 4 + 13 params = 125; SKEL body at 137 */
+    const size_t n_nodes_at = 137;
+    CHECK(buf[n_nodes_at] == 3);
+    put32(buf, n_nodes_at, 0xffffffffu);
+    fix_crcs(buf, len);
+    expect_reject(buf, len, GALE_E_FORMAT,
+                  "n_nodes at byte 137: count 4294967295 over the limit 262144");
+    put32(buf, n_nodes_at, 100000);
+    fix_crcs(buf, len);
+    expect_reject(buf, len, GALE_E_FORMAT, "n_nodes at byte 137: count 100000 needs 2000000 bytes");
+    put32(buf, n_nodes_at, 0);
+    fix_crcs(buf, len);
+    expect_reject(buf, len, GALE_E_FORMAT, "n_nodes at byte 137: expected at least 1 node");
+    put32(buf, n_nodes_at, 3);
+    /* node 2's parent pointing forward */
+    put32(buf, n_nodes_at + 8 + 8, 5);
+    fix_crcs(buf, len);
+    expect_reject(buf, len, GALE_E_FORMAT,
+                  "parent at byte 153: node 2: parent 5, expected an earlier node");
+    put32(buf, n_nodes_at + 8 + 8, 1);
+    /* a NaN coordinate */
+    put32(buf, n_nodes_at + 20, 0x7fc00000u);
+    fix_crcs(buf, len);
+    expect_reject(buf, len, GALE_E_FORMAT, "rest at byte 157: not a finite number");
+    free(buf);
+}
+
+static void test_reconstruct(void)
+{
+    asset a;
+    make_tiny(&a);
+    float q[2] = { 0.4f, -2.0f }, out[9];
+    asset_reconstruct(&a, q, 2, out);
+    /* node 2 (rest 0.5, 0, 2): mode 0 saturates, q̃0 = 2 atan(0.5 * 0.4); mode 1 has b = 0,
+     * so q̃1 = q1 = -2 (linear) */
+    double q0 = 2.0 * atan(0.2), q1 = -2.0;
+    CHECK_NEAR(out[6], 0.5 + q0 * 0.3, 1e-6);
+    CHECK_NEAR(out[7], q1 * 0.5, 1e-6);
+    CHECK_NEAR(out[8], 2.0 + q0 * q0 * -0.04 + q1 * q1 * -0.05, 1e-6);
+    /* root stays put */
+    CHECK(out[0] == 0.0f && out[1] == 0.0f && out[2] == 0.0f);
+    /* only the first mode */
+    asset_reconstruct(&a, q, 1, out);
+    CHECK_NEAR(out[7], 0.0, 1e-7);
+    /* more modes than there are: clamped */
+    asset_reconstruct(&a, q, 99, out);
+    CHECK_NEAR(out[7], q1 * 0.5, 1e-6);
+    /* without correction: linear in phi */
+    free(a.corr_w);
+    a.corr_w = NULL;
+    asset_reconstruct(&a, q, 2, out);
+    CHECK_NEAR(out[6], 0.5 + 0.4 * 0.3, 1e-6);
+    CHECK_NEAR(out[8], 2.0, 1e-6);
+    asset_fini(&a);
+}
+
+static void test_file(void)
+{
+    char dir[] = "/tmp/gale_asset_XXXXXX";
+    CHECK(mkdtemp(dir) != NULL);
+    char path[256];
+    snprintf(path, sizeof path, "%s/tiny.asset", dir);
+    asset a, b;
+    make_tiny(&a);
+    gale_err err = { 0 };
+    CHECK(asset_save(&a, path, &err) == 0);
+    CHECK(asset_load(path, &b, &err) == 0);
+    check_equal(&a, &b);
+    asset_fini(&b);
+    /* a failing save leaves the old file whole: make the encoder fail */
+    uint32_t keep = a.n_nodes;
+    a.n_nodes = 0;
+    CHECK(asset_save(&a, path, &err) == GALE_E_RANGE);
+    a.n_nodes = keep;
+    CHECK(asset_load(path, &b, &err) == 0);
+    asset_fini(&b);
+    CHECK(asset_save(&a, "/nonexistent/dir/x.asset", &err) == GALE_E_IO);
+    CHECK_STR_HAS(err.msg, "/nonexistent/dir/x.asset");
+    CHECK(asset_load("/nonexistent/x.asset", &b, &err) == GALE_E_IO);
+    CHECK_STR_HAS(err.msg, "/nonexistent/x.asset: cannot open");
+    /* a truncated file on disk */
+    FILE *f = fopen(path, "r+b");
+    CHECK(f != NULL);
+    if (f) {
+        CHECK(ftruncate(fileno(f), 100) == 0);
+        fclose(f);
+    }
+    CHECK(asset_load(path, &b, &err) == GALE_E_FORMAT);
+    CHECK_STR_HAS(err.msg, "tiny.asset: payload_length at byte 8");
+    remove(path);
+    CHECK(rmdir(dir) == 0); /* no temporary file was left behind */
+    asset_fini(&a);
+}
+
+int main(void)
+{
+    RUN(test_hash);
+    RUN(test_round_trip);
+    RUN(test_golden);
+    RUN(test_truncation);
+    RUN(test_corruption);
+    RUN(test_absurd_counts);
+    RUN(test_reconstruct);
+    RUN(test_file);
+    return check_report();
+}

@@ -1,0 +1,203 @@
+/* gale-bake end to end: bad arguments and bad files give a non-zero exit and a message
+ * naming the fault, and create no output; good input writes an asset that loads back, a
+ * report with the promised fields, and a mode-shape PNG. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cjson/cJSON.h>
+
+#include "asset_file.h"
+#include "check.h"
+
+static char dir[256];
+static char out[64 * 1024];
+
+/* Runs gale-bake with args (a shell word list), stdout+stderr into `out`; exit status. */
+static int bake(const char *args)
+{
+    char cmd[4096], log[512];
+    snprintf(log, sizeof log, "%s/log.txt", dir);
+    snprintf(cmd, sizeof cmd, "cd %s && %s %s > %s 2>&1", dir, GALE_BAKE_EXE, args, log);
+    const int st = system(cmd);
+    out[0] = '\0';
+    FILE *f = fopen(log, "rb");
+    if (f) {
+        size_t n = fread(out, 1, sizeof out - 1, f);
+        out[n] = '\0';
+        fclose(f);
+    }
+    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+static int exists(const char *name)
+{
+    char p[512];
+    struct stat st;
+    snprintf(p, sizeof p, "%s/%s", dir, name);
+    return stat(p, &st) == 0;
+}
+
+static void put(const char *name, const char *text)
+{
+    char p[512];
+    snprintf(p, sizeof p, "%s/%s", dir, name);
+    FILE *f = fopen(p, "wb");
+    CHECK(f != NULL);
+    if (f) {
+        fputs(text, f);
+        fclose(f);
+    }
+}
+
+/* Only the files a run is allowed to leave: no temporaries. */
+static int count_files(void)
+{
+    char cmd[512];
+    snprintf(cmd, sizeof cmd, "ls -A %s | grep -v -e '^log.txt$' -e '\\.csv$' -e '\\.json$' | wc -l", dir);
+    FILE *p = popen(cmd, "r");
+    int n = -1;
+    if (p) {
+        if (fscanf(p, "%d", &n) != 1) {
+            n = -1;
+        }
+        pclose(p);
+    }
+    return n;
+}
+
+static void test_bad_arguments(void)
+{
+    CHECK(bake("") == 2);
+    CHECK_STR_HAS(out, "exactly one of --skeleton");
+    CHECK(bake("--skeleton a.csv --species b.json --out x.gasset") == 2);
+    CHECK(bake("--skeleton a.csv") == 2);
+    CHECK_STR_HAS(out, "--out FILE is required");
+    CHECK(bake("--skeleton a.csv --out x.gasset --modes 0") == 2);
+    CHECK_STR_HAS(out, "--modes: expected an integer in 1..256, got '0'");
+    CHECK(bake("--skeleton a.csv --out x.gasset --modes 3x") == 2);
+    CHECK(bake("--skeleton a.csv --out x.gasset --frobnicate") == 2);
+    CHECK_STR_HAS(out, "unknown argument --frobnicate");
+    CHECK(bake("--skeleton") == 2);
+    CHECK_STR_HAS(out, "missing value after --skeleton");
+    CHECK(!exists("x.gasset"));
+    CHECK(bake("--help") == 0);
+    const char *flags[] = { "--skeleton", "--species", "--modes", "--out", "--report",
+                            "--modes-png", "--help" };
+    for (size_t i = 0; i < sizeof flags / sizeof flags[0]; i++) {
+        CHECK_STR_HAS(out, flags[i]);
+    }
+}
+
+static void test_bad_files(void)
+{
+    CHECK(bake("--skeleton missing.csv --out x.gasset") == 1);
+    CHECK_STR_HAS(out, "missing.csv");
+    put("dup.csv", "id,parent,x,y,z,radius\n0,-1,0,0,0,0.1\n1,0,0,0,1,0.05\n1,0,0,1,1,0.05\n");
+    CHECK(bake("--skeleton dup.csv --out x.gasset --report r.json") == 1);
+    CHECK_STR_HAS(out, "dup.csv:4");
+    put("bad.json", "{ \"name\": \"oak\", \"E_pa\": -5 }\n");
+    CHECK(bake("--species bad.json --out x.gasset") == 1);
+    CHECK_STR_HAS(out, "bad.json");
+    /* more modes than the skeleton has degrees of freedom */
+    put("tiny.csv", "id,parent,x,y,z,radius\n0,-1,0,0,0,0.1\n1,0,0,0,1,0.05\n");
+    CHECK(bake("--skeleton tiny.csv --modes 8 --out x.gasset") == 1);
+    CHECK_STR_HAS(out, "degrees of freedom");
+    /* an output that cannot be written leaves nothing behind */
+    put("ok.csv", "id,parent,x,y,z,radius\n0,-1,0,0,0,0.1\n1,0,0,0,1,0.08\n2,1,0,0,2,0.06\n"
+                  "3,2,0.5,0,2.5,0.03\n4,2,-0.5,0,2.5,0.03\n5,1,0.4,0.3,1.3,0.03\n");
+    CHECK(bake("--skeleton ok.csv --modes 4 --out no/such/dir/x.gasset --report r.json") == 1);
+    CHECK_STR_HAS(out, "no/such/dir/x.gasset");
+    CHECK(!exists("x.gasset"));
+    CHECK(!exists("r.json"));
+    CHECK(count_files() == 0);
+}
+
+static void check_report_file(const char *name, int nodes, int modes)
+{
+    char p[512];
+    snprintf(p, sizeof p, "%s/%s", dir, name);
+    FILE *f = fopen(p, "rb");
+    CHECK(f != NULL);
+    if (!f) {
+        return;
+    }
+    static char text[256 * 1024];
+    size_t n = fread(text, 1, sizeof text - 1, f);
+    text[n] = '\0';
+    fclose(f);
+    cJSON *o = cJSON_Parse(text);
+    CHECK(o != NULL);
+    if (!o) {
+        return;
+    }
+    if (nodes > 0) {
+        CHECK(cJSON_GetObjectItem(o, "nodes")->valueint == nodes);
+    } else {
+        CHECK(cJSON_GetObjectItem(o, "nodes")->valueint > 100);
+    }
+    CHECK(cJSON_GetObjectItem(o, "modes")->valueint == modes);
+    const cJSON *fh = cJSON_GetObjectItem(o, "frequencies_hz");
+    const cJSON *dr = cJSON_GetObjectItem(o, "damping_ratios");
+    CHECK(cJSON_GetArraySize(fh) == modes && cJSON_GetArraySize(dr) == modes);
+    for (int i = 1; i < cJSON_GetArraySize(fh); i++) {
+        CHECK(cJSON_GetArrayItem(fh, i)->valuedouble >= cJSON_GetArrayItem(fh, i - 1)->valuedouble);
+    }
+    CHECK(cJSON_GetArrayItem(dr, 0)->valuedouble > 0.0);
+    CHECK(cJSON_GetObjectItem(o, "seconds")->valuedouble > 0.0);
+    const cJSON *bl = cJSON_GetObjectItem(o, "branch_length_error");
+    CHECK(cJSON_IsString(cJSON_GetObjectItem(bl, "amplitude")));
+    const double lin = cJSON_GetObjectItem(bl, "without_correction")->valuedouble;
+    const double cor = cJSON_GetObjectItem(bl, "with_correction")->valuedouble;
+    CHECK(cor < lin);
+    CHECK(cJSON_GetObjectItem(o, "orthonormality_error")->valuedouble < 1e-8);
+    CHECK(cJSON_GetObjectItem(o, "eigen_residual")->valuedouble < 1e-6);
+    cJSON_Delete(o);
+}
+
+static void test_skeleton_end_to_end(void)
+{
+    CHECK(bake("--skeleton ok.csv --modes 4 --out ok.gasset --report ok-report.json") == 0);
+    CHECK_STR_HAS(out, "branch-length error");
+    check_report_file("ok-report.json", 6, 4);
+    char p[512];
+    snprintf(p, sizeof p, "%s/ok.gasset", dir);
+    asset a;
+    gale_err err;
+    CHECK(asset_load(p, &a, &err) == GALE_OK);
+    CHECK(a.n_nodes == 6 && a.n_modes == 4);
+    CHECK_STR_HAS(a.species, "ok");
+    CHECK_STR_HAS(a.params_json, "rayleigh_alpha");
+    asset_fini(&a);
+}
+
+static void test_species_end_to_end(void)
+{
+    CHECK(bake("--species " GALE_SOURCE_DIR "/configs/species/oak.json --modes 12 --out oak.gasset "
+               "--report oak.json --modes-png oak.png") == 0);
+    check_report_file("oak.json", 0, 12);
+    CHECK(exists("oak.png"));
+    CHECK(count_files() == 3); /* ok.gasset, oak.gasset, oak.png */
+}
+
+int main(void)
+{
+    snprintf(dir, sizeof dir, "/tmp/gale-bake-cli-XXXXXX");
+    if (!mkdtemp(dir)) {
+        perror("mkdtemp");
+        return 1;
+    }
+    RUN(test_bad_arguments);
+    RUN(test_bad_files);
+    RUN(test_skeleton_end_to_end);
+    RUN(test_species_end_to_end);
+    char cmd[512];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    if (system(cmd) != 0) {
+        fprintf(stderr, "could not remove %s\n", dir);
+    }
+    return check_report();
+}

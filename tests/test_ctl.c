@@ -1,0 +1,297 @@
+/* Tests of the JSON control messages (protocol/ctl.h): golden text per message type,
+ * round trips, every truncation rejected, and the exact error text and close code of
+ * each kind of bad input. */
+#include <stdlib.h>
+
+#include "check.h"
+#include "ctl.h"
+#include "wire.h"
+
+/* Encodes m and compares with the golden text; decodes the golden text back. */
+static void golden(const ctl_msg *m, const char *want)
+{
+    char *s = NULL;
+    size_t n = 0;
+    gale_err e;
+    int rc = ctl_encode(m, &s, &n, &e);
+    CHECK(rc == 0);
+    if (rc) {
+        fprintf(stderr, "  encode: %s\n", e.msg);
+        return;
+    }
+    if (strcmp(s, want) != 0) {
+        fprintf(stderr, "  got  %s\n  want %s\n", s, want);
+    }
+    CHECK(strcmp(s, want) == 0);
+    CHECK(n == strlen(want));
+    char small[512];
+    size_t n2 = 0;
+    if (n < sizeof small - 8) {
+        CHECK(ctl_encode_into(m, small, sizeof small, &n2, &e) == 0);
+        CHECK(n2 == n && strcmp(small, want) == 0);
+    }
+    ctl_msg back;
+    int close = -1;
+    CHECK(ctl_decode(want, strlen(want), CTL_MAX_SERVER_BYTES, &back, &close, &e) == 0);
+    CHECK(close == 0);
+    CHECK(back.type == m->type);
+    /* Every proper prefix is rejected as bad JSON. */
+    bool all = true;
+    for (size_t k = 0; k < n; k++) {
+        ctl_msg t;
+        int c = 0;
+        all &= ctl_decode(want, k, CTL_MAX_SERVER_BYTES, &t, &c, &e) != 0 &&
+               c == WIRE_CLOSE_BAD_JSON;
+    }
+    CHECK(all);
+    ctl_msg_fini(&back);
+    free(s);
+}
+
+static void test_golden(void)
+{
+    ctl_msg m = { .type = CTL_HELLO };
+    m.u.hello.protocol = WIRE_PROTOCOL_VERSION;
+    m.u.hello.role = CTL_ROLE_VIEWER;
+    golden(&m, "{\"type\":\"hello\",\"protocol\":1,\"role\":\"viewer\"}");
+
+    m.u.hello.role = CTL_ROLE_KIOSK;
+    strcpy(m.u.hello.token, "s3cret");
+    m.u.hello.view = (ctl_view){ .kind = CTL_VIEW_CIRCLE, .x = 10.5f, .y = -3.0f,
+                                 .radius_m = 80.0f, .lod_m = 40.0f };
+    golden(&m, "{\"type\":\"hello\",\"protocol\":1,\"role\":\"kiosk\",\"view\":{\"kind\":"
+               "\"circle\",\"x\":10.5,\"y\":-3,\"radius_m\":80,\"lod_m\":40},\"token\":\"s3cret\"}");
+
+    m = (ctl_msg){ .type = CTL_VIEW };
+    m.u.view = (ctl_view){ .kind = CTL_VIEW_FRUSTUM, .eye = { 0.0f, -50.0f, 1.7f },
+                           .dir = { 0.0f, 1.0f, 0.0f }, .fov_deg = 60.0f, .far_m = 500.0f };
+    golden(&m, "{\"type\":\"view\",\"view\":{\"kind\":\"frustum\",\"eye\":[0,-50,1.7],"
+               "\"dir\":[0,1,0],\"fov_deg\":60,\"far_m\":500}}");
+
+    m = (ctl_msg){ .type = CTL_WIND };
+    strcpy(m.u.wind.token, "s3cret");
+    m.u.wind.has_speed = true;
+    m.u.wind.speed_ms = 42.5f;
+    m.u.wind.has_dir = true;
+    m.u.wind.dir_deg = 270.0f;
+    m.u.wind.has_scenario = true;
+    strcpy(m.u.wind.scenario, "andrew-1992");
+    golden(&m, "{\"type\":\"wind\",\"token\":\"s3cret\",\"speed_ms\":42.5,\"dir_deg\":270,"
+               "\"scenario\":\"andrew-1992\"}");
+
+    m = (ctl_msg){ .type = CTL_RESYNC, .u.resync_seq = 41 };
+    golden(&m, "{\"type\":\"resync\",\"seq\":41}");
+
+    m = (ctl_msg){ .type = CTL_PING, .u.ping = { 7, 1234567890123ull } };
+    golden(&m, "{\"type\":\"ping\",\"id\":7,\"client_us\":1234567890123}");
+
+    m = (ctl_msg){ .type = CTL_PONG, .u.pong = { 7, 1234567890123ull, 5000000ull, 300 } };
+    golden(&m, "{\"type\":\"pong\",\"id\":7,\"client_us\":1234567890123,\"server_us\":5000000,"
+               "\"tick\":300}");
+
+    m = (ctl_msg){ .type = CTL_ERROR };
+    m.u.error.code = WIRE_CLOSE_VERSION;
+    strcpy(m.u.error.message, "ctl: hello.protocol: expected 1, got 2");
+    golden(&m, "{\"type\":\"error\",\"code\":4003,\"message\":\"ctl: hello.protocol: expected 1, "
+               "got 2\"}");
+
+    ctl_species sp[2] = { { "oak", "/assets/oak-0123456789abcdef.gasset", "0123456789abcdef", 32 },
+                          { "palm", "/assets/palm-fedcba9876543210.gasset", "fedcba9876543210",
+                            16 } };
+    ctl_instance in[2] = { { 0, { 1.5f, 2.0f, 0.0f }, 0.25f, 1.0f },
+                           { 1, { -30.0f, 12.75f, 0.5f }, 3.0f, 1.25f } };
+    m = (ctl_msg){ .type = CTL_WELCOME };
+    m.u.welcome = (ctl_welcome){ .protocol = 1, .client_id = 9, .role = CTL_ROLE_WALL_TILE,
+                                 .tick_hz = 60.0f, .snapshot_hz = 30.0f, .server_us = 123456,
+                                 .tick = 88, .n_species = 2, .species = sp, .n_instances = 2,
+                                 .instances = in };
+    const char *wel =
+        "{\"type\":\"welcome\",\"protocol\":1,\"client_id\":9,\"role\":\"wall-tile\","
+        "\"tick_hz\":60,\"snapshot_hz\":30,\"server_us\":123456,\"tick\":88,\"species\":["
+        "{\"name\":\"oak\",\"url\":\"/assets/oak-0123456789abcdef.gasset\",\"hash\":"
+        "\"0123456789abcdef\",\"n_modes\":32},{\"name\":\"palm\",\"url\":"
+        "\"/assets/palm-fedcba9876543210.gasset\",\"hash\":\"fedcba9876543210\",\"n_modes\":16}],"
+        "\"instances\":[[0,1.5,2,0,0.25,1],[1,-30,12.75,0.5,3,1.25]]}";
+    golden(&m, wel);
+    ctl_msg back;
+    gale_err e;
+    CHECK(ctl_decode(wel, strlen(wel), CTL_MAX_SERVER_BYTES, &back, NULL, &e) == 0);
+    CHECK(back.u.welcome.n_species == 2 && back.u.welcome.n_instances == 2);
+    CHECK(strcmp(back.u.welcome.species[1].name, "palm") == 0);
+    CHECK(back.u.welcome.species[1].n_modes == 16);
+    CHECK(back.u.welcome.instances[1].species == 1);
+    CHECK(back.u.welcome.instances[1].pos[1] == 12.75f);
+    CHECK(back.u.welcome.instances[1].scale == 1.25f);
+    CHECK(back.u.welcome.role == CTL_ROLE_WALL_TILE && back.u.welcome.tick == 88);
+    ctl_msg_fini(&back);
+    CHECK(back.type == CTL_NONE);
+    ctl_msg_fini(NULL);
+}
+
+static void round_trip_fields(void)
+{
+    const char *s = "{\"type\":\"hello\",\"protocol\":1,\"role\":\"load\",\"view\":{\"kind\":"
+                    "\"frustum\",\"eye\":[1,2,3],\"dir\":[0,0,-1],\"fov_deg\":90,\"far_m\":"
+                    "100,\"lod_m\":25}}";
+    ctl_msg m;
+    gale_err e;
+    CHECK(ctl_decode(s, strlen(s), 0, &m, NULL, &e) == 0);
+    CHECK(m.type == CTL_HELLO && m.u.hello.role == CTL_ROLE_LOAD);
+    CHECK(m.u.hello.view.kind == CTL_VIEW_FRUSTUM && m.u.hello.view.eye[2] == 3.0f);
+    CHECK(m.u.hello.view.dir[2] == -1.0f && m.u.hello.view.fov_deg == 90.0f);
+    CHECK(m.u.hello.view.lod_m == 25.0f && m.u.hello.token[0] == '\0');
+    s = " {\"type\":\"wind\",\"token\":\"t\",\"gust\":0.3}\n";
+    CHECK(ctl_decode(s, strlen(s), 0, &m, NULL, &e) == 0);
+    CHECK(m.u.wind.has_gust && !m.u.wind.has_speed && m.u.wind.gust == 0.3f);
+    CHECK(ctl_from_client(CTL_PING) && !ctl_from_client(CTL_WELCOME));
+    CHECK(strcmp(ctl_role_name(CTL_ROLE_WALL_TILE), "wall-tile") == 0);
+    CHECK(ctl_role_name(9) == NULL && ctl_type_name(0) == NULL);
+    CHECK(strcmp(wire_close_name(WIRE_CLOSE_BAD_TOKEN), "bad-token") == 0);
+}
+
+/* Bad input: exact message and close code. */
+static void bad(const char *text, size_t len, int want_close, const char *want_msg)
+{
+    ctl_msg m;
+    int close = 0;
+    gale_err e;
+    int rc = ctl_decode(text, len, 0, &m, &close, &e);
+    CHECK(rc < 0);
+    CHECK(close == want_close);
+    if (close != want_close) {
+        fprintf(stderr, "  close %d, want %d for %.60s\n", close, want_close, text);
+    }
+    CHECK_STR_HAS(e.msg, want_msg);
+    CHECK(m.type == CTL_NONE);
+}
+
+#define BAD(text, close, msg) bad(text, sizeof text - 1, close, msg)
+
+static void test_errors(void)
+{
+    BAD("{\"type\":", WIRE_CLOSE_BAD_JSON, "ctl: 1:8: invalid JSON near \":\"");
+    BAD("{\"type\":\"ping\",\n \"id\": 1,,}", WIRE_CLOSE_BAD_JSON,
+        "ctl: 2:11: invalid JSON near \"}\"");
+    BAD("", WIRE_CLOSE_BAD_JSON, "ctl: 1:1: invalid JSON near \"\"");
+    BAD("{} x", WIRE_CLOSE_BAD_JSON,
+        "ctl: 1:4: trailing characters after the JSON value near \"x\"");
+    BAD("{\"type\":\"ping\"}\0{}", WIRE_CLOSE_BAD_JSON, "ctl: 1:16: trailing characters");
+    BAD("[1]", WIRE_CLOSE_BAD_JSON, "ctl: message: expected an object, got an array");
+    BAD("{\"type\":\"ping\",\"x\":[[[[[[[[[1]]]]]]]]]}", WIRE_CLOSE_BAD_JSON,
+        "ctl: message: nesting: expected <= 8 levels, got more");
+    BAD("{\"id\":1}", WIRE_CLOSE_UNKNOWN_TYPE,
+        "ctl: type: missing: expected a string, got nothing");
+    BAD("{\"type\":3}", WIRE_CLOSE_UNKNOWN_TYPE,
+        "ctl: type: wrong type: expected a string, got a number");
+    BAD("{\"type\":\"launch\"}", WIRE_CLOSE_UNKNOWN_TYPE,
+        "ctl: type: expected one of hello|view|wind|resync|ping|welcome|pong|error, got \"launch\"");
+    BAD("{\"type\":\"hello\",\"protocol\":2,\"role\":\"viewer\"}", WIRE_CLOSE_VERSION,
+        "ctl: hello.protocol: expected 1, got 2");
+    BAD("{\"type\":\"hello\",\"protocol\":\"1\",\"role\":\"viewer\"}", WIRE_CLOSE_BAD_FIELD,
+        "ctl: hello.protocol: expected a number, got a string");
+    BAD("{\"type\":\"hello\",\"protocol\":1.5,\"role\":\"viewer\"}", WIRE_CLOSE_BAD_FIELD,
+        "ctl: hello.protocol: expected an integer in [0, 65535], got 1.5");
+    BAD("{\"type\":\"hello\",\"role\":\"viewer\"}", WIRE_CLOSE_BAD_FIELD,
+        "ctl: hello.protocol: missing: expected a number");
+    BAD("{\"type\":\"hello\",\"protocol\":1,\"role\":\"admin\"}", WIRE_CLOSE_BAD_FIELD,
+        "ctl: hello.role: expected one of viewer|kiosk|wall-tile|load, got \"admin\"");
+    BAD("{\"type\":\"hello\",\"protocol\":1,\"role\":\"viewer\",\"colour\":1}", WIRE_CLOSE_BAD_FIELD,
+        "ctl: hello: unknown key \"colour\"");
+    BAD("{\"type\":\"hello\",\"protocol\":1,\"role\":\"viewer\",\"view\":{\"kind\":\"circle\","
+        "\"x\":0,\"y\":0,\"radius_m\":-5}}",
+        WIRE_CLOSE_BAD_FIELD, "ctl: hello.view.radius_m: expected a number in [0.001, 1000000], got -5");
+    BAD("{\"type\":\"view\",\"view\":{\"kind\":\"frustum\",\"eye\":[0,0],\"dir\":[1,0,0],"
+        "\"fov_deg\":60,\"far_m\":10}}",
+        WIRE_CLOSE_BAD_FIELD, "ctl: view.view.eye: expected an array of 3 numbers, got an array of another length");
+    BAD("{\"type\":\"view\",\"view\":{\"kind\":\"frustum\",\"eye\":[0,0,0],\"dir\":[0,0,0],"
+        "\"fov_deg\":60,\"far_m\":10}}",
+        WIRE_CLOSE_BAD_FIELD, "ctl: view.view.dir: expected a nonzero vector, got [0, 0, 0]");
+    BAD("{\"type\":\"view\"}", WIRE_CLOSE_BAD_FIELD, "ctl: view.view: missing: expected an object");
+    BAD("{\"type\":\"wind\",\"speed_ms\":10}", WIRE_CLOSE_BAD_FIELD,
+        "ctl: wind.token: missing: expected a string");
+    BAD("{\"type\":\"wind\",\"token\":\"t\",\"speed_ms\":1e999}", WIRE_CLOSE_BAD_FIELD,
+        "ctl: wind.speed_ms: expected a number in [0, 100], got inf");
+    BAD("{\"type\":\"wind\",\"token\":\"t\",\"speed_ms\":101}", WIRE_CLOSE_BAD_FIELD,
+        "ctl: wind.speed_ms: expected a number in [0, 100], got 101");
+    BAD("{\"type\":\"wind\",\"token\":\"0123456789012345678901234567890123456789012345678901234567890123\"}",
+        WIRE_CLOSE_BAD_FIELD, "ctl: wind.token: expected at most 63 bytes, got 64");
+    BAD("{\"type\":\"ping\",\"id\":-1,\"client_us\":0}", WIRE_CLOSE_BAD_FIELD,
+        "ctl: ping.id: expected an integer in [0, 4294967295], got -1");
+    BAD("{\"type\":\"resync\",\"seq\":null}", WIRE_CLOSE_BAD_FIELD,
+        "ctl: resync.seq: expected a number, got null");
+    BAD("{\"type\":\"welcome\",\"protocol\":1,\"client_id\":1,\"role\":\"viewer\",\"tick_hz\":60,"
+        "\"snapshot_hz\":30,\"server_us\":0,\"tick\":0,\"species\":[{\"name\":\"oak\",\"url\":"
+        "\"/a\",\"hash\":\"XYZ\",\"n_modes\":32}],\"instances\":[]}",
+        WIRE_CLOSE_BAD_FIELD, "ctl: welcome.species[0].hash: expected 16 lowercase hex digits, got \"XYZ\"");
+    BAD("{\"type\":\"welcome\",\"protocol\":1,\"client_id\":1,\"role\":\"viewer\",\"tick_hz\":60,"
+        "\"snapshot_hz\":30,\"server_us\":0,\"tick\":0,\"species\":[{\"name\":\"oak\",\"url\":"
+        "\"/a\",\"hash\":\"0123456789abcdef\",\"n_modes\":32}],\"instances\":[[1,0,0,0,0,1]]}",
+        WIRE_CLOSE_BAD_FIELD, "ctl: welcome.instances[0][0]: species: expected an integer in [0, 0], got 1");
+    /* Oversized: rejected before parsing. */
+    static char big[CTL_MAX_CLIENT_BYTES + 2];
+    memset(big, ' ', sizeof big);
+    bad(big, CTL_MAX_CLIENT_BYTES + 1, WIRE_CLOSE_TOO_BIG,
+        "ctl: message: expected <= 4096 bytes, got 4097");
+    /* Exactly at the limit is fine. */
+    const char *ping = "{\"type\":\"ping\",\"id\":1,\"client_us\":2}";
+    memcpy(big, ping, strlen(ping));
+    ctl_msg m;
+    gale_err e;
+    CHECK(ctl_decode(big, CTL_MAX_CLIENT_BYTES, 0, &m, NULL, &e) == 0);
+    /* Encoder refuses values a decoder would reject. */
+    m = (ctl_msg){ .type = CTL_WIND };
+    strcpy(m.u.wind.token, "t");
+    m.u.wind.has_speed = true;
+    m.u.wind.speed_ms = NAN;
+    char *out = NULL;
+    size_t n = 0;
+    CHECK(ctl_encode(&m, &out, &n, &e) == GALE_E_RANGE);
+    CHECK(out == NULL);
+    m = (ctl_msg){ .type = 77 };
+    CHECK(ctl_encode(&m, &out, &n, &e) == GALE_E_ARG);
+    CHECK_STR_HAS(e.msg, "ctl_encode: type: expected a ctl_type, got 77");
+    char tiny[8];
+    m = (ctl_msg){ .type = CTL_RESYNC };
+    CHECK(ctl_encode_into(&m, tiny, sizeof tiny, &n, &e) == GALE_E_RANGE);
+}
+
+/* Circle and frustum interest with LOD, against positions worked out by hand. */
+static void test_view_select(void)
+{
+    const float pos[5 * 3] = { 0, 0, 0, 50, 0, 0, 0, 120, 0, -10, 0, 0, 0, 104, 0 };
+    const uint8_t full[5] = { 32, 32, 16, 32, 32 };
+    uint8_t n[5];
+    ctl_view all = { .kind = CTL_VIEW_ALL };
+    ctl_view_select(&all, 5, pos, full, 0, 8, n);
+    CHECK(n[0] == 32 && n[2] == 16 && n[4] == 32);
+    /* Circle at the origin, radius 100, LOD beyond 40 m, 5 m margin. */
+    ctl_view c = { .kind = CTL_VIEW_CIRCLE, .radius_m = 100, .lod_m = 40 };
+    ctl_view_select(&c, 5, pos, full, 5, 8, n);
+    CHECK(n[0] == 32);  /* centre */
+    CHECK(n[1] == 8);   /* 50 m: inside, beyond LOD */
+    CHECK(n[2] == 0);   /* 120 m: outside */
+    CHECK(n[3] == 32);  /* 10 m */
+    CHECK(n[4] == 8);   /* 104 m: outside the radius, inside the margin */
+    /* Frustum from (0, -10, 0) looking +y, 90 degrees, far 150. */
+    ctl_view f = { .kind = CTL_VIEW_FRUSTUM, .eye = { 0, -10, 0 }, .dir = { 0, 2, 0 },
+                   .fov_deg = 90, .far_m = 150 };
+    ctl_view_select(&f, 5, pos, full, 0, 8, n);
+    CHECK(n[0] == 32);  /* on the axis, 10 m ahead */
+    CHECK(n[1] == 0);   /* (50, 10): 78.7 degrees off axis */
+    CHECK(n[2] == 16);  /* 130 m ahead */
+    CHECK(n[3] == 32);  /* (-10, 10): exactly on the 45 degree edge */
+    f.far_m = 100;
+    ctl_view_select(&f, 5, pos, full, 0, 8, n);
+    CHECK(n[2] == 0 && n[4] == 0);
+    ctl_view_select(&f, 5, pos, full, 20, 8, n);
+    CHECK(n[4] == 32 && n[1] == 0); /* 114 m within far + margin; 50 m across is not */
+}
+
+int main(void)
+{
+    RUN(test_view_select);
+    RUN(test_golden);
+    RUN(round_trip_fields);
+    RUN(test_errors);
+    return check_report();
+}

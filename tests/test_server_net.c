@@ -1,0 +1,326 @@
+/* Loopback integration: an in-process server (real lws, real sockets, ephemeral port)
+ * with a small synthetic scene, and raw socket clients. Handshake; keyframe then deltas
+ * decoding to the server's float q within half a quantisation step; a late joiner; a slow
+ * consumer that does not delay a fast one and is culled; every bad input closing only its
+ * own connection with its code; /metrics, /healthz and asset GET. */
+#include "check.h"
+#include "server_wsraw.h"
+#include "ctl.h"
+#include "srv.h"
+#include "wire.h"
+
+#include <pthread.h>
+#include <time.h>
+
+#include "server_fixture.h"
+
+/* Opens a connection and says hello as `role`; returns the welcome text (caller frees). */
+static char *hello(wsraw *c, const char *role, const char *extra)
+{
+    if (wsraw_open(c, srv_port(S), 0)) {
+        return NULL;
+    }
+    char h[256];
+    snprintf(h, sizeof h, "{\"type\": \"hello\", \"protocol\": %d, \"role\": \"%s\"%s}",
+             WIRE_PROTOCOL_VERSION, role, extra ? extra : "");
+    wsraw_text(c, h);
+    uint8_t *m;
+    size_t n;
+    int op = wsraw_recv(c, &m, &n, 3000);
+    if (op != 1) {
+        free(m);
+        return NULL;
+    }
+    return (char *)m;
+}
+
+static void test_handshake_and_decode(void)
+{
+    wsraw c;
+    char *w = hello(&c, "viewer", NULL);
+    CHECK(w != NULL);
+    if (!w) {
+        return;
+    }
+    CHECK_STR_HAS(w, "\"welcome\"");
+    CHECK_STR_HAS(w, "/assets/000000000000abc0.gasset");
+    ctl_msg m;
+    gale_err e;
+    CHECK(ctl_decode(w, strlen(w), CTL_MAX_SERVER_BYTES, &m, NULL, &e) == 0);
+    CHECK(m.type == CTL_WELCOME && m.u.welcome.n_instances == N_TREES);
+    CHECK(m.u.welcome.n_species == 2);
+    ctl_msg_fini(&m);
+    free(w);
+
+    wire_decoder *dec = wire_decoder_create(&(wire_decoder_desc){ 0 }, NULL);
+    int keyframes = 0, deltas = 0, bad = 0, compared = 0, first_type = 0;
+    double worst = 0; /* |decoded - server float| / step */
+    uint32_t last_seq = 0;
+    for (int i = 0; i < 45; i++) {
+        uint8_t *b;
+        size_t n;
+        int op = wsraw_recv(&c, &b, &n, 3000);
+        if (op != 2) {
+            free(b);
+            if (op < 0) {
+                break;
+            }
+            continue;
+        }
+        wire_frame f;
+        int rc = wire_decode(dec, b, n, &f, &e);
+        free(b);
+        if (rc) {
+            fprintf(stderr, "decode: %s\n", e.msg);
+            bad++;
+            continue;
+        }
+        if (f.hdr.type == WIRE_MSG_KEYFRAME || f.hdr.type == WIRE_MSG_DELTA) {
+            if (!first_type) {
+                first_type = f.hdr.type;
+            }
+            keyframes += f.hdr.type == WIRE_MSG_KEYFRAME;
+            deltas += f.hdr.type == WIRE_MSG_DELTA;
+            CHECK(last_seq == 0 || f.seq == last_seq + 1);
+            last_seq = f.seq;
+            for (int t = 0; t < N_TREES; t += 7) {
+                float qd[N_MODES], qs[N_MODES];
+                uint32_t nm = wire_decoder_q(dec, (uint32_t)t, qd, N_MODES);
+                if (srv_history_q(S, f.seq, t, qs, N_MODES) == N_MODES && nm == N_MODES) {
+                    for (int k = 0; k < N_MODES; k++) {
+                        double r = fabs((double)qd[k] - (double)qs[k]) / (double)srv_qstep(S, t, k);
+                        worst = r > worst ? r : worst;
+                    }
+                    compared++;
+                }
+            }
+        }
+    }
+    CHECK(first_type == WIRE_MSG_KEYFRAME);
+    CHECK(keyframes == 1);
+    CHECK(deltas >= 20);
+    CHECK(bad == 0);
+    CHECK(compared > 100);
+    /* rounding to the nearest step: at most half a step (plus float slack) */
+    CHECK_NEAR(worst, 0, 0.5 + 1e-3);
+    fprintf(stderr, "  %d keyframes, %d deltas, %d trees compared, worst error %.3f steps\n",
+            keyframes, deltas, compared, worst);
+    wire_decoder_destroy(dec);
+    wsraw_close(&c);
+}
+
+static void test_late_joiner_and_ping(void)
+{
+    wsraw c;
+    char *w = hello(&c, "wall-tile", NULL);
+    CHECK(w != NULL);
+    free(w);
+    wsraw_text(&c, "{\"type\": \"ping\", \"id\": 9, \"client_us\": 12345}");
+    int got_key = 0, got_pong = 0, first_state = 0;
+    for (int i = 0; i < 30 && !(got_key && got_pong); i++) {
+        uint8_t *b;
+        size_t n;
+        int op = wsraw_recv(&c, &b, &n, 3000);
+        if (op == 1) {
+            got_pong += strstr((char *)b, "\"pong\"") && strstr((char *)b, "12345");
+        } else if (op == 2 && n >= WIRE_HEADER_BYTES) {
+            int type = b[6];
+            if ((type == WIRE_MSG_KEYFRAME || type == WIRE_MSG_DELTA) && !first_state) {
+                first_state = type;
+            }
+            got_key += type == WIRE_MSG_KEYFRAME;
+        }
+        free(b);
+        if (op < 0) {
+            break;
+        }
+    }
+    CHECK(first_state == WIRE_MSG_KEYFRAME); /* a late joiner starts on a keyframe */
+    CHECK(got_pong == 1);
+    wsraw_close(&c);
+}
+
+/* A client that stops reading must not slow a fast one; it is closed as too slow. */
+static void test_slow_consumer(void)
+{
+    wsraw slow, fast;
+    memset(&slow, 0, sizeof slow);
+    if (wsraw_open(&slow, srv_port(S), 4096)) {
+        CHECK(0);
+        return;
+    }
+    char h[128];
+    snprintf(h, sizeof h, "{\"type\": \"hello\", \"protocol\": %d, \"role\": \"viewer\"}",
+             WIRE_PROTOCOL_VERSION);
+    wsraw_text(&slow, h);
+    char *w = hello(&fast, "load", NULL);
+    CHECK(w != NULL);
+    free(w);
+    /* the fast client reads for 3 s; the slow one reads nothing */
+    double t0 = now_s(), worst_gap = 0, last = t0;
+    int frames = 0;
+    wire_decoder *dec = wire_decoder_create(&(wire_decoder_desc){ 0 }, NULL);
+    int errors = 0;
+    while (now_s() - t0 < 3.0) {
+        uint8_t *b;
+        size_t n;
+        int op = wsraw_recv(&fast, &b, &n, 2000);
+        if (op == 2) {
+            wire_frame f;
+            gale_err e;
+            if (wire_decode(dec, b, n, &f, &e)) {
+                errors++;
+            } else if (f.hdr.type == WIRE_MSG_KEYFRAME || f.hdr.type == WIRE_MSG_DELTA) {
+                frames++;
+                double t = now_s();
+                worst_gap = t - last > worst_gap ? t - last : worst_gap;
+                last = t;
+            }
+        }
+        free(b);
+        if (op < 0) {
+            break;
+        }
+    }
+    wire_decoder_destroy(dec);
+    fprintf(stderr, "  fast client: %d state frames in 3 s, worst gap %.0f ms\n", frames,
+            worst_gap * 1e3);
+    CHECK(frames >= 80);      /* 30/s for 3 s = 90 */
+    CHECK(worst_gap < 0.25);  /* never held up by the stalled peer */
+    CHECK(errors == 0);
+    /* the slow one was culled: its close frame says why */
+    int code = wsraw_wait_close(&slow, 5000);
+    CHECK(code == WIRE_CLOSE_SLOW);
+    CHECK(atomic_load(&srv_metrics(S)->frames_dropped) > 0);
+    CHECK(atomic_load(&srv_metrics(S)->laggards_closed) >= 1);
+    wsraw_close(&slow);
+    wsraw_close(&fast);
+}
+
+static int bad_case(const char *what, int opcode, const void *data, size_t len, int want)
+{
+    wsraw c;
+    if (wsraw_open(&c, srv_port(S), 0)) {
+        return -1;
+    }
+    wsraw_send(&c, opcode, data, len);
+    int code = wsraw_wait_close(&c, 3000);
+    if (code != want) {
+        fprintf(stderr, "  %s: expected close %d, got %d (%s)\n", what, want, code,
+                c.close_reason);
+    }
+    wsraw_close(&c);
+    return code;
+}
+
+static void test_bad_inputs(void)
+{
+    wsraw good;
+    char *w = hello(&good, "viewer", NULL);
+    CHECK(w != NULL);
+    free(w);
+    unsigned long long bad0 = atomic_load(&srv_metrics(S)->bad_messages);
+    char h[160], big[6000];
+    CHECK(bad_case("invalid json", 1, "{\"type\": hello", 14, WIRE_CLOSE_BAD_JSON) ==
+          WIRE_CLOSE_BAD_JSON);
+    CHECK(bad_case("unknown type", 1, "{\"type\": \"dance\"}", 17, WIRE_CLOSE_UNKNOWN_TYPE) ==
+          WIRE_CLOSE_UNKNOWN_TYPE);
+    memset(big, ' ', sizeof big);
+    big[0] = '{';
+    big[sizeof big - 1] = '}';
+    CHECK(bad_case("oversized", 1, big, sizeof big, WIRE_CLOSE_TOO_BIG) == WIRE_CLOSE_TOO_BIG);
+    const uint8_t garbage[] = { 0x47, 0x41, 0x4c, 0x45, 0xff, 0x00, 0x13, 0x37 };
+    CHECK(bad_case("binary", 2, garbage, sizeof garbage, WIRE_CLOSE_BINARY) == WIRE_CLOSE_BINARY);
+    snprintf(h, sizeof h, "{\"type\": \"hello\", \"protocol\": %d, \"role\": \"viewer\"}",
+             WIRE_PROTOCOL_VERSION + 1);
+    CHECK(bad_case("version", 1, h, strlen(h), WIRE_CLOSE_VERSION) == WIRE_CLOSE_VERSION);
+    snprintf(h, sizeof h,
+             "{\"type\": \"hello\", \"protocol\": %d, \"role\": \"kiosk\", \"token\": \"nope\"}",
+             WIRE_PROTOCOL_VERSION);
+    CHECK(bad_case("token", 1, h, strlen(h), WIRE_CLOSE_BAD_TOKEN) == WIRE_CLOSE_BAD_TOKEN);
+    CHECK(bad_case("before hello", 1, "{\"type\": \"resync\", \"seq\": 0}", 28, WIRE_CLOSE_ORDER) ==
+          WIRE_CLOSE_ORDER);
+
+    /* a viewer sending wind */
+    wsraw v;
+    w = hello(&v, "viewer", NULL);
+    free(w);
+    wsraw_text(&v, "{\"type\": \"wind\", \"token\": \"sesame\", \"speed_ms\": 40}");
+    CHECK(wsraw_wait_close(&v, 3000) == WIRE_CLOSE_FORBIDDEN);
+    CHECK_STR_HAS(v.close_reason, "only a kiosk");
+    wsraw_close(&v);
+
+    /* a kiosk with the right token may */
+    wsraw k;
+    w = hello(&k, "kiosk", ", \"token\": \"sesame\"");
+    CHECK(w && strstr(w, "\"welcome\""));
+    free(w);
+    wsraw_text(&k, "{\"type\": \"wind\", \"token\": \"sesame\", \"speed_ms\": 30, \"dir_deg\": 90}");
+    wsraw_text(&k, "{\"type\": \"wind\", \"token\": \"wrong\", \"speed_ms\": 30}");
+    CHECK(wsraw_wait_close(&k, 3000) == WIRE_CLOSE_BAD_TOKEN);
+    wsraw_close(&k);
+
+    CHECK(atomic_load(&srv_metrics(S)->bad_messages) - bad0 >= 9);
+    /* the good client never noticed: still connected and receiving */
+    int state = 0;
+    for (int i = 0; i < 20; i++) {
+        uint8_t *b;
+        size_t n;
+        int op = wsraw_recv(&good, &b, &n, 2000);
+        free(b);
+        state += op == 2;
+        if (op < 0 || op == 8) {
+            break;
+        }
+    }
+    CHECK(state >= 10);
+    CHECK(good.close_code == 0);
+    wsraw_close(&good);
+}
+
+static void test_http(void)
+{
+    char *b;
+    CHECK(wsraw_http_get(srv_port(S), "/healthz", &b) == 200);
+    CHECK(b && !strncmp(b, "ok tick ", 8));
+    free(b);
+    CHECK(wsraw_http_get(srv_port(S), "/metrics", &b) == 200);
+    if (b) {
+        CHECK_STR_HAS(b, "# TYPE gale_ticks_total counter");
+        CHECK_STR_HAS(b, "gale_tick_overruns_total");
+        CHECK_STR_HAS(b, "gale_clients{role=\"viewer\"}");
+        CHECK_STR_HAS(b, "gale_frames_dropped_total");
+        CHECK_STR_HAS(b, "gale_bad_messages_total");
+        unsigned long long ticks = 0;
+        const char *p = strstr(b, "\ngale_ticks_total ");
+        CHECK(p && sscanf(p, "\ngale_ticks_total %llu", &ticks) == 1 && ticks > 60);
+    }
+    free(b);
+    CHECK(wsraw_http_get(srv_port(S), "/assets/000000000000abc0.gasset", &b) == 200);
+    CHECK(b && !strcmp(b, (const char *)asset_bytes));
+    free(b);
+    CHECK(wsraw_http_get(srv_port(S), "/assets/000000000000abc1.gasset", &b) == 404);
+    free(b);
+    CHECK(wsraw_http_get(srv_port(S), "/nothing", &b) == 404);
+    free(b);
+}
+
+int main(void)
+{
+    if (start_server()) {
+        fprintf(stderr, "cannot start the server\n");
+        return 1;
+    }
+    RUN(test_handshake_and_decode);
+    RUN(test_late_joiner_and_ping);
+    RUN(test_slow_consumer);
+    RUN(test_bad_inputs);
+    RUN(test_http);
+    net_metrics *m = srv_metrics(S);
+    fprintf(stderr, "  server: %llu ticks, %llu overruns, %llu frames sent\n",
+            (unsigned long long)atomic_load(&m->ticks),
+            (unsigned long long)atomic_load(&m->overruns),
+            (unsigned long long)atomic_load(&m->frames_sent));
+    stop_server();
+    return check_report();
+}
