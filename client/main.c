@@ -382,8 +382,8 @@ static void reset_camera(cli *c)
         float dx = c->w_instances[i].pos[0] - centre[0], dy = c->w_instances[i].pos[1] - centre[1];
         radius = fmaxf(radius, sqrtf(dx * dx + dy * dy));
     }
-    centre[2] += 6.0f;
-    camera_init(&c->cam, centre, fminf(1.6f * radius + 25.0f, 1500.0f));
+    centre[2] += 4.0f; /* about crown height of the default species */
+    camera_init(&c->cam, centre, fminf(1.6f * radius + 22.0f, 1500.0f));
 }
 
 static int setup_scene(cli *c, gale_err *err)
