@@ -40,7 +40,9 @@ typedef struct peer {
     const uint8_t *http_body;
     size_t http_len, http_off;
     /* what the peer saw (under lock) */
-    int hellos, role, pings, resyncs, resync_seq, connections;
+    int hellos, role, pings, resyncs, resync_seq, connections, winds;
+    float wind_speed;
+    char wind_token[CTL_MAX_TOKEN];
     char token[CTL_MAX_TOKEN];
 } peer;
 
@@ -185,6 +187,10 @@ static int peer_cb(struct lws *wsi, enum lws_callback_reasons reason, void *user
             p->pong_pending = true;
             p->pong_id = m.u.ping.id;
             p->ping_client_us = m.u.ping.client_us;
+        } else if (m.type == CTL_WIND) {
+            p->winds++;
+            p->wind_speed = m.u.wind.has_speed ? m.u.wind.speed_ms : -1.0f;
+            snprintf(p->wind_token, sizeof p->wind_token, "%s", m.u.wind.token);
         } else if (m.type == CTL_RESYNC) {
             p->resyncs++;
             p->resync_seq = (int)m.u.resync_seq;
@@ -363,6 +369,19 @@ static void test_session(void)
     double srv;
     CHECK(jitter_clock_server_time(net_clock(n), 100.0, &srv));
     CHECK_NEAR(srv - 100.0, 5.0, jitter_clock_rtt(net_clock(n)) * 0.5 + 1e-3);
+
+    /* kiosk wind dial: the command reaches the server with the token */
+    ctl_wind wind = { .has_speed = true, .speed_ms = 42.0f };
+    snprintf(wind.token, sizeof wind.token, "t0k3n");
+    CHECK(net_send_wind(n, &wind, &err) == 0);
+    POLL_UNTIL(n, P.winds >= 1, 5.0);
+    pthread_mutex_lock(&P.lock);
+    CHECK(P.winds == 1);
+    CHECK_NEAR(P.wind_speed, 42.0, 0);
+    CHECK(strcmp(P.wind_token, "t0k3n") == 0);
+    pthread_mutex_unlock(&P.lock);
+    wind.speed_ms = 1000.0f; /* out of range: refused before it is sent */
+    CHECK(net_send_wind(n, &wind, &err) != 0);
 
     /* HTTP on the same server while the WebSocket lives */
     uint8_t *body = NULL;
