@@ -111,8 +111,16 @@ static int start_server(int want_port)
     snprintf(ports, sizeof ports, "%d", want_port);
     char cache[300];
     snprintf(cache, sizeof cache, "%s/srvcache", tmp);
-    char *argv[] = { GALE_SERVER_EXE, "--config", GALE_SOURCE_DIR "/tests/data/clientnet_scene.json",
-                     "--port", ports, "--iface", "127.0.0.1", "--cache", cache, NULL };
+    char *argv[] = { GALE_SERVER_EXE,
+                     "--config",
+                     GALE_SOURCE_DIR "/tests/data/clientnet_scene.json",
+                     "--port",
+                     ports,
+                     "--iface",
+                     "127.0.0.1",
+                     "--cache",
+                     cache,
+                     NULL };
     unlink(log);
     server = spawn(argv, log);
     if (!wait_log(log, "listening on port", 1, 120.0)) {
@@ -140,9 +148,9 @@ static pid_t start_client(const char *name, int frames, const char *png)
     snprintf(url, sizeof url, "ws://127.0.0.1:%d", port);
     snprintf(fr, sizeof fr, "%d", frames);
     snprintf(cache, sizeof cache, "%s/cache-%s", tmp, name);
-    char *argv[] = { GALE_CLIENT_EXE, "--url", url, "--headless", "--frames", fr, "--size",
-                     "320x180", "--wait", "150", "--cache", cache, "--screenshot",
-                     (char *)png, NULL };
+    char *argv[] = { GALE_CLIENT_EXE, "--url",     url,      "--headless", "--frames", fr,
+                     "--size",        "320x180",   "--wait", "150",        "--cache",  cache,
+                     "--screenshot",  (char *)png, NULL };
     return spawn(argv, log);
 }
 
@@ -184,8 +192,9 @@ static void test_no_server(void)
 {
     char log[300];
     client_log(log, sizeof log, "none");
-    char *argv[] = { GALE_CLIENT_EXE, "--url", "ws://127.0.0.1:1", "--headless", "--wait",
-                     "2", "--size", "64x64", NULL };
+    char *argv[] = { GALE_CLIENT_EXE, "--url",  "ws://127.0.0.1:1",
+                     "--headless",    "--wait", "2",
+                     "--size",        "64x64",  NULL };
     pid_t p = spawn(argv, log);
     int st = wait_exit(p, 120.0);
     CHECK(st == 3);
