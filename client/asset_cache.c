@@ -11,7 +11,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#define CACHE_MAGIC "GALECAC1"
+#define CACHE_MAGIC  "GALECAC1"
 #define CACHE_HEADER 24
 
 struct asset_cache {
@@ -36,8 +36,8 @@ int asset_cache_key_ok(const char *key)
     }
     for (size_t i = 0; i < n; i++) {
         char ch = key[i];
-        int ok = (ch >= '0' && ch <= '9') || (ch >= 'a' && ch <= 'z') ||
-                 (ch >= 'A' && ch <= 'Z') || ch == '_' || ch == '.' || ch == '-';
+        int ok = (ch >= '0' && ch <= '9') || (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') ||
+                 ch == '_' || ch == '.' || ch == '-';
         if (!ok) {
             return 0;
         }
@@ -55,8 +55,8 @@ static int make_dirs(char *path, gale_err *err)
             if (mkdir(path, 0755) != 0 && errno != EEXIST) {
                 int e = errno;
                 *p = saved;
-                return gale_errf(err, GALE_E_IO, "%s: cannot create cache directory: %s",
-                                 path, strerror(e));
+                return gale_errf(err, GALE_E_IO, "%s: cannot create cache directory: %s", path,
+                                 strerror(e));
             }
             *p = saved;
             if (saved == '\0') {
@@ -151,8 +151,8 @@ int asset_cache_store(asset_cache *c, const char *key, const uint8_t *buf, size_
         return gale_errf(err, GALE_E_ARG, "asset cache: bad key \"%.40s\"", key ? key : "");
     }
     if (len > ASSET_CACHE_MAX_BYTES) {
-        return gale_errf(err, GALE_E_RANGE, "asset cache %s: expected <= %u bytes, got %zu",
-                         key, ASSET_CACHE_MAX_BYTES, len);
+        return gale_errf(err, GALE_E_RANGE, "asset cache %s: expected <= %u bytes, got %zu", key,
+                         ASSET_CACHE_MAX_BYTES, len);
     }
     char path[1200], tmp[1300];
     snprintf(path, sizeof path, "%s/%s", c->dir, key);
@@ -165,8 +165,7 @@ int asset_cache_store(asset_cache *c, const char *key, const uint8_t *buf, size_
     if (fd < 0) {
         return gale_errf(err, GALE_E_IO, "%s: %s", tmp, strerror(errno));
     }
-    if (write_all(fd, hdr, sizeof hdr) != 0 || write_all(fd, buf, len) != 0 ||
-        fsync(fd) != 0) {
+    if (write_all(fd, hdr, sizeof hdr) != 0 || write_all(fd, buf, len) != 0 || fsync(fd) != 0) {
         int e = errno;
         close(fd);
         unlink(tmp);
@@ -180,8 +179,7 @@ int asset_cache_store(asset_cache *c, const char *key, const uint8_t *buf, size_
     return 0;
 }
 
-int asset_cache_load(asset_cache *c, const char *key, uint8_t **out, size_t *len,
-                     gale_err *err)
+int asset_cache_load(asset_cache *c, const char *key, uint8_t **out, size_t *len, gale_err *err)
 {
     *out = NULL;
     *len = 0;
@@ -203,8 +201,8 @@ int asset_cache_load(asset_cache *c, const char *key, uint8_t **out, size_t *len
     }
     uint64_t n = get_u64(hdr + 8), want = get_u64(hdr + 16);
     if (n > ASSET_CACHE_MAX_BYTES) {
-        rc = gale_errf(err, GALE_E_FORMAT, "%s: offset 8: length expected <= %u, got %llu",
-                       path, ASSET_CACHE_MAX_BYTES, (unsigned long long)n);
+        rc = gale_errf(err, GALE_E_FORMAT, "%s: offset 8: length expected <= %u, got %llu", path,
+                       ASSET_CACHE_MAX_BYTES, (unsigned long long)n);
         goto bad;
     }
     data = malloc(n ? (size_t)n : 1);

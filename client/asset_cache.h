@@ -9,8 +9,8 @@
 
 #include "err.h"
 
-#define ASSET_CACHE_MAX_KEY 128               /* hash strings are far shorter */
-#define ASSET_CACHE_MAX_BYTES (512u << 20)    /* larger than any baked species asset */
+#define ASSET_CACHE_MAX_KEY   128          /* hash strings are far shorter */
+#define ASSET_CACHE_MAX_BYTES (512u << 20) /* larger than any baked species asset */
 
 typedef struct asset_cache_desc {
     const char *dir; /* NULL = $XDG_CACHE_HOME/gale, else $HOME/.cache/gale */
@@ -37,8 +37,7 @@ int asset_cache_key_ok(const char *key);
  * hit, GALE_E_IO when absent, GALE_E_CHECKSUM or GALE_E_FORMAT when the stored entry is
  * damaged (the entry is then deleted, so the caller downloads it again), GALE_E_ARG for a
  * bad key. */
-int asset_cache_load(asset_cache *c, const char *key, uint8_t **out, size_t *len,
-                     gale_err *err);
+int asset_cache_load(asset_cache *c, const char *key, uint8_t **out, size_t *len, gale_err *err);
 
 /* Stores len bytes (borrowed) under key, atomically: readers see the old entry or the
  * whole new one, never a part. Returns 0 or GALE_E_IO / GALE_E_ARG / GALE_E_RANGE. */

@@ -18,7 +18,7 @@
 int bench_client(int argc, char **argv);
 
 #define N_STAGES 6
-static const char *stage_name[N_STAGES] = { "receive", "decode", "dequantize",
+static const char *stage_name[N_STAGES] = { "receive",       "decode",      "dequantize",
                                             "jitter_insert", "interpolate", "gl_upload" };
 
 static double now_s(void)
@@ -71,8 +71,7 @@ int bench_client(int argc, char **argv)
             return 2;
         }
     }
-    if (trees < 1 || trees > WIRE_MAX_TREES || modes < 1 || modes > WIRE_MAX_MODES ||
-        frames < 10) {
+    if (trees < 1 || trees > WIRE_MAX_TREES || modes < 1 || modes > WIRE_MAX_MODES || frames < 10) {
         fprintf(stderr, "gale-bench client: expected 1..%u trees, 1..%u modes, >= 10 frames\n",
                 WIRE_MAX_TREES, WIRE_MAX_MODES);
         return 2;
@@ -94,11 +93,10 @@ int bench_client(int argc, char **argv)
     uint8_t *rx = malloc(bound);
     float *snap = malloc((size_t)trees * modes * sizeof(float));
     float *staging = malloc((size_t)trees * modes * sizeof(float));
-    wire_decoder *dec = wire_decoder_create(
-        &(wire_decoder_desc){ .max_trees = trees, .max_modes = modes }, &err);
-    jitter *jit = jitter_create(&(jitter_desc){ .n_values = trees * modes, .capacity = 32,
-                                                .playout_delay_s = 0.1 },
-                                &err);
+    wire_decoder *dec =
+        wire_decoder_create(&(wire_decoder_desc){ .max_trees = trees, .max_modes = modes }, &err);
+    jitter *jit = jitter_create(
+        &(jitter_desc){ .n_values = trees * modes, .capacity = 32, .playout_delay_s = 0.1 }, &err);
     double *t_stage[N_STAGES];
     for (int s = 0; s < N_STAGES; s++) {
         t_stage[s] = calloc(frames, sizeof(double));
@@ -127,9 +125,9 @@ int bench_client(int argc, char **argv)
         wire_state sp2 = { trees, modes, nm, qs[(k + 1) % 3] };
         wire_header h = { .tick = k, .server_time_us = (uint64_t)k * 1000000 / 60 };
         enc[k] = malloc(bound);
-        int rc = !enc[k] ? GALE_E_NOMEM
-                 : k == 0 ? wire_encode_keyframe(&h, k + 1, &scene, &sc, enc[k], bound,
-                                                 &enc_len[k], &err)
+        int rc = !enc[k]  ? GALE_E_NOMEM
+                 : k == 0 ? wire_encode_keyframe(&h, k + 1, &scene, &sc, enc[k], bound, &enc_len[k],
+                                                 &err)
                           : wire_encode_delta(&h, k + 1, &scene, &sc, &sp, k >= 2 ? &sp2 : NULL,
                                               enc[k], bound, &enc_len[k], &err);
         if (rc != 0) {
@@ -155,8 +153,8 @@ int bench_client(int argc, char **argv)
             glfwMakeContextCurrent(win);
             glGenBuffers(1, &buf);
             glBindBuffer(GL_ARRAY_BUFFER, buf);
-            glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)((size_t)trees * modes * sizeof(float)),
-                         NULL, GL_STREAM_DRAW);
+            glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)((size_t)trees * modes * sizeof(float)), NULL,
+                         GL_STREAM_DRAW);
         }
     }
 
@@ -174,8 +172,8 @@ int bench_client(int argc, char **argv)
             /* the loop of deltas restarts: resync from the keyframe (untimed) */
             seq_base += n_pre;
             wire_decoder_destroy(dec);
-            dec = wire_decoder_create(&(wire_decoder_desc){ .max_trees = trees, .max_modes = modes },
-                                      &err);
+            dec = wire_decoder_create(
+                &(wire_decoder_desc){ .max_trees = trees, .max_modes = modes }, &err);
             wire_decode(dec, enc[0], enc_len[0], &f, &err);
         }
         double t[N_STAGES + 1];
@@ -197,8 +195,8 @@ int bench_client(int argc, char **argv)
         jitter_sample(jit, ts - 0.1 + 0.37 / 60.0, staging, NULL);
         t[5] = now_s();
         if (win) {
-            glBufferSubData(GL_ARRAY_BUFFER, 0,
-                            (GLsizeiptr)((size_t)trees * modes * sizeof(float)), staging);
+            glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)((size_t)trees * modes * sizeof(float)),
+                            staging);
             glFinish();
         }
         t[6] = now_s();
@@ -207,8 +205,8 @@ int bench_client(int argc, char **argv)
         }
         t_total[i] = (t[6] - t[0]) * 1e3;
     }
-    printf("{\"bench\": \"client\", \"trees\": %u, \"modes\": %u, \"frames\": %u,\n", trees,
-           modes, frames);
+    printf("{\"bench\": \"client\", \"trees\": %u, \"modes\": %u, \"frames\": %u,\n", trees, modes,
+           frames);
     printf(" \"delta_bytes_mean\": %.0f, \"keyframe_bytes\": %zu, \"decode_errors\": %llu,\n",
            bytes_sum / n_pre, enc_len[0], (unsigned long long)decode_errors);
     printf(" \"gl_upload\": %s,\n \"stages_ms\": {", win ? "true" : "false");

@@ -50,8 +50,7 @@ void camera_orbit(camera *c, float dx_px, float dy_px)
     /* dragging right turns the scene right: the eye moves left about the target */
     c->yaw -= dx_px * c->orbit_rad_per_px;
     c->yaw = remainderf(c->yaw, 6.2831853f);
-    c->pitch = clampf(c->pitch - dy_px * c->orbit_rad_per_px, -CAMERA_MAX_PITCH,
-                      CAMERA_MAX_PITCH);
+    c->pitch = clampf(c->pitch - dy_px * c->orbit_rad_per_px, -CAMERA_MAX_PITCH, CAMERA_MAX_PITCH);
     if (c->mode == CAMERA_ORBIT) {
         camera_eye(c, c->eye);
     }
@@ -141,7 +140,9 @@ void camera_view(const camera *c, float m[16])
     camera_forward(c, f);
     basis(c, s, u);
     /* s = f × z normalised: (sin yaw, −cos yaw, 0) is that for any pitch */
-    const float rows[3][3] = { { s[0], s[1], s[2] }, { u[0], u[1], u[2] }, { -f[0], -f[1], -f[2] } };
+    const float rows[3][3] = { { s[0], s[1], s[2] },
+                               { u[0], u[1], u[2] },
+                               { -f[0], -f[1], -f[2] } };
     memset(m, 0, 16 * sizeof(float));
     for (int r = 0; r < 3; r++) {
         for (int k = 0; k < 3; k++) {

@@ -12,18 +12,18 @@ enum camera_mode {
 /* Caller-owned; camera_init fills it. Angles: yaw about +z from +x (the direction the
  * camera looks along, projected), pitch above the horizon. */
 typedef struct camera {
-    int mode;          /* enum camera_mode */
-    float target[3];   /* ORBIT: the point orbited [m] */
-    float distance;    /* ORBIT: eye-to-target [m], [CAMERA_MIN_DIST, CAMERA_MAX_DIST] */
-    float eye[3];      /* FLY: eye position [m] (ORBIT: derived, see camera_eye) */
-    float yaw, pitch;  /* [rad]; pitch within ±CAMERA_MAX_PITCH */
-    float fov_y_deg;   /* vertical field of view */
-    float fly_speed;   /* FLY: [m/s] */
+    int mode;         /* enum camera_mode */
+    float target[3];  /* ORBIT: the point orbited [m] */
+    float distance;   /* ORBIT: eye-to-target [m], [CAMERA_MIN_DIST, CAMERA_MAX_DIST] */
+    float eye[3];     /* FLY: eye position [m] (ORBIT: derived, see camera_eye) */
+    float yaw, pitch; /* [rad]; pitch within ±CAMERA_MAX_PITCH */
+    float fov_y_deg;  /* vertical field of view */
+    float fly_speed;  /* FLY: [m/s] */
     float orbit_rad_per_px;
 } camera;
 
-#define CAMERA_MIN_DIST 0.5f
-#define CAMERA_MAX_DIST 5000.0f
+#define CAMERA_MIN_DIST  0.5f
+#define CAMERA_MAX_DIST  5000.0f
 #define CAMERA_MAX_PITCH 1.55f /* just under π/2: the view never flips over the pole */
 
 /* Orbit camera looking at target from `distance`, 30° above the horizon, looking along +y

@@ -12,8 +12,8 @@
 
 #include <stb_truetype.h>
 
-#define ATLAS_W 1024
-#define ATLAS_H 512
+#define ATLAS_W    1024
+#define ATLAS_H    512
 #define OVERSAMPLE 2
 
 static const int extra_codepoints[] = { 0x00B0, 0x00B7, 0x00B1, 0x2013, 0x2014 };
@@ -53,8 +53,7 @@ hud_font *hud_font_load(const char *ttf_path, float px, gale_err *err)
     long n = ftell(fp);
     fseek(fp, 0, SEEK_SET);
     if (n <= 12 || n > (64L << 20)) {
-        gale_errf(err, GALE_E_FORMAT, "%s: font size expected 12 B..64 MiB, got %ld", ttf_path,
-                  n);
+        gale_errf(err, GALE_E_FORMAT, "%s: font size expected 12 B..64 MiB, got %ld", ttf_path, n);
         goto fail;
     }
     f->ttf = malloc((size_t)n);
@@ -89,9 +88,13 @@ hud_font *hud_font_load(const char *ttf_path, float px, gale_err *err)
     int extra[N_EXTRA];
     memcpy(extra, extra_codepoints, sizeof extra);
     stbtt_pack_range ranges[2] = {
-        { .font_size = px, .first_unicode_codepoint_in_range = 32, .num_chars = N_ASCII,
+        { .font_size = px,
+          .first_unicode_codepoint_in_range = 32,
+          .num_chars = N_ASCII,
           .chardata_for_range = f->ascii },
-        { .font_size = px, .array_of_unicode_codepoints = extra, .num_chars = N_EXTRA,
+        { .font_size = px,
+          .array_of_unicode_codepoints = extra,
+          .num_chars = N_EXTRA,
           .chardata_for_range = f->extra },
     };
     int ok = stbtt_PackFontRanges(&pc, f->ttf, 0, ranges, 2);
@@ -281,13 +284,13 @@ int hud_format(const hud_state *s, char lines[HUD_MAX_LINES][HUD_LINE_CHARS])
                  s->role ? s->role : "viewer");
         break;
     case HUD_CONN_WAIT_KEY:
-        snprintf(lines[n++], HUD_LINE_CHARS, "Connected \xC2\xB7 %s \xC2\xB7 waiting for a keyframe",
-                 srv);
+        snprintf(lines[n++], HUD_LINE_CHARS,
+                 "Connected \xC2\xB7 %s \xC2\xB7 waiting for a keyframe", srv);
         break;
     case HUD_CONN_RECONNECTING:
         snprintf(lines[n++], HUD_LINE_CHARS,
-                 "Server lost \xC2\xB7 retry %u in %.1f s \xC2\xB7 showing last state",
-                 s->attempt, s->retry_in_s);
+                 "Server lost \xC2\xB7 retry %u in %.1f s \xC2\xB7 showing last state", s->attempt,
+                 s->retry_in_s);
         break;
     case HUD_CONN_FAILED:
         snprintf(lines[n++], HUD_LINE_CHARS, "Disconnected \xC2\xB7 %s", srv);
@@ -313,7 +316,7 @@ int hud_format(const hud_state *s, char lines[HUD_MAX_LINES][HUD_LINE_CHARS])
 
 /* ---- GL pass ------------------------------------------------------------------------ */
 
-#define VERT_FLOATS 8 /* x y s t r g b a; s < 0: solid colour */
+#define VERT_FLOATS   8 /* x y s t r g b a; s < 0: solid colour */
 #define HUD_MAX_VERTS (6 * (HUD_MAX_GLYPHS + 16))
 
 struct hud {
@@ -340,16 +343,15 @@ static const char *hud_vs =
     "                       0.0, 1.0);\n"
     "}\n";
 
-static const char *hud_fs =
-    "#version 330 core\n"
-    "in vec2 v_st;\n"
-    "in vec4 v_rgba;\n"
-    "uniform sampler2D u_atlas;\n"
-    "out vec4 o_color;\n"
-    "void main() {\n"
-    "    float cov = v_st.x < 0.0 ? 1.0 : texture(u_atlas, v_st).r;\n"
-    "    o_color = vec4(v_rgba.rgb, v_rgba.a * cov);\n"
-    "}\n";
+static const char *hud_fs = "#version 330 core\n"
+                            "in vec2 v_st;\n"
+                            "in vec4 v_rgba;\n"
+                            "uniform sampler2D u_atlas;\n"
+                            "out vec4 o_color;\n"
+                            "void main() {\n"
+                            "    float cov = v_st.x < 0.0 ? 1.0 : texture(u_atlas, v_st).r;\n"
+                            "    o_color = vec4(v_rgba.rgb, v_rgba.a * cov);\n"
+                            "}\n";
 
 static GLuint compile(GLenum type, const char *src, gale_err *err)
 {
@@ -466,8 +468,8 @@ const hud_font *hud_get_font(const hud *h)
     return h->font;
 }
 
-static void push_rect(hud *h, float x0, float y0, float x1, float y1, float s0, float t0,
-                      float s1, float t1, const float rgba[4])
+static void push_rect(hud *h, float x0, float y0, float x1, float y1, float s0, float t0, float s1,
+                      float t1, const float rgba[4])
 {
     if (h->n_verts + 6 > HUD_MAX_VERTS) {
         return;
@@ -512,8 +514,8 @@ void hud_draw_lines(hud *h, const char *const *lines, int n, int accent_line, fl
     const float ink[4] = { 0.97f, 0.97f, 0.93f, 1.0f };
     const float accent[4] = { 1.0f, 0.80f, 0.30f, 1.0f };
     h->n_verts = 0;
-    push_rect(h, x, y, x + w + 2 * pad, y + n * line_h - 0.25f * h->font->px + 2 * pad, -1, 0,
-              -1, 0, panel);
+    push_rect(h, x, y, x + w + 2 * pad, y + n * line_h - 0.25f * h->font->px + 2 * pad, -1, 0, -1,
+              0, panel);
     for (int i = 0; i < n; i++) {
         float bx = floorf(x + pad), by = floorf(y + pad + h->font->ascent + i * line_h);
         push_text(h, bx + 1, by + 1, lines[i], shadow);

@@ -11,9 +11,9 @@
 #include "err.h"
 
 #define HUD_DEFAULT_FONT "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"
-#define HUD_MAX_GLYPHS 2048 /* glyph quads per frame: the HUD uses ~200 */
-#define HUD_MAX_LINES 8
-#define HUD_LINE_CHARS 128
+#define HUD_MAX_GLYPHS   2048 /* glyph quads per frame: the HUD uses ~200 */
+#define HUD_MAX_LINES    8
+#define HUD_LINE_CHARS   128
 
 /* ---- font and layout (no GL) -------------------------------------------------------- */
 
@@ -64,16 +64,16 @@ enum hud_conn {
 
 typedef struct hud_state {
     bool have_wind;
-    float wind_ms;          /* wind speed [m/s] shown */
-    int conn;               /* enum hud_conn */
-    const char *server;     /* "host:port" (borrowed) */
-    double retry_in_s;      /* RECONNECTING: seconds to the next attempt */
-    uint32_t attempt;       /* RECONNECTING: attempt number */
+    float wind_ms;      /* wind speed [m/s] shown */
+    int conn;           /* enum hud_conn */
+    const char *server; /* "host:port" (borrowed) */
+    double retry_in_s;  /* RECONNECTING: seconds to the next attempt */
+    uint32_t attempt;   /* RECONNECTING: attempt number */
     float fps;
-    float latency_ms;       /* one-way estimate (rtt/2); < 0 = unknown */
-    float delay_ms;         /* playout delay */
-    uint64_t frames_bad;    /* frames dropped as undecodable */
-    const char *role;       /* "viewer", "kiosk", "wall-tile" (borrowed) */
+    float latency_ms;    /* one-way estimate (rtt/2); < 0 = unknown */
+    float delay_ms;      /* playout delay */
+    uint64_t frames_bad; /* frames dropped as undecodable */
+    const char *role;    /* "viewer", "kiosk", "wall-tile" (borrowed) */
 } hud_state;
 
 /* Formats the HUD lines into lines[HUD_MAX_LINES][HUD_LINE_CHARS]; returns the count. */

@@ -28,10 +28,10 @@ enum {
 typedef struct jitter_stats {
     uint64_t inserted;
     uint64_t duplicates;
-    uint64_t late;          /* arrived after playout passed their time */
-    uint64_t out_of_order;  /* arrived before a newer tick but still in time */
-    uint64_t evicted;       /* dropped to make room (capacity) */
-    uint64_t underruns;     /* samples past the newest snapshot (held the newest) */
+    uint64_t late;         /* arrived after playout passed their time */
+    uint64_t out_of_order; /* arrived before a newer tick but still in time */
+    uint64_t evicted;      /* dropped to make room (capacity) */
+    uint64_t underruns;    /* samples past the newest snapshot (held the newest) */
 } jitter_stats;
 
 /* Where a sample fell. */

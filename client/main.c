@@ -24,19 +24,18 @@
 
 #define MAX_SPECIES WIRE_MAX_SPECIES
 
-
 typedef struct cli_args {
     const char *url;
-    int role;                 /* enum ctl_role */
+    int role; /* enum ctl_role */
     int width, height;
     bool headless;
-    int frames;               /* headless: frames to draw once state arrives */
-    const char *screenshot;   /* headless: PNG of the last frame */
-    const char *token;        /* kiosk */
-    double delay_s;           /* playout delay */
-    double wait_s;            /* headless: give up after this long without state */
-    int tile[4];              /* wall-tile: col, row, cols, rows */
-    float bezel;              /* wall-tile: hidden strip / tile width */
+    int frames;             /* headless: frames to draw once state arrives */
+    const char *screenshot; /* headless: PNG of the last frame */
+    const char *token;      /* kiosk */
+    double delay_s;         /* playout delay */
+    double wait_s;          /* headless: give up after this long without state */
+    int tile[4];            /* wall-tile: col, row, cols, rows */
+    float bezel;            /* wall-tile: hidden strip / tile width */
     const char *cache_dir;
 } cli_args;
 
@@ -56,28 +55,29 @@ typedef struct cli {
 
     /* scene of the last welcome (owned copies) */
     bool scene_pending, scene_ready;
-    ctl_welcome w;                 /* arrays owned below */
-    ctl_species *w_species;        /* owned */
-    ctl_instance *w_instances;     /* owned */
+    ctl_welcome w;             /* arrays owned below */
+    ctl_species *w_species;    /* owned */
+    ctl_instance *w_instances; /* owned */
     cli_species loaded[MAX_SPECIES];
     uint32_t n_loaded;
-    int species_id[MAX_SPECIES];   /* welcome index → render id */
+    int species_id[MAX_SPECIES]; /* welcome index → render id */
     uint32_t stride, n_values;
-    float *snap;                   /* owned: [n_values] scratch for one decoded snapshot */
+    float *snap; /* owned: [n_values] scratch for one decoded snapshot */
 
     /* coarse wind of the last WIND frame */
-    float *wind_v;                 /* owned: [WIRE_MAX_WIND_SIDE² × 3] */
+    float *wind_v; /* owned: [WIRE_MAX_WIND_SIDE² × 3] */
     bool have_wind;
     float wind_ms;
-    float kiosk_speed_ms;          /* kiosk dial */
+    float kiosk_speed_ms; /* kiosk dial */
 
     bool got_state;
-    uint64_t frames_mismatch;      /* state frames whose tree count disagreed with the scene */
+    bool live_since_welcome;  /* state taken since the last welcome */
+    uint64_t frames_mismatch; /* state frames whose tree count disagreed with the scene */
     uint64_t leaves_bad;
     double fps, last_frame_s;
     bool fly_keys;
     double cursor[2];
-    int drag;                      /* 0 none, 1 orbit, 2 pan */
+    int drag; /* 0 none, 1 orbit, 2 pan */
     bool want_screenshot;
     bool fullscreen;
     int win_pos[2], win_size[2];
@@ -117,8 +117,12 @@ static void usage(FILE *f)
 
 static int parse_args(int argc, char **argv, cli_args *a)
 {
-    *a = (cli_args){ .role = CTL_ROLE_VIEWER, .width = 1280, .height = 720, .frames = 60,
-                     .delay_s = 0.1, .wait_s = 30.0 };
+    *a = (cli_args){ .role = CTL_ROLE_VIEWER,
+                     .width = 1280,
+                     .height = 720,
+                     .frames = 60,
+                     .delay_s = 0.1,
+                     .wait_s = 30.0 };
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -142,13 +146,13 @@ static int parse_args(int argc, char **argv, cli_args *a)
             } else if (strcmp(v, "wall-tile") == 0) {
                 a->role = CTL_ROLE_WALL_TILE;
             } else {
-                fprintf(stderr, "gale-client: --role: expected viewer|kiosk|wall-tile, got \"%s\"\n",
-                        v);
+                fprintf(stderr,
+                        "gale-client: --role: expected viewer|kiosk|wall-tile, got \"%s\"\n", v);
                 return -1;
             }
         } else if (strcmp(o, "--size") == 0) {
-            if (sscanf(v, "%dx%d", &a->width, &a->height) != 2 || a->width < 16 ||
-                a->height < 16 || a->width > 16384 || a->height > 16384) {
+            if (sscanf(v, "%dx%d", &a->width, &a->height) != 2 || a->width < 16 || a->height < 16 ||
+                a->width > 16384 || a->height > 16384) {
                 fprintf(stderr, "gale-client: --size: expected WxH within 16..16384, got \"%s\"\n",
                         v);
                 return -1;
@@ -177,10 +181,12 @@ static int parse_args(int argc, char **argv, cli_args *a)
             }
         } else if (strcmp(o, "--tile") == 0) {
             int *t = a->tile;
-            if (sscanf(v, "%d,%d,%d,%d", &t[0], &t[1], &t[2], &t[3]) != 4 || t[2] < 1 ||
-                t[3] < 1 || t[0] < 0 || t[1] < 0 || t[0] >= t[2] || t[1] >= t[3]) {
-                fprintf(stderr, "gale-client: --tile: expected C,R,COLS,ROWS with C < COLS, R < ROWS, "
-                                "got \"%s\"\n", v);
+            if (sscanf(v, "%d,%d,%d,%d", &t[0], &t[1], &t[2], &t[3]) != 4 || t[2] < 1 || t[3] < 1 ||
+                t[0] < 0 || t[1] < 0 || t[0] >= t[2] || t[1] >= t[3]) {
+                fprintf(stderr,
+                        "gale-client: --tile: expected C,R,COLS,ROWS with C < COLS, R < ROWS, "
+                        "got \"%s\"\n",
+                        v);
                 return -1;
             }
         } else if (strcmp(o, "--bezel") == 0) {
@@ -231,6 +237,7 @@ static void on_welcome(void *user, const ctl_welcome *w)
     c->w.instances = c->w_instances;
     c->scene_pending = true;
     c->scene_ready = false;
+    c->live_since_welcome = false;
     fprintf(stderr, "gale-client: %s: welcome as %s, %u species, %u trees, %.0f Hz snapshots\n",
             net_server_name(c->net), ctl_role_name(w->role) ? ctl_role_name(w->role) : "?",
             w->n_species, w->n_instances, (double)w->snapshot_hz);
@@ -247,10 +254,14 @@ static void take_state(cli *c, const wire_frame *f, const wire_decoder *dec)
         wire_decoder_q(dec, t, c->snap + (size_t)t * c->stride, c->stride);
     }
     gale_err err = { 0 };
-    if (jitter_insert(c->jit, f->hdr.tick, (double)f->hdr.server_time_us * 1e-6, c->snap,
-                      &err) < 0) {
+    if (jitter_insert(c->jit, f->hdr.tick, (double)f->hdr.server_time_us * 1e-6, c->snap, &err) <
+        0) {
         fprintf(stderr, "gale-client: %s\n", err.msg);
         return;
+    }
+    if (!c->live_since_welcome) {
+        c->live_since_welcome = true;
+        fprintf(stderr, "gale-client: receiving state from tick %u\n", f->hdr.tick);
     }
     c->got_state = true;
 }
@@ -264,7 +275,8 @@ static void take_leaves(cli *c, const wire_frame *f)
         render_leaf_seed s = {
             .tree = l->instance,
             .slot = l->slot,
-            .spawn_time_s = t_hdr - (double)((int64_t)f->hdr.tick - (int64_t)l->spawn_tick) / tick_hz,
+            .spawn_time_s =
+                t_hdr - (double)((int64_t)f->hdr.tick - (int64_t)l->spawn_tick) / tick_hz,
             .seed = l->seed,
         };
         if (render_add_falling_leaf(c->r, &s, NULL) != 0) {
@@ -291,7 +303,9 @@ static void take_wind(cli *c, const wire_wind *w)
     render_wind rw = {
         .uniform = { n ? (float)(mean[0] / n) : 0, n ? (float)(mean[1] / n) : 0,
                      n ? (float)(mean[2] / n) : 0 },
-        .nx = w->nx, .ny = w->ny, .nz = 1,
+        .nx = w->nx,
+        .ny = w->ny,
+        .nz = 1,
         .origin = { w->x0_m, w->y0_m, 0.0f },
         .cell = { w->cell_m, w->cell_m, 2.0f * w->z_m > 1.0f ? 2.0f * w->z_m : 1.0f },
         .v = c->wind_v,
@@ -376,8 +390,8 @@ static void reset_camera(cli *c)
         float dx = c->w_instances[i].pos[0] - centre[0], dy = c->w_instances[i].pos[1] - centre[1];
         radius = fmaxf(radius, sqrtf(dx * dx + dy * dy));
     }
-    centre[2] += 6.0f;
-    camera_init(&c->cam, centre, fminf(1.6f * radius + 25.0f, 1500.0f));
+    centre[2] += 4.0f; /* about crown height of the default species */
+    camera_init(&c->cam, centre, fminf(1.6f * radius + 22.0f, 1500.0f));
 }
 
 static int setup_scene(cli *c, gale_err *err)
@@ -421,12 +435,14 @@ static int setup_scene(cli *c, gale_err *err)
         const ctl_instance *w = &c->w_instances[i];
         if (w->species >= c->w.n_species) {
             free(inst);
-            return gale_errf(err, GALE_E_RANGE, "welcome.instances[%u].species: expected < %u, got %u",
-                             i, c->w.n_species, w->species);
+            return gale_errf(err, GALE_E_RANGE,
+                             "welcome.instances[%u].species: expected < %u, got %u", i,
+                             c->w.n_species, w->species);
         }
         inst[i] = (render_instance){ .species = (uint32_t)c->species_id[w->species],
                                      .pos = { w->pos[0], w->pos[1], w->pos[2] },
-                                     .yaw = w->yaw_rad, .scale = w->scale };
+                                     .yaw = w->yaw_rad,
+                                     .scale = w->scale };
     }
     int rc = render_set_instances(c->r, n, inst, err);
     free(inst);
@@ -440,9 +456,9 @@ static int setup_scene(cli *c, gale_err *err)
     jitter_destroy(c->jit);
     free(c->snap);
     c->snap = calloc(c->n_values, sizeof(float));
-    c->jit = jitter_create(&(jitter_desc){ .n_values = c->n_values, .capacity = 64,
-                                           .playout_delay_s = c->a.delay_s },
-                           err);
+    c->jit = jitter_create(
+        &(jitter_desc){ .n_values = c->n_values, .capacity = 64, .playout_delay_s = c->a.delay_s },
+        err);
     if (!c->snap || !c->jit) {
         return err && err->code ? err->code : GALE_E_NOMEM;
     }
@@ -452,6 +468,8 @@ static int setup_scene(cli *c, gale_err *err)
         camera_set = true;
     }
     c->scene_ready = true;
+    fprintf(stderr, "gale-client: scene ready: %u species on the GPU, %u trees, %u q per tree\n",
+            c->n_loaded, n, c->stride);
     return 0;
 }
 
@@ -679,17 +697,20 @@ int main(int argc, char **argv)
         fprintf(stderr, "gale-client: %s (running without a disk cache)\n", err.msg);
         gale_err_clear(&err);
     }
-    c.net = net_create(&(net_desc){ .url = c.a.url, .role = c.a.role, .token = c.a.token },
-                       &(net_handler){ .user = &c, .on_welcome = on_welcome,
-                                       .on_frame = on_frame, .on_lost = on_lost },
-                       &err);
+    c.net = net_create(
+        &(net_desc){ .url = c.a.url, .role = c.a.role, .token = c.a.token },
+        &(net_handler){
+            .user = &c, .on_welcome = on_welcome, .on_frame = on_frame, .on_lost = on_lost },
+        &err);
     if (!c.net) {
         fprintf(stderr, "gale-client: %s\n", err.msg);
         status = err.code == GALE_E_ARG ? 2 : 1;
         goto done;
     }
-    c.r = render_create(&(render_desc){ .width = c.a.width, .height = c.a.height,
-                                        .headless = c.a.headless, .vsync = true,
+    c.r = render_create(&(render_desc){ .width = c.a.width,
+                                        .height = c.a.height,
+                                        .headless = c.a.headless,
+                                        .vsync = true,
                                         .title = "gale" },
                         &err);
     if (!c.r) {
@@ -714,7 +735,8 @@ int main(int argc, char **argv)
 
     const double start = net_now();
     c.last_frame_s = start;
-    int frames_after_state = 0;
+    int frames_after_state = 0, fps_frames = 0;
+    double fps_t0 = start;
     status = 0;
     while (!quit_flag && !(win && glfwWindowShouldClose(win))) {
         double now = net_now();
@@ -728,8 +750,12 @@ int main(int argc, char **argv)
         }
         double dt = now - c.last_frame_s;
         c.last_frame_s = now;
-        if (dt > 0.0) {
-            c.fps = c.fps == 0.0 ? 1.0 / dt : 0.95 * c.fps + 0.05 / dt;
+        /* frames counted over half-second windows */
+        fps_frames++;
+        if (now - fps_t0 >= 0.5) {
+            c.fps = fps_frames / (now - fps_t0);
+            fps_frames = 0;
+            fps_t0 = now;
         }
         if (win) {
             glfwPollEvents();

@@ -37,7 +37,7 @@ struct net {
     struct lws *ws;   /* the WebSocket, NULL when none */
     struct lws *http; /* the HTTP fetch under way, NULL when none */
     net_tag ws_tag, http_tag;
-    char url[512];    /* parsed in place by lws_parse_uri */
+    char url[512]; /* parsed in place by lws_parse_uri */
     char host[256];
     char path[256];
     int port;
@@ -50,7 +50,7 @@ struct net {
 
     net_tx tx[NET_TX_SLOTS]; /* ring of queued control messages */
     uint32_t tx_head, tx_count;
-    bool kill;               /* close the WebSocket at the next writeable */
+    bool kill; /* close the WebSocket at the next writeable */
     bool destroying;
 
     jitter_clock clock;
@@ -105,8 +105,8 @@ static int queue_ctl(net *n, const ctl_msg *m, gale_err *err)
         return gale_errf(err, GALE_E_STATE, "%s: not connected", n->server_name);
     }
     if (n->tx_count == NET_TX_SLOTS) {
-        return gale_errf(err, GALE_E_STATE, "%s: send queue full (%d messages)",
-                         n->server_name, NET_TX_SLOTS);
+        return gale_errf(err, GALE_E_STATE, "%s: send queue full (%d messages)", n->server_name,
+                         NET_TX_SLOTS);
     }
     net_tx *t = &n->tx[(n->tx_head + n->tx_count) % NET_TX_SLOTS];
     size_t len = 0;
@@ -133,8 +133,8 @@ static void set_lost(net *n, int code, const char *why)
     double spread = 0.8 + 0.4 * (double)(rand() % 1000) / 1000.0;
     n->st.retry_at_s = net_now() + n->backoff_s * spread;
     n->backoff_s = fmin(n->backoff_s * 2.0, n->d.backoff_max_s);
-    net_log(n, "%s: connection lost (%s); retry %u in %.2f s", n->server_name, why,
-            n->st.attempt, n->st.retry_at_s - net_now());
+    net_log(n, "%s: connection lost (%s); retry %u in %.2f s", n->server_name, why, n->st.attempt,
+            n->st.retry_at_s - net_now());
     if (n->h.on_lost) {
         n->h.on_lost(n->h.user, code, why);
     }
@@ -377,8 +377,8 @@ static int http_callback(net *n, struct lws *wsi, enum lws_callback_reasons reas
     }
 }
 
-static int net_callback(struct lws *wsi, enum lws_callback_reasons reason, void *user,
-                        void *in, size_t len)
+static int net_callback(struct lws *wsi, enum lws_callback_reasons reason, void *user, void *in,
+                        size_t len)
 {
     net_tag *tag = wsi ? lws_get_opaque_user_data(wsi) : NULL;
     if (tag && tag->kind == TAG_WS) {
@@ -529,8 +529,7 @@ void net_poll(net *n, double now_s)
     if (n->st.state == NET_IDLE || (n->st.state == NET_BACKOFF && now_s >= n->st.retry_at_s)) {
         connect_ws(n);
     }
-    if ((n->st.state == NET_LIVE || n->st.state == NET_HELLO) && n->ws &&
-        now_s >= n->next_ping_s) {
+    if ((n->st.state == NET_LIVE || n->st.state == NET_HELLO) && n->ws && now_s >= n->next_ping_s) {
         ctl_msg m = { .type = CTL_PING };
         m.u.ping.id = ++n->ping_id;
         m.u.ping.client_us = (uint64_t)(net_now() * 1e6);
@@ -556,8 +555,8 @@ int net_fetch(net *n, const char *path, size_t max_len, double timeout_s, uint8_
     *out = NULL;
     *len = 0;
     if (n->http) {
-        return gale_errf(err, GALE_E_STATE, "%s%s: a fetch is already under way",
-                         n->server_name, path);
+        return gale_errf(err, GALE_E_STATE, "%s%s: a fetch is already under way", n->server_name,
+                         path);
     }
     n->fetch_len = 0;
     n->fetch_max = max_len;

@@ -17,11 +17,11 @@
 #define NET_WS_PROTOCOL "gale" /* WebSocket subprotocol requested */
 
 enum net_state {
-    NET_IDLE = 0,    /* not started */
-    NET_CONNECTING,  /* TCP + WebSocket handshake under way */
-    NET_HELLO,       /* hello sent, waiting for welcome */
-    NET_LIVE,        /* welcome received; state frames flowing */
-    NET_BACKOFF,     /* connection lost or refused; waiting to retry */
+    NET_IDLE = 0,   /* not started */
+    NET_CONNECTING, /* TCP + WebSocket handshake under way */
+    NET_HELLO,      /* hello sent, waiting for welcome */
+    NET_LIVE,       /* welcome received; state frames flowing */
+    NET_BACKOFF,    /* connection lost or refused; waiting to retry */
 };
 
 /* What the application hears, called from inside net_poll / net_fetch (the welcome and
@@ -38,28 +38,28 @@ typedef struct net_handler {
 } net_handler;
 
 typedef struct net_desc {
-    const char *url;          /* ws://host:port[/path]; required */
-    int role;                 /* enum ctl_role */
-    const char *token;        /* kiosk token; NULL = none */
-    double backoff_min_s;     /* first retry delay; 0 = 0.25 s */
-    double backoff_max_s;     /* cap of the doubling; 0 = 5 s */
-    double ping_interval_s;   /* 0 = 0.5 s */
-    uint32_t max_trees;       /* decoder capacity; 0 = WIRE_MAX_TREES */
-    uint32_t max_modes;       /* 0 = WIRE_MAX_MODES */
+    const char *url;        /* ws://host:port[/path]; required */
+    int role;               /* enum ctl_role */
+    const char *token;      /* kiosk token; NULL = none */
+    double backoff_min_s;   /* first retry delay; 0 = 0.25 s */
+    double backoff_max_s;   /* cap of the doubling; 0 = 5 s */
+    double ping_interval_s; /* 0 = 0.5 s */
+    uint32_t max_trees;     /* decoder capacity; 0 = WIRE_MAX_TREES */
+    uint32_t max_modes;     /* 0 = WIRE_MAX_MODES */
 } net_desc;
 
 typedef struct net_stats {
-    int state;                /* enum net_state */
-    uint64_t frames_ok;       /* binary frames decoded */
-    uint64_t frames_bad;      /* binary frames dropped as undecodable */
-    uint64_t frames_gap;      /* deltas without their base (resync asked) */
-    uint64_t ctl_bad;         /* control messages that did not parse */
+    int state;           /* enum net_state */
+    uint64_t frames_ok;  /* binary frames decoded */
+    uint64_t frames_bad; /* binary frames dropped as undecodable */
+    uint64_t frames_gap; /* deltas without their base (resync asked) */
+    uint64_t ctl_bad;    /* control messages that did not parse */
     uint64_t bytes_rx;
-    uint32_t connects;        /* successful WebSocket handshakes */
-    uint32_t attempt;         /* consecutive failed attempts (BACKOFF) */
-    double retry_at_s;        /* BACKOFF: local time of the next attempt */
-    int last_close;           /* close code of the last disconnect (0 transport) */
-    char last_error[200];     /* why the last connection ended / was refused */
+    uint32_t connects;    /* successful WebSocket handshakes */
+    uint32_t attempt;     /* consecutive failed attempts (BACKOFF) */
+    double retry_at_s;    /* BACKOFF: local time of the next attempt */
+    int last_close;       /* close code of the last disconnect (0 transport) */
+    char last_error[200]; /* why the last connection ended / was refused */
 } net_stats;
 
 typedef struct net net;

@@ -116,7 +116,12 @@ static void buf_tex_upload(rs_buf *b, GLenum fmt, const void *data, size_t bytes
         glBindTexture(GL_TEXTURE_BUFFER, b->tex);
         glTexBuffer(GL_TEXTURE_BUFFER, fmt, b->buf);
     } else if (bytes) {
+        /* orphan the old storage: the GPU may still read last frame's copy, and a plain
+           sub-data upload would wait for it */
+        glBufferData(GL_TEXTURE_BUFFER, (GLsizeiptr)b->bytes, NULL, GL_DYNAMIC_DRAW);
         glBufferSubData(GL_TEXTURE_BUFFER, 0, (GLsizeiptr)bytes, data);
+        glBindTexture(GL_TEXTURE_BUFFER, b->tex);
+        glTexBuffer(GL_TEXTURE_BUFFER, fmt, b->buf);
     }
 }
 
@@ -1289,10 +1294,8 @@ int render_frame(render *r, const render_camera *cam, double time_s, gale_err *e
     camera_matrices(r, cam);
     /* one upload of every tree's q (the rest slot at cap_trees is uploaded when used) */
     if (r->n_trees > 0) {
-        glBindBuffer(GL_TEXTURE_BUFFER, r->q.buf);
-        glBufferSubData(GL_TEXTURE_BUFFER, 0,
-                        (GLsizeiptr)((size_t)r->n_trees * r->q_stride * sizeof(float)),
-                        r->q_stage);
+        buf_tex_upload(&r->q, GL_R32F, r->q_stage,
+                       (size_t)r->n_trees * r->q_stride * sizeof(float));
     }
     build_lists(r);
     uint32_t rows = r->tree_row[r->cap_trees];

@@ -186,26 +186,34 @@ static void put_values(wire_writer *w, const wire_state *cur, const wire_state *
                        const wire_state *prev2)
 {
     uint32_t z[3][GROUP];
+    int32_t a_row[WIRE_MAX_MODES], b_row[WIRE_MAX_MODES];
+    const int n_pred = prev2 ? 3 : prev ? 2 : 1;
     for (uint32_t t = 0; t < cur->n_trees; t++) {
         uint32_t n = cur->n_modes[t];
+        if (n == 0) {
+            continue;
+        }
         const int16_t *q = cur->q + (size_t)t * cur->stride;
+        /* The history rows, 0 where a mode was not sent (PROTOCOL.md). */
+        for (uint32_t m = 0; m < n; m++) {
+            a_row[m] = state_at(prev, t, m);
+            b_row[m] = state_at(prev2, t, m);
+        }
         for (uint32_t g0 = 0; g0 < n; g0 += GROUP) {
             uint32_t k = n - g0 < GROUP ? n - g0 : GROUP;
             uint32_t zmax[3] = { 0, 0, 0 };
             for (uint32_t i = 0; i < k; i++) {
-                uint32_t m = g0 + i;
-                int32_t v = q[m];
-                int32_t a = state_at(prev, t, m);
-                int32_t b = state_at(prev2, t, m);
+                int32_t v = q[g0 + i];
+                int32_t a = a_row[g0 + i], b = b_row[g0 + i];
                 z[PRED_ZERO][i] = wire_zigzag(v);
                 z[PRED_PREV][i] = wire_zigzag(v - a);
                 z[PRED_LINEAR][i] = wire_zigzag(v - (2 * a - b));
-                for (int p = 0; p < 3; p++) {
-                    zmax[p] = z[p][i] > zmax[p] ? z[p][i] : zmax[p];
-                }
+                zmax[0] |= z[PRED_ZERO][i];
+                zmax[1] |= z[PRED_PREV][i];
+                zmax[2] |= z[PRED_LINEAR][i];
             }
+            /* The OR of the values has the width of their maximum. */
             int best = PRED_ZERO;
-            int n_pred = prev2 ? 3 : prev ? 2 : 1;
             for (int p = 1; p < n_pred; p++) {
                 if (bit_width(zmax[p]) < bit_width(zmax[best])) {
                     best = p;

@@ -223,8 +223,8 @@ char *bake_report_json(const asset *a, const bake_report *rep)
     cJSON_AddNumberToObject(bl, "with_correction", rep->length_err_corrected);
     cJSON *e = cJSON_AddObjectToObject(o, "eigen");
     cJSON_AddStringToObject(e, "method", rep->eigen_dense ? "dense LAPACK dsygvd"
-                                                          : "ARPACK shift-invert Lanczos, "
-                                                            "tree Cholesky");
+                                                          : "ARPACK Lanczos on (K^-1 M)^2, "
+                                                            "zero-fill tree Cholesky of K");
     cJSON_AddNumberToObject(e, "restarts", rep->eigen_iterations);
     cJSON_AddNumberToObject(e, "solves", rep->eigen_solves);
     cJSON_AddNumberToObject(e, "max_residual", rep->eigen_residual);

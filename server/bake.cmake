@@ -10,10 +10,10 @@ add_library(gale_bake STATIC
     ${CMAKE_CURRENT_SOURCE_DIR}/correction.c
     ${CMAKE_CURRENT_SOURCE_DIR}/bake_tree.c)
 target_include_directories(gale_bake PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
-target_link_libraries(gale_bake PUBLIC gale_common ${ARPACK_LIB} ${LAPACKE_LIB} ${OPENBLAS_LIB}
+target_link_libraries(gale_bake PUBLIC gale_common OpenMP::OpenMP_C ${ARPACK_LIB} ${LAPACKE_LIB} ${OPENBLAS_LIB}
     ${MATH_LIB})
 
-if(TARGET gale_geom AND EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/asset_file.c)
+if(TARGET gale_geom)
     target_sources(gale_bake PRIVATE
         ${CMAKE_CURRENT_SOURCE_DIR}/bake.c
         ${CMAKE_CURRENT_SOURCE_DIR}/modes_png.c)

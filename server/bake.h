@@ -30,7 +30,7 @@ typedef struct bake_report {
     double seconds_fem, seconds_eigen, seconds_basis, seconds_correction, seconds_mesh;
     int eigen_dense;        /* 1: dense LAPACK path (small model), 0: ARPACK shift-invert */
     int eigen_iterations;   /* Lanczos restart cycles */
-    int eigen_solves;       /* applications of K^{-1} M */
+    int eigen_solves;       /* solves with the tree Cholesky of K */
     double eigen_residual;  /* max |K φ - ω² M φ| / |K φ| */
     double ortho_error;     /* max |Φ^T M Φ - I| */
     double amp_rot_rad;     /* strong-wind amplitude of the branch-length figures */

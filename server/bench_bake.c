@@ -18,6 +18,7 @@ typedef struct bench_row {
     double eigen_s, corr_s, mesh_s;
     int solves;
     double max_rss_mb;
+    double cpu_s;      /* user + system CPU of the child per bake (3 bakes + one tree) */
     int ok;
 } bench_row;
 
@@ -110,19 +111,28 @@ int bench_bake(int argc, char **argv)
         if (wait4(pid, &st, 0, &ru) == pid && got == (ssize_t)sizeof r) {
             rows[k] = r;
             rows[k].max_rss_mb = (double)ru.ru_maxrss / 1024.0;
+            rows[k].cpu_s = ((double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec +
+                             (double)ru.ru_stime.tv_sec + 1e-6 * (double)ru.ru_stime.tv_usec) /
+                            3.0;
         }
+    }
+    /* wall times mean little on a shared machine without the load they ran under */
+    double load[1] = { -1.0 };
+    if (getloadavg(load, 1) != 1) {
+        load[0] = -1.0;
     }
     if (json) {
         printf("{\n  \"bench\": \"bake\",\n  \"modes\": %d,\n  \"trees\": \"synthetic "
-               "(bake_tree_generate, seed 42)\",\n  \"sizes\": [\n",
-               modes);
+               "(bake_tree_generate, seed 42)\",\n  \"load_average_1min\": %.2f,\n"
+               "  \"sizes\": [\n",
+               modes, load[0]);
         for (int k = 0; k < 4; k++) {
             const bench_row *r = &rows[k];
             printf("    { \"nodes\": %d, \"ok\": %s, \"seconds\": %.4f, \"seconds_runs\": [%.4f, "
                    "%.4f, %.4f], \"eigen_seconds\": %.4f, \"correction_seconds\": %.4f, "
-                   "\"mesh_seconds\": %.4f, \"solves\": %d, \"peak_rss_mb\": %.1f }%s\n",
+                   "\"mesh_seconds\": %.4f, \"cpu_seconds\": %.4f, \"solves\": %d, \"peak_rss_mb\": %.1f }%s\n",
                    r->nodes, r->ok ? "true" : "false", median3(r->seconds), r->seconds[0],
-                   r->seconds[1], r->seconds[2], r->eigen_s, r->corr_s, r->mesh_s, r->solves,
+                   r->seconds[1], r->seconds[2], r->eigen_s, r->corr_s, r->mesh_s, r->cpu_s, r->solves,
                    r->max_rss_mb, k < 3 ? "," : "");
         }
         const double s1 = median3(rows[0].seconds), s4 = median3(rows[3].seconds);
@@ -131,12 +141,14 @@ int bench_bake(int argc, char **argv)
                1000 * s1 / 300, 1000 * median3(rows[1].seconds) / 1000,
                1000 * median3(rows[2].seconds) / 3500, 1000 * s4 / 10000, s4 / (s1 > 0 ? s1 : 1));
     } else {
-        printf("%8s %10s %10s %10s %8s %12s\n", "nodes", "bake [s]", "eigen [s]", "corr [s]",
-               "solves", "peak RSS MB");
+        printf("%8s %10s %10s %10s %10s %8s %12s\n", "nodes", "bake [s]", "eigen [s]", "corr [s]",
+               "cpu [s]", "solves", "peak RSS MB");
+        printf("(load average %.2f)\n", load[0]);
         for (int k = 0; k < 4; k++) {
             const bench_row *r = &rows[k];
-            printf("%8d %10.4f %10.4f %10.4f %8d %12.1f%s\n", r->nodes, median3(r->seconds),
-                   r->eigen_s, r->corr_s, r->solves, r->max_rss_mb, r->ok ? "" : "  FAILED");
+            printf("%8d %10.4f %10.4f %10.4f %10.4f %8d %12.1f%s\n", r->nodes, median3(r->seconds),
+                   r->eigen_s, r->corr_s, r->cpu_s, r->solves, r->max_rss_mb,
+                   r->ok ? "" : "  FAILED");
         }
     }
     for (int k = 0; k < 4; k++) {

@@ -1,13 +1,15 @@
 /* gale-bench modal: the per-tick cost of the batch modal update (server/modal.c) for
- * many trees: wind sampled at each tree (trilinear, from a synthetic gusty grid until the
- * scene's wind field is wired in), forces f_i = |v| v.p_i in the tree frame, exact
- * update, quantisation into the snapshot buffer. Prints JSON; medians over the ticks. */
+ * many trees: wind sampled at each tree from the real wind field (wind_sample_many on a
+ * 128 x 128 x 8 grid spun up under a gusty inflow), forces f_i = |v| v.p_i in the tree
+ * frame, exact update, quantisation into the snapshot buffer. Prints JSON; medians over
+ * the ticks. The wind solver's own step is not timed here (gale-bench wind). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
 #include "modal.h"
+#include "wind.h"
 #include "wire.h"
 
 int bench_modal(int argc, char **argv);
@@ -16,6 +18,15 @@ static double now_ms(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+/* CPU time of the whole process (all threads) [ms]: on a loaded machine the wall time
+ * counts other programs' turns, the CPU time only this one's work (and spinning). */
+static double cpu_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
@@ -30,36 +41,6 @@ static double pct(double *v, int n, double p)
     qsort(v, (size_t)n, sizeof *v, cmp_double);
     int i = (int)(p * (n - 1) + 0.5);
     return v[i];
-}
-
-/* Synthetic wind grid GX x GY x GZ over a square of side L metres. */
-enum { GX = 64, GY = 64, GZ = 8 };
-
-static void sample_trilinear(const float *g, float side_m, float h_m, const float *pos, int n,
-                             float *out)
-{
-    const float sx = (GX - 1) / side_m, sz = (GZ - 1) / h_m;
-#pragma omp parallel for schedule(static) num_threads(2) if (n > 4096)
-    for (int t = 0; t < n; t++) {
-        float fx = pos[3 * t] * sx, fy = pos[3 * t + 1] * sx, fz = pos[3 * t + 2] * sz;
-        int ix = (int)fx, iy = (int)fy, iz = (int)fz;
-        ix = ix < 0 ? 0 : ix > GX - 2 ? GX - 2 : ix;
-        iy = iy < 0 ? 0 : iy > GY - 2 ? GY - 2 : iy;
-        iz = iz < 0 ? 0 : iz > GZ - 2 ? GZ - 2 : iz;
-        float ax = fx - (float)ix, ay = fy - (float)iy, az = fz - (float)iz;
-        float acc[3] = { 0.0f, 0.0f, 0.0f };
-        for (int c = 0; c < 8; c++) {
-            int dx = c & 1, dy = c >> 1 & 1, dz = c >> 2;
-            float w = (dx ? ax : 1 - ax) * (dy ? ay : 1 - ay) * (dz ? az : 1 - az);
-            const float *gv = g + (((iz + dz) * GY + iy + dy) * GX + ix + dx) * 3;
-            acc[0] += w * gv[0];
-            acc[1] += w * gv[1];
-            acc[2] += w * gv[2];
-        }
-        out[3 * t] = acc[0];
-        out[3 * t + 1] = acc[1];
-        out[3 * t + 2] = acc[2];
-    }
 }
 
 int bench_modal(int argc, char **argv)
@@ -104,13 +85,14 @@ int bench_modal(int argc, char **argv)
     float *yaw = malloc(sizeof(float) * (size_t)n_trees);
     float *pos = malloc(sizeof(float) * 3 * (size_t)n_trees);
     float *wind = malloc(sizeof(float) * 3 * (size_t)n_trees);
-    float *grid = malloc(sizeof(float) * 3 * GX * GY * GZ);
     int16_t *snap = malloc(sizeof(int16_t) * (size_t)n_trees * (size_t)n_modes);
     double *t_sample = malloc(sizeof(double) * (size_t)ticks);
     double *t_modal = malloc(sizeof(double) * (size_t)ticks);
     double *t_total = malloc(sizeof(double) * (size_t)ticks);
-    if (!omega || !gamma || !p || !step || !sp || !ts || !yaw || !pos || !wind || !grid ||
-        !snap || !t_sample || !t_modal || !t_total) {
+    double *t_cpu = malloc(sizeof(double) * (size_t)ticks);
+    double *t_nosnap = malloc(sizeof(double) * (size_t)ticks);
+    if (!omega || !gamma || !p || !step || !sp || !ts || !yaw || !pos || !wind ||
+        !snap || !t_sample || !t_modal || !t_total || !t_cpu || !t_nosnap) {
         fprintf(stderr, "gale-bench modal: out of memory\n");
         return 1;
     }
@@ -128,7 +110,7 @@ int bench_modal(int argc, char **argv)
         sp[k] = (modal_species){ (uint32_t)n_modes, omega + k * n_modes, gamma + k * n_modes,
                                  p + 3 * k * n_modes, step + k * n_modes };
     }
-    const float side = 2000.0f, height = 40.0f;
+    const float side = 2000.0f;
     for (int t = 0; t < n_trees; t++) {
         ts[t] = (uint8_t)(t % n_species);
         yaw[t] = 6.2831853f * RND();
@@ -146,22 +128,39 @@ int bench_modal(int argc, char **argv)
         fprintf(stderr, "gale-bench modal: %s\n", err.msg);
         return 1;
     }
-    for (int i = 0; i < 3 * GX * GY * GZ; i++) {
-        grid[i] = 20.0f * RND();
+    /* 128 x 128 x 8 cells of 16 m: the 2 km square the trees stand in, 128 m deep. */
+    wind_grid *wg = wind_create(&(wind_desc){ .nx = 128, .ny = 128, .nz = 8, .cell_m = 16.0f,
+                                              .threads = threads, .seed = 7 },
+                                &err);
+    if (!wg) {
+        fprintf(stderr, "gale-bench modal: wind: %s\n", err.msg);
+        return 1;
+    }
+    for (int k = 0; k < 30; k++) {
+        wind_set_inflow(wg, &(wind_inflow){ .dir_rad = 0.3f, .u10_ms = 25.0f,
+                                            .gust = { 5.0f * (RND() - 0.5f), 5.0f * (RND() - 0.5f), 0 } });
+        if (wind_step(wg, 1.0f / 60, NULL) != 0) {
+            fprintf(stderr, "gale-bench modal: wind step failed\n");
+            return 1;
+        }
     }
     for (int k = -20; k < ticks; k++) { /* 20 warm-up ticks */
-        /* The field changes a little every tick (cost outside the timed region). */
-        int cell = (int)(RND() * (3 * GX * GY * GZ - 1));
-        grid[cell] = 20.0f * RND();
+        double c0 = cpu_ms();
         double t0 = now_ms();
-        sample_trilinear(grid, side, height, pos, n_trees, wind);
+        wind_sample_many(wg, n_trees, pos, wind);
         double t1 = now_ms();
         modal_tick(m, wind, snap);
         double t2 = now_ms();
+        double c1 = cpu_ms();
+        /* A tick between snapshots: the same update without quantisation. */
+        modal_tick(m, wind, NULL);
+        double t3 = now_ms();
         if (k >= 0) {
             t_sample[k] = t1 - t0;
             t_modal[k] = t2 - t1;
             t_total[k] = t2 - t0;
+            t_cpu[k] = c1 - c0;
+            t_nosnap[k] = t3 - t2;
         }
     }
     long check = 0;
@@ -171,13 +170,24 @@ int bench_modal(int argc, char **argv)
     double med_s = pct(t_sample, ticks, 0.5), med_m = pct(t_modal, ticks, 0.5);
     double med_t = pct(t_total, ticks, 0.5), p95_t = pct(t_total, ticks, 0.95);
     double max_t = t_total[ticks - 1];
+    double med_cpu = pct(t_cpu, ticks, 0.5), med_ns = pct(t_nosnap, ticks, 0.5);
+    double load[1] = { 0 };
+    FILE *la = fopen("/proc/loadavg", "r");
+    if (la) {
+        if (fscanf(la, "%lf", &load[0]) != 1) {
+            load[0] = -1;
+        }
+        fclose(la);
+    }
     if (json) {
         printf("{\"bench\":\"modal\",\"trees\":%d,\"modes\":%d,\"species\":%d,\"threads\":%d,"
                "\"ticks\":%d,\"sample_ms_median\":%.3f,\"update_quantise_ms_median\":%.3f,"
                "\"tick_ms_median\":%.3f,\"tick_ms_p95\":%.3f,\"tick_ms_max\":%.3f,"
-               "\"ns_per_tree_mode\":%.3f,\"target_ms\":3.0,\"checksum\":%ld}\n",
+               "\"ns_per_tree_mode\":%.3f,\"cpu_ms_per_tick_median\":%.3f,"
+               "\"update_only_ms_median\":%.3f,\"loadavg_1min\":%.2f,\"target_ms\":3.0,"
+               "\"checksum\":%ld}\n",
                n_trees, n_modes, n_species, threads, ticks, med_s, med_m, med_t, p95_t, max_t,
-               med_t * 1e6 / ((double)n_trees * n_modes), check);
+               med_t * 1e6 / ((double)n_trees * n_modes), med_cpu, med_ns, load[0], check);
     } else {
         printf("modal: %d trees x %d modes, %d threads: tick median %.3f ms (sample %.3f, "
                "update+quantise %.3f), p95 %.3f, max %.3f\n",
@@ -193,10 +203,12 @@ int bench_modal(int argc, char **argv)
     free(yaw);
     free(pos);
     free(wind);
-    free(grid);
+    wind_destroy(wg);
     free(snap);
     free(t_sample);
     free(t_modal);
     free(t_total);
+    free(t_cpu);
+    free(t_nosnap);
     return 0;
 }

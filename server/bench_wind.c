@@ -19,6 +19,15 @@ static double bench_now_ms(void)
     return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
 }
 
+/* CPU time of the whole process [ms]: with the machine shared, CPU time per step over the
+ * thread count estimates the step's wall time on an idle machine. */
+static double bench_cpu_ms(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
+}
+
 static int cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
@@ -68,17 +77,18 @@ static double triad_gb_s(int threads)
     return check == 7.0 ? 24.0 * (double)n / (best * 1e-3) / 1e9 : 0.0;
 }
 
-/* Bytes one step must move at least, array by array (each array read or written once per
- * kernel pass, 4-byte floats), for n cells and `cycles` V-cycles:
- *   advection 3 components read + 3 written: 24; divergence 3 read + idiag + b: 20;
- *   first residual (p, b, diag, ax, ay, az, coarse b): 28; per V-cycle on the finest level
- *   prolongation (p r/w, idiag, coarse e: 12), 2 red-black sweeps x 2 colour passes x
- *   (p r/w, b, ax, ay, az, idiag: 28), residual 28, and the coarser levels ~1/7 of that;
- *   projection p, ax, ay, az, 3 components r/w: 40. */
+/* Bytes one step moves at least, array by array (each array read or written once per
+ * kernel pass, 4-byte floats; constant-coefficient rows, the vast majority, read no
+ * coefficient arrays), for n cells and `cycles` V-cycles:
+ *   advection 3 components read + 3 written: 24; forces, borders, divergence: 3 read,
+ *   idiag, b written: 20; first residual p, b: 8; projection p, 3 face coefficients,
+ *   3 components read and written: 40. Per V-cycle on the finest level: prolongation
+ *   p read and written, idiag: 12; 2 red-black sweeps x 2 colour passes x (p, b, idiag
+ *   read, p written): 64; residual 8; the coarser levels add about 1/7. */
 static double step_bytes(double n, double cycles)
 {
-    double fixed = 24.0 + 20.0 + 28.0 + 40.0;
-    double per_cycle = (12.0 + 2.0 * 2.0 * 28.0 + 28.0) * (8.0 / 7.0);
+    double fixed = 24.0 + 20.0 + 8.0 + 40.0;
+    double per_cycle = (12.0 + 64.0 + 8.0) * (8.0 / 7.0);
     return n * (fixed + cycles * per_cycle);
 }
 
@@ -143,7 +153,9 @@ int bench_wind(int argc, char **argv)
     double *red = malloc((size_t)steps * sizeof *red);
     double *its = malloc((size_t)steps * sizeof *its);
     double phase[4] = { 0, 0, 0, 0 };
-    if (!ms || !red || !its) {
+    double *cpu = malloc((size_t)steps * sizeof *cpu);
+    if (!ms || !red || !its || !cpu) {
+        free(cpu);
         wind_destroy(w);
         free(ms);
         free(red);
@@ -159,7 +171,10 @@ int bench_wind(int argc, char **argv)
                            .jitter_m = 4.0f * h };
         wind_add_ball(w, &ball);
         wind_step_stats st;
-        if (wind_step(w, dt, &st) < 0) {
+        double c0 = bench_cpu_ms();
+        int rc = wind_step(w, dt, &st);
+        double c1 = bench_cpu_ms();
+        if (rc < 0) {
             failed++;
             continue;
         }
@@ -167,6 +182,7 @@ int bench_wind(int argc, char **argv)
             continue;
         }
         ms[s] = st.ms;
+        cpu[s] = (c1 - c0) / threads;
         red[s] = st.div_after > 0.0 ? st.div_before / st.div_after : 1e30;
         its[s] = st.iterations;
         its_sum += st.iterations;
@@ -180,6 +196,15 @@ int bench_wind(int argc, char **argv)
     wind_desc d = wind_get_desc(w);
     wind_destroy(w);
     double med = quantile(ms, steps, 0.5), p95 = quantile(ms, steps, 0.95);
+    double cpu_med = quantile(cpu, steps, 0.5);
+    double load1 = 0.0;
+    FILE *lf = fopen("/proc/loadavg", "r");
+    if (lf) {
+        if (fscanf(lf, "%lf", &load1) != 1) {
+            load1 = 0.0;
+        }
+        fclose(lf);
+    }
     double red_med = quantile(red, steps, 0.5), it_med = quantile(its, steps, 0.5);
     double cells = (double)nx * ny * nz;
     double bytes = step_bytes(cells, its_sum / steps);
@@ -192,12 +217,14 @@ int bench_wind(int argc, char **argv)
            "\"failed_steps\": %d, \"machine_gb_per_s\": %.2f, \"bytes_per_step_model\": %.0f, "
            "\"solver_effective_gb_per_s\": %.2f, \"bandwidth_fraction\": %.3f, "
            "\"ms_mean_advect\": %.3f, \"ms_mean_forces_bc_divergence\": %.3f, "
-           "\"ms_mean_pressure_solve\": %.3f, \"ms_mean_projection\": %.3f}\n",
+           "\"ms_mean_pressure_solve\": %.3f, \"ms_mean_projection\": %.3f, "
+           "\"cpu_ms_per_step_per_thread_median\": %.3f, \"loadavg_1min\": %.2f}\n",
            nx, ny, nz, steps, threads, houses, (double)d.div_reduction, med, p95, red_med, worst,
            it_med, its_sum / steps, div_rms, failed, gbs, bytes, eff, gbs > 0.0 ? eff / gbs : 0.0,
-           phase[0] / steps, phase[1] / steps, phase[2] / steps, phase[3] / steps);
+           phase[0] / steps, phase[1] / steps, phase[2] / steps, phase[3] / steps, cpu_med, load1);
     free(ms);
     free(red);
     free(its);
+    free(cpu);
     return failed ? 1 : 0;
 }

@@ -1,7 +1,8 @@
 /* gale-bench wire: bytes per tree per snapshot and skeleton node error of the state
- * stream (protocol/PROTOCOL.md) over a gusty run. Trees are baked here from seeded
- * synthetic skeletons through the real bake path (FEM, lowest modes, wind basis p_i,
- * strong-wind correction: Diener 2008 sections 3-5.2), driven by a mean wind with an
+ * stream (protocol/PROTOCOL.md) over a gusty run. Trees are the shipped species
+ * (configs/species: oak, palm, pine) baked by bake_run (FEM, lowest modes, wind basis p_i,
+ * strong-wind correction: Diener 2008 sections 3-5.2), or with --synthetic seeded
+ * synthetic skeletons through the same stages; driven by a mean wind with an
  * Ornstein-Uhlenbeck gust process per tree, advanced by gale_modal at 60 Hz, encoded at
  * 30 snapshots/s by the real encoder and decoded by the real decoder. Node error: the
  * client's decoded q against the server's float q, both through the reconstruction
@@ -13,17 +14,19 @@
 #include <time.h>
 
 #include "asset.h"
+#include "bake.h"
 #include "bake_tree.h"
 #include "basis.h"
 #include "correction.h"
 #include "eigen.h"
 #include "fem.h"
 #include "gust.h"
+#include "lsystem.h"
 #include "modal.h"
+#include "species.h"
 #include "wire.h"
 
 int bench_wire(int argc, char **argv);
-
 
 static double now_s(void)
 {
@@ -122,6 +125,24 @@ done:
     return rc;
 }
 
+/* Bakes the shipped species `name` (configs/species/<name>.json) into *a (asset_fini). */
+static int bake_shipped(const char *name, int n_modes, asset *a, gale_err *err)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/configs/species/%s.json", GALE_SOURCE_DIR, name);
+    species sp;
+    skeleton sk = { 0 };
+    int rc = species_load(path, &sp, err);
+    if (!rc) {
+        rc = lsystem_generate(&sp.gen, &sk, err);
+    }
+    if (!rc) {
+        rc = bake_run(&sk, &sp, &(bake_desc){ .n_modes = n_modes }, a, NULL, err);
+    }
+    skeleton_fini(&sk);
+    return rc;
+}
+
 static void free_species(asset *a)
 {
     free(a->parent);
@@ -158,7 +179,7 @@ int bench_wire(int argc, char **argv)
     double seconds = 60.0, mean_ms = 20.0, intensity = 0.3, eps = WIRE_DEFAULT_EPS;
     double keyframe_s = 10.0;
     int n_trees = 200, n_modes = 32, error_every = 3;
-    bool json = false;
+    bool json = false, synthetic = false;
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--seconds") == 0 && i + 1 < argc) {
             seconds = atof(argv[++i]);
@@ -176,10 +197,12 @@ int bench_wire(int argc, char **argv)
             keyframe_s = atof(argv[++i]);
         } else if (strcmp(argv[i], "--json") == 0) {
             json = true;
+        } else if (strcmp(argv[i], "--synthetic") == 0) {
+            synthetic = true;
         } else {
             fprintf(stderr, "usage: gale-bench wire [--seconds S] [--trees N] [--modes M] "
                             "[--wind MEAN_MS] [--gust INTENSITY] [--eps E] [--keyframe-s K] "
-                            "[--json]\n");
+                            "[--synthetic] [--json]\n");
             return 2;
         }
     }
@@ -194,13 +217,17 @@ int bench_wire(int argc, char **argv)
     gale_err err;
     enum { NS = 3 };
     static const int nodes[NS] = { 300, 450, 220 };
+    static const char *const shipped[NS] = { "oak", "palm", "pine" };
     asset sp[NS];
+    memset(sp, 0, sizeof sp);
     float steps[NS][WIRE_MAX_MODES];
     modal_species msp[NS];
     double t_bake = now_s();
     for (int s = 0; s < NS; s++) {
-        if (bake_species(nodes[s], 101 + (uint64_t)s, n_modes, 0.3, 2e-3, &sp[s], &err) ||
-            wire_quant_steps(&sp[s], (float)eps, steps[s], &err)) {
+        int rc = synthetic
+                     ? bake_species(nodes[s], 101 + (uint64_t)s, n_modes, 0.3, 2e-3, &sp[s], &err)
+                     : bake_shipped(shipped[s], n_modes, &sp[s], &err);
+        if (rc || wire_quant_steps(&sp[s], (float)eps, steps[s], &err)) {
             fprintf(stderr, "gale-bench wire: species %d: %s\n", s, err.msg);
             return 1;
         }
@@ -209,7 +236,7 @@ int bench_wire(int argc, char **argv)
     }
     t_bake = now_s() - t_bake;
 
-    uint8_t *species = malloc((size_t)n_trees);
+    uint8_t *tree_sp = malloc((size_t)n_trees);
     float *yaw = malloc(sizeof(float) * (size_t)n_trees);
     float *wind = malloc(sizeof(float) * 3 * (size_t)n_trees);
     gust *gu = malloc(sizeof(gust) * (size_t)n_trees);
@@ -228,19 +255,19 @@ int bench_wire(int argc, char **argv)
     float *pa = malloc(sizeof(float) * 3 * max_nodes), *pb = malloc(sizeof(float) * 3 * max_nodes);
     float *qf = malloc(sizeof(float) * stride), *qd = malloc(sizeof(float) * stride);
     uint64_t *hist = calloc(HBINS, sizeof *hist);
-    if (!species || !yaw || !wind || !gu || !snap[0] || !snap[1] || !snap[2] || !nm ||
+    if (!tree_sp || !yaw || !wind || !gu || !snap[0] || !snap[1] || !snap[2] || !nm ||
         !frame || !pa || !pb || !qf || !qd || !hist) {
         fprintf(stderr, "gale-bench wire: out of memory\n");
         return 1;
     }
-    wire_scene scene = { .n_trees = (uint32_t)n_trees, .n_species = NS, .species = species };
+    wire_scene scene = { .n_trees = (uint32_t)n_trees, .n_species = NS, .species = tree_sp };
     for (int s = 0; s < NS; s++) {
         scene.n_modes[s] = (uint8_t)n_modes;
         memcpy(scene.step[s], steps[s], sizeof(float) * (size_t)n_modes);
     }
     uint64_t rs = 777;
     for (int t = 0; t < n_trees; t++) {
-        species[t] = (uint8_t)(t % NS);
+        tree_sp[t] = (uint8_t)(t % NS);
         rs = rs * 6364136223846793005ull + 1442695040888963407ull;
         yaw[t] = (float)((double)(rs >> 11) * (6.283185307179586 / 9007199254740992.0));
         nm[t] = (uint8_t)n_modes;
@@ -248,7 +275,7 @@ int bench_wire(int argc, char **argv)
                                         .z_m = 8.0 });
     }
     modal *m = modal_create(&(modal_desc){ .n_trees = (uint32_t)n_trees, .n_species = NS,
-                                           .species = msp, .tree_species = species,
+                                           .species = msp, .tree_species = tree_sp,
                                            .tree_yaw_rad = yaw, .dt_s = 1.0 / 60,
                                            .n_threads = 1 },
                             &err);
@@ -266,6 +293,7 @@ int bench_wire(int argc, char **argv)
     const int key_every = (int)(keyframe_s * 30.0 + 0.5) > 0 ? (int)(keyframe_s * 30.0 + 0.5) : 1;
     uint64_t bytes_key = 0, bytes_delta = 0, n_key = 0, n_delta = 0, n_err = 0;
     double err_max = 0.0, q_disp_max = 0.0, enc_s = 0.0, dec_s = 0.0;
+    double sp_disp[NS] = { 0 };
     int decode_errors = 0, mismatches = 0, hist_n = 0;
     uint32_t seq = 0;
     for (int k = -warm; k < ticks; k++) {
@@ -323,7 +351,7 @@ int bench_wire(int argc, char **argv)
             continue;
         }
         for (int t = 0; t < n_trees; t++) {
-            const asset *a = &sp[species[t]];
+            const asset *a = &sp[tree_sp[t]];
             modal_get(m, (uint32_t)t, qf, NULL);
             wire_decoder_q(dec, (uint32_t)t, qd, (uint32_t)n_modes);
             asset_reconstruct(a, qf, (uint32_t)n_modes, pa);
@@ -341,6 +369,8 @@ int bench_wire(int argc, char **argv)
                 double uy = (double)pa[3 * i + 1] - (double)a->rest[3 * i + 1];
                 double disp = sqrt(ux * ux + uy * uy) / (double)a->height_m;
                 q_disp_max = disp > q_disp_max ? disp : q_disp_max;
+                int si = tree_sp[t];
+                sp_disp[si] = disp > sp_disp[si] ? disp : sp_disp[si];
             }
         }
         hist_n++;
@@ -354,21 +384,24 @@ int bench_wire(int argc, char **argv)
     const char *recon = "asset_reconstruct";
     if (json) {
         printf("{\"bench\":\"wire\",\"seconds\":%.1f,\"trees\":%d,\"modes\":%d,\"species\":%d,"
-               "\"species_nodes\":[%d,%d,%d],\"assets\":\"baked here: bake_tree_generate + fem + "
-               "eigen + basis + correction\",\"reconstruction\":\"%s\",\"bake_s\":%.2f,"
+               "\"species_nodes\":[%u,%u,%u],\"assets\":\"%s\",\"reconstruction\":\"%s\","
+               "\"bake_s\":%.2f,"
                "\"wind_mean_ms\":%.1f,\"gust_intensity\":%.2f,\"eps\":%g,\"snapshot_hz\":30,"
                "\"keyframe_every_s\":%.1f,\"snapshots\":%llu,\"keyframes\":%llu,"
                "\"bytes_per_tree_per_snapshot\":%.2f,\"bytes_per_tree_delta\":%.2f,"
                "\"bytes_per_tree_keyframe\":%.2f,\"stream_kbit_s\":%.1f,"
                "\"node_error_p50_of_height\":%.6f,\"node_error_p99_of_height\":%.6f,"
                "\"node_error_max_of_height\":%.6f,\"node_samples\":%llu,"
-               "\"max_node_displacement_of_height\":%.4f,\"decode_errors\":%d,"
+               "\"max_node_displacement_of_height\":[%.4f,%.4f,%.4f],\"decode_errors\":%d,"
                "\"state_mismatches\":%d,\"encode_us_per_tree\":%.3f,\"decode_us_per_tree\":%.3f,"
                "\"target_bytes\":24,\"target_p99\":0.005}\n",
-               seconds, n_trees, n_modes, NS, nodes[0], nodes[1], nodes[2], recon, t_bake,
+               seconds, n_trees, n_modes, NS, sp[0].n_nodes, sp[1].n_nodes, sp[2].n_nodes,
+               synthetic ? "synthetic skeletons baked by fem+eigen+basis+correction"
+                         : "configs/species oak, palm, pine baked by bake_run",
+               recon, t_bake,
                mean_ms, intensity, eps, keyframe_s, (unsigned long long)snaps,
                (unsigned long long)n_key, per_tree, per_tree_delta, per_tree_key, kbps, p50, p99,
-               err_max, (unsigned long long)n_err, q_disp_max, decode_errors, mismatches,
+               err_max, (unsigned long long)n_err, sp_disp[0], sp_disp[1], sp_disp[2], decode_errors, mismatches,
                enc_s / (double)snaps / n_trees * 1e6, dec_s / (double)snaps / n_trees * 1e6);
     } else {
         printf("wire: %d trees x %d modes, %.0f s gusty (mean %.1f m/s, I %.2f): %.2f bytes/tree/"
@@ -381,12 +414,16 @@ int bench_wire(int argc, char **argv)
     modal_destroy(m);
     wire_decoder_destroy(dec);
     for (int s = 0; s < NS; s++) {
-        free_species(&sp[s]);
+        if (synthetic) {
+            free_species(&sp[s]);
+        } else {
+            asset_fini(&sp[s]);
+        }
     }
     for (int k = 0; k < 3; k++) {
         free(snap[k]);
     }
-    free(species);
+    free(tree_sp);
     free(yaw);
     free(wind);
     free(gu);

@@ -1,7 +1,7 @@
 /* Lowest natural modes of a frame model, K φ = ω² M φ (Diener 2008 section 3.2), by
- * ARPACK's implicitly restarted Lanczos in shift-invert mode: the operator K^{-1} M is
- * applied with the zero-fill tree Cholesky of K (tree_chol.h) and sparse M products, so
- * work and memory grow linearly with the node count. */
+ * ARPACK's implicitly restarted Lanczos in shift-invert mode: the operator (K^{-1} M)²
+ * is applied with the zero-fill tree Cholesky of K (tree_chol.h) and sparse M products,
+ * so work and memory grow linearly with the node count. */
 #ifndef GALE_EIGEN_H
 #define GALE_EIGEN_H
 
@@ -14,7 +14,7 @@ typedef struct eigen_result {
     double *omega2;      /* owned [n_modes] ω² [rad²/s²], ascending */
     double *phi;         /* owned [n_modes][n_dof] mass-normalised: φ_i^T M φ_j = δ_ij */
     int iterations;      /* Lanczos restart cycles (0 on the dense path) */
-    int n_op;            /* applications of K^{-1} M */
+    int n_op;            /* solves with the tree Cholesky of K (M products alongside) */
     double max_residual; /* max_i |K φ_i - ω_i² M φ_i| / |K φ_i| */
     double ortho_error;  /* max_ij |φ_i^T M φ_j - δ_ij| */
     int dense;           /* 1 when the model was small enough for the dense LAPACK path */

@@ -227,33 +227,35 @@ void fem_fini(fem_model *f)
 }
 
 /* y = A x for the block tree matrix with diagonal blocks d and parent couplings o. */
-static void mul_blocks(const fem_model *f, const double *d, const double *o, const double *x,
-                       double *y)
+static void mul_blocks(const fem_model *f, const double *restrict d, const double *restrict o,
+                       const double *restrict x, double *restrict y)
 {
     const int n = f->n_nodes;
     memset(y, 0, (size_t)f->n_dof * sizeof *y);
     for (int i = 1; i < n; i++) {
-        const double *a = d + 36 * i, *xi = x + FEM_DOF(i);
-        double *yi = y + FEM_DOF(i);
+        const double *restrict a = d + 36 * i, *restrict xi = x + FEM_DOF(i);
+        double yi[6];
         for (int r = 0; r < 6; r++) {
-            double acc = 0.0;
-            for (int c = 0; c < 6; c++) {
-                acc += a[r * 6 + c] * xi[c];
-            }
-            yi[r] += acc;
+            yi[r] = a[r * 6 + 0] * xi[0] + a[r * 6 + 1] * xi[1] + a[r * 6 + 2] * xi[2] +
+                    a[r * 6 + 3] * xi[3] + a[r * 6 + 4] * xi[4] + a[r * 6 + 5] * xi[5];
         }
         const int p = f->parent[i];
         if (p > 0) {
-            const double *b = o + 36 * i, *xp = x + FEM_DOF(p);
-            double *yp = y + FEM_DOF(p);
+            const double *restrict b = o + 36 * i, *restrict xp = x + FEM_DOF(p);
+            double *restrict yp = y + FEM_DOF(p);
             for (int r = 0; r < 6; r++) {
-                double acc = 0.0;
-                for (int c = 0; c < 6; c++) {
-                    acc += b[r * 6 + c] * xp[c];
-                    yp[c] += b[r * 6 + c] * xi[r];
-                }
-                yi[r] += acc;
+                yi[r] += b[r * 6 + 0] * xp[0] + b[r * 6 + 1] * xp[1] + b[r * 6 + 2] * xp[2] +
+                         b[r * 6 + 3] * xp[3] + b[r * 6 + 4] * xp[4] + b[r * 6 + 5] * xp[5];
             }
+            for (int c = 0; c < 6; c++) {
+                yp[c] += b[0 * 6 + c] * xi[0] + b[1 * 6 + c] * xi[1] + b[2 * 6 + c] * xi[2] +
+                         b[3 * 6 + c] * xi[3] + b[4 * 6 + c] * xi[4] + b[5 * 6 + c] * xi[5];
+            }
+        }
+        /* children (higher indices) add into y_i later, so accumulate */
+        double *restrict yo = y + FEM_DOF(i);
+        for (int r = 0; r < 6; r++) {
+            yo[r] += yi[r];
         }
     }
 }

@@ -7,21 +7,21 @@
 #include <stdint.h>
 
 typedef struct gust_desc {
-    uint64_t seed;      /* same seed, same sequence */
-    double intensity;   /* I_u = σ_u / U; 0 → gust_intensity(z_m, z0_m) */
-    double z_m;         /* reference height [m]; 0 → 10 */
-    double z0_m;        /* roughness length [m]; 0 → 0.3 (EN 1991-1-4 terrain III) */
-    double length_m;    /* integral length scale L_u [m]; 0 → 50 (near the ground) */
-    double ratio_v;     /* σ_v / σ_u; 0 → 0.75 */
-    double ratio_w;     /* σ_w / σ_u; 0 → 0.5 */
-    double u_floor_ms;  /* U below this uses it for T_u (keeps T_u finite); 0 → 1 */
+    uint64_t seed;     /* same seed, same sequence */
+    double intensity;  /* I_u = σ_u / U; 0 → gust_intensity(z_m, z0_m) */
+    double z_m;        /* reference height [m]; 0 → 10 */
+    double z0_m;       /* roughness length [m]; 0 → 0.3 (EN 1991-1-4 terrain III) */
+    double length_m;   /* integral length scale L_u [m]; 0 → 50 (near the ground) */
+    double ratio_v;    /* σ_v / σ_u; 0 → 0.75 */
+    double ratio_w;    /* σ_w / σ_u; 0 → 0.5 */
+    double u_floor_ms; /* U below this uses it for T_u (keeps T_u finite); 0 → 1 */
 } gust_desc;
 
 /* The process state; a caller-owned value, no heap. */
 typedef struct gust {
-    gust_desc d;        /* resolved */
-    uint64_t rng[4];    /* xoshiro256** state */
-    double x[3];        /* unit-variance OU state per component */
+    gust_desc d;     /* resolved */
+    uint64_t rng[4]; /* xoshiro256** state */
+    double x[3];     /* unit-variance OU state per component */
 } gust;
 
 /* Turbulence intensity of the log law at height z over roughness z0: 1 / ln(z/z0)

@@ -5,9 +5,9 @@
 #define GALE_HOLLAND_H
 
 #define HOLLAND_RHO_AIR 1.15     /* boundary-layer air density [kg/m³] */
-#define HOLLAND_OMEGA 7.292e-5   /* Earth's rotation rate [rad/s] */
-#define HOLLAND_B_MIN 1.0
-#define HOLLAND_B_MAX 2.5
+#define HOLLAND_OMEGA   7.292e-5 /* Earth's rotation rate [rad/s] */
+#define HOLLAND_B_MIN   1.0
+#define HOLLAND_B_MAX   2.5
 
 typedef struct holland_vortex {
     double pc_pa;  /* central pressure [Pa] */

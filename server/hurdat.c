@@ -9,16 +9,15 @@
 #include <string.h>
 #include <strings.h>
 
-#define MAX_FIELDS 24
-#define MAX_LINE 512
+#define MAX_FIELDS         24
+#define MAX_LINE           512
 #define MAX_ROWS_PER_STORM 2000 /* the longest-lived Atlantic storms have ~150 rows */
-#define MAX_STORMS 4000         /* the whole 1851– Atlantic file has ~1,950 */
+#define MAX_STORMS         4000 /* the whole 1851– Atlantic file has ~1,950 */
 
 static const char *const field_names[21] = {
-    "date",       "time",       "record id",  "status",     "latitude",   "longitude",
-    "max wind",   "pressure",   "34-kt NE",   "34-kt SE",   "34-kt SW",   "34-kt NW",
-    "50-kt NE",   "50-kt SE",   "50-kt SW",   "50-kt NW",   "64-kt NE",   "64-kt SE",
-    "64-kt SW",   "64-kt NW",   "radius of max wind",
+    "date",     "time",     "record id", "status",   "latitude", "longitude", "max wind",
+    "pressure", "34-kt NE", "34-kt SE",  "34-kt SW", "34-kt NW", "50-kt NE",  "50-kt SE",
+    "50-kt SW", "50-kt NW", "64-kt NE",  "64-kt SE", "64-kt SW", "64-kt NW",  "radius of max wind",
 };
 
 long long hurdat_civil_minutes(int year, int month, int day, int hour, int minute)
@@ -137,19 +136,18 @@ static int parse_coord(const char *s, char pos, char neg, double limit, double *
 static int field_err(gale_err *err, const char *name, int line, int field, const char *want,
                      const char *got)
 {
-    return gale_errf(err, GALE_E_PARSE, "%s:%d: field %d (%s): expected %s, got '%.40s'",
-                     name, line, field + 1, field_names[field], want, got);
+    return gale_errf(err, GALE_E_PARSE, "%s:%d: field %d (%s): expected %s, got '%.40s'", name,
+                     line, field + 1, field_names[field], want, got);
 }
 
-static int parse_row(hurdat_row *r, char **f, int nf, const char *name, int line,
-                     gale_err *err)
+static int parse_row(hurdat_row *r, char **f, int nf, const char *name, int line, gale_err *err)
 {
     memset(r, 0, sizeof *r);
     r->line = line;
     if (nf != 20 && nf != 21) {
         return gale_errf(err, GALE_E_PARSE,
-                         "%s:%d: data row: expected 20 or 21 comma-separated fields, got %d",
-                         name, line, nf > MAX_FIELDS ? MAX_FIELDS + 1 : nf);
+                         "%s:%d: data row: expected 20 or 21 comma-separated fields, got %d", name,
+                         line, nf > MAX_FIELDS ? MAX_FIELDS + 1 : nf);
     }
     long date, hhmm, v;
     if (strlen(f[0]) != 8 || parse_int(f[0], &date) != 0) {
@@ -162,8 +160,7 @@ static int parse_row(hurdat_row *r, char **f, int nf, const char *name, int line
         r->day > 31) {
         return field_err(err, name, line, 0, "a date YYYYMMDD", f[0]);
     }
-    if (strlen(f[1]) != 4 || parse_int(f[1], &hhmm) != 0 || hhmm / 100 > 23 ||
-        hhmm % 100 > 59) {
+    if (strlen(f[1]) != 4 || parse_int(f[1], &hhmm) != 0 || hhmm / 100 > 23 || hhmm % 100 > 59) {
         return field_err(err, name, line, 1, "hhmm UTC", f[1]);
     }
     r->hour = (int)(hhmm / 100);
@@ -172,8 +169,7 @@ static int parse_row(hurdat_row *r, char **f, int nf, const char *name, int line
         return field_err(err, name, line, 2, "one letter or nothing", f[2]);
     }
     r->record = f[2][0] ? f[2][0] : ' ';
-    if (strlen(f[3]) != 2 || !isalpha((unsigned char)f[3][0]) ||
-        !isalpha((unsigned char)f[3][1])) {
+    if (strlen(f[3]) != 2 || !isalpha((unsigned char)f[3][0]) || !isalpha((unsigned char)f[3][1])) {
         return field_err(err, name, line, 3, "a two-letter status (TD, TS, HU...)", f[3]);
     }
     memcpy(r->status, f[3], 3);
@@ -219,8 +215,7 @@ void hurdat_fini(hurdat_file *f)
     f->n_storms = 0;
 }
 
-int hurdat_parse(hurdat_file *f, const char *name, const char *text, size_t len,
-                 gale_err *err)
+int hurdat_parse(hurdat_file *f, const char *name, const char *text, size_t len, gale_err *err)
 {
     memset(f, 0, sizeof *f);
     snprintf(f->name, sizeof f->name, "%s", name ? name : "<hurdat>");
@@ -284,14 +279,14 @@ int hurdat_parse(hurdat_file *f, const char *name, const char *text, size_t len,
             }
             if (count < 1 || count > MAX_ROWS_PER_STORM) {
                 rc = gale_errf(err, GALE_E_RANGE,
-                               "%s:%d: row count: expected an integer in [1, %d], got %ld",
-                               name, line, MAX_ROWS_PER_STORM, count);
+                               "%s:%d: row count: expected an integer in [1, %d], got %ld", name,
+                               line, MAX_ROWS_PER_STORM, count);
                 goto fail;
             }
             if (f->n_storms == cap) {
                 if (cap >= MAX_STORMS) {
-                    rc = gale_errf(err, GALE_E_RANGE, "%s:%d: more than %d storms", name,
-                                   line, MAX_STORMS);
+                    rc = gale_errf(err, GALE_E_RANGE, "%s:%d: more than %d storms", name, line,
+                                   MAX_STORMS);
                     goto fail;
                 }
                 int ncap = cap ? cap * 2 : 4;
@@ -319,8 +314,8 @@ int hurdat_parse(hurdat_file *f, const char *name, const char *text, size_t len,
         }
         if (nf == 3 && strlen(fields[0]) == 8 && isalpha((unsigned char)fields[0][0])) {
             rc = gale_errf(err, GALE_E_PARSE,
-                           "%s:%d: storm header, but %s (line %d) declared %d more rows",
-                           name, line, cur->id, header_line, expect);
+                           "%s:%d: storm header, but %s (line %d) declared %d more rows", name,
+                           line, cur->id, header_line, expect);
             goto fail;
         }
         hurdat_row *r = &cur->rows[cur->n_rows];
@@ -329,8 +324,8 @@ int hurdat_parse(hurdat_file *f, const char *name, const char *text, size_t len,
             goto fail;
         }
         if (cur->n_rows > 0 && hurdat_minutes(r) < hurdat_minutes(&cur->rows[cur->n_rows - 1])) {
-            rc = gale_errf(err, GALE_E_PARSE, "%s:%d: time goes backwards (previous row %d)",
-                           name, line, cur->rows[cur->n_rows - 1].line);
+            rc = gale_errf(err, GALE_E_PARSE, "%s:%d: time goes backwards (previous row %d)", name,
+                           line, cur->rows[cur->n_rows - 1].line);
             goto fail;
         }
         cur->n_rows++;

@@ -24,10 +24,10 @@ typedef struct hurdat_row {
 } hurdat_row;
 
 typedef struct hurdat_storm {
-    char id[16];       /* "AL041992" */
-    char name[32];     /* "ANDREW" */
+    char id[16];   /* "AL041992" */
+    char name[32]; /* "ANDREW" */
     int n_rows;
-    hurdat_row *rows;  /* owned by the hurdat_file, in file order */
+    hurdat_row *rows; /* owned by the hurdat_file, in file order */
 } hurdat_storm;
 
 typedef struct hurdat_file {
@@ -38,8 +38,7 @@ typedef struct hurdat_file {
 
 /* Parses text (len bytes) named `name` into *f. Errors name "name:line: field N (what):
  * expected ..., got ...". On failure *f is left empty (nothing to free). */
-int hurdat_parse(hurdat_file *f, const char *name, const char *text, size_t len,
-                 gale_err *err);
+int hurdat_parse(hurdat_file *f, const char *name, const char *text, size_t len, gale_err *err);
 /* Reads and parses a file; I/O errors name the path. */
 int hurdat_load(hurdat_file *f, const char *path, gale_err *err);
 /* Frees what *f owns. NULL is a no-op. */

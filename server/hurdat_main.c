@@ -17,15 +17,14 @@
 
 static void usage(FILE *o)
 {
-    fprintf(o,
-            "usage: gale-hurdat --in HURDAT2.txt --storm ID|NAME --ref YYYY-MM-DDTHH:MMZ\n"
-            "         --from YYYY-MM-DDTHH:MMZ --to YYYY-MM-DDTHH:MMZ\n"
-            "         --site-lat DEG --site-lon DEG [--site-label TEXT] [--over-water]\n"
-            "         [--time-scale K] [--start-min M] [--end-min M] [--ambient-hpa P]\n"
-            "         [--rmax-km R] [--seed N] [--name TEXT] [--out FILE]\n"
-            "Writes a hurricane scenario (JSON) with the storm's rows in [from, to]; rows\n"
-            "without a radius of maximum wind take the nearest row's that has one (or\n"
-            "--rmax-km). The file is validated by loading it back.\n");
+    fprintf(o, "usage: gale-hurdat --in HURDAT2.txt --storm ID|NAME --ref YYYY-MM-DDTHH:MMZ\n"
+               "         --from YYYY-MM-DDTHH:MMZ --to YYYY-MM-DDTHH:MMZ\n"
+               "         --site-lat DEG --site-lon DEG [--site-label TEXT] [--over-water]\n"
+               "         [--time-scale K] [--start-min M] [--end-min M] [--ambient-hpa P]\n"
+               "         [--rmax-km R] [--seed N] [--name TEXT] [--out FILE]\n"
+               "Writes a hurricane scenario (JSON) with the storm's rows in [from, to]; rows\n"
+               "without a radius of maximum wind take the nearest row's that has one (or\n"
+               "--rmax-km). The file is validated by loading it back.\n");
 }
 
 static int parse_utc(const char *s, long long *out)
@@ -130,8 +129,7 @@ int main(int argc, char **argv)
         usage(stderr);
         return 2;
     }
-    if (parse_utc(ref, &ref_m) != 0 || parse_utc(from, &from_m) != 0 ||
-        parse_utc(to, &to_m) != 0) {
+    if (parse_utc(ref, &ref_m) != 0 || parse_utc(from, &from_m) != 0 || parse_utc(to, &to_m) != 0) {
         fprintf(stderr, "gale-hurdat: --ref, --from, --to: expected YYYY-MM-DDTHH:MMZ\n");
         return 2;
     }
@@ -158,8 +156,8 @@ int main(int argc, char **argv)
         }
     }
     if (first < 0 || last == first) {
-        fprintf(stderr, "gale-hurdat: %s: fewer than 2 rows of %s between %s and %s\n", in,
-                st->id, from, to);
+        fprintf(stderr, "gale-hurdat: %s: fewer than 2 rows of %s between %s and %s\n", in, st->id,
+                from, to);
         hurdat_fini(&hf);
         return 1;
     }
@@ -173,15 +171,16 @@ int main(int argc, char **argv)
     snprintf(title, sizeof title, "%s %d", name ? name : st->name, st->rows[first].year);
     char src[240];
     snprintf(src, sizeof src,
-             "NHC HURDAT2 %s (%s), rows %s..%s of %s; Vmax kt x 0.514444, RMW nm x 1.852",
-             st->id, st->name, from, to, in);
+             "NHC HURDAT2 %s (%s), rows %s..%s of %s; Vmax kt x 0.514444, RMW nm x 1.852", st->id,
+             st->name, from, to, in);
     fprintf(o, "{\n  \"name\": ");
     put_string(o, title);
     fprintf(o, ",\n  \"kind\": \"hurricane\",\n  \"seed\": %.0f,\n  \"z0_m\": 0.3,\n", seed);
     fprintf(o, "  \"hurricane\": {\n    \"source\": ");
     put_string(o, src);
-    fprintf(o, ",\n    \"site\": { \"lat_deg\": %.4f, \"lon_deg\": %.4f, \"over_land\": %s, "
-               "\"label\": ",
+    fprintf(o,
+            ",\n    \"site\": { \"lat_deg\": %.4f, \"lon_deg\": %.4f, \"over_land\": %s, "
+            "\"label\": ",
             site_lat, site_lon, over_land ? "true" : "false");
     put_string(o, label);
     fprintf(o, " },\n    \"ref_utc\": \"%s\",\n    \"ambient_hpa\": %g,\n", ref, ambient);

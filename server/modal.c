@@ -264,9 +264,10 @@ static void block_tick(const modal *m, const modal_block *bl, const float *wind_
 void modal_tick(modal *m, const float *wind_world, int16_t *qsnap)
 {
     const int nb = (int)m->n_blocks;
-    /* Blocks are independent: split them over the threads (static schedule, no
-     * allocation per tick in libgomp once its pool exists). */
-#pragma omp parallel for schedule(static) num_threads(m->n_threads) if (nb > 64)
+    /* Blocks are independent: the threads take chunks of 32 blocks as they come free
+     * (on a busy machine a descheduled thread does not hold the other back); libgomp
+     * allocates nothing per tick once its pool exists. */
+#pragma omp parallel for schedule(dynamic, 32) num_threads(m->n_threads) if (nb > 64)
     for (int b = 0; b < nb; b++) {
         block_tick(m, &m->blocks[b], wind_world, qsnap);
     }

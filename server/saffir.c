@@ -58,9 +58,9 @@ double saffir_lower_ms(saffir_class c)
 static const double beaufort_upper[12] = { 0.2,  1.5,  3.3,  5.4,  7.9,  10.7,
                                            13.8, 17.1, 20.7, 24.4, 28.4, 32.6 };
 static const char *const beaufort_names[13] = {
-    "calm",       "light air",   "light breeze", "gentle breeze", "moderate breeze",
-    "fresh breeze", "strong breeze", "near gale",  "gale",          "strong gale",
-    "storm",      "violent storm", "hurricane force",
+    "calm",         "light air",     "light breeze",    "gentle breeze", "moderate breeze",
+    "fresh breeze", "strong breeze", "near gale",       "gale",          "strong gale",
+    "storm",        "violent storm", "hurricane force",
 };
 
 int saffir_beaufort(double ms)

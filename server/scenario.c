@@ -5,6 +5,7 @@
 #include "scenario.h"
 
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,17 +15,15 @@
 #include "hurdat.h"
 #include "scenario_int.h"
 
-#define MAX_TRACK 256
-#define MAX_BALLS 64
+#define MAX_TRACK  256
+#define MAX_BALLS  64
 #define KM_PER_DEG 111.195 /* mean Earth radius 6371 km × π/180 */
 
-/* Error helper: "<doc>: <path>: <what>". */
+/* A config error: "<doc>: <path>: <what>". */
 #define CFG_ERR(err, code, d, p, ...) scenario_cfg_err(err, code, d, p, __VA_ARGS__)
 
 static int scenario_cfg_err(gale_err *err, int code, const cfg_doc *d, const char *p,
                             const char *fmt, ...) __attribute__((format(printf, 5, 6)));
-
-#include <stdarg.h>
 
 static int scenario_cfg_err(gale_err *err, int code, const cfg_doc *d, const char *p,
                             const char *fmt, ...)
@@ -38,8 +37,8 @@ static int scenario_cfg_err(gale_err *err, int code, const cfg_doc *d, const cha
 }
 
 /* obj[key] of the given type: 1 found, 0 absent (and not required), < 0 error. */
-static int child(const cfg_doc *d, const cJSON *obj, const char *path, const char *key,
-                 int type, bool required, const cJSON **out, gale_err *err)
+static int child(const cfg_doc *d, const cJSON *obj, const char *path, const char *key, int type,
+                 bool required, const cJSON **out, gale_err *err)
 {
     gale_err e = { 0 };
     bool found = false;
@@ -58,12 +57,11 @@ static int parse_utc(const char *s, long long *out)
 {
     int y, mo, da, h, mi;
     char z = 0, extra = 0;
-    if (sscanf(s, "%4d-%2d-%2dT%2d:%2d%c%c", &y, &mo, &da, &h, &mi, &z, &extra) != 6 ||
-        z != 'Z' || strlen(s) != 17) {
+    if (sscanf(s, "%4d-%2d-%2dT%2d:%2d%c%c", &y, &mo, &da, &h, &mi, &z, &extra) != 6 || z != 'Z' ||
+        strlen(s) != 17) {
         return -1;
     }
-    if (mo < 1 || mo > 12 || da < 1 || da > 31 || h > 23 || mi > 59 || y < 1800 ||
-        y > 2200) {
+    if (mo < 1 || mo > 12 || da < 1 || da > 31 || h > 23 || mi > 59 || y < 1800 || y > 2200) {
         return -1;
     }
     *out = hurdat_civil_minutes(y, mo, da, h, mi);
@@ -82,14 +80,13 @@ static int load_gust(scenario *s, const cfg_doc *d, const cJSON *root, const cha
     if (rc <= 0) {
         return rc;
     }
-    static const char *const keys[] = { "enabled", "intensity", "length_m", "ratio_v",
-                                        "ratio_w", NULL };
+    static const char *const keys[] = { "enabled", "intensity", "length_m",
+                                        "ratio_v", "ratio_w",   NULL };
     if ((rc = cfg_check_keys(d, g, p, keys, err)) < 0 ||
         (rc = cfg_bool(d, g, p, "enabled", false, true, &s->gust_on, err)) < 0 ||
-        (rc = cfg_number(d, g, p, "intensity", false, 0.0, 0.0, 1.0, &s->gd.intensity, err)) <
+        (rc = cfg_number(d, g, p, "intensity", false, 0.0, 0.0, 1.0, &s->gd.intensity, err)) < 0 ||
+        (rc = cfg_number(d, g, p, "length_m", false, 50.0, 1.0, 1000.0, &s->gd.length_m, err)) <
             0 ||
-        (rc = cfg_number(d, g, p, "length_m", false, 50.0, 1.0, 1000.0, &s->gd.length_m,
-                         err)) < 0 ||
         (rc = cfg_number(d, g, p, "ratio_v", false, 0.75, 0.01, 2.0, &s->gd.ratio_v, err)) < 0 ||
         (rc = cfg_number(d, g, p, "ratio_w", false, 0.5, 0.01, 2.0, &s->gd.ratio_w, err)) < 0) {
         return rc;
@@ -109,8 +106,7 @@ static int load_balls(scenario *s, const cfg_doc *d, const cJSON *root, const ch
     }
     int n = cJSON_GetArraySize(arr);
     if (n > MAX_BALLS) {
-        return CFG_ERR(err, GALE_E_RANGE, d, p, "expected at most %d balls, got %d", MAX_BALLS,
-                       n);
+        return CFG_ERR(err, GALE_E_RANGE, d, p, "expected at most %d balls, got %d", MAX_BALLS, n);
     }
     s->balls = calloc(n > 0 ? (size_t)n : 1, sizeof *s->balls);
     if (!s->balls) {
@@ -161,8 +157,7 @@ static int load_steady(scenario *s, const cfg_doc *d, const cJSON *root, const c
     return GALE_OK;
 }
 
-static int load_track(scenario *s, const cfg_doc *d, const cJSON *h, const char *hp,
-                      gale_err *err)
+static int load_track(scenario *s, const cfg_doc *d, const cJSON *h, const char *hp, gale_err *err)
 {
     const cJSON *arr;
     char p[256];
@@ -173,8 +168,8 @@ static int load_track(scenario *s, const cfg_doc *d, const cJSON *h, const char 
     }
     int n = cJSON_GetArraySize(arr);
     if (n < 2 || n > MAX_TRACK) {
-        return CFG_ERR(err, GALE_E_RANGE, d, p, "expected 2 to %d track points, got %d",
-                       MAX_TRACK, n);
+        return CFG_ERR(err, GALE_E_RANGE, d, p, "expected 2 to %d track points, got %d", MAX_TRACK,
+                       n);
     }
     s->track = calloc((size_t)n, sizeof *s->track);
     if (!s->track) {
@@ -204,15 +199,14 @@ static int load_track(scenario *s, const cfg_doc *d, const cJSON *h, const char 
         if (i == 0) {
             s->geo = !has_xy;
         } else if (s->geo != !has_xy) {
-            return CFG_ERR(err, GALE_E_PARSE, d, ip,
-                           "expected %s like track[0], got %s", s->geo ? "lat_deg/lon_deg" :
-                           "x_km/y_km", s->geo ? "x_km/y_km" : "lat_deg/lon_deg");
+            return CFG_ERR(err, GALE_E_PARSE, d, ip, "expected %s like track[0], got %s",
+                           s->geo ? "lat_deg/lon_deg" : "x_km/y_km",
+                           s->geo ? "x_km/y_km" : "lat_deg/lon_deg");
         }
         if (s->geo) {
             double lat, lon;
             if ((rc = cfg_number(d, o, ip, "lat_deg", true, 0.0, -70.0, 70.0, &lat, err)) < 0 ||
-                (rc = cfg_number(d, o, ip, "lon_deg", true, 0.0, -180.0, 180.0, &lon, err)) <
-                    0) {
+                (rc = cfg_number(d, o, ip, "lon_deg", true, 0.0, -180.0, 180.0, &lon, err)) < 0) {
                 return rc;
             }
             double dlon = lon - s->site_lon;
@@ -236,8 +230,7 @@ static int load_track(scenario *s, const cfg_doc *d, const cJSON *h, const char 
         }
         if ((rc = cfg_number(d, o, ip, "p_hpa", true, 0.0, 850.0, 1050.0, &p_hpa, err)) < 0 ||
             (rc = cfg_number(d, o, ip, "rmax_km", true, 0.0, 2.0, 200.0, &rmax_km, err)) < 0 ||
-            (rc = cfg_number(d, o, ip, "vmax_ms", true, 0.0, 5.0, 100.0, &t->vmax_ms, err)) <
-                0) {
+            (rc = cfg_number(d, o, ip, "vmax_ms", true, 0.0, 5.0, 100.0, &t->vmax_ms, err)) < 0) {
             return rc;
         }
         if (!(p_hpa < s->pn_pa / 100.0)) {
@@ -280,11 +273,11 @@ static int load_hurricane(scenario *s, const cfg_doc *d, const cJSON *root, cons
     if (rc < 0) {
         return rc;
     }
-    static const char *const keys[] = {
-        "source",       "site",     "ref_utc",    "ambient_hpa", "rho_air",
-        "inflow_angle_deg", "surface_factor", "land_factor", "asymmetry",  "time_scale",
-        "start_min",    "end_min",  "loop",       "track",       NULL
-    };
+    static const char *const keys[] = { "source",         "site",        "ref_utc",
+                                        "ambient_hpa",    "rho_air",     "inflow_angle_deg",
+                                        "surface_factor", "land_factor", "asymmetry",
+                                        "time_scale",     "start_min",   "end_min",
+                                        "loop",           "track",       NULL };
     if ((rc = cfg_check_keys(d, h, p, keys, err)) < 0) {
         return rc;
     }
@@ -292,33 +285,27 @@ static int load_hurricane(scenario *s, const cfg_doc *d, const cJSON *root, cons
     if ((rc = child(d, h, p, "site", cJSON_Object, true, &site, err)) < 0) {
         return rc;
     }
-    static const char *const site_keys[] = { "lat_deg", "lon_deg", "over_land", "label",
-                                             NULL };
+    static const char *const site_keys[] = { "lat_deg", "lon_deg", "over_land", "label", NULL };
     char ref[32];
     double pn_hpa, angle;
     if ((rc = cfg_check_keys(d, site, sp, site_keys, err)) < 0 ||
-        (rc = cfg_number(d, site, sp, "lat_deg", true, 0.0, -70.0, 70.0, &s->site_lat, err)) <
+        (rc = cfg_number(d, site, sp, "lat_deg", true, 0.0, -70.0, 70.0, &s->site_lat, err)) < 0 ||
+        (rc = cfg_number(d, site, sp, "lon_deg", false, 0.0, -180.0, 180.0, &s->site_lon, err)) <
             0 ||
-        (rc = cfg_number(d, site, sp, "lon_deg", false, 0.0, -180.0, 180.0, &s->site_lon,
-                         err)) < 0 ||
         (rc = cfg_bool(d, site, sp, "over_land", false, true, &s->over_land, err)) < 0 ||
         (rc = cfg_string(d, site, sp, "label", false, "", s->site_label, sizeof s->site_label,
                          err)) < 0 ||
         (rc = cfg_string(d, h, p, "source", false, "", s->source, sizeof s->source, err)) < 0 ||
         (rc = cfg_string(d, h, p, "ref_utc", false, "", ref, sizeof ref, err)) < 0 ||
-        (rc = cfg_number(d, h, p, "ambient_hpa", false, 1013.0, 950.0, 1050.0, &pn_hpa, err)) <
-            0 ||
-        (rc = cfg_number(d, h, p, "rho_air", false, HOLLAND_RHO_AIR, 0.9, 1.4, &s->rho, err)) <
-            0 ||
-        (rc = cfg_number(d, h, p, "inflow_angle_deg", false, 20.0, 0.0, 45.0, &angle, err)) <
-            0 ||
+        (rc = cfg_number(d, h, p, "ambient_hpa", false, 1013.0, 950.0, 1050.0, &pn_hpa, err)) < 0 ||
+        (rc = cfg_number(d, h, p, "rho_air", false, HOLLAND_RHO_AIR, 0.9, 1.4, &s->rho, err)) < 0 ||
+        (rc = cfg_number(d, h, p, "inflow_angle_deg", false, 20.0, 0.0, 45.0, &angle, err)) < 0 ||
         (rc = cfg_number(d, h, p, "surface_factor", false, 0.9, 0.5, 1.0, &s->surface_factor,
                          err)) < 0 ||
-        (rc = cfg_number(d, h, p, "land_factor", false, 0.8, 0.5, 1.0, &s->land_factor, err)) <
-            0 ||
+        (rc = cfg_number(d, h, p, "land_factor", false, 0.8, 0.5, 1.0, &s->land_factor, err)) < 0 ||
         (rc = cfg_number(d, h, p, "asymmetry", false, 0.5, 0.0, 1.0, &s->asymmetry, err)) < 0 ||
-        (rc = cfg_number(d, h, p, "time_scale", false, 1.0, 1.0, 10000.0, &s->time_scale,
-                         err)) < 0 ||
+        (rc = cfg_number(d, h, p, "time_scale", false, 1.0, 1.0, 10000.0, &s->time_scale, err)) <
+            0 ||
         (rc = cfg_bool(d, h, p, "loop", false, false, &s->loop, err)) < 0) {
         return rc;
     }
@@ -338,13 +325,11 @@ static int load_hurricane(scenario *s, const cfg_doc *d, const cJSON *root, cons
         return rc;
     }
     if (s->geo && !cJSON_GetObjectItemCaseSensitive(site, "lon_deg")) {
-        return gale_errf(err, GALE_E_PARSE, "%s: %s.lon_deg: required key missing", d->name,
-                         sp);
+        return gale_errf(err, GALE_E_PARSE, "%s: %s.lon_deg: required key missing", d->name, sp);
     }
     double t_first = s->track[0].t_s / 60.0, t_last = s->track[s->n_track - 1].t_s / 60.0;
     double smin, emin;
-    if ((rc = cfg_number(d, h, p, "start_min", false, t_first, t_first, t_last, &smin, err)) <
-            0 ||
+    if ((rc = cfg_number(d, h, p, "start_min", false, t_first, t_first, t_last, &smin, err)) < 0 ||
         (rc = cfg_number(d, h, p, "end_min", false, t_last, t_first, t_last, &emin, err)) < 0) {
         return rc;
     }
@@ -359,8 +344,7 @@ static int load_hurricane(scenario *s, const cfg_doc *d, const cJSON *root, cons
     return GALE_OK;
 }
 
-scenario *scenario_create(const cfg_doc *doc, const cJSON *obj, const char *path,
-                          gale_err *err)
+scenario *scenario_create(const cfg_doc *doc, const cJSON *obj, const char *path, gale_err *err)
 {
     gale_err local = { 0 };
     if (!err) {
@@ -377,26 +361,22 @@ scenario *scenario_create(const cfg_doc *doc, const cJSON *obj, const char *path
         gale_errf(err, GALE_E_NOMEM, "%s: out of memory", doc->name);
         return NULL;
     }
-    static const char *const keys[] = { "name",  "description", "kind",  "seed",
+    static const char *const keys[] = { "name",  "description", "kind",          "seed",
                                         "z0_m",  "zmin_m",      "dial_rate_ms2", "gust",
-                                        "balls", "steady",      "hurricane", NULL };
+                                        "balls", "steady",      "hurricane",     NULL };
     char kind[16];
     long long seed;
     int rc;
     if ((rc = cfg_check_keys(doc, obj, path, keys, err)) < 0 ||
-        (rc = cfg_string(doc, obj, path, "name", false, "", s->name, sizeof s->name, err)) <
-            0 ||
+        (rc = cfg_string(doc, obj, path, "name", false, "", s->name, sizeof s->name, err)) < 0 ||
         (rc = cfg_string(doc, obj, path, "description", false, "", s->description,
                          sizeof s->description, err)) < 0 ||
-        (rc = cfg_string(doc, obj, path, "kind", false, "steady", kind, sizeof kind, err)) <
-            0 ||
-        (rc = cfg_int(doc, obj, path, "seed", false, 1, 0, 9007199254740991LL, &seed, err)) <
-            0 ||
+        (rc = cfg_string(doc, obj, path, "kind", false, "steady", kind, sizeof kind, err)) < 0 ||
+        (rc = cfg_int(doc, obj, path, "seed", false, 1, 0, 9007199254740991LL, &seed, err)) < 0 ||
         (rc = cfg_number(doc, obj, path, "z0_m", false, 0.3, 0.001, 3.0, &s->z0_m, err)) < 0 ||
-        (rc = cfg_number(doc, obj, path, "zmin_m", false, 5.0, 0.5, 50.0, &s->zmin_m, err)) <
-            0 ||
-        (rc = cfg_number(doc, obj, path, "dial_rate_ms2", false, 4.0, 0.1, 100.0,
-                         &s->dial_rate_ms2, err)) < 0) {
+        (rc = cfg_number(doc, obj, path, "zmin_m", false, 5.0, 0.5, 50.0, &s->zmin_m, err)) < 0 ||
+        (rc = cfg_number(doc, obj, path, "dial_rate_ms2", false, 4.0, 0.1, 100.0, &s->dial_rate_ms2,
+                         err)) < 0) {
         goto fail;
     }
     if (!s->name[0]) {
@@ -479,6 +459,12 @@ const char *scenario_name(const scenario *s)
     return s->name;
 }
 
+int scenario_balls(const scenario *s, const wind_ball **out)
+{
+    *out = s->balls;
+    return s->n_balls;
+}
+
 scenario_kind scenario_get_kind(const scenario *s)
 {
     return s->kind;
@@ -547,8 +533,7 @@ void scenario_vortex_of(const scenario *s, const scenario_track_pt *c, holland_v
 }
 
 /* The hurricane's surface wind at the scene (x east, y north) [m/s] and the HUD figures. */
-static void hurricane_wind(const scenario *s, double storm_s, double wind[2],
-                           scenario_state *out)
+static void hurricane_wind(const scenario *s, double storm_s, double wind[2], scenario_state *out)
 {
     scenario_track_pt c;
     scenario_storm_at(s, storm_s, &c);
@@ -622,8 +607,8 @@ void scenario_eval(scenario *s, double t_s, scenario_state *out)
             int y, mo, d, h, mi;
             hurdat_civil_from_minutes(s->ref_min + (long long)floor(storm_s / 60.0), &y, &mo, &d,
                                       &h, &mi);
-            snprintf(out->clock_utc, sizeof out->clock_utc, "%04d-%02d-%02d %02d:%02dZ", y, mo,
-                     d, h, mi);
+            snprintf(out->clock_utc, sizeof out->clock_utc, "%04d-%02d-%02d %02d:%02dZ", y, mo, d,
+                     h, mi);
         }
     } else {
         out->storm_min = t / 60.0;
@@ -725,8 +710,8 @@ int scenario_set_direction(scenario *s, double from_deg, gale_err *err)
 {
     if (!(from_deg >= 0.0 && from_deg <= 360.0)) {
         return gale_errf(err, GALE_E_RANGE,
-                         "scenario %s: direction: expected degrees in [0, 360], got %g",
-                         s->name, from_deg);
+                         "scenario %s: direction: expected degrees in [0, 360], got %g", s->name,
+                         from_deg);
     }
     s->dir_on = true;
     s->dir_hold_deg = from_deg;

@@ -23,32 +23,31 @@ typedef enum scenario_kind {
 /* Everything the server applies and the HUD shows at one instant. Scene frame: x east,
  * y north, z up. All speeds at 10 m above ground. */
 typedef struct scenario_state {
-    wind_inflow inflow;         /* for wind_set_inflow: mean (sustained) speed + this gust */
-    double t_s;                 /* scenario time of this state: server time − start [s] */
-    double storm_min;           /* scenario clock: storm time from the track's reference [min];
-                                   for steady scenarios the scenario time in minutes */
-    char clock_utc[24];         /* "1992-08-24 09:24Z" for a dated replay, "" otherwise */
-    double sustained_ms;        /* 1-minute sustained wind at the scene [m/s] */
-    double gust_ms;             /* instantaneous speed, mean + gust vector [m/s] */
-    double dir_from_deg;        /* meteorological: where the wind comes FROM, clockwise
-                                   from north [0, 360) */
-    saffir_class category;      /* class of sustained_ms */
-    const char *category_name;  /* saffir_name(category), static */
-    int beaufort;               /* Beaufort number of sustained_ms, 0..12 */
-    int storm_category;         /* class of the storm's own Vmax on the track; -1 no storm */
-    double pressure_hpa;        /* sea-level pressure at the scene (Holland p(r)) [hPa] */
-    double distance_km;         /* scene to storm centre [km]; -1 when there is no storm */
+    wind_inflow inflow;          /* for wind_set_inflow: mean (sustained) speed + this gust */
+    double t_s;                  /* scenario time of this state: server time − start [s] */
+    double storm_min;            /* scenario clock: storm time from the track's reference [min];
+                                    for steady scenarios the scenario time in minutes */
+    char clock_utc[24];          /* "1992-08-24 09:24Z" for a dated replay, "" otherwise */
+    double sustained_ms;         /* 1-minute sustained wind at the scene [m/s] */
+    double gust_ms;              /* instantaneous speed, mean + gust vector [m/s] */
+    double dir_from_deg;         /* meteorological: where the wind comes FROM, clockwise
+                                    from north [0, 360) */
+    saffir_class category;       /* class of sustained_ms */
+    const char *category_name;   /* saffir_name(category), static */
+    int beaufort;                /* Beaufort number of sustained_ms, 0..12 */
+    int storm_category;          /* class of the storm's own Vmax on the track; -1 no storm */
+    double pressure_hpa;         /* sea-level pressure at the scene (Holland p(r)) [hPa] */
+    double distance_km;          /* scene to storm centre [km]; -1 when there is no storm */
     double turbulence_intensity; /* I_u of the gust process, σ_u / U */
-    bool override_active;       /* a kiosk dial holds the wind */
-    bool finished;              /* a replay reached its end and holds its last state */
+    bool override_active;        /* a kiosk dial holds the wind */
+    bool finished;               /* a replay reached its end and holds its last state */
 } scenario_state;
 
 /* Builds a scenario from a validated JSON object: obj (NULL → doc->root) at key path
  * `path` ("" at the root, "scene.wind" inside a scene) names errors as
  * "<doc name>: <path.key>: <what>: expected ..., got ...". The doc is borrowed for this
  * call only. Returns NULL on failure with err filled. */
-scenario *scenario_create(const cfg_doc *doc, const cJSON *obj, const char *path,
-                          gale_err *err);
+scenario *scenario_create(const cfg_doc *doc, const cJSON *obj, const char *path, gale_err *err);
 /* Reads and builds a scenario file; I/O, syntax and value errors name the file. */
 scenario *scenario_load(const char *file, gale_err *err);
 /* Builds a scenario from JSON text (len bytes) named `name` in messages. */
@@ -70,6 +69,10 @@ void scenario_eval(scenario *s, double t_s, scenario_state *out);
 /* scenario_eval, then wind_set_inflow(w, &out->inflow) and wind_add_ball for each of the
  * scenario's force balls. Call once before each wind_step. out may be NULL. */
 void scenario_apply(scenario *s, wind_grid *w, double t_s, scenario_state *out);
+
+/* The scenario's force balls (*out borrowed for the scenario's lifetime); returns their
+ * count. For callers that set the inflow themselves and add the balls before each step. */
+int scenario_balls(const scenario *s, const wind_ball **out);
 
 /* Kiosk controls. Each takes effect at the next eval and moves the wind there at a bounded
  * rate ("dial_rate_ms2" in the file, default 4 m/s per second) so trees never see a jump.

@@ -19,6 +19,7 @@ typedef struct opts {
     const char *scenario_path, *scene_path, *png;
     double seconds, time_scale, height_m, at_s, dt_s, every_s, spinup_s;
     int timeline;
+    int no_grid;
     int nx, ny, nz;
     double cell_m;
     double origin[3];
@@ -31,15 +32,18 @@ static void usage(FILE *o)
 {
     fprintf(o,
             "usage: gale-wind --scenario F.json [--seconds T] [--time-scale K] [--timeline]\n"
-            "                 [--every S] [--slice-png out.png] [--height Z] [--at T]\n"
+            "                 [--no-grid] [--every S] [--slice-png out.png] [--height Z] [--at T]\n"
             "                 [--grid NXxNYxNZ] [--cell M] [--origin X,Y,Z] [--dt S]\n"
             "                 [--box X0,Y0,Z0,X1,Y1,Z1]... [--scene scene.json] [--spinup S]\n"
             "  --seconds   server seconds to run (default: the replay's length, or 60)\n"
             "  --time-scale  override the scenario's time compression\n"
             "  --timeline  print one line per --every seconds (default length/40)\n"
+            "  --no-grid   the scenario alone, without the wind grid (fast; no picture)\n"
             "  --slice-png write the horizontal slice at height --height (10 m) at --at\n"
             "              (default: the end) as PNG\n"
             "  --grid, --cell, --origin  the wind grid (64x64x16, 2 m, centred on 0,0)\n"
+            "  --dt        wind step [s] (default 1/30: a 60 Hz server stepping it every\n"
+            "              second tick)\n"
             "  --box       a solid obstacle (repeatable); --scene takes the obstacles and\n"
             "              wind grid of a scene file\n"
             "  --spinup    the grid starts this many seconds before --at (default 60;\n"
@@ -80,8 +84,8 @@ static int read_scene(opts *o, const char *path)
     if (cJSON_IsObject(w)) {
         double g[3] = { o->nx, o->ny, o->nz }, org[3];
         if (cfg_vec(&d, w, "wind", "grid", false, 3, g, 4, 1024, g, &err) < 0 ||
-            cfg_number(&d, w, "wind", "cell_m", false, o->cell_m, 0.05, 100, &o->cell_m,
-                       &err) < 0) {
+            cfg_number(&d, w, "wind", "cell_m", false, o->cell_m, 0.05, 100, &o->cell_m, &err) <
+                0) {
             rc = -1;
         } else {
             o->nx = (int)g[0];
@@ -150,6 +154,10 @@ static int parse_args(opts *o, int argc, char **argv)
             o->timeline = 1;
             continue;
         }
+        if (strcmp(a, "--no-grid") == 0) {
+            o->no_grid = 1;
+            continue;
+        }
         if (!v) {
             fprintf(stderr, "gale-wind: %s: missing value (see --help)\n", a);
             return -1;
@@ -182,8 +190,10 @@ static int parse_args(opts *o, int argc, char **argv)
         } else if (strcmp(a, "--grid") == 0) {
             if (sscanf(v, "%dx%dx%d", &o->nx, &o->ny, &o->nz) != 3 || o->nx < 4 || o->ny < 4 ||
                 o->nz < 2 || o->nx > 1024 || o->ny > 1024 || o->nz > 256) {
-                fprintf(stderr, "gale-wind: --grid: expected NXxNYxNZ (4..1024, 2..256), got "
-                                "'%s'\n", v);
+                fprintf(stderr,
+                        "gale-wind: --grid: expected NXxNYxNZ (4..1024, 2..256), got "
+                        "'%s'\n",
+                        v);
                 return -1;
             }
         } else if (strcmp(a, "--origin") == 0) {
@@ -196,8 +206,10 @@ static int parse_args(opts *o, int argc, char **argv)
             double b[6];
             if (o->n_boxes == MAX_BOXES || parse_list(v, b, 6) < 0 || b[3] <= b[0] ||
                 b[4] <= b[1] || b[5] <= b[2]) {
-                fprintf(stderr, "gale-wind: --box: expected X0,Y0,Z0,X1,Y1,Z1 with max > min, "
-                                "got '%s'\n", v);
+                fprintf(stderr,
+                        "gale-wind: --box: expected X0,Y0,Z0,X1,Y1,Z1 with max > min, "
+                        "got '%s'\n",
+                        v);
                 return -1;
             }
             wind_box *wb = &o->boxes[o->n_boxes++];
@@ -217,6 +229,10 @@ static int parse_args(opts *o, int argc, char **argv)
                 return -1;
             }
         }
+    }
+    if (o->no_grid && o->png) {
+        fprintf(stderr, "gale-wind: --slice-png needs the grid (drop --no-grid)\n");
+        return -1;
     }
     if (!o->scenario_path) {
         fprintf(stderr, "gale-wind: --scenario is required\n");
@@ -246,14 +262,19 @@ static void print_header(void)
            "bft  p_hPa   dist_km grid_ms grid_from\n");
 }
 
-static void print_line(const scenario_state *st, const float gv[3])
+static void print_line(const scenario_state *st, const float *gv)
 {
-    double gs = hypot((double)gv[0], (double)gv[1]);
-    double gfrom = fmod(270.0 - atan2((double)gv[1], (double)gv[0]) * 180.0 / M_PI + 720.0, 360.0);
-    printf("%7.1f  %-17s %9.1f  %7.1f %7.1f %8.1f %-20s %3d %7.1f %9.1f %7.1f %9.1f\n", st->t_s,
+    printf("%7.1f  %-17s %9.1f  %7.1f %7.1f %8.1f %-20s %3d %7.1f %9.1f", st->t_s,
            st->clock_utc[0] ? st->clock_utc : "-", st->storm_min, st->sustained_ms, st->gust_ms,
-           st->dir_from_deg, st->category_name, st->beaufort, st->pressure_hpa, st->distance_km,
-           gs, gfrom);
+           st->dir_from_deg, st->category_name, st->beaufort, st->pressure_hpa, st->distance_km);
+    if (gv) {
+        double gs = hypot((double)gv[0], (double)gv[1]);
+        double gfrom =
+            fmod(270.0 - atan2((double)gv[1], (double)gv[0]) * 180.0 / M_PI + 720.0, 360.0);
+        printf(" %7.1f %9.1f\n", gs, gfrom);
+    } else {
+        printf("       -         -\n");
+    }
 }
 
 /* Colour of obstacles cut by the slice, and of those below it (outline). */
@@ -295,8 +316,8 @@ static int write_slice(const opts *o, const wind_grid *w, const scenario *s,
     double vmax = 0.0;
     for (int j = 0; j < mh; j++) {
         for (int i = 0; i < mw; i++) {
-            float pt[3] = { (float)(ox + (i + 0.5) / ppm),
-                            (float)(oy + ext_y - (j + 0.5) / ppm), (float)z };
+            float pt[3] = { (float)(ox + (i + 0.5) / ppm), (float)(oy + ext_y - (j + 0.5) / ppm),
+                            (float)z };
             float v[3];
             wind_sample(w, pt, v);
             double sp = sqrt((double)(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
@@ -306,7 +327,18 @@ static int write_slice(const opts *o, const wind_grid *w, const scenario *s,
             }
         }
     }
-    double top_ms = vmax <= 5.0 ? 5.0 : 5.0 * ceil(vmax / 5.0);
+    /* a round tick step (1, 2 or 5 × 10^k) giving at most 5 ticks, and the scale's top
+     * the first tick at or above the slice's fastest wind */
+    double raw = (vmax > 1.0 ? vmax : 1.0) / 5.0, mag = pow(10.0, floor(log10(raw)));
+    double tick = raw <= mag         ? mag
+                  : raw <= 2.0 * mag ? 2.0 * mag
+                  : raw <= 5.0 * mag ? 5.0 * mag
+                                     : 10.0 * mag;
+    int n_ticks = (int)ceil(vmax / tick - 1e-9);
+    if (n_ticks < 1) {
+        n_ticks = 1;
+    }
+    double top_ms = n_ticks * tick;
     for (int j = 0; j < mh; j++) {
         for (int i = 0; i < mw; i++) {
             uint8_t c[3];
@@ -367,22 +399,22 @@ static int write_slice(const opts *o, const wind_grid *w, const scenario *s,
         plot_colormap(1.0f - (float)j / (float)(bar_h - 1), c);
         plot_rect(&p, lx, ly + 10 + j, lx + 24, ly + 11 + j, c);
     }
-    for (int k = 0; k <= 5; k++) {
-        int yy = ly + 10 + (int)lround((bar_h - 1) * (1.0 - k / 5.0));
+    for (int k = 0; k <= n_ticks; k++) {
+        int yy = ly + 10 + (int)lround((bar_h - 1) * (1.0 - (double)k / n_ticks));
         plot_line(&p, (float)(lx + 24), (float)yy, (float)(lx + 30), (float)yy, 1.0f, black);
-        snprintf(line, sizeof line, "%.0f", top_ms * k / 5.0);
+        snprintf(line, sizeof line, "%g", tick * k);
         plot_text(&p, lx + 34, yy - 4, 1, line, black);
     }
     int ty = ly + bar_h + 30;
     snprintf(line, sizeof line, "sustained %.1f m/s", st->sustained_ms);
     plot_text(&p, lx, ty, 1, line, black);
-    snprintf(line, sizeof line, "gust      %.1f m/s", st->gust_ms);
+    snprintf(line, sizeof line, "now       %.1f m/s", st->gust_ms);
     plot_text(&p, lx, ty + 14, 1, line, black);
     snprintf(line, sizeof line, "from      %.0f deg", st->dir_from_deg);
     plot_text(&p, lx, ty + 28, 1, line, black);
-    snprintf(line, sizeof line, "%s", st->sustained_ms >= saffir_lower_ms(SAFFIR_TS)
-                                          ? st->category_name
-                                          : saffir_beaufort_name(st->beaufort));
+    snprintf(line, sizeof line, "%s",
+             st->sustained_ms >= saffir_lower_ms(SAFFIR_TS) ? st->category_name
+                                                            : saffir_beaufort_name(st->beaufort));
     plot_text(&p, lx, ty + 42, 1, line, black);
     if (st->distance_km >= 0.0) {
         snprintf(line, sizeof line, "%.0f hPa, eye %.1f km", st->pressure_hpa, st->distance_km);
@@ -410,7 +442,8 @@ static int write_slice(const opts *o, const wind_grid *w, const scenario *s,
 
 int main(int argc, char **argv)
 {
-    opts o;
+    static opts o; /* 256 boxes: off the stack */
+    setvbuf(stdout, NULL, _IOLBF, 0);
     if (parse_args(&o, argc, argv) < 0) {
         return 2;
     }
@@ -434,13 +467,18 @@ int main(int argc, char **argv)
     if (o.every_s <= 0.0) {
         o.every_s = end / 40.0;
     }
-    wind_desc wd = { .nx = o.nx, .ny = o.ny, .nz = o.nz, .cell_m = (float)o.cell_m,
-                     .seed = s->seed, .obstacles = o.boxes, .n_obstacles = o.n_boxes };
+    wind_desc wd = { .nx = o.nx,
+                     .ny = o.ny,
+                     .nz = o.nz,
+                     .cell_m = (float)o.cell_m,
+                     .seed = s->seed,
+                     .obstacles = o.boxes,
+                     .n_obstacles = o.n_boxes };
     for (int k = 0; k < 3; k++) {
         wd.origin[k] = (float)o.origin[k];
     }
-    wind_grid *w = wind_create(&wd, &err);
-    if (!w) {
+    wind_grid *w = o.no_grid ? NULL : wind_create(&wd, &err);
+    if (!w && !o.no_grid) {
         fprintf(stderr, "gale-wind: %s\n", err.msg);
         scenario_destroy(s);
         return 1;
@@ -455,8 +493,7 @@ int main(int argc, char **argv)
         grid_from = 0.0;
     }
     if (o.timeline) {
-        printf("# %s: %s%s\n", o.scenario_path, scenario_name(s),
-               len > 0.0 ? "" : " (steady)");
+        printf("# %s: %s%s\n", o.scenario_path, scenario_name(s), len > 0.0 ? "" : " (steady)");
         print_header();
     }
     int rc = 0, png_done = 0;
@@ -467,7 +504,7 @@ int main(int argc, char **argv)
     for (long i = 0; i <= n; i++) {
         double t = i * o.dt_s;
         scenario_state st;
-        if (t >= grid_from) {
+        if (w && t >= grid_from) {
             scenario_apply(s, w, t, &st);
             if (wind_step(w, (float)o.dt_s, &ws) < 0) {
                 fprintf(stderr, "gale-wind: t %.2f s: the wind grid broke down\n", t);
@@ -482,16 +519,17 @@ int main(int argc, char **argv)
         }
         if (o.timeline && t + 1e-9 >= next_print) {
             float gv[3] = { 0, 0, 0 };
-            wind_sample(w, probe, gv);
-            print_line(&st, gv);
+            if (w) {
+                wind_sample(w, probe, gv);
+            }
+            print_line(&st, w ? gv : NULL);
             next_print += o.every_s;
         }
         if (o.png && !png_done && t + 1e-9 >= o.at_s) {
             if (write_slice(&o, w, s, &st, o.png) < 0) {
                 rc = 1;
             } else {
-                fprintf(stderr, "gale-wind: wrote %s (z %.1f m, t %.1f s)\n", o.png, o.height_m,
-                        t);
+                fprintf(stderr, "gale-wind: wrote %s (z %.1f m, t %.1f s)\n", o.png, o.height_m, t);
             }
             png_done = 1;
         }

@@ -35,28 +35,49 @@ static int chol6(double *a)
     return 0;
 }
 
-/* x = L^{-1} x for lower L (6x6). */
-static void fwd6(const double *l, double *x)
+/* Inverts a lower-triangular 6x6 block in place (the result is lower triangular). */
+static void inv_lower6(double *l)
 {
-    for (int i = 0; i < 6; i++) {
-        double s = x[i];
-        for (int k = 0; k < i; k++) {
-            s -= l[i * 6 + k] * x[k];
+    double inv[36] = { 0 };
+    for (int j = 0; j < 6; j++) {
+        inv[j * 6 + j] = 1.0 / l[j * 6 + j];
+        for (int i = j + 1; i < 6; i++) {
+            double s = 0.0;
+            for (int k = j; k < i; k++) {
+                s += l[i * 6 + k] * inv[k * 6 + j];
+            }
+            inv[i * 6 + j] = -s / l[i * 6 + i];
         }
-        x[i] = s / l[i * 6 + i];
     }
+    memcpy(l, inv, sizeof inv);
 }
 
-/* x = L^{-T} x for lower L (6x6). */
-static void bwd6(const double *l, double *x)
+/* x = W x for lower-triangular W (6x6): the forward solve with W = L^{-1}. */
+static inline void fwd6(const double *restrict w, double *restrict x)
 {
-    for (int i = 5; i >= 0; i--) {
-        double s = x[i];
-        for (int k = i + 1; k < 6; k++) {
-            s -= l[k * 6 + i] * x[k];
+    double y[6];
+    for (int i = 0; i < 6; i++) {
+        double s = 0.0;
+        for (int k = 0; k <= i; k++) {
+            s += w[i * 6 + k] * x[k];
         }
-        x[i] = s / l[i * 6 + i];
+        y[i] = s;
     }
+    memcpy(x, y, sizeof y);
+}
+
+/* x = W^T x for lower-triangular W (6x6): the backward solve with W = L^{-1}. */
+static inline void bwd6(const double *restrict w, double *restrict x)
+{
+    double y[6];
+    for (int i = 0; i < 6; i++) {
+        double s = 0.0;
+        for (int k = i; k < 6; k++) {
+            s += w[k * 6 + i] * x[k];
+        }
+        y[i] = s;
+    }
+    memcpy(x, y, sizeof y);
 }
 
 int tree_chol_factor(tree_chol *c, int n_nodes, const int *parent, const double *d,
@@ -79,21 +100,22 @@ int tree_chol_factor(tree_chol *c, int n_nodes, const int *parent, const double 
             return gale_errf(err, GALE_E_NUMERIC,
                              "tree_chol: pivot block of node %d is not positive definite", i);
         }
+        /* keep L_ii^{-1}: the solves then multiply instead of divide */
+        inv_lower6(l);
         const int p = parent[i];
         if (p <= 0) {
             continue;
         }
-        /* lt = L_ii^{-1} A(i, p), column by column */
+        /* lt = L_ii^{-1} A(i, p) */
         double *t = c->lt + 36 * i;
         const double *a = o + 36 * i;
-        for (int col = 0; col < 6; col++) {
-            double x[6];
-            for (int r = 0; r < 6; r++) {
-                x[r] = a[r * 6 + col];
-            }
-            fwd6(l, x);
-            for (int r = 0; r < 6; r++) {
-                t[r * 6 + col] = x[r];
+        for (int r = 0; r < 6; r++) {
+            for (int col = 0; col < 6; col++) {
+                double acc = 0.0;
+                for (int k = 0; k <= r; k++) {
+                    acc += l[r * 6 + k] * a[k * 6 + col];
+                }
+                t[r * 6 + col] = acc;
             }
         }
         /* Schur update of the parent's pivot: A_pp -= lt^T lt */

@@ -10,7 +10,8 @@
 typedef struct tree_chol {
     int n_nodes;       /* node 0 is the eliminated (clamped) root and holds no DOFs */
     const int *parent; /* borrowed [n_nodes], parent[i] < i */
-    double *ld;        /* owned [n_nodes][36] lower Cholesky factor of each pivot block */
+    double *ld;        /* owned [n_nodes][36] inverse L_ii^{-1} of each pivot block's lower
+                        * Cholesky factor (lower triangular) */
     double *lt;        /* owned [n_nodes][36] L_ii^{-1} A(i, parent(i)) = L(parent, i)^T */
 } tree_chol;
 

@@ -19,9 +19,11 @@
 
 #define WIND_MAX_CELLS_AXIS 4096
 #define WIND_DEFAULT_MAX_IT 30
-/* An inflow border needs the wind to enter at least this fast [m/s]; slower or outgoing
- * borders stay open (p = 0). */
-#define WIND_INFLOW_EPS 1e-3f
+/* A border becomes an inflow border when the wind at 10 m enters through it faster than
+ * WIND_INFLOW_ON [m/s] and returns to open (p = 0) below WIND_INFLOW_OFF: the hysteresis
+ * keeps gusts around calm from rebuilding the solver's coefficients every tick. */
+#define WIND_INFLOW_ON 0.5f
+#define WIND_INFLOW_OFF 0.2f
 
 static uint64_t splitmix64(uint64_t *s)
 {
@@ -179,12 +181,13 @@ static void inflow_resolve(wind_grid *w, const wind_inflow *in)
     }
     /* An inflow side: the mean wind at 10 m enters through it. */
     float vx = f.u10_ms * cx + f.gust[0], vy = f.u10_ms * cy + f.gust[1];
-    int dir[WIND_NSIDES] = { !(vx > WIND_INFLOW_EPS), !(vx < -WIND_INFLOW_EPS),
-                             !(vy > WIND_INFLOW_EPS), !(vy < -WIND_INFLOW_EPS) };
+    const float inward[WIND_NSIDES] = { vx, -vx, vy, -vy };
     int changed = 0;
     for (int s = 0; s < WIND_NSIDES; s++) {
-        changed |= dir[s] != w->dirichlet[s];
-        w->dirichlet[s] = dir[s];
+        float on = w->dirichlet[s] ? WIND_INFLOW_ON : WIND_INFLOW_OFF;
+        int open = !(inward[s] > on);
+        changed |= open != w->dirichlet[s];
+        w->dirichlet[s] = open;
     }
     if (changed) {
         wind_mg_setup(w);
@@ -599,18 +602,21 @@ double wind_divergence_rms(const wind_grid *w)
     return w->n_fluid > 0 ? sqrt(s / w->n_fluid) / (double)w->h : 0.0;
 }
 
-/* Trilinear read clamped to the samples inside the domain. */
-static float sample_comp(const wind_comp *c, float x, float y, float z)
+/* Trilinear read clamped to the samples inside the domain (x, y, z in cell units). */
+static inline float sample_comp(const wind_comp *c, float x, float y, float z)
 {
-    float f[3] = { x - c->off[0], y - c->off[1], z - c->off[2] };
+    const float f[3] = { x - c->off[0], y - c->off[1], z - c->off[2] };
     int i[3];
     float t[3];
     for (int a = 0; a < 3; a++) {
-        float v = fminf(fmaxf(f[a], 0.0f), (float)(c->n[a] - 1));
+        const int n = c->n[a];
+        float v = f[a] < 0.0f ? 0.0f : f[a];
+        v = v > (float)(n - 1) ? (float)(n - 1) : v;
         int q = (int)v;
-        q = q < c->n[a] - 1 ? q : (c->n[a] > 1 ? c->n[a] - 2 : 0);
+        /* the last sample is reached as the upper end of the cell below it */
+        q = q < n - 1 ? q : (n > 1 ? n - 2 : 0);
         i[a] = q;
-        t[a] = c->n[a] > 1 ? v - (float)q : 0.0f;
+        t[a] = v - (float)q;
     }
     const float *q = c->d + wind_idx(c->sy, c->sz, i[0], i[1], i[2]);
     const ptrdiff_t sy = c->sy, sz = c->sz;

@@ -4,34 +4,52 @@
  * interpolation. The ghost layer holds the far-field inflow, so back-traces that leave
  * the domain read the wind coming in. */
 #include <math.h>
+#include <omp.h>
 
 #include "wind_int.h"
 
-/* One row (j, k) of component a. The other two components are averaged from their four
- * nearest samples to the position of each sample of a (exactly their trilinear value
- * there): pa / pb point at the first of those four samples for i = 0, at offsets
- * 0, da0, da1, da0 + da1. The foot of the characteristic (eq. 4) is read from src by
- * trilinear interpolation, clamped to the ghost range [-1, n]. Written with 32-bit
- * offsets and no calls so that it vectorises (gathers); cloned for AVX-512 and AVX2 with
- * a run-time choice, so the build stays portable. The clones do the same IEEE operations
- * per element (no contraction in ISO C mode), so the field is the same bits on each. */
-WIND_CLONES static void advect_row(int a, float s, int j, int k, const int n[3], int sy, int sz,
-                              const float *restrict own, const float *restrict pa, int da0,
-                              int da1, const float *restrict pb, int db0, int db1,
-                              const float *restrict src, float *restrict dst)
+/* Displacements over dt of one row (j, k) of component a's samples, in cells: the
+ * velocity at each sample, its own component read directly and the other two averaged
+ * from their four nearest samples (exactly their trilinear value there); pa / pb point at
+ * the first of those four for i = 0, at offsets 0, da0, da1, da0 + da1. Returns the
+ * largest |displacement| of the row. */
+WIND_CLONES static float advect_disp(int a, float s, int nx, const float *restrict own,
+                                     const float *restrict pa, int da0, int da1,
+                                     const float *restrict pb, int db0, int db1,
+                                     float *restrict dx, float *restrict dy, float *restrict dz)
+{
+    float m = 0.0f;
+    for (int i = 0; i < nx; i++) {
+        float ea = 0.25f * (pa[i] + pa[i + da0] + pa[i + da1] + pa[i + da0 + da1]);
+        float eb = 0.25f * (pb[i] + pb[i + db0] + pb[i + db1] + pb[i + db0 + db1]);
+        float o = own[i];
+        float x = s * (a == 0 ? o : ea);
+        float y = s * (a == 0 ? ea : a == 1 ? o : eb);
+        float z = s * (a == 2 ? o : eb);
+        dx[i] = x;
+        dy[i] = y;
+        dz[i] = z;
+        float ax = x < 0.0f ? -x : x, ay = y < 0.0f ? -y : y, az = z < 0.0f ? -z : z;
+        float q = ax > ay ? ax : ay;
+        q = q > az ? q : az;
+        m = m > q ? m : q;
+    }
+    return m;
+}
+
+/* General back-trace (eq. 4): trilinear read of src at (i - dx, j - dy, k - dz), clamped
+ * to the ghost range [-1, n]. 32-bit offsets, no calls: vectorises with gathers. */
+WIND_CLONES static void advect_far(int j, int k, const int n[3], int sy, int sz,
+                                   const float *restrict dxs, const float *restrict dys,
+                                   const float *restrict dzs, const float *restrict src,
+                                   float *restrict dst)
 {
     const int nx = n[0];
     const float hx = (float)n[0], hy = (float)n[1], hz = (float)n[2];
     const int mx = n[0] - 1, my = n[1] - 1, mz = n[2] - 1;
     const float fj = (float)j, fk = (float)k;
     for (int i = 0; i < nx; i++) {
-        float ea = 0.25f * (pa[i] + pa[i + da0] + pa[i + da1] + pa[i + da0 + da1]);
-        float eb = 0.25f * (pb[i] + pb[i + db0] + pb[i + db1] + pb[i + db0 + db1]);
-        float o = own[i];
-        float uu = a == 0 ? o : ea;
-        float vv = a == 0 ? ea : a == 1 ? o : eb;
-        float ww = a == 2 ? o : eb;
-        float fx = (float)i - s * uu, fy = fj - s * vv, fz = fk - s * ww;
+        float fx = (float)i - dxs[i], fy = fj - dys[i], fz = fk - dzs[i];
         fx = fx < -1.0f ? -1.0f : fx > hx ? hx : fx;
         fy = fy < -1.0f ? -1.0f : fy > hy ? hy : fy;
         fz = fz < -1.0f ? -1.0f : fz > hz ? hz : fz;
@@ -51,31 +69,70 @@ WIND_CLONES static void advect_row(int a, float s, int j, int k, const int n[3],
     }
 }
 
+/* Linear interpolation at distance |d| <= 1 from the sample a toward the upwind
+ * neighbour (lo when d > 0, hi when d < 0): the same value as the general read. */
+static inline float upwind(float lo, float a, float hi, float d)
+{
+    float nb = d > 0.0f ? lo : hi;
+    float t = d > 0.0f ? d : -d;
+    return a + t * (nb - a);
+}
+
+/* Back-trace of a row whose displacements are all within one cell: the foot lies in the
+ * 3x3x3 block around each sample, so the trilinear read becomes upwind selections from
+ * nine contiguous rows (no gathers). row points at sample (0, j, k) of src. */
+WIND_CLONES static void advect_near(int nx, int sy, int sz, const float *restrict dxs,
+                                    const float *restrict dys, const float *restrict dzs,
+                                    const float *restrict row, float *restrict dst)
+{
+    for (int i = 0; i < nx; i++) {
+        const float dx = dxs[i], dy = dys[i], dz = dzs[i];
+        float xr[3][3];
+        for (int b = 0; b < 3; b++) {
+            for (int a = 0; a < 3; a++) {
+                const float *r = row + (b - 1) * sz + (a - 1) * sy + i;
+                xr[b][a] = upwind(r[-1], r[0], r[1], dx);
+            }
+        }
+        float y0 = upwind(xr[0][0], xr[0][1], xr[0][2], dy);
+        float y1 = upwind(xr[1][0], xr[1][1], xr[1][2], dy);
+        float y2 = upwind(xr[2][0], xr[2][1], xr[2][2], dy);
+        dst[i] = upwind(y0, y1, y2, dz);
+    }
+}
+
 static void advect_comp(wind_grid *w, int a, float s)
 {
     const wind_comp *cu = &w->c[0], *cv = &w->c[1], *cw = &w->c[2], *ca = &w->c[a];
-    const int ny = ca->n[1], nz = ca->n[2], rows = ny * nz;
-    const int threads = (size_t)ca->n[0] * (size_t)rows >= WIND_PAR_MIN ? w->d.threads : 1;
+    const int nx = ca->n[0], ny = ca->n[1], nz = ca->n[2], rows = ny * nz;
+    const int threads = (size_t)nx * (size_t)rows >= WIND_PAR_MIN ? w->d.threads : 1;
 #pragma omp parallel for schedule(static) num_threads(threads)
     for (int r = 0; r < rows; r++) {
         int j = r % ny, k = r / ny;
         const float *own = ca->d + wind_idx(ca->sy, ca->sz, 0, j, k);
         float *dst = ca->tmp + wind_idx(ca->sy, ca->sz, 0, j, k);
+        float *dx = w->scratch + (size_t)omp_get_thread_num() * WIND_SCRATCH_ROW(w);
+        float *dy = dx + nx + 1, *dz = dy + nx + 1;
+        float m;
         if (a == 0) {
             /* v at (i-1..i, j..j+1), w at (i-1..i, k..k+1) */
-            advect_row(0, s, j, k, ca->n, ca->sy, ca->sz, own,
-                       cv->d + wind_idx(cv->sy, cv->sz, -1, j, k), 1, cv->sy,
-                       cw->d + wind_idx(cw->sy, cw->sz, -1, j, k), 1, cw->sz, ca->d, dst);
+            m = advect_disp(0, s, nx, own, cv->d + wind_idx(cv->sy, cv->sz, -1, j, k), 1, cv->sy,
+                            cw->d + wind_idx(cw->sy, cw->sz, -1, j, k), 1, cw->sz, dx, dy, dz);
         } else if (a == 1) {
             /* u at (i..i+1, j-1..j), w at (j-1..j, k..k+1) */
-            advect_row(1, s, j, k, ca->n, ca->sy, ca->sz, own,
-                       cu->d + wind_idx(cu->sy, cu->sz, 0, j - 1, k), 1, cu->sy,
-                       cw->d + wind_idx(cw->sy, cw->sz, 0, j - 1, k), cw->sy, cw->sz, ca->d, dst);
+            m = advect_disp(1, s, nx, own, cu->d + wind_idx(cu->sy, cu->sz, 0, j - 1, k), 1,
+                            cu->sy, cw->d + wind_idx(cw->sy, cw->sz, 0, j - 1, k), cw->sy,
+                            cw->sz, dx, dy, dz);
         } else {
             /* u at (i..i+1, k-1..k), v at (j..j+1, k-1..k) */
-            advect_row(2, s, j, k, ca->n, ca->sy, ca->sz, own,
-                       cu->d + wind_idx(cu->sy, cu->sz, 0, j, k - 1), 1, cu->sz,
-                       cv->d + wind_idx(cv->sy, cv->sz, 0, j, k - 1), cv->sy, cv->sz, ca->d, dst);
+            m = advect_disp(2, s, nx, own, cu->d + wind_idx(cu->sy, cu->sz, 0, j, k - 1), 1,
+                            cu->sz, cv->d + wind_idx(cv->sy, cv->sz, 0, j, k - 1), cv->sy,
+                            cv->sz, dx, dy, dz);
+        }
+        if (m <= 1.0f) {
+            advect_near(nx, ca->sy, ca->sz, dx, dy, dz, own, dst);
+        } else {
+            advect_far(j, k, ca->n, ca->sy, ca->sz, dx, dy, dz, ca->d, dst);
         }
     }
 }

@@ -65,6 +65,8 @@ typedef struct wind_level {
     float *diag;    /* owned: sum of the six g, 0 in cells without any open face */
     float *idiag;   /* owned: 1 / diag, 0 where diag is 0 */
     int *wd[3];     /* owned: cell width per axis in finest cells */
+    float *rowg;    /* owned: per row (j, k) the six face g (x, y, z low/high) shared by its
+                     * cells 1 .. nx-2, or g[0] = -1 where they differ (solids) */
     int r[3];       /* coarsening factor to the next level, 1 or 2 */
     double *rowsum; /* owned: per-row partial sums (ny * nz), summed in a fixed order */
 } wind_level;
@@ -91,15 +93,19 @@ struct wind_grid {
     long balls_dropped;
     uint64_t rng;               /* jitter generator state */
     double *rowsum;             /* owned: per-row partial sums for stats (ny * nz) */
-    float *scratch;             /* owned: one row (nx + 2 floats) per thread */
+    float *scratch;             /* owned: WIND_SCRATCH_ROW floats per thread */
 };
+
+/* Per-thread scratch: three displacement rows of up to nx + 1 samples (advection) or
+ * one stencil row (multigrid). */
+#define WIND_SCRATCH_ROW(w) ((size_t)3 * (size_t)((w)->nx + 4))
 
 /* wind.c: fills the ghost layer of the three components from the inflow (open sides)
  * and by free-slip reflection (ground, lid). */
 void wind_fill_ghosts(wind_grid *w);
 
-/* wind_advect.c: advects the three components through themselves over dt (cell units
- * per second in vel_scale = dt / h) into c[].tmp, then swaps d and tmp. */
+/* wind_advect.c: advects the three components through themselves over dt (dt_over_h =
+ * dt / h turns m/s into cells per step) into c[].tmp, then swaps d and tmp. */
 void wind_advect(wind_grid *w, float dt_over_h);
 
 /* wind_mg.c */

@@ -58,12 +58,13 @@ int wind_mg_alloc(wind_grid *w, gale_err *err)
         l->diag = calloc(l->count, sizeof(float));
         l->idiag = calloc(l->count, sizeof(float));
         l->rowsum = calloc((size_t)n[1] * (size_t)n[2], sizeof(double));
+        l->rowg = calloc((size_t)6 * (size_t)n[1] * (size_t)n[2], sizeof(float));
         for (int a = 0; a < 3; a++) {
             l->wd[a] = calloc((size_t)n[a], sizeof(int));
         }
         w->n_levels++;
         if (!l->p || !l->b || !l->ax || !l->ay || !l->az || !l->diag || !l->idiag ||
-            !l->rowsum || !l->wd[0] || !l->wd[1] || !l->wd[2]) {
+            !l->rowsum || !l->rowg || !l->wd[0] || !l->wd[1] || !l->wd[2]) {
             return gale_errf(err, GALE_E_NOMEM, "wind: multigrid level %d (%dx%dx%d): out of "
                              "memory", w->n_levels - 1, n[0], n[1], n[2]);
         }
@@ -80,7 +81,7 @@ int wind_mg_alloc(wind_grid *w, gale_err *err)
             n[a] = (n[a] + l->r[a] - 1) / l->r[a];
         }
     }
-    w->scratch = calloc((size_t)w->d.threads * (size_t)(w->nx + 2), sizeof(float));
+    w->scratch = calloc((size_t)w->d.threads * WIND_SCRATCH_ROW(w), sizeof(float));
     if (!w->scratch) {
         return gale_errf(err, GALE_E_NOMEM, "wind: multigrid scratch: out of memory");
     }
@@ -116,6 +117,7 @@ void wind_mg_free(wind_grid *w)
         free(l->diag);
         free(l->idiag);
         free(l->rowsum);
+        free(l->rowg);
         for (int a = 0; a < 3; a++) {
             free(l->wd[a]);
         }
@@ -261,6 +263,24 @@ static void setup_diag(wind_level *l)
                 l->diag[c] = d;
                 l->idiag[c] = d > 0.0f ? 1.0f / d : 0.0f;
             }
+            /* constant-coefficient rows take a kernel that reads only p and b */
+            float *g = l->rowg + 6 * ((size_t)k * (size_t)l->ny + (size_t)j);
+            size_t c1 = lidx(l, 1, j, k);
+            g[0] = l->ax[c1];
+            g[1] = l->ax[c1 + 1];
+            g[2] = l->ay[c1];
+            g[3] = l->ay[c1 + sy];
+            g[4] = l->az[c1];
+            g[5] = l->az[c1 + sz];
+            int same = l->nx >= 3 && g[0] > 0.0f && g[1] > 0.0f;
+            for (int i = 1; i < l->nx - 1 && same; i++) {
+                size_t c = lidx(l, i, j, k);
+                same = l->ax[c] == g[0] && l->ax[c + 1] == g[1] && l->ay[c] == g[2] &&
+                       l->ay[c + sy] == g[3] && l->az[c] == g[4] && l->az[c + sz] == g[5];
+            }
+            if (!same) {
+                g[0] = -1.0f;
+            }
         }
     }
 }
@@ -291,14 +311,76 @@ WIND_CLONES static void row_stencil(int nx, ptrdiff_t sy, ptrdiff_t sz, const fl
     }
 }
 
+/* row_stencil for a row whose interior faces have the same six g (x low/high, y low/high,
+ * z low/high) in every cell: the same arithmetic in the same order, without reading the
+ * coefficient arrays (a third of the traffic). */
+WIND_CLONES static void row_stencil_const(int nx, ptrdiff_t sy, ptrdiff_t sz,
+                                          const float *restrict p, const float *restrict b,
+                                          const float *restrict g, float dg, int want_resid,
+                                          float *restrict out)
+{
+    const float g0 = g[0], g1 = g[1], g2 = g[2], g3 = g[3], g4 = g[4], g5 = g[5];
+    for (int i = 0; i < nx; i++) {
+        float nb = g0 * p[i - 1] + g1 * p[i + 1] + g2 * p[i - sy] + g3 * p[i + sy] +
+                   g4 * p[i - sz] + g5 * p[i + sz];
+        out[i] = want_resid ? b[i] - (dg * p[i] - nb) : b[i] + nb;
+    }
+}
+
+/* One cell of row_stencil, for the ends of constant rows. */
+static inline float cell_stencil(ptrdiff_t sy, ptrdiff_t sz, const float *p, const float *b,
+                                 const float *ax, const float *ay, const float *az,
+                                 const float *dg, int want_resid)
+{
+    float nb = ax[0] * p[-1] + ax[1] * p[1] + ay[0] * p[-sy] + ay[sy] * p[sy] + az[0] * p[-sz] +
+               az[sz] * p[sz];
+    return want_resid ? b[0] - (dg[0] * p[0] - nb) : b[0] + nb;
+}
+
+/* Stencil of row r (first cell c0) of level l into out, by the constant-coefficient
+ * kernel where the row allows it. */
+static void row_eval(const wind_level *l, int r, size_t c0, int want_resid, float *out)
+{
+    const float *g = l->rowg + 6 * (size_t)r;
+    const float *p = l->p + c0, *b = l->b + c0;
+    if (g[0] < 0.0f) {
+        row_stencil(l->nx, l->sy, l->sz, p, b, l->ax + c0, l->ay + c0, l->az + c0,
+                    l->diag + c0, want_resid, out);
+        return;
+    }
+    const size_t e = (size_t)l->nx - 1;
+    out[0] = cell_stencil(l->sy, l->sz, p, b, l->ax + c0, l->ay + c0, l->az + c0, l->diag + c0,
+                          want_resid);
+    row_stencil_const(l->nx - 2, l->sy, l->sz, p + 1, b + 1, g, l->diag[c0 + 1], want_resid,
+                      out + 1);
+    out[e] = cell_stencil(l->sy, l->sz, p + e, b + e, l->ax + c0 + e, l->ay + c0 + e,
+                          l->az + c0 + e, l->diag + c0 + e, want_resid);
+}
+
 static float *row_scratch(const wind_grid *w)
 {
-    return w->scratch + (size_t)omp_get_thread_num() * (size_t)(w->nx + 2);
+    return w->scratch + (size_t)omp_get_thread_num() * WIND_SCRATCH_ROW(w);
+}
+
+/* Gauss-Seidel update of every second cell of a constant-coefficient row: cells 0, 2, ..
+ * of p (2 cnt - 1 at most), whose neighbours are all of the other colour. The same
+ * arithmetic in the same order as row_stencil; vectorises with interleaved loads. */
+WIND_CLONES static void rb_row_const(int cnt, ptrdiff_t sy, ptrdiff_t sz, float *restrict p,
+                                     const float *restrict b, const float *restrict g, float id)
+{
+    const float g0 = g[0], g1 = g[1], g2 = g[2], g3 = g[3], g4 = g[4], g5 = g[5];
+    for (int m = 0; m < cnt; m++) {
+        ptrdiff_t i = 2 * (ptrdiff_t)m;
+        float nb = g0 * p[i - 1] + g1 * p[i + 1] + g2 * p[i - sy] + g3 * p[i + sy] +
+                   g4 * p[i - sz] + g5 * p[i + sz];
+        p[i] = (b[i] + nb) * id;
+    }
 }
 
 /* One red-black Gauss-Seidel sweep. Each colour reads only the other colour, so the
- * result does not depend on the thread partition. A row's numerators are computed for
- * every cell (vectorised) and only the current colour's are stored. */
+ * result does not depend on the thread partition. Constant-coefficient rows update their
+ * interior cells of the colour directly; other rows compute every cell's numerator
+ * (vectorised) and store the current colour's. */
 static void smooth(const wind_grid *w, wind_level *l)
 {
     const int nx = l->nx, ny = l->ny, nz = l->nz, rows = ny * nz;
@@ -307,13 +389,34 @@ static void smooth(const wind_grid *w, wind_level *l)
         for (int r = 0; r < rows; r++) {
             int j = r % ny, k = r / ny;
             size_t c0 = wind_idx(l->sy, l->sz, 0, j, k);
-            float *t = row_scratch(w);
-            row_stencil(nx, l->sy, l->sz, l->p + c0, l->b + c0, l->ax + c0, l->ay + c0,
-                        l->az + c0, l->diag + c0, 0, t);
             float *p = l->p + c0;
             const float *id = l->idiag + c0;
-            for (int i = (colour + j + k) & 1; i < nx; i += 2) {
-                p[i] = t[i] * id[i];
+            const float *g = l->rowg + 6 * (size_t)r;
+            int first = (colour + j + k) & 1;
+            float *t = row_scratch(w);
+            if (g[0] < 0.0f) {
+                row_stencil(nx, l->sy, l->sz, p, l->b + c0, l->ax + c0, l->ay + c0, l->az + c0,
+                            l->diag + c0, 0, t);
+                for (int i = first; i < nx; i += 2) {
+                    p[i] = t[i] * id[i];
+                }
+                continue;
+            }
+            /* the end cells through the general kernel, the interior by the constant one */
+            int ends[2] = { 0, nx - 1 };
+            for (int e = 0; e < 2; e++) {
+                int i = ends[e];
+                if (((i + first) & 1) == 0) {
+                    size_t c = c0 + (size_t)i;
+                    p[i] = cell_stencil(l->sy, l->sz, l->p + c, l->b + c, l->ax + c, l->ay + c,
+                                        l->az + c, l->diag + c, 0) *
+                           id[i];
+                }
+            }
+            int i1 = first == 1 ? 1 : 2; /* first interior cell of this colour */
+            int cnt = (nx - 2 - i1 + 2) / 2;
+            if (cnt > 0) {
+                rb_row_const(cnt, l->sy, l->sz, p + i1, l->b + c0 + (size_t)i1, g, id[1]);
             }
         }
     }
@@ -331,8 +434,7 @@ static double residual_restrict(const wind_grid *w, wind_level *f, wind_level *c
             int j = r % ny, k = r / ny;
             size_t c0 = wind_idx(f->sy, f->sz, 0, j, k);
             float *t = row_scratch(w);
-            row_stencil(f->nx, f->sy, f->sz, f->p + c0, f->b + c0, f->ax + c0, f->ay + c0,
-                        f->az + c0, f->diag + c0, 1, t);
+            row_eval(f, r, c0, 1, t);
             double s = 0.0;
             for (int i = 0; i < f->nx; i++) {
                 s += (double)(t[i] * t[i]);
@@ -358,8 +460,7 @@ static double residual_restrict(const wind_grid *w, wind_level *f, wind_level *c
         for (int k = k0; k < k1; k++) {
             for (int j = j0; j < j1; j++) {
                 size_t c0 = wind_idx(f->sy, f->sz, 0, j, k);
-                row_stencil(f->nx, f->sy, f->sz, f->p + c0, f->b + c0, f->ax + c0, f->ay + c0,
-                            f->az + c0, f->diag + c0, 1, t);
+                row_eval(f, k * f->ny + j, c0, 1, t);
                 float rs = 0.0f;
                 for (int i = 0; i < f->nx; i++) {
                     rs += t[i] * t[i];
@@ -384,10 +485,26 @@ static double residual_restrict(const wind_grid *w, wind_level *f, wind_level *c
     return sqrt(wind_sum_rows(c->rowsum, crows));
 }
 
+/* Fine row of the prolongation where x is coarsened by two: each coarse cell I feeds fine
+ * cells 2I and 2I + 1. base already holds the y and z terms per coarse cell. */
+WIND_CLONES static void prolong_row_x2(int n_pairs, const float *restrict e,
+                                       const float *restrict axc, const float *restrict base,
+                                       const float *restrict fid, float *restrict fp)
+{
+    for (int I = 0; I < n_pairs; I++) {
+        float e0 = e[I];
+        float lo = axc[I] > 0.0f ? e[I - 1] : e0;
+        float hi = axc[I + 1] > 0.0f ? e[I + 1] : e0;
+        float m0 = fid[2 * I] != 0.0f ? 1.0f : 0.0f, m1 = fid[2 * I + 1] != 0.0f ? 1.0f : 0.0f;
+        fp[2 * I] += m0 * (base[I] + 0.25f * (lo - e0));
+        fp[2 * I + 1] += m1 * (base[I] + 0.25f * (hi - e0));
+    }
+}
+
 /* Adds the coarse correction to level f: linear interpolation from the coarse cell and
  * its neighbour on the fine cell's side along each axis where the coarse cell has two
  * children (weight 1/4 each, the rest on the cell itself); across closed faces the cell's
- * own value stands in for the neighbour (Neumann). */
+ * own value stands in for the neighbour (Neumann). Closed fine cells get nothing. */
 static void prolong_add(const wind_grid *w, wind_level *f, const wind_level *c)
 {
     const int *rf = f->r;
@@ -398,31 +515,35 @@ static void prolong_add(const wind_grid *w, wind_level *f, const wind_level *c)
         int j = r % ny, k = r / ny;
         int J = j / rf[1], K = k / rf[2];
         size_t f0 = wind_idx(f->sy, f->sz, 0, j, k);
+        size_t c0 = wind_idx(c->sy, c->sz, 0, J, K);
         ptrdiff_t dy = rf[1] == 2 && c->wd[1][J] > f->wd[1][j] ? ((j & 1) ? csy : -csy) : 0;
         ptrdiff_t dz = rf[2] == 2 && c->wd[2][K] > f->wd[2][k] ? ((k & 1) ? csz : -csz) : 0;
-        for (int i = 0; i < f->nx; i++) {
-            size_t fc = f0 + (size_t)i;
-            if (f->idiag[fc] == 0.0f) {
-                continue;
-            }
-            int I = i / rf[0];
-            size_t cc = wind_idx(c->sy, c->sz, I, J, K);
-            const float e0 = c->p[cc];
-            float e = e0;
-            if (rf[0] == 2 && c->wd[0][I] > f->wd[0][i]) {
-                ptrdiff_t dx = (i & 1) ? 1 : -1;
-                float a = c->ax[(i & 1) ? cc + 1 : cc];
-                e += 0.25f * ((a > 0.0f ? c->p[(ptrdiff_t)cc + dx] : e0) - e0);
-            }
+        /* y and z terms per coarse cell of this row, into the scratch row */
+        float *base = row_scratch(w);
+        const float *e = c->p + c0;
+        const float *fy = c->ay + c0 + (dy > 0 ? csy : 0), *fz = c->az + c0 + (dz > 0 ? csz : 0);
+        for (int I = 0; I < c->nx; I++) {
+            float e0 = e[I], t = 0.0f;
             if (dy) {
-                float a = c->ay[dy > 0 ? cc + (size_t)csy : cc];
-                e += 0.25f * ((a > 0.0f ? c->p[(ptrdiff_t)cc + dy] : e0) - e0);
+                t += 0.25f * ((fy[I] > 0.0f ? e[I + dy] : e0) - e0);
             }
             if (dz) {
-                float a = c->az[dz > 0 ? cc + (size_t)csz : cc];
-                e += 0.25f * ((a > 0.0f ? c->p[(ptrdiff_t)cc + dz] : e0) - e0);
+                t += 0.25f * ((fz[I] > 0.0f ? e[I + dz] : e0) - e0);
             }
-            f->p[fc] += e;
+            base[I] = e0 + t;
+        }
+        float *fp = f->p + f0;
+        const float *fid = f->idiag + f0;
+        int done = 0;
+        if (rf[0] == 2) {
+            done = 2 * (f->nx / 2);
+            prolong_row_x2(f->nx / 2, e, c->ax + c0, base, fid, fp);
+        }
+        /* x not coarsened, or the single child of an odd row's last coarse cell */
+        for (int i = done; i < f->nx; i++) {
+            if (fid[i] != 0.0f) {
+                fp[i] += base[i / rf[0]];
+            }
         }
     }
 }

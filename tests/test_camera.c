@@ -92,10 +92,9 @@ static void test_pan(void)
     camera_eye(&c, e1);
     /* moves by the visible height at the target: 2 d tan(fov/2) */
     CHECK_NEAR(dist3(c.target, target), 2 * 30 * tan(0.5 * 50 * 3.14159265 / 180), 1e-3);
-    double along = (double)(c.target[0] * f[0] + c.target[1] * f[1] +
-                            c.target[2] * f[2]);
-    CHECK_NEAR(along, 0.0, 1e-4);                              /* in the view plane */
-    CHECK_NEAR(dist3(e1, c.target), 30.0, 1e-4);               /* same offset */
+    double along = (double)(c.target[0] * f[0] + c.target[1] * f[1] + c.target[2] * f[2]);
+    CHECK_NEAR(along, 0.0, 1e-4);                /* in the view plane */
+    CHECK_NEAR(dist3(e1, c.target), 30.0, 1e-4); /* same offset */
     CHECK_NEAR(e1[0] - e0[0], c.target[0], 1e-4);
     camera_pan(&c, 50.0f, 0.0f, 0); /* no framebuffer: no move */
     CHECK_NEAR(dist3(e1, c.target), 30.0, 1e-4);

@@ -14,9 +14,9 @@
 #include "check.h"
 #include "net.h"
 
-#define N_TREES 3
-#define N_MODES 4
-#define ASSET_BYTES 100000
+#define N_TREES         3
+#define N_MODES         4
+#define ASSET_BYTES     100000
 #define CLOCK_OFFSET_US 5000000ull /* the peer's clock runs 5 s ahead of ours */
 
 /* ---- scripted peer ------------------------------------------------------------------ */
@@ -40,7 +40,9 @@ typedef struct peer {
     const uint8_t *http_body;
     size_t http_len, http_off;
     /* what the peer saw (under lock) */
-    int hellos, role, pings, resyncs, resync_seq, connections;
+    int hellos, role, pings, resyncs, resync_seq, connections, winds;
+    float wind_speed;
+    char wind_token[CTL_MAX_TOKEN];
     char token[CTL_MAX_TOKEN];
 } peer;
 
@@ -62,15 +64,25 @@ static void build_script(peer *p)
 {
     p->n_frames = 0;
     p->next_frame = 0;
-    ctl_species sp = { .name = "oak", .url = "/assets/0123456789abcdef.gasset",
-                       .hash = "0123456789abcdef", .n_modes = N_MODES };
-    ctl_instance inst[N_TREES] = { { 0, { 0, 0, 0 }, 0, 1 }, { 0, { 5, 0, 0 }, 1, 1 },
+    ctl_species sp = { .name = "oak",
+                       .url = "/assets/0123456789abcdef.gasset",
+                       .hash = "0123456789abcdef",
+                       .n_modes = N_MODES };
+    ctl_instance inst[N_TREES] = { { 0, { 0, 0, 0 }, 0, 1 },
+                                   { 0, { 5, 0, 0 }, 1, 1 },
                                    { 0, { 0, 5, 0 }, 2, 1 } };
     ctl_msg w = { .type = CTL_WELCOME };
-    w.u.welcome = (ctl_welcome){ .protocol = WIRE_PROTOCOL_VERSION, .client_id = 7,
-                                 .role = p->role, .tick_hz = 60, .snapshot_hz = 30,
-                                 .server_us = 1, .tick = 1, .n_species = 1, .species = &sp,
-                                 .n_instances = N_TREES, .instances = inst };
+    w.u.welcome = (ctl_welcome){ .protocol = WIRE_PROTOCOL_VERSION,
+                                 .client_id = 7,
+                                 .role = p->role,
+                                 .tick_hz = 60,
+                                 .snapshot_hz = 30,
+                                 .server_us = 1,
+                                 .tick = 1,
+                                 .n_species = 1,
+                                 .species = &sp,
+                                 .n_instances = N_TREES,
+                                 .instances = inst };
     add_text(p, &w);
     wire_scene scene = { .n_trees = N_TREES, .n_species = 1 };
     scene.n_modes[0] = N_MODES;
@@ -125,8 +137,8 @@ static int peer_http(peer *p, struct lws *wsi, const char *uri)
         lws_return_http_status(wsi, HTTP_STATUS_NOT_FOUND, NULL);
         return lws_http_transaction_completed(wsi) ? -1 : 0;
     }
-    if (lws_add_http_common_headers(wsi, HTTP_STATUS_OK, "application/octet-stream",
-                                    ASSET_BYTES, &pp, end) ||
+    if (lws_add_http_common_headers(wsi, HTTP_STATUS_OK, "application/octet-stream", ASSET_BYTES,
+                                    &pp, end) ||
         lws_finalize_write_http_header(wsi, start, &pp, end)) {
         return 1;
     }
@@ -185,6 +197,10 @@ static int peer_cb(struct lws *wsi, enum lws_callback_reasons reason, void *user
             p->pong_pending = true;
             p->pong_id = m.u.ping.id;
             p->ping_client_us = m.u.ping.client_us;
+        } else if (m.type == CTL_WIND) {
+            p->winds++;
+            p->wind_speed = m.u.wind.has_speed ? m.u.wind.speed_ms : -1.0f;
+            snprintf(p->wind_token, sizeof p->wind_token, "%s", m.u.wind.token);
         } else if (m.type == CTL_RESYNC) {
             p->resyncs++;
             p->resync_seq = (int)m.u.resync_seq;
@@ -197,7 +213,8 @@ static int peer_cb(struct lws *wsi, enum lws_callback_reasons reason, void *user
     case LWS_CALLBACK_SERVER_WRITEABLE:
         if (p->pong_pending) {
             ctl_msg m = { .type = CTL_PONG };
-            m.u.pong = (ctl_pong){ .id = p->pong_id, .client_us = p->ping_client_us,
+            m.u.pong = (ctl_pong){ .id = p->pong_id,
+                                   .client_us = p->ping_client_us,
                                    .server_us = (uint64_t)(net_now() * 1e6) + CLOCK_OFFSET_US };
             uint8_t buf[LWS_PRE + 512];
             size_t n = 0;
@@ -312,13 +329,13 @@ static void on_lost(void *user, int code, const char *why)
 }
 
 /* Polls the client until cond holds or timeout_s passes. */
-#define POLL_UNTIL(n, cond, timeout_s)                                                   \
-    do {                                                                                 \
-        double until_ = net_now() + (timeout_s);                                         \
-        while (!(cond) && net_now() < until_) {                                          \
-            net_poll((n), net_now());                                                    \
-            usleep(1000);                                                                \
-        }                                                                                \
+#define POLL_UNTIL(n, cond, timeout_s)           \
+    do {                                         \
+        double until_ = net_now() + (timeout_s); \
+        while (!(cond) && net_now() < until_) {  \
+            net_poll((n), net_now());            \
+            usleep(1000);                        \
+        }                                        \
     } while (0)
 
 static peer P;
@@ -329,8 +346,11 @@ static void test_session(void)
     gale_err err = { 0 };
     char url[64];
     snprintf(url, sizeof url, "ws://127.0.0.1:%d", P.port);
-    net *n = net_create(&(net_desc){ .url = url, .role = CTL_ROLE_KIOSK, .token = "t0k3n",
-                                     .backoff_min_s = 0.05, .backoff_max_s = 0.4,
+    net *n = net_create(&(net_desc){ .url = url,
+                                     .role = CTL_ROLE_KIOSK,
+                                     .token = "t0k3n",
+                                     .backoff_min_s = 0.05,
+                                     .backoff_max_s = 0.4,
                                      .ping_interval_s = 0.05 },
                         &(net_handler){ &s, on_welcome, on_frame, on_lost }, &err);
     CHECK(n != NULL);
@@ -338,8 +358,9 @@ static void test_session(void)
         fprintf(stderr, "%s\n", err.msg);
         return;
     }
-    POLL_UNTIL(n, s.welcomes == 1 && net_get_stats(n).frames_gap >= 1 && P.resyncs >= 1 &&
-                      jitter_clock_rtt(net_clock(n)) >= 0.0,
+    POLL_UNTIL(n,
+               s.welcomes == 1 && net_get_stats(n).frames_gap >= 1 && P.resyncs >= 1 &&
+                   jitter_clock_rtt(net_clock(n)) >= 0.0,
                10.0);
     net_stats st = net_get_stats(n);
     pthread_mutex_lock(&P.lock);
@@ -363,6 +384,19 @@ static void test_session(void)
     double srv;
     CHECK(jitter_clock_server_time(net_clock(n), 100.0, &srv));
     CHECK_NEAR(srv - 100.0, 5.0, jitter_clock_rtt(net_clock(n)) * 0.5 + 1e-3);
+
+    /* kiosk wind dial: the command reaches the server with the token */
+    ctl_wind wind = { .has_speed = true, .speed_ms = 42.0f };
+    snprintf(wind.token, sizeof wind.token, "t0k3n");
+    CHECK(net_send_wind(n, &wind, &err) == 0);
+    POLL_UNTIL(n, P.winds >= 1, 5.0);
+    pthread_mutex_lock(&P.lock);
+    CHECK(P.winds == 1);
+    CHECK_NEAR(P.wind_speed, 42.0, 0);
+    CHECK(strcmp(P.wind_token, "t0k3n") == 0);
+    pthread_mutex_unlock(&P.lock);
+    wind.speed_ms = 1000.0f; /* out of range: refused before it is sent */
+    CHECK(net_send_wind(n, &wind, &err) != 0);
 
     /* HTTP on the same server while the WebSocket lives */
     uint8_t *body = NULL;

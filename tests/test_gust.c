@@ -98,8 +98,10 @@ static void test_gust_factor(void)
      * unverified constants (L_u = 50 m), so the check is loose: ±0.12 */
     double g40 = gust_factor(40.0, 7, 120);
     double g20 = gust_factor(20.0, 8, 120);
-    fprintf(stderr, "gust factor (largest 3-s mean / minute mean): %.3f at 40 m/s, %.3f at "
-                    "20 m/s\n", g40, g20);
+    fprintf(stderr,
+            "gust factor (largest 3-s mean / minute mean): %.3f at 40 m/s, %.3f at "
+            "20 m/s\n",
+            g40, g20);
     CHECK_NEAR(g40, 1.49, 0.12);
     CHECK_NEAR(g20, 1.49, 0.12);
 }

@@ -8,8 +8,12 @@
 /* Andrew at landfall: p_c 922 hPa, p_n 1013 hPa, Rmax 18.5 km, B 2.36, 25.5° N. */
 static holland_vortex andrew(void)
 {
-    return (holland_vortex){ .pc_pa = 92200.0, .pn_pa = 101300.0, .rmax_m = 18500.0,
-                             .b = 2.36, .f = holland_coriolis(25.5), .rho = 1.15 };
+    return (holland_vortex){ .pc_pa = 92200.0,
+                             .pn_pa = 101300.0,
+                             .rmax_m = 18500.0,
+                             .b = 2.36,
+                             .f = holland_coriolis(25.5),
+                             .rho = 1.15 };
 }
 
 static void test_coriolis(void)

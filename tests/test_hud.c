@@ -150,9 +150,14 @@ static void test_saffir_simpson(void)
 static void test_format(void)
 {
     char lines[HUD_MAX_LINES][HUD_LINE_CHARS];
-    hud_state s = { .have_wind = true, .wind_ms = 50.0f, .conn = HUD_CONN_LIVE,
-                    .server = "127.0.0.1:9000", .fps = 59.6f, .latency_ms = 3.25f,
-                    .delay_ms = 100.0f, .role = "kiosk" };
+    hud_state s = { .have_wind = true,
+                    .wind_ms = 50.0f,
+                    .conn = HUD_CONN_LIVE,
+                    .server = "127.0.0.1:9000",
+                    .fps = 59.6f,
+                    .latency_ms = 3.25f,
+                    .delay_ms = 100.0f,
+                    .role = "kiosk" };
     int n = hud_format(&s, lines);
     CHECK(n == 4);
     /* 50 m/s = 180 km/h = 111.85 mph = 97.2 kt (Category 3) */
@@ -228,9 +233,14 @@ static void test_gl_pass(void)
     glViewport(0, 0, W, H);
     glClearColor(0.45f, 0.62f, 0.85f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT);
-    hud_state s = { .have_wind = true, .wind_ms = 64.0f, .conn = HUD_CONN_LIVE,
-                    .server = "127.0.0.1:9000", .fps = 60.0f, .latency_ms = 1.4f,
-                    .delay_ms = 100.0f, .role = "viewer" };
+    hud_state s = { .have_wind = true,
+                    .wind_ms = 64.0f,
+                    .conn = HUD_CONN_LIVE,
+                    .server = "127.0.0.1:9000",
+                    .fps = 60.0f,
+                    .latency_ms = 1.4f,
+                    .delay_ms = 100.0f,
+                    .role = "viewer" };
     hud_draw(h, &s, W, H);
     static uint8_t rgb[W * H * 3], flipped[W * H * 3];
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
@@ -267,8 +277,8 @@ static void test_gl_pass(void)
         }
     }
     CHECK(changed_outside == 0);
-    CHECK(bright > 300);  /* text ink */
-    CHECK(dark > 10000);  /* the panel */
+    CHECK(bright > 300);                         /* text ink */
+    CHECK(dark > 10000);                         /* the panel */
     CHECK(flipped[(20 * W + 20) * 3 + 2] < 120); /* panel corner darkened */
     hud_destroy(h);
     glDeleteFramebuffers(1, &fbo);

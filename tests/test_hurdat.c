@@ -9,8 +9,8 @@ static void test_shipped_rows(void)
 {
     hurdat_file f;
     gale_err err = { 0 };
-    int rc = hurdat_load(&f, GALE_SOURCE_DIR "/tests/data/hurdat2-andrew1992-charley2004.txt",
-                         &err);
+    int rc =
+        hurdat_load(&f, GALE_SOURCE_DIR "/tests/data/hurdat2-andrew1992-charley2004.txt", &err);
     CHECK(rc == 0);
     if (rc < 0) {
         fprintf(stderr, "%s\n", err.msg);
@@ -77,10 +77,12 @@ static void expect_error(const char *text, const char *msg)
 }
 
 #define HDR "AL041992,             ANDREW,      2,\n"
-#define ROW1 "19920824, 0600,  , HU, 25.4N,  79.3W, 130,  937, -999, -999, -999, -999, -999, " \
-             "-999, -999, -999, -999, -999, -999, -999, -999\n"
-#define ROW2 "19920824, 0905, L, HU, 25.5N,  80.3W, 145,  922, -999, -999, -999, -999, -999, " \
-             "-999, -999, -999, -999, -999, -999, -999,   10\n"
+#define ROW1                                                                          \
+    "19920824, 0600,  , HU, 25.4N,  79.3W, 130,  937, -999, -999, -999, -999, -999, " \
+    "-999, -999, -999, -999, -999, -999, -999, -999\n"
+#define ROW2                                                                          \
+    "19920824, 0905, L, HU, 25.5N,  80.3W, 145,  922, -999, -999, -999, -999, -999, " \
+    "-999, -999, -999, -999, -999, -999, -999,   10\n"
 
 static void test_errors(void)
 {

@@ -29,9 +29,8 @@ static void sine_signal(double t, float *q)
 static jitter *make(uint32_t cap, double delay)
 {
     gale_err err = { 0 };
-    jitter *j = jitter_create(&(jitter_desc){ .n_values = NV, .capacity = cap,
-                                              .playout_delay_s = delay },
-                              &err);
+    jitter *j = jitter_create(
+        &(jitter_desc){ .n_values = NV, .capacity = cap, .playout_delay_s = delay }, &err);
     CHECK(j != NULL);
     return j;
 }
@@ -119,7 +118,8 @@ static void test_c1_at_knots(void)
         jitter_sample(j, tk, b, NULL);
         jitter_sample(j, tk + e, c, NULL);
         for (int v = 0; v < NV; v++) {
-            double left = ((double)b[v] - (double)a[v]) / e, right = ((double)c[v] - (double)b[v]) / e;
+            double left = ((double)b[v] - (double)a[v]) / e,
+                   right = ((double)c[v] - (double)b[v]) / e;
             /* second-derivative term e·q''/2 ≈ 4e-3 plus float rounding 1e-7/1e-4 */
             CHECK_NEAR(left, right, 2e-2);
         }

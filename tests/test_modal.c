@@ -199,8 +199,80 @@ static void test_bad_input(void)
     modal_destroy(NULL);
 }
 
+/* The snapshot rows go through the real encoder and decoder: after a keyframe and a
+ * chain of deltas the client's dequantised q is within half a step of the server's
+ * float q for every tree and mode (plus float rounding of q / step). */
+static void test_snapshot_through_wire(void)
+{
+    enum { N = 300, M = 12 };
+    static float omega[M], gamma[M], p[3 * M], step[M];
+    for (int i = 0; i < M; i++) {
+        omega[i] = 2.0f + 5.0f * (float)i;
+        gamma[i] = 0.2f;
+        p[3 * i] = 0.01f;
+        p[3 * i + 1] = -0.004f * (float)i;
+        p[3 * i + 2] = 0.0f;
+        step[i] = 1e-4f * (float)(i + 1);
+    }
+    modal_species sp = { M, omega, gamma, p, step };
+    static uint8_t ts[N], nm[N];
+    static float yaw[N], wind[3 * N];
+    static int16_t snap[3][N * M];
+    for (int t = 0; t < N; t++) {
+        yaw[t] = 0.02f * (float)t;
+        nm[t] = M;
+    }
+    gale_err e;
+    modal *m = modal_create(&(modal_desc){ .n_trees = N, .n_species = 1, .species = &sp,
+                                           .tree_species = ts, .tree_yaw_rad = yaw },
+                            &e);
+    wire_decoder *d = wire_decoder_create(&(wire_decoder_desc){ .max_trees = N, .max_modes = M }, &e);
+    CHECK(m && d);
+    wire_scene sc = { .n_trees = N, .n_species = 1, .species = ts };
+    sc.n_modes[0] = M;
+    memcpy(sc.step[0], step, sizeof step);
+    static uint8_t buf[1 << 16];
+    bool ok = true;
+    double worst = 0.0;
+    for (uint32_t seq = 1; seq <= 90; seq++) {
+        for (int t = 0; t < N; t++) {
+            wind[3 * t] = 15.0f + 10.0f * sinf(0.1f * (float)seq + 0.3f * (float)t);
+            wind[3 * t + 1] = 5.0f * cosf(0.17f * (float)seq);
+            wind[3 * t + 2] = 0.5f;
+        }
+        modal_tick(m, wind, NULL);
+        modal_tick(m, wind, snap[seq % 3]);
+        wire_state cur = { N, M, nm, snap[seq % 3] };
+        wire_state p1 = { N, M, nm, snap[(seq + 2) % 3] };
+        wire_state p2 = { N, M, nm, snap[(seq + 1) % 3] };
+        wire_header h = { .tick = 2 * seq };
+        size_t len = 0;
+        int rc = seq == 1 ? wire_encode_keyframe(&h, seq, &sc, &cur, buf, sizeof buf, &len, &e)
+                          : wire_encode_delta(&h, seq, &sc, &cur, &p1, seq > 2 ? &p2 : NULL, buf,
+                                              sizeof buf, &len, &e);
+        ok &= rc == 0;
+        ok &= wire_decode(d, buf, len, &(wire_frame){ 0 }, &e) == 0;
+        for (uint32_t t = 0; t < N; t++) {
+            float qs[M], qc[M];
+            modal_get(m, t, qs, NULL);
+            ok &= wire_decoder_q(d, t, qc, M) == M;
+            for (int i = 0; i < M; i++) {
+                double err = fabs((double)qs[i] - (double)qc[i]) / (double)step[i];
+                worst = err > worst ? err : worst;
+            }
+        }
+    }
+    CHECK(ok);
+    CHECK(worst <= 0.5 + 1e-3);
+    CHECK(worst > 0.3); /* the bound is reached, so the check can fail */
+    fprintf(stderr, "  worst |q_client - q_server| = %.4f steps\n", worst);
+    wire_decoder_destroy(d);
+    modal_destroy(m);
+}
+
 int main(void)
 {
+    RUN(test_snapshot_through_wire);
     RUN(test_force_by_hand);
     RUN(test_batch_vs_reference);
     RUN(test_bad_input);

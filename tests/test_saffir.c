@@ -3,7 +3,7 @@
 #include "check.h"
 #include "saffir.h"
 
-#define KT(k) ((k) * SAFFIR_MS_PER_KT)
+#define KT(k) ((k)*SAFFIR_MS_PER_KT)
 
 static void test_thresholds(void)
 {

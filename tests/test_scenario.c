@@ -32,13 +32,14 @@ static double angle_between(double a, double b)
 
 static void test_shipped_files(void)
 {
-    static const char *const files[] = { "calm", "breeze", "gusty", "storm",
+    scenario *s;
+    static const char *const files[] = { "calm",       "breeze",      "gusty",         "storm",
                                          "andrew1992", "charley2004", "cat3-synthetic" };
     for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
         char path[512];
         snprintf(path, sizeof path, CONFIGS "%s.json", files[i]);
         gale_err err = { 0 };
-        scenario *s = scenario_load(path, &err);
+        s = scenario_load(path, &err);
         CHECK(s != NULL);
         if (!s) {
             fprintf(stderr, "%s\n", err.msg);
@@ -50,8 +51,19 @@ static void test_shipped_files(void)
         CHECK(st.inflow.z0_m > 0.0f);
         scenario_destroy(s);
     }
+    /* gusty.json carries two force balls */
+    s = scenario_load(CONFIGS "gusty.json", NULL);
+    const wind_ball *balls = NULL;
+    CHECK(s && scenario_balls(s, &balls) == 2);
+    if (s && balls) {
+        CHECK_NEAR(balls[1].center[1], -20.0, 0.0);
+        CHECK_NEAR(balls[1].radius_m, 12.0, 0.0);
+        CHECK_NEAR(balls[1].force[2], 0.5, 0.0);
+        CHECK_NEAR(balls[1].jitter_m, 10.0, 0.0);
+    }
+    scenario_destroy(s);
     /* the steady ones classify as their names say */
-    scenario *s = scenario_load(CONFIGS "breeze.json", NULL);
+    s = scenario_load(CONFIGS "breeze.json", NULL);
     scenario_state st;
     scenario_eval(s, 0.0, &st);
     CHECK(st.beaufort == 3);
@@ -122,8 +134,11 @@ static void test_vortex_at_scene(void)
     }
     scenario_state st;
     scenario_eval(s, 0.0, &st);
-    holland_vortex v = { .pc_pa = 92200.0, .pn_pa = 101300.0, .rmax_m = 18500.0,
-                         .rho = 1.15, .f = holland_coriolis(25.5) };
+    holland_vortex v = { .pc_pa = 92200.0,
+                         .pn_pa = 101300.0,
+                         .rmax_m = 18500.0,
+                         .rho = 1.15,
+                         .f = holland_coriolis(25.5) };
     v.b = holland_b(74.6 / 0.9, v.pn_pa - v.pc_pa, v.rho);
     CHECK_NEAR(v.b, 2.36, 0.01);
     /* REFERENCE.md: surface = 0.9 × gradient, × 0.8 over land */
@@ -292,8 +307,8 @@ static void test_replay_andrew(void)
     fprintf(stderr,
             "andrew: %.0f s, start %.1f m/s, eyewall %.1f m/s at %.0f s from %.0f°, eye %.2f "
             "m/s, eyewall %.1f m/s at %.0f s from %.0f°, %.1f hPa\n",
-            r.duration, r.start_speed, r.peak1, r.t_peak1, r.dir1, r.eye_min, r.peak2,
-            r.t_peak2, r.dir2, r.min_pressure);
+            r.duration, r.start_speed, r.peak1, r.t_peak1, r.dir1, r.eye_min, r.peak2, r.t_peak2,
+            r.dir2, r.min_pressure);
     /* the wind rises: the eyewall at least 4× the opening wind, major hurricane force
      * (Category 3+) even after the land reduction */
     CHECK(r.peak1 > 4.0 * r.start_speed);
@@ -319,8 +334,7 @@ static void test_replay_charley(void)
     fprintf(stderr,
             "charley: %.0f s, start %.1f m/s, eyewall %.1f m/s from %.0f°, eye %.2f m/s, "
             "eyewall %.1f m/s from %.0f°, %.1f hPa\n",
-            r.duration, r.start_speed, r.peak1, r.dir1, r.eye_min, r.peak2, r.dir2,
-            r.min_pressure);
+            r.duration, r.start_speed, r.peak1, r.dir1, r.eye_min, r.peak2, r.dir2, r.min_pressure);
     CHECK(r.peak1 > 4.0 * r.start_speed);
     CHECK(saffir_classify(r.peak1) >= SAFFIR_CAT2);
     CHECK(r.eye_min < 0.1 * r.peak1);
@@ -462,8 +476,8 @@ static void expect_bad(const char *json, const char *msg)
     scenario_destroy(s);
 }
 
-#define PT(t, p) "{\"t_min\":" #t ",\"x_km\":0,\"y_km\":0,\"p_hpa\":" #p \
-                 ",\"rmax_km\":20,\"vmax_ms\":50}"
+#define PT(t, p) \
+    "{\"t_min\":" #t ",\"x_km\":0,\"y_km\":0,\"p_hpa\":" #p ",\"rmax_km\":20,\"vmax_ms\":50}"
 #define HUR(body) "{\"kind\":\"hurricane\",\"hurricane\":{\"site\":{\"lat_deg\":25}," body "}}"
 
 static void test_bad_files(void)
@@ -508,22 +522,21 @@ static void test_bad_files(void)
     expect_bad(HUR("\"track\":[" PT(0, 950) "," PT(60, 840) "]"),
                "bad.json: hurricane.track[1].p_hpa: expected a number in [850, 1050], got 840");
     expect_bad(HUR("\"track\":[" PT(0, 950) ",{\"t_min\":60,\"lat_deg\":25,\"lon_deg\":-80,"
-                   "\"p_hpa\":950,\"rmax_km\":20,\"vmax_ms\":50}]"),
+                                            "\"p_hpa\":950,\"rmax_km\":20,\"vmax_ms\":50}]"),
                "bad.json: hurricane.track[1]: expected x_km/y_km like track[0], got "
                "lat_deg/lon_deg");
     expect_bad(HUR("\"track\":[{\"t_min\":0,\"lat_deg\":25,\"x_km\":1,\"p_hpa\":950,"
                    "\"rmax_km\":20,\"vmax_ms\":50}," PT(60, 950) "]"),
                "bad.json: hurricane.track[0]: expected lat_deg/lon_deg or x_km/y_km, got both");
     expect_bad(HUR("\"track\":[" PT(0, 950) ",{\"t_min\":60,\"x_km\":0,\"y_km\":0,"
-                   "\"p_hpa\":950,\"rmax_km\":20}]"),
+                                            "\"p_hpa\":950,\"rmax_km\":20}]"),
                "bad.json: hurricane.track[1].vmax_ms: required key missing");
     expect_bad(HUR("\"ref_utc\":\"24 Aug 1992\",\"track\":[" PT(0, 950) "," PT(60, 950) "]"),
                "bad.json: hurricane.ref_utc: expected a UTC time like \"1992-08-24T09:05Z\", "
                "got \"24 Aug 1992\"");
     expect_bad(HUR("\"start_min\":-10,\"track\":[" PT(0, 950) "," PT(60, 950) "]"),
                "bad.json: hurricane.start_min: expected a number in [0, 60], got -10");
-    expect_bad(HUR("\"start_min\":30,\"end_min\":30,\"track\":[" PT(0, 950) "," PT(60, 950)
-                   "]"),
+    expect_bad(HUR("\"start_min\":30,\"end_min\":30,\"track\":[" PT(0, 950) "," PT(60, 950) "]"),
                "bad.json: hurricane.end_min: expected a time after start_min (30), got 30");
     expect_bad(HUR("\"time_scale\":0.5,\"track\":[" PT(0, 950) "," PT(60, 950) "]"),
                "bad.json: hurricane.time_scale: expected a number in [1, 10000], got 0.5");

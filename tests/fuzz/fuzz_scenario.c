@@ -26,9 +26,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 scenario_clear_override(s);
             }
             scenario_eval(s, i * step, &st);
-            if (!isfinite(st.sustained_ms) || !isfinite(st.gust_ms) ||
-                !isfinite(st.dir_from_deg) || !isfinite(st.pressure_hpa) ||
-                !isfinite(st.inflow.gust[0]) || !isfinite(st.inflow.dir_rad)) {
+            if (!isfinite(st.sustained_ms) || !isfinite(st.gust_ms) || !isfinite(st.dir_from_deg) ||
+                !isfinite(st.pressure_hpa) || !isfinite(st.inflow.gust[0]) ||
+                !isfinite(st.inflow.dir_rad)) {
                 abort();
             }
         }
