@@ -536,7 +536,16 @@ void net_poll(net *n, double now_s)
         queue_ctl(n, &m, NULL);
         n->next_ping_s = now_s + n->d.ping_interval_s;
     }
-    lws_service(n->ctx, -1); /* -1: do what is pending, never wait */
+    /* -1: do what is pending, never wait. One call handles one batch of socket events;
+     * a frame that took long to draw (llvmpipe) leaves several snapshots waiting, so drain
+     * until a pass brings nothing new, bounded so a flood cannot stall drawing. */
+    for (int pass = 0; pass < 64; pass++) {
+        uint64_t before = n->st.frames_ok + n->st.frames_bad + n->st.ctl_bad;
+        lws_service(n->ctx, -1);
+        if (n->st.frames_ok + n->st.frames_bad + n->st.ctl_bad == before) {
+            break;
+        }
+    }
 }
 
 int net_send_wind(net *n, const ctl_wind *w, gale_err *err)
