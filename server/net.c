@@ -23,7 +23,7 @@
 #include "sendq.h"
 #include "wire.h"
 
-#define NET_PUB_MAX 16    /* published snapshots waiting for the service thread */
+#define NET_PUB_MAX 16    /* published snapshots per stream waiting for the service thread */
 #define NET_CTL_MAX 8     /* control replies queued per connection */
 #define NET_HTTP_CHUNK 16384
 #define NET_LOG_PER_S 20  /* rate limit of bad-input log lines */
@@ -48,6 +48,8 @@ typedef struct net_conn {
     net_snap *cur;        /* snapshot being written, one reference */
     int cur_part;         /* 0 state, 1.. extras */
     uint32_t last_seq;    /* seq of the last state message written */
+    uint32_t stream;      /* snapshot stream followed (net_peer.stream) */
+    uint32_t last_stream; /* stream of the last state message written */
     int chain;            /* 0: holds nothing usable; 1: holds last_seq (a keyframe);
                              2: holds last_seq and last_seq - 1 */
     bool resync;          /* the client asked for a keyframe */
@@ -79,8 +81,9 @@ struct net_server {
     net_snap *pool;  /* owned [n_pool] */
     int n_pool;
     pthread_mutex_t pub_lock;
-    net_snap *pub[NET_PUB_MAX];
-    int pub_n;
+    net_snap **pub;   /* owned [pub_cap] */
+    net_snap **batch; /* owned [pub_cap], service thread */
+    int pub_n, pub_cap;
     atomic_ullong pool_exhausted;
     atomic_ullong pub_overflow;
     /* rate limit of the bad-input log */
@@ -202,6 +205,10 @@ static int conn_queue_text(net_server *s, net_conn *c, const char *text, size_t 
 static void conn_free(net_server *s, net_conn *c)
 {
     if (c->linked) {
+        if (c->role != NET_ROLE_NONE && s->d.closed) {
+            s->d.closed(s->d.control_user, &(net_peer){ .id = c->id, .addr = c->peer,
+                                                        .role = c->role, .stream = c->stream });
+        }
         if (c->prev) {
             c->prev->next = c->next;
         } else {
@@ -272,6 +279,10 @@ static char *metrics_text(net_server *s, size_t *len)
         "# TYPE gale_laggards_closed_total counter\ngale_laggards_closed_total %llu\n"
         "# HELP gale_connections_total WebSocket connections accepted.\n"
         "# TYPE gale_connections_total counter\ngale_connections_total %llu\n"
+        "# HELP gale_view_snapshots_total Snapshots encoded for per-client views.\n"
+        "# TYPE gale_view_snapshots_total counter\ngale_view_snapshots_total %llu\n"
+        "# HELP gale_view_encode_seconds_sum Time spent encoding them.\n"
+        "# TYPE gale_view_encode_seconds_sum counter\ngale_view_encode_seconds_sum %.6f\n"
         "# HELP gale_clients Connected WebSocket clients by role.\n# TYPE gale_clients gauge\n",
         ticks, (double)atomic_load(&m->tick_ns_sum) * 1e-9,
         (double)atomic_load(&m->tick_ns_max) * 1e-9, atomic_load(&m->overruns),
@@ -279,7 +290,8 @@ static char *metrics_text(net_server *s, size_t *len)
         atomic_load(&m->frames_sent), atomic_load(&m->frames_dropped),
         atomic_load(&s->pool_exhausted) + atomic_load(&s->pub_overflow),
         atomic_load(&m->bad_messages), atomic_load(&m->laggards_closed),
-        atomic_load(&m->connections_total));
+        atomic_load(&m->connections_total), atomic_load(&m->view_snapshots),
+        (double)atomic_load(&m->view_encode_ns) * 1e-9);
     for (int r = 0; r < NET_ROLE_COUNT && n > 0 && (size_t)n < cap; r++) {
         n += snprintf(b + n, cap - (size_t)n, "gale_clients{role=\"%s\"} %d\n", role_name[r],
                       atomic_load(&m->clients[r]));
@@ -379,7 +391,7 @@ static int http_writeable(net_server *s, net_conn *c)
 
 static void deliver_published(net_server *s)
 {
-    net_snap *batch[NET_PUB_MAX];
+    net_snap **batch = s->batch;
     int n;
     pthread_mutex_lock(&s->pub_lock);
     n = s->pub_n;
@@ -389,7 +401,7 @@ static void deliver_published(net_server *s)
     for (int i = 0; i < n; i++) {
         net_snap *p = batch[i];
         for (net_conn *c = s->conns; c; c = c->next) {
-            if (c->role == NET_ROLE_NONE || c->close_code) {
+            if (c->role == NET_ROLE_NONE || c->close_code || c->stream != p->stream) {
                 continue;
             }
             atomic_fetch_add_explicit(&p->refs, 1, memory_order_relaxed);
@@ -454,7 +466,8 @@ static int ws_writeable(net_server *s, net_conn *c)
     net_snap *p = c->cur;
     int rc;
     if (c->cur_part == 0) {
-        bool next = !c->resync && c->chain > 0 && p->seq == c->last_seq + 1u;
+        bool next = !c->resync && c->chain > 0 && p->seq == c->last_seq + 1u &&
+                    p->stream == c->last_stream;
         if (next && c->chain >= 2 && p->delta2_len) {
             rc = ws_write(s, c, p->delta2, p->delta2_len, LWS_WRITE_BINARY);
             c->chain = 2;
@@ -467,6 +480,7 @@ static int ws_writeable(net_server *s, net_conn *c)
         }
         c->resync = false;
         c->last_seq = p->seq;
+        c->last_stream = p->stream;
         c->cur_part = 1;
     } else {
         int e = c->cur_part - 1;
@@ -516,7 +530,7 @@ static int ws_receive(net_server *s, net_conn *c, const void *in, size_t len)
     char *reply = NULL, why[100];
     size_t reply_len = 0;
     why[0] = 0;
-    net_peer peer = { .id = c->id, .addr = c->peer, .role = c->role };
+    net_peer peer = { .id = c->id, .addr = c->peer, .role = c->role, .stream = c->stream };
     int code = s->d.control(s->d.control_user, &peer, (const char *)c->rx, c->rx_len, &reply,
                             &reply_len, why, sizeof why);
     c->rx_len = 0;
@@ -531,6 +545,7 @@ static int ws_receive(net_server *s, net_conn *c, const void *in, size_t len)
         c->role = peer.role;
     }
     c->resync = c->resync || peer.resync;
+    c->stream = peer.stream; /* a frame of another stream than the last is a keyframe */
     if (reply) {
         conn_queue_text(s, c, reply, reply_len);
         free(reply);
@@ -680,11 +695,18 @@ net_server *net_create(const net_desc *desc, gale_err *err)
         gale_errf(err, GALE_E_ARG, "net_create: control callback and snap_cap are required");
         goto fail;
     }
-    /* Pool: every connection's queue window, the hand-over queue, and room for snapshots
-     * held by connections stuck mid-write (they are culled as laggards). */
-    s->n_pool = s->d.queue_frames + NET_PUB_MAX + 48;
+    if (s->d.max_streams < 0) {
+        s->d.max_streams = 0;
+    }
+    /* Pool: per stream every connection's queue window and the hand-over queue, and room
+     * for snapshots held by connections stuck mid-write (they are culled as laggards). */
+    const int streams = 1 + s->d.max_streams;
+    s->n_pool = streams * (s->d.queue_frames + NET_PUB_MAX) + 48;
     s->pool = calloc((size_t)s->n_pool, sizeof *s->pool);
-    if (!s->pool) {
+    s->pub_cap = streams * NET_PUB_MAX;
+    s->pub = calloc((size_t)s->pub_cap, sizeof *s->pub);
+    s->batch = calloc((size_t)s->pub_cap, sizeof *s->batch);
+    if (!s->pool || !s->pub || !s->batch) {
         gale_errf(err, GALE_E_NOMEM, "net_create: no memory for the snapshot pool");
         goto fail;
     }
@@ -756,6 +778,8 @@ void net_destroy(net_server *s)
         }
     }
     free(s->pool);
+    free(s->pub);
+    free(s->batch);
     pthread_mutex_destroy(&s->pub_lock);
     free(s);
 }
@@ -777,6 +801,7 @@ net_snap *net_snap_acquire(net_server *s)
         if (atomic_compare_exchange_strong(&s->pool[i].refs, &zero, 1)) {
             net_snap *p = &s->pool[i];
             p->key_len = p->delta1_len = p->delta2_len = 0;
+            p->stream = 0;
             for (int e = 0; e < NET_SNAP_MAX_EXTRA; e++) {
                 p->extra_len[e] = 0;
             }
@@ -790,10 +815,10 @@ net_snap *net_snap_acquire(net_server *s)
 void net_publish(net_server *s, net_snap *p)
 {
     pthread_mutex_lock(&s->pub_lock);
-    if (s->pub_n == NET_PUB_MAX) {
+    if (s->pub_n == s->pub_cap) {
         /* The service thread is not keeping up: the oldest waiting snapshot goes. */
         snap_unref(s->pub[0]);
-        memmove(s->pub, s->pub + 1, sizeof s->pub[0] * (NET_PUB_MAX - 1));
+        memmove(s->pub, s->pub + 1, sizeof s->pub[0] * (size_t)(s->pub_cap - 1));
         s->pub_n--;
         atomic_fetch_add(&s->pub_overflow, 1);
     }

@@ -28,6 +28,8 @@ enum { NET_ROLE_NONE, NET_ROLE_VIEWER, NET_ROLE_KIOSK, NET_ROLE_WALL, NET_ROLE_L
 typedef struct net_snap {
     atomic_int refs;        /* 0 = free in the pool */
     uint32_t seq;           /* snapshot sequence number (wire.h) */
+    uint32_t stream;        /* 0: the shared whole-scene stream; else a view stream (only
+                               connections with net_peer.stream equal to it get it) */
     size_t cap;             /* capacity of each state buffer after LWS_PRE */
     size_t extra_cap;       /* capacity of each extra buffer after LWS_PRE */
     size_t key_len;         /* keyframe bytes (required) */
@@ -53,6 +55,9 @@ typedef struct net_peer {
     const char *addr;     /* peer address */
     int role;             /* NET_ROLE_*; set it when a hello is accepted */
     bool resync;          /* set to send a keyframe next */
+    uint32_t stream;      /* snapshot stream this connection follows (0 = shared); the
+                             handler may change it (the first state frame of another stream
+                             is always a keyframe) */
 } net_peer;
 
 /* What the server does with a client's control (text) message, on the lws thread.
@@ -77,6 +82,10 @@ typedef struct net_desc {
     int n_assets;
     net_control_fn control;   /* required */
     void *control_user;
+    /* called when a connection that said hello closes (releases its stream); may be NULL */
+    void (*closed)(void *user, const net_peer *peer);
+    int max_streams;          /* view streams published besides the shared one (sizes the
+                                 snapshot pool and the hand-over queue); 0 → none */
 } net_desc;
 
 /* Counters, readable from any thread; the simulation thread writes the tick ones. */
@@ -93,6 +102,8 @@ typedef struct net_metrics {
     atomic_ullong laggards_closed;
     atomic_ullong connections_total;
     atomic_ullong leaves_shed;
+    atomic_ullong view_snapshots;   /* view-stream snapshots encoded (sim thread) */
+    atomic_ullong view_encode_ns;   /* time spent encoding them */
     atomic_int clients[NET_ROLE_COUNT];
     atomic_uint current_tick;
 } net_metrics;

@@ -13,6 +13,24 @@
 #include "ctl.h"
 #include "wire.h"
 
+#define SRV_MAX_VIEWS 4  /* distinct client views encoded per snapshot; beyond them a
+                            connection's view is ignored (it gets the whole scene) */
+#define SRV_LOD_MODES 4  /* modes sent for trees beyond a view's lod_m */
+
+/* One distinct view and the connections following it (lws thread, under view_lock). */
+typedef struct srv_view {
+    ctl_view v;
+    uint32_t stream; /* 0 = slot free */
+    int users;
+} srv_view;
+
+/* The sim thread's selection for one view slot. */
+typedef struct srv_vsel {
+    uint32_t stream; /* stream the modes below were selected for; 0 none */
+    uint8_t *modes;  /* owned [n_trees]: ctl_view_select of the slot's view */
+    int held;        /* snapshots of this stream published with these modes: 0, 1, 2+ */
+} srv_vsel;
+
 struct srv {
     srv_desc d;
     net_server *net;
@@ -46,6 +64,14 @@ struct srv {
     float *coarse;               /* owned [coarse_cap] */
     int coarse_cap;
     int8_t *slice;               /* owned [WIRE_MAX_WIND_SIDE² × 3] */
+    /* per-client views: up to SRV_MAX_VIEWS distinct views, each its own snapshot stream
+     * (net.h net_snap.stream), encoded once per snapshot and shared by its connections */
+    pthread_mutex_t view_lock;   /* guards views (lws thread joins/leaves, sim thread reads) */
+    srv_view views[SRV_MAX_VIEWS];
+    uint32_t next_stream;
+    srv_vsel vsel[SRV_MAX_VIEWS]; /* sim thread: selection of each slot's stream */
+    float *tree_pos;             /* owned [n_trees * 3] tree bases for ctl_view_select */
+    float view_margin_m;         /* a tree counts as in view within this of the region */
     /* overrun log rate limit (sim thread) */
     time_t olog_sec;
     int olog_n;
@@ -90,6 +116,47 @@ static int welcome(srv *s, const net_peer *p, int ctl_role, char **reply, size_t
     return 0;
 }
 
+/* Moves a connection from stream `old` to the stream of view v (lws thread): an equal view
+ * already encoded is shared, else a free slot takes it. Returns the new stream, 0 for the
+ * shared whole-scene stream (v covers everything, or all SRV_MAX_VIEWS slots are taken). */
+static uint32_t view_join(srv *s, uint32_t old, const ctl_view *v)
+{
+    uint32_t stream = 0;
+    pthread_mutex_lock(&s->view_lock);
+    for (int k = 0; k < SRV_MAX_VIEWS && old; k++) {
+        srv_view *w = &s->views[k];
+        if (w->stream == old && --w->users <= 0) {
+            w->stream = 0;
+            w->users = 0;
+        }
+    }
+    if (v && v->kind != CTL_VIEW_ALL) {
+        int free_slot = -1;
+        for (int k = 0; k < SRV_MAX_VIEWS && !stream; k++) {
+            srv_view *w = &s->views[k];
+            if (w->stream && !memcmp(&w->v, v, sizeof *v)) {
+                w->users++;
+                stream = w->stream;
+            } else if (!w->stream && free_slot < 0) {
+                free_slot = k;
+            }
+        }
+        if (!stream && free_slot >= 0) {
+            s->views[free_slot] = (srv_view){ .v = *v, .stream = ++s->next_stream, .users = 1 };
+            stream = s->views[free_slot].stream;
+        }
+    }
+    pthread_mutex_unlock(&s->view_lock);
+    return stream;
+}
+
+static void on_closed(void *user, const net_peer *p)
+{
+    if (p->stream) {
+        view_join(user, p->stream, NULL);
+    }
+}
+
 static int on_control(void *user, net_peer *p, const char *text, size_t len, char **reply,
                       size_t *reply_len, char *why, size_t why_cap)
 {
@@ -123,6 +190,7 @@ static int on_control(void *user, net_peer *p, const char *text, size_t len, cha
             if (!rc) {
                 p->role = h->role + 1; /* NET_ROLE_* follows ctl_role, shifted by NONE */
                 p->resync = true;
+                p->stream = view_join(s, p->stream, &h->view);
             }
         }
     } else if (p->role == NET_ROLE_NONE) {
@@ -137,6 +205,12 @@ static int on_control(void *user, net_peer *p, const char *text, size_t len, cha
         } else if (strcmp(w->token, s->d.sc->kiosk_token)) {
             snprintf(why, why_cap, "wind.token: wrong kiosk token");
             rc = WIRE_CLOSE_BAD_TOKEN;
+        } else if (w->has_gust) {
+            /* The scenario's gust process has no override (scenario.h dials hold the
+             * sustained wind and its direction only): say so rather than ignore it. */
+            snprintf(why, why_cap, "wind.gust: not supported (the scenario sets the "
+                                   "turbulence); send speed_ms and dir_deg only");
+            rc = WIRE_CLOSE_BAD_FIELD;
         } else if (s->scen) {
             pthread_mutex_lock(&s->scen_lock);
             if (w->has_speed) {
@@ -162,6 +236,10 @@ static int on_control(void *user, net_peer *p, const char *text, size_t len, cha
         }
     } else if (m.type == CTL_RESYNC) {
         p->resync = true;
+    } else if (m.type == CTL_VIEW) {
+        /* the new stream's first frame is a keyframe (net.c: a stream change breaks the
+         * delta chain) */
+        p->stream = view_join(s, p->stream, &m.u.view);
     } else if (m.type == CTL_PING) {
         ctl_msg pong = { .type = CTL_PONG };
         pong.u.pong.id = m.u.ping.id;
@@ -173,7 +251,6 @@ static int on_control(void *user, net_peer *p, const char *text, size_t len, cha
             rc = WIRE_CLOSE_BAD_FIELD;
         }
     }
-    /* CTL_VIEW: accepted; every client is sent every tree (no per-client interest yet). */
     ctl_msg_fini(&m);
     return rc;
 }
@@ -208,6 +285,77 @@ static int encode_wind(srv *s, wire_header *h, net_snap *p, gale_err *e)
     }
     h->type = WIRE_MSG_WIND;
     return wire_encode_wind(h, &w, p->extra[1], p->extra_cap, &p->extra_len[1], e);
+}
+
+/* One snapshot per view stream: the state re-encoded with the view's per-tree mode
+ * counts (ctl_view_select), the extras of the shared snapshot p copied. A stream whose
+ * selection is new starts with a keyframe (no delta is encoded until it holds one). */
+static void publish_views(srv *s, const wire_header *h0, const net_snap *p)
+{
+    uint32_t streams[SRV_MAX_VIEWS];
+    ctl_view views[SRV_MAX_VIEWS];
+    pthread_mutex_lock(&s->view_lock);
+    for (int k = 0; k < SRV_MAX_VIEWS; k++) {
+        streams[k] = s->views[k].stream;
+        views[k] = s->views[k].v;
+    }
+    pthread_mutex_unlock(&s->view_lock);
+    const uint32_t n = (uint32_t)s->d.sc->n_trees;
+    net_metrics *mt = net_get_metrics(s->net);
+    for (int k = 0; k < SRV_MAX_VIEWS; k++) {
+        srv_vsel *vs = &s->vsel[k];
+        if (!streams[k]) {
+            vs->stream = 0;
+            continue;
+        }
+        uint64_t t0 = mono_us();
+        if (vs->stream != streams[k]) {
+            ctl_view_select(&views[k], n, s->tree_pos, s->tree_modes, s->view_margin_m,
+                            SRV_LOD_MODES, vs->modes);
+            vs->stream = streams[k];
+            vs->held = 0;
+        }
+        net_snap *q = net_snap_acquire(s->net);
+        if (!q) {
+            vs->held = 0; /* its connections see a gap and get the next keyframe */
+            continue;
+        }
+        q->seq = p->seq;
+        q->stream = vs->stream;
+        wire_header h = *h0;
+        wire_state ws = { .n_trees = n, .stride = (uint32_t)s->stride, .n_modes = vs->modes,
+                          .q = s->qbuf[s->cur] };
+        wire_state prev = ws, prev2 = ws;
+        prev.q = s->qbuf[(s->cur + 2) % 3];
+        prev2.q = s->qbuf[(s->cur + 1) % 3];
+        const int held = vs->held < s->held ? vs->held : s->held;
+        gale_err e;
+        int rc = wire_encode_keyframe(&h, p->seq, &s->wscene, &ws, q->key, q->cap, &q->key_len,
+                                      &e);
+        if (!rc && held >= 1) {
+            rc = wire_encode_delta(&h, p->seq, &s->wscene, &ws, &prev, NULL, q->delta1, q->cap,
+                                   &q->delta1_len, &e);
+        }
+        if (!rc && held >= 2) {
+            rc = wire_encode_delta(&h, p->seq, &s->wscene, &ws, &prev, &prev2, q->delta2, q->cap,
+                                   &q->delta2_len, &e);
+        }
+        for (int x = 0; x < NET_SNAP_MAX_EXTRA && !rc; x++) {
+            q->extra_len[x] = p->extra_len[x];
+            memcpy(q->extra[x], p->extra[x], p->extra_len[x]);
+        }
+        if (rc) {
+            fprintf(stderr, "gale-server: snapshot %u of view stream %u not sent: %s\n", p->seq,
+                    vs->stream, e.msg);
+            atomic_fetch_sub(&q->refs, 1);
+            vs->held = 0;
+            continue;
+        }
+        vs->held = vs->held < 2 ? vs->held + 1 : 2;
+        atomic_fetch_add(&mt->view_snapshots, 1);
+        atomic_fetch_add(&mt->view_encode_ns, (mono_us() - t0) * 1000u);
+        net_publish(s->net, q);
+    }
 }
 
 static void publish(srv *s, uint32_t tick)
@@ -259,6 +407,7 @@ static void publish(srv *s, uint32_t tick)
                     e.msg);
             atomic_fetch_sub(&p->refs, 1);
         } else {
+            publish_views(s, &h, p);
             net_publish(s->net, p);
         }
     }
@@ -367,6 +516,7 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     s->scen = d->scen;
     pthread_mutex_init(&s->scen_lock, NULL);
     pthread_mutex_init(&s->hist_lock, NULL);
+    pthread_mutex_init(&s->view_lock, NULL);
     const scene *sc = d->sc;
     const int n = sc->n_trees;
     tick_species *ts = s->ts;
@@ -384,6 +534,11 @@ srv *srv_create(const srv_desc *d, gale_err *err)
         goto fail;
     }
     s->stride = tick_stride(s->tick);
+    if (s->scen) {
+        const wind_ball *balls;
+        int nb = scenario_balls(s->scen, &balls);
+        tick_set_balls(s->tick, balls, nb);
+    }
     s->ticks_per_snap = (int)lround(sc->tick_hz / sc->snapshot_hz);
     if (s->ticks_per_snap < 1) {
         s->ticks_per_snap = 1;
@@ -397,7 +552,13 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     s->leaves = calloc(WIRE_MAX_LEAVES, sizeof *s->leaves);
     s->wspecies = calloc((size_t)sc->n_species, sizeof *s->wspecies);
     s->winst = calloc((size_t)n, sizeof *s->winst);
-    if (!s->tree_species || !s->tree_modes || !s->qbuf[0] || !s->qbuf[1] || !s->qbuf[2] ||
+    s->tree_pos = calloc((size_t)n * 3, sizeof *s->tree_pos);
+    bool vsel_ok = true;
+    for (int k = 0; k < SRV_MAX_VIEWS; k++) {
+        s->vsel[k].modes = calloc((size_t)n > 0 ? (size_t)n : 1, 1);
+        vsel_ok = vsel_ok && s->vsel[k].modes;
+    }
+    if (!vsel_ok || !s->tree_pos || !s->tree_species || !s->tree_modes || !s->qbuf[0] || !s->qbuf[1] || !s->qbuf[2] ||
         !s->leaves || !s->wspecies || !s->winst) {
         gale_errf(err, GALE_E_NOMEM, "srv_create: no memory for %d trees", n);
         goto fail;
@@ -431,6 +592,12 @@ srv *srv_create(const srv_desc *d, gale_err *err)
         const scene_tree *tr = &sc->trees[t];
         s->tree_species[t] = (uint8_t)tr->species;
         s->tree_modes[t] = (uint8_t)d->species[tr->species].modal.n_modes;
+        for (int a = 0; a < 3; a++) {
+            s->tree_pos[3 * t + a] = tr->pos[a];
+        }
+        /* margin: the tallest tree's height, so a crown leaning into the view counts */
+        float hgt = d->species[tr->species].modal.height_m * tr->scale;
+        s->view_margin_m = hgt > s->view_margin_m ? hgt : s->view_margin_m;
         s->winst[t] = (ctl_instance){ .species = (uint32_t)tr->species,
                                       .pos = { tr->pos[0], tr->pos[1], tr->pos[2] },
                                       .yaw_rad = tr->yaw_rad,
@@ -474,7 +641,9 @@ srv *srv_create(const srv_desc *d, gale_err *err)
                                      .assets = s->assets,
                                      .n_assets = sc->n_species,
                                      .control = on_control,
-                                     .control_user = s },
+                                     .control_user = s,
+                                     .closed = on_closed,
+                                     .max_streams = SRV_MAX_VIEWS },
                         err);
     if (!s->net) {
         goto fail;
@@ -529,7 +698,12 @@ void srv_destroy(srv *s)
     free(s->hist_seq);
     free(s->coarse);
     free(s->slice);
+    free(s->tree_pos);
+    for (int k = 0; k < SRV_MAX_VIEWS; k++) {
+        free(s->vsel[k].modes);
+    }
     pthread_mutex_destroy(&s->scen_lock);
+    pthread_mutex_destroy(&s->view_lock);
     pthread_mutex_destroy(&s->hist_lock);
     free(s);
 }

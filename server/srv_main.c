@@ -49,6 +49,11 @@ static int w_coarse(void *ctx, int factor, float *out, int capacity, int dims[3]
     return wind_coarse(ctx, factor, out, capacity, dims);
 }
 
+static void w_ball(void *ctx, const wind_ball *b)
+{
+    wind_add_ball(ctx, b);
+}
+
 /* SIGINT/SIGTERM: the handler only writes the signal number to a pipe (async-signal
  * safe, and whichever thread the kernel picks, the BLAS pool's included); a waiting
  * thread reads it and stops the server from ordinary code. */
@@ -195,7 +200,8 @@ int main(int argc, char **argv)
             goto done;
         }
         tw = (tick_wind){ .ctx = grid, .set_inflow = w_inflow, .step = w_step,
-                          .sample_many = w_sample, .coarse = w_coarse };
+                          .sample_many = w_sample, .coarse = w_coarse,
+                          .add_ball = w_ball };
     }
     if (check) {
         fprintf(stderr, "gale-server: %s: config ok: %d trees, %d species\n",

@@ -23,6 +23,8 @@ struct tick_sim {
     pthread_mutex_t lock;   /* guards inflow below */
     wind_inflow inflow;
     bool inflow_dirty;
+    const wind_ball *balls; /* borrowed [n_balls] */
+    int n_balls;
 };
 
 tick_sim *tick_create(const tick_desc *d, gale_err *err)
@@ -118,6 +120,12 @@ void tick_set_inflow(tick_sim *t, const wind_inflow *in)
     pthread_mutex_unlock(&t->lock);
 }
 
+void tick_set_balls(tick_sim *t, const wind_ball *balls, int n)
+{
+    t->balls = balls;
+    t->n_balls = balls ? n : 0;
+}
+
 /* The log-law profile alone (no grid): U(z) = U10 ln(z/z0) / ln(10/z0), z clamped below
  * at zmin (defaults z0 = 0.3 m, EN 1991-1-4 terrain III, and 5 m), plus the gust. */
 static void sample_profile(tick_sim *t, const wind_inflow *in)
@@ -163,6 +171,10 @@ int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
         if (t->tick % (uint32_t)every == 0) {
             wind_step_stats ws = { 0 };
             double w0 = now_ms();
+            /* the scenario's Gaussian force balls act on each step (wind_add_ball) */
+            for (int b = 0; b < t->n_balls && t->d.wind->add_ball; b++) {
+                t->d.wind->add_ball(t->d.wind->ctx, &t->balls[b]);
+            }
             if (t->d.wind->step(t->d.wind->ctx, t->dt_s * (float)every, &ws)) {
                 return gale_errf(err, GALE_E_NUMERIC,
                                  "tick %u: wind step broke down (non-finite field)", t->tick);

@@ -33,6 +33,8 @@ typedef struct tick_wind {
     void (*sample_many)(void *ctx, int n, const float *p, float *v);
     /* wind_coarse: the grid averaged over factor³ blocks; may be NULL */
     int (*coarse)(void *ctx, int factor, float *out, int capacity, int dims[3]);
+    /* wind_add_ball: a force ball for the next step only; may be NULL (balls ignored) */
+    void (*add_ball)(void *ctx, const wind_ball *b);
 } tick_wind;
 
 typedef struct tick_desc {
@@ -68,6 +70,10 @@ int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err);
 /* Sets the inflow (from the scenario: mean wind, direction, profile and this instant's
  * gust). Safe from another thread; applied at the next tick. */
 void tick_set_inflow(tick_sim *t, const wind_inflow *in);
+
+/* Force balls (the scenario's, scenario_balls) added to the grid before every wind step;
+ * balls[n] borrowed until replaced. Set before the simulation runs (not thread-safe). */
+void tick_set_balls(tick_sim *t, const wind_ball *balls, int n);
 
 /* Ticks run so far (the tick number of the state tick_q shows). */
 uint32_t tick_now(const tick_sim *t);

@@ -140,6 +140,136 @@ static void test_late_joiner_and_ping(void)
     wsraw_close(&c);
 }
 
+/* Reads state frames from c into dec until `want` have decoded or the wait runs out;
+ * returns how many decoded (keyframes counted in *keys), -1 on a decode error. */
+static int read_states(wsraw *c, wire_decoder *dec, int want, int *keys, uint32_t *seq)
+{
+    int got = 0;
+    for (int i = 0; i < 4 * want && got < want; i++) {
+        uint8_t *b;
+        size_t n;
+        int op = wsraw_recv(c, &b, &n, 3000);
+        if (op < 0) {
+            free(b);
+            return got;
+        }
+        wire_frame f;
+        gale_err e;
+        if (op == 2) {
+            if (wire_decode(dec, b, n, &f, &e)) {
+                fprintf(stderr, "decode: %s\n", e.msg);
+                free(b);
+                return -1;
+            }
+            if (f.hdr.type == WIRE_MSG_KEYFRAME || f.hdr.type == WIRE_MSG_DELTA) {
+                *keys += f.hdr.type == WIRE_MSG_KEYFRAME;
+                *seq = f.seq;
+                got++;
+            }
+        }
+        free(b);
+    }
+    return got;
+}
+
+/* Checks the last decoded snapshot against a circle view (cx, cy, radius, lod): trees
+ * beyond radius + margin carry 0 modes, those inside full modes within lod and
+ * SRV_LOD_MODES (4) beyond, decoded q within half a step of the server's. Returns the
+ * number of trees that break it; counts[0..2] = trees at 0, 4 and 6 modes. */
+static int check_view(const wire_decoder *dec, uint32_t seq, float cx, float cy, float r,
+                      float lod, int counts[3], double *worst)
+{
+    float margin = 0;
+    for (int t = 0; t < N_TREES; t++) {
+        float h = 12.0f * SC.trees[t].scale;
+        margin = h > margin ? h : margin;
+    }
+    int bad = 0;
+    for (int t = 0; t < N_TREES; t++) {
+        float dx = SC.trees[t].pos[0] - cx, dy = SC.trees[t].pos[1] - cy;
+        float d = sqrtf(dx * dx + dy * dy);
+        float qd[N_MODES], qs[N_MODES];
+        uint32_t nm = wire_decoder_q(dec, (uint32_t)t, qd, N_MODES);
+        uint32_t want = d > r + margin ? 0 : d <= lod ? N_MODES : 4;
+        if (fabsf(d - (r + margin)) > 0.01f && fabsf(d - lod) > 0.01f && nm != want) {
+            bad++;
+        }
+        counts[nm == 0 ? 0 : nm == 4 ? 1 : 2]++;
+        if (nm && srv_history_q(S, seq, t, qs, N_MODES) == N_MODES) {
+            for (uint32_t k = 0; k < nm; k++) {
+                double e = fabs((double)qd[k] - (double)qs[k]) / (double)srv_qstep(S, t, (int)k);
+                *worst = e > *worst ? e : *worst;
+            }
+        }
+    }
+    return bad;
+}
+
+/* A client with a circle view gets only the trees inside it, distant ones with fewer
+ * modes, decoding to the server's state; a view change brings a keyframe of the new
+ * selection; a view-less client beside it still gets every tree at full modes. */
+static void test_view(void)
+{
+    wsraw a, b;
+    char *w = hello(&a, "viewer",
+                    ", \"view\": {\"kind\": \"circle\", \"x\": 0, \"y\": 0, \"radius_m\": 10,"
+                    " \"lod_m\": 12}");
+    CHECK(w != NULL);
+    free(w);
+    w = hello(&b, "viewer", NULL);
+    CHECK(w != NULL);
+    free(w);
+    wire_decoder *da = wire_decoder_create(&(wire_decoder_desc){ 0 }, NULL);
+    wire_decoder *db = wire_decoder_create(&(wire_decoder_desc){ 0 }, NULL);
+    int ka = 0, kb = 0;
+    uint32_t sa = 0, sb = 0;
+    for (int i = 0; i < 20; i++) { /* both in step, so neither falls behind */
+        CHECK(read_states(&a, da, 1, &ka, &sa) == 1);
+        CHECK(read_states(&b, db, 1, &kb, &sb) == 1);
+    }
+    int counts[3] = { 0 };
+    double worst = 0;
+    CHECK(check_view(da, sa, 0, 0, 10, 12, counts, &worst) == 0);
+    CHECK(counts[0] > 0 && counts[1] > 0 && counts[2] > 0);
+    CHECK(ka == 1); /* one keyframe, then deltas of the view's own stream */
+    CHECK_NEAR(worst, 0, 0.5 + 1e-3);
+    fprintf(stderr, "  view: %d trees out, %d at LOD, %d full; worst %.3f steps\n", counts[0],
+            counts[1], counts[2], worst);
+    int full = 0;
+    for (int t = 0; t < N_TREES; t++) {
+        float q[N_MODES];
+        full += wire_decoder_q(db, (uint32_t)t, q, N_MODES) == N_MODES;
+    }
+    CHECK(full == N_TREES); /* the view-less client is unaffected */
+    CHECK(kb == 1);
+
+    /* change the view: a keyframe of the new selection, decoding never breaks */
+    wsraw_text(&a, "{\"type\": \"view\", \"view\": {\"kind\": \"circle\", \"x\": 25, \"y\": -20,"
+                   " \"radius_m\": 5, \"lod_m\": 3}}");
+    for (int i = 0; i < 15; i++) {
+        CHECK(read_states(&a, da, 1, &ka, &sa) == 1);
+        CHECK(read_states(&b, db, 1, &kb, &sb) == 1);
+    }
+    CHECK(ka == 2);
+    CHECK(kb == 1);
+    int c2[3] = { 0 };
+    worst = 0;
+    CHECK(check_view(da, sa, 25, -20, 5, 3, c2, &worst) == 0);
+    CHECK(c2[0] > 0 && c2[1] + c2[2] > 0);
+    CHECK_NEAR(worst, 0, 0.5 + 1e-3);
+    net_metrics *mt = srv_metrics(S);
+    unsigned long long vn = atomic_load(&mt->view_snapshots);
+    CHECK(vn > 0);
+    if (vn) {
+        fprintf(stderr, "  %llu view snapshots, %.1f us each to encode (%d trees)\n", vn,
+                (double)atomic_load(&mt->view_encode_ns) * 1e-3 / (double)vn, N_TREES);
+    }
+    wire_decoder_destroy(da);
+    wire_decoder_destroy(db);
+    wsraw_close(&a);
+    wsraw_close(&b);
+}
+
 /* A client that stops reading must not slow a fast one; it is closed as too slow. */
 static void test_slow_consumer(void)
 {
@@ -259,6 +389,13 @@ static void test_bad_inputs(void)
     wsraw_text(&k, "{\"type\": \"wind\", \"token\": \"wrong\", \"speed_ms\": 30}");
     CHECK(wsraw_wait_close(&k, 3000) == WIRE_CLOSE_BAD_TOKEN);
     wsraw_close(&k);
+    /* "gust" has no override in the scenario: rejected, not silently ignored */
+    w = hello(&k, "kiosk", ", \"token\": \"sesame\"");
+    free(w);
+    wsraw_text(&k, "{\"type\": \"wind\", \"token\": \"sesame\", \"gust\": 0.3}");
+    CHECK(wsraw_wait_close(&k, 3000) == WIRE_CLOSE_BAD_FIELD);
+    CHECK_STR_HAS(k.close_reason, "wind.gust");
+    wsraw_close(&k);
 
     CHECK(atomic_load(&srv_metrics(S)->bad_messages) - bad0 >= 9);
     /* the good client never noticed: still connected and receiving */
@@ -313,6 +450,7 @@ int main(void)
     }
     RUN(test_handshake_and_decode);
     RUN(test_late_joiner_and_ping);
+    RUN(test_view);
     RUN(test_slow_consumer);
     RUN(test_bad_inputs);
     RUN(test_http);

@@ -103,9 +103,75 @@ static void test_leaves_and_errors(void)
     CHECK_STR_HAS(e.msg, "omega");
 }
 
+/* A wind grid stand-in that counts steps and the balls added before each. */
+typedef struct fake_wind {
+    int steps, balls, balls_at_step;
+    float last_force;
+} fake_wind;
+
+static void fw_inflow(void *ctx, const wind_inflow *in)
+{
+    (void)ctx;
+    (void)in;
+}
+
+static int fw_step(void *ctx, float dt_s, wind_step_stats *st)
+{
+    fake_wind *f = ctx;
+    (void)dt_s;
+    (void)st;
+    f->steps++;
+    f->balls_at_step += f->balls; /* balls added since the previous step act on this one */
+    f->balls = 0;
+    return 0;
+}
+
+static void fw_sample(void *ctx, int n, const float *p, float *v)
+{
+    (void)ctx;
+    (void)p;
+    memset(v, 0, sizeof(float) * 3 * (size_t)n);
+}
+
+static void fw_ball(void *ctx, const wind_ball *b)
+{
+    fake_wind *f = ctx;
+    f->balls++;
+    f->last_force = b->force[0];
+}
+
+/* The scenario's force balls reach the grid before every wind step (wind_every = 2). */
+static void test_balls(void)
+{
+    float omega[1] = { 3 }, gamma[1] = { 0.3f }, basis[3] = { 0, 0, 0 }, qstep[1] = { 1e-4f };
+    tick_species sp = { .n_modes = 1, .omega = omega, .gamma = gamma, .wind_basis = basis,
+                        .qstep = qstep, .height_m = 10 };
+    scene s = one_tree(0, 5);
+    s.wind_every = 2;
+    fake_wind f = { 0 };
+    tick_wind tw = { .ctx = &f, .set_inflow = fw_inflow, .step = fw_step,
+                     .sample_many = fw_sample, .add_ball = fw_ball };
+    tick_sim *t = tick_create(&(tick_desc){ .sc = &s, .species = &sp, .wind = &tw }, NULL);
+    CHECK(t != NULL);
+    if (!t) {
+        return;
+    }
+    wind_ball balls[2] = { { .radius_m = 5, .force = { 3, 0, 0 } },
+                           { .radius_m = 5, .force = { 7, 0, 0 } } };
+    tick_set_balls(t, balls, 2);
+    for (int n = 0; n < 10; n++) {
+        CHECK(tick_step(t, NULL, NULL, NULL) == 0);
+    }
+    CHECK(f.steps == 5);
+    CHECK(f.balls_at_step == 10);
+    CHECK_NEAR(f.last_force, 7, 0);
+    tick_destroy(t);
+}
+
 int main(void)
 {
     RUN(test_step_response);
+    RUN(test_balls);
     RUN(test_leaves_and_errors);
     return check_report();
 }
