@@ -824,7 +824,9 @@ void net_publish(net_server *s, net_snap *p)
     }
     s->pub[s->pub_n++] = p;
     pthread_mutex_unlock(&s->pub_lock);
-    atomic_fetch_add(&s->m.snapshots, 1);
+    if (!p->stream) {
+        atomic_fetch_add(&s->m.snapshots, 1); /* view streams: view_snapshots */
+    }
     lws_cancel_service(s->ctx);
 }
 
