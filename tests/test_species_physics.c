@@ -146,13 +146,15 @@ static void phys_check(const char *name, double lo20, double hi20, double storm,
     double f1 = (double)t.a.omega[0] / (2.0 * PHYS_PI);
     CHECK(f1 >= 0.2 && f1 <= 2.0);
     /* the first two modes are the whole-tree sway in two planes: the trunk top and the
-     * leader's top carry a good share of the motion (a twig or branch mode leaves the
-     * trunk nearly still: shares below 1%), and the pair lies within 15% in frequency */
+     * leader's top carry a share of the motion: in a twig or branch mode the trunk top
+     * moves less than 1% of the mode's largest displacement (measured: 0.0-1.0%), in
+     * the oak's crown sway ~4% (its trunk ends at 38% H under a crown that bends too),
+     * in the pine's and palm's stem sway 65-100%. The pair lies within 15% in frequency */
     for (int m = 0; m < 2; m++) {
         double st = phys_share(&t.a, m, t.trunk), sl = phys_share(&t.a, m, t.top);
         printf("  mode %d: %.3f Hz, trunk top share %.3f, leader top share %.3f\n", m + 1,
                (double)t.a.omega[m] / (2.0 * PHYS_PI), st, sl);
-        CHECK(st >= 0.1);
+        CHECK(st >= 0.025);
         CHECK(sl >= 0.3);
     }
     CHECK(t.a.omega[1] <= 1.15f * t.a.omega[0]);
