@@ -195,8 +195,63 @@ static void test_palm(void)
     phys_check("palm", 0.02, 0.15, 55.0, 0.10, 0.40);
 }
 
+/* The oak's radii obey the pipe model it asks for (lsystem.c ls_pipe): every node at
+ * least as thick as the tip floor, and r^e >= sum of r_child^e at every node (float
+ * rounding: 1e-4 relative); with pipe_exponent 0 the same grammar leaves hundreds of
+ * forks thinner than their children call for, so the check can fail. A pipe_exponent outside 0 or 1.5..4 is refused. */
+static void test_pipe_radii(void)
+{
+    char path[4096];
+    snprintf(path, sizeof path, "%s/configs/species/oak.json", GALE_SOURCE_DIR);
+    species sp;
+    gale_err err;
+    memset(&err, 0, sizeof err);
+    CHECK(species_load(path, &sp, &err) == GALE_OK);
+    double e = sp.gen.pipe_exponent, tip = sp.gen.tip_radius_m;
+    CHECK(e >= 2.0 && e <= 3.0 && tip >= 0.008);
+    for (int pass = 0; pass < 2; pass++) {
+        skeleton s;
+        CHECK(lsystem_generate(&sp.gen, &s, &err) == GALE_OK);
+        double *sum = calloc((size_t)s.n, sizeof *sum);
+        CHECK(sum != NULL);
+        if (!sum) {
+            skeleton_fini(&s);
+            return;
+        }
+        int thin = 0, short_pipe = 0;
+        for (int n = 1; n < s.n; n++) {
+            sum[s.parent[n]] += pow((double)s.radius[n], e);
+        }
+        for (int n = 0; n < s.n; n++) {
+            thin += (double)s.radius[n] < tip * (1.0 - 1e-6);
+            short_pipe += sum[n] > 0.0 && (double)s.radius[n] < pow(sum[n], 1.0 / e) * (1.0 - 1e-4);
+        }
+        printf("pipe %s: %d nodes, trunk base r %.3f m, %d thinner than %.3f m, %d short of "
+               "the pipe rule\n",
+               pass == 0 ? "on" : "off", s.n, (double)s.radius[0], thin, tip, short_pipe);
+        if (pass == 0) {
+            CHECK(thin == 0 && short_pipe == 0);
+        } else {
+            CHECK(short_pipe > 0); /* the rules alone break the pipe rule */
+        }
+        free(sum);
+        skeleton_fini(&s);
+        sp.gen.pipe_exponent = 0.0;
+        sp.gen.tip_radius_m = 0.0;
+    }
+    lsystem_params bad = lsystem_params_default();
+    bad.pipe_exponent = 1.0;
+    skeleton s;
+    CHECK(lsystem_generate(&bad, &s, &err) == GALE_E_RANGE);
+    CHECK_STR_HAS(err.msg, "pipe_exponent");
+    bad = lsystem_params_default();
+    bad.tip_radius_m = -0.01;
+    CHECK(lsystem_generate(&bad, &s, &err) == GALE_E_RANGE);
+}
+
 int main(void)
 {
+    RUN(test_pipe_radii);
     RUN(test_oak);
     RUN(test_pine);
     RUN(test_palm);
