@@ -166,8 +166,9 @@ static void phys_check(const char *name, double lo20, double hi20, double storm,
            100.0 * d20, 100.0 * mx20, 100.0 * ds, storm, 100.0 * mxs);
     CHECK(d20 >= lo20 && d20 <= hi20);
     CHECK(ds >= lo_storm && ds <= hi_storm);
-    /* no node, twig tips included, swings by more than half the height */
-    CHECK(mx20 <= 0.5);
+    /* no node, twig tips included, swings by more than 15% of the height at 20 m/s (the
+     * unsane oak this guards against: 84%, its twig clusters flailing) */
+    CHECK(mx20 <= 0.15);
     asset_fini(&t.a);
 }
 
@@ -188,11 +189,12 @@ static void test_pine(void)
 }
 
 /* Palm: slender, soft stem (3-5 GPa effective), built to bend: at 20 m/s it leans a few %
- * to ~15% H; at 55 m/s (category 4) it bends by tens of % of the height (>= 10% H) yet
- * stays under 40% H in the linear+corrected model. */
+ * to ~15% H; at 60 m/s (category 4, the worst case of the 45-60 m/s band) it bends by
+ * tens of % of the height (>= 10% H) yet stays under 40% H in the linear+corrected
+ * model. */
 static void test_palm(void)
 {
-    phys_check("palm", 0.02, 0.15, 55.0, 0.10, 0.40);
+    phys_check("palm", 0.02, 0.15, 60.0, 0.10, 0.40);
 }
 
 /* The oak's radii obey the pipe model it asks for (lsystem.c ls_pipe): every node at
