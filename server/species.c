@@ -90,6 +90,8 @@ static const sp_field gen_fields[] = {
     GEN(twist_deg, SP_DBL, -360.0, 360.0),
     GEN(twist_jitter_deg, SP_DBL, 0.0, 180.0),
     GEN(wobble_deg, SP_DBL, 0.0, 90.0),
+    GEN(tip_radius_m, SP_DBL, 0.0, 1.0),
+    GEN(pipe_exponent, SP_DBL, 0.0, 4.0),
 };
 #undef GEN
 
