@@ -127,8 +127,8 @@ static int sp_read(const cfg_doc *d, const cJSON *obj, const char *path, const s
         switch (f->kind) {
         case SP_INT: {
             int v;
-            long long ll;
             memcpy(&v, dst, sizeof v);
+            long long ll = v; /* kept as is when the key is bad */
             rc = cfg_int(d, obj, path, f->key, false, v, (long long)f->min, (long long)f->max, &ll,
                          err);
             v = (int)ll;
@@ -137,8 +137,8 @@ static int sp_read(const cfg_doc *d, const cJSON *obj, const char *path, const s
         }
         case SP_BOOL: {
             int v;
-            bool b;
             memcpy(&v, dst, sizeof v);
+            bool b = v != 0; /* kept as is when the key is bad */
             rc = cfg_bool(d, obj, path, f->key, false, v != 0, &b, err);
             v = b ? 1 : 0;
             memcpy(dst, &v, sizeof v);
