@@ -1481,7 +1481,7 @@ int render_frame(render *r, const render_camera *cam, double time_s, gale_err *e
     /* houses (both faces drawn: the mesh is closed, and thin boxes stay visible) */
     if (r->house_verts > 0) {
         set_common(r, r->p_house, t, r->desc.fog_dist);
-        glUniform3f(uloc(r->p_house, "u_wall"), 0.86f, 0.80f, 0.68f);
+        glUniform3f(uloc(r->p_house, "u_wall"), 0.92f, 0.82f, 0.64f);
         glUniform3f(uloc(r->p_house, "u_roof"), 0.52f, 0.22f, 0.15f);
         glUniform3f(uloc(r->p_house, "u_window"), 0.14f, 0.18f, 0.24f);
         glBindVertexArray(r->house_vao);
