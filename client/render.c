@@ -833,7 +833,9 @@ int render_set_instances(render *r, uint32_t n, const render_instance *inst, gal
                              "yaw or scale not finite or scale < 0", i);
         }
     }
-    memcpy(r->inst, inst, n * sizeof *inst);
+    if (n > 0) { /* inst may be NULL for an empty scene */
+        memcpy(r->inst, inst, n * sizeof *inst);
+    }
     memset(&r->inst[n], 0, (r->cap_trees - n) * sizeof *inst);
     r->inst[r->cap_trees].scale = 1.0f;
     r->n_trees = n;
