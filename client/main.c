@@ -58,6 +58,7 @@ typedef struct cli {
     ctl_welcome w;             /* arrays owned below */
     ctl_species *w_species;    /* owned */
     ctl_instance *w_instances; /* owned */
+    float *w_boxes;            /* owned: [6 w.n_obstacles] house boxes, min xyz, max xyz */
     cli_species loaded[MAX_SPECIES];
     uint32_t n_loaded;
     int species_id[MAX_SPECIES]; /* welcome index → render id */
@@ -222,14 +223,21 @@ static void on_welcome(void *user, const ctl_welcome *w)
     cli *c = user;
     free(c->w_species);
     free(c->w_instances);
+    free(c->w_boxes);
     c->w = *w;
+    c->w.obstacles = NULL; /* kept as c->w_boxes */
     c->w_species = malloc((w->n_species ? w->n_species : 1) * sizeof *c->w_species);
     c->w_instances = malloc((w->n_instances ? w->n_instances : 1) * sizeof *c->w_instances);
-    if (!c->w_species || !c->w_instances || w->n_species > MAX_SPECIES) {
+    c->w_boxes = malloc((w->n_obstacles ? w->n_obstacles : 1) * 6 * sizeof *c->w_boxes);
+    if (!c->w_species || !c->w_instances || !c->w_boxes || w->n_species > MAX_SPECIES) {
         fprintf(stderr, "gale-client: welcome: cannot hold %u species, %u trees\n", w->n_species,
                 w->n_instances);
-        c->w.n_species = c->w.n_instances = 0;
+        c->w.n_species = c->w.n_instances = c->w.n_obstacles = 0;
         return;
+    }
+    for (uint32_t i = 0; i < w->n_obstacles; i++) {
+        memcpy(&c->w_boxes[6 * i], w->obstacles[i].min, 3 * sizeof(float));
+        memcpy(&c->w_boxes[6 * i + 3], w->obstacles[i].max, 3 * sizeof(float));
     }
     memcpy(c->w_species, w->species, w->n_species * sizeof *c->w_species);
     memcpy(c->w_instances, w->instances, w->n_instances * sizeof *c->w_instances);
@@ -238,9 +246,10 @@ static void on_welcome(void *user, const ctl_welcome *w)
     c->scene_pending = true;
     c->scene_ready = false;
     c->live_since_welcome = false;
-    fprintf(stderr, "gale-client: %s: welcome as %s, %u species, %u trees, %.0f Hz snapshots\n",
+    fprintf(stderr,
+            "gale-client: %s: welcome as %s, %u species, %u trees, %u houses, %.0f Hz snapshots\n",
             net_server_name(c->net), ctl_role_name(w->role) ? ctl_role_name(w->role) : "?",
-            w->n_species, w->n_instances, (double)w->snapshot_hz);
+            w->n_species, w->n_instances, w->n_obstacles, (double)w->snapshot_hz);
 }
 
 static void take_state(cli *c, const wire_frame *f, const wire_decoder *dec)
@@ -446,6 +455,9 @@ static int setup_scene(cli *c, gale_err *err)
     }
     int rc = render_set_instances(c->r, n, inst, err);
     free(inst);
+    if (rc == 0) {
+        rc = render_set_obstacles(c->r, c->w.n_obstacles, c->w_boxes, err);
+    }
     if (rc != 0) {
         return rc;
     }
@@ -829,5 +841,6 @@ done:
     free(c.wind_v);
     free(c.w_species);
     free(c.w_instances);
+    free(c.w_boxes);
     return status;
 }

@@ -56,7 +56,9 @@ struct render {
     int w, h;
     GLuint fbo, fbo_col, fbo_depth; /* offscreen target (headless) */
     GLuint vao_empty;
-    GLuint p_skel, p_tree, p_leaf, p_fall, p_sky, p_bill;
+    GLuint p_skel, p_tree, p_leaf, p_fall, p_sky, p_bill, p_house;
+    GLuint house_vao, house_vbo;  /* houses: world-space triangles (house_mesh) */
+    uint32_t house_verts;
 
     rs_species sp[RENDER_MAX_SPECIES];
     uint32_t n_species;
@@ -363,7 +365,8 @@ render *render_create(const render_desc *desc, gale_err *err)
         GLuint *p;
         const char *name;
     } progs[] = { { &r->p_skel, "skel" }, { &r->p_tree, "tree" }, { &r->p_leaf, "leaf" },
-                  { &r->p_fall, "fall" }, { &r->p_sky, "sky" },   { &r->p_bill, "bill" } };
+                  { &r->p_fall, "fall" }, { &r->p_sky, "sky" },   { &r->p_bill, "bill" },
+                  { &r->p_house, "house" } };
     for (size_t i = 0; i < sizeof progs / sizeof progs[0]; i++) {
         *progs[i].p = render_program_load(r->shader_dir, progs[i].name, err);
         if (!*progs[i].p) {
@@ -472,7 +475,8 @@ void render_destroy(render *r)
         for (uint32_t i = 0; i < r->n_species; i++) {
             species_free(&r->sp[i]);
         }
-        GLuint progs[] = { r->p_skel, r->p_tree, r->p_leaf, r->p_fall, r->p_sky, r->p_bill };
+        GLuint progs[] = { r->p_skel, r->p_tree, r->p_leaf, r->p_fall,
+                           r->p_sky,  r->p_bill, r->p_house };
         for (size_t i = 0; i < sizeof progs / sizeof progs[0]; i++) {
             if (progs[i]) {
                 glDeleteProgram(progs[i]);
@@ -502,6 +506,10 @@ void render_destroy(render *r)
         }
         if (r->vao_empty) {
             glDeleteVertexArrays(1, &r->vao_empty);
+        }
+        if (r->house_vao) {
+            glDeleteVertexArrays(1, &r->house_vao);
+            glDeleteBuffers(1, &r->house_vbo);
         }
     }
     gl_ctx_destroy(&r->ctx);
@@ -825,7 +833,9 @@ int render_set_instances(render *r, uint32_t n, const render_instance *inst, gal
                              "yaw or scale not finite or scale < 0", i);
         }
     }
-    memcpy(r->inst, inst, n * sizeof *inst);
+    if (n > 0) { /* inst may be NULL for an empty scene */
+        memcpy(r->inst, inst, n * sizeof *inst);
+    }
     memset(&r->inst[n], 0, (r->cap_trees - n) * sizeof *inst);
     r->inst[r->cap_trees].scale = 1.0f;
     r->n_trees = n;
@@ -853,6 +863,149 @@ float *render_q_staging(render *r, uint32_t *stride)
 {
     *stride = r->q_stride;
     return r->q_stage;
+}
+
+/* ---- houses ---- */
+
+/* Vertex of shaders/house.vert: position, normal, (u, v, wall height, half width), material. */
+enum { HV_FLOATS = 11, HV_PER_BOX = 42 };
+
+typedef struct house_box {
+    int ia, ib;        /* ridge axis, across axis (0 = x, 1 = y) */
+    float lo[3], hi[3];
+    float ca, cb;      /* centre along a and b */
+    float zw;          /* eave height [m] */
+    float *out;
+} house_box;
+
+static void house_vert(house_box *h, float a, float b, float z, float nx_a, float nx_b, float nz,
+                       float u, float v, float half_w, float mat)
+{
+    float *o = h->out;
+    o[h->ia] = a;
+    o[h->ib] = b;
+    o[2] = z;
+    o[3 + h->ia] = nx_a;
+    o[3 + h->ib] = nx_b;
+    o[5] = nz;
+    o[6] = u;
+    o[7] = v;
+    o[8] = h->zw - h->lo[2];
+    o[9] = half_w;
+    o[10] = mat;
+    h->out += HV_FLOATS;
+}
+
+/* One box as a house: four walls up to the eaves at zw, the two end walls closed by gable
+ * triangles, and two roof planes meeting in a ridge along the longer side at the box top.
+ * Writes HV_PER_BOX vertices (triangles). The roof rises 40 % of the height, at most a
+ * 40 degree pitch (tan 40° ≈ 0.84 over the half width). */
+static float *house_mesh(const float *mm, float *out)
+{
+    house_box h = { .out = out };
+    memcpy(h.lo, mm, sizeof h.lo);
+    memcpy(h.hi, mm + 3, sizeof h.hi);
+    h.ia = h.hi[0] - h.lo[0] >= h.hi[1] - h.lo[1] ? 0 : 1;
+    h.ib = 1 - h.ia;
+    float a0 = h.lo[h.ia], a1 = h.hi[h.ia], b0 = h.lo[h.ib], b1 = h.hi[h.ib];
+    float z0 = h.lo[2], z1 = h.hi[2];
+    h.ca = 0.5f * (a0 + a1);
+    h.cb = 0.5f * (b0 + b1);
+    float half_a = 0.5f * (a1 - a0), half_b = 0.5f * (b1 - b0);
+    float rh = fminf(0.4f * (z1 - z0), 0.84f * half_b);
+    h.zw = z1 - rh;
+    /* long walls (normal -b, +b): u along a */
+    for (int s = -1; s <= 1; s += 2) {
+        float b = s < 0 ? b0 : b1, fs = (float)s;
+        float q[4][2] = { { a0, z0 }, { a1, z0 }, { a1, h.zw }, { a0, h.zw } };
+        int idx[6] = { 0, 1, 2, 0, 2, 3 };
+        for (int k = 0; k < 6; k++) {
+            const float *p = q[idx[k]];
+            house_vert(&h, p[0], b, p[1], 0.0f, fs, 0.0f, p[0] - h.ca, p[1] - z0, half_a, 0.0f);
+        }
+    }
+    /* end walls (normal -a, +a) with their gables: u along b */
+    for (int s = -1; s <= 1; s += 2) {
+        float a = s < 0 ? a0 : a1, fs = (float)s;
+        float q[5][2] = { { b0, z0 }, { b1, z0 }, { b1, h.zw }, { b0, h.zw }, { h.cb, z1 } };
+        int idx[9] = { 0, 1, 2, 0, 2, 3, 3, 2, 4 };
+        for (int k = 0; k < 9; k++) {
+            const float *p = q[idx[k]];
+            house_vert(&h, a, p[0], p[1], fs, 0.0f, 0.0f, p[0] - h.cb, p[1] - z0, half_b, 0.0f);
+        }
+    }
+    /* roof planes: from the eave at b0 or b1 up to the ridge; v along the slope */
+    float slope = sqrtf(half_b * half_b + rh * rh);
+    float nb = slope > 0.0f ? rh / slope : 0.0f, nz = slope > 0.0f ? half_b / slope : 1.0f;
+    for (int s = -1; s <= 1; s += 2) {
+        float b = s < 0 ? b0 : b1, fs = (float)s;
+        float q[4][3] = { { a0, b, 0.0f }, { a1, b, 0.0f }, { a1, h.cb, slope }, { a0, h.cb, slope } };
+        int idx[6] = { 0, 1, 2, 0, 2, 3 };
+        for (int k = 0; k < 6; k++) {
+            const float *p = q[idx[k]];
+            float z = p[2] > 0.0f ? z1 : h.zw;
+            house_vert(&h, p[0], p[1], z, 0.0f, fs * nb, nz, p[0] - h.ca, p[2], half_a, 1.0f);
+        }
+    }
+    return h.out;
+}
+
+int render_set_obstacles(render *r, uint32_t n, const float *min_max, gale_err *err)
+{
+    if (n > RENDER_MAX_OBSTACLES || (n > 0 && !min_max)) {
+        return gale_errf(err, GALE_E_ARG,
+                         "render_set_obstacles: expected at most %u boxes and their corners, got %u%s",
+                         RENDER_MAX_OBSTACLES, n, n > 0 && !min_max ? " and no array" : "");
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        const float *b = &min_max[6 * i];
+        for (int k = 0; k < 6; k++) {
+            if (!isfinite(b[k]) || fabsf(b[k]) > 1e6f) {
+                return gale_errf(err, GALE_E_RANGE,
+                                 "render_set_obstacles: box %u corner value %d: expected |value| <= 1e6, got %g",
+                                 i, k, (double)b[k]);
+            }
+        }
+        for (int k = 0; k < 3; k++) {
+            if (b[k] > b[k + 3]) {
+                return gale_errf(err, GALE_E_RANGE,
+                                 "render_set_obstacles: box %u: expected min <= max on axis %c, got %g > %g",
+                                 i, "xyz"[k], (double)b[k], (double)b[k + 3]);
+            }
+        }
+    }
+    r->house_verts = 0;
+    if (n == 0) {
+        return 0;
+    }
+    float *v = malloc((size_t)n * HV_PER_BOX * HV_FLOATS * sizeof(float));
+    if (!v) {
+        return gale_errf(err, GALE_E_NOMEM, "render_set_obstacles: out of memory for %u boxes", n);
+    }
+    float *end = v;
+    for (uint32_t i = 0; i < n; i++) {
+        end = house_mesh(&min_max[6 * i], end);
+    }
+    if (!r->house_vao) {
+        glGenVertexArrays(1, &r->house_vao);
+        glGenBuffers(1, &r->house_vbo);
+        glBindVertexArray(r->house_vao);
+        glBindBuffer(GL_ARRAY_BUFFER, r->house_vbo);
+        const GLsizei stride = (GLsizei)(HV_FLOATS * sizeof(float));
+        const int size[4] = { 3, 3, 4, 1 }, off[4] = { 0, 3, 6, 10 };
+        for (int a = 0; a < 4; a++) {
+            glEnableVertexAttribArray((GLuint)a);
+            glVertexAttribPointer((GLuint)a, size[a], GL_FLOAT, GL_FALSE, stride,
+                                  (const void *)(uintptr_t)((size_t)off[a] * sizeof(float)));
+        }
+        glBindVertexArray(0);
+    }
+    glBindBuffer(GL_ARRAY_BUFFER, r->house_vbo);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)((size_t)(end - v) * sizeof(float)), v,
+                 GL_STATIC_DRAW);
+    free(v);
+    r->house_verts = n * HV_PER_BOX;
+    return 0;
 }
 
 int render_set_wind(render *r, const render_wind *w, gale_err *err)
@@ -1327,6 +1480,16 @@ int render_frame(render *r, const render_camera *cam, double time_s, gale_err *e
     glDrawArrays(GL_TRIANGLES, 0, 3);
     r->stats.draw_calls++;
     glDepthFunc(GL_LESS);
+    /* houses (both faces drawn: the mesh is closed, and thin boxes stay visible) */
+    if (r->house_verts > 0) {
+        set_common(r, r->p_house, t, r->desc.fog_dist);
+        glUniform3f(uloc(r->p_house, "u_wall"), 0.92f, 0.82f, 0.64f);
+        glUniform3f(uloc(r->p_house, "u_roof"), 0.52f, 0.22f, 0.15f);
+        glUniform3f(uloc(r->p_house, "u_window"), 0.14f, 0.18f, 0.24f);
+        glBindVertexArray(r->house_vao);
+        glDrawArrays(GL_TRIANGLES, 0, (GLsizei)r->house_verts);
+        r->stats.draw_calls++;
+    }
     /* trunks and branches */
     glEnable(GL_CULL_FACE);
     glCullFace(GL_BACK);

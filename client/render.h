@@ -108,6 +108,16 @@ int render_set_q(render *r, uint32_t tree, const float *q, uint32_t n, gale_err 
  * q[t * stride + i], i < n_modes of its species. Valid until render_set_instances. */
 float *render_q_staging(render *r, uint32_t *stride);
 
+/* Houses: at most this many (the wire's WIRE_MAX_OBSTACLES). */
+#define RENDER_MAX_OBSTACLES 1024u
+
+/* Sets the scene's obstacles (copied; replaces the previous set; n = 0 clears): n
+ * axis-aligned boxes, min_max[6 i .. 6 i + 5] = min x, y, z, max x, y, z in world [m],
+ * min <= max. Each is drawn as a house filling its box: plastered walls with windows,
+ * a pitched roof (ridge along the longer side) taking the top of the box. Builds the
+ * mesh here, never per frame. 0 or negative GALE_E_* with err set. */
+int render_set_obstacles(render *r, uint32_t n, const float *min_max, gale_err *err);
+
 /* Sets the coarse wind (copied); drives leaf flutter and falling-leaf drift. */
 int render_set_wind(render *r, const render_wind *w, gale_err *err);
 

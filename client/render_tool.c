@@ -16,7 +16,8 @@ static void usage(void)
             "usage: gale-render --out FILE.png [--size WxH] [--trees N] [--species 1..3]\n"
             "       [--nodes N] [--modes N] [--spacing M] [--wind X,Y,Z] [--time S]\n"
             "       [--falling N] [--eye X,Y,Z] [--target X,Y,Z] [--asset FILE]...\n"
-            "       [--q Q0,Q1,...]   (the same modal vector for every tree instead of --wind)\n");
+            "       [--q Q0,Q1,...]   (the same modal vector for every tree instead of --wind)\n"
+            "       [--box X0,Y0,Z0,X1,Y1,Z1]...   (a house filling that box, up to 16)\n");
 }
 
 static int parse3(const char *s, float v[3])
@@ -55,6 +56,8 @@ int main(int argc, char **argv)
     bool eye_set = false;
     float qfix[64] = { 0 };
     int nqfix = -1;
+    float boxes[16 * 6];
+    uint32_t nboxes = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         int bad = 0;
@@ -97,6 +100,9 @@ int main(int argc, char **argv)
                 }
                 p = *end == ',' ? end + 1 : end;
             }
+        } else if (!strcmp(a, "--box") && nboxes < 16) {
+            float *b = &boxes[6 * nboxes++];
+            bad = sscanf(v, "%f,%f,%f,%f,%f,%f", &b[0], &b[1], &b[2], &b[3], &b[4], &b[5]) != 6;
         } else if (!strcmp(a, "--asset") && nfiles < 8) {
             files[nfiles++] = v;
         } else {
@@ -165,6 +171,9 @@ int main(int argc, char **argv)
     if (rc == 0) {
         rc = render_set_wind(r, &(render_wind){ .uniform = { wind[0], wind[1], wind[2] } },
                              &err);
+    }
+    if (rc == 0) {
+        rc = render_set_obstacles(r, nboxes, boxes, &err);
     }
     for (uint32_t k = 0; rc == 0 && k < falling; k++) {
         uint32_t t = k % trees;

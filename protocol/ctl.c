@@ -318,11 +318,73 @@ static int parse_wind(jctx *c, const cJSON *o, ctl_wind *w)
 
 #define U53 9007199254740992.0 /* 2^53: integers above are not exact in a JSON double */
 
+/* welcome.obstacles: optional array of rows [min_x, min_y, min_z, max_x, max_y, max_z]. */
+static int parse_obstacles(jctx *c, const cJSON *o, ctl_welcome *w)
+{
+    const cJSON *ob = cJSON_GetObjectItemCaseSensitive(o, "obstacles");
+    if (!ob) {
+        return 0;
+    }
+    if (!cJSON_IsArray(ob)) {
+        return fail(c, WIRE_CLOSE_BAD_FIELD, GALE_E_PARSE,
+                    "ctl: welcome.obstacles: wrong type: expected an array, got %s", json_kind(ob));
+    }
+    int n = cJSON_GetArraySize(ob);
+    if (n > (int)WIRE_MAX_OBSTACLES) {
+        return fail(c, WIRE_CLOSE_BAD_FIELD, GALE_E_RANGE,
+                    "ctl: welcome.obstacles: expected <= %u entries, got %d", WIRE_MAX_OBSTACLES, n);
+    }
+    if (n > 0) {
+        w->obstacles = calloc((size_t)n, sizeof *w->obstacles);
+        if (!w->obstacles) {
+            return fail(c, WIRE_CLOSE_BAD_FIELD, GALE_E_NOMEM,
+                        "ctl: welcome.obstacles: out of memory");
+        }
+    }
+    w->n_obstacles = (uint32_t)n;
+    int i = 0;
+    for (const cJSON *e = ob->child; e; e = e->next, i++) {
+        if (!cJSON_IsArray(e) || cJSON_GetArraySize(e) != 6) {
+            return fail(c, WIRE_CLOSE_BAD_FIELD, GALE_E_PARSE,
+                        "ctl: welcome.obstacles[%d]: expected [min_x, min_y, min_z, max_x, max_y, max_z], got %s%s",
+                        i, json_kind(e), cJSON_IsArray(e) ? " of another length" : "");
+        }
+        double v[6];
+        int k = 0;
+        for (const cJSON *x = e->child; x; x = x->next, k++) {
+            if (!cJSON_IsNumber(x) || !isfinite(x->valuedouble)) {
+                return fail(c, WIRE_CLOSE_BAD_FIELD, GALE_E_PARSE,
+                            "ctl: welcome.obstacles[%d][%d]: expected a number, got %s", i, k,
+                            json_kind(x));
+            }
+            if (fabs(x->valuedouble) > 1e6) {
+                return fail(c, WIRE_CLOSE_BAD_FIELD, GALE_E_RANGE,
+                            "ctl: welcome.obstacles[%d][%d]: expected |value| <= 1e6, got %.17g",
+                            i, k, x->valuedouble);
+            }
+            v[k] = x->valuedouble;
+        }
+        for (k = 0; k < 3; k++) {
+            if (!(v[k] <= v[k + 3])) {
+                return fail(c, WIRE_CLOSE_BAD_FIELD, GALE_E_RANGE,
+                            "ctl: welcome.obstacles[%d]: expected min <= max on axis %c, got %.17g > %.17g",
+                            i, "xyz"[k], v[k], v[k + 3]);
+            }
+        }
+        ctl_obstacle *b = &w->obstacles[i];
+        for (k = 0; k < 3; k++) {
+            b->min[k] = (float)v[k];
+            b->max[k] = (float)v[k + 3];
+        }
+    }
+    return 0;
+}
+
 static int parse_welcome(jctx *c, const cJSON *o, ctl_welcome *w)
 {
     static const char *const keys[] = { "type",     "protocol",  "client_id", "role",
                                         "tick_hz",  "snapshot_hz", "server_us", "tick",
-                                        "species",  "instances", NULL };
+                                        "species",  "instances", "obstacles", NULL };
     int rc = check_keys(c, o, "welcome", keys);
     double proto = 0, id = 0, th = 0, sh = 0, su = 0, tick = 0;
     if (!rc) {
@@ -472,7 +534,7 @@ static int parse_welcome(jctx *c, const cJSON *o, ctl_welcome *w)
         t->yaw_rad = (float)v[4];
         t->scale = (float)v[5];
     }
-    return 0;
+    return parse_obstacles(c, o, w);
 }
 
 static int depth_of(const cJSON *j, int depth)
@@ -677,6 +739,7 @@ void ctl_msg_fini(ctl_msg *m)
     if (m->type == CTL_WELCOME) {
         free(m->u.welcome.species);
         free(m->u.welcome.instances);
+        free(m->u.welcome.obstacles);
     }
     memset(m, 0, sizeof *m);
 }
@@ -864,6 +927,16 @@ static cJSON *to_json(const ctl_msg *m, gale_err *err)
                               jnum(t->pos[2]),   jnum(t->yaw_rad), jnum(t->scale) };
             cJSON *r = cJSON_CreateDoubleArray(row, 6);
             ok = r && cJSON_AddItemToArray(ia, r);
+        }
+        /* Omitted when there are none, so a scene without houses keeps its old text. */
+        cJSON *oa = ok && w->n_obstacles > 0 ? cJSON_AddArrayToObject(o, "obstacles") : NULL;
+        ok = ok && (w->n_obstacles == 0 || oa);
+        for (uint32_t i = 0; ok && i < w->n_obstacles; i++) {
+            const ctl_obstacle *b = &w->obstacles[i];
+            double row[6] = { jnum(b->min[0]), jnum(b->min[1]), jnum(b->min[2]),
+                              jnum(b->max[0]), jnum(b->max[1]), jnum(b->max[2]) };
+            cJSON *r = cJSON_CreateDoubleArray(row, 6);
+            ok = r && cJSON_AddItemToArray(oa, r);
         }
         break;
     }

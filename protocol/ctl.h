@@ -93,6 +93,12 @@ typedef struct ctl_instance {
     float scale;           /* uniform, > 0 */
 } ctl_instance;
 
+/* An obstacle (a house): an axis-aligned box, min[k] <= max[k], [m] scene frame, z up. */
+typedef struct ctl_obstacle {
+    float min[3];
+    float max[3];
+} ctl_obstacle;
+
 typedef struct ctl_welcome {
     int protocol;
     uint32_t client_id;
@@ -105,6 +111,8 @@ typedef struct ctl_welcome {
     ctl_species *species;       /* [n_species]; owned by the message when decoded */
     uint32_t n_instances;
     ctl_instance *instances;    /* [n_instances]; owned by the message when decoded */
+    uint32_t n_obstacles;       /* <= WIRE_MAX_OBSTACLES; "obstacles" absent on the wire: 0 */
+    ctl_obstacle *obstacles;    /* [n_obstacles]; owned by the message when decoded */
 } ctl_welcome;
 
 typedef struct ctl_error {

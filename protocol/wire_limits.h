@@ -18,6 +18,11 @@
  * than any scene ships (each is a baked asset a client downloads). */
 #define WIRE_MAX_SPECIES 64u
 
+/* Obstacles (houses: axis-aligned boxes) in one scene, sent in welcome. Each is a solid
+ * block in the wind grid and a drawn house on every client; a village scene has tens,
+ * 1024 leaves room and keeps the welcome row list (about 40 bytes each) under 64 KiB. */
+#define WIRE_MAX_OBSTACLES 1024u
+
 /* Leaf seeds in one LEAVES frame. Shedding peaks at a few hundred per tick in a
  * hurricane scene; more are dropped by the server (leaves are decoration). */
 #define WIRE_MAX_LEAVES 4096u

@@ -432,6 +432,40 @@ static int ls_emit(const ls_stems *st, double seg, skeleton *out, gale_err *err)
     return GALE_OK;
 }
 
+/* Raises radii to the tip floor and, with e > 0, to the pipe model (Leonardo's rule as
+ * measured by Eloy 2011, Phys. Rev. Lett. 107, 258101: r^e = sum of r_child^e, e ~ 2-2.5):
+ * R(n) = max(r(n), (sum over children c of R(c)^e)^(1/e)), leaves first. Without it the
+ * rules' geometric shrink leaves millimetre twigs whose local modes undercut the whole
+ * tree's sway. Nodes come parents-first, so one backward sweep suffices. */
+static void ls_pipe(skeleton *s, double tip, double e)
+{
+    double floor_r = tip > 0.0 ? tip : LS_MIN_RADIUS;
+    for (int n = 0; n < s->n; n++) {
+        if (s->radius[n] < (float)floor_r) {
+            s->radius[n] = (float)floor_r;
+        }
+    }
+    if (!(e > 0.0)) {
+        return;
+    }
+    /* acc[n]: sum of R(c)^e over the children c of n seen so far */
+    double *acc = calloc((size_t)s->n, sizeof *acc);
+    if (!acc) {
+        return; /* the radii stay as the rules gave them: valid, only less sane */
+    }
+    for (int n = s->n - 1; n >= 0; n--) {
+        double r = s->radius[n], rp = acc[n] > 0.0 ? pow(acc[n], 1.0 / e) : 0.0;
+        if (rp > r) {
+            r = rp;
+            s->radius[n] = (float)r;
+        }
+        if (s->parent[n] >= 0) {
+            acc[s->parent[n]] += pow(r, e);
+        }
+    }
+    free(acc);
+}
+
 static int ls_check_rule(const lsystem_rule *r, const char *name, gale_err *err)
 {
     if (r->whorls < 0 || r->whorls > 64 || r->per_whorl < 0 || r->per_whorl > 16 ||
@@ -523,9 +557,12 @@ int lsystem_generate(const lsystem_params *p, skeleton *out, gale_err *err)
     }
     if (!(p->trunk_taper > 0.0 && p->trunk_taper <= 1.0) || !(p->segment_m >= 0.0) ||
         !isfinite(p->segment_m) || !isfinite(p->trunk_bend_deg) || !isfinite(p->twist_deg) ||
-        !isfinite(p->twist_jitter_deg) || !(p->wobble_deg >= 0.0 && p->wobble_deg <= 90.0)) {
+        !isfinite(p->twist_jitter_deg) || !(p->wobble_deg >= 0.0 && p->wobble_deg <= 90.0) ||
+        !(p->tip_radius_m >= 0.0 && p->tip_radius_m <= 1.0) ||
+        !(p->pipe_exponent == 0.0 || (p->pipe_exponent >= 1.5 && p->pipe_exponent <= 4.0))) {
         return gale_errf(err, GALE_E_RANGE,
-                         "lsystem: trunk_taper (0, 1], segment_m >= 0, wobble 0..90 deg expected");
+                         "lsystem: trunk_taper (0, 1], segment_m >= 0, wobble 0..90 deg, "
+                         "tip_radius_m 0..1, pipe_exponent 0 or 1.5..4 expected");
     }
     if (p->target_nodes < 0 || p->target_nodes > LS_MAX_NODES) {
         return gale_errf(err, GALE_E_RANGE, "lsystem: target_nodes: expected 0..%d, got %d",
@@ -588,6 +625,9 @@ int lsystem_generate(const lsystem_params *p, skeleton *out, gale_err *err)
     }
     if (rc == 0) {
         rc = ls_emit(&st, seg, out, err);
+    }
+    if (rc == 0) {
+        ls_pipe(out, p->tip_radius_m, p->pipe_exponent);
     }
     free(st.s);
     return rc;

@@ -44,6 +44,10 @@ typedef struct lsystem_params {
     double twist_deg;        /* azimuth step between successive whorls (phyllotaxis) [deg] */
     double twist_jitter_deg; /* random extra rotation about the axis per whorl [deg] */
     double wobble_deg;       /* random deviation of a stem's direction along its length [deg] */
+    double tip_radius_m;     /* thinnest stem radius [m], 0..1; 0: 2 mm */
+    double pipe_exponent;    /* 0: radii as the rules give; 1.5..4: the pipe model (da Vinci)
+                              * r^e >= sum of r_child^e raises every radius to carry its
+                              * children */
     lsystem_rule trunk;      /* how the trunk spawns the first branches */
     lsystem_rule branch;     /* how every deeper stem spawns its children */
 } lsystem_params;

@@ -90,6 +90,8 @@ static const sp_field gen_fields[] = {
     GEN(twist_deg, SP_DBL, -360.0, 360.0),
     GEN(twist_jitter_deg, SP_DBL, 0.0, 180.0),
     GEN(wobble_deg, SP_DBL, 0.0, 90.0),
+    GEN(tip_radius_m, SP_DBL, 0.0, 1.0),
+    GEN(pipe_exponent, SP_DBL, 0.0, 4.0),
 };
 #undef GEN
 
@@ -125,8 +127,8 @@ static int sp_read(const cfg_doc *d, const cJSON *obj, const char *path, const s
         switch (f->kind) {
         case SP_INT: {
             int v;
-            long long ll;
             memcpy(&v, dst, sizeof v);
+            long long ll = v; /* kept as is when the key is bad */
             rc = cfg_int(d, obj, path, f->key, false, v, (long long)f->min, (long long)f->max, &ll,
                          err);
             v = (int)ll;
@@ -135,8 +137,8 @@ static int sp_read(const cfg_doc *d, const cJSON *obj, const char *path, const s
         }
         case SP_BOOL: {
             int v;
-            bool b;
             memcpy(&v, dst, sizeof v);
+            bool b = v != 0; /* kept as is when the key is bad */
             rc = cfg_bool(d, obj, path, f->key, false, v != 0, &b, err);
             v = b ? 1 : 0;
             memcpy(dst, &v, sizeof v);

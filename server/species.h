@@ -15,7 +15,9 @@ typedef struct species {
     double G_pa;           /* shear modulus [Pa]; default E/2.6 */
     double rayleigh_alpha; /* [1/s]  C = alpha M + beta K (Diener eq. 9) */
     double rayleigh_beta;  /* [s] */
-    double drag_c;         /* C of p_i = C ∫ D φ_i ds: ½ ρ_air C_D [kg/m^3] */
+    double drag_c;         /* C of p_i = C ∫ D φ_i ds: ½ ρ_air C_D [kg/m^3]; D is the
+                            * branch diameter only, so C lumps the foliage's frontal area
+                            * too and may well exceed ½ ρ_air (shipped: 0.25-1.8) */
     /* generator */
     lsystem_params gen;
     /* look */

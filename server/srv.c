@@ -108,8 +108,24 @@ static int welcome(srv *s, const net_peer *p, int ctl_role, char **reply, size_t
     w->species = s->wspecies;
     w->n_instances = (uint32_t)s->d.sc->n_trees;
     w->instances = s->winst;
+    /* The houses: every scene obstacle fits the wire. */
+    _Static_assert(SCENE_MAX_OBSTACLES <= WIRE_MAX_OBSTACLES, "scene obstacles exceed the wire");
+    const scene *sc = s->d.sc;
+    w->obstacles = sc->n_obstacles > 0 ? calloc((size_t)sc->n_obstacles, sizeof *w->obstacles)
+                                       : NULL;
+    if (sc->n_obstacles > 0 && !w->obstacles) {
+        snprintf(why, why_cap, "cannot encode the welcome: out of memory");
+        return WIRE_CLOSE_BAD_FIELD;
+    }
+    w->n_obstacles = (uint32_t)sc->n_obstacles;
+    for (int i = 0; i < sc->n_obstacles; i++) {
+        memcpy(w->obstacles[i].min, sc->obstacles[i].min, sizeof w->obstacles[i].min);
+        memcpy(w->obstacles[i].max, sc->obstacles[i].max, sizeof w->obstacles[i].max);
+    }
     gale_err e;
-    if (ctl_encode(&m, reply, len, &e)) {
+    int rc = ctl_encode(&m, reply, len, &e);
+    free(w->obstacles);
+    if (rc) {
         snprintf(why, why_cap, "cannot encode the welcome: %s", e.msg);
         return WIRE_CLOSE_BAD_FIELD;
     }

@@ -23,3 +23,4 @@ add_test(NAME skelshot_no_out COMMAND gale-skelshot
     --species ${CMAKE_SOURCE_DIR}/configs/species/oak.json)
 set_tests_properties(skelshot_csv skelshot_bad_csv skelshot_no_out PROPERTIES LABELS unit TIMEOUT 60)
 set_tests_properties(skelshot_bad_csv skelshot_no_out PROPERTIES WILL_FAIL TRUE)
+gale_test(test_species_physics LABEL unit SOURCES test_species_physics.c LIBS gale_bake TIMEOUT 120)

@@ -100,18 +100,21 @@ static void test_golden(void)
                             16 } };
     ctl_instance in[2] = { { 0, { 1.5f, 2.0f, 0.0f }, 0.25f, 1.0f },
                            { 1, { -30.0f, 12.75f, 0.5f }, 3.0f, 1.25f } };
+    ctl_obstacle ob[2] = { { { -4.0f, 6.0f, 0.0f }, { 4.0f, 12.5f, 5.0f } },
+                           { { 20.0f, -3.0f, 0.0f }, { 26.0f, 3.0f, 7.25f } } };
     m = (ctl_msg){ .type = CTL_WELCOME };
     m.u.welcome = (ctl_welcome){ .protocol = 1, .client_id = 9, .role = CTL_ROLE_WALL_TILE,
                                  .tick_hz = 60.0f, .snapshot_hz = 30.0f, .server_us = 123456,
                                  .tick = 88, .n_species = 2, .species = sp, .n_instances = 2,
-                                 .instances = in };
+                                 .instances = in, .n_obstacles = 2, .obstacles = ob };
     const char *wel =
         "{\"type\":\"welcome\",\"protocol\":1,\"client_id\":9,\"role\":\"wall-tile\","
         "\"tick_hz\":60,\"snapshot_hz\":30,\"server_us\":123456,\"tick\":88,\"species\":["
         "{\"name\":\"oak\",\"url\":\"/assets/oak-0123456789abcdef.gasset\",\"hash\":"
         "\"0123456789abcdef\",\"n_modes\":32},{\"name\":\"palm\",\"url\":"
         "\"/assets/palm-fedcba9876543210.gasset\",\"hash\":\"fedcba9876543210\",\"n_modes\":16}],"
-        "\"instances\":[[0,1.5,2,0,0.25,1],[1,-30,12.75,0.5,3,1.25]]}";
+        "\"instances\":[[0,1.5,2,0,0.25,1],[1,-30,12.75,0.5,3,1.25]],"
+        "\"obstacles\":[[-4,6,0,4,12.5,5],[20,-3,0,26,3,7.25]]}";
     golden(&m, wel);
     ctl_msg back;
     gale_err e;
@@ -123,7 +126,29 @@ static void test_golden(void)
     CHECK(back.u.welcome.instances[1].pos[1] == 12.75f);
     CHECK(back.u.welcome.instances[1].scale == 1.25f);
     CHECK(back.u.welcome.role == CTL_ROLE_WALL_TILE && back.u.welcome.tick == 88);
+    CHECK(back.u.welcome.n_obstacles == 2);
+    CHECK(back.u.welcome.obstacles[0].min[0] == -4.0f && back.u.welcome.obstacles[0].max[1] == 12.5f);
+    CHECK(back.u.welcome.obstacles[1].max[2] == 7.25f && back.u.welcome.obstacles[1].min[1] == -3.0f);
     ctl_msg_fini(&back);
+    /* No obstacles: the key is left out, and its absence decodes as none. */
+    m.u.welcome.n_obstacles = 0;
+    m.u.welcome.obstacles = NULL;
+    golden(&m,
+           "{\"type\":\"welcome\",\"protocol\":1,\"client_id\":9,\"role\":\"wall-tile\","
+           "\"tick_hz\":60,\"snapshot_hz\":30,\"server_us\":123456,\"tick\":88,\"species\":["
+           "{\"name\":\"oak\",\"url\":\"/assets/oak-0123456789abcdef.gasset\",\"hash\":"
+           "\"0123456789abcdef\",\"n_modes\":32},{\"name\":\"palm\",\"url\":"
+           "\"/assets/palm-fedcba9876543210.gasset\",\"hash\":\"fedcba9876543210\",\"n_modes\":16}],"
+           "\"instances\":[[0,1.5,2,0,0.25,1],[1,-30,12.75,0.5,3,1.25]]}");
+    /* The encoder refuses a box the decoder would reject. */
+    ctl_obstacle flat = { { 0.0f, 0.0f, 5.0f }, { 1.0f, 1.0f, 3.0f } };
+    m.u.welcome.n_obstacles = 1;
+    m.u.welcome.obstacles = &flat;
+    char *txt = NULL;
+    size_t tn = 0;
+    CHECK(ctl_encode(&m, &txt, &tn, &e) == GALE_E_RANGE);
+    CHECK_STR_HAS(e.msg, "ctl_encode: ctl: welcome.obstacles[0]: expected min <= max on axis z, got 5 > 3");
+    CHECK(txt == NULL);
     CHECK(back.type == CTL_NONE);
     ctl_msg_fini(NULL);
 }
@@ -227,6 +252,52 @@ static void test_errors(void)
         "\"snapshot_hz\":30,\"server_us\":0,\"tick\":0,\"species\":[{\"name\":\"oak\",\"url\":"
         "\"/a\",\"hash\":\"0123456789abcdef\",\"n_modes\":32}],\"instances\":[[1,0,0,0,0,1]]}",
         WIRE_CLOSE_BAD_FIELD, "ctl: welcome.instances[0][0]: species: expected an integer in [0, 0], got 1");
+    /* Obstacles: wrong types, a short row, min > max, too many boxes. */
+#define WEL_HEAD "{\"type\":\"welcome\",\"protocol\":1,\"client_id\":1,\"role\":\"viewer\"," \
+                 "\"tick_hz\":60,\"snapshot_hz\":30,\"server_us\":0,\"tick\":0,\"species\":" \
+                 "[{\"name\":\"oak\",\"url\":\"/a\",\"hash\":\"0123456789abcdef\",\"n_modes\":32}]," \
+                 "\"instances\":[]"
+    BAD(WEL_HEAD ",\"obstacles\":{}}", WIRE_CLOSE_BAD_FIELD,
+        "ctl: welcome.obstacles: wrong type: expected an array, got an object");
+    BAD(WEL_HEAD ",\"obstacles\":[[0,0,0,1,1,1],7]}", WIRE_CLOSE_BAD_FIELD,
+        "ctl: welcome.obstacles[1]: expected [min_x, min_y, min_z, max_x, max_y, max_z], got a number");
+    BAD(WEL_HEAD ",\"obstacles\":[[0,0,0,1,1]]}", WIRE_CLOSE_BAD_FIELD,
+        "ctl: welcome.obstacles[0]: expected [min_x, min_y, min_z, max_x, max_y, max_z], got an array of another length");
+    BAD(WEL_HEAD ",\"obstacles\":[[0,0,\"0\",1,1,1]]}", WIRE_CLOSE_BAD_FIELD,
+        "ctl: welcome.obstacles[0][2]: expected a number, got a string");
+    BAD(WEL_HEAD ",\"obstacles\":[[0,0,0,1,1,2e6]]}", WIRE_CLOSE_BAD_FIELD,
+        "ctl: welcome.obstacles[0][5]: expected |value| <= 1e6, got 2000000");
+    BAD(WEL_HEAD ",\"obstacles\":[[0,0,0,1,1,1],[3,0,0,2,1,1]]}", WIRE_CLOSE_BAD_FIELD,
+        "ctl: welcome.obstacles[1]: expected min <= max on axis x, got 3 > 2");
+    {
+        /* WIRE_MAX_OBSTACLES + 1 boxes. */
+        size_t cap = sizeof WEL_HEAD + 32 + (WIRE_MAX_OBSTACLES + 1) * 16;
+        char *t = malloc(cap);
+        CHECK(t != NULL);
+        if (t) {
+            size_t n = (size_t)snprintf(t, cap, "%s,\"obstacles\":[", WEL_HEAD);
+            for (unsigned i = 0; i <= WIRE_MAX_OBSTACLES; i++) {
+                n += (size_t)snprintf(t + n, cap - n, "%s[0,0,0,1,1,1]", i ? "," : "");
+            }
+            n += (size_t)snprintf(t + n, cap - n, "]}");
+            ctl_msg m;
+            gale_err e;
+            int close = 0;
+            CHECK(ctl_decode(t, n, CTL_MAX_SERVER_BYTES, &m, &close, &e) == GALE_E_RANGE);
+            CHECK(close == WIRE_CLOSE_BAD_FIELD);
+            CHECK_STR_HAS(e.msg, "ctl: welcome.obstacles: expected <= 1024 entries, got 1025");
+            CHECK(m.type == CTL_NONE);
+            /* Exactly at the limit decodes. */
+            n -= strlen(",[0,0,0,1,1,1]]}");
+            memcpy(t + n, "]}", 3);
+            n += 2;
+            CHECK(ctl_decode(t, n, CTL_MAX_SERVER_BYTES, &m, &close, &e) == 0);
+            CHECK(m.u.welcome.n_obstacles == WIRE_MAX_OBSTACLES);
+            ctl_msg_fini(&m);
+            free(t);
+        }
+    }
+#undef WEL_HEAD
     /* Oversized: rejected before parsing. */
     static char big[CTL_MAX_CLIENT_BYTES + 2];
     memset(big, ' ', sizeof big);

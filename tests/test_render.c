@@ -356,6 +356,59 @@ static void test_bad_input(void)
     CHECK_STR_HAS(e.msg, "size -3x");
 }
 
+/* A house: one 8 x 4 x 6 m box seen square-on from 18 m. The wall at the box's projected
+ * centre must have the lit plaster colour of common.glsl light() computed here by hand
+ * (same sun, sky and ground constants as render.c set_common; the wall's +-4 % grain and
+ * 0.6 % fog are inside the tolerance), the roof above it must be darker and redder, and
+ * the sky above the ridge and the ground beside the house unchanged from an empty frame.
+ * Bad boxes are refused with their index. */
+static void test_house(void)
+{
+    gale_err e = { 0 };
+    CHECK(render_set_instances(R, 0, NULL, &e) == 0);
+    CHECK(render_set_wind(R, &(render_wind){ .uniform = { 0.0f, 0.0f, 0.0f } }, &e) == 0);
+    const render_camera cam = { .eye = { 0.0f, -20.0f, 3.0f }, .target = { 0.0f, 0.0f, 3.0f } };
+    CHECK(render_set_obstacles(R, 0, NULL, &e) == 0);
+    uint8_t *empty = shot(&cam, 1.0);
+    const float box[6] = { -4.0f, -2.0f, 0.0f, 4.0f, 2.0f, 6.0f };
+    CHECK(render_set_obstacles(R, 1, box, &e) == 0);
+    uint8_t *img = shot(&cam, 1.0);
+    /* expected wall colour: albedo (amb + sun_col max(n.sun, 0)), n = -y */
+    const float sun[3] = { 0.45f, -0.35f, 0.62f }, sun_col[3] = { 1.05f, 0.97f, 0.86f };
+    const float zen[3] = { 0.30f, 0.50f, 0.82f }, ground[3] = { 0.30f, 0.40f, 0.17f };
+    const float wall[3] = { 0.92f, 0.82f, 0.64f };
+    float ndl = 0.35f / sqrtf(sun[0] * sun[0] + sun[1] * sun[1] + sun[2] * sun[2]);
+    const uint8_t *c = &img[3 * ((H / 2) * W + W / 2)];
+    for (int k = 0; k < 3; k++) {
+        float amb = (0.5f * ground[k] * 0.9f + 0.5f * zen[k]) * 0.55f;
+        float want = 255.0f * wall[k] * (amb + sun_col[k] * ndl);
+        CHECK_NEAR((double)c[k], (double)want, 12.0);
+    }
+    /* up the centre column: wall, then roof (darker, red over blue), then the sky again */
+    int roof_rows = 0, wall_lum = c[0] + c[1] + c[2];
+    bool sky_again = false;
+    for (int y = H / 2; y >= 0; y--) {
+        const uint8_t *p = &img[3 * (y * W + W / 2)], *q = &empty[3 * (y * W + W / 2)];
+        roof_rows += p[0] + p[1] + p[2] < wall_lum * 3 / 4 && p[0] > p[2] + 40;
+        sky_again |= roof_rows > 0 && memcmp(p, q, 3) == 0;
+    }
+    CHECK(roof_rows >= 5);
+    CHECK(sky_again);
+    /* ground well beside the house is untouched */
+    CHECK(memcmp(&img[3 * ((H - 5) * W + 4)], &empty[3 * ((H - 5) * W + 4)], 3) == 0);
+    free(img);
+    free(empty);
+    const float flipped[12] = { 0, 0, 0, 1, 1, 1, 0, 0, 5, 1, 1, 3 };
+    CHECK(render_set_obstacles(R, 2, flipped, &e) == GALE_E_RANGE);
+    CHECK_STR_HAS(e.msg, "box 1: expected min <= max on axis z, got 5 > 3");
+    const float inf[6] = { 0, 0, 0, 1, INFINITY, 1 };
+    CHECK(render_set_obstacles(R, 1, inf, &e) == GALE_E_RANGE);
+    CHECK_STR_HAS(e.msg, "box 0 corner value 4: expected |value| <= 1e6, got inf");
+    CHECK(render_set_obstacles(R, RENDER_MAX_OBSTACLES + 1, box, &e) == GALE_E_ARG);
+    CHECK_STR_HAS(e.msg, "expected at most 1024 boxes");
+    CHECK(render_set_obstacles(R, 0, NULL, &e) == 0);
+}
+
 /* The interactive path: a real (here virtual, Xvfb) window; the frame is read back from
  * its back buffer before the swap. Runs only where an X display exists. */
 static void test_window(void)
@@ -408,6 +461,7 @@ int main(void)
     RUN(test_wind_moves_crowns_downwind);
     RUN(test_dolly_no_pop);
     RUN(test_bad_input);
+    RUN(test_house);
     render_destroy(R);
     RUN(test_window);
     for (int s = 0; s < 3; s++) {

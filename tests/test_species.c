@@ -95,6 +95,9 @@ static void test_errors(void)
     expect_error("{\"name\":\"x\",\n \"E_pa\": }", GALE_E_PARSE, "t.json:2:");
     expect_error("", GALE_E_PARSE, "t.json: empty file");
     expect_error("{\"name\":\"\"}", GALE_E_RANGE, "name: expected a non-empty string");
+    /* a wrong-typed boolean is reported, never read uninitialised (found by fuzz_species) */
+    expect_error("{\"name\":\"x\",\"generator\":{\"trunk\":{\"tip_continue\":7}}}",
+                 GALE_E_PARSE, "generator.trunk.tip_continue: expected a boolean, got a number");
 }
 
 static void test_load_missing(void)
