@@ -19,6 +19,9 @@
 #define CSV_MAX_NODES 1000000
 /* Coordinates beyond a kilometre are not a tree (and lose float precision). */
 #define CSV_MAX_COORD 1000.0
+/* Radii below a micrometre are no wood: they would also underflow to 0 as float32 and
+ * make the element stiffness singular. */
+#define CSV_MIN_RADIUS 1e-6
 /* Widest field kept for parsing and messages; a number needs far fewer characters. */
 #define CSV_FIELD_MAX 64
 /* Two nodes closer than this are a zero-length element [m]. */
@@ -272,6 +275,11 @@ int skeleton_parse_csv(const char *text, size_t len, const char *name, skeleton 
             if (c < 5 && fabs(v) > CSV_MAX_COORD) {
                 rc = gale_errf(err, GALE_E_RANGE, "%s:%d: %s: expected |%s| <= %g m, got %g", name,
                                line, cols[c], cols[c], CSV_MAX_COORD, v);
+                goto fail;
+            }
+            if (c == 5 && v > 0.0 && v < CSV_MIN_RADIUS) {
+                rc = gale_errf(err, GALE_E_RANGE, "%s:%d: radius: expected at least %g m, got %g",
+                               name, line, CSV_MIN_RADIUS, v);
                 goto fail;
             }
             if (c == 5 && !(v > 0.0 && v <= CSV_MAX_COORD)) {

@@ -99,6 +99,9 @@ static void test_faults(void)
     expect(H "0,-1,0,0,0,0.1\n1,0,0,0,1,0\n", GALE_E_RANGE, "t.csv:3: radius: expected > 0, got 0");
     expect(H "0,-1,0,0,0,0.1\n1,0,0,0,1,-0.2\n", GALE_E_RANGE,
            "t.csv:3: radius: expected > 0, got -0.2");
+    /* a radius that would underflow float32 to 0 (found by fuzz_skeleton_csv) */
+    expect(H "0,-1,0,0,0,0.1\n1,0,0,0,1,5e-48\n", GALE_E_RANGE,
+           "t.csv:3: radius: expected at least 1e-06 m, got 5e-48");
     expect(H "0,-1,0,0,0,0.1\n1,0,0,0,1e9,0.1\n", GALE_E_RANGE,
            "t.csv:3: z: expected |z| <= 1000 m, got 1e+09");
     expect(H "-3,-1,0,0,0,0.1\n", GALE_E_RANGE, "t.csv:2: id: expected 0..2147483647, got -3");
