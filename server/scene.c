@@ -52,11 +52,12 @@ typedef struct spacing_grid {
     int *next; /* owned [cap] next tree in the same bucket */
 } spacing_grid;
 
-static bool inside_box(const wind_box *b, int n, double x, double y)
+/* Whether (x, y) lies within margin_m of a box's footprint. */
+static bool inside_box(const wind_box *b, int n, double x, double y, double margin_m)
 {
     for (int i = 0; i < n; i++) {
-        if (x >= (double)b[i].min[0] && x <= (double)b[i].max[0] && y >= (double)b[i].min[1] &&
-            y <= (double)b[i].max[1]) {
+        if (x >= (double)b[i].min[0] - margin_m && x <= (double)b[i].max[0] + margin_m &&
+            y >= (double)b[i].min[1] - margin_m && y <= (double)b[i].max[1] + margin_m) {
             return true;
         }
     }
@@ -137,7 +138,9 @@ static int place_forest(scene *s, const cfg_doc *d, const char *path, int sp, in
         double y = lo[1] + (hi[1] - lo[1]) * rng_unit(&st);
         double yaw = 2 * M_PI * rng_unit(&st);
         double sc = scale[0] + (scale[1] - scale[0]) * rng_unit(&st);
-        if (inside_box(s->obstacles, s->n_obstacles, x, y) ||
+        /* the minimum spacing stands for a crown radius: keep it from the houses too, so
+         * crowns do not grow through walls and roofs stay visible */
+        if (inside_box(s->obstacles, s->n_obstacles, x, y, min_d) ||
             (min_d > 0 && !spacing_ok(&g, s->trees, x, y, min_d))) {
             continue;
         }
