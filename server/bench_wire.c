@@ -45,7 +45,7 @@ static float *to_float(const double *d, size_t n)
 }
 
 /* Bakes one species from a seeded synthetic skeleton into *a (arrays owned by a; free
- * with free_species). Rayleigh damping alpha, beta (Diener 2008 eq. 9). */
+ * with asset_fini). Rayleigh damping alpha, beta (Diener 2008 eq. 9). */
 static int bake_species(int n_nodes, uint64_t seed, int n_modes, double alpha, double beta,
                         asset *a, gale_err *err)
 {
@@ -141,22 +141,6 @@ static int bake_shipped(const char *name, int n_modes, asset *a, gale_err *err)
     }
     skeleton_fini(&sk);
     return rc;
-}
-
-static void free_species(asset *a)
-{
-    free(a->parent);
-    free(a->rest);
-    free(a->radius);
-    free(a->omega);
-    free(a->gamma);
-    free(a->wind_basis);
-    free(a->phi);
-    free(a->corr_v);
-    free(a->corr_w);
-    free(a->corr_a);
-    free(a->corr_b);
-    memset(a, 0, sizeof *a);
 }
 
 #define HBINS 4000
@@ -415,7 +399,7 @@ int bench_wire(int argc, char **argv)
     wire_decoder_destroy(dec);
     for (int s = 0; s < NS; s++) {
         if (synthetic) {
-            free_species(&sp[s]);
+            asset_fini(&sp[s]);
         } else {
             asset_fini(&sp[s]);
         }
