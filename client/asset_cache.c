@@ -2,6 +2,7 @@
  * u64 payload length, u64 FNV-1a of the payload (both little-endian), then the payload.
  * Written to `<key>.tmp.<pid>`, fsync'd, renamed over the entry. */
 #include "asset_cache.h"
+#include "hash.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -20,12 +21,7 @@ struct asset_cache {
 
 uint64_t asset_cache_hash(const uint8_t *buf, size_t len)
 {
-    uint64_t h = 14695981039346656037ull; /* FNV-1a 64 offset basis */
-    for (size_t i = 0; i < len; i++) {
-        h ^= buf[i];
-        h *= 1099511628211ull; /* FNV prime */
-    }
-    return h;
+    return hash64_update(HASH64_INIT, buf, len); /* plain FNV-1a 64, no final mix */
 }
 
 int asset_cache_key_ok(const char *key)
