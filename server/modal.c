@@ -1,9 +1,10 @@
 /* Batch modal update of every tree (Diener 2008 sections 3-4): the wind sampled at a
  * tree is rotated into its frame, f_i = |v| v.p_i, and each mode's oscillator advances by
  * the exact 2x2 transition (server/oscillator.h), then is quantised for the wire.
- * Storage is blocks of 16 trees of one species, mode-major within a block, so the inner
- * loop runs over 16 lanes with per-(species, mode) constants: vectorisable, and one
- * block's snapshot rows are written together (cache-line sized). */
+ * Storage is tree-major, each tree's modes contiguous and padded to a vector multiple:
+ * the inner loop runs over one tree's modes with per-species constant arrays, so it
+ * vectorises, and the quantised modes land in the tree's snapshot row as one
+ * contiguous store (no transpose). */
 #include "modal.h"
 
 #include <math.h>
@@ -14,32 +15,27 @@
 #include "oscillator.h"
 #include "wire.h"
 
-#define LANES 16u
-#define NO_TREE UINT32_MAX
+/* Modes per tree are padded to a multiple of this (one AVX-512 vector of floats). */
+#define MODE_PAD 16u
 
-typedef struct modal_block {
-    uint32_t species;
-    uint32_t n_live;            /* lanes holding a tree; the rest are inert padding */
-    size_t off;                 /* first float of this block in state */
-    uint32_t tree[LANES];       /* tree index per lane, NO_TREE for padding */
-    float cos_yaw[LANES], sin_yaw[LANES];
-} modal_block;
-
+/* One species' per-mode constants as arrays over the padded modes: the update runs
+ * over a tree's modes as vector lanes. Padding modes have all-zero coefficients, so
+ * their q stays 0 and quantises to 0 (the snapshot's "beyond a tree's modes"). */
 typedef struct modal_sp {
     uint32_t n_modes;
-    osc_coef coef[WIRE_MAX_MODES];
-    float p[WIRE_MAX_MODES][3];
-    float inv_step[WIRE_MAX_MODES];
+    float *a11, *a12, *a21, *a22, *b1, *b2; /* osc_exact per mode */
+    float *px, *py, *pz;                     /* wind basis p_i, tree frame */
+    float *inv_step;                         /* 1 / quantisation step; 0 in padding */
 } modal_sp;
 
 struct modal {
-    uint32_t n_trees, n_species, stride, n_blocks;
+    uint32_t n_trees, n_species, stride, pad;
     int n_threads;
     modal_sp *sp;            /* owned: [n_species] */
-    modal_block *blocks;     /* owned: [n_blocks] */
-    float *state;            /* owned: per block [n_modes][2][LANES]: q then q' */
-    uint32_t *tree_block;    /* owned: [n_trees] block index of tree t */
-    uint8_t *tree_lane;      /* owned: [n_trees] lane of tree t */
+    float *coef;             /* owned: the arrays modal_sp points into */
+    float *state;            /* owned: per tree [2][pad]: q then q' */
+    uint8_t *tree_species;   /* owned: [n_trees] */
+    float *cos_yaw, *sin_yaw;/* owned: [n_trees] */
 };
 
 modal *modal_create(const modal_desc *d, gale_err *err)
@@ -75,7 +71,6 @@ modal *modal_create(const modal_desc *d, gale_err *err)
     }
     for (uint32_t s = 0; s < d->n_species; s++) {
         const modal_species *in = &d->species[s];
-        modal_sp *sp = &m->sp[s];
         if (in->n_modes == 0 || in->n_modes > WIRE_MAX_MODES || !in->omega || !in->gamma ||
             !in->wind_basis || !in->qstep) {
             gale_errf(err, GALE_E_ARG,
@@ -83,8 +78,27 @@ modal *modal_create(const modal_desc *d, gale_err *err)
                       s, WIRE_MAX_MODES, in->n_modes);
             goto fail;
         }
-        sp->n_modes = in->n_modes;
+        m->sp[s].n_modes = in->n_modes;
         m->stride = in->n_modes > m->stride ? in->n_modes : m->stride;
+    }
+    m->pad = (m->stride + MODE_PAD - 1) / MODE_PAD * MODE_PAD;
+    /* Ten constant arrays of pad floats per species, 64-byte aligned each. */
+    size_t coef_bytes = (size_t)d->n_species * 10 * m->pad * sizeof(float);
+    coef_bytes = (coef_bytes + 63) & ~(size_t)63;
+    m->coef = aligned_alloc(64, coef_bytes);
+    if (!m->coef) {
+        goto nomem;
+    }
+    memset(m->coef, 0, coef_bytes);
+    for (uint32_t s = 0; s < d->n_species; s++) {
+        const modal_species *in = &d->species[s];
+        modal_sp *sp = &m->sp[s];
+        float *a = m->coef + (size_t)s * 10 * m->pad;
+        float **dst[10] = { &sp->a11, &sp->a12, &sp->a21, &sp->a22, &sp->b1,
+                            &sp->b2,  &sp->px,  &sp->py,  &sp->pz,  &sp->inv_step };
+        for (int k = 0; k < 10; k++) {
+            *dst[k] = a + (size_t)k * m->pad;
+        }
         for (uint32_t i = 0; i < in->n_modes; i++) {
             float om = in->omega[i], ga = in->gamma[i], st = in->qstep[i];
             if (!(om > 0.0f) || !isfinite(om) || !(ga >= 0.0f) || !isfinite(ga) ||
@@ -95,15 +109,25 @@ modal *modal_create(const modal_desc *d, gale_err *err)
                 goto fail;
             }
             /* Diener 2008 eq. 8-9, advanced exactly for f constant over dt. */
-            sp->coef[i] = osc_exact(om, ga, dt_s);
-            for (int k = 0; k < 3; k++) {
-                sp->p[i][k] = in->wind_basis[3 * i + (uint32_t)k];
-            }
+            osc_coef c = osc_exact(om, ga, dt_s);
+            sp->a11[i] = c.a11;
+            sp->a12[i] = c.a12;
+            sp->a21[i] = c.a21;
+            sp->a22[i] = c.a22;
+            sp->b1[i] = c.b1;
+            sp->b2[i] = c.b2;
+            sp->px[i] = in->wind_basis[3 * i];
+            sp->py[i] = in->wind_basis[3 * i + 1];
+            sp->pz[i] = in->wind_basis[3 * i + 2];
             sp->inv_step[i] = 1.0f / st;
         }
     }
-    /* Count trees per species, then lay blocks out species by species. */
-    uint32_t count[WIRE_MAX_SPECIES] = { 0 };
+    m->tree_species = malloc(d->n_trees);
+    m->cos_yaw = malloc(sizeof(float) * d->n_trees);
+    m->sin_yaw = malloc(sizeof(float) * d->n_trees);
+    if (!m->tree_species || !m->cos_yaw || !m->sin_yaw) {
+        goto nomem;
+    }
     for (uint32_t t = 0; t < d->n_trees; t++) {
         if (d->tree_species[t] >= d->n_species) {
             gale_errf(err, GALE_E_RANGE, "modal_create: tree_species[%u]: expected < %u, got %u",
@@ -115,50 +139,16 @@ modal *modal_create(const modal_desc *d, gale_err *err)
                       t, (double)d->tree_yaw_rad[t]);
             goto fail;
         }
-        count[d->tree_species[t]]++;
-    }
-    uint32_t first_block[WIRE_MAX_SPECIES];
-    size_t floats = 0;
-    for (uint32_t s = 0; s < d->n_species; s++) {
-        first_block[s] = m->n_blocks;
-        m->n_blocks += (count[s] + LANES - 1) / LANES;
-    }
-    m->blocks = calloc(m->n_blocks, sizeof *m->blocks);
-    m->tree_block = calloc(d->n_trees, sizeof *m->tree_block);
-    m->tree_lane = calloc(d->n_trees, 1);
-    if (!m->blocks || !m->tree_block || !m->tree_lane) {
-        goto nomem;
-    }
-    for (uint32_t s = 0; s < d->n_species; s++) {
-        uint32_t nb = (count[s] + LANES - 1) / LANES;
-        for (uint32_t b = first_block[s]; b < first_block[s] + nb; b++) {
-            modal_block *bl = &m->blocks[b];
-            bl->species = s;
-            bl->off = floats;
-            floats += (size_t)m->sp[s].n_modes * 2 * LANES;
-            for (uint32_t l = 0; l < LANES; l++) {
-                bl->tree[l] = NO_TREE;
-                bl->cos_yaw[l] = 1.0f;
-            }
-        }
-    }
-    uint32_t fill[WIRE_MAX_SPECIES] = { 0 };
-    for (uint32_t t = 0; t < d->n_trees; t++) {
-        uint32_t s = d->tree_species[t];
-        uint32_t b = first_block[s] + fill[s] / LANES, l = fill[s] % LANES;
-        fill[s]++;
-        modal_block *bl = &m->blocks[b];
         float yaw = d->tree_yaw_rad ? d->tree_yaw_rad[t] : 0.0f;
-        bl->tree[l] = t;
-        bl->cos_yaw[l] = cosf(yaw);
-        bl->sin_yaw[l] = sinf(yaw);
-        bl->n_live = l + 1;
-        m->tree_block[t] = b;
-        m->tree_lane[t] = (uint8_t)l;
+        m->tree_species[t] = d->tree_species[t];
+        m->cos_yaw[t] = cosf(yaw);
+        m->sin_yaw[t] = sinf(yaw);
     }
-    /* 64-byte aligned so a block's lanes are whole cache lines. */
-    size_t bytes = (floats * sizeof(float) + 63) & ~(size_t)63;
-    m->state = aligned_alloc(64, bytes > 0 ? bytes : 64);
+    /* 64-byte aligned so a tree's state starts on a cache line when pad is a multiple
+     * of 16 (the common 16 / 32 / 64 modes). */
+    size_t bytes = (size_t)d->n_trees * 2 * m->pad * sizeof(float);
+    bytes = (bytes + 63) & ~(size_t)63;
+    m->state = aligned_alloc(64, bytes);
     if (!m->state) {
         goto nomem;
     }
@@ -177,10 +167,11 @@ void modal_destroy(modal *m)
         return;
     }
     free(m->sp);
-    free(m->blocks);
+    free(m->coef);
     free(m->state);
-    free(m->tree_block);
-    free(m->tree_lane);
+    free(m->tree_species);
+    free(m->cos_yaw);
+    free(m->sin_yaw);
     free(m);
 }
 
@@ -196,80 +187,81 @@ uint32_t modal_n_trees(const modal *m)
 
 uint32_t modal_tree_modes(const modal *m, uint32_t t)
 {
-    return t < m->n_trees ? m->sp[m->blocks[m->tree_block[t]].species].n_modes : 0;
+    return t < m->n_trees ? m->sp[m->tree_species[t]].n_modes : 0;
 }
 
-/* One block: wind into the tree frame, forces, exact update, quantisation. Cloned for
- * AVX-512 and AVX2 (chosen at load time by the CPU); the default build targets SSE4.2.
+/* One group of MODE_PAD modes of one tree: forces, exact update, quantisation. A fixed
+ * trip count and restrict parameters let the compiler vectorise it at -O2. */
+static inline void modes_step(const modal_sp *sp, uint32_t g, float vx, float vy, float vz,
+                              float sv, float *restrict q, float *restrict v,
+                              int16_t *restrict qq)
+{
+    const float *restrict a11 = sp->a11 + g, *restrict a12 = sp->a12 + g;
+    const float *restrict a21 = sp->a21 + g, *restrict a22 = sp->a22 + g;
+    const float *restrict b1 = sp->b1 + g, *restrict b2 = sp->b2 + g;
+    const float *restrict px = sp->px + g, *restrict py = sp->py + g, *restrict pz = sp->pz + g;
+    const float *restrict inv = sp->inv_step + g;
+    for (uint32_t i = 0; i < MODE_PAD; i++) {
+        /* Diener 2008 section 4: f_i = |v| (v . p_i), v in the tree frame. */
+        float f = sv * (vx * px[i] + vy * py[i] + vz * pz[i]);
+        float q0 = q[i], v0 = v[i];
+        float q1 = a11[i] * q0 + a12[i] * v0 + b1[i] * f;
+        float v1 = a21[i] * q0 + a22[i] * v0 + b2[i] * f;
+        q[i] = q1;
+        v[i] = v1;
+        qq[i] = wire_quantize(q1, inv[i]);
+    }
+}
+
+/* Trees [t0, t1): wind into the tree frame, then each group of modes. Cloned for AVX-512
+ * and AVX2 (chosen at load time by the CPU); the default build targets SSE4.2.
  * -std=c11 leaves floating-point contraction off, so every clone rounds alike. */
 __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-static void block_tick(const modal *m, const modal_block *bl, const float *wind_world,
+static void range_tick(const modal *m, uint32_t t0, uint32_t t1, const float *wind_world,
                        int16_t *qsnap)
 {
-    const modal_sp *sp = &m->sp[bl->species];
-    float vx[LANES], vy[LANES], vz[LANES], sp_v[LANES];
-    for (uint32_t l = 0; l < LANES; l++) {
-        float wx = 0.0f, wy = 0.0f, wz = 0.0f;
-        uint32_t t = bl->tree[l];
-        if (t != NO_TREE) {
-            wx = wind_world[3 * (size_t)t];
-            wy = wind_world[3 * (size_t)t + 1];
-            wz = wind_world[3 * (size_t)t + 2];
-            /* A non-finite or absurd sample (> 1 km/s) would poison the state for good:
-             * treat it as calm air for this tick. */
-            if (!(wx * wx + wy * wy + wz * wz <= 1.0e6f)) {
-                wx = wy = wz = 0.0f;
-            }
+    const uint32_t pad = m->pad, stride = m->stride;
+    int16_t qq[WIRE_MAX_MODES];
+    for (uint32_t t = t0; t < t1; t++) {
+        float wx = wind_world[3 * (size_t)t];
+        float wy = wind_world[3 * (size_t)t + 1];
+        float wz = wind_world[3 * (size_t)t + 2];
+        /* A non-finite or absurd sample (> 1 km/s) would poison the state for good:
+         * treat it as calm air for this tick. */
+        if (!(wx * wx + wy * wy + wz * wz <= 1.0e6f)) {
+            wx = wy = wz = 0.0f;
         }
         /* World -> tree frame: rotate by -yaw about z (the tree's yaw maps tree to world). */
-        vx[l] = bl->cos_yaw[l] * wx + bl->sin_yaw[l] * wy;
-        vy[l] = -bl->sin_yaw[l] * wx + bl->cos_yaw[l] * wy;
-        vz[l] = wz;
-        sp_v[l] = sqrtf(wx * wx + wy * wy + wz * wz);
-    }
-    int16_t qq[WIRE_MAX_MODES][LANES];
-    float *st = m->state + bl->off;
-    const uint32_t nm = sp->n_modes;
-    for (uint32_t i = 0; i < nm; i++) {
-        const osc_coef c = sp->coef[i];
-        const float px = sp->p[i][0], py = sp->p[i][1], pz = sp->p[i][2];
-        const float inv = sp->inv_step[i];
-        float *q = st + (size_t)i * 2 * LANES;
-        float *v = q + LANES;
-        for (uint32_t l = 0; l < LANES; l++) {
-            /* Diener 2008 section 4: f_i = |v| (v . p_i), v in the tree frame. */
-            float f = sp_v[l] * (vx[l] * px + vy[l] * py + vz[l] * pz);
-            float q0 = q[l], v0 = v[l];
-            float q1 = c.a11 * q0 + c.a12 * v0 + c.b1 * f;
-            float v1 = c.a21 * q0 + c.a22 * v0 + c.b2 * f;
-            q[l] = q1;
-            v[l] = v1;
-            qq[i][l] = wire_quantize(q1, inv);
+        const float cy = m->cos_yaw[t], sy = m->sin_yaw[t];
+        const float vx = cy * wx + sy * wy;
+        const float vy = -sy * wx + cy * wy;
+        const float sv = sqrtf(wx * wx + wy * wy + wz * wz);
+        const modal_sp *sp = &m->sp[m->tree_species[t]];
+        float *q = m->state + (size_t)t * 2 * pad;
+        /* When the row is exactly the padded modes (16, 32, 64), quantise straight into
+         * the snapshot; otherwise into qq and copy the row's part. */
+        int16_t *out = qsnap && pad == stride ? qsnap + (size_t)t * stride : qq;
+        for (uint32_t g = 0; g < pad; g += MODE_PAD) {
+            modes_step(sp, g, vx, vy, wz, sv, q + g, q + pad + g, out + g);
         }
-    }
-    if (!qsnap) {
-        return;
-    }
-    for (uint32_t l = 0; l < bl->n_live; l++) {
-        int16_t *row = qsnap + (size_t)bl->tree[l] * m->stride;
-        for (uint32_t i = 0; i < nm; i++) {
-            row[i] = qq[i][l];
-        }
-        for (uint32_t i = nm; i < m->stride; i++) {
-            row[i] = 0;
+        if (qsnap && out == qq) {
+            memcpy(qsnap + (size_t)t * stride, qq, stride * sizeof(int16_t));
         }
     }
 }
 
 void modal_tick(modal *m, const float *wind_world, int16_t *qsnap)
 {
-    const int nb = (int)m->n_blocks;
-    /* Blocks are independent: the threads take chunks of 32 blocks as they come free
-     * (on a busy machine a descheduled thread does not hold the other back); libgomp
-     * allocates nothing per tick once its pool exists. */
-#pragma omp parallel for schedule(dynamic, 32) num_threads(m->n_threads) if (nb > 64)
-    for (int b = 0; b < nb; b++) {
-        block_tick(m, &m->blocks[b], wind_world, qsnap);
+    /* Trees are independent: the threads take chunks of 512 as they come free (on a busy
+     * machine a descheduled thread does not hold the other back); libgomp allocates
+     * nothing per tick once its pool exists. */
+    const uint32_t chunk = 512;
+    const int nc = (int)((m->n_trees + chunk - 1) / chunk);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(m->n_threads) if (nc > 2)
+    for (int c = 0; c < nc; c++) {
+        uint32_t t0 = (uint32_t)c * chunk;
+        uint32_t t1 = t0 + chunk < m->n_trees ? t0 + chunk : m->n_trees;
+        range_tick(m, t0, t1, wind_world, qsnap);
     }
 }
 
@@ -278,16 +270,13 @@ uint32_t modal_get(const modal *m, uint32_t t, float *q, float *qdot)
     if (t >= m->n_trees) {
         return 0;
     }
-    const modal_block *bl = &m->blocks[m->tree_block[t]];
-    uint32_t l = m->tree_lane[t], nm = m->sp[bl->species].n_modes;
-    const float *st = m->state + bl->off;
-    for (uint32_t i = 0; i < nm; i++) {
-        if (q) {
-            q[i] = st[(size_t)i * 2 * LANES + l];
-        }
-        if (qdot) {
-            qdot[i] = st[(size_t)i * 2 * LANES + LANES + l];
-        }
+    uint32_t nm = m->sp[m->tree_species[t]].n_modes;
+    const float *st = m->state + (size_t)t * 2 * m->pad;
+    if (q) {
+        memcpy(q, st, nm * sizeof(float));
+    }
+    if (qdot) {
+        memcpy(qdot, st + m->pad, nm * sizeof(float));
     }
     return nm;
 }
@@ -297,15 +286,12 @@ void modal_set(modal *m, uint32_t t, const float *q, const float *qdot)
     if (t >= m->n_trees) {
         return;
     }
-    const modal_block *bl = &m->blocks[m->tree_block[t]];
-    uint32_t l = m->tree_lane[t], nm = m->sp[bl->species].n_modes;
-    float *st = m->state + bl->off;
-    for (uint32_t i = 0; i < nm; i++) {
-        if (q) {
-            st[(size_t)i * 2 * LANES + l] = q[i];
-        }
-        if (qdot) {
-            st[(size_t)i * 2 * LANES + LANES + l] = qdot[i];
-        }
+    uint32_t nm = m->sp[m->tree_species[t]].n_modes;
+    float *st = m->state + (size_t)t * 2 * m->pad;
+    if (q) {
+        memcpy(st, q, nm * sizeof(float));
+    }
+    if (qdot) {
+        memcpy(st + m->pad, qdot, nm * sizeof(float));
     }
 }

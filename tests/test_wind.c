@@ -372,15 +372,17 @@ static void test_sampling(void)
         return;
     }
     randomise(w, 3.0f);
-    float pts[3 * 64], many[3 * 64];
-    for (int n = 0; n < 64; n++) {
-        /* a few beyond the grid, to check clamping */
-        pts[3 * n + 0] = -5.0f + (0.5f + 0.6f * frand()) * 18.0f;
-        pts[3 * n + 1] = 3.0f + (0.5f + 0.6f * frand()) * 15.0f;
-        pts[3 * n + 2] = (0.5f + 0.6f * frand()) * 9.0f;
+    /* Enough points for the threaded, vectorised path of wind_sample_many; some beyond
+     * every side of the grid, to check clamping. */
+    enum { NP = 5000 };
+    static float pts[3 * NP], many[3 * NP];
+    for (int n = 0; n < NP; n++) {
+        pts[3 * n + 0] = -5.0f + (-0.2f + 1.4f * frand()) * 18.0f;
+        pts[3 * n + 1] = 3.0f + (-0.2f + 1.4f * frand()) * 15.0f;
+        pts[3 * n + 2] = (-0.2f + 1.4f * frand()) * 9.0f;
     }
-    wind_sample_many(w, 64, pts, many);
-    for (int n = 0; n < 64; n++) {
+    wind_sample_many(w, NP, pts, many);
+    for (int n = 0; n < NP; n++) {
         float v[3];
         wind_sample(w, pts + 3 * n, v);
         for (int a = 0; a < 3; a++) {
