@@ -5,18 +5,19 @@
  * the domain read the wind coming in. */
 #include <math.h>
 #include <omp.h>
+#include <stdint.h>
+#include <string.h>
 
 #include "wind_int.h"
 
 /* Displacements over dt of one row (j, k) of component a's samples, in cells: the
  * velocity at each sample, its own component read directly and the other two averaged
  * from their four nearest samples (exactly their trilinear value there); pa / pb point at
- * the first of those four for i = 0, at offsets 0, da0, da1, da0 + da1. Returns the
- * largest |displacement| of the row. */
-WIND_CLONES static float advect_disp(int a, float s, int nx, const float *restrict own,
-                                     const float *restrict pa, int da0, int da1,
-                                     const float *restrict pb, int db0, int db1,
-                                     float *restrict dx, float *restrict dy, float *restrict dz)
+ * the first of those four for i = 0, at offsets 0, da0, da1, da0 + da1. */
+WIND_CLONES static void advect_disp(int a, float s, int nx, const float *restrict own,
+                                    const float *restrict pa, int da0, int da1,
+                                    const float *restrict pb, int db0, int db1,
+                                    float *restrict dx, float *restrict dy, float *restrict dz)
 {
     /* Own component goes to the output of axis a, the averaged ones to the other two
      * in order: selected once per row so the loop has no branches and vectorises. */
@@ -29,14 +30,6 @@ WIND_CLONES static float advect_disp(int a, float s, int nx, const float *restri
         pea[i] = s * (0.25f * (pa[i] + pa[i + da0] + pa[i + da1] + pa[i + da0 + da1]));
         peb[i] = s * (0.25f * (pb[i] + pb[i + db0] + pb[i + db1] + pb[i + db0 + db1]));
     }
-    float m = 0.0f;
-    for (int i = 0; i < nx; i++) {
-        float ax = fabsf(dx[i]), ay = fabsf(dy[i]), az = fabsf(dz[i]);
-        float q = ax > ay ? ax : ay;
-        q = q > az ? q : az;
-        m = m > q ? m : q;
-    }
-    return m;
 }
 
 /* General back-trace (eq. 4): trilinear read of src at (i - dx, j - dy, k - dz), clamped
@@ -76,23 +69,45 @@ WIND_CLONES static void advect_far(int j, int k, const int n[3], int sy, int sz,
  * neighbour (lo when d > 0, hi when d < 0): the same value as the general read. */
 static inline float upwind(float lo, float a, float hi, float d)
 {
-    float nb = d > 0.0f ? lo : hi;
+    /* The neighbour is chosen by a bit mask rather than ?: so that both loads stay
+     * unconditional: gcc would otherwise sink them into the arms, and without masked
+     * loads (AVX2, SSE) a loop with conditional loads does not vectorise. */
+    uint32_t m = 0u - (uint32_t)(d > 0.0f), l, h;
+    memcpy(&l, &lo, sizeof l);
+    memcpy(&h, &hi, sizeof h);
+    uint32_t n = (l & m) | (h & ~m);
+    float nb;
+    memcpy(&nb, &n, sizeof nb);
     float t = d > 0.0f ? d : -d;
     return a + t * (nb - a);
 }
 
-/* Back-trace of a row whose displacements are all within one cell: the foot lies in the
- * 3x3x3 block around each sample, so the trilinear read becomes upwind selections from
- * nine contiguous rows (no gathers). row points at sample (0, j, k) of src. */
-WIND_CLONES static void advect_near(int nx, int sy, int sz, const float *restrict dxs,
-                                    const float *restrict dys, const float *restrict dzs,
-                                    const float *restrict row, float *restrict dst)
+/* Back-trace of a row whose displacements are all within one cell, fused with their
+ * computation (own component a, a constant in each caller so the selections fold away):
+ * the displacement of each sample stays in registers, and as the foot lies in the 3x3x3
+ * block around the sample, the trilinear read becomes upwind selections from nine
+ * contiguous rows of the own component (no gathers). Returns nonzero when some
+ * displacement exceeds one cell, in which case the row's output is not valid and the
+ * caller redoes it by the general path (NaN counts as near, whose reads stay in the row's
+ * neighbourhood; the step's divergence check then resets the field). */
+static inline __attribute__((always_inline)) int advect_row_fused(int a, float s, int nx, int sy, int sz,
+                                   const float *restrict own, const float *restrict pa,
+                                   int da0, int da1, const float *restrict pb, int db0,
+                                   int db1, float *restrict dst)
 {
-#pragma omp simd
+    int far = 0;
+#pragma omp simd reduction(| : far)
     for (int i = 0; i < nx; i++) {
-        const float dx = dxs[i], dy = dys[i], dz = dzs[i];
-        const float *r = row + i;
-#define WIND_XR(b, a) upwind(r[(b)*sz + (a)*sy - 1], r[(b)*sz + (a)*sy], r[(b)*sz + (a)*sy + 1], dx)
+        const float d_own = s * own[i];
+        const float d_a = s * (0.25f * (pa[i] + pa[i + da0] + pa[i + da1] + pa[i + da0 + da1]));
+        const float d_b = s * (0.25f * (pb[i] + pb[i + db0] + pb[i + db1] + pb[i + db0 + db1]));
+        const float dx = a == 0 ? d_own : d_a;
+        const float dy = a == 1 ? d_own : a == 0 ? d_a : d_b;
+        const float dz = a == 2 ? d_own : d_b;
+        far |= (dx > 1.0f) | (dx < -1.0f) | (dy > 1.0f) | (dy < -1.0f) | (dz > 1.0f) |
+               (dz < -1.0f);
+        const float *r = own + i;
+#define WIND_XR(b, c) upwind(r[(b)*sz + (c)*sy - 1], r[(b)*sz + (c)*sy], r[(b)*sz + (c)*sy + 1], dx)
         const float xr[3][3] = {
             {WIND_XR(-1, -1), WIND_XR(-1, 0), WIND_XR(-1, 1)},
             {WIND_XR(0, -1), WIND_XR(0, 0), WIND_XR(0, 1)},
@@ -104,48 +119,98 @@ WIND_CLONES static void advect_near(int nx, int sy, int sz, const float *restric
         float y2 = upwind(xr[2][0], xr[2][1], xr[2][2], dy);
         dst[i] = upwind(y0, y1, y2, dz);
     }
+    return far;
 }
 
-static void advect_comp(wind_grid *w, int a, float s)
+WIND_CLONES static int advect_row_u(float s, int nx, int sy, int sz, const float *restrict own,
+                                    const float *restrict pa, int da0, int da1,
+                                    const float *restrict pb, int db0, int db1,
+                                    float *restrict dst)
+{
+    return advect_row_fused(0, s, nx, sy, sz, own, pa, da0, da1, pb, db0, db1, dst);
+}
+
+WIND_CLONES static int advect_row_v(float s, int nx, int sy, int sz, const float *restrict own,
+                                    const float *restrict pa, int da0, int da1,
+                                    const float *restrict pb, int db0, int db1,
+                                    float *restrict dst)
+{
+    return advect_row_fused(1, s, nx, sy, sz, own, pa, da0, da1, pb, db0, db1, dst);
+}
+
+WIND_CLONES static int advect_row_w(float s, int nx, int sy, int sz, const float *restrict own,
+                                    const float *restrict pa, int da0, int da1,
+                                    const float *restrict pb, int db0, int db1,
+                                    float *restrict dst)
+{
+    return advect_row_fused(2, s, nx, sy, sz, own, pa, da0, da1, pb, db0, db1, dst);
+}
+
+/* Row r of component a: the fused one-cell kernel, and where a displacement in the row
+ * exceeds a cell, the displacements and the general back-trace. */
+static void advect_row(wind_grid *w, int a, float s, int r)
 {
     const wind_comp *cu = &w->c[0], *cv = &w->c[1], *cw = &w->c[2], *ca = &w->c[a];
-    const int nx = ca->n[0], ny = ca->n[1], nz = ca->n[2], rows = ny * nz;
-    const int threads = (size_t)nx * (size_t)rows >= WIND_PAR_MIN ? w->d.threads : 1;
-#pragma omp parallel for schedule(static) num_threads(threads)
-    for (int r = 0; r < rows; r++) {
-        int j = r % ny, k = r / ny;
-        const float *own = ca->d + wind_idx(ca->sy, ca->sz, 0, j, k);
-        float *dst = ca->tmp + wind_idx(ca->sy, ca->sz, 0, j, k);
-        float *dx = w->scratch + (size_t)omp_get_thread_num() * WIND_SCRATCH_ROW(w);
-        float *dy = dx + nx + 1, *dz = dy + nx + 1;
-        float m;
-        if (a == 0) {
-            /* v at (i-1..i, j..j+1), w at (i-1..i, k..k+1) */
-            m = advect_disp(0, s, nx, own, cv->d + wind_idx(cv->sy, cv->sz, -1, j, k), 1, cv->sy,
-                            cw->d + wind_idx(cw->sy, cw->sz, -1, j, k), 1, cw->sz, dx, dy, dz);
-        } else if (a == 1) {
-            /* u at (i..i+1, j-1..j), w at (j-1..j, k..k+1) */
-            m = advect_disp(1, s, nx, own, cu->d + wind_idx(cu->sy, cu->sz, 0, j - 1, k), 1,
-                            cu->sy, cw->d + wind_idx(cw->sy, cw->sz, 0, j - 1, k), cw->sy,
-                            cw->sz, dx, dy, dz);
-        } else {
-            /* u at (i..i+1, k-1..k), v at (j..j+1, k-1..k) */
-            m = advect_disp(2, s, nx, own, cu->d + wind_idx(cu->sy, cu->sz, 0, j, k - 1), 1,
-                            cu->sz, cv->d + wind_idx(cv->sy, cv->sz, 0, j, k - 1), cv->sy,
-                            cv->sz, dx, dy, dz);
+    const int nx = ca->n[0], ny = ca->n[1];
+    const int j = r % ny, k = r / ny;
+    const float *own = ca->d + wind_idx(ca->sy, ca->sz, 0, j, k);
+    float *dst = ca->tmp + wind_idx(ca->sy, ca->sz, 0, j, k);
+    const float *pa, *pb;
+    int da0, da1, db0, db1;
+    if (a == 0) {
+        /* v at (i-1..i, j..j+1), w at (i-1..i, k..k+1) */
+        pa = cv->d + wind_idx(cv->sy, cv->sz, -1, j, k), da0 = 1, da1 = cv->sy;
+        pb = cw->d + wind_idx(cw->sy, cw->sz, -1, j, k), db0 = 1, db1 = cw->sz;
+        if (!advect_row_u(s, nx, ca->sy, ca->sz, own, pa, da0, da1, pb, db0, db1, dst)) {
+            return;
         }
-        if (m <= 1.0f) {
-            advect_near(nx, ca->sy, ca->sz, dx, dy, dz, own, dst);
-        } else {
-            advect_far(j, k, ca->n, ca->sy, ca->sz, dx, dy, dz, ca->d, dst);
+    } else if (a == 1) {
+        /* u at (i..i+1, j-1..j), w at (j-1..j, k..k+1) */
+        pa = cu->d + wind_idx(cu->sy, cu->sz, 0, j - 1, k), da0 = 1, da1 = cu->sy;
+        pb = cw->d + wind_idx(cw->sy, cw->sz, 0, j - 1, k), db0 = cw->sy, db1 = cw->sz;
+        if (!advect_row_v(s, nx, ca->sy, ca->sz, own, pa, da0, da1, pb, db0, db1, dst)) {
+            return;
+        }
+    } else {
+        /* u at (i..i+1, k-1..k), v at (j..j+1, k-1..k) */
+        pa = cu->d + wind_idx(cu->sy, cu->sz, 0, j, k - 1), da0 = 1, da1 = cu->sz;
+        pb = cv->d + wind_idx(cv->sy, cv->sz, 0, j, k - 1), db0 = cv->sy, db1 = cv->sz;
+        if (!advect_row_w(s, nx, ca->sy, ca->sz, own, pa, da0, da1, pb, db0, db1, dst)) {
+            return;
         }
     }
+    float *dx = w->scratch + (size_t)omp_get_thread_num() * WIND_SCRATCH_ROW(w);
+    float *dy = dx + nx + 1, *dz = dy + nx + 1;
+    advect_disp(a, s, nx, own, pa, da0, da1, pb, db0, db1, dx, dy, dz);
+    advect_far(j, k, ca->n, ca->sy, ca->sz, dx, dy, dz, ca->d, dst);
 }
+
+/* Rows per block of the advection sweep: a block is swept plane by plane (k outer, j
+ * inner), so the three planes a row reads (k - 1, k, k + 1) of the block's few rows stay
+ * in the core's L2 across the sweep and each sample comes from memory about once. */
+#define ADVECT_BLOCK_ROWS 16
 
 void wind_advect(wind_grid *w, float dt_over_h)
 {
+    const size_t samples = (size_t)w->nx * (size_t)w->ny * (size_t)w->nz;
+    const int threads = samples >= WIND_PAR_MIN ? w->d.threads : 1;
+    /* The three components are independent (each reads all three, writes its own tmp):
+     * one parallel region, no barrier between them. Static block chunks: the same rows
+     * go to the same thread every step, and the result does not depend on the split. */
+#pragma omp parallel num_threads(threads)
     for (int a = 0; a < 3; a++) {
-        advect_comp(w, a, dt_over_h);
+        const int ny = w->c[a].n[1], nz = w->c[a].n[2];
+        const int nb = (ny + ADVECT_BLOCK_ROWS - 1) / ADVECT_BLOCK_ROWS;
+#pragma omp for schedule(static) nowait
+        for (int b = 0; b < nb; b++) {
+            const int j0 = b * ADVECT_BLOCK_ROWS;
+            const int j1 = j0 + ADVECT_BLOCK_ROWS < ny ? j0 + ADVECT_BLOCK_ROWS : ny;
+            for (int k = 0; k < nz; k++) {
+                for (int j = j0; j < j1; j++) {
+                    advect_row(w, a, dt_over_h, k * ny + j);
+                }
+            }
+        }
     }
     for (int a = 0; a < 3; a++) {
         float *t = w->c[a].d;

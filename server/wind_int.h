@@ -15,7 +15,7 @@
 /* Hot row kernels are compiled for AVX-512 and AVX2 besides the baseline and chosen at
  * load time (GNU ifunc); sanitizer builds keep one version. */
 #if defined(__GNUC__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__) && \
-    !defined(__clang__)
+    !defined(__clang__) && !defined(WIND_NO_CLONES)
 #define WIND_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
 #else
 #define WIND_CLONES
