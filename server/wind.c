@@ -501,15 +501,17 @@ static double divergence_rhs(wind_grid *w)
         const float *wz = cw->d + wind_idx(cw->sy, cw->sz, 0, j, k);
         float *b = l->b + wind_idx(l->sy, l->sz, 0, j, k);
         const float *id = l->idiag + wind_idx(l->sy, l->sz, 0, j, k);
+        const float *g = l->rowg + WIND_ROWG * (size_t)r;
         float s;
-        if (l->rowg[6 * (size_t)r] < 0.0f || nx < 3) {
+        if (g[0] < 0.0f || nx < 3) {
             s = div_row(nx, u, v, cv->sy, wz, cw->sz, id, b);
         } else {
-            /* row sums in the same order as div_row: the first cell, the interior, the last */
-            s = div_row(1, u, v, cv->sy, wz, cw->sz, id, b);
+            /* row sums in the same order as div_row: the first cell, the interior, the last;
+             * the ends' open flags from the row's end entries (idiag) */
+            s = div_row(1, u, v, cv->sy, wz, cw->sz, g + WIND_END0 + 7, b);
             s += div_row_open(nx - 2, u + 1, v + 1, cv->sy, wz + 1, cw->sz, b + 1);
-            s += div_row(1, u + nx - 1, v + nx - 1, cv->sy, wz + nx - 1, cw->sz, id + nx - 1,
-                         b + nx - 1);
+            s += div_row(1, u + nx - 1, v + nx - 1, cv->sy, wz + nx - 1, cw->sz,
+                         g + WIND_END1 + 7, b + nx - 1);
         }
         w->rowsum[r] = (double)s;
     }
@@ -566,22 +568,23 @@ static void project(wind_grid *w)
         float *v = cv->d + wind_idx(cv->sy, cv->sz, 0, j, k);
         float *wz = cw->d + wind_idx(cw->sy, cw->sz, 0, j, k);
         const float *pp = p + c0, *ax = l->ax + c0, *ay = l->ay + c0, *az = l->az + c0;
-        const float *g = l->rowg + 6 * (size_t)r;
+        const float *g = l->rowg + WIND_ROWG * (size_t)r;
         if (g[0] < 0.0f || nx < 4) {
             project_row(nx, sy, sz, pp, ax, ay, az, u, v, wz);
         } else {
             /* x faces 1..nx-1 and cells 1..nx-2 carry the row's g (g[0] = g[1] once the
-             * row has two interior cells); face 0, cell 0, cell nx-1 and face nx read the
-             * arrays */
+             * row has two interior cells); face 0, cell 0, cell nx-1 and face nx take the
+             * row's end entries */
             const int e = nx - 1;
-            u[0] -= ax[0] * (pp[0] - pp[-1]);
-            v[0] -= ay[0] * (pp[0] - pp[-sy]);
-            wz[0] -= az[0] * (pp[0] - pp[-sz]);
+            const float *q0 = g + WIND_END0, *q1 = g + WIND_END1;
+            u[0] -= q0[0] * (pp[0] - pp[-1]);
+            v[0] -= q0[2] * (pp[0] - pp[-sy]);
+            wz[0] -= q0[4] * (pp[0] - pp[-sz]);
             project_row_const(nx - 2, sy, sz, pp + 1, g[0], g[2], g[4], u + 1, v + 1, wz + 1);
             u[e] -= g[0] * (pp[e] - pp[e - 1]);
-            v[e] -= ay[e] * (pp[e] - pp[e - sy]);
-            wz[e] -= az[e] * (pp[e] - pp[e - sz]);
-            u[nx] -= ax[nx] * (pp[nx] - pp[nx - 1]);
+            v[e] -= q1[2] * (pp[e] - pp[e - sy]);
+            wz[e] -= q1[4] * (pp[e] - pp[e - sz]);
+            u[nx] -= q1[1] * (pp[nx] - pp[nx - 1]);
         }
         if (j == ny - 1) {
             float *vt = v + cv->sy;

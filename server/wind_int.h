@@ -65,11 +65,20 @@ typedef struct wind_level {
     float *diag;    /* owned: sum of the six g, 0 in cells without any open face */
     float *idiag;   /* owned: 1 / diag, 0 where diag is 0 */
     int *wd[3];     /* owned: cell width per axis in finest cells */
-    float *rowg;    /* owned: per row (j, k) the six face g (x, y, z low/high) shared by its
-                     * cells 1 .. nx-2, or g[0] = -1 where they differ (solids) */
+    float *rowg;    /* owned: per row (j, k), WIND_ROWG floats: [0..6) the six face g (x, y, z
+                     * low/high) shared by its cells 1 .. nx-2, or g[0] = -1 where they
+                     * differ (solids); [6], [7] those cells' diag and idiag;
+                     * [WIND_END0..+8) and [WIND_END1..+8) cell 0's and
+                     * cell nx-1's six g, diag and idiag (so constant rows never touch
+                     * the coefficient arrays: one cache line per row instead of eight) */
     int r[3];       /* coarsening factor to the next level, 1 or 2 */
     double *rowsum; /* owned: per-row partial sums (ny * nz), summed in a fixed order */
 } wind_level;
+
+/* Layout of a row's entry in wind_level.rowg. */
+#define WIND_ROWG 24
+#define WIND_END0 8
+#define WIND_END1 16
 
 #define WIND_MAX_LEVELS 24
 

@@ -58,7 +58,7 @@ int wind_mg_alloc(wind_grid *w, gale_err *err)
         l->diag = calloc(l->count, sizeof(float));
         l->idiag = calloc(l->count, sizeof(float));
         l->rowsum = calloc((size_t)n[1] * (size_t)n[2], sizeof(double));
-        l->rowg = calloc((size_t)6 * (size_t)n[1] * (size_t)n[2], sizeof(float));
+        l->rowg = calloc((size_t)WIND_ROWG * (size_t)n[1] * (size_t)n[2], sizeof(float));
         for (int a = 0; a < 3; a++) {
             l->wd[a] = calloc((size_t)n[a], sizeof(int));
         }
@@ -264,7 +264,7 @@ static void setup_diag(wind_level *l)
                 l->idiag[c] = d > 0.0f ? 1.0f / d : 0.0f;
             }
             /* constant-coefficient rows take a kernel that reads only p and b */
-            float *g = l->rowg + 6 * ((size_t)k * (size_t)l->ny + (size_t)j);
+            float *g = l->rowg + WIND_ROWG * ((size_t)k * (size_t)l->ny + (size_t)j);
             size_t c1 = lidx(l, 1, j, k);
             g[0] = l->ax[c1];
             g[1] = l->ax[c1 + 1];
@@ -278,8 +278,23 @@ static void setup_diag(wind_level *l)
                 same = l->ax[c] == g[0] && l->ax[c + 1] == g[1] && l->ay[c] == g[2] &&
                        l->ay[c + sy] == g[3] && l->az[c] == g[4] && l->az[c + sz] == g[5];
             }
+            /* the interior cells' diag and idiag, as computed above */
+            g[6] = l->diag[c1];
+            g[7] = l->idiag[c1];
             if (!same) {
                 g[0] = -1.0f;
+            }
+            for (int e = 0; e < 2; e++) {
+                size_t c = lidx(l, e == 0 ? 0 : l->nx - 1, j, k);
+                float *q = g + (e == 0 ? WIND_END0 : WIND_END1);
+                q[0] = l->ax[c];
+                q[1] = l->ax[c + 1];
+                q[2] = l->ay[c];
+                q[3] = l->ay[c + sy];
+                q[4] = l->az[c];
+                q[5] = l->az[c + sz];
+                q[6] = l->diag[c];
+                q[7] = l->idiag[c];
             }
         }
     }
@@ -327,21 +342,21 @@ WIND_CLONES static void row_stencil_const(int nx, ptrdiff_t sy, ptrdiff_t sz,
     }
 }
 
-/* One cell of row_stencil, for the ends of constant rows. */
+/* One cell of row_stencil from a row's end entry q (six g, diag; wind_level.rowg), for
+ * the ends of constant rows: the same arithmetic in the same order. */
 static inline float cell_stencil(ptrdiff_t sy, ptrdiff_t sz, const float *p, const float *b,
-                                 const float *ax, const float *ay, const float *az,
-                                 const float *dg, int want_resid)
+                                 const float *q, int want_resid)
 {
-    float nb = ax[0] * p[-1] + ax[1] * p[1] + ay[0] * p[-sy] + ay[sy] * p[sy] + az[0] * p[-sz] +
-               az[sz] * p[sz];
-    return want_resid ? b[0] - (dg[0] * p[0] - nb) : b[0] + nb;
+    float nb = q[0] * p[-1] + q[1] * p[1] + q[2] * p[-sy] + q[3] * p[sy] + q[4] * p[-sz] +
+               q[5] * p[sz];
+    return want_resid ? b[0] - (q[6] * p[0] - nb) : b[0] + nb;
 }
 
 /* Stencil of row r (first cell c0) of level l into out, by the constant-coefficient
  * kernel where the row allows it. */
 static void row_eval(const wind_level *l, int r, size_t c0, int want_resid, float *out)
 {
-    const float *g = l->rowg + 6 * (size_t)r;
+    const float *g = l->rowg + WIND_ROWG * (size_t)r;
     const float *p = l->p + c0, *b = l->b + c0;
     if (g[0] < 0.0f) {
         row_stencil(l->nx, l->sy, l->sz, p, b, l->ax + c0, l->ay + c0, l->az + c0,
@@ -349,12 +364,10 @@ static void row_eval(const wind_level *l, int r, size_t c0, int want_resid, floa
         return;
     }
     const size_t e = (size_t)l->nx - 1;
-    out[0] = cell_stencil(l->sy, l->sz, p, b, l->ax + c0, l->ay + c0, l->az + c0, l->diag + c0,
-                          want_resid);
-    row_stencil_const(l->nx - 2, l->sy, l->sz, p + 1, b + 1, g, l->diag[c0 + 1], want_resid,
+    out[0] = cell_stencil(l->sy, l->sz, p, b, g + WIND_END0, want_resid);
+    row_stencil_const(l->nx - 2, l->sy, l->sz, p + 1, b + 1, g, g[6], want_resid,
                       out + 1);
-    out[e] = cell_stencil(l->sy, l->sz, p + e, b + e, l->ax + c0 + e, l->ay + c0 + e,
-                          l->az + c0 + e, l->diag + c0 + e, want_resid);
+    out[e] = cell_stencil(l->sy, l->sz, p + e, b + e, g + WIND_END1, want_resid);
 }
 
 static float *row_scratch(const wind_grid *w)
@@ -384,14 +397,16 @@ WIND_CLONES static void rb_row_const(int cnt, ptrdiff_t sy, ptrdiff_t sz, float 
 static void smooth(const wind_grid *w, wind_level *l)
 {
     const int nx = l->nx, ny = l->ny, nz = l->nz, rows = ny * nz;
+    /* one parallel region, the barrier of the first loop between the colours */
+#pragma omp parallel num_threads(level_threads(w, l))
     for (int colour = 0; colour < 2; colour++) {
-#pragma omp parallel for schedule(static) num_threads(level_threads(w, l))
+#pragma omp for schedule(static)
         for (int r = 0; r < rows; r++) {
             int j = r % ny, k = r / ny;
             size_t c0 = wind_idx(l->sy, l->sz, 0, j, k);
             float *p = l->p + c0;
             const float *id = l->idiag + c0;
-            const float *g = l->rowg + 6 * (size_t)r;
+            const float *g = l->rowg + WIND_ROWG * (size_t)r;
             int first = (colour + j + k) & 1;
             float *t = row_scratch(w);
             if (g[0] < 0.0f) {
@@ -402,24 +417,34 @@ static void smooth(const wind_grid *w, wind_level *l)
                 }
                 continue;
             }
-            /* the end cells through the general kernel, the interior by the constant one */
-            int ends[2] = { 0, nx - 1 };
+            /* the end cells from the row's end entries, the interior by the constant kernel */
+            const int ends[2] = { 0, nx - 1 };
             for (int e = 0; e < 2; e++) {
                 int i = ends[e];
                 if (((i + first) & 1) == 0) {
-                    size_t c = c0 + (size_t)i;
-                    p[i] = cell_stencil(l->sy, l->sz, l->p + c, l->b + c, l->ax + c, l->ay + c,
-                                        l->az + c, l->diag + c, 0) *
-                           id[i];
+                    const float *q = g + (e == 0 ? WIND_END0 : WIND_END1);
+                    p[i] = cell_stencil(l->sy, l->sz, p + i, l->b + c0 + (size_t)i, q, 0) * q[7];
                 }
             }
             int i1 = first == 1 ? 1 : 2; /* first interior cell of this colour */
             int cnt = (nx - 2 - i1 + 2) / 2;
             if (cnt > 0) {
-                rb_row_const(cnt, l->sy, l->sz, p + i1, l->b + c0 + (size_t)i1, g, id[1]);
+                rb_row_const(cnt, l->sy, l->sz, p + i1, l->b + c0 + (size_t)i1, g, g[7]);
             }
         }
     }
+}
+
+/* Sum of squares of a residual row, reassociated into vector lanes (a norm for the
+ * stopping test: the order is fixed per build, so runs stay reproducible). */
+WIND_CLONES static float row_sq(int n, const float *restrict t)
+{
+    float s = 0.0f;
+#pragma omp simd reduction(+ : s)
+    for (int i = 0; i < n; i++) {
+        s += t[i] * t[i];
+    }
+    return s;
 }
 
 /* Computes the residual of level l, restricts it to level l+1's b (the sum over the
@@ -435,11 +460,7 @@ static double residual_restrict(const wind_grid *w, wind_level *f, wind_level *c
             size_t c0 = wind_idx(f->sy, f->sz, 0, j, k);
             float *t = row_scratch(w);
             row_eval(f, r, c0, 1, t);
-            double s = 0.0;
-            for (int i = 0; i < f->nx; i++) {
-                s += (double)(t[i] * t[i]);
-            }
-            f->rowsum[r] = s;
+            f->rowsum[r] = (double)row_sq(f->nx, t);
         }
         return sqrt(wind_sum_rows(f->rowsum, rows));
     }
@@ -461,11 +482,7 @@ static double residual_restrict(const wind_grid *w, wind_level *f, wind_level *c
             for (int j = j0; j < j1; j++) {
                 size_t c0 = wind_idx(f->sy, f->sz, 0, j, k);
                 row_eval(f, k * f->ny + j, c0, 1, t);
-                float rs = 0.0f;
-                for (int i = 0; i < f->nx; i++) {
-                    rs += t[i] * t[i];
-                }
-                s += (double)rs;
+                s += (double)row_sq(f->nx, t);
                 if (rf[0] == 2) {
                     for (int I = 0; I < f->nx / 2; I++) {
                         cb[I] += t[2 * I] + t[2 * I + 1];
