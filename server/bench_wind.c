@@ -79,16 +79,17 @@ static double triad_gb_s(int threads)
 
 /* Bytes one step moves at least, array by array (each array read or written once per
  * kernel pass, 4-byte floats; constant-coefficient rows, the vast majority, read no
- * coefficient arrays), for n cells and `cycles` V-cycles:
+ * coefficient or mask arrays: their g, diag and end cells come from a per-row table),
+ * for n cells and `cycles` V-cycles:
  *   advection 3 components read + 3 written: 24; forces, borders, divergence: 3 read,
- *   idiag, b written: 20; first residual p, b: 8; projection p, 3 face coefficients,
- *   3 components read and written: 40. Per V-cycle on the finest level: prolongation
- *   p read and written, idiag: 12; 2 red-black sweeps x 2 colour passes x (p, b, idiag
- *   read, p written): 64; residual 8; the coarser levels add about 1/7. */
+ *   b written: 16; first residual p, b: 8; projection p, 3 components read and written:
+ *   28. Per V-cycle on the finest level: prolongation p read and written, idiag: 12;
+ *   2 red-black sweeps x 2 colour passes x (p, b read, p written): 48; residual 8; the
+ *   coarser levels add about 1/7. */
 static double step_bytes(double n, double cycles)
 {
-    double fixed = 24.0 + 20.0 + 8.0 + 40.0;
-    double per_cycle = (12.0 + 64.0 + 8.0) * (8.0 / 7.0);
+    double fixed = 24.0 + 16.0 + 8.0 + 28.0;
+    double per_cycle = (12.0 + 48.0 + 8.0) * (8.0 / 7.0);
     return n * (fixed + cycles * per_cycle);
 }
 

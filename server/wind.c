@@ -325,11 +325,19 @@ void wind_add_ball(wind_grid *w, const wind_ball *b)
  * the tangential components (free slip: no shear), zero normal velocity there. */
 void wind_fill_ghosts(wind_grid *w)
 {
+    const size_t samples = (size_t)w->nx * (size_t)w->ny * (size_t)w->nz;
+    const int threads = samples >= WIND_PAR_MIN ? w->d.threads : 1;
+    /* Every write below hits a different ghost sample and reads only interior samples:
+     * no barrier between the loops. One row end per row is a cache line each, so the
+     * planes are split over the threads. */
+#pragma omp parallel num_threads(threads)
     for (int a = 0; a < 3; a++) {
         wind_comp *c = &w->c[a];
         const float *prof = w->inflow_z[a];
-        for (int k = -1; k <= c->n[2]; k++) {
-            float v = prof[k + 1];
+#pragma omp for schedule(static) nowait
+        for (int kk = 0; kk < c->n[2] + 2; kk++) {
+            const int k = kk - 1;
+            const float v = prof[k + 1];
             for (int j = -1; j <= c->n[1]; j++) {
                 float *row = c->d + wind_idx(c->sy, c->sz, -1, j, k);
                 if (j == -1 || j == c->n[1]) {
@@ -342,6 +350,8 @@ void wind_fill_ghosts(wind_grid *w)
                 }
             }
         }
+        /* the ground and the lid: free slip, the tangential components mirrored, w = 0 */
+#pragma omp for schedule(static) nowait
         for (int j = 0; j < c->n[1]; j++) {
             float *lo = c->d + wind_idx(c->sy, c->sz, 0, j, -1);
             float *hi = c->d + wind_idx(c->sy, c->sz, 0, j, c->n[2]);
