@@ -5,8 +5,6 @@
  * the domain read the wind coming in. */
 #include <math.h>
 #include <omp.h>
-#include <stdint.h>
-#include <string.h>
 
 #include "wind_int.h"
 
@@ -69,15 +67,7 @@ WIND_CLONES static void advect_far(int j, int k, const int n[3], int sy, int sz,
  * neighbour (lo when d > 0, hi when d < 0): the same value as the general read. */
 static inline float upwind(float lo, float a, float hi, float d)
 {
-    /* The neighbour is chosen by a bit mask rather than ?: so that both loads stay
-     * unconditional: gcc would otherwise sink them into the arms, and without masked
-     * loads (AVX2, SSE) a loop with conditional loads does not vectorise. */
-    uint32_t m = 0u - (uint32_t)(d > 0.0f), l, h;
-    memcpy(&l, &lo, sizeof l);
-    memcpy(&h, &hi, sizeof h);
-    uint32_t n = (l & m) | (h & ~m);
-    float nb;
-    memcpy(&nb, &n, sizeof nb);
+    float nb = wind_select(d > 0.0f, lo, hi);
     float t = d > 0.0f ? d : -d;
     return a + t * (nb - a);
 }

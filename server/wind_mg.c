@@ -394,43 +394,63 @@ WIND_CLONES static void rb_row_const(int cnt, ptrdiff_t sy, ptrdiff_t sz, float 
  * result does not depend on the thread partition. Constant-coefficient rows update their
  * interior cells of the colour directly; other rows compute every cell's numerator
  * (vectorised) and store the current colour's. */
+static void smooth_row(const wind_grid *w, wind_level *l, int colour, int r)
+{
+    const int nx = l->nx, ny = l->ny;
+    int j = r % ny, k = r / ny;
+    size_t c0 = wind_idx(l->sy, l->sz, 0, j, k);
+    float *p = l->p + c0;
+    const float *g = l->rowg + WIND_ROWG * (size_t)r;
+    int first = (colour + j + k) & 1;
+    if (g[0] < 0.0f) {
+        const float *id = l->idiag + c0;
+        float *t = row_scratch(w);
+        row_stencil(nx, l->sy, l->sz, p, l->b + c0, l->ax + c0, l->ay + c0, l->az + c0,
+                    l->diag + c0, 0, t);
+        for (int i = first; i < nx; i += 2) {
+            p[i] = t[i] * id[i];
+        }
+        return;
+    }
+    /* the end cells from the row's end entries, the interior by the constant kernel */
+    const int ends[2] = { 0, nx - 1 };
+    for (int e = 0; e < 2; e++) {
+        int i = ends[e];
+        if (((i + first) & 1) == 0) {
+            const float *q = g + (e == 0 ? WIND_END0 : WIND_END1);
+            p[i] = cell_stencil(l->sy, l->sz, p + i, l->b + c0 + (size_t)i, q, 0) * q[7];
+        }
+    }
+    int i1 = first == 1 ? 1 : 2; /* first interior cell of this colour */
+    int cnt = (nx - 2 - i1 + 2) / 2;
+    if (cnt > 0) {
+        rb_row_const(cnt, l->sy, l->sz, p + i1, l->b + c0 + (size_t)i1, g, g[7]);
+    }
+}
+
+/* One red-black Gauss-Seidel sweep. Each colour reads only the other colour, so the
+ * result does not depend on the thread partition. Constant-coefficient rows update their
+ * interior cells of the colour directly; other rows compute every cell's numerator
+ * (vectorised) and store the current colour's. Levels too small to split run without an
+ * OpenMP region at all: even a one-thread region costs over a microsecond, and the
+ * coarsest levels are swept dozens of times per cycle. */
 static void smooth(const wind_grid *w, wind_level *l)
 {
-    const int nx = l->nx, ny = l->ny, nz = l->nz, rows = ny * nz;
+    const int rows = l->ny * l->nz, nt = level_threads(w, l);
+    if (nt == 1) {
+        for (int colour = 0; colour < 2; colour++) {
+            for (int r = 0; r < rows; r++) {
+                smooth_row(w, l, colour, r);
+            }
+        }
+        return;
+    }
     /* one parallel region, the barrier of the first loop between the colours */
-#pragma omp parallel num_threads(level_threads(w, l))
+#pragma omp parallel num_threads(nt)
     for (int colour = 0; colour < 2; colour++) {
 #pragma omp for schedule(static)
         for (int r = 0; r < rows; r++) {
-            int j = r % ny, k = r / ny;
-            size_t c0 = wind_idx(l->sy, l->sz, 0, j, k);
-            float *p = l->p + c0;
-            const float *id = l->idiag + c0;
-            const float *g = l->rowg + WIND_ROWG * (size_t)r;
-            int first = (colour + j + k) & 1;
-            float *t = row_scratch(w);
-            if (g[0] < 0.0f) {
-                row_stencil(nx, l->sy, l->sz, p, l->b + c0, l->ax + c0, l->ay + c0, l->az + c0,
-                            l->diag + c0, 0, t);
-                for (int i = first; i < nx; i += 2) {
-                    p[i] = t[i] * id[i];
-                }
-                continue;
-            }
-            /* the end cells from the row's end entries, the interior by the constant kernel */
-            const int ends[2] = { 0, nx - 1 };
-            for (int e = 0; e < 2; e++) {
-                int i = ends[e];
-                if (((i + first) & 1) == 0) {
-                    const float *q = g + (e == 0 ? WIND_END0 : WIND_END1);
-                    p[i] = cell_stencil(l->sy, l->sz, p + i, l->b + c0 + (size_t)i, q, 0) * q[7];
-                }
-            }
-            int i1 = first == 1 ? 1 : 2; /* first interior cell of this colour */
-            int cnt = (nx - 2 - i1 + 2) / 2;
-            if (cnt > 0) {
-                rb_row_const(cnt, l->sy, l->sz, p + i1, l->b + c0 + (size_t)i1, g, g[7]);
-            }
+            smooth_row(w, l, colour, r);
         }
     }
 }
@@ -447,57 +467,84 @@ WIND_CLONES static float row_sq(int n, const float *restrict t)
     return s;
 }
 
+/* Residual of fine row r into f->rowsum[r] (its sum of squares). */
+static void residual_row(const wind_grid *w, wind_level *f, int r)
+{
+    int j = r % f->ny, k = r / f->ny;
+    size_t c0 = wind_idx(f->sy, f->sz, 0, j, k);
+    float *t = row_scratch(w);
+    row_eval(f, r, c0, 1, t);
+    f->rowsum[r] = (double)row_sq(f->nx, t);
+}
+
+/* Coarse row r of level c's b: the sum of its children's residuals; c->rowsum[r] gets the
+ * children's sum of squares. */
+static void restrict_row(const wind_grid *w, wind_level *f, wind_level *c, int r)
+{
+    const int *rf = f->r;
+    const int cnx = c->nx;
+    int J = r % c->ny, K = r / c->ny;
+    int j0 = J * rf[1], k0 = K * rf[2];
+    int j1 = j0 + rf[1] < f->ny ? j0 + rf[1] : f->ny;
+    int k1 = k0 + rf[2] < f->nz ? k0 + rf[2] : f->nz;
+    float *cb = c->b + wind_idx(c->sy, c->sz, 0, J, K);
+    float *t = row_scratch(w);
+    double s = 0.0;
+    for (int I = 0; I < cnx; I++) {
+        cb[I] = 0.0f;
+    }
+    for (int k = k0; k < k1; k++) {
+        for (int j = j0; j < j1; j++) {
+            size_t c0 = wind_idx(f->sy, f->sz, 0, j, k);
+            row_eval(f, k * f->ny + j, c0, 1, t);
+            s += (double)row_sq(f->nx, t);
+            if (rf[0] == 2) {
+                for (int I = 0; I < f->nx / 2; I++) {
+                    cb[I] += t[2 * I] + t[2 * I + 1];
+                }
+                if (f->nx & 1) {
+                    cb[cnx - 1] += t[f->nx - 1];
+                }
+            } else {
+                for (int I = 0; I < cnx; I++) {
+                    cb[I] += t[I];
+                }
+            }
+        }
+    }
+    c->rowsum[r] = s;
+}
+
 /* Computes the residual of level l, restricts it to level l+1's b (the sum over the
  * children: a coarse row is the sum of its children's rows in flux form) and returns
  * ||r||_2 of level l. */
 static double residual_restrict(const wind_grid *w, wind_level *f, wind_level *c)
 {
+    const int nt = level_threads(w, f);
     if (!c) {
-        const int ny = f->ny, rows = f->ny * f->nz;
-#pragma omp parallel for schedule(static) num_threads(level_threads(w, f))
-        for (int r = 0; r < rows; r++) {
-            int j = r % ny, k = r / ny;
-            size_t c0 = wind_idx(f->sy, f->sz, 0, j, k);
-            float *t = row_scratch(w);
-            row_eval(f, r, c0, 1, t);
-            f->rowsum[r] = (double)row_sq(f->nx, t);
+        const int rows = f->ny * f->nz;
+        if (nt == 1) {
+            for (int r = 0; r < rows; r++) {
+                residual_row(w, f, r);
+            }
+        } else {
+#pragma omp parallel for schedule(static) num_threads(nt)
+            for (int r = 0; r < rows; r++) {
+                residual_row(w, f, r);
+            }
         }
         return sqrt(wind_sum_rows(f->rowsum, rows));
     }
-    const int *rf = f->r;
-    const int cny = c->ny, crows = c->ny * c->nz, cnx = c->nx;
-#pragma omp parallel for schedule(static) num_threads(level_threads(w, f))
-    for (int r = 0; r < crows; r++) {
-        int J = r % cny, K = r / cny;
-        int j0 = J * rf[1], k0 = K * rf[2];
-        int j1 = j0 + rf[1] < f->ny ? j0 + rf[1] : f->ny;
-        int k1 = k0 + rf[2] < f->nz ? k0 + rf[2] : f->nz;
-        float *cb = c->b + wind_idx(c->sy, c->sz, 0, J, K);
-        float *t = row_scratch(w);
-        double s = 0.0;
-        for (int I = 0; I < cnx; I++) {
-            cb[I] = 0.0f;
+    const int crows = c->ny * c->nz;
+    if (nt == 1) {
+        for (int r = 0; r < crows; r++) {
+            restrict_row(w, f, c, r);
         }
-        for (int k = k0; k < k1; k++) {
-            for (int j = j0; j < j1; j++) {
-                size_t c0 = wind_idx(f->sy, f->sz, 0, j, k);
-                row_eval(f, k * f->ny + j, c0, 1, t);
-                s += (double)row_sq(f->nx, t);
-                if (rf[0] == 2) {
-                    for (int I = 0; I < f->nx / 2; I++) {
-                        cb[I] += t[2 * I] + t[2 * I + 1];
-                    }
-                    if (f->nx & 1) {
-                        cb[cnx - 1] += t[f->nx - 1];
-                    }
-                } else {
-                    for (int I = 0; I < cnx; I++) {
-                        cb[I] += t[I];
-                    }
-                }
-            }
+    } else {
+#pragma omp parallel for schedule(static) num_threads(nt)
+        for (int r = 0; r < crows; r++) {
+            restrict_row(w, f, c, r);
         }
-        c->rowsum[r] = s;
     }
     return sqrt(wind_sum_rows(c->rowsum, crows));
 }
@@ -510,58 +557,77 @@ WIND_CLONES static void prolong_row_x2(int n_pairs, const float *restrict e,
 {
     for (int I = 0; I < n_pairs; I++) {
         float e0 = e[I];
-        float lo = axc[I] > 0.0f ? e[I - 1] : e0;
-        float hi = axc[I + 1] > 0.0f ? e[I + 1] : e0;
+        float lo = wind_select(axc[I] > 0.0f, e[I - 1], e0);
+        float hi = wind_select(axc[I + 1] > 0.0f, e[I + 1], e0);
         float m0 = fid[2 * I] != 0.0f ? 1.0f : 0.0f, m1 = fid[2 * I + 1] != 0.0f ? 1.0f : 0.0f;
         fp[2 * I] += m0 * (base[I] + 0.25f * (lo - e0));
         fp[2 * I + 1] += m1 * (base[I] + 0.25f * (hi - e0));
     }
 }
 
-/* Adds the coarse correction to level f: linear interpolation from the coarse cell and
- * its neighbour on the fine cell's side along each axis where the coarse cell has two
- * children (weight 1/4 each, the rest on the cell itself); across closed faces the cell's
- * own value stands in for the neighbour (Neumann). Closed fine cells get nothing. */
-static void prolong_add(const wind_grid *w, wind_level *f, const wind_level *c)
+/* The y and z terms of a fine row's correction per coarse cell: e plus a quarter of the
+ * difference to the neighbour at offset dy (dz) across an open face, nothing across a
+ * closed one or where the axis is not coarsened (offset 0: the neighbour is the cell). */
+WIND_CLONES static void prolong_base(int n, const float *restrict e, ptrdiff_t dy, ptrdiff_t dz,
+                                     const float *restrict fy, const float *restrict fz,
+                                     float *restrict base)
+{
+    for (int I = 0; I < n; I++) {
+        float e0 = e[I], t = 0.0f;
+        t += 0.25f * (wind_select(fy[I] > 0.0f, e[I + dy], e0) - e0);
+        t += 0.25f * (wind_select(fz[I] > 0.0f, e[I + dz], e0) - e0);
+        base[I] = e0 + t;
+    }
+}
+
+/* Adds the coarse correction to fine row r of level f: linear interpolation from the
+ * coarse cell and its neighbour on the fine cell's side along each axis where the coarse
+ * cell has two children (weight 1/4 each, the rest on the cell itself); across closed
+ * faces the cell's own value stands in for the neighbour (Neumann). Closed fine cells get
+ * nothing. */
+static void prolong_row(const wind_grid *w, wind_level *f, const wind_level *c, int r)
 {
     const int *rf = f->r;
-    const int ny = f->ny, rows = f->ny * f->nz;
+    const int ny = f->ny;
     const ptrdiff_t csy = c->sy, csz = c->sz;
-#pragma omp parallel for schedule(static) num_threads(level_threads(w, f))
+    int j = r % ny, k = r / ny;
+    int J = j / rf[1], K = k / rf[2];
+    size_t f0 = wind_idx(f->sy, f->sz, 0, j, k);
+    size_t c0 = wind_idx(c->sy, c->sz, 0, J, K);
+    ptrdiff_t dy = rf[1] == 2 && c->wd[1][J] > f->wd[1][j] ? ((j & 1) ? csy : -csy) : 0;
+    ptrdiff_t dz = rf[2] == 2 && c->wd[2][K] > f->wd[2][k] ? ((k & 1) ? csz : -csz) : 0;
+    /* y and z terms per coarse cell of this row, into the scratch row */
+    float *base = row_scratch(w);
+    const float *e = c->p + c0;
+    const float *fy = c->ay + c0 + (dy > 0 ? csy : 0), *fz = c->az + c0 + (dz > 0 ? csz : 0);
+    prolong_base(c->nx, e, dy, dz, fy, fz, base);
+    float *fp = f->p + f0;
+    const float *fid = f->idiag + f0;
+    int done = 0;
+    if (rf[0] == 2) {
+        done = 2 * (f->nx / 2);
+        prolong_row_x2(f->nx / 2, e, c->ax + c0, base, fid, fp);
+    }
+    /* x not coarsened, or the single child of an odd row's last coarse cell */
+    for (int i = done; i < f->nx; i++) {
+        if (fid[i] != 0.0f) {
+            fp[i] += base[i / rf[0]];
+        }
+    }
+}
+
+static void prolong_add(const wind_grid *w, wind_level *f, const wind_level *c)
+{
+    const int rows = f->ny * f->nz, nt = level_threads(w, f);
+    if (nt == 1) {
+        for (int r = 0; r < rows; r++) {
+            prolong_row(w, f, c, r);
+        }
+        return;
+    }
+#pragma omp parallel for schedule(static) num_threads(nt)
     for (int r = 0; r < rows; r++) {
-        int j = r % ny, k = r / ny;
-        int J = j / rf[1], K = k / rf[2];
-        size_t f0 = wind_idx(f->sy, f->sz, 0, j, k);
-        size_t c0 = wind_idx(c->sy, c->sz, 0, J, K);
-        ptrdiff_t dy = rf[1] == 2 && c->wd[1][J] > f->wd[1][j] ? ((j & 1) ? csy : -csy) : 0;
-        ptrdiff_t dz = rf[2] == 2 && c->wd[2][K] > f->wd[2][k] ? ((k & 1) ? csz : -csz) : 0;
-        /* y and z terms per coarse cell of this row, into the scratch row */
-        float *base = row_scratch(w);
-        const float *e = c->p + c0;
-        const float *fy = c->ay + c0 + (dy > 0 ? csy : 0), *fz = c->az + c0 + (dz > 0 ? csz : 0);
-        for (int I = 0; I < c->nx; I++) {
-            float e0 = e[I], t = 0.0f;
-            if (dy) {
-                t += 0.25f * ((fy[I] > 0.0f ? e[I + dy] : e0) - e0);
-            }
-            if (dz) {
-                t += 0.25f * ((fz[I] > 0.0f ? e[I + dz] : e0) - e0);
-            }
-            base[I] = e0 + t;
-        }
-        float *fp = f->p + f0;
-        const float *fid = f->idiag + f0;
-        int done = 0;
-        if (rf[0] == 2) {
-            done = 2 * (f->nx / 2);
-            prolong_row_x2(f->nx / 2, e, c->ax + c0, base, fid, fp);
-        }
-        /* x not coarsened, or the single child of an odd row's last coarse cell */
-        for (int i = done; i < f->nx; i++) {
-            if (fid[i] != 0.0f) {
-                fp[i] += base[i / rf[0]];
-            }
-        }
+        prolong_row(w, f, c, r);
     }
 }
 
