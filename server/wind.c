@@ -472,7 +472,7 @@ WIND_CLONES static float div_row(int nx, const float *restrict u, const float *r
 #pragma omp simd reduction(+ : s)
     for (int i = 0; i < nx; i++) {
         float q = -(u[i + 1] - u[i] + v[i + vsy] - v[i] + wz[i + wsz] - wz[i]);
-        q = open[i] > 0.0f ? q : 0.0f;
+        q = wind_select(open[i] > 0.0f, q, 0.0f);
         b[i] = q;
         s += q * q;
     }

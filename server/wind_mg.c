@@ -319,10 +319,20 @@ WIND_CLONES static void row_stencil(int nx, ptrdiff_t sy, ptrdiff_t sz, const fl
                                     const float *restrict dg, int want_resid,
                                     float *restrict out)
 {
+    /* the two forms in separate loops: a loop choosing per cell would load dg only in
+     * one arm, and without masked loads (AVX2) it would not vectorise */
+    if (want_resid) {
+        for (int i = 0; i < nx; i++) {
+            float nb = ax[i] * p[i - 1] + ax[i + 1] * p[i + 1] + ay[i] * p[i - sy] +
+                       ay[i + sy] * p[i + sy] + az[i] * p[i - sz] + az[i + sz] * p[i + sz];
+            out[i] = b[i] - (dg[i] * p[i] - nb);
+        }
+        return;
+    }
     for (int i = 0; i < nx; i++) {
         float nb = ax[i] * p[i - 1] + ax[i + 1] * p[i + 1] + ay[i] * p[i - sy] +
                    ay[i + sy] * p[i + sy] + az[i] * p[i - sz] + az[i + sz] * p[i + sz];
-        out[i] = want_resid ? b[i] - (dg[i] * p[i] - nb) : b[i] + nb;
+        out[i] = b[i] + nb;
     }
 }
 
