@@ -10,9 +10,9 @@
 
 #include "wind.h"
 
-/* Kernels with fewer cells than this run on one thread: fork/join (3-5 us here) costs
- * more there. Low enough that the multigrid's 64x64x4 level still splits: run alone, the
- * coarse levels leave the other core idle for a measurable part of the solve. */
+/* Single-pass kernels (advection, divergence, projection, ghosts) over fewer cells than
+ * this run on one thread: fork/join (3-5 us here) costs more there. Multigrid levels,
+ * swept many times per step, have their own threshold (wind_mg.c). */
 #define WIND_PAR_MIN 4096
 
 /* Hot row kernels are compiled for AVX-512 and AVX2 besides the baseline and chosen at
