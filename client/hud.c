@@ -266,6 +266,37 @@ const char *hud_category_name(int cls)
     return names[cls + 1];
 }
 
+/* WMO No. 8 upper limits of forces 0..11 in tenths of m/s; force 12 above the last. */
+static const int beaufort_upper_dms[12] = { 2, 15, 33, 54, 79, 107, 138, 171, 207, 244, 284, 326 };
+
+int hud_beaufort(float speed_ms)
+{
+    if (!(speed_ms > 0.0f)) {
+        return 0;
+    }
+    if (speed_ms > 1000.0f) {
+        return 12;
+    }
+    /* a speed belongs to the first force whose limit it does not exceed at 0.1 m/s */
+    int dms = (int)floor((double)speed_ms * 10.0 + 0.5);
+    for (int b = 0; b < 12; b++) {
+        if (dms <= beaufort_upper_dms[b]) {
+            return b;
+        }
+    }
+    return 12;
+}
+
+const char *hud_beaufort_name(int force)
+{
+    static const char *names[13] = {
+        "Calm",         "Light air",     "Light breeze", "Gentle breeze", "Moderate breeze",
+        "Fresh breeze", "Strong breeze", "Near gale",    "Gale",          "Strong gale",
+        "Storm",        "Violent storm", "Hurricane force",
+    };
+    return force >= 0 && force <= 12 ? names[force] : "?";
+}
+
 int hud_format(const hud_state *s, char lines[HUD_MAX_LINES][HUD_LINE_CHARS])
 {
     int n = 0;
@@ -273,7 +304,13 @@ int hud_format(const hud_state *s, char lines[HUD_MAX_LINES][HUD_LINE_CHARS])
         float v = s->wind_ms;
         snprintf(lines[n++], HUD_LINE_CHARS, "Wind %.1f m/s \xC2\xB7 %.0f km/h \xC2\xB7 %.0f mph",
                  (double)v, (double)v * 3.6, (double)v / 0.44704);
-        snprintf(lines[n++], HUD_LINE_CHARS, "%s", hud_category_name(hud_saffir_simpson(v)));
+        int cls = hud_saffir_simpson(v);
+        if (cls >= 0) {
+            snprintf(lines[n++], HUD_LINE_CHARS, "%s", hud_category_name(cls));
+        } else {
+            int b = hud_beaufort(v);
+            snprintf(lines[n++], HUD_LINE_CHARS, "%s \xC2\xB7 Beaufort %d", hud_beaufort_name(b), b);
+        }
     } else {
         snprintf(lines[n++], HUD_LINE_CHARS, "Wind \xE2\x80\x93 (no wind data yet)");
     }

@@ -53,6 +53,11 @@ uint32_t hud_text_quads(const hud_font *f, float x, float y, const char *utf8, h
  * (64, 83, 96, 113, 137 kt). Speeds are rounded to the nearest knot first. */
 int hud_saffir_simpson(float speed_ms);
 const char *hud_category_name(int cls); /* "Tropical depression", "Category 3 hurricane" */
+/* Beaufort force 0..12 of a 10 m wind (WMO No. 8 limits, rounded to 0.1 m/s) and its
+ * name ("Strong breeze"): what the HUD names a wind below tropical-storm strength, where
+ * "tropical depression" would mislabel a breeze on a calm day. */
+int hud_beaufort(float speed_ms);
+const char *hud_beaufort_name(int force);
 
 enum hud_conn {
     HUD_CONN_CONNECTING = 0,

@@ -147,6 +147,34 @@ static void test_saffir_simpson(void)
     CHECK(strcmp(hud_category_name(9), "?") == 0);
 }
 
+/* Beaufort forces at the WMO limits (a limit itself belongs to its force, 0.1 m/s above
+ * to the next), and the names the HUD shows below tropical-storm strength. */
+static void test_beaufort(void)
+{
+    const float upper[12] = { 0.2f, 1.5f, 3.3f, 5.4f, 7.9f, 10.7f,
+                              13.8f, 17.1f, 20.7f, 24.4f, 28.4f, 32.6f };
+    for (int b = 0; b < 12; b++) {
+        CHECK(hud_beaufort(upper[b]) == b);
+        CHECK(hud_beaufort(upper[b] + 0.1f) == b + 1);
+    }
+    CHECK(hud_beaufort(0.0f) == 0);
+    CHECK(hud_beaufort(-3.0f) == 0);
+    CHECK(hud_beaufort(NAN) == 0);
+    CHECK(hud_beaufort(70.0f) == 12);
+    CHECK(strcmp(hud_beaufort_name(6), "Strong breeze") == 0);
+    CHECK(strcmp(hud_beaufort_name(13), "?") == 0);
+    char lines[HUD_MAX_LINES][HUD_LINE_CHARS];
+    hud_state s = { .have_wind = true, .wind_ms = 9.1f, .conn = HUD_CONN_LIVE };
+    CHECK(hud_format(&s, lines) >= 2);
+    CHECK_STR_HAS(lines[1], "Fresh breeze \xC2\xB7 Beaufort 5");
+    s.wind_ms = 17.0f; /* 33 kt: still below tropical-storm strength */
+    hud_format(&s, lines);
+    CHECK_STR_HAS(lines[1], "Near gale \xC2\xB7 Beaufort 7");
+    s.wind_ms = 17.5f; /* 34 kt */
+    hud_format(&s, lines);
+    CHECK_STR_HAS(lines[1], "Tropical storm");
+}
+
 static void test_format(void)
 {
     char lines[HUD_MAX_LINES][HUD_LINE_CHARS];
@@ -300,6 +328,7 @@ int main(void)
     RUN(test_widths);
     RUN(test_ink);
     RUN(test_saffir_simpson);
+    RUN(test_beaufort);
     RUN(test_format);
     RUN(test_bad_font);
     RUN(test_gl_pass);
