@@ -80,10 +80,10 @@ static inline float upwind(float lo, float a, float hi, float d)
  * displacement exceeds one cell, in which case the row's output is not valid and the
  * caller redoes it by the general path (NaN counts as near, whose reads stay in the row's
  * neighbourhood; the step's divergence check then resets the field). */
-static inline __attribute__((always_inline)) int advect_row_fused(int a, float s, int nx, int sy, int sz,
-                                   const float *restrict own, const float *restrict pa,
-                                   int da0, int da1, const float *restrict pb, int db0,
-                                   int db1, float *restrict dst)
+static inline __attribute__((always_inline)) int
+advect_row_fused(int a, float s, int nx, int sy, int sz, const float *restrict own,
+                 const float *restrict pa, int da0, int da1, const float *restrict pb, int db0,
+                 int db1, float *restrict dst)
 {
     int far = 0;
 #pragma omp simd reduction(| : far)
@@ -151,23 +151,21 @@ static void advect_row(wind_grid *w, int a, float s, int r)
         /* v at (i-1..i, j..j+1), w at (i-1..i, k..k+1) */
         pa = cv->d + wind_idx(cv->sy, cv->sz, -1, j, k), da0 = 1, da1 = cv->sy;
         pb = cw->d + wind_idx(cw->sy, cw->sz, -1, j, k), db0 = 1, db1 = cw->sz;
-        if (!advect_row_u(s, nx, ca->sy, ca->sz, own, pa, da0, da1, pb, db0, db1, dst)) {
-            return;
-        }
     } else if (a == 1) {
         /* u at (i..i+1, j-1..j), w at (j-1..j, k..k+1) */
         pa = cu->d + wind_idx(cu->sy, cu->sz, 0, j - 1, k), da0 = 1, da1 = cu->sy;
         pb = cw->d + wind_idx(cw->sy, cw->sz, 0, j - 1, k), db0 = cw->sy, db1 = cw->sz;
-        if (!advect_row_v(s, nx, ca->sy, ca->sz, own, pa, da0, da1, pb, db0, db1, dst)) {
-            return;
-        }
     } else {
         /* u at (i..i+1, k-1..k), v at (j..j+1, k-1..k) */
         pa = cu->d + wind_idx(cu->sy, cu->sz, 0, j, k - 1), da0 = 1, da1 = cu->sz;
         pb = cv->d + wind_idx(cv->sy, cv->sz, 0, j, k - 1), db0 = cv->sy, db1 = cv->sz;
-        if (!advect_row_w(s, nx, ca->sy, ca->sz, own, pa, da0, da1, pb, db0, db1, dst)) {
-            return;
-        }
+    }
+    static int (*const fused[3])(float, int, int, int, const float *, const float *, int, int,
+                                 const float *, int, int, float *) = {
+        advect_row_u, advect_row_v, advect_row_w
+    };
+    if (!fused[a](s, nx, ca->sy, ca->sz, own, pa, da0, da1, pb, db0, db1, dst)) {
+        return;
     }
     float *dx = w->scratch + (size_t)omp_get_thread_num() * WIND_SCRATCH_ROW(w);
     float *dy = dx + nx + 1, *dz = dy + nx + 1;

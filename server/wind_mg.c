@@ -482,9 +482,31 @@ WIND_CLONES static float row_sq(int n, const float *restrict t)
     return s;
 }
 
-/* Residual of fine row r into f->rowsum[r] (its sum of squares). */
-static void residual_row(const wind_grid *w, wind_level *f, int r)
+/* A per-row kernel of a level pass: fine level f, coarse level c (may be NULL), row r. */
+typedef void (*level_row_fn)(const wind_grid *w, wind_level *f, wind_level *c, int r);
+
+/* Runs fn over rows [0, rows) on nt threads; with one thread, outside any OpenMP region
+ * (see smooth). Rows are independent, so the split does not change the result. */
+static void for_each_row(const wind_grid *w, int nt, int rows, level_row_fn fn, wind_level *f,
+                         wind_level *c)
 {
+    if (nt == 1) {
+        for (int r = 0; r < rows; r++) {
+            fn(w, f, c, r);
+        }
+        return;
+    }
+#pragma omp parallel for schedule(static) num_threads(nt)
+    for (int r = 0; r < rows; r++) {
+        fn(w, f, c, r);
+    }
+}
+
+/* Residual of fine row r into f->rowsum[r] (its sum of squares); c is unused (the
+ * signature of level_row_fn). */
+static void residual_row(const wind_grid *w, wind_level *f, wind_level *c, int r)
+{
+    (void)c;
     int j = r % f->ny, k = r / f->ny;
     size_t c0 = wind_idx(f->sy, f->sz, 0, j, k);
     float *t = row_scratch(w);
@@ -538,29 +560,11 @@ static double residual_restrict(const wind_grid *w, wind_level *f, wind_level *c
     const int nt = level_threads(w, f);
     if (!c) {
         const int rows = f->ny * f->nz;
-        if (nt == 1) {
-            for (int r = 0; r < rows; r++) {
-                residual_row(w, f, r);
-            }
-        } else {
-#pragma omp parallel for schedule(static) num_threads(nt)
-            for (int r = 0; r < rows; r++) {
-                residual_row(w, f, r);
-            }
-        }
+        for_each_row(w, nt, rows, residual_row, f, NULL);
         return sqrt(wind_sum_rows(f->rowsum, rows));
     }
     const int crows = c->ny * c->nz;
-    if (nt == 1) {
-        for (int r = 0; r < crows; r++) {
-            restrict_row(w, f, c, r);
-        }
-    } else {
-#pragma omp parallel for schedule(static) num_threads(nt)
-        for (int r = 0; r < crows; r++) {
-            restrict_row(w, f, c, r);
-        }
-    }
+    for_each_row(w, nt, crows, restrict_row, f, c);
     return sqrt(wind_sum_rows(c->rowsum, crows));
 }
 
@@ -600,7 +604,7 @@ WIND_CLONES static void prolong_base(int n, const float *restrict e, ptrdiff_t d
  * cell has two children (weight 1/4 each, the rest on the cell itself); across closed
  * faces the cell's own value stands in for the neighbour (Neumann). Closed fine cells get
  * nothing. */
-static void prolong_row(const wind_grid *w, wind_level *f, const wind_level *c, int r)
+static void prolong_row(const wind_grid *w, wind_level *f, wind_level *c, int r)
 {
     const int *rf = f->r;
     const int ny = f->ny;
@@ -631,19 +635,9 @@ static void prolong_row(const wind_grid *w, wind_level *f, const wind_level *c, 
     }
 }
 
-static void prolong_add(const wind_grid *w, wind_level *f, const wind_level *c)
+static void prolong_add(const wind_grid *w, wind_level *f, wind_level *c)
 {
-    const int rows = f->ny * f->nz, nt = level_threads(w, f);
-    if (nt == 1) {
-        for (int r = 0; r < rows; r++) {
-            prolong_row(w, f, c, r);
-        }
-        return;
-    }
-#pragma omp parallel for schedule(static) num_threads(nt)
-    for (int r = 0; r < rows; r++) {
-        prolong_row(w, f, c, r);
-    }
+    for_each_row(w, level_threads(w, f), f->ny * f->nz, prolong_row, f, c);
 }
 
 static void vcycle(const wind_grid *w, int li)
