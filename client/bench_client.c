@@ -1,4 +1,4 @@
-/* gale-bench client: client CPU time per display frame for a stream of T trees × M modes
+/* gale-bench-client client: client CPU time per display frame for a stream of T trees × M modes
  * (DESIGN.md "Data flow", client frame): receive (copy of the frame bytes as the socket
  * layer reassembles them), decode, dequantise into a snapshot, jitter insert, Hermite
  * interpolation into the q staging array, and the GL upload when a context can be made. */
@@ -65,14 +65,14 @@ int bench_client(int argc, char **argv)
             /* JSON is the only output */
         } else {
             fprintf(stderr,
-                    "usage: gale-bench client [--trees N] [--modes M] [--frames F] [--no-gl] "
+                    "usage: gale-bench-client client [--trees N] [--modes M] [--frames F] [--no-gl] "
                     "[--json]\n  per-frame client CPU: receive, decode, dequantize, jitter "
                     "insert, interpolate, GL upload (target <= 1 ms)\n");
             return 2;
         }
     }
     if (trees < 1 || trees > WIRE_MAX_TREES || modes < 1 || modes > WIRE_MAX_MODES || frames < 10) {
-        fprintf(stderr, "gale-bench client: expected 1..%u trees, 1..%u modes, >= 10 frames\n",
+        fprintf(stderr, "gale-bench-client client: expected 1..%u trees, 1..%u modes, >= 10 frames\n",
                 WIRE_MAX_TREES, WIRE_MAX_MODES);
         return 2;
     }
@@ -108,7 +108,7 @@ int bench_client(int argc, char **argv)
     scene.species = species;
     if (!species || !nm || !enc || !enc_len || !rx || !snap || !staging || !dec || !jit ||
         !t_total || !qs[0] || !qs[1] || !qs[2]) {
-        fprintf(stderr, "gale-bench client: setup: %s\n", err.msg[0] ? err.msg : "no memory");
+        fprintf(stderr, "gale-bench-client client: setup: %s\n", err.msg[0] ? err.msg : "no memory");
         goto done;
     }
     memset(nm, (int)modes, trees);
@@ -131,7 +131,7 @@ int bench_client(int argc, char **argv)
                           : wire_encode_delta(&h, k + 1, &scene, &sc, &sp, k >= 2 ? &sp2 : NULL,
                                               enc[k], bound, &enc_len[k], &err);
         if (rc != 0) {
-            fprintf(stderr, "gale-bench client: encode: %s\n", err.msg);
+            fprintf(stderr, "gale-bench-client client: encode: %s\n", err.msg);
             goto done;
         }
         if (k > 0) {
@@ -161,7 +161,7 @@ int bench_client(int argc, char **argv)
     /* the client: the keyframe first, then one delta per display frame (60 Hz both) */
     wire_frame f;
     if (wire_decode(dec, enc[0], enc_len[0], &f, &err) != 0) {
-        fprintf(stderr, "gale-bench client: decode keyframe: %s\n", err.msg);
+        fprintf(stderr, "gale-bench-client client: decode keyframe: %s\n", err.msg);
         goto done;
     }
     uint64_t decode_errors = 0;

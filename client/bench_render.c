@@ -1,4 +1,4 @@
-/* gale-bench render: frame time of gale_render, headless (EGL, else hidden window). Default:
+/* gale-bench-client render: frame time of gale_render, headless (EGL, else hidden window). Default:
  * a small forest for llvmpipe; --trees 4000 --nodes 3500 --size 1920x1080 is the paper's
  * scene (Diener 2008 section 6) for a real GPU. Prints JSON with the median. */
 #include <math.h>
@@ -51,14 +51,14 @@ int bench_render(int argc, char **argv)
                 w = 0;
             }
         } else {
-            fprintf(stderr, "usage: gale-bench render [--trees N] [--nodes N] [--modes N] "
+            fprintf(stderr, "usage: gale-bench-client render [--trees N] [--nodes N] [--modes N] "
                             "[--size WxH] [--frames N] [--falling N] [--spacing M]\n");
             return 2;
         }
         i++;
     }
     if (trees == 0 || frames == 0 || w <= 0 || modes < 2 || modes > 64) {
-        fprintf(stderr, "gale-bench render: bad arguments\n");
+        fprintf(stderr, "gale-bench-client render: bad arguments\n");
         return 2;
     }
     gale_err err = { 0 };
@@ -66,7 +66,7 @@ int bench_render(int argc, char **argv)
                                               .max_trees = trees,
                                               .max_falling = falling + 1 }, &err);
     if (!r) {
-        fprintf(stderr, "gale-bench render: %s\n", err.msg);
+        fprintf(stderr, "gale-bench-client render: %s\n", err.msg);
         return 1;
     }
     asset a[2];
@@ -76,7 +76,7 @@ int bench_render(int argc, char **argv)
                                      .leaf_shape = (uint32_t)s * 2, .seed = (uint32_t)s + 3 },
                               &err) < 0 ||
             render_add_species(r, &a[s], &err) < 0) {
-            fprintf(stderr, "gale-bench render: %s\n", err.msg);
+            fprintf(stderr, "gale-bench-client render: %s\n", err.msg);
             render_destroy(r);
             return 1;
         }
@@ -84,7 +84,7 @@ int bench_render(int argc, char **argv)
     render_instance *inst = calloc(trees, sizeof *inst);
     render_demo_forest(inst, trees, (uint32_t)nsp, spacing, 11);
     if (render_set_instances(r, trees, inst, &err) < 0) {
-        fprintf(stderr, "gale-bench render: %s\n", err.msg);
+        fprintf(stderr, "gale-bench-client render: %s\n", err.msg);
         return 1;
     }
     for (uint32_t k = 0; k < falling; k++) {
@@ -109,7 +109,7 @@ int bench_render(int argc, char **argv)
         }
         double t0 = now_s();
         if (render_frame(r, &cam, t, &err) < 0) {
-            fprintf(stderr, "gale-bench render: %s\n", err.msg);
+            fprintf(stderr, "gale-bench-client render: %s\n", err.msg);
             return 1;
         }
         double t1 = now_s();

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Builds every tests/fuzz/fuzz_*.c with clang -fsanitize=fuzzer,address,undefined against
-# the project's static libraries (protocol/ and server/, built with clang into build-fuzz/)
-# and runs each for a bounded time from its seed corpus tests/fuzz/corpus/<name>/.
+# Builds every tests/fuzz/fuzz_*.c as a libFuzzer program (CMake option GALE_FUZZ: clang,
+# -fsanitize=fuzzer with ASan + UBSan, into build-fuzz/) and runs each for a bounded time
+# from its seed corpus tests/fuzz/corpus/<name>/.
 # Usage: deploy/fuzz.sh [SECONDS per target, default 20] [NAME ...]
 # Exits non-zero when any target crashes, leaks or trips a sanitizer; the crashing input
 # is left in build-fuzz/artifacts/.
@@ -14,20 +14,9 @@ case "$secs" in
 esac
 command -v clang >/dev/null || { echo "fuzz.sh: clang not found (apt-get install clang)" >&2; exit 2; }
 
-san="-fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all"
-cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_BUILD_TYPE=Debug \
-    -DCMAKE_C_FLAGS="-O1 -g -fno-omit-frame-pointer -fsanitize=fuzzer-no-link $san" >/dev/null
-# Every static library of protocol/ and server/ (the decoders a fuzz target may call);
-# one that does not build with clang is skipped with a note, not fatal.
-mapfile -t targets < <(grep -ho 'add_library(gale_[a-z_]* STATIC' protocol/*.txt protocol/*.cmake \
-    server/*.txt server/*.cmake 2>/dev/null | sed 's/add_library(\(gale_[a-z_]*\) STATIC/\1/' | sort -u)
-for t in "${targets[@]}"; do
-    cmake --build build-fuzz -j 2 --target "$t" >/dev/null 2>&1 ||
-        echo "fuzz.sh: note: library $t did not build with clang; targets needing it will fail" >&2
-done
-mapfile -t libs < <(find build-fuzz/protocol build-fuzz/server -maxdepth 1 -name 'libgale_*.a' | sort)
-
-mkdir -p build-fuzz/bin build-fuzz/artifacts
+cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_BUILD_TYPE=Debug -DGALE_FUZZ=ON \
+    -DCMAKE_C_FLAGS="-O1 -g" >/dev/null
+mkdir -p build-fuzz/artifacts
 if [ "$#" -gt 0 ]; then
     names=("$@")
 else
@@ -41,11 +30,10 @@ fail=0
 for name in "${names[@]}"; do
     src="tests/fuzz/fuzz_${name}.c"
     [ -f "$src" ] || { echo "fuzz.sh: no $src" >&2; fail=1; continue; }
-    bin="build-fuzz/bin/fuzz_${name}"
-    clang -std=c11 -D_GNU_SOURCE -O1 -g -fno-omit-frame-pointer -fsanitize=fuzzer $san \
-        -Iprotocol -Iserver -Itests "$src" -Wl,--start-group "${libs[@]}" -Wl,--end-group \
-        -lcjson -llapacke -lopenblas -larpack -lstb -lm -lpthread -fopenmp -o "$bin" || {
-        echo "fuzz ${name}: FAILED to build" >&2
+    bin="build-fuzz/tests/fuzz/fuzz_${name}"
+    cmake --build build-fuzz -j 2 --target "fuzz_${name}" >"build-fuzz/build_${name}.log" 2>&1 || {
+        echo "fuzz ${name}: FAILED to build (log build-fuzz/build_${name}.log)" >&2
+        tail -20 "build-fuzz/build_${name}.log" >&2
         fail=1
         continue
     }

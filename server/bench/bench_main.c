@@ -1,0 +1,45 @@
+/* gale-bench: the server-side benchmarks, each printing figures as JSON. One subcommand
+ * per subsystem, each in its own bench_<name>.c; the client side has gale-bench-client. */
+#include <stdio.h>
+#include <string.h>
+
+int bench_bake(int argc, char **argv);
+int bench_wind(int argc, char **argv);
+int bench_modal(int argc, char **argv);
+int bench_wire(int argc, char **argv);
+
+typedef struct bench_cmd {
+    const char *name;
+    int (*fn)(int argc, char **argv);
+    const char *what;
+} bench_cmd;
+
+static const bench_cmd bench_cmds[] = {
+    { "bake", bench_bake, "bake time and peak memory for generated trees (JSON)" },
+    { "wind", bench_wind, "wind solver ms/step, divergence reduction, bandwidth (JSON)" },
+    { "modal", bench_modal, "per-tick modal update of many trees (JSON)" },
+    { "wire", bench_wire, "state stream bytes per tree and node error, gusty run (JSON)" },
+};
+
+static void usage(FILE *f)
+{
+    fprintf(f, "usage: gale-bench COMMAND [options]   (COMMAND --help for its options)\n");
+    for (size_t i = 0; i < sizeof bench_cmds / sizeof bench_cmds[0]; i++) {
+        fprintf(f, "  %-8s %s\n", bench_cmds[i].name, bench_cmds[i].what);
+    }
+}
+
+int main(int argc, char **argv)
+{
+    if (argc >= 2 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
+        usage(stdout);
+        return 0;
+    }
+    for (size_t i = 0; argc >= 2 && i < sizeof bench_cmds / sizeof bench_cmds[0]; i++) {
+        if (strcmp(argv[1], bench_cmds[i].name) == 0) {
+            return bench_cmds[i].fn(argc - 1, argv + 1);
+        }
+    }
+    usage(stderr);
+    return 2;
+}
