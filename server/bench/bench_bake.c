@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "bench.h"
 #include "bake.h"
 #include "bake_tree.h"
 #include "species.h"
@@ -69,7 +70,6 @@ static void child(int n, int modes, int fd)
     _exit(0);
 }
 
-int bench_bake(int argc, char **argv);
 
 int bench_bake(int argc, char **argv)
 {
@@ -80,11 +80,10 @@ int bench_bake(int argc, char **argv)
         } else if (strcmp(argv[i], "--modes") == 0 && i + 1 < argc) {
             modes = atoi(argv[++i]);
         } else {
-            fprintf(stderr,
-                    "usage: gale-bench bake [--json] [--modes N]\n"
-                    "  bake wall time (median of 3) and peak RSS per tree size, synthetic trees\n"
-                    "  of 300, 1000, 3500, 10000 nodes, 32 modes by default\n");
-            return strcmp(argv[i], "--help") == 0 ? 0 : 2;
+            return bench_usage(argv[i],
+                               "usage: gale-bench bake [--json] [--modes N]\n"
+                               "  bake wall time (median of 3) and peak RSS per tree size, synthetic trees\n"
+                               "  of 300, 1000, 3500, 10000 nodes, 32 modes by default\n");
         }
     }
     const int sizes[4] = { 300, 1000, 3500, 10000 };

@@ -1,12 +1,9 @@
 /* gale-bench: the server-side benchmarks, each printing figures as JSON. One subcommand
  * per subsystem, each in its own bench_<name>.c; the client side has gale-bench-client. */
+#include "bench.h"
+
 #include <stdio.h>
 #include <string.h>
-
-int bench_bake(int argc, char **argv);
-int bench_wind(int argc, char **argv);
-int bench_modal(int argc, char **argv);
-int bench_wire(int argc, char **argv);
 
 typedef struct bench_cmd {
     const char *name;
@@ -27,6 +24,13 @@ static void usage(FILE *f)
     for (size_t i = 0; i < sizeof bench_cmds / sizeof bench_cmds[0]; i++) {
         fprintf(f, "  %-8s %s\n", bench_cmds[i].name, bench_cmds[i].what);
     }
+}
+
+int bench_usage(const char *arg, const char *usage)
+{
+    const int help = strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0;
+    fputs(usage, help ? stdout : stderr);
+    return help ? 0 : 2;
 }
 
 int main(int argc, char **argv)

@@ -8,11 +8,11 @@
 #include <string.h>
 #include <time.h>
 
+#include "bench.h"
 #include "modal.h"
 #include "wind.h"
 #include "wire.h"
 
-int bench_modal(int argc, char **argv);
 
 static double now_ms(void)
 {
@@ -73,9 +73,8 @@ int bench_modal(int argc, char **argv)
         } else if (strcmp(argv[i], "--json") == 0) {
             json = true;
         } else {
-            fprintf(stderr, "usage: gale-bench modal [--trees N] [--modes M] [--species S] "
-                            "[--ticks K] [--threads T] [--json]\n");
-            return 2;
+            return bench_usage(argv[i], "usage: gale-bench modal [--trees N] [--modes M] [--species S] "
+                                        "[--ticks K] [--threads T] [--json]\n");
         }
     }
     if (n_trees < 1 || n_trees > (int)WIRE_MAX_TREES || n_modes < 1 ||

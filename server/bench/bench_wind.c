@@ -8,9 +8,9 @@
 #include <string.h>
 #include <time.h>
 
+#include "bench.h"
 #include "wind.h"
 
-int bench_wind(int argc, char **argv);
 
 static double bench_now_ms(void)
 {
@@ -114,9 +114,8 @@ int bench_wind(int argc, char **argv)
         } else if (strcmp(argv[i], "--json") == 0) {
             /* JSON is the only output */
         } else {
-            fprintf(stderr, "usage: gale-bench wind [--grid 256x256x16] [--steps 100] "
-                            "[--threads 2] [--houses 24] [--u10 20] [--json]\n");
-            return 2;
+            return bench_usage(argv[i], "usage: gale-bench wind [--grid 256x256x16] [--steps 100] "
+                                        "[--threads 2] [--houses 24] [--u10 20] [--json]\n");
         }
     }
     if (steps < 1 || steps > 100000 || houses < 0 || houses > 10000) {

@@ -13,6 +13,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "bench.h"
 #include "asset.h"
 #include "bake.h"
 #include "bake_tree.h"
@@ -26,7 +27,6 @@
 #include "species.h"
 #include "wire.h"
 
-int bench_wire(int argc, char **argv);
 
 static double now_s(void)
 {
@@ -184,10 +184,9 @@ int bench_wire(int argc, char **argv)
         } else if (strcmp(argv[i], "--synthetic") == 0) {
             synthetic = true;
         } else {
-            fprintf(stderr, "usage: gale-bench wire [--seconds S] [--trees N] [--modes M] "
-                            "[--wind MEAN_MS] [--gust INTENSITY] [--eps E] [--keyframe-s K] "
-                            "[--synthetic] [--json]\n");
-            return 2;
+            return bench_usage(argv[i], "usage: gale-bench wire [--seconds S] [--trees N] [--modes M] "
+                                        "[--wind MEAN_MS] [--gust INTENSITY] [--eps E] "
+                                        "[--keyframe-s K] [--synthetic] [--json]\n");
         }
     }
     if (!(seconds >= 1 && seconds <= 3600) || n_trees < 1 || n_trees > 100000 || n_modes < 1 ||
