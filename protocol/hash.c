@@ -1,5 +1,5 @@
 /* Content hashes: FNV-1a 64 (Fowler, Noll, Vo) finished with the splitmix64 avalanche,
- * and the reflected CRC-32 with polynomial 0xEDB88320, a nibble table at a time. */
+ * the splitmix64 generator itself, and the reflected CRC-32 with polynomial 0xEDB88320, a nibble table at a time. */
 #include "hash.h"
 
 uint64_t hash64_update(uint64_t h, const void *data, size_t len)
@@ -17,6 +17,12 @@ uint64_t hash64_final(uint64_t h)
     h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ull;
     h = (h ^ (h >> 27)) * 0x94d049bb133111ebull;
     return h ^ (h >> 31);
+}
+
+uint64_t hash64_splitmix(uint64_t *state)
+{
+    *state += 0x9e3779b97f4a7c15ull;
+    return hash64_final(*state);
 }
 
 uint64_t hash64(const void *data, size_t len)

@@ -15,6 +15,10 @@ uint64_t hash64_update(uint64_t h, const void *data, size_t len);
 uint64_t hash64_final(uint64_t h);
 /* One-shot: hash64_final(hash64_update(HASH64_INIT, data, len)). */
 uint64_t hash64(const void *data, size_t len);
+/* splitmix64 (Steele, Lea, Flood 2014): advances *state by the golden-ratio gamma and
+ * returns its avalanche (hash64_final). Full period 2^64, the same sequence on every
+ * machine: the one generator behind gale's seeded forests, leaves, gusts and jitter. */
+uint64_t hash64_splitmix(uint64_t *state);
 
 /* CRC-32 of len bytes continuing from crc (0 to start): crc32("123456789") = 0xcbf43926. */
 uint32_t hash_crc32_update(uint32_t crc, const void *data, size_t len);

@@ -1,12 +1,12 @@
 /* The bake pipeline: frame model (fem.c), shift-invert modes (eigen.c), Rayleigh damping
  * γ_i = α + β ω_i² (Diener 2008 eq. 9), wind basis (basis.c, section 4), correction
  * (correction.c, section 5.2), mesh (mesh.h); everything the asset holds. */
+#include "mono.h"
 #include "bake.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include <cjson/cJSON.h>
 
@@ -14,13 +14,6 @@
 #include "eigen.h"
 #include "fem.h"
 #include "mesh.h"
-
-static double now_s(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 uint64_t bake_hash(uint64_t h, const void *data, size_t n)
 {
@@ -46,7 +39,7 @@ static float *to_float(const double *x, size_t n)
 int bake_run(const skeleton *s, const species *sp, const bake_desc *d, asset *a,
              bake_report *rep, gale_err *err)
 {
-    const double t0 = now_s();
+    const double t0 = mono_s();
     bake_desc bd = d ? *d : (bake_desc){ 0 };
     bake_report r;
     memset(&r, 0, sizeof r);
@@ -82,12 +75,12 @@ int bake_run(const skeleton *s, const species *sp, const bake_desc *d, asset *a,
     for (int i = 1; i < n; i++) {
         r.mass_kg += f.mat.rho_kg_m3 * M_PI * f.radius_m[i] * f.radius_m[i] * f.len_m[i];
     }
-    const double t1 = now_s();
+    const double t1 = mono_s();
     rc = eigen_lowest(&f, nm, &er, err);
     if (rc != GALE_OK) {
         goto fail;
     }
-    const double t2 = now_s();
+    const double t2 = mono_s();
     tr = malloc((size_t)nm * n * 3 * sizeof *tr);
     rot = malloc((size_t)nm * n * 3 * sizeof *rot);
     rest = malloc((size_t)n * 3 * sizeof *rest);
@@ -98,7 +91,7 @@ int bake_run(const skeleton *s, const species *sp, const bake_desc *d, asset *a,
     }
     fem_split_modes(&f, er.phi, nm, tr, rot);
     basis_compute(&f, er.phi, nm, sp->drag_c, p);
-    const double t3 = now_s();
+    const double t3 = mono_s();
     for (int i = 0; i < 3 * n; i++) {
         rest[i] = (double)s->pos[i];
     }
@@ -106,7 +99,7 @@ int bake_run(const skeleton *s, const species *sp, const bake_desc *d, asset *a,
     if (rc != GALE_OK) {
         goto fail;
     }
-    const double t4 = now_s();
+    const double t4 = mono_s();
 
     /* the asset */
     snprintf(a->species, sizeof a->species, "%s", sp->name);
@@ -153,7 +146,7 @@ int bake_run(const skeleton *s, const species *sp, const bake_desc *d, asset *a,
     if (rc != GALE_OK) {
         goto fail;
     }
-    const double t5 = now_s();
+    const double t5 = mono_s();
 
     r.nodes = n;
     r.modes = nm;
@@ -170,7 +163,7 @@ int bake_run(const skeleton *s, const species *sp, const bake_desc *d, asset *a,
     r.amp_rot_rad = cr.amp_rot_rad;
     r.length_err_linear = cr.err_linear;
     r.length_err_corrected = cr.err_corrected;
-    r.seconds = now_s() - t0;
+    r.seconds = mono_s() - t0;
     if (rep) {
         *rep = r;
     }

@@ -8,18 +8,12 @@
 #include <string.h>
 #include <time.h>
 
+#include "mono.h"
 #include "bench.h"
 #include "modal.h"
 #include "wind.h"
 #include "wire.h"
 
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
-}
 
 /* CPU time of the whole process (all threads) [ms]: on a loaded machine the wall time
  * counts other programs' turns, the CPU time only this one's work (and spinning). */
@@ -161,15 +155,15 @@ int bench_modal(int argc, char **argv)
     }
     for (int k = -20; k < ticks; k++) { /* 20 warm-up ticks */
         double c0 = cpu_ms();
-        double t0 = now_ms();
+        double t0 = mono_ms();
         wind_sample_many(wg, n_trees, pos, wind);
-        double t1 = now_ms();
+        double t1 = mono_ms();
         modal_tick(m, wind, snap);
-        double t2 = now_ms();
+        double t2 = mono_ms();
         double c1 = cpu_ms();
         /* A tick between snapshots: the same update without quantisation. */
         modal_tick(m, wind, NULL);
-        double t3 = now_ms();
+        double t3 = mono_ms();
         if (k >= 0) {
             t_sample[k] = t1 - t0;
             t_modal[k] = t2 - t1;

@@ -8,16 +8,10 @@
 #include <string.h>
 #include <time.h>
 
+#include "mono.h"
 #include "bench.h"
 #include "wind.h"
 
-
-static double bench_now_ms(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
-}
 
 /* CPU time of the whole process [ms]: with the machine shared, CPU time per step over the
  * thread count estimates the step's wall time on an idle machine. */
@@ -62,12 +56,12 @@ static double triad_gb_s(int threads)
     }
     double best = 1e30;
     for (int rep = 0; rep < 5; rep++) {
-        double t0 = bench_now_ms();
+        double t0 = mono_ms();
 #pragma omp parallel for schedule(static) num_threads(threads)
         for (long i = 0; i < nl; i++) {
             a[i] = b[i] + 3.0 * c[i];
         }
-        double t = bench_now_ms() - t0;
+        double t = mono_ms() - t0;
         best = t < best ? t : best;
     }
     double check = a[n / 2];

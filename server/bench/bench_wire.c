@@ -11,8 +11,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "mono.h"
 #include "bench.h"
 #include "asset.h"
 #include "bake.h"
@@ -27,13 +27,6 @@
 #include "species.h"
 #include "wire.h"
 
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
 
 static float *to_float(const double *d, size_t n)
 {
@@ -205,7 +198,7 @@ int bench_wire(int argc, char **argv)
     memset(sp, 0, sizeof sp);
     float steps[NS][WIRE_MAX_MODES];
     modal_species msp[NS];
-    double t_bake = now_s();
+    double t_bake = mono_s();
     for (int s = 0; s < NS; s++) {
         int rc = synthetic
                      ? bake_species(nodes[s], 101 + (uint64_t)s, n_modes, 0.3, 2e-3, &sp[s], &err)
@@ -217,7 +210,7 @@ int bench_wire(int argc, char **argv)
         msp[s] = (modal_species){ (uint32_t)n_modes, sp[s].omega, sp[s].gamma,
                                   sp[s].wind_basis, steps[s] };
     }
-    t_bake = now_s() - t_bake;
+    t_bake = mono_s() - t_bake;
 
     uint8_t *tree_sp = malloc((size_t)n_trees);
     float *yaw = malloc(sizeof(float) * (size_t)n_trees);
@@ -299,7 +292,7 @@ int bench_wire(int argc, char **argv)
         wire_state sp2 = { (uint32_t)n_trees, (uint32_t)stride, nm, snap[(seq + 1) % 3] };
         wire_header h = { .tick = (uint32_t)(k + warm), .server_time_us = (uint64_t)k * 16667 };
         size_t len = 0;
-        double t0 = now_s();
+        double t0 = mono_s();
         int since_key = (int)((seq - 1) % (uint32_t)key_every);
         int rc;
         if (since_key == 0) {
@@ -308,7 +301,7 @@ int bench_wire(int argc, char **argv)
             rc = wire_encode_delta(&h, seq, &scene, &sc, &sp1, since_key >= 2 ? &sp2 : NULL,
                                    frame, cap, &len, &err);
         }
-        double t1 = now_s();
+        double t1 = mono_s();
         if (rc) {
             fprintf(stderr, "gale-bench wire: encode: %s\n", err.msg);
             return 1;
@@ -317,7 +310,7 @@ int bench_wire(int argc, char **argv)
         if (wire_decode(dec, frame, len, &f, &err) != 0) {
             decode_errors++;
         }
-        dec_s += now_s() - t1;
+        dec_s += mono_s() - t1;
         enc_s += t1 - t0;
         if (since_key == 0) {
             bytes_key += len;

@@ -5,6 +5,7 @@
  * draws from its own random stream keyed by its place in the grammar, so changing the
  * depth or the segment length keeps every stem that remains where it was. */
 #include "lsystem.h"
+#include "hash.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -39,20 +40,10 @@ typedef struct ls_stems {
     int n, cap;
 } ls_stems;
 
-/* splitmix64 (Steele, Lea, Flood 2014): a full-period 64-bit generator, used both to
- * step a stem's stream and to derive child keys. */
-static uint64_t ls_mix(uint64_t *state)
-{
-    uint64_t z = (*state += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-}
-
 /* uniform in [0, 1) with 53 random bits */
 static double ls_uniform(uint64_t *state)
 {
-    return (double)(ls_mix(state) >> 11) * (1.0 / 9007199254740992.0);
+    return (double)(hash64_splitmix(state) >> 11) * (1.0 / 9007199254740992.0);
 }
 
 /* uniform in [-1, 1) */
@@ -64,7 +55,7 @@ static double ls_signed(uint64_t *state)
 static uint64_t ls_child_key(uint64_t parent_key, int child)
 {
     uint64_t st = parent_key ^ (0xd1b54a32d192ed03ull * (uint64_t)(child + 1));
-    return ls_mix(&st);
+    return hash64_splitmix(&st);
 }
 
 static double ls_dot(const double a[3], const double b[3])
@@ -287,7 +278,7 @@ static int ls_expand(const lsystem_params *p, int depth, ls_stems *st, gale_err 
     tr->r0 = p->trunk_radius_m;
     tr->r1 = fmax(p->trunk_radius_m * p->trunk_taper, LS_MIN_RADIUS);
     uint64_t seed_state = p->seed;
-    tr->key = ls_mix(&seed_state);
+    tr->key = hash64_splitmix(&seed_state);
     {
         uint64_t rng = tr->key;
         double side_az = 2.0 * LS_PI * ls_uniform(&rng);

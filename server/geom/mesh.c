@@ -4,6 +4,7 @@
  * slots on terminal nodes (Oliapuram & Kumar 2010 section 1.4: leaves where a recursion
  * ends). Ring frames are parallel-transported from the root, so tubes do not twist. */
 #include "mesh.h"
+#include "hash.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -66,18 +67,9 @@ static mesh_vec mv_perp(mesh_vec d, mesh_vec n)
     return mv_unit(mv_add(alt, mv_scale(d, -mv_dot(alt, d))), (mesh_vec){ 0, 0, 1 });
 }
 
-/* splitmix64, for deterministic leaf placement */
-static uint64_t mesh_rng(uint64_t *s)
-{
-    uint64_t z = (*s += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-}
-
 static double mesh_uniform(uint64_t *s)
 {
-    return (double)(mesh_rng(s) >> 11) * (1.0 / 9007199254740992.0);
+    return (double)(hash64_splitmix(s) >> 11) * (1.0 / 9007199254740992.0);
 }
 
 typedef struct mesh_work {

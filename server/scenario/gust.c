@@ -1,5 +1,6 @@
 /* Ornstein–Uhlenbeck gusts: see gust.h and REFERENCE.md "Gusts in time". */
 #include "gust.h"
+#include "hash.h"
 
 #include <math.h>
 #include <string.h>
@@ -42,15 +43,6 @@ gust_desc gust_desc_resolve(const gust_desc *d)
     return r;
 }
 
-/* splitmix64 expands the seed into the xoshiro state (Vigna's recommendation). */
-static uint64_t splitmix64(uint64_t *s)
-{
-    uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-
 static uint64_t rotl(uint64_t x, int k)
 {
     return (x << k) | (x >> (64 - k));
@@ -89,8 +81,9 @@ void gust_init(gust *g, const gust_desc *d)
     memset(g, 0, sizeof *g);
     g->d = gust_desc_resolve(d);
     uint64_t s = g->d.seed;
+    /* splitmix64 expands the seed into the xoshiro state (Vigna's recommendation). */
     for (int i = 0; i < 4; i++) {
-        g->rng[i] = splitmix64(&s);
+        g->rng[i] = hash64_splitmix(&s);
     }
     for (int k = 0; k < 3; k++) {
         g->x[k] = gust_normal(g);

@@ -3,6 +3,7 @@
  * outside obstacle boxes (Oliapuram & Kumar 2010 section 4: a forest of instanced
  * trees over a terrain). */
 #include "scene.h"
+#include "hash.h"
 
 #include <libgen.h>
 #include <math.h>
@@ -17,18 +18,9 @@ extern const size_t scene_default_json_len;
 
 #define DEG2RAD 0.017453292519943295
 
-/* splitmix64: a small, well-mixed generator; same seed, same forest on every machine. */
-static uint64_t rng_next(uint64_t *s)
-{
-    uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-
 static double rng_unit(uint64_t *s)
 {
-    return (double)(rng_next(s) >> 11) * (1.0 / 9007199254740992.0);
+    return (double)(hash64_splitmix(s) >> 11) * (1.0 / 9007199254740992.0);
 }
 
 /* out = base_dir/p unless p is absolute; false when it does not fit. */

@@ -15,9 +15,10 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "mono.h"
 #include "wind_int.h"
+#include "hash.h"
 
 #define WIND_MAX_CELLS_AXIS 4096
 #define WIND_DEFAULT_MAX_IT 30
@@ -27,25 +28,11 @@
 #define WIND_INFLOW_ON 0.5f
 #define WIND_INFLOW_OFF 0.2f
 
-static uint64_t splitmix64(uint64_t *s)
-{
-    uint64_t z = (*s += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-}
 
 /* Uniform in [-1, 1). */
 static float rng_sym(uint64_t *s)
 {
-    return (float)((double)(splitmix64(s) >> 11) * (2.0 / 9007199254740992.0) - 1.0);
-}
-
-static double now_ms(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
+    return (float)((double)(hash64_splitmix(s) >> 11) * (2.0 / 9007199254740992.0) - 1.0);
 }
 
 static int resolve_desc(const wind_desc *in, wind_desc *d, gale_err *err)
@@ -631,28 +618,28 @@ void wind_fill_inflow(wind_grid *w)
 
 int wind_step(wind_grid *w, float dt_s, wind_step_stats *st)
 {
-    double t0 = now_ms();
+    double t0 = mono_ms();
     if (!(dt_s > 0.0f) || !isfinite(dt_s)) {
         w->n_balls = 0;
         return GALE_E_ARG;
     }
     wind_fill_ghosts(w);
     wind_advect(w, dt_s / w->h);
-    double t1 = now_ms();
+    double t1 = mono_ms();
     for (int b = 0; b < w->n_balls; b++) {
         apply_ball(w, &w->balls[b], dt_s);
     }
     w->n_balls = 0;
     apply_bc(w);
     double b0 = divergence_rhs(w);
-    double t2 = now_ms();
+    double t2 = mono_ms();
     double r1 = 0.0;
     int it = wind_mg_solve(w, b0 / (double)w->d.div_reduction, w->d.max_iterations, &r1);
     if (!isfinite(b0) || !isfinite(r1)) {
         reset_field(w);
         return GALE_E_NUMERIC;
     }
-    double t3 = now_ms();
+    double t3 = mono_ms();
     project(w);
     if (st) {
         double norm = w->n_fluid > 0 ? 1.0 / (sqrt((double)w->n_fluid) * (double)w->h) : 0.0;
@@ -660,7 +647,7 @@ int wind_step(wind_grid *w, float dt_s, wind_step_stats *st)
         st->div_after = r1 * norm;
         st->iterations = it;
         st->residual = b0 > 0.0 ? r1 / b0 : 0.0;
-        st->ms = now_ms() - t0;
+        st->ms = mono_ms() - t0;
         st->ms_advect = t1 - t0;
         st->ms_forces = t2 - t1;
         st->ms_solve = t3 - t2;
