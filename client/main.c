@@ -19,7 +19,7 @@
 #include "camera.h"
 #include "hud.h"
 #include "jitter.h"
-#include "net.h"
+#include "cli_net.h"
 #include "render.h"
 
 #define MAX_SPECIES WIRE_MAX_SPECIES
@@ -46,7 +46,7 @@ typedef struct cli_species {
 
 typedef struct cli {
     cli_args a;
-    net *net;
+    cli_net *net;
     render *r;
     hud *hud;
     asset_cache *cache;
@@ -248,7 +248,7 @@ static void on_welcome(void *user, const ctl_welcome *w)
     c->live_since_welcome = false;
     fprintf(stderr,
             "gale-client: %s: welcome as %s, %u species, %u trees, %u houses, %.0f Hz snapshots\n",
-            net_server_name(c->net), ctl_role_name(w->role) ? ctl_role_name(w->role) : "?",
+            cli_net_server_name(c->net), ctl_role_name(w->role) ? ctl_role_name(w->role) : "?",
             w->n_species, w->n_instances, w->n_obstacles, (double)w->snapshot_hz);
 }
 
@@ -368,7 +368,7 @@ static int load_species_asset(cli *c, const ctl_species *s, asset *a, gale_err *
         if (cerr.code != GALE_E_IO && cerr.code != 0) {
             fprintf(stderr, "gale-client: cache: %s (fetching again)\n", cerr.msg);
         }
-        int rc = net_fetch(c->net, s->url, ASSET_CACHE_MAX_BYTES, 60.0, &buf, &len, err);
+        int rc = cli_net_fetch(c->net, s->url, ASSET_CACHE_MAX_BYTES, 60.0, &buf, &len, err);
         if (rc != 0) {
             return rc;
         }
@@ -507,7 +507,7 @@ static void dial_wind(cli *c, float delta)
     ctl_wind w = { .has_speed = true, .speed_ms = c->kiosk_speed_ms };
     snprintf(w.token, sizeof w.token, "%s", c->a.token ? c->a.token : "");
     gale_err err = { 0 };
-    if (net_send_wind(c->net, &w, &err) != 0) {
+    if (cli_net_send_wind(c->net, &w, &err) != 0) {
         fprintf(stderr, "gale-client: wind: %s\n", err.msg);
     } else {
         fprintf(stderr, "gale-client: wind dialled to %.0f m/s\n", (double)c->kiosk_speed_ms);
@@ -621,14 +621,14 @@ static void fly_keys(cli *c, GLFWwindow *win, float dt)
 
 /* ---- frame -------------------------------------------------------------------------- */
 
-static int hud_conn(const cli *c, const net_stats *ns)
+static int hud_conn(const cli *c, const cli_net_stats *ns)
 {
     switch (ns->state) {
-    case NET_LIVE:
+    case CLI_NET_LIVE:
         return c->got_state ? HUD_CONN_LIVE : HUD_CONN_WAIT_KEY;
-    case NET_HELLO:
+    case CLI_NET_HELLO:
         return HUD_CONN_WAIT_KEY;
-    case NET_BACKOFF:
+    case CLI_NET_BACKOFF:
         return HUD_CONN_RECONNECTING;
     default:
         return HUD_CONN_CONNECTING;
@@ -638,7 +638,7 @@ static int hud_conn(const cli *c, const net_stats *ns)
 static int draw_frame(cli *c, double now, gale_err *err)
 {
     double server_now = now;
-    jitter_clock_server_time(net_clock(c->net), now, &server_now);
+    jitter_clock_server_time(cli_net_clock(c->net), now, &server_now);
     double render_t = server_now - c->a.delay_s;
     if (c->scene_ready && c->jit) {
         uint32_t stride = 0;
@@ -668,13 +668,13 @@ static int draw_frame(cli *c, double now, gale_err *err)
     if (rc_frame != 0) {
         return rc_frame;
     }
-    net_stats ns = net_get_stats(c->net);
-    double rtt = jitter_clock_rtt(net_clock(c->net));
+    cli_net_stats ns = cli_net_get_stats(c->net);
+    double rtt = jitter_clock_rtt(cli_net_clock(c->net));
     hud_state hs = {
         .have_wind = c->have_wind,
         .wind_ms = c->wind_ms,
         .conn = hud_conn(c, &ns),
-        .server = net_server_name(c->net),
+        .server = cli_net_server_name(c->net),
         .retry_in_s = fmax(ns.retry_at_s - now, 0.0),
         .attempt = ns.attempt,
         .fps = (float)c->fps,
@@ -709,9 +709,9 @@ int main(int argc, char **argv)
         fprintf(stderr, "gale-client: %s (running without a disk cache)\n", err.msg);
         gale_err_clear(&err);
     }
-    c.net = net_create(
-        &(net_desc){ .url = c.a.url, .role = c.a.role, .token = c.a.token },
-        &(net_handler){
+    c.net = cli_net_create(
+        &(cli_net_desc){ .url = c.a.url, .role = c.a.role, .token = c.a.token },
+        &(cli_net_handler){
             .user = &c, .on_welcome = on_welcome, .on_frame = on_frame, .on_lost = on_lost },
         &err);
     if (!c.net) {
@@ -745,19 +745,19 @@ int main(int argc, char **argv)
         glfwSetScrollCallback(win, scroll_cb);
     }
 
-    const double start = net_now();
+    const double start = cli_net_now();
     c.last_frame_s = start;
     int frames_after_state = 0, fps_frames = 0;
     double fps_t0 = start;
     status = 0;
     while (!quit_flag && !(win && glfwWindowShouldClose(win))) {
-        double now = net_now();
-        net_poll(c.net, now);
+        double now = cli_net_now();
+        cli_net_poll(c.net, now);
         if (c.scene_pending) {
             if (setup_scene(&c, &err) != 0) {
                 fprintf(stderr, "gale-client: scene: %s\n", err.msg);
                 gale_err_clear(&err);
-                net_drop(c.net); /* try again on the next connection */
+                cli_net_drop(c.net); /* try again on the next connection */
             }
         }
         double dt = now - c.last_frame_s;
@@ -803,7 +803,7 @@ int main(int argc, char **argv)
                 break;
             }
             /* pace at ~60 Hz so the stream advances between frames */
-            double spent = net_now() - now;
+            double spent = cli_net_now() - now;
             if (spent < 1.0 / 60.0) {
                 usleep((useconds_t)((1.0 / 60.0 - spent) * 1e6));
             }
@@ -815,15 +815,15 @@ int main(int argc, char **argv)
             status = 1;
         }
         if (!c.got_state) {
-            net_stats ns = net_get_stats(c.net);
+            cli_net_stats ns = cli_net_get_stats(c.net);
             fprintf(stderr, "gale-client: %s: no state received in %.1f s (%s)\n",
-                    net_server_name(c.net), net_now() - start,
+                    cli_net_server_name(c.net), cli_net_now() - start,
                     ns.last_error[0] ? ns.last_error : "no keyframe");
             status = 3;
         }
     }
     {
-        net_stats ns = net_get_stats(c.net);
+        cli_net_stats ns = cli_net_get_stats(c.net);
         fprintf(stderr,
                 "gale-client: frames ok %llu, bad %llu, gaps %llu, control bad %llu, "
                 "tree-count mismatches %llu, connects %u\n",
@@ -834,7 +834,7 @@ int main(int argc, char **argv)
 done:
     hud_destroy(c.hud);
     jitter_destroy(c.jit);
-    net_destroy(c.net);
+    cli_net_destroy(c.net);
     render_destroy(c.r);
     asset_cache_destroy(c.cache);
     free(c.snap);
