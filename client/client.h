@@ -20,8 +20,11 @@
 
 struct GLFWwindow;
 
-/* Species one session may load: what a welcome may name. */
+/* Species one session may load: what a welcome may name; a welcome naming more is
+ * refused (client_stream_on_welcome), and the renderer holds them all. */
 #define CLIENT_MAX_SPECIES WIRE_MAX_SPECIES
+_Static_assert(CLIENT_MAX_SPECIES <= RENDER_MAX_SPECIES,
+               "gale-client: every species a session loads must fit in gale_render");
 
 typedef struct client_args {
     const char *url;

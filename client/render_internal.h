@@ -16,17 +16,10 @@
 #include "render.h"
 #include "wire_limits.h"
 
-/* Species one renderer holds: every species a welcome may name (WIRE_MAX_SPECIES), so a
- * scene the client accepts never fails on the GPU side. */
-#define RENDER_MAX_SPECIES WIRE_MAX_SPECIES
 /* Modes per species: the wire's limit; shaders/skel.frag declares u_ab[64] to match. */
 #define RENDER_MAX_MODES 64u
 _Static_assert(RENDER_MAX_MODES == WIRE_MAX_MODES,
                "render: RENDER_MAX_MODES (u_ab[] in shaders/skel.frag) must equal WIRE_MAX_MODES");
-_Static_assert(RENDER_MAX_SPECIES >= WIRE_MAX_SPECIES,
-               "render: must hold every species a welcome may carry (WIRE_MAX_SPECIES)");
-_Static_assert(RENDER_MAX_OBSTACLES == WIRE_MAX_OBSTACLES,
-               "render: RENDER_MAX_OBSTACLES must equal WIRE_MAX_OBSTACLES");
 
 #define RENDER_IMP_W 256 /* billboard impostor texture [px] */
 #define RENDER_IMP_H 512

@@ -38,7 +38,7 @@ static int species_check(const render *r, const asset *a, gale_err *err)
 {
     const char *nm = a->species[0] ? a->species : "(unnamed)";
     if (r->n_species >= RENDER_MAX_SPECIES) {
-        return gale_errf(err, GALE_E_RANGE, "render_add_species: %s: at most %d species", nm,
+        return gale_errf(err, GALE_E_RANGE, "render_add_species: %s: at most %u species", nm,
                          RENDER_MAX_SPECIES);
     }
     if (a->n_nodes < 2 || a->n_nodes > 16384 || !a->parent || !a->rest) {
@@ -47,7 +47,7 @@ static int species_check(const render *r, const asset *a, gale_err *err)
     }
     if (a->n_modes > RENDER_MAX_MODES || (a->n_modes && (!a->corr_v || !a->corr_w ||
                                                          !a->corr_a || !a->corr_b))) {
-        return gale_errf(err, GALE_E_RANGE, "render_add_species: %s: n_modes %u (0..%d, with "
+        return gale_errf(err, GALE_E_RANGE, "render_add_species: %s: n_modes %u (0..%u, with "
                          "corr_v/w/a/b)", nm, a->n_modes, RENDER_MAX_MODES);
     }
     for (uint32_t i = 0; i < a->n_nodes; i++) {
@@ -328,7 +328,7 @@ void render_draw_skeleton(render *r, const rs_species *s, uint32_t base, uint32_
     glUniform1i(p->u_nodes, (GLint)s->n_nodes);
     glUniform2f(p->u_target, (float)r->skel_w, (float)r->skel_h);
     glUniform1i(p->u_qstride, (GLint)r->q_stride);
-    glUniform2fv(p->u_ab, RENDER_MAX_MODES, s->ab);
+    glUniform2fv(p->u_ab, (GLsizei)RENDER_MAX_MODES, s->ab);
     render_bind_buf(RU_LIST, &r->list_buf);
     render_bind_buf(RU_VW, &s->vw);
     render_bind_buf(RU_NODE, &s->node);
