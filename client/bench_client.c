@@ -1,5 +1,5 @@
-/* gale-bench-client client: client CPU time per display frame for a stream of T trees × M modes
- * (DESIGN.md "Data flow", client frame): receive (copy of the frame bytes as the socket
+/* gale-bench-client client: client CPU time per display frame for a stream of T trees × M
+ * modes (the client frame of gale-client): receive (copy of the frame bytes as the socket
  * layer reassembles them), decode, dequantise into a snapshot, jitter insert, Hermite
  * interpolation into the q staging array, and the GL upload when a context can be made. */
 #include <epoxy/gl.h>

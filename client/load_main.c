@@ -1,4 +1,4 @@
-/* gale-load: a headless load client (DESIGN.md "load-testing clients"). N WebSocket
+/* gale-load: a headless load client (protocol/PROTOCOL.md, by the hundreds). N WebSocket
  * connections on one lws service thread (after the v4.1.6 minimal-ws-client example);
  * each says hello, reads the welcome, then decodes every binary frame with the protocol
  * library, checking sequence and integrity. Reports connected, frames, bytes, decode

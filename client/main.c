@@ -51,11 +51,11 @@ static void usage(FILE *f)
 static int parse_args(int argc, char **argv, client_args *a)
 {
     *a = (client_args){ .role = CTL_ROLE_VIEWER,
-                     .width = 1280,
-                     .height = 720,
-                     .frames = 60,
-                     .delay_s = 0.1,
-                     .wait_s = 30.0 };
+                        .width = 1280,
+                        .height = 720,
+                        .frames = 60,
+                        .delay_s = 0.1,
+                        .wait_s = 30.0 };
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -168,14 +168,12 @@ int main(int argc, char **argv)
         fprintf(stderr, "gale-client: %s (running without a disk cache)\n", err.msg);
         gale_err_clear(&err);
     }
-    c.net = cli_net_create(
-        &(cli_net_desc){ .url = c.a.url, .role = c.a.role, .token = c.a.token },
-        &(cli_net_handler){
-            .user = &c,
-                              .on_welcome = client_stream_on_welcome,
-                              .on_frame = client_stream_on_frame,
-                              .on_lost = client_stream_on_lost },
-        &err);
+    c.net = cli_net_create(&(cli_net_desc){ .url = c.a.url, .role = c.a.role, .token = c.a.token },
+                           &(cli_net_handler){ .user = &c,
+                                               .on_welcome = client_stream_on_welcome,
+                                               .on_frame = client_stream_on_frame,
+                                               .on_lost = client_stream_on_lost },
+                           &err);
     if (!c.net) {
         fprintf(stderr, "gale-client: %s\n", err.msg);
         status = err.code == GALE_E_ARG ? 2 : 1;

@@ -48,18 +48,17 @@ render *render_create(const render_desc *desc, gale_err *err)
         d->fog_dist = 450.0f;
     }
     if (d->width < 1 || d->height < 1 || d->width > 16384 || d->height > 16384 ||
-        d->max_trees > (1u << 22) || d->max_falling > (1u << 22) ||
-        !(d->lod_mode_dist > 0.0f) || !(d->lod_billboard_dist > 0.0f) ||
-        !(d->fog_dist > 0.0f)) {
-        gale_errf(err, GALE_E_ARG, "render_create: size %dx%d (1..16384), max_trees %u, "
+        d->max_trees > (1u << 22) || d->max_falling > (1u << 22) || !(d->lod_mode_dist > 0.0f) ||
+        !(d->lod_billboard_dist > 0.0f) || !(d->fog_dist > 0.0f)) {
+        gale_errf(err, GALE_E_ARG,
+                  "render_create: size %dx%d (1..16384), max_trees %u, "
                   "max_falling %u (<= 4M), LOD and fog distances > 0",
                   d->width, d->height, d->max_trees, d->max_falling);
         free(r);
         return NULL;
     }
     const char *sd = d->shader_dir ? d->shader_dir : getenv("GALE_SHADER_DIR");
-    snprintf(r->shader_dir, sizeof r->shader_dir, "%s",
-             sd ? sd : GALE_SOURCE_DIR "/shaders");
+    snprintf(r->shader_dir, sizeof r->shader_dir, "%s", sd ? sd : GALE_SOURCE_DIR "/shaders");
     d->shader_dir = NULL;
     d->title = NULL;
     r->w = d->width;
@@ -81,8 +80,8 @@ render *render_create(const render_desc *desc, gale_err *err)
     struct {
         render_prog *p;
         const char *name;
-    } progs[] = { { &r->p_skel, "skel" }, { &r->p_tree, "tree" }, { &r->p_leaf, "leaf" },
-                  { &r->p_fall, "fall" }, { &r->p_sky, "sky" },   { &r->p_bill, "bill" },
+    } progs[] = { { &r->p_skel, "skel" },  { &r->p_tree, "tree" }, { &r->p_leaf, "leaf" },
+                  { &r->p_fall, "fall" },  { &r->p_sky, "sky" },   { &r->p_bill, "bill" },
                   { &r->p_house, "house" } };
     for (size_t i = 0; i < sizeof progs / sizeof progs[0]; i++) {
         if (render_program_load(r->shader_dir, progs[i].name, progs[i].p, err) < 0) {
@@ -93,8 +92,7 @@ render *render_create(const render_desc *desc, gale_err *err)
     if (render_trees_alloc(r, d->max_trees, err) < 0) {
         goto fail;
     }
-    render_buf_create(&r->trees, GL_RGBA32F, NULL,
-                      (size_t)(d->max_trees + 1) * 8 * sizeof(float));
+    render_buf_create(&r->trees, GL_RGBA32F, NULL, (size_t)(d->max_trees + 1) * 8 * sizeof(float));
     render_trees_upload(r);
     render_buf_create(&r->q, GL_R32F, NULL, 0);
     render_buf_create(&r->list_buf, GL_RGBA32F, NULL, (size_t)r->list_cap * 4 * sizeof(float));
@@ -276,13 +274,13 @@ static void build_lists(render *r)
         const float *lod = &r->tree_lod[4 * i];
         float tb = lod[0];
         float row = (float)r->tree_row[i];
-#define PUT(g, a, b, c, d)                                                                     \
-    do {                                                                                       \
-        float *e = &r->list[4 * (r->grp_base[sp][g] + r->grp_n[sp][g]++)];                   \
-        e[0] = (a);                                                                            \
-        e[1] = (b);                                                                            \
-        e[2] = (c);                                                                            \
-        e[3] = (d);                                                                            \
+#define PUT(g, a, b, c, d)                                                 \
+    do {                                                                   \
+        float *e = &r->list[4 * (r->grp_base[sp][g] + r->grp_n[sp][g]++)]; \
+        e[0] = (a);                                                        \
+        e[1] = (b);                                                        \
+        e[2] = (c);                                                        \
+        e[3] = (d);                                                        \
     } while (0)
         if (fl & RENDER_LOD_FULL) {
             float keep = 1.0f - tb; /* fading out toward the billboard */
@@ -314,7 +312,7 @@ int render_frame(render *r, const render_camera *cam, double time_s, gale_err *e
     /* one upload of every tree's q (the rest slot at cap_trees is uploaded when used) */
     if (r->n_trees > 0) {
         render_buf_upload(&r->q, GL_R32F, r->q_stage,
-                       (size_t)r->n_trees * r->q_stride * sizeof(float));
+                          (size_t)r->n_trees * r->q_stride * sizeof(float));
     }
     build_lists(r);
     uint32_t rows = r->tree_row[r->cap_trees];
@@ -473,7 +471,7 @@ int render_read_skeleton(render *r, uint32_t tree, float *out, gale_err *err)
     }
     const rs_species *s = &r->sp[r->inst[tree].species];
     render_buf_upload(&r->q, GL_R32F, r->q_stage,
-                   (size_t)(r->cap_trees + 1) * r->q_stride * sizeof(float));
+                      (size_t)(r->cap_trees + 1) * r->q_stride * sizeof(float));
     float ent[4] = { (float)tree, 0.0f, (float)s->n_modes, 1.0f };
     render_buf_upload(&r->list_buf, GL_RGBA32F, ent, sizeof ent);
     int rc = render_skel_ensure(r, (int)s->n_nodes, 1, err);
@@ -494,8 +492,7 @@ int render_read_skeleton(render *r, uint32_t tree, float *out, gale_err *err)
     free(px);
     GLenum e = glGetError();
     if (e != GL_NO_ERROR) {
-        return gale_errf(err, GALE_E_STATE, "render_read_skeleton: OpenGL error 0x%x",
-                         (unsigned)e);
+        return gale_errf(err, GALE_E_STATE, "render_read_skeleton: OpenGL error 0x%x", (unsigned)e);
     }
     return 0;
 }

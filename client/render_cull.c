@@ -33,12 +33,10 @@ render_tree_lod render_cull_tree(const float planes[6][4], const float eye[3],
     float sc = in->scale > 0.0f ? in->scale : 1.0f;
     float c[3] = { in->pos[0], in->pos[1], in->pos[2] + 0.5f * s->height_m * sc };
     /* bound: the crown can sway by a good part of its height */
-    float rad =
-        sc * sqrtf(0.25f * s->height_m * s->height_m + s->crown_r_m * s->crown_r_m) * 1.3f;
+    float rad = sc * sqrtf(0.25f * s->height_m * s->height_m + s->crown_r_m * s->crown_r_m) * 1.3f;
     bool vis = true;
     for (int k = 0; k < 6 && vis; k++) {
-        vis = planes[k][0] * c[0] + planes[k][1] * c[1] + planes[k][2] * c[2] + planes[k][3] >
-              -rad;
+        vis = planes[k][0] * c[0] + planes[k][1] * c[1] + planes[k][2] * c[2] + planes[k][3] > -rad;
     }
     if (!vis) {
         return out;

@@ -110,11 +110,10 @@ int render_target_create(render *r, gale_err *err)
     glGenFramebuffers(1, &r->fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, r->fbo_col, 0);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
-                              r->fbo_depth);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, r->fbo_depth);
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-        return gale_errf(err, GALE_E_STATE, "render: offscreen framebuffer %dx%d incomplete",
-                         r->w, r->h);
+        return gale_errf(err, GALE_E_STATE, "render: offscreen framebuffer %dx%d incomplete", r->w,
+                         r->h);
     }
     return 0;
 }
@@ -142,8 +141,8 @@ int render_skel_ensure(render *r, int width, int rows, gale_err *err)
     }
     if (w > maxs || rows > maxs) {
         return gale_errf(err, GALE_E_RANGE,
-                         "render: skeleton texture %dx%d exceeds GL_MAX_TEXTURE_SIZE %d", w,
-                         rows, maxs);
+                         "render: skeleton texture %dx%d exceeds GL_MAX_TEXTURE_SIZE %d", w, rows,
+                         maxs);
     }
     if (!r->skel_tex) {
         glGenTextures(1, &r->skel_tex);
@@ -156,11 +155,12 @@ int render_skel_ensure(render *r, int width, int rows, gale_err *err)
     glBindFramebuffer(GL_FRAMEBUFFER, r->skel_fbo);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, r->skel_tex, 0);
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-        return gale_errf(err, GALE_E_STATE, "render: skeleton texture %dx%d not renderable "
-                         "(RGBA32F)", w, h);
+        return gale_errf(err, GALE_E_STATE,
+                         "render: skeleton texture %dx%d not renderable "
+                         "(RGBA32F)",
+                         w, h);
     }
     r->skel_w = w;
     r->skel_h = h;
     return 0;
 }
-

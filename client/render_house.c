@@ -6,10 +6,10 @@
 #include <string.h>
 
 typedef struct house_box {
-    int ia, ib;        /* ridge axis, across axis (0 = x, 1 = y) */
+    int ia, ib; /* ridge axis, across axis (0 = x, 1 = y) */
     float lo[3], hi[3];
-    float ca, cb;      /* centre along a and b */
-    float zw;          /* eave height [m] */
+    float ca, cb; /* centre along a and b */
+    float zw;     /* eave height [m] */
     float *out;
 } house_box;
 
@@ -74,7 +74,9 @@ float *render_house_mesh(const float min_max[6], float *out)
     float nb = slope > 0.0f ? rh / slope : 0.0f, nz = slope > 0.0f ? half_b / slope : 1.0f;
     for (int s = -1; s <= 1; s += 2) {
         float b = s < 0 ? b0 : b1, fs = (float)s;
-        float q[4][3] = { { a0, b, 0.0f }, { a1, b, 0.0f }, { a1, h.cb, slope }, { a0, h.cb, slope } };
+        float q[4][3] = {
+            { a0, b, 0.0f }, { a1, b, 0.0f }, { a1, h.cb, slope }, { a0, h.cb, slope }
+        };
         int idx[6] = { 0, 1, 2, 0, 2, 3 };
         for (int k = 0; k < 6; k++) {
             const float *p = q[idx[k]];
@@ -84,4 +86,3 @@ float *render_house_mesh(const float min_max[6], float *out)
     }
     return h.out;
 }
-

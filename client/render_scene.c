@@ -25,8 +25,7 @@ int render_trees_alloc(render *r, uint32_t cap, gale_err *err)
     r->tree_row = calloc(cap + 1, sizeof(uint32_t));
     r->tree_group = calloc(cap + 1, sizeof(uint32_t));
     r->tree_lod = calloc((size_t)(cap + 1) * 4, sizeof(float));
-    if (!r->inst || !r->q_stage || !r->list || !r->tree_row || !r->tree_group ||
-        !r->tree_lod) {
+    if (!r->inst || !r->q_stage || !r->list || !r->tree_row || !r->tree_group || !r->tree_lod) {
         return gale_errf(err, GALE_E_NOMEM, "render: out of memory for %u trees", cap);
     }
     /* the rest-pose slot (index cap): origin, unit scale */
@@ -62,13 +61,18 @@ int render_set_instances(render *r, uint32_t n, const render_instance *inst, gal
     }
     for (uint32_t i = 0; i < n; i++) {
         if (inst[i].species >= r->n_species) {
-            return gale_errf(err, GALE_E_RANGE, "render_set_instances: tree %u: species %u "
-                             "not added (%u species)", i, inst[i].species, r->n_species);
+            return gale_errf(err, GALE_E_RANGE,
+                             "render_set_instances: tree %u: species %u "
+                             "not added (%u species)",
+                             i, inst[i].species, r->n_species);
         }
         if (!isfinite(inst[i].pos[0] + inst[i].pos[1] + inst[i].pos[2] + inst[i].yaw +
-                      inst[i].scale) || inst[i].scale < 0.0f) {
-            return gale_errf(err, GALE_E_RANGE, "render_set_instances: tree %u: position, "
-                             "yaw or scale not finite or scale < 0", i);
+                      inst[i].scale) ||
+            inst[i].scale < 0.0f) {
+            return gale_errf(err, GALE_E_RANGE,
+                             "render_set_instances: tree %u: position, "
+                             "yaw or scale not finite or scale < 0",
+                             i);
         }
     }
     if (n > 0) { /* inst may be NULL for an empty scene */
@@ -90,8 +94,8 @@ int render_set_q(render *r, uint32_t tree, const float *q, uint32_t n, gale_err 
     }
     const rs_species *s = &r->sp[r->inst[tree].species];
     if (n != s->n_modes) {
-        return gale_errf(err, GALE_E_RANGE, "render_set_q: tree %u: %u modes, species has %u",
-                         tree, n, s->n_modes);
+        return gale_errf(err, GALE_E_RANGE, "render_set_q: tree %u: %u modes, species has %u", tree,
+                         n, s->n_modes);
     }
     memcpy(&r->q_stage[(size_t)tree * r->q_stride], q, n * sizeof(float));
     return 0;
@@ -107,7 +111,8 @@ int render_set_obstacles(render *r, uint32_t n, const float *min_max, gale_err *
 {
     if (n > RENDER_MAX_OBSTACLES || (n > 0 && !min_max)) {
         return gale_errf(err, GALE_E_ARG,
-                         "render_set_obstacles: expected at most %u boxes and their corners, got %u%s",
+                         "render_set_obstacles: expected at most %u boxes and their corners, "
+                         "got %u%s",
                          RENDER_MAX_OBSTACLES, n, n > 0 && !min_max ? " and no array" : "");
     }
     for (uint32_t i = 0; i < n; i++) {
@@ -115,14 +120,16 @@ int render_set_obstacles(render *r, uint32_t n, const float *min_max, gale_err *
         for (int k = 0; k < 6; k++) {
             if (!isfinite(b[k]) || fabsf(b[k]) > 1e6f) {
                 return gale_errf(err, GALE_E_RANGE,
-                                 "render_set_obstacles: box %u corner value %d: expected |value| <= 1e6, got %g",
+                                 "render_set_obstacles: box %u corner value %d: expected "
+                                 "|value| <= 1e6, got %g",
                                  i, k, (double)b[k]);
             }
         }
         for (int k = 0; k < 3; k++) {
             if (b[k] > b[k + 3]) {
                 return gale_errf(err, GALE_E_RANGE,
-                                 "render_set_obstacles: box %u: expected min <= max on axis %c, got %g > %g",
+                                 "render_set_obstacles: box %u: expected min <= max on "
+                                 "axis %c, got %g > %g",
                                  i, "xyz"[k], (double)b[k], (double)b[k + 3]);
             }
         }
@@ -175,8 +182,10 @@ int render_set_wind(render *r, const render_wind *w, gale_err *err)
     uint64_t cells = (uint64_t)w->nx * w->ny * w->nz;
     if (w->ny == 0 || w->nz == 0 || w->nx > 1024 || w->ny > 1024 || w->nz > 256 || !w->v ||
         !(w->cell[0] > 0.0f) || !(w->cell[1] > 0.0f) || !(w->cell[2] > 0.0f)) {
-        return gale_errf(err, GALE_E_RANGE, "render_set_wind: grid %ux%ux%u (<= 1024x1024x256) "
-                         "with cell sizes > 0 and data", w->nx, w->ny, w->nz);
+        return gale_errf(err, GALE_E_RANGE,
+                         "render_set_wind: grid %ux%ux%u (<= 1024x1024x256) "
+                         "with cell sizes > 0 and data",
+                         w->nx, w->ny, w->nz);
     }
     if (r->wind_n[0] != w->nx || r->wind_n[1] != w->ny || r->wind_n[2] != w->nz) {
         float *nv = realloc(r->wind_v, cells * 4 * sizeof(float));
@@ -193,11 +202,11 @@ int render_set_wind(render *r, const render_wind *w, gale_err *err)
     }
     glBindTexture(GL_TEXTURE_3D, r->wind_tex);
     if (r->wind_n[0] != w->nx || r->wind_n[1] != w->ny || r->wind_n[2] != w->nz) {
-        glTexImage3D(GL_TEXTURE_3D, 0, GL_RGBA32F, (GLsizei)w->nx, (GLsizei)w->ny,
-                     (GLsizei)w->nz, 0, GL_RGBA, GL_FLOAT, r->wind_v);
+        glTexImage3D(GL_TEXTURE_3D, 0, GL_RGBA32F, (GLsizei)w->nx, (GLsizei)w->ny, (GLsizei)w->nz,
+                     0, GL_RGBA, GL_FLOAT, r->wind_v);
     } else {
-        glTexSubImage3D(GL_TEXTURE_3D, 0, 0, 0, 0, (GLsizei)w->nx, (GLsizei)w->ny,
-                        (GLsizei)w->nz, GL_RGBA, GL_FLOAT, r->wind_v);
+        glTexSubImage3D(GL_TEXTURE_3D, 0, 0, 0, 0, (GLsizei)w->nx, (GLsizei)w->ny, (GLsizei)w->nz,
+                        GL_RGBA, GL_FLOAT, r->wind_v);
     }
     r->wind_n[0] = w->nx;
     r->wind_n[1] = w->ny;
@@ -231,4 +240,3 @@ void render_wind_at(const render *r, const float p[3], float out[3])
     size_t c = ijk[0] + r->wind_n[0] * ((size_t)ijk[1] + r->wind_n[1] * ijk[2]);
     memcpy(out, &r->wind_v[4 * c], 3 * sizeof(float));
 }
-

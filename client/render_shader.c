@@ -85,19 +85,22 @@ static const struct {
                      { "u_imp", RU_IMP } };
 
 /* Every uniform location of render_prog and its name in the shaders. */
-#define PROG_U(f) { #f, offsetof(render_prog, f) }
+#define PROG_U(f)                    \
+    {                                \
+#f, offsetof(render_prog, f) \
+    }
 static const struct {
     const char *name;
     size_t offset;
 } shader_uniforms[] = {
-    PROG_U(u_viewproj),     PROG_U(u_eye),       PROG_U(u_sun_dir),     PROG_U(u_sun_col),
-    PROG_U(u_sky_zenith),   PROG_U(u_sky_horizon), PROG_U(u_ground_col), PROG_U(u_fog_dist),
-    PROG_U(u_time),         PROG_U(u_wind_origin), PROG_U(u_wind_extent), PROG_U(u_wind_uniform),
-    PROG_U(u_base),         PROG_U(u_nodes),     PROG_U(u_target),      PROG_U(u_qstride),
-    PROG_U(u_ab),           PROG_U(u_bark),      PROG_U(u_nleaves),     PROG_U(u_aspect),
-    PROG_U(u_crown),        PROG_U(u_leafcol),   PROG_U(u_shape),       PROG_U(u_inv_viewproj),
-    PROG_U(u_wall),         PROG_U(u_roof),      PROG_U(u_window),      PROG_U(u_bsize),
-    PROG_U(u_npath),        PROG_U(u_pdt),       PROG_U(u_ncont),       PROG_U(u_cont),
+    PROG_U(u_viewproj),   PROG_U(u_eye),         PROG_U(u_sun_dir),     PROG_U(u_sun_col),
+    PROG_U(u_sky_zenith), PROG_U(u_sky_horizon), PROG_U(u_ground_col),  PROG_U(u_fog_dist),
+    PROG_U(u_time),       PROG_U(u_wind_origin), PROG_U(u_wind_extent), PROG_U(u_wind_uniform),
+    PROG_U(u_base),       PROG_U(u_nodes),       PROG_U(u_target),      PROG_U(u_qstride),
+    PROG_U(u_ab),         PROG_U(u_bark),        PROG_U(u_nleaves),     PROG_U(u_aspect),
+    PROG_U(u_crown),      PROG_U(u_leafcol),     PROG_U(u_shape),       PROG_U(u_inv_viewproj),
+    PROG_U(u_wall),       PROG_U(u_roof),        PROG_U(u_window),      PROG_U(u_bsize),
+    PROG_U(u_npath),      PROG_U(u_pdt),         PROG_U(u_ncont),       PROG_U(u_cont),
     PROG_U(u_aspects),
 };
 #undef PROG_U

@@ -42,30 +42,38 @@ static int species_check(const render *r, const asset *a, gale_err *err)
                          RENDER_MAX_SPECIES);
     }
     if (a->n_nodes < 2 || a->n_nodes > 16384 || !a->parent || !a->rest) {
-        return gale_errf(err, GALE_E_RANGE, "render_add_species: %s: n_nodes %u (2..16384)",
-                         nm, a->n_nodes);
+        return gale_errf(err, GALE_E_RANGE, "render_add_species: %s: n_nodes %u (2..16384)", nm,
+                         a->n_nodes);
     }
-    if (a->n_modes > RENDER_MAX_MODES || (a->n_modes && (!a->corr_v || !a->corr_w ||
-                                                         !a->corr_a || !a->corr_b))) {
-        return gale_errf(err, GALE_E_RANGE, "render_add_species: %s: n_modes %u (0..%u, with "
-                         "corr_v/w/a/b)", nm, a->n_modes, RENDER_MAX_MODES);
+    if (a->n_modes > RENDER_MAX_MODES ||
+        (a->n_modes && (!a->corr_v || !a->corr_w || !a->corr_a || !a->corr_b))) {
+        return gale_errf(err, GALE_E_RANGE,
+                         "render_add_species: %s: n_modes %u (0..%u, with "
+                         "corr_v/w/a/b)",
+                         nm, a->n_modes, RENDER_MAX_MODES);
     }
     for (uint32_t i = 0; i < a->n_nodes; i++) {
         if ((i == 0) != (a->parent[i] < 0) || (i > 0 && (uint32_t)a->parent[i] >= i)) {
-            return gale_errf(err, GALE_E_FORMAT, "render_add_species: %s: parent[%u] = %d: "
-                             "root first, then parent < index", nm, i, a->parent[i]);
+            return gale_errf(err, GALE_E_FORMAT,
+                             "render_add_species: %s: parent[%u] = %d: "
+                             "root first, then parent < index",
+                             nm, i, a->parent[i]);
         }
     }
     for (uint32_t v = 0; v < 2 * a->n_verts; v++) {
         if (a->mesh_bone[v] >= a->n_nodes) {
-            return gale_errf(err, GALE_E_FORMAT, "render_add_species: %s: mesh_bone[%u] = %u "
-                             ">= n_nodes %u", nm, v, a->mesh_bone[v], a->n_nodes);
+            return gale_errf(err, GALE_E_FORMAT,
+                             "render_add_species: %s: mesh_bone[%u] = %u "
+                             ">= n_nodes %u",
+                             nm, v, a->mesh_bone[v], a->n_nodes);
         }
     }
     for (uint32_t k = 0; k < a->n_indices; k++) {
         if (a->mesh_index[k] >= a->n_verts) {
-            return gale_errf(err, GALE_E_FORMAT, "render_add_species: %s: mesh_index[%u] = %u "
-                             ">= n_verts %u", nm, k, a->mesh_index[k], a->n_verts);
+            return gale_errf(err, GALE_E_FORMAT,
+                             "render_add_species: %s: mesh_index[%u] = %u "
+                             ">= n_verts %u",
+                             nm, k, a->mesh_index[k], a->n_verts);
         }
     }
     if (a->n_lods < 1 || a->n_lods > ASSET_MAX_LODS) {
@@ -73,17 +81,19 @@ static int species_check(const render *r, const asset *a, gale_err *err)
                          a->n_lods, ASSET_MAX_LODS);
     }
     for (uint32_t l = 0; l < a->n_lods; l++) {
-        if ((uint64_t)a->lod_first[l] + a->lod_count[l] > a->n_indices ||
-            a->lod_count[l] % 3) {
-            return gale_errf(err, GALE_E_FORMAT, "render_add_species: %s: LOD %u [%u, +%u) "
-                             "outside %u indices or not triangles", nm, l, a->lod_first[l],
-                             a->lod_count[l], a->n_indices);
+        if ((uint64_t)a->lod_first[l] + a->lod_count[l] > a->n_indices || a->lod_count[l] % 3) {
+            return gale_errf(err, GALE_E_FORMAT,
+                             "render_add_species: %s: LOD %u [%u, +%u) "
+                             "outside %u indices or not triangles",
+                             nm, l, a->lod_first[l], a->lod_count[l], a->n_indices);
         }
     }
     for (uint32_t l = 0; l < a->n_leaves; l++) {
         if (a->leaf_node[l] >= a->n_nodes) {
-            return gale_errf(err, GALE_E_FORMAT, "render_add_species: %s: leaf_node[%u] = %u "
-                             ">= n_nodes %u", nm, l, a->leaf_node[l], a->n_nodes);
+            return gale_errf(err, GALE_E_FORMAT,
+                             "render_add_species: %s: leaf_node[%u] = %u "
+                             ">= n_nodes %u",
+                             nm, l, a->leaf_node[l], a->n_nodes);
         }
     }
     if (a->leaf_shape > 2) {
@@ -102,7 +112,6 @@ static float *dup_f(const float *s, size_t n)
     return d;
 }
 
-
 /* The impostor: the species at rest seen from the side, orthographic, on a clear
  * transparent background; far trees show it as a billboard. */
 static int species_impostor(render *r, rs_species *s, uint32_t sid, gale_err *err)
@@ -118,7 +127,7 @@ static int species_impostor(render *r, rs_species *s, uint32_t sid, gale_err *er
     /* rest pose: zero q for the slot */
     memset(&r->q_stage[(size_t)slot * r->q_stride], 0, r->q_stride * sizeof(float));
     render_buf_upload(&r->q, GL_R32F, r->q_stage,
-                   (size_t)(r->cap_trees + 1) * r->q_stride * sizeof(float));
+                      (size_t)(r->cap_trees + 1) * r->q_stride * sizeof(float));
     float ent[4] = { (float)slot, 0.0f, (float)s->n_modes, 1.0f };
     render_buf_upload(&r->list_buf, GL_RGBA32F, ent, sizeof ent);
     int rc = render_skel_ensure(r, (int)s->n_nodes, 1, err);
@@ -130,7 +139,8 @@ static int species_impostor(render *r, rs_species *s, uint32_t sid, gale_err *er
     GLuint tex, fbo, depth;
     glGenTextures(1, &tex);
     glBindTexture(GL_TEXTURE_2D, tex);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, RENDER_IMP_W, RENDER_IMP_H, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, RENDER_IMP_W, RENDER_IMP_H, 0, GL_RGBA,
+                 GL_UNSIGNED_BYTE, NULL);
     glGenRenderbuffers(1, &depth);
     glBindRenderbuffer(GL_RENDERBUFFER, depth);
     glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, RENDER_IMP_W, RENDER_IMP_H);
@@ -145,8 +155,7 @@ static int species_impostor(render *r, rs_species *s, uint32_t sid, gale_err *er
     float dist = 4.0f * (s->height + s->crown_r) + 10.0f;
     glm_lookat((vec3){ 0.0f, -dist, 0.5f * s->height }, (vec3){ 0.0f, 0.0f, 0.5f * s->height },
                (vec3){ 0.0f, 0.0f, 1.0f }, view);
-    glm_ortho(-hw, hw, bottom - 0.5f * s->height, top - 0.5f * s->height, 0.1f, 2.0f * dist,
-              proj);
+    glm_ortho(-hw, hw, bottom - 0.5f * s->height, top - 0.5f * s->height, 0.1f, 2.0f * dist, proj);
     glm_mat4_mul(proj, view, vp);
     memcpy(r->viewproj, vp, sizeof r->viewproj);
     r->eye[0] = 0.0f;
@@ -249,14 +258,12 @@ int render_add_species(render *r, const asset *a, gale_err *err)
     size_t o_pos = 0, o_nrm = (size_t)a->n_verts * 12, o_bone = (size_t)a->n_verts * 24,
            o_w = (size_t)a->n_verts * 32;
     if (a->n_verts) {
-        glBufferSubData(GL_ARRAY_BUFFER, (GLintptr)o_pos, (GLsizeiptr)a->n_verts * 12,
-                        a->mesh_pos);
+        glBufferSubData(GL_ARRAY_BUFFER, (GLintptr)o_pos, (GLsizeiptr)a->n_verts * 12, a->mesh_pos);
         glBufferSubData(GL_ARRAY_BUFFER, (GLintptr)o_nrm, (GLsizeiptr)a->n_verts * 12,
                         a->mesh_normal);
         glBufferSubData(GL_ARRAY_BUFFER, (GLintptr)o_bone, (GLsizeiptr)a->n_verts * 8,
                         a->mesh_bone);
-        glBufferSubData(GL_ARRAY_BUFFER, (GLintptr)o_w, (GLsizeiptr)a->n_verts * 4,
-                        a->mesh_weight);
+        glBufferSubData(GL_ARRAY_BUFFER, (GLintptr)o_w, (GLsizeiptr)a->n_verts * 4, a->mesh_weight);
     }
     glEnableVertexAttribArray(0);
     glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, (const void *)o_pos);
@@ -295,8 +302,7 @@ int render_add_species(render *r, const asset *a, gale_err *err)
             return gale_errf(err, GALE_E_NOMEM, "render_add_species: out of memory for q");
         }
         for (uint32_t t = 0; t <= r->cap_trees; t++) {
-            memcpy(&nq[(size_t)t * a->n_modes], &r->q_stage[(size_t)t * old],
-                   old * sizeof(float));
+            memcpy(&nq[(size_t)t * a->n_modes], &r->q_stage[(size_t)t * old], old * sizeof(float));
         }
         free(r->q_stage);
         r->q_stage = nq;
@@ -311,7 +317,6 @@ int render_add_species(render *r, const asset *a, gale_err *err)
     }
     return (int)sid;
 }
-
 
 void render_draw_skeleton(render *r, const rs_species *s, uint32_t base, uint32_t n)
 {

@@ -12,8 +12,9 @@
 
 static float planes[6][4];
 static const float eye[3] = { 0.0f, 0.0f, 2.0f };
-static const render_cull_species sp = { .height_m = 10.0f, .crown_r_m = 3.0f, .n_modes = 32,
-                                        .n_lods = 3 };
+static const render_cull_species sp = {
+    .height_m = 10.0f, .crown_r_m = 3.0f, .n_modes = 32, .n_lods = 3
+};
 static const render_lod_desc ld = { .mode_dist_m = 40.0f, .billboard_dist_m = 220.0f };
 
 static void setup(void)

@@ -8,7 +8,7 @@
 #include "check.h"
 #include "render_house.h"
 
-#define F RENDER_HOUSE_FLOATS
+#define F  RENDER_HOUSE_FLOATS
 #define NV RENDER_HOUSE_VERTS
 
 static float mesh[2 * NV * F];
