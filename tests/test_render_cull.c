@@ -79,8 +79,52 @@ static void test_lod_by_distance(void)
     CHECK(o.bill_t == 1.0f);
 }
 
+static float smooth01(float x)
+{
+    x = x < 0.0f ? 0.0f : x > 1.0f ? 1.0f : x;
+    return x * x * (3.0f - 2.0f * x);
+}
+
+/* distance from the eye to the crown centre (5 m up) of a tree at (0, y) */
+static float crown_dist(float y)
+{
+    return sqrtf(y * y + 3.0f * 3.0f);
+}
+
+static void test_mode_floor(void)
+{
+    /* 8 modes at 170 m would be 8 x 40 / 170 < 2: held at 4 */
+    const render_cull_species s8 = {
+        .height_m = 10.0f, .crown_r_m = 3.0f, .n_modes = 8, .n_lods = 3
+    };
+    render_instance in = { .pos = { 0.0f, 170.0f, 0.0f }, .scale = 1.0f };
+    CHECK(render_cull_tree(planes, eye, &in, &s8, &ld).n_modes == 4.0f);
+    /* a species with fewer than 4 modes keeps all of them */
+    const render_cull_species s2 = {
+        .height_m = 10.0f, .crown_r_m = 3.0f, .n_modes = 2, .n_lods = 3
+    };
+    CHECK(render_cull_tree(planes, eye, &in, &s2, &ld).n_modes == 2.0f);
+}
+
+static void test_billboard_band(void)
+{
+    /* the band starts at 0.8 x 220 = 176 m: at 180 m the billboard fades in */
+    render_tree_lod b = at(0.0f, 180.0f, 1.0f);
+    CHECK(b.flags == (RENDER_LOD_FULL | RENDER_LOD_BILLBOARD));
+    CHECK_NEAR(b.bill_t, smooth01((crown_dist(180.0f) - 176.0f) / 44.0f), 1e-6);
+    CHECK(at(0.0f, 172.0f, 1.0f).flags == RENDER_LOD_FULL);
+}
+
 static void test_dither_and_scale(void)
 {
+    /* band 0 is 0.8 x 220 / 3 m; its last 30 % fades toward LOD 1 */
+    const float band = 0.8f * 220.0f / 3.0f;
+    for (float y = 40.0f; y < 58.0f; y += 3.0f) {
+        render_tree_lod t = at(0.0f, y, 1.0f);
+        float lf = crown_dist(y) / band;
+        CHECK(t.mesh_lod == 0);
+        CHECK_NEAR(t.mesh_fade, smooth01((lf - 0.7f) / 0.3f), 1e-6);
+    }
     /* end of band 0 (last 30 % of 58.7 m): fading toward LOD 1 */
     render_tree_lod t = at(0.0f, 55.0f, 1.0f);
     CHECK(t.mesh_lod == 0);
@@ -96,6 +140,8 @@ int main(void)
     setup();
     RUN(test_frustum);
     RUN(test_lod_by_distance);
+    RUN(test_mode_floor);
+    RUN(test_billboard_band);
     RUN(test_dither_and_scale);
     return check_report();
 }

@@ -45,7 +45,7 @@ static void test_roof_and_walls(void)
     /* eaves: the roof takes 40 % of the height unless the pitch (0.84 x half width) is
        lower; here min(2.4, 0.84 x 4 = 3.36) = 2.4, so the eaves are at 3.6 m */
     const float zw = 6.0f - 2.4f;
-    int roof = 0, walls = 0, ridge = 0;
+    int roof = 0, walls = 0, ridge = 0, gable_tips = 0;
     for (int v = 0; v < NV; v++) {
         const float *o = &mesh[F * v];
         float nlen = sqrtf(o[3] * o[3] + o[4] * o[4] + o[5] * o[5]);
@@ -65,11 +65,16 @@ static void test_roof_and_walls(void)
             CHECK(fabsf(o[5]) < 1e-6f); /* walls are vertical */
             /* gable tips reach the ridge; every other wall vertex stays below the eaves */
             CHECK(o[2] <= zw + 1e-5f || (o[2] == box[5] && o[3] != 0.0f));
+            if (o[2] == box[5]) {
+                gable_tips++;
+                CHECK_NEAR(o[1], 0.5f * (box[1] + box[4]), 1e-5); /* under the ridge */
+            }
         }
     }
-    CHECK(roof == 12);  /* two planes, two triangles each */
-    CHECK(walls == 30); /* four walls of two triangles, two gable triangles */
-    CHECK(ridge == 6);  /* three ridge vertices on each roof plane */
+    CHECK(roof == 12);      /* two planes, two triangles each */
+    CHECK(gable_tips == 2); /* one gable triangle on each end wall reaches the ridge */
+    CHECK(walls == 30);     /* four walls of two triangles, two gable triangles */
+    CHECK(ridge == 6);      /* three ridge vertices on each roof plane */
 }
 
 static void test_ridge_follows_longer_side(void)
