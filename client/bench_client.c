@@ -1,5 +1,5 @@
-/* gale-bench-client client: client CPU time per display frame for a stream of T trees × M modes
- * (DESIGN.md "Data flow", client frame): receive (copy of the frame bytes as the socket
+/* gale-bench-client client: client CPU time per display frame for a stream of T trees × M
+ * modes (the client frame of gale-client): receive (copy of the frame bytes as the socket
  * layer reassembles them), decode, dequantise into a snapshot, jitter insert, Hermite
  * interpolation into the q staging array, and the GL upload when a context can be made. */
 #include <epoxy/gl.h>
@@ -64,11 +64,12 @@ int bench_client(int argc, char **argv)
         } else if (!strcmp(argv[i], "--json")) {
             /* JSON is the only output */
         } else {
-            fprintf(stderr,
-                    "usage: gale-bench-client client [--trees N] [--modes M] [--frames F] [--no-gl] "
-                    "[--json]\n  per-frame client CPU: receive, decode, dequantize, jitter "
-                    "insert, interpolate, GL upload (target <= 1 ms)\n");
-            return 2;
+            bool help = !strcmp(argv[i], "--help") || !strcmp(argv[i], "-h");
+            fprintf(help ? stdout : stderr,
+                    "usage: gale-bench-client client [--trees N] [--modes M] [--frames F] "
+                    "[--no-gl] [--json]\n  per-frame client CPU: receive, decode, dequantize, "
+                    "jitter insert, interpolate, GL upload (target <= 1 ms)\n");
+            return help ? 0 : 2;
         }
     }
     if (trees < 1 || trees > WIRE_MAX_TREES || modes < 1 || modes > WIRE_MAX_MODES || frames < 10) {

@@ -51,9 +51,11 @@ int bench_render(int argc, char **argv)
                 w = 0;
             }
         } else {
-            fprintf(stderr, "usage: gale-bench-client render [--trees N] [--nodes N] [--modes N] "
-                            "[--size WxH] [--frames N] [--falling N] [--spacing M]\n");
-            return 2;
+            bool help = !strcmp(argv[i], "--help") || !strcmp(argv[i], "-h");
+            fprintf(help ? stdout : stderr,
+                    "usage: gale-bench-client render [--trees N] [--nodes N] [--modes N] "
+                    "[--size WxH] [--frames N] [--falling N] [--spacing M]\n");
+            return help ? 0 : 2;
         }
         i++;
     }

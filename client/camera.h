@@ -1,6 +1,6 @@
 /* Client camera: orbit (left-drag orbit, right-drag pan, wheel zoom) and fly (WASD/QE)
  * about a z-up world, view and projection matrices, and the off-axis projection of one
- * tile of a video wall with bezel compensation (DESIGN.md: all tiles one picture). */
+ * tile of a video wall with bezel compensation (all tiles one picture). */
 #ifndef GALE_CAMERA_H
 #define GALE_CAMERA_H
 

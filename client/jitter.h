@@ -1,7 +1,8 @@
-/* Client jitter buffer and clock: decoded q snapshots held by server time, played out a
- * fixed delay behind the server so every wall tile shows the same instant (DESIGN.md
- * "Wire"), with q interpolated C1-smoothly between snapshots (cubic Hermite, tangents
- * from the parabola through neighbouring snapshots, exact for quadratic motion). */
+/* Client jitter buffer and clock: decoded q snapshots held by server time (protocol/
+ * PROTOCOL.md "Frame header"), played out a fixed delay behind the server so every wall
+ * tile shows the same instant, with q interpolated C1-smoothly between snapshots (cubic
+ * Hermite, tangents from the parabola through neighbouring snapshots, exact for quadratic
+ * motion). */
 #ifndef GALE_JITTER_H
 #define GALE_JITTER_H
 

@@ -1,4 +1,4 @@
-/* gale-load: a headless load client (DESIGN.md "load-testing clients"). N WebSocket
+/* gale-load: a headless load client (protocol/PROTOCOL.md, by the hundreds). N WebSocket
  * connections on one lws service thread (after the v4.1.6 minimal-ws-client example);
  * each says hello, reads the welcome, then decodes every binary frame with the protocol
  * library, checking sequence and integrity. Reports connected, frames, bytes, decode
@@ -387,11 +387,11 @@ static int parse_url(load_run *r, const char *url)
     return 0;
 }
 
-static void usage(void)
+static void usage(FILE *f)
 {
-    fprintf(stderr, "usage: gale-load --url ws://HOST:PORT --clients N --seconds S "
-                    "[--role viewer|kiosk|wall-tile|load] [--token T] [--threads T] [--json]\n"
-                    "  N in 1..%d, S in 1..%d; HOST must be loopback\n",
+    fprintf(f, "usage: gale-load --url ws://HOST:PORT --clients N --seconds S "
+               "[--role viewer|kiosk|wall-tile|load] [--token T] [--threads T] [--json]\n"
+               "  N in 1..%d, S in 1..%d; HOST must be loopback; -h, --help: this text\n",
             LOAD_MAX_CLIENTS, LOAD_MAX_SECONDS);
 }
 
@@ -408,7 +408,10 @@ int main(int argc, char **argv)
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         char *end = NULL;
-        if (!strcmp(a, "--json")) {
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            usage(stdout);
+            return 0;
+        } else if (!strcmp(a, "--json")) {
             json = true;
         } else if (!strcmp(a, "--url") && v) {
             url = v;
@@ -457,12 +460,12 @@ int main(int argc, char **argv)
             i++;
         } else {
             fprintf(stderr, "gale-load: unknown or incomplete argument \"%s\"\n", a);
-            usage();
+            usage(stderr);
             return 2;
         }
     }
     if (!url || !n || !secs) {
-        usage();
+        usage(stderr);
         return 2;
     }
     if (parse_url(&r, url)) {

@@ -10,6 +10,7 @@
 
 #include "asset.h"
 #include "err.h"
+#include "wire_limits.h"
 
 /* World frame: z up, metres, ground plane z = 0 (as the asset's tree frame). */
 
@@ -91,9 +92,16 @@ void render_destroy(render *r);
  * The GL context is current on the creating thread. */
 struct GLFWwindow *render_window(render *r);
 
+/* Species one renderer holds: every species a welcome may name, so a scene the client
+ * accepts never fails for want of room on the GPU side. */
+#define RENDER_MAX_SPECIES WIRE_MAX_SPECIES
+_Static_assert(RENDER_MAX_SPECIES >= WIRE_MAX_SPECIES,
+               "render: must hold every species a welcome may carry (WIRE_MAX_SPECIES)");
+
 /* Uploads one species (skeleton, modes, correction, mesh with LODs, leaves, look) and
  * renders its billboard impostor. The asset is not kept: the caller may free it after.
- * Returns the species id (0, 1, ...) or a negative GALE_E_* with err set. */
+ * Returns the species id (0, 1, ...) or a negative GALE_E_* with err set (GALE_E_RANGE
+ * past RENDER_MAX_SPECIES). */
 int render_add_species(render *r, const asset *a, gale_err *err);
 
 /* Sets the scene's trees (copied). Instance index = tree index for q and leaf seeds.
@@ -108,8 +116,10 @@ int render_set_q(render *r, uint32_t tree, const float *q, uint32_t n, gale_err 
  * q[t * stride + i], i < n_modes of its species. Valid until render_set_instances. */
 float *render_q_staging(render *r, uint32_t *stride);
 
-/* Houses: at most this many (the wire's WIRE_MAX_OBSTACLES). */
-#define RENDER_MAX_OBSTACLES 1024u
+/* Houses: at most this many, every house a welcome may carry. */
+#define RENDER_MAX_OBSTACLES WIRE_MAX_OBSTACLES
+_Static_assert(RENDER_MAX_OBSTACLES >= WIRE_MAX_OBSTACLES,
+               "render: must hold every house a welcome may carry (WIRE_MAX_OBSTACLES)");
 
 /* Sets the scene's obstacles (copied; replaces the previous set; n = 0 clears): n
  * axis-aligned boxes, min_max[6 i .. 6 i + 5] = min x, y, z, max x, y, z in world [m],

@@ -1,11 +1,28 @@
-/* gale_render internals shared by render.c (context, species, instances, frame) and
- * render_shader.c (run-time shader loading). Not part of the public API. */
+/* gale_render internals shared by its files: render.c (create, destroy, frame, readback),
+ * render_gpu.c (buffers, targets, common uniforms), render_shader.c (run-time shader
+ * loading), render_species.c, render_scene.c (instances, q, wind, houses), render_fall.c
+ * (falling leaves). Not part of the public API. */
 #ifndef GALE_RENDER_INTERNAL_H
 #define GALE_RENDER_INTERNAL_H
 
 #include <epoxy/gl.h>
 
+#include <stdbool.h>
+#include <stdint.h>
+
 #include "err.h"
+#include "falling_path.h"
+#include "gl_ctx.h"
+#include "render.h"
+#include "wire_limits.h"
+
+/* Modes per species: the wire's limit; shaders/skel.frag declares u_ab[64] to match. */
+#define RENDER_MAX_MODES 64u
+_Static_assert(RENDER_MAX_MODES == WIRE_MAX_MODES,
+               "render: RENDER_MAX_MODES (u_ab[] in shaders/skel.frag) must equal WIRE_MAX_MODES");
+
+#define RENDER_IMP_W 256 /* billboard impostor texture [px] */
+#define RENDER_IMP_H 512
 
 /* Texture units, fixed for every program. */
 enum {
@@ -21,9 +38,158 @@ enum {
     RU_IMP = 9,   /* billboard impostor */
 };
 
+/* Groups of the per-frame draw list, per species. */
+enum { G_SKEL = 0, G_MESH = 1, G_LEAF = G_MESH + ASSET_MAX_LODS, G_BILL, G_COUNT };
+
+/* A linked program and every uniform location any gale program uses, looked up once at
+ * link time (-1 where this program lacks the uniform; glUniform* ignores -1). */
+typedef struct render_prog {
+    GLuint id;
+    /* common.glsl */
+    GLint u_viewproj, u_eye, u_sun_dir, u_sun_col, u_sky_zenith, u_sky_horizon, u_ground_col;
+    GLint u_fog_dist, u_time, u_wind_origin, u_wind_extent, u_wind_uniform;
+    /* skel */
+    GLint u_base, u_nodes, u_target, u_qstride, u_ab;
+    /* tree, leaf */
+    GLint u_bark, u_nleaves, u_aspect, u_crown, u_leafcol, u_shape;
+    /* sky, house, bill */
+    GLint u_inv_viewproj, u_wall, u_roof, u_window, u_bsize;
+    /* fall */
+    GLint u_npath, u_pdt, u_ncont, u_cont, u_aspects;
+} render_prog;
+
+typedef struct rs_buf {
+    GLuint buf, tex; /* a buffer and its buffer texture */
+    size_t bytes;
+} rs_buf;
+
+typedef struct rs_species {
+    uint32_t n_nodes, n_modes, n_leaves, n_lods, leaf_shape;
+    uint32_t lod_first[ASSET_MAX_LODS], lod_count[ASSET_MAX_LODS];
+    float height, crown_r, bark[3], leaf_rgb[3];
+    float ab[2 * RENDER_MAX_MODES];
+    GLuint vao, vbo, ibo, imp_tex;
+    rs_buf vw, node, leaf;
+    float bill[3]; /* half width, height, bottom [m] */
+    /* CPU copies for releasing falling leaves (one node per leaf, never per frame) */
+    float *rest, *corr_v, *corr_w, *leaf_offset, *leaf_normal, *leaf_size;
+    uint32_t *leaf_node;
+} rs_species;
+
+/* one falling-leaf record, the vertex layout of shaders/fall.vert */
+typedef struct rs_fall {
+    float start[4], var[4], drift[4], q0[4], look[4], shape;
+} rs_fall;
+
+struct render {
+    gl_ctx ctx;
+    render_desc desc;
+    char shader_dir[512];
+    int w, h;
+    GLuint fbo, fbo_col, fbo_depth; /* offscreen target (headless) */
+    GLuint vao_empty;
+    render_prog p_skel, p_tree, p_leaf, p_fall, p_sky, p_bill, p_house;
+    GLuint house_vao, house_vbo; /* houses: world-space triangles (render_house_mesh) */
+    uint32_t house_verts;
+
+    rs_species sp[RENDER_MAX_SPECIES];
+    uint32_t n_species;
+
+    uint32_t n_trees, cap_trees; /* cap_trees + 1 slots: the last is a rest-pose slot */
+    render_instance *inst;
+    rs_buf trees;
+    float *q_stage;
+    uint32_t q_stride;
+    rs_buf q;
+    float *list; /* 4 floats per entry */
+    uint32_t list_cap;
+    rs_buf list_buf;
+    uint32_t *tree_row, *tree_group; /* scratch per tree */
+    float *tree_lod;                 /* scratch: packed modes / fades */
+    uint32_t grp_base[RENDER_MAX_SPECIES][G_COUNT], grp_n[RENDER_MAX_SPECIES][G_COUNT];
+
+    GLuint skel_tex, skel_fbo;
+    int skel_w, skel_h;
+
+    GLuint wind_tex;
+    float wind_uniform[3], wind_origin[3], wind_extent[3], wind_cell[3];
+    uint32_t wind_n[3];
+    float *wind_v;
+
+    falling_path path; /* built on the CPU before any GPU state */
+    GLuint path_tex;
+    rs_fall *ring;
+    uint32_t ring_cap, ring_head, ring_count, dirty_lo, dirty_hi;
+    GLuint fall_vao, fall_vbo;
+    double t_base;
+    bool t_base_set;
+
+    float view[16], proj[16], viewproj[16], eye[3];
+    render_stats stats;
+};
+
+/* Blade length / width of the three leaf shapes (asset leaf_shape 0..2). */
+extern const float render_leaf_aspect[3];
+
+/* ---- render_shader.c ---- */
+
 /* Compiles and links shaders/<name>.vert + <name>.frag (each preceded by common.glsl)
- * from dir; binds the sampler uniforms to their units. 0 on failure with err set
- * (file:line of the compiler message). */
-GLuint render_program_load(const char *dir, const char *name, gale_err *err);
+ * from dir, binds the sampler uniforms to their units and fills *p with the program and
+ * its uniform locations. 0, or negative GALE_E_* with err set (file:line of the compiler
+ * message); p->id is 0 then. The caller deletes p->id. */
+int render_program_load(const char *dir, const char *name, render_prog *p, gale_err *err);
+
+/* ---- render_gpu.c ---- */
+
+/* A buffer texture of `bytes` (at least 16) initialised from data (may be NULL). */
+void render_buf_create(rs_buf *b, GLenum fmt, const void *data, size_t bytes);
+/* Replaces the first `bytes` of b (growing it when larger), orphaning the old storage. */
+void render_buf_upload(rs_buf *b, GLenum fmt, const void *data, size_t bytes);
+/* Deletes b's buffer and texture and zeroes it; a zero b is a no-op. */
+void render_buf_free(rs_buf *b);
+void render_bind_buf(int unit, const rs_buf *b);
+void render_bind_tex(int unit, GLenum target, GLuint tex);
+
+/* (Re)creates the offscreen framebuffer at r->w x r->h (headless only; windowed is a
+ * no-op). GALE_E_STATE when incomplete. */
+int render_target_create(render *r, gale_err *err);
+/* Binds the frame's target (window or offscreen) and its viewport. */
+void render_target_bind(render *r);
+/* Grows the skeleton texture to at least width x rows texels. GALE_E_RANGE past
+ * GL_MAX_TEXTURE_SIZE, GALE_E_STATE when RGBA32F is not renderable. */
+int render_skel_ensure(render *r, int width, int rows, gale_err *err);
+/* Uses p and sets the scene uniforms every program shares (common.glsl). */
+void render_set_common(render *r, const render_prog *p, float time_rel, float fog_dist);
+/* t [s] relative to a base fixed at the first call (floats keep their precision). */
+double render_rel_time(render *r, double t);
+
+/* ---- render_scene.c ---- */
+
+/* (Re)allocates the per-tree arrays for cap trees plus the rest-pose slot. GALE_E_NOMEM. */
+int render_trees_alloc(render *r, uint32_t cap, gale_err *err);
+/* Uploads every instance transform (and the rest slot) to the trees buffer. */
+void render_trees_upload(render *r);
+/* The coarse wind [m/s] at world point p: the grid cell holding it (heights clamped into
+ * the grid), else the uniform wind. */
+void render_wind_at(const render *r, const float p[3], float out[3]);
+
+/* ---- render_species.c ---- */
+
+/* Frees one species' GPU objects and CPU copies and zeroes it. */
+void render_species_free(rs_species *s);
+/* Rebuilds n skeletons of list entries [base, base + n) into the skeleton texture. */
+void render_draw_skeleton(render *r, const rs_species *s, uint32_t base, uint32_t n);
+/* Draws n trees of mesh LOD lod; expects render_set_common(r, &r->p_tree, ...). */
+void render_draw_tree(render *r, const rs_species *s, uint32_t lod, uint32_t base, uint32_t n);
+/* Draws the leaves of n trees; expects render_set_common(r, &r->p_leaf, ...). */
+void render_draw_leaves(render *r, const rs_species *s, uint32_t base, uint32_t n);
+
+/* ---- render_fall.c ---- */
+
+/* Uploads the already built r->path as a texture and creates the ring of
+ * r->desc.max_falling records with its vertex buffer. GALE_E_NOMEM. */
+int render_fall_gpu_create(render *r, gale_err *err);
+/* Uploads new ring records and draws falling and landed leaves; expects the target bound. */
+void render_fall_draw(render *r, float time_rel);
 
 #endif

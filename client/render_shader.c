@@ -1,8 +1,10 @@
 /* Run-time shader loading for gale_render: shaders/<name>.vert and .frag are read from
  * the source tree (or $GALE_SHADER_DIR), each prefixed with "#version 330 core", a stage
- * define and shaders/common.glsl. Compile errors name the file and line. */
+ * define and shaders/common.glsl. Compile errors name the file and line; uniform locations
+ * are looked up once here, at link time. */
 #include "render_internal.h"
 
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -73,7 +75,37 @@ static GLuint compile(GLenum stage, const char *dir, const char *file, const cha
     return sh;
 }
 
-GLuint render_program_load(const char *dir, const char *name, gale_err *err)
+/* Sampler uniforms and the texture unit each reads. */
+static const struct {
+    const char *name;
+    int unit;
+} shader_units[] = { { "u_skel", RU_SKEL },   { "u_node", RU_NODE }, { "u_list", RU_LIST },
+                     { "u_trees", RU_TREES }, { "u_vw", RU_VW },     { "u_q", RU_Q },
+                     { "u_leaf", RU_LEAF },   { "u_wind", RU_WIND }, { "u_path", RU_PATH },
+                     { "u_imp", RU_IMP } };
+
+/* Every uniform location of render_prog and its name in the shaders. */
+#define PROG_U(f)                    \
+    {                                \
+#f, offsetof(render_prog, f) \
+    }
+static const struct {
+    const char *name;
+    size_t offset;
+} shader_uniforms[] = {
+    PROG_U(u_viewproj),   PROG_U(u_eye),         PROG_U(u_sun_dir),     PROG_U(u_sun_col),
+    PROG_U(u_sky_zenith), PROG_U(u_sky_horizon), PROG_U(u_ground_col),  PROG_U(u_fog_dist),
+    PROG_U(u_time),       PROG_U(u_wind_origin), PROG_U(u_wind_extent), PROG_U(u_wind_uniform),
+    PROG_U(u_base),       PROG_U(u_nodes),       PROG_U(u_target),      PROG_U(u_qstride),
+    PROG_U(u_ab),         PROG_U(u_bark),        PROG_U(u_nleaves),     PROG_U(u_aspect),
+    PROG_U(u_crown),      PROG_U(u_leafcol),     PROG_U(u_shape),       PROG_U(u_inv_viewproj),
+    PROG_U(u_wall),       PROG_U(u_roof),        PROG_U(u_window),      PROG_U(u_bsize),
+    PROG_U(u_npath),      PROG_U(u_pdt),         PROG_U(u_ncont),       PROG_U(u_cont),
+    PROG_U(u_aspects),
+};
+#undef PROG_U
+
+static GLuint program_link(const char *dir, const char *name, gale_err *err)
 {
     char path[1024], vf[128], ff[128];
     snprintf(path, sizeof path, "%s/common.glsl", dir);
@@ -107,20 +139,28 @@ GLuint render_program_load(const char *dir, const char *name, gale_err *err)
         gale_errf(err, GALE_E_PARSE, "%s/%s: link failed: %s", dir, name, log);
         return 0;
     }
+    return p;
+}
+
+int render_program_load(const char *dir, const char *name, render_prog *out, gale_err *err)
+{
+    memset(out, 0, sizeof *out);
+    GLuint p = program_link(dir, name, err);
+    if (!p) {
+        return err && err->code ? err->code : GALE_E_STATE;
+    }
     glUseProgram(p);
-    static const struct {
-        const char *name;
-        int unit;
-    } units[] = { { "u_skel", RU_SKEL }, { "u_node", RU_NODE },   { "u_list", RU_LIST },
-                  { "u_trees", RU_TREES }, { "u_vw", RU_VW },     { "u_q", RU_Q },
-                  { "u_leaf", RU_LEAF }, { "u_wind", RU_WIND },   { "u_path", RU_PATH },
-                  { "u_imp", RU_IMP } };
-    for (size_t i = 0; i < sizeof units / sizeof units[0]; i++) {
-        GLint loc = glGetUniformLocation(p, units[i].name);
+    for (size_t i = 0; i < sizeof shader_units / sizeof shader_units[0]; i++) {
+        GLint loc = glGetUniformLocation(p, shader_units[i].name);
         if (loc >= 0) {
-            glUniform1i(loc, units[i].unit);
+            glUniform1i(loc, shader_units[i].unit);
         }
     }
     glUseProgram(0);
-    return p;
+    out->id = p;
+    for (size_t i = 0; i < sizeof shader_uniforms / sizeof shader_uniforms[0]; i++) {
+        GLint *loc = (GLint *)((char *)out + shader_uniforms[i].offset);
+        *loc = glGetUniformLocation(p, shader_uniforms[i].name);
+    }
+    return 0;
 }

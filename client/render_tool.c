@@ -10,14 +10,15 @@
 #include "render_demo.h"
 
 
-static void usage(void)
+static void usage(FILE *f)
 {
-    fprintf(stderr,
+    fprintf(f,
             "usage: gale-render --out FILE.png [--size WxH] [--trees N] [--species 1..3]\n"
             "       [--nodes N] [--modes N] [--spacing M] [--wind X,Y,Z] [--time S]\n"
             "       [--falling N] [--eye X,Y,Z] [--target X,Y,Z] [--asset FILE]...\n"
             "       [--q Q0,Q1,...]   (the same modal vector for every tree instead of --wind)\n"
-            "       [--box X0,Y0,Z0,X1,Y1,Z1]...   (a house filling that box, up to 16)\n");
+            "       [--box X0,Y0,Z0,X1,Y1,Z1]...   (a house filling that box, up to 16)\n"
+            "       -h, --help: this text\n");
 }
 
 static int parse3(const char *s, float v[3])
@@ -61,7 +62,10 @@ int main(int argc, char **argv)
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         int bad = 0;
-        if (!v) {
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            usage(stdout);
+            return 0;
+        } else if (!v) {
             bad = 1;
         } else if (!strcmp(a, "--out")) {
             out = v;
@@ -110,13 +114,13 @@ int main(int argc, char **argv)
         }
         if (bad) {
             fprintf(stderr, "gale-render: bad option %s %s\n", a, v ? v : "(missing value)");
-            usage();
+            usage(stderr);
             return 2;
         }
         i++;
     }
     if (!out || trees == 0) {
-        usage();
+        usage(stderr);
         return 2;
     }
     if (!eye_set && trees > 1) {

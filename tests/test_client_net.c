@@ -12,7 +12,7 @@
 #include <unistd.h>
 
 #include "check.h"
-#include "net.h"
+#include "cli_net.h"
 
 #define N_TREES         3
 #define N_MODES         4
@@ -215,7 +215,7 @@ static int peer_cb(struct lws *wsi, enum lws_callback_reasons reason, void *user
             ctl_msg m = { .type = CTL_PONG };
             m.u.pong = (ctl_pong){ .id = p->pong_id,
                                    .client_us = p->ping_client_us,
-                                   .server_us = (uint64_t)(net_now() * 1e6) + CLOCK_OFFSET_US };
+                                   .server_us = (uint64_t)(cli_net_now() * 1e6) + CLOCK_OFFSET_US };
             uint8_t buf[LWS_PRE + 512];
             size_t n = 0;
             ctl_encode_into(&m, (char *)buf + LWS_PRE, 512, &n, NULL);
@@ -331,9 +331,9 @@ static void on_lost(void *user, int code, const char *why)
 /* Polls the client until cond holds or timeout_s passes. */
 #define POLL_UNTIL(n, cond, timeout_s)           \
     do {                                         \
-        double until_ = net_now() + (timeout_s); \
-        while (!(cond) && net_now() < until_) {  \
-            net_poll((n), net_now());            \
+        double until_ = cli_net_now() + (timeout_s); \
+        while (!(cond) && cli_net_now() < until_) {  \
+            cli_net_poll((n), cli_net_now());            \
             usleep(1000);                        \
         }                                        \
     } while (0)
@@ -346,23 +346,23 @@ static void test_session(void)
     gale_err err = { 0 };
     char url[64];
     snprintf(url, sizeof url, "ws://127.0.0.1:%d", P.port);
-    net *n = net_create(&(net_desc){ .url = url,
+    cli_net *n = cli_net_create(&(cli_net_desc){ .url = url,
                                      .role = CTL_ROLE_KIOSK,
                                      .token = "t0k3n",
                                      .backoff_min_s = 0.05,
                                      .backoff_max_s = 0.4,
                                      .ping_interval_s = 0.05 },
-                        &(net_handler){ &s, on_welcome, on_frame, on_lost }, &err);
+                        &(cli_net_handler){ &s, on_welcome, on_frame, on_lost }, &err);
     CHECK(n != NULL);
     if (!n) {
         fprintf(stderr, "%s\n", err.msg);
         return;
     }
     POLL_UNTIL(n,
-               s.welcomes == 1 && net_get_stats(n).frames_gap >= 1 && P.resyncs >= 1 &&
-                   jitter_clock_rtt(net_clock(n)) >= 0.0,
+               s.welcomes == 1 && cli_net_get_stats(n).frames_gap >= 1 && P.resyncs >= 1 &&
+                   jitter_clock_rtt(cli_net_clock(n)) >= 0.0,
                10.0);
-    net_stats st = net_get_stats(n);
+    cli_net_stats st = cli_net_get_stats(n);
     pthread_mutex_lock(&P.lock);
     CHECK(P.hellos == 1 && P.role == CTL_ROLE_KIOSK);
     CHECK(strcmp(P.token, "t0k3n") == 0);
@@ -370,7 +370,7 @@ static void test_session(void)
     CHECK(P.pings >= 1);
     pthread_mutex_unlock(&P.lock);
     CHECK(s.welcomes == 1 && s.n_trees == N_TREES && s.n_species == 1);
-    CHECK(st.state == NET_LIVE);
+    CHECK(st.state == CLI_NET_LIVE);
     CHECK(s.keyframes == 1 && s.deltas == 1);
     CHECK(st.frames_ok == 2);  /* keyframe, delta 2 */
     CHECK(st.frames_bad == 2); /* garbage, truncated */
@@ -382,13 +382,13 @@ static void test_session(void)
     }
     /* clock: the peer runs 5 s ahead; error at most rtt/2 */
     double srv;
-    CHECK(jitter_clock_server_time(net_clock(n), 100.0, &srv));
-    CHECK_NEAR(srv - 100.0, 5.0, jitter_clock_rtt(net_clock(n)) * 0.5 + 1e-3);
+    CHECK(jitter_clock_server_time(cli_net_clock(n), 100.0, &srv));
+    CHECK_NEAR(srv - 100.0, 5.0, jitter_clock_rtt(cli_net_clock(n)) * 0.5 + 1e-3);
 
     /* kiosk wind dial: the command reaches the server with the token */
     ctl_wind wind = { .has_speed = true, .speed_ms = 42.0f };
     snprintf(wind.token, sizeof wind.token, "t0k3n");
-    CHECK(net_send_wind(n, &wind, &err) == 0);
+    CHECK(cli_net_send_wind(n, &wind, &err) == 0);
     POLL_UNTIL(n, P.winds >= 1, 5.0);
     pthread_mutex_lock(&P.lock);
     CHECK(P.winds == 1);
@@ -396,29 +396,29 @@ static void test_session(void)
     CHECK(strcmp(P.wind_token, "t0k3n") == 0);
     pthread_mutex_unlock(&P.lock);
     wind.speed_ms = 1000.0f; /* out of range: refused before it is sent */
-    CHECK(net_send_wind(n, &wind, &err) != 0);
+    CHECK(cli_net_send_wind(n, &wind, &err) != 0);
 
     /* HTTP on the same server while the WebSocket lives */
     uint8_t *body = NULL;
     size_t len = 0;
-    CHECK(net_fetch(n, s.species_url, 1 << 20, 5.0, &body, &len, &err) == 0);
+    CHECK(cli_net_fetch(n, s.species_url, 1 << 20, 5.0, &body, &len, &err) == 0);
     CHECK(len == ASSET_BYTES && body && memcmp(body, asset_bytes, len) == 0);
     free(body);
-    CHECK(net_fetch(n, "/assets/ffffffffffffffff.gasset", 1 << 20, 5.0, &body, &len, &err) ==
+    CHECK(cli_net_fetch(n, "/assets/ffffffffffffffff.gasset", 1 << 20, 5.0, &body, &len, &err) ==
           GALE_E_IO);
     CHECK_STR_HAS(err.msg, "/assets/ffffffffffffffff.gasset: HTTP status 404");
-    CHECK(net_fetch(n, s.species_url, 1000, 5.0, &body, &len, &err) == GALE_E_RANGE);
+    CHECK(cli_net_fetch(n, s.species_url, 1000, 5.0, &body, &len, &err) == GALE_E_RANGE);
     CHECK_STR_HAS(err.msg, "body over 1000 bytes");
     CHECK(body == NULL);
     /* and the WebSocket is still live after the fetches */
     POLL_UNTIL(n, 0, 0.1);
-    CHECK(net_get_stats(n).state == NET_LIVE);
+    CHECK(cli_net_get_stats(n).state == CLI_NET_LIVE);
 
     /* the peer closes: the client reconnects and gets a new welcome and keyframe */
     pthread_mutex_lock(&P.lock);
     P.close_after_script = true;
     pthread_mutex_unlock(&P.lock);
-    net_poll(n, net_now() + 1.0); /* a ping makes the peer writeable, which closes */
+    cli_net_poll(n, cli_net_now() + 1.0); /* a ping makes the peer writeable, which closes */
     POLL_UNTIL(n, s.lost >= 1, 5.0);
     CHECK(s.lost >= 1);
     pthread_mutex_lock(&P.lock);
@@ -426,35 +426,35 @@ static void test_session(void)
     pthread_mutex_unlock(&P.lock);
     POLL_UNTIL(n, s.welcomes >= 2 && s.keyframes >= 2, 5.0);
     CHECK(s.welcomes >= 2 && s.keyframes >= 2);
-    CHECK(net_get_stats(n).connects >= 2);
+    CHECK(cli_net_get_stats(n).connects >= 2);
 
     /* the server goes away: attempts fail with growing delays; it comes back on the
      * same port and the client resumes from its next keyframe */
     int port = P.port;
     peer_stop(&P);
-    POLL_UNTIL(n, net_get_stats(n).attempt >= 3, 10.0);
-    st = net_get_stats(n);
-    CHECK(st.state == NET_BACKOFF || st.state == NET_CONNECTING);
+    POLL_UNTIL(n, cli_net_get_stats(n).attempt >= 3, 10.0);
+    st = cli_net_get_stats(n);
+    CHECK(st.state == CLI_NET_BACKOFF || st.state == CLI_NET_CONNECTING);
     CHECK(st.attempt >= 3);
     CHECK(st.last_error[0] != '\0');
     int kf = s.keyframes;
     CHECK(peer_start(&P, port) == 0);
     POLL_UNTIL(n, s.keyframes > kf, 10.0);
     CHECK(s.keyframes > kf);
-    CHECK(net_get_stats(n).state == NET_LIVE && net_get_stats(n).attempt == 0);
-    net_destroy(n);
+    CHECK(cli_net_get_stats(n).state == CLI_NET_LIVE && cli_net_get_stats(n).attempt == 0);
+    cli_net_destroy(n);
 }
 
 static void test_bad_url(void)
 {
     gale_err err = { 0 };
-    CHECK(net_create(&(net_desc){ .url = "http://x:1" }, NULL, &err) == NULL);
+    CHECK(cli_net_create(&(cli_net_desc){ .url = "http://x:1" }, NULL, &err) == NULL);
     CHECK_STR_HAS(err.msg, "--url \"http://x:1\": expected ws://HOST:PORT");
-    CHECK(net_create(&(net_desc){ .url = "ws://localhost" }, NULL, &err) == NULL);
+    CHECK(cli_net_create(&(cli_net_desc){ .url = "ws://localhost" }, NULL, &err) == NULL);
     CHECK_STR_HAS(err.msg, "expected a port");
-    CHECK(net_create(&(net_desc){ 0 }, NULL, &err) == NULL);
+    CHECK(cli_net_create(&(cli_net_desc){ 0 }, NULL, &err) == NULL);
     CHECK_STR_HAS(err.msg, "--url: required");
-    net_destroy(NULL);
+    cli_net_destroy(NULL);
 }
 
 int main(void)

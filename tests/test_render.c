@@ -358,8 +358,8 @@ static void test_bad_input(void)
 
 /* A house: one 8 x 4 x 6 m box seen square-on from 18 m. The wall at the box's projected
  * centre must have the lit plaster colour of common.glsl light() computed here by hand
- * (same sun, sky and ground constants as render.c set_common; the wall's +-4 % grain and
- * 0.6 % fog are inside the tolerance), the roof above it must be darker and redder, and
+ * (same sun, sky and ground constants as render_gpu.c render_set_common; the wall's +-4 %
+ * grain and 0.6 % fog are inside the tolerance), the roof above it must be darker and redder, and
  * the sky above the ridge and the ground beside the house unchanged from an empty frame.
  * Bad boxes are refused with their index. */
 static void test_house(void)

@@ -2,7 +2,7 @@
  * minimal-http-client examples): the WebSocket state machine (connect, hello, welcome,
  * frames, pings, resync, backoff), message reassembly into one preallocated buffer, and
  * blocking HTTP GETs of assets over the same context. */
-#include "net.h"
+#include "cli_net.h"
 
 #include <libwebsockets.h>
 
@@ -15,28 +15,28 @@
 #include <time.h>
 #include <unistd.h>
 
-#define NET_TX_SLOTS 8
-#define NET_TX_BYTES CTL_MAX_CLIENT_BYTES
+#define CLI_NET_TX_SLOTS 8
+#define CLI_NET_TX_BYTES CTL_MAX_CLIENT_BYTES
 
 enum { TAG_WS = 1, TAG_HTTP = 2 };
 
-typedef struct net_tag {
-    struct net *n;
+typedef struct cli_net_tag {
+    struct cli_net *n;
     int kind;
-} net_tag;
+} cli_net_tag;
 
-typedef struct net_tx {
-    uint8_t buf[LWS_PRE + NET_TX_BYTES];
+typedef struct cli_net_tx {
+    uint8_t buf[LWS_PRE + CLI_NET_TX_BYTES];
     size_t len;
-} net_tx;
+} cli_net_tx;
 
-struct net {
-    net_desc d;
-    net_handler h;
+struct cli_net {
+    cli_net_desc d;
+    cli_net_handler h;
     struct lws_context *ctx;
     struct lws *ws;   /* the WebSocket, NULL when none */
     struct lws *http; /* the HTTP fetch under way, NULL when none */
-    net_tag ws_tag, http_tag;
+    cli_net_tag ws_tag, http_tag;
     char url[512]; /* parsed in place by lws_parse_uri */
     char host[256];
     char path[256];
@@ -48,7 +48,7 @@ struct net {
     size_t rx_len, rx_cap;
     bool rx_binary, rx_overflow;
 
-    net_tx tx[NET_TX_SLOTS]; /* ring of queued control messages */
+    cli_net_tx tx[CLI_NET_TX_SLOTS]; /* ring of queued control messages */
     uint32_t tx_head, tx_count;
     bool kill; /* close the WebSocket at the next writeable */
     bool destroying;
@@ -58,7 +58,7 @@ struct net {
     uint32_t ping_id;
     double last_log_s;
     uint64_t suppressed_logs;
-    net_stats st;
+    cli_net_stats st;
 
     /* HTTP fetch */
     uint8_t *fetch_buf; /* owned until handed to the caller */
@@ -68,7 +68,7 @@ struct net {
     char fetch_err[160];
 };
 
-double net_now(void)
+double cli_net_now(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
@@ -76,10 +76,10 @@ double net_now(void)
 }
 
 /* Rate-limited log line (at most one a second; the rest are counted). */
-static void net_log(net *n, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void net_log(net *n, const char *fmt, ...)
+static void cli_net_log(cli_net *n, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void cli_net_log(cli_net *n, const char *fmt, ...)
 {
-    double now = net_now();
+    double now = cli_net_now();
     if (now - n->last_log_s < 1.0) {
         n->suppressed_logs++;
         return;
@@ -99,18 +99,18 @@ static void net_log(net *n, const char *fmt, ...)
     }
 }
 
-static int queue_ctl(net *n, const ctl_msg *m, gale_err *err)
+static int queue_ctl(cli_net *n, const ctl_msg *m, gale_err *err)
 {
     if (!n->ws) {
         return gale_errf(err, GALE_E_STATE, "%s: not connected", n->server_name);
     }
-    if (n->tx_count == NET_TX_SLOTS) {
+    if (n->tx_count == CLI_NET_TX_SLOTS) {
         return gale_errf(err, GALE_E_STATE, "%s: send queue full (%d messages)", n->server_name,
-                         NET_TX_SLOTS);
+                         CLI_NET_TX_SLOTS);
     }
-    net_tx *t = &n->tx[(n->tx_head + n->tx_count) % NET_TX_SLOTS];
+    cli_net_tx *t = &n->tx[(n->tx_head + n->tx_count) % CLI_NET_TX_SLOTS];
     size_t len = 0;
-    int rc = ctl_encode_into(m, (char *)t->buf + LWS_PRE, NET_TX_BYTES, &len, err);
+    int rc = ctl_encode_into(m, (char *)t->buf + LWS_PRE, CLI_NET_TX_BYTES, &len, err);
     if (rc != 0) {
         return rc;
     }
@@ -120,39 +120,39 @@ static int queue_ctl(net *n, const ctl_msg *m, gale_err *err)
     return 0;
 }
 
-static void set_lost(net *n, int code, const char *why)
+static void set_lost(cli_net *n, int code, const char *why)
 {
     n->ws = NULL;
     n->tx_count = 0;
     n->kill = false;
-    n->st.state = NET_BACKOFF;
+    n->st.state = CLI_NET_BACKOFF;
     n->st.attempt++;
     n->st.last_close = code;
     snprintf(n->st.last_error, sizeof n->st.last_error, "%s", why);
     /* doubling backoff with ±20 % spread so many clients do not return in step */
     double spread = 0.8 + 0.4 * (double)(rand() % 1000) / 1000.0;
-    n->st.retry_at_s = net_now() + n->backoff_s * spread;
+    n->st.retry_at_s = cli_net_now() + n->backoff_s * spread;
     n->backoff_s = fmin(n->backoff_s * 2.0, n->d.backoff_max_s);
-    net_log(n, "%s: connection lost (%s); retry %u in %.2f s", n->server_name, why, n->st.attempt,
-            n->st.retry_at_s - net_now());
+    cli_net_log(n, "%s: connection lost (%s); retry %u in %.2f s", n->server_name, why,
+                n->st.attempt, n->st.retry_at_s - cli_net_now());
     if (n->h.on_lost) {
         n->h.on_lost(n->h.user, code, why);
     }
 }
 
-static void handle_text(net *n, const char *text, size_t len)
+static void handle_text(cli_net *n, const char *text, size_t len)
 {
     ctl_msg m;
     int close_code = 0;
     gale_err err = { 0 };
     if (ctl_decode(text, len, CTL_MAX_SERVER_BYTES, &m, &close_code, &err) != 0) {
         n->st.ctl_bad++;
-        net_log(n, "%s: control message dropped: %s", n->server_name, err.msg);
+        cli_net_log(n, "%s: control message dropped: %s", n->server_name, err.msg);
         return;
     }
     switch (m.type) {
     case CTL_WELCOME:
-        n->st.state = NET_LIVE;
+        n->st.state = CLI_NET_LIVE;
         n->st.attempt = 0;
         n->backoff_s = n->d.backoff_min_s;
         if (n->h.on_welcome) {
@@ -161,23 +161,23 @@ static void handle_text(net *n, const char *text, size_t len)
         break;
     case CTL_PONG:
         jitter_clock_pong(&n->clock, (double)m.u.pong.client_us * 1e-6,
-                          (double)m.u.pong.server_us * 1e-6, net_now());
+                          (double)m.u.pong.server_us * 1e-6, cli_net_now());
         break;
     case CTL_ERROR:
         snprintf(n->st.last_error, sizeof n->st.last_error, "server: %.100s (%s)",
                  m.u.error.message, wire_close_name(m.u.error.code));
-        net_log(n, "%s: %s", n->server_name, n->st.last_error);
+        cli_net_log(n, "%s: %s", n->server_name, n->st.last_error);
         break;
     default:
         n->st.ctl_bad++;
-        net_log(n, "%s: unexpected control message \"%s\" dropped", n->server_name,
+        cli_net_log(n, "%s: unexpected control message \"%s\" dropped", n->server_name,
                 ctl_type_name(m.type) ? ctl_type_name(m.type) : "?");
         break;
     }
     ctl_msg_fini(&m);
 }
 
-static void handle_binary(net *n, const uint8_t *buf, size_t len, double now)
+static void handle_binary(cli_net *n, const uint8_t *buf, size_t len, double now)
 {
     wire_frame f;
     gale_err err = { 0 };
@@ -188,12 +188,12 @@ static void handle_binary(net *n, const uint8_t *buf, size_t len, double now)
         ctl_msg m = { .type = CTL_RESYNC };
         m.u.resync_seq = wire_decoder_seq(n->dec);
         queue_ctl(n, &m, NULL);
-        net_log(n, "%s: %s; keyframe requested", n->server_name, err.msg);
+        cli_net_log(n, "%s: %s; keyframe requested", n->server_name, err.msg);
         return;
     }
     if (rc != 0) {
         n->st.frames_bad++;
-        net_log(n, "%s: frame of %zu bytes dropped: %s", n->server_name, len, err.msg);
+        cli_net_log(n, "%s: frame of %zu bytes dropped: %s", n->server_name, len, err.msg);
         return;
     }
     n->st.frames_ok++;
@@ -205,14 +205,14 @@ static void handle_binary(net *n, const uint8_t *buf, size_t len, double now)
     }
 }
 
-static int ws_callback(net *n, struct lws *wsi, enum lws_callback_reasons reason, void *in,
+static int ws_callback(cli_net *n, struct lws *wsi, enum lws_callback_reasons reason, void *in,
                        size_t len)
 {
     switch (reason) {
     case LWS_CALLBACK_CLIENT_CONNECTION_ERROR: {
         char why[160];
         snprintf(why, sizeof why, "connect: %s", in ? (const char *)in : "error");
-        if (n->st.state == NET_CONNECTING) {
+        if (n->st.state == CLI_NET_CONNECTING) {
             set_lost(n, 0, why);
         }
         return 0;
@@ -220,7 +220,7 @@ static int ws_callback(net *n, struct lws *wsi, enum lws_callback_reasons reason
     case LWS_CALLBACK_CLIENT_ESTABLISHED: {
         n->ws = wsi;
         n->st.connects++;
-        n->st.state = NET_HELLO;
+        n->st.state = CLI_NET_HELLO;
         n->tx_count = 0;
         ctl_msg m = { .type = CTL_HELLO };
         m.u.hello.protocol = WIRE_PROTOCOL_VERSION;
@@ -231,10 +231,10 @@ static int ws_callback(net *n, struct lws *wsi, enum lws_callback_reasons reason
         }
         gale_err err = { 0 };
         if (queue_ctl(n, &m, &err) != 0) {
-            net_log(n, "%s: hello: %s", n->server_name, err.msg);
+            cli_net_log(n, "%s: hello: %s", n->server_name, err.msg);
             return -1;
         }
-        n->next_ping_s = net_now();
+        n->next_ping_s = cli_net_now();
         return 0;
     }
     case LWS_CALLBACK_CLIENT_RECEIVE: {
@@ -255,9 +255,9 @@ static int ws_callback(net *n, struct lws *wsi, enum lws_callback_reasons reason
         }
         if (n->rx_overflow) {
             n->st.frames_bad++;
-            net_log(n, "%s: message over %zu bytes dropped", n->server_name, n->rx_cap);
+            cli_net_log(n, "%s: message over %zu bytes dropped", n->server_name, n->rx_cap);
         } else if (n->rx_binary) {
-            handle_binary(n, n->rx, n->rx_len, net_now());
+            handle_binary(n, n->rx, n->rx_len, cli_net_now());
         } else {
             n->rx[n->rx_len] = '\0';
             handle_text(n, (const char *)n->rx, n->rx_len);
@@ -270,13 +270,13 @@ static int ws_callback(net *n, struct lws *wsi, enum lws_callback_reasons reason
             return -1;
         }
         if (n->tx_count > 0) {
-            net_tx *t = &n->tx[n->tx_head];
+            cli_net_tx *t = &n->tx[n->tx_head];
             int w = lws_write(wsi, t->buf + LWS_PRE, t->len, LWS_WRITE_TEXT);
             if (w < (int)t->len) {
-                net_log(n, "%s: write failed", n->server_name);
+                cli_net_log(n, "%s: write failed", n->server_name);
                 return -1;
             }
-            n->tx_head = (n->tx_head + 1) % NET_TX_SLOTS;
+            n->tx_head = (n->tx_head + 1) % CLI_NET_TX_SLOTS;
             n->tx_count--;
             if (n->tx_count > 0) {
                 lws_callback_on_writable(wsi);
@@ -297,7 +297,7 @@ static int ws_callback(net *n, struct lws *wsi, enum lws_callback_reasons reason
         } else {
             snprintf(why, sizeof why, "closed");
         }
-        if (n->st.state != NET_BACKOFF && n->st.state != NET_IDLE && !n->destroying) {
+        if (n->st.state != CLI_NET_BACKOFF && n->st.state != CLI_NET_IDLE && !n->destroying) {
             set_lost(n, n->st.last_close, why);
         }
         return 0;
@@ -307,7 +307,7 @@ static int ws_callback(net *n, struct lws *wsi, enum lws_callback_reasons reason
     }
 }
 
-static int http_callback(net *n, struct lws *wsi, enum lws_callback_reasons reason, void *in,
+static int http_callback(cli_net *n, struct lws *wsi, enum lws_callback_reasons reason, void *in,
                          size_t len)
 {
     switch (reason) {
@@ -377,10 +377,10 @@ static int http_callback(net *n, struct lws *wsi, enum lws_callback_reasons reas
     }
 }
 
-static int net_callback(struct lws *wsi, enum lws_callback_reasons reason, void *user, void *in,
+static int cli_net_callback(struct lws *wsi, enum lws_callback_reasons reason, void *user, void *in,
                         size_t len)
 {
-    net_tag *tag = wsi ? lws_get_opaque_user_data(wsi) : NULL;
+    cli_net_tag *tag = wsi ? lws_get_opaque_user_data(wsi) : NULL;
     if (tag && tag->kind == TAG_WS) {
         return ws_callback(tag->n, wsi, reason, in, len);
     }
@@ -390,18 +390,18 @@ static int net_callback(struct lws *wsi, enum lws_callback_reasons reason, void 
     return lws_callback_http_dummy(wsi, reason, user, in, len);
 }
 
-static const struct lws_protocols net_protocols[] = {
-    { NET_WS_PROTOCOL, net_callback, 0, 65536, 0, NULL, 0 },
+static const struct lws_protocols cli_net_protocols[] = {
+    { CLI_NET_WS_PROTOCOL, cli_net_callback, 0, 65536, 0, NULL, 0 },
     { NULL, NULL, 0, 0, 0, NULL, 0 },
 };
 
-net *net_create(const net_desc *d, const net_handler *h, gale_err *err)
+cli_net *cli_net_create(const cli_net_desc *d, const cli_net_handler *h, gale_err *err)
 {
     if (!d->url) {
         gale_errf(err, GALE_E_ARG, "--url: required (ws://HOST:PORT)");
         return NULL;
     }
-    net *n = calloc(1, sizeof *n);
+    cli_net *n = calloc(1, sizeof *n);
     if (!n) {
         gale_errf(err, GALE_E_NOMEM, "net: no memory");
         return NULL;
@@ -420,8 +420,8 @@ net *net_create(const net_desc *d, const net_handler *h, gale_err *err)
         n->d.ping_interval_s = 0.5;
     }
     n->backoff_s = n->d.backoff_min_s;
-    n->ws_tag = (net_tag){ n, TAG_WS };
-    n->http_tag = (net_tag){ n, TAG_HTTP };
+    n->ws_tag = (cli_net_tag){ n, TAG_WS };
+    n->http_tag = (cli_net_tag){ n, TAG_HTTP };
     jitter_clock_init(&n->clock);
 
     const char *prot = NULL, *ads = NULL, *path = NULL;
@@ -458,21 +458,21 @@ net *net_create(const net_desc *d, const net_handler *h, gale_err *err)
     struct lws_context_creation_info info;
     memset(&info, 0, sizeof info);
     info.port = CONTEXT_PORT_NO_LISTEN;
-    info.protocols = net_protocols;
+    info.protocols = cli_net_protocols;
     info.fd_limit_per_thread = 1 + 1 + 2;
     n->ctx = lws_create_context(&info);
     if (!n->ctx) {
         gale_errf(err, GALE_E_STATE, "net: libwebsockets context creation failed");
         goto fail;
     }
-    n->st.state = NET_IDLE;
+    n->st.state = CLI_NET_IDLE;
     return n;
 fail:
-    net_destroy(n);
+    cli_net_destroy(n);
     return NULL;
 }
 
-void net_destroy(net *n)
+void cli_net_destroy(cli_net *n)
 {
     if (!n) {
         return;
@@ -487,12 +487,12 @@ void net_destroy(net *n)
     free(n);
 }
 
-const char *net_server_name(const net *n)
+const char *cli_net_server_name(const cli_net *n)
 {
     return n->server_name;
 }
 
-static void connect_ws(net *n)
+static void connect_ws(cli_net *n)
 {
     /* a fresh decoder: the next keyframe starts the new stream */
     gale_err err = { 0 };
@@ -504,7 +504,7 @@ static void connect_ws(net *n)
     }
     jitter_clock_init(&n->clock);
     n->st.last_close = 0;
-    n->st.state = NET_CONNECTING;
+    n->st.state = CLI_NET_CONNECTING;
     struct lws_client_connect_info i;
     memset(&i, 0, sizeof i);
     i.context = n->ctx;
@@ -513,26 +513,28 @@ static void connect_ws(net *n)
     i.path = n->path;
     i.host = n->host;
     i.origin = n->host;
-    i.protocol = NET_WS_PROTOCOL;
-    i.local_protocol_name = NET_WS_PROTOCOL;
+    i.protocol = CLI_NET_WS_PROTOCOL;
+    i.local_protocol_name = CLI_NET_WS_PROTOCOL;
     i.opaque_user_data = &n->ws_tag;
     n->ws = lws_client_connect_via_info(&i);
     if (!n->ws) {
-        if (n->st.state == NET_CONNECTING) {
+        if (n->st.state == CLI_NET_CONNECTING) {
             set_lost(n, 0, "connect failed");
         }
     }
 }
 
-void net_poll(net *n, double now_s)
+void cli_net_poll(cli_net *n, double now_s)
 {
-    if (n->st.state == NET_IDLE || (n->st.state == NET_BACKOFF && now_s >= n->st.retry_at_s)) {
+    if (n->st.state == CLI_NET_IDLE ||
+        (n->st.state == CLI_NET_BACKOFF && now_s >= n->st.retry_at_s)) {
         connect_ws(n);
     }
-    if ((n->st.state == NET_LIVE || n->st.state == NET_HELLO) && n->ws && now_s >= n->next_ping_s) {
+    if ((n->st.state == CLI_NET_LIVE || n->st.state == CLI_NET_HELLO) && n->ws &&
+        now_s >= n->next_ping_s) {
         ctl_msg m = { .type = CTL_PING };
         m.u.ping.id = ++n->ping_id;
-        m.u.ping.client_us = (uint64_t)(net_now() * 1e6);
+        m.u.ping.client_us = (uint64_t)(cli_net_now() * 1e6);
         queue_ctl(n, &m, NULL);
         n->next_ping_s = now_s + n->d.ping_interval_s;
     }
@@ -548,9 +550,9 @@ void net_poll(net *n, double now_s)
     }
 }
 
-int net_send_wind(net *n, const ctl_wind *w, gale_err *err)
+int cli_net_send_wind(cli_net *n, const ctl_wind *w, gale_err *err)
 {
-    if (n->st.state != NET_LIVE) {
+    if (n->st.state != CLI_NET_LIVE) {
         return gale_errf(err, GALE_E_STATE, "%s: wind command: not connected", n->server_name);
     }
     ctl_msg m = { .type = CTL_WIND };
@@ -558,7 +560,7 @@ int net_send_wind(net *n, const ctl_wind *w, gale_err *err)
     return queue_ctl(n, &m, err);
 }
 
-int net_fetch(net *n, const char *path, size_t max_len, double timeout_s, uint8_t **out,
+int cli_net_fetch(cli_net *n, const char *path, size_t max_len, double timeout_s, uint8_t **out,
               size_t *len, gale_err *err)
 {
     *out = NULL;
@@ -582,15 +584,15 @@ int net_fetch(net *n, const char *path, size_t max_len, double timeout_s, uint8_
     i.host = n->host;
     i.origin = n->host;
     i.method = "GET";
-    i.protocol = NET_WS_PROTOCOL;
-    i.local_protocol_name = NET_WS_PROTOCOL;
+    i.protocol = CLI_NET_WS_PROTOCOL;
+    i.local_protocol_name = CLI_NET_WS_PROTOCOL;
     i.opaque_user_data = &n->http_tag;
     n->http = lws_client_connect_via_info(&i);
     if (!n->http && !n->fetch_done) {
         return gale_errf(err, GALE_E_IO, "http://%s%s: connect failed", n->server_name, path);
     }
-    const double deadline = net_now() + timeout_s;
-    while (!n->fetch_done && net_now() < deadline) {
+    const double deadline = cli_net_now() + timeout_s;
+    while (!n->fetch_done && cli_net_now() < deadline) {
         lws_service(n->ctx, -1);
         if (!n->fetch_done) {
             usleep(500);
@@ -613,20 +615,20 @@ int net_fetch(net *n, const char *path, size_t max_len, double timeout_s, uint8_
     n->fetch_buf = NULL;
     n->fetch_cap = 0;
     n->fetch_len = 0;
-    return *out ? 0 : gale_errf(err, GALE_E_NOMEM, "net_fetch: no memory");
+    return *out ? 0 : gale_errf(err, GALE_E_NOMEM, "cli_net_fetch: no memory");
 }
 
-net_stats net_get_stats(const net *n)
+cli_net_stats cli_net_get_stats(const cli_net *n)
 {
     return n->st;
 }
 
-const jitter_clock *net_clock(const net *n)
+const jitter_clock *cli_net_clock(const cli_net *n)
 {
     return &n->clock;
 }
 
-void net_drop(net *n)
+void cli_net_drop(cli_net *n)
 {
     if (n->ws) {
         n->kill = true;

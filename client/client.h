@@ -1,0 +1,139 @@
+/* gale-client's state, shared by its files: main.c (args, loop, teardown), client_stream.c
+ * (network events), client_scene.c (scene setup from a welcome), client_assets.c (asset
+ * fetch through the disk cache), client_input.c (keys and mouse), client_kiosk.c (the wind
+ * dial) and client_frame.c (one frame: playout, camera, render, HUD). */
+#ifndef GALE_CLIENT_H
+#define GALE_CLIENT_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "asset.h"
+#include "asset_cache.h"
+#include "camera.h"
+#include "cli_net.h"
+#include "ctl.h"
+#include "err.h"
+#include "hud.h"
+#include "jitter.h"
+#include "render.h"
+
+struct GLFWwindow;
+
+/* Species one session may load: what a welcome may name; a welcome naming more is
+ * refused (client_stream_on_welcome), and the renderer holds them all. */
+#define CLIENT_MAX_SPECIES WIRE_MAX_SPECIES
+_Static_assert(CLIENT_MAX_SPECIES <= RENDER_MAX_SPECIES,
+               "gale-client: every species a session loads must fit in gale_render");
+
+typedef struct client_args {
+    const char *url;
+    int role; /* enum ctl_role */
+    int width, height;
+    bool headless;
+    int frames;             /* headless: frames to draw once state arrives */
+    const char *screenshot; /* headless: PNG of the last frame */
+    const char *token;      /* kiosk */
+    double delay_s;         /* playout delay */
+    double wait_s;          /* headless: give up after this long without state */
+    int tile[4];            /* wall-tile: col, row, cols, rows */
+    float bezel;            /* wall-tile: hidden strip / tile width */
+    const char *cache_dir;
+} client_args;
+
+typedef struct client_species {
+    char hash[17];
+    int render_id; /* id in gale_render, -1 until loaded */
+} client_species;
+
+typedef struct client {
+    client_args a;
+    cli_net *net;
+    render *r;
+    hud *hud;
+    asset_cache *cache;
+    jitter *jit;
+    camera cam;
+    bool camera_set; /* the camera was fitted to a scene (once per run; R refits it) */
+
+    /* scene of the last welcome (owned copies) */
+    bool scene_pending, scene_ready;
+    ctl_welcome w;             /* arrays owned below */
+    ctl_species *w_species;    /* owned */
+    ctl_instance *w_instances; /* owned */
+    float *w_boxes;            /* owned: [6 w.n_obstacles] house boxes, min xyz, max xyz */
+    client_species loaded[CLIENT_MAX_SPECIES];
+    uint32_t n_loaded;
+    int species_id[CLIENT_MAX_SPECIES]; /* welcome index → render id */
+    uint32_t stride, n_values;
+    float *snap; /* owned: [n_values] scratch for one decoded snapshot */
+
+    /* coarse wind of the last WIND frame */
+    float *wind_v; /* owned: [WIRE_MAX_WIND_SIDE² × 3] */
+    bool have_wind;
+    float wind_ms;
+    float kiosk_speed_ms; /* kiosk dial */
+
+    bool got_state;
+    bool live_since_welcome;  /* state taken since the last welcome */
+    uint64_t frames_mismatch; /* state frames whose tree count disagreed with the scene */
+    uint64_t leaves_bad;
+    double fps, last_frame_s;
+    double cursor[2];
+    int drag; /* 0 none, 1 orbit, 2 pan */
+    bool want_screenshot;
+    bool fullscreen;
+    int win_pos[2], win_size[2];
+} client;
+
+/* ---- client_stream.c: cli_net handler callbacks (user = the client) ---- */
+
+/* Keeps owned copies of the welcome's scene and marks it pending for client_scene_setup.
+ * A welcome it cannot hold (no memory, too many species) leaves an empty scene, logged. */
+void client_stream_on_welcome(void *user, const ctl_welcome *w);
+/* WIND frames update the HUD speed and the renderer's wind; once the scene is ready,
+ * KEYFRAME/DELTA state goes into the jitter buffer and LEAVES into falling leaves. */
+void client_stream_on_frame(void *user, const wire_frame *f, const wire_decoder *dec,
+                            double recv_s);
+/* Keeps the last state on screen; the jitter buffer restarts with the next keyframe. */
+void client_stream_on_lost(void *user, int close_code, const char *why);
+
+/* ---- client_scene.c ---- */
+
+/* Builds the pending scene: loads every species not yet on the GPU (client_assets_load),
+ * sets instances and houses, and sizes the jitter buffer and snapshot scratch to the
+ * scene. 0, or negative GALE_E_* with err set (the caller drops the connection to retry). */
+int client_scene_setup(client *c, gale_err *err);
+/* Frames the scene's trees (their centre, at a distance from their spread). */
+void client_scene_reset_camera(client *c);
+
+/* ---- client_assets.c ---- */
+
+/* The asset of one species into *a (caller frees with asset_fini): from the disk cache by
+ * content hash, else over HTTP from the server (then stored in the cache). 0, or the
+ * fetch's or the decoder's negative GALE_E_* with err set. */
+int client_assets_load(client *c, const ctl_species *s, asset *a, gale_err *err);
+
+/* ---- client_input.c ---- */
+
+/* Installs key, mouse, cursor and scroll callbacks on win; c must outlive the window. */
+void client_input_attach(client *c, struct GLFWwindow *win);
+/* WASD/QE fly for dt [s] (not for wall tiles: every tile shows one fixed camera). */
+void client_input_fly(client *c, struct GLFWwindow *win, float dt);
+/* "gale-YYYYmmdd-HHMMSS.png" of the local time into buf (cap bytes). */
+void client_input_screenshot_name(char *buf, size_t cap);
+
+/* ---- client_kiosk.c ---- */
+
+/* Kiosk role only: moves the wind dial by delta [m/s] (starting from the streamed speed,
+ * kept within 0..100) and sends the command with the kiosk token; failures are logged. */
+void client_kiosk_dial(client *c, float delta_ms);
+
+/* ---- client_frame.c ---- */
+
+/* One frame at local time now [s]: samples q a playout delay behind the server clock,
+ * draws the scene from the camera (a wall tile's off-axis projection) and the HUD. 0, or
+ * the renderer's negative GALE_E_* with err set. */
+int client_frame_draw(client *c, double now, gale_err *err);
+
+#endif

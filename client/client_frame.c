@@ -1,0 +1,74 @@
+/* gale-client frame: q sampled from the jitter buffer a playout delay behind the server
+ * clock, the camera (or a wall tile's off-axis projection), the scene through gale_render
+ * and the HUD over it. */
+#include <math.h>
+
+#include "client.h"
+
+static int hud_conn(const client *c, const cli_net_stats *ns)
+{
+    switch (ns->state) {
+    case CLI_NET_LIVE:
+        return c->got_state ? HUD_CONN_LIVE : HUD_CONN_WAIT_KEY;
+    case CLI_NET_HELLO:
+        return HUD_CONN_WAIT_KEY;
+    case CLI_NET_BACKOFF:
+        return HUD_CONN_RECONNECTING;
+    default:
+        return HUD_CONN_CONNECTING;
+    }
+}
+
+int client_frame_draw(client *c, double now, gale_err *err)
+{
+    double server_now = now;
+    jitter_clock_server_time(cli_net_clock(c->net), now, &server_now);
+    double render_t = server_now - c->a.delay_s;
+    if (c->scene_ready && c->jit) {
+        uint32_t stride = 0;
+        float *staging = render_q_staging(c->r, &stride);
+        if (staging && stride == c->stride) {
+            /* empty buffer (reconnecting): the staging keeps the last q on screen */
+            jitter_sample(c->jit, render_t, staging, NULL);
+        }
+    }
+    int fb_w, fb_h;
+    render_size(c->r, &fb_w, &fb_h);
+    render_camera rc = { .fov_y_deg = c->cam.fov_y_deg, .z_near = 0.3f, .z_far = 3000.0f };
+    camera_eye(&c->cam, rc.eye);
+    float f[3];
+    camera_forward(&c->cam, f);
+    for (int k = 0; k < 3; k++) {
+        rc.target[k] = rc.eye[k] + f[k];
+    }
+    rc.up[2] = 1.0f;
+    if (c->a.role == CTL_ROLE_WALL_TILE) {
+        rc.matrices = true;
+        camera_view(&c->cam, rc.view);
+        camera_tile_proj(&c->cam, c->a.tile[0], c->a.tile[1], c->a.tile[2], c->a.tile[3],
+                         (float)fb_w / (float)fb_h, c->a.bezel, rc.z_near, rc.z_far, rc.proj);
+    }
+    int rc_frame = render_frame(c->r, &rc, render_t, err);
+    if (rc_frame != 0) {
+        return rc_frame;
+    }
+    cli_net_stats ns = cli_net_get_stats(c->net);
+    double rtt = jitter_clock_rtt(cli_net_clock(c->net));
+    hud_state hs = {
+        .have_wind = c->have_wind,
+        .wind_ms = c->wind_ms,
+        .conn = hud_conn(c, &ns),
+        .server = cli_net_server_name(c->net),
+        .retry_in_s = fmax(ns.retry_at_s - now, 0.0),
+        .attempt = ns.attempt,
+        .fps = (float)c->fps,
+        .latency_ms = rtt >= 0.0 ? (float)(rtt * 500.0) : -1.0f,
+        .delay_ms = (float)(c->a.delay_s * 1e3),
+        .frames_bad = ns.frames_bad,
+        .role = ctl_role_name(c->a.role),
+    };
+    if (c->a.role != CTL_ROLE_WALL_TILE || (c->a.tile[0] == 0 && c->a.tile[1] == 0)) {
+        hud_draw(c->hud, &hs, fb_w, fb_h);
+    }
+    return 0;
+}

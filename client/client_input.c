@@ -1,0 +1,131 @@
+/* gale-client input: left-drag orbit, right-drag pan, wheel zoom, WASD/QE fly, F11
+ * fullscreen, F12 or P screenshot, R reset view, + / - the kiosk's wind dial, Esc quit. */
+#include <epoxy/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include <time.h>
+
+#include "client.h"
+
+void client_input_screenshot_name(char *buf, size_t cap)
+{
+    time_t t = time(NULL);
+    struct tm tm;
+    localtime_r(&t, &tm);
+    strftime(buf, cap, "gale-%Y%m%d-%H%M%S.png", &tm);
+}
+
+static void toggle_fullscreen(client *c, GLFWwindow *win)
+{
+    if (!c->fullscreen) {
+        GLFWmonitor *m = glfwGetPrimaryMonitor();
+        const GLFWvidmode *mode = m ? glfwGetVideoMode(m) : NULL;
+        if (!mode) {
+            return;
+        }
+        glfwGetWindowPos(win, &c->win_pos[0], &c->win_pos[1]);
+        glfwGetWindowSize(win, &c->win_size[0], &c->win_size[1]);
+        glfwSetWindowMonitor(win, m, 0, 0, mode->width, mode->height, mode->refreshRate);
+    } else {
+        glfwSetWindowMonitor(win, NULL, c->win_pos[0], c->win_pos[1], c->win_size[0],
+                             c->win_size[1], 0);
+    }
+    c->fullscreen = !c->fullscreen;
+}
+
+static void key_cb(GLFWwindow *win, int key, int scancode, int action, int mods)
+{
+    client *c = glfwGetWindowUserPointer(win);
+    (void)scancode;
+    (void)mods;
+    if (action != GLFW_PRESS) {
+        return;
+    }
+    switch (key) {
+    case GLFW_KEY_ESCAPE:
+        glfwSetWindowShouldClose(win, GLFW_TRUE);
+        break;
+    case GLFW_KEY_F11:
+        toggle_fullscreen(c, win);
+        break;
+    case GLFW_KEY_F12:
+    case GLFW_KEY_P:
+        c->want_screenshot = true;
+        break;
+    case GLFW_KEY_R:
+        client_scene_reset_camera(c);
+        break;
+    case GLFW_KEY_EQUAL:
+    case GLFW_KEY_KP_ADD:
+        client_kiosk_dial(c, 5.0f);
+        break;
+    case GLFW_KEY_MINUS:
+    case GLFW_KEY_KP_SUBTRACT:
+        client_kiosk_dial(c, -5.0f);
+        break;
+    default:
+        break;
+    }
+}
+
+static void mouse_cb(GLFWwindow *win, int button, int action, int mods)
+{
+    client *c = glfwGetWindowUserPointer(win);
+    (void)mods;
+    if (action == GLFW_PRESS) {
+        c->drag = button == GLFW_MOUSE_BUTTON_LEFT ? 1 : button == GLFW_MOUSE_BUTTON_RIGHT ? 2 : 0;
+        glfwGetCursorPos(win, &c->cursor[0], &c->cursor[1]);
+    } else {
+        c->drag = 0;
+    }
+}
+
+static void cursor_cb(GLFWwindow *win, double x, double y)
+{
+    client *c = glfwGetWindowUserPointer(win);
+    if (c->a.role == CTL_ROLE_WALL_TILE) {
+        return; /* every tile shows one fixed camera */
+    }
+    float dx = (float)(x - c->cursor[0]), dy = (float)(y - c->cursor[1]);
+    c->cursor[0] = x;
+    c->cursor[1] = y;
+    int w, h;
+    glfwGetWindowSize(win, &w, &h);
+    if (c->drag == 1) {
+        camera_orbit(&c->cam, dx, dy);
+    } else if (c->drag == 2) {
+        camera_pan(&c->cam, dx, dy, h);
+    }
+}
+
+static void scroll_cb(GLFWwindow *win, double xoff, double yoff)
+{
+    client *c = glfwGetWindowUserPointer(win);
+    (void)xoff;
+    if (c->a.role != CTL_ROLE_WALL_TILE) {
+        camera_zoom(&c->cam, (float)yoff);
+    }
+}
+
+void client_input_fly(client *c, GLFWwindow *win, float dt)
+{
+    if (c->a.role == CTL_ROLE_WALL_TILE) {
+        return;
+    }
+#define KEY(k) (glfwGetKey(win, (k)) == GLFW_PRESS ? 1.0f : 0.0f)
+    float f = KEY(GLFW_KEY_W) - KEY(GLFW_KEY_S);
+    float r = KEY(GLFW_KEY_D) - KEY(GLFW_KEY_A);
+    float u = KEY(GLFW_KEY_E) - KEY(GLFW_KEY_Q);
+#undef KEY
+    camera_fly(&c->cam, f, r, u, dt);
+}
+
+void client_input_attach(client *c, GLFWwindow *win)
+{
+    glfwSetWindowUserPointer(win, c);
+    glfwSetKeyCallback(win, key_cb);
+    glfwSetMouseButtonCallback(win, mouse_cb);
+    glfwSetCursorPosCallback(win, cursor_cb);
+    glfwSetScrollCallback(win, scroll_cb);
+}

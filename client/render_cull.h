@@ -1,0 +1,50 @@
+/* Culling and level of detail for gale_render: the view frustum's planes, and per tree
+ * whether it is drawn, as a skinned mesh (how many modes, which mesh LOD, dithering into
+ * the next) and/or a billboard (fading in past 80 % of the billboard distance). Pure CPU
+ * code: callable without a GL context. */
+#ifndef GALE_RENDER_CULL_H
+#define GALE_RENDER_CULL_H
+
+#include <stdint.h>
+
+#include "render.h"
+
+/* What culling needs of a species. */
+typedef struct render_cull_species {
+    float height_m;  /* rest height above the root [m] */
+    float crown_r_m; /* horizontal reach from the trunk axis [m] */
+    uint32_t n_modes;
+    uint32_t n_lods; /* mesh LODs, >= 1 */
+} render_cull_species;
+
+/* LOD distances, as in render_desc (resolved: both > 0). */
+typedef struct render_lod_desc {
+    float mode_dist_m;      /* modes start to drop past this distance */
+    float billboard_dist_m; /* trees are billboards only past this distance */
+} render_lod_desc;
+
+enum {
+    RENDER_LOD_FULL = 1u,      /* drawn as skeleton, mesh and leaves */
+    RENDER_LOD_BILLBOARD = 2u, /* drawn as a billboard (with FULL while fading) */
+};
+
+typedef struct render_tree_lod {
+    uint32_t flags;    /* 0 = culled, else RENDER_LOD_FULL and/or RENDER_LOD_BILLBOARD */
+    float bill_t;      /* 0 = full tree .. 1 = billboard only (smoothstep of distance) */
+    float n_modes;     /* modes reconstructed: all up to mode_dist_m, then ~1/d, >= 4 */
+    uint32_t mesh_lod; /* mesh LOD k < n_lods */
+    float mesh_fade;   /* 0..1: dither from LOD k toward k + 1 */
+} render_tree_lod;
+
+/* The six frustum planes (a, b, c, d; inside where a x + b y + c z + d > 0) of a
+ * column-major view-projection matrix with OpenGL clip conventions. */
+void render_cull_planes(const float viewproj[16], float planes[6][4]);
+
+/* Culls one tree against the frustum (a bounding sphere around its crown, widened for
+ * sway) and chooses its LOD from the distance [m, in tree units: divided by its scale]
+ * from eye to the crown centre. A culled tree has flags 0 and the other fields zero. */
+render_tree_lod render_cull_tree(const float planes[6][4], const float eye[3],
+                                 const render_instance *in, const render_cull_species *s,
+                                 const render_lod_desc *d);
+
+#endif

@@ -1,0 +1,242 @@
+/* gale_render scene state: the trees (instances and their staged modal state q), the
+ * houses (obstacle boxes meshed by render_house.c and uploaded once per set) and the
+ * coarse wind (a 3D texture for the shaders and a CPU copy for falling leaves). */
+#include "render_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render_house.h"
+
+int render_trees_alloc(render *r, uint32_t cap, gale_err *err)
+{
+    free(r->inst);
+    free(r->q_stage);
+    free(r->list);
+    free(r->tree_row);
+    free(r->tree_group);
+    free(r->tree_lod);
+    r->cap_trees = cap;
+    r->inst = calloc(cap + 1, sizeof *r->inst);
+    r->q_stage = calloc((size_t)(cap + 1) * r->q_stride, sizeof(float));
+    r->list_cap = 5 * (cap + 1);
+    r->list = calloc((size_t)r->list_cap * 4, sizeof(float));
+    r->tree_row = calloc(cap + 1, sizeof(uint32_t));
+    r->tree_group = calloc(cap + 1, sizeof(uint32_t));
+    r->tree_lod = calloc((size_t)(cap + 1) * 4, sizeof(float));
+    if (!r->inst || !r->q_stage || !r->list || !r->tree_row || !r->tree_group || !r->tree_lod) {
+        return gale_errf(err, GALE_E_NOMEM, "render: out of memory for %u trees", cap);
+    }
+    /* the rest-pose slot (index cap): origin, unit scale */
+    r->inst[cap].scale = 1.0f;
+    return 0;
+}
+
+void render_trees_upload(render *r)
+{
+    uint32_t n = r->cap_trees + 1;
+    float *t = calloc((size_t)n * 8, sizeof(float));
+    if (!t) {
+        return;
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        const render_instance *in = &r->inst[i];
+        t[8 * i + 0] = in->pos[0];
+        t[8 * i + 1] = in->pos[1];
+        t[8 * i + 2] = in->pos[2];
+        t[8 * i + 3] = in->yaw;
+        t[8 * i + 4] = in->scale > 0.0f ? in->scale : 1.0f;
+        t[8 * i + 5] = (float)in->species;
+    }
+    render_buf_upload(&r->trees, GL_RGBA32F, t, (size_t)n * 8 * sizeof(float));
+    free(t);
+}
+
+int render_set_instances(render *r, uint32_t n, const render_instance *inst, gale_err *err)
+{
+    if (n > r->cap_trees) {
+        return gale_errf(err, GALE_E_RANGE, "render_set_instances: %u trees, max_trees %u", n,
+                         r->cap_trees);
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        if (inst[i].species >= r->n_species) {
+            return gale_errf(err, GALE_E_RANGE,
+                             "render_set_instances: tree %u: species %u "
+                             "not added (%u species)",
+                             i, inst[i].species, r->n_species);
+        }
+        if (!isfinite(inst[i].pos[0] + inst[i].pos[1] + inst[i].pos[2] + inst[i].yaw +
+                      inst[i].scale) ||
+            inst[i].scale < 0.0f) {
+            return gale_errf(err, GALE_E_RANGE,
+                             "render_set_instances: tree %u: position, "
+                             "yaw or scale not finite or scale < 0",
+                             i);
+        }
+    }
+    if (n > 0) { /* inst may be NULL for an empty scene */
+        memcpy(r->inst, inst, n * sizeof *inst);
+    }
+    memset(&r->inst[n], 0, (r->cap_trees - n) * sizeof *inst);
+    r->inst[r->cap_trees].scale = 1.0f;
+    r->n_trees = n;
+    render_trees_upload(r);
+    memset(r->q_stage, 0, (size_t)(r->cap_trees + 1) * r->q_stride * sizeof(float));
+    render_clear_falling(r);
+    return 0;
+}
+
+int render_set_q(render *r, uint32_t tree, const float *q, uint32_t n, gale_err *err)
+{
+    if (tree >= r->n_trees) {
+        return gale_errf(err, GALE_E_RANGE, "render_set_q: tree %u of %u", tree, r->n_trees);
+    }
+    const rs_species *s = &r->sp[r->inst[tree].species];
+    if (n != s->n_modes) {
+        return gale_errf(err, GALE_E_RANGE, "render_set_q: tree %u: %u modes, species has %u", tree,
+                         n, s->n_modes);
+    }
+    memcpy(&r->q_stage[(size_t)tree * r->q_stride], q, n * sizeof(float));
+    return 0;
+}
+
+float *render_q_staging(render *r, uint32_t *stride)
+{
+    *stride = r->q_stride;
+    return r->q_stage;
+}
+
+int render_set_obstacles(render *r, uint32_t n, const float *min_max, gale_err *err)
+{
+    if (n > RENDER_MAX_OBSTACLES || (n > 0 && !min_max)) {
+        return gale_errf(err, GALE_E_ARG,
+                         "render_set_obstacles: expected at most %u boxes and their corners, "
+                         "got %u%s",
+                         RENDER_MAX_OBSTACLES, n, n > 0 && !min_max ? " and no array" : "");
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        const float *b = &min_max[6 * i];
+        for (int k = 0; k < 6; k++) {
+            if (!isfinite(b[k]) || fabsf(b[k]) > 1e6f) {
+                return gale_errf(err, GALE_E_RANGE,
+                                 "render_set_obstacles: box %u corner value %d: expected "
+                                 "|value| <= 1e6, got %g",
+                                 i, k, (double)b[k]);
+            }
+        }
+        for (int k = 0; k < 3; k++) {
+            if (b[k] > b[k + 3]) {
+                return gale_errf(err, GALE_E_RANGE,
+                                 "render_set_obstacles: box %u: expected min <= max on "
+                                 "axis %c, got %g > %g",
+                                 i, "xyz"[k], (double)b[k], (double)b[k + 3]);
+            }
+        }
+    }
+    r->house_verts = 0;
+    if (n == 0) {
+        return 0;
+    }
+    float *v = malloc((size_t)n * RENDER_HOUSE_VERTS * RENDER_HOUSE_FLOATS * sizeof(float));
+    if (!v) {
+        return gale_errf(err, GALE_E_NOMEM, "render_set_obstacles: out of memory for %u boxes", n);
+    }
+    float *end = v;
+    for (uint32_t i = 0; i < n; i++) {
+        end = render_house_mesh(&min_max[6 * i], end);
+    }
+    if (!r->house_vao) {
+        glGenVertexArrays(1, &r->house_vao);
+        glGenBuffers(1, &r->house_vbo);
+        glBindVertexArray(r->house_vao);
+        glBindBuffer(GL_ARRAY_BUFFER, r->house_vbo);
+        const GLsizei stride = (GLsizei)(RENDER_HOUSE_FLOATS * sizeof(float));
+        const int size[4] = { 3, 3, 4, 1 }, off[4] = { 0, 3, 6, 10 };
+        for (int a = 0; a < 4; a++) {
+            glEnableVertexAttribArray((GLuint)a);
+            glVertexAttribPointer((GLuint)a, size[a], GL_FLOAT, GL_FALSE, stride,
+                                  (const void *)(uintptr_t)((size_t)off[a] * sizeof(float)));
+        }
+        glBindVertexArray(0);
+    }
+    glBindBuffer(GL_ARRAY_BUFFER, r->house_vbo);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)((size_t)(end - v) * sizeof(float)), v,
+                 GL_STATIC_DRAW);
+    free(v);
+    r->house_verts = n * RENDER_HOUSE_VERTS;
+    return 0;
+}
+
+int render_set_wind(render *r, const render_wind *w, gale_err *err)
+{
+    if (!isfinite(w->uniform[0] + w->uniform[1] + w->uniform[2])) {
+        return gale_errf(err, GALE_E_RANGE, "render_set_wind: uniform wind not finite");
+    }
+    memcpy(r->wind_uniform, w->uniform, sizeof r->wind_uniform);
+    if (w->nx == 0) {
+        memset(r->wind_extent, 0, sizeof r->wind_extent);
+        r->wind_n[0] = 0;
+        return 0;
+    }
+    uint64_t cells = (uint64_t)w->nx * w->ny * w->nz;
+    if (w->ny == 0 || w->nz == 0 || w->nx > 1024 || w->ny > 1024 || w->nz > 256 || !w->v ||
+        !(w->cell[0] > 0.0f) || !(w->cell[1] > 0.0f) || !(w->cell[2] > 0.0f)) {
+        return gale_errf(err, GALE_E_RANGE,
+                         "render_set_wind: grid %ux%ux%u (<= 1024x1024x256) "
+                         "with cell sizes > 0 and data",
+                         w->nx, w->ny, w->nz);
+    }
+    if (r->wind_n[0] != w->nx || r->wind_n[1] != w->ny || r->wind_n[2] != w->nz) {
+        float *nv = realloc(r->wind_v, cells * 4 * sizeof(float));
+        if (!nv) {
+            return gale_errf(err, GALE_E_NOMEM, "render_set_wind: out of memory");
+        }
+        r->wind_v = nv;
+    }
+    for (uint64_t c = 0; c < cells; c++) {
+        r->wind_v[4 * c] = w->v[3 * c];
+        r->wind_v[4 * c + 1] = w->v[3 * c + 1];
+        r->wind_v[4 * c + 2] = w->v[3 * c + 2];
+        r->wind_v[4 * c + 3] = 0.0f;
+    }
+    glBindTexture(GL_TEXTURE_3D, r->wind_tex);
+    if (r->wind_n[0] != w->nx || r->wind_n[1] != w->ny || r->wind_n[2] != w->nz) {
+        glTexImage3D(GL_TEXTURE_3D, 0, GL_RGBA32F, (GLsizei)w->nx, (GLsizei)w->ny, (GLsizei)w->nz,
+                     0, GL_RGBA, GL_FLOAT, r->wind_v);
+    } else {
+        glTexSubImage3D(GL_TEXTURE_3D, 0, 0, 0, 0, (GLsizei)w->nx, (GLsizei)w->ny, (GLsizei)w->nz,
+                        GL_RGBA, GL_FLOAT, r->wind_v);
+    }
+    r->wind_n[0] = w->nx;
+    r->wind_n[1] = w->ny;
+    r->wind_n[2] = w->nz;
+    for (int k = 0; k < 3; k++) {
+        r->wind_origin[k] = w->origin[k];
+        r->wind_cell[k] = w->cell[k];
+        r->wind_extent[k] = w->cell[k] * (float)r->wind_n[k];
+    }
+    return 0;
+}
+
+void render_wind_at(const render *r, const float p[3], float out[3])
+{
+    memcpy(out, r->wind_uniform, 3 * sizeof(float));
+    if (r->wind_n[0] == 0) {
+        return;
+    }
+    uint32_t ijk[3];
+    for (int k = 0; k < 3; k++) {
+        float c = (p[k] - r->wind_origin[k]) / r->wind_cell[k];
+        if (k == 2) {
+            /* a slice or a low grid applies at every height: clamp vertically */
+            c = fminf(fmaxf(c, 0.0f), (float)r->wind_n[2] - 0.5f);
+        }
+        if (!(c >= 0.0f) || c >= (float)r->wind_n[k]) {
+            return;
+        }
+        ijk[k] = (uint32_t)c;
+    }
+    size_t c = ijk[0] + r->wind_n[0] * ((size_t)ijk[1] + r->wind_n[1] * ijk[2]);
+    memcpy(out, &r->wind_v[4 * c], 3 * sizeof(float));
+}
