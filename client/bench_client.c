@@ -10,8 +10,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "mono.h"
 #include "jitter.h"
 #include "wire.h"
 
@@ -20,13 +20,6 @@ int bench_client(int argc, char **argv);
 #define N_STAGES 6
 static const char *stage_name[N_STAGES] = { "receive",       "decode",      "dequantize",
                                             "jitter_insert", "interpolate", "gl_upload" };
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
 
 static int cmp_double(const void *a, const void *b)
 {
@@ -178,29 +171,29 @@ int bench_client(int argc, char **argv)
             wire_decode(dec, enc[0], enc_len[0], &f, &err);
         }
         double t[N_STAGES + 1];
-        t[0] = now_s();
+        t[0] = mono_s();
         memcpy(rx, enc[k], enc_len[k]);
-        t[1] = now_s();
+        t[1] = mono_s();
         if (wire_decode(dec, rx, enc_len[k], &f, &err) != 0) {
             decode_errors++;
         }
-        t[2] = now_s();
+        t[2] = mono_s();
         for (uint32_t tr = 0; tr < trees; tr++) {
             wire_decoder_q(dec, tr, snap + (size_t)tr * modes, modes);
         }
-        t[3] = now_s();
+        t[3] = mono_s();
         double ts = ((double)(seq_base + k)) / 60.0;
         jitter_insert(jit, seq_base + k, ts, snap, NULL);
-        t[4] = now_s();
+        t[4] = mono_s();
         /* render 0.1 s behind the newest: between two held snapshots, all four present */
         jitter_sample(jit, ts - 0.1 + 0.37 / 60.0, staging, NULL);
-        t[5] = now_s();
+        t[5] = mono_s();
         if (win) {
             glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)((size_t)trees * modes * sizeof(float)),
                             staging);
             glFinish();
         }
-        t[6] = now_s();
+        t[6] = mono_s();
         for (int s = 0; s < N_STAGES; s++) {
             t_stage[s][i] = (t[s + 1] - t[s]) * 1e3;
         }

@@ -5,21 +5,14 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include <epoxy/gl.h>
 
+#include "mono.h"
 #include "render.h"
 #include "render_demo.h"
 
 int bench_render(int argc, char **argv);
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static int cmp_d(const void *a, const void *b)
 {
@@ -109,14 +102,14 @@ int bench_render(int argc, char **argv)
             const float wl[3] = { 12.0f, 3.0f, 0.0f };
             render_demo_pose(&a[inst[i].species], wl, (float)t, i, &q[(size_t)i * stride]);
         }
-        double t0 = now_s();
+        double t0 = mono_s();
         if (render_frame(r, &cam, t, &err) < 0) {
             fprintf(stderr, "gale-bench-client render: %s\n", err.msg);
             return 1;
         }
-        double t1 = now_s();
+        double t1 = mono_s();
         glFinish();
-        double t2 = now_s();
+        double t2 = mono_s();
         if (f >= 2) {
             cpu[f - 2] = 1e3 * (t1 - t0);
             ft[f - 2] = 1e3 * (t2 - t0);

@@ -2,6 +2,7 @@
  * minimal-http-client examples): the WebSocket state machine (connect, hello, welcome,
  * frames, pings, resync, backoff), message reassembly into one preallocated buffer, and
  * blocking HTTP GETs of assets over the same context. */
+#include "mono.h"
 #include "cli_net.h"
 
 #include <libwebsockets.h>
@@ -12,7 +13,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
 #define CLI_NET_TX_SLOTS 8
@@ -68,18 +68,11 @@ struct cli_net {
     char fetch_err[160];
 };
 
-double cli_net_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
 /* Rate-limited log line (at most one a second; the rest are counted). */
 static void cli_net_log(cli_net *n, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 static void cli_net_log(cli_net *n, const char *fmt, ...)
 {
-    double now = cli_net_now();
+    double now = mono_s();
     if (now - n->last_log_s < 1.0) {
         n->suppressed_logs++;
         return;
@@ -131,10 +124,10 @@ static void set_lost(cli_net *n, int code, const char *why)
     snprintf(n->st.last_error, sizeof n->st.last_error, "%s", why);
     /* doubling backoff with ±20 % spread so many clients do not return in step */
     double spread = 0.8 + 0.4 * (double)(rand() % 1000) / 1000.0;
-    n->st.retry_at_s = cli_net_now() + n->backoff_s * spread;
+    n->st.retry_at_s = mono_s() + n->backoff_s * spread;
     n->backoff_s = fmin(n->backoff_s * 2.0, n->d.backoff_max_s);
     cli_net_log(n, "%s: connection lost (%s); retry %u in %.2f s", n->server_name, why,
-                n->st.attempt, n->st.retry_at_s - cli_net_now());
+                n->st.attempt, n->st.retry_at_s - mono_s());
     if (n->h.on_lost) {
         n->h.on_lost(n->h.user, code, why);
     }
@@ -161,7 +154,7 @@ static void handle_text(cli_net *n, const char *text, size_t len)
         break;
     case CTL_PONG:
         jitter_clock_pong(&n->clock, (double)m.u.pong.client_us * 1e-6,
-                          (double)m.u.pong.server_us * 1e-6, cli_net_now());
+                          (double)m.u.pong.server_us * 1e-6, mono_s());
         break;
     case CTL_ERROR:
         snprintf(n->st.last_error, sizeof n->st.last_error, "server: %.100s (%s)",
@@ -234,7 +227,7 @@ static int ws_callback(cli_net *n, struct lws *wsi, enum lws_callback_reasons re
             cli_net_log(n, "%s: hello: %s", n->server_name, err.msg);
             return -1;
         }
-        n->next_ping_s = cli_net_now();
+        n->next_ping_s = mono_s();
         return 0;
     }
     case LWS_CALLBACK_CLIENT_RECEIVE: {
@@ -257,7 +250,7 @@ static int ws_callback(cli_net *n, struct lws *wsi, enum lws_callback_reasons re
             n->st.frames_bad++;
             cli_net_log(n, "%s: message over %zu bytes dropped", n->server_name, n->rx_cap);
         } else if (n->rx_binary) {
-            handle_binary(n, n->rx, n->rx_len, cli_net_now());
+            handle_binary(n, n->rx, n->rx_len, mono_s());
         } else {
             n->rx[n->rx_len] = '\0';
             handle_text(n, (const char *)n->rx, n->rx_len);
@@ -534,7 +527,7 @@ void cli_net_poll(cli_net *n, double now_s)
         now_s >= n->next_ping_s) {
         ctl_msg m = { .type = CTL_PING };
         m.u.ping.id = ++n->ping_id;
-        m.u.ping.client_us = (uint64_t)(cli_net_now() * 1e6);
+        m.u.ping.client_us = (uint64_t)(mono_s() * 1e6);
         queue_ctl(n, &m, NULL);
         n->next_ping_s = now_s + n->d.ping_interval_s;
     }
@@ -591,8 +584,8 @@ int cli_net_fetch(cli_net *n, const char *path, size_t max_len, double timeout_s
     if (!n->http && !n->fetch_done) {
         return gale_errf(err, GALE_E_IO, "http://%s%s: connect failed", n->server_name, path);
     }
-    const double deadline = cli_net_now() + timeout_s;
-    while (!n->fetch_done && cli_net_now() < deadline) {
+    const double deadline = mono_s() + timeout_s;
+    while (!n->fetch_done && mono_s() < deadline) {
         lws_service(n->ctx, -1);
         if (!n->fetch_done) {
             usleep(500);

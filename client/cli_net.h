@@ -73,11 +73,8 @@ cli_net *cli_net_create(const cli_net_desc *d, const cli_net_handler *h, gale_er
 void cli_net_destroy(cli_net *n);
 
 /* Services the sockets without blocking, sends pings, and (in BACKOFF) reconnects when
- * the delay has passed. now_s is the local monotonic clock (cli_net_now). */
+ * the delay has passed. now_s is the local monotonic clock (mono_s, mono.h). */
 void cli_net_poll(cli_net *n, double now_s);
-
-/* Local monotonic clock [s] (CLOCK_MONOTONIC). */
-double cli_net_now(void);
 
 /* "host:port" of the server (owned by n). */
 const char *cli_net_server_name(const cli_net *n);

@@ -12,12 +12,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include <sys/socket.h>
 
 #include <libwebsockets.h>
 
+#include "mono.h"
 #include "ctl.h"
 #include "wire.h"
 
@@ -65,13 +65,6 @@ static void on_signal(int sig)
 {
     (void)sig;
     interrupted = 1;
-}
-
-static uint64_t mono_us(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (uint64_t)t.tv_sec * 1000000ull + (uint64_t)t.tv_nsec / 1000u;
 }
 
 /* Keeps the first error of the run for the report: "what: message". */

@@ -14,6 +14,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "mono.h"
 #include "client.h"
 
 static volatile sig_atomic_t quit_flag;
@@ -201,13 +202,13 @@ int main(int argc, char **argv)
         client_input_attach(&c, win);
     }
 
-    const double start = cli_net_now();
+    const double start = mono_s();
     c.last_frame_s = start;
     int frames_after_state = 0, fps_frames = 0;
     double fps_t0 = start;
     status = 0;
     while (!quit_flag && !(win && glfwWindowShouldClose(win))) {
-        double now = cli_net_now();
+        double now = mono_s();
         cli_net_poll(c.net, now);
         if (c.scene_pending) {
             if (client_scene_setup(&c, &err) != 0) {
@@ -259,7 +260,7 @@ int main(int argc, char **argv)
                 break;
             }
             /* pace at ~60 Hz so the stream advances between frames */
-            double spent = cli_net_now() - now;
+            double spent = mono_s() - now;
             if (spent < 1.0 / 60.0) {
                 usleep((useconds_t)((1.0 / 60.0 - spent) * 1e6));
             }
@@ -273,7 +274,7 @@ int main(int argc, char **argv)
         if (!c.got_state) {
             cli_net_stats ns = cli_net_get_stats(c.net);
             fprintf(stderr, "gale-client: %s: no state received in %.1f s (%s)\n",
-                    cli_net_server_name(c.net), cli_net_now() - start,
+                    cli_net_server_name(c.net), mono_s() - start,
                     ns.last_error[0] ? ns.last_error : "no keyframe");
             status = 3;
         }

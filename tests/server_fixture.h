@@ -8,8 +8,8 @@
 #include <pthread.h>
 #include <stdio.h>
 #include <string.h>
-#include <time.h>
 
+#include "mono.h"
 #include "srv.h"
 
 #define N_TREES 120
@@ -20,13 +20,6 @@ static const uint8_t asset_bytes[] = "not a real asset, served verbatim by hash"
 static srv *S;
 static pthread_t S_thread;
 static scene SC;
-
-static inline double now_s(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
-}
 
 static void *serve(void *arg)
 {

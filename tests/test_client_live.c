@@ -10,11 +10,11 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
-#include <time.h>
 #include <unistd.h>
 
 #include <stb_image.h>
 
+#include "mono.h"
 #include "check.h"
 
 #ifndef GALE_SERVER_EXE
@@ -27,13 +27,6 @@
 static char tmp[256];
 static int port;
 static pid_t server;
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
 
 /* Starts argv with stderr (and stdout) into log. */
 static pid_t spawn(char *const argv[], const char *log)
@@ -68,8 +61,8 @@ static int log_count(const char *log, const char *needle)
 
 static bool wait_log(const char *log, const char *needle, int count, double timeout_s)
 {
-    double until = now_s() + timeout_s;
-    while (now_s() < until) {
+    double until = mono_s() + timeout_s;
+    while (mono_s() < until) {
         if (log_count(log, needle) >= count) {
             return true;
         }
@@ -81,9 +74,9 @@ static bool wait_log(const char *log, const char *needle, int count, double time
 /* Waits for pid; returns its exit status, or -1 on timeout (then kills it). */
 static int wait_exit(pid_t pid, double timeout_s)
 {
-    double until = now_s() + timeout_s;
+    double until = mono_s() + timeout_s;
     int st;
-    while (now_s() < until) {
+    while (mono_s() < until) {
         pid_t r = waitpid(pid, &st, WNOHANG);
         if (r == pid) {
             return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);

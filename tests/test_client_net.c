@@ -11,6 +11,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "mono.h"
 #include "check.h"
 #include "cli_net.h"
 
@@ -215,7 +216,7 @@ static int peer_cb(struct lws *wsi, enum lws_callback_reasons reason, void *user
             ctl_msg m = { .type = CTL_PONG };
             m.u.pong = (ctl_pong){ .id = p->pong_id,
                                    .client_us = p->ping_client_us,
-                                   .server_us = (uint64_t)(cli_net_now() * 1e6) + CLOCK_OFFSET_US };
+                                   .server_us = (uint64_t)(mono_s() * 1e6) + CLOCK_OFFSET_US };
             uint8_t buf[LWS_PRE + 512];
             size_t n = 0;
             ctl_encode_into(&m, (char *)buf + LWS_PRE, 512, &n, NULL);
@@ -331,9 +332,9 @@ static void on_lost(void *user, int code, const char *why)
 /* Polls the client until cond holds or timeout_s passes. */
 #define POLL_UNTIL(n, cond, timeout_s)           \
     do {                                         \
-        double until_ = cli_net_now() + (timeout_s); \
-        while (!(cond) && cli_net_now() < until_) {  \
-            cli_net_poll((n), cli_net_now());            \
+        double until_ = mono_s() + (timeout_s); \
+        while (!(cond) && mono_s() < until_) {  \
+            cli_net_poll((n), mono_s());            \
             usleep(1000);                        \
         }                                        \
     } while (0)
@@ -418,7 +419,7 @@ static void test_session(void)
     pthread_mutex_lock(&P.lock);
     P.close_after_script = true;
     pthread_mutex_unlock(&P.lock);
-    cli_net_poll(n, cli_net_now() + 1.0); /* a ping makes the peer writeable, which closes */
+    cli_net_poll(n, mono_s() + 1.0); /* a ping makes the peer writeable, which closes */
     POLL_UNTIL(n, s.lost >= 1, 5.0);
     CHECK(s.lost >= 1);
     pthread_mutex_lock(&P.lock);
