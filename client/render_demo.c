@@ -65,18 +65,6 @@ void render_demo_free(asset *a)
     memset(a, 0, sizeof *a);
 }
 
-void render_demo_reconstruct(const asset *a, const float *q, uint32_t n_modes_used, float *out)
-{
-    size_t nn = a->n_nodes;
-    memcpy(out, a->rest, 3 * nn * sizeof(float));
-    for (uint32_t m = 0; m < n_modes_used && m < a->n_modes; m++) {
-        float qt = a->corr_a[m] * atanf(a->corr_b[m] * q[m]);
-        for (size_t k = 0; k < 3 * nn; k++) {
-            out[k] += qt * a->corr_v[m * 3 * nn + k] + qt * qt * a->corr_w[m * 3 * nn + k];
-        }
-    }
-}
-
 static void basis(const float d[3], float u[3], float v[3])
 {
     float k[3] = { 0, 0, 1 };

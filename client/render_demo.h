@@ -25,10 +25,6 @@ int render_demo_asset(asset *a, const render_demo_desc *desc, gale_err *err);
 /* Frees the arrays of a demo asset and zeroes it. */
 void render_demo_free(asset *a);
 
-/* The reference reconstruction written out in C (the formula of asset_reconstruct):
- * out = rest + Σ_{i < n_modes_used} q̃_i v_i + q̃_i² w_i, q̃_i = a_i atan(b_i q_i). */
-void render_demo_reconstruct(const asset *a, const float *q, uint32_t n_modes_used, float *out);
-
 /* A q pose for wind `wind` [m/s] in the tree frame at time t: static deflection
  * f_i / ω_i² with f_i = |v| v·p_i (Diener 2008 section 4), plus a small oscillation. */
 void render_demo_pose(const asset *a, const float wind[3], float t, uint32_t tree, float *q);

@@ -104,14 +104,8 @@ int render_add_falling_leaf(render *r, const render_leaf_seed *ls, gale_err *err
     uint32_t j = s->leaf_node[ls->slot];
     const float *q = &r->q_stage[(size_t)ls->tree * r->q_stride];
     float x[3];
-    memcpy(x, &s->rest[3 * j], sizeof x);
-    for (uint32_t m = 0; m < s->n_modes; m++) {
-        float qt = s->ab[2 * m] * atanf(s->ab[2 * m + 1] * q[m]);
-        for (int k = 0; k < 3; k++) {
-            size_t o = ((size_t)m * s->n_nodes + j) * 3 + (size_t)k;
-            x[k] += qt * s->corr_v[o] + qt * qt * s->corr_w[o];
-        }
-    }
+    asset_reconstruct_node(s->rest, s->corr_v, s->corr_w, s->corr_a, s->corr_b, s->n_nodes, q,
+                           s->n_modes, j, x);
     float sc = in->scale > 0.0f ? in->scale : 1.0f, cy = cosf(in->yaw), sy = sinf(in->yaw);
     const float *off = &s->leaf_offset[3 * ls->slot];
     float lp[3] = { (x[0] + off[0]) * sc, (x[1] + off[1]) * sc, (x[2] + off[2]) * sc };

@@ -67,12 +67,13 @@ typedef struct rs_species {
     uint32_t n_nodes, n_modes, n_leaves, n_lods, leaf_shape;
     uint32_t lod_first[ASSET_MAX_LODS], lod_count[ASSET_MAX_LODS];
     float height, crown_r, bark[3], leaf_rgb[3];
-    float ab[2 * RENDER_MAX_MODES];
+    float ab[2 * RENDER_MAX_MODES]; /* a_i, b_i interleaved, the layout of skel.frag's u_ab */
     GLuint vao, vbo, ibo, imp_tex;
     rs_buf vw, node, leaf;
     float bill[3]; /* half width, height, bottom [m] */
     /* CPU copies for releasing falling leaves (one node per leaf, never per frame) */
     float *rest, *corr_v, *corr_w, *leaf_offset, *leaf_normal, *leaf_size;
+    float corr_a[RENDER_MAX_MODES], corr_b[RENDER_MAX_MODES];
     uint32_t *leaf_node;
 } rs_species;
 

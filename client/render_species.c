@@ -199,8 +199,8 @@ int render_add_species(render *r, const asset *a, gale_err *err)
     memcpy(s->bark, a->bark_rgb, sizeof s->bark);
     memcpy(s->leaf_rgb, a->leaf_rgb, sizeof s->leaf_rgb);
     for (uint32_t m = 0; m < a->n_modes; m++) {
-        s->ab[2 * m] = a->corr_a[m];
-        s->ab[2 * m + 1] = a->corr_b[m];
+        s->ab[2 * m] = s->corr_a[m] = a->corr_a[m];
+        s->ab[2 * m + 1] = s->corr_b[m] = a->corr_b[m];
     }
     size_t nn = a->n_nodes, nm = a->n_modes;
     float *tmp = malloc((nm * nn * 2 + nn + 2 * (size_t)a->n_leaves + 1) * 4 * sizeof(float));

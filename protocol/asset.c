@@ -800,15 +800,26 @@ void asset_reconstruct(const asset *a, const float *q, uint32_t n_modes_used, fl
     for (size_t m = 0; m < n_modes_used; m++) {
         const float *v = corr ? a->corr_v + 3 * m * nn : a->phi + 3 * m * nn;
         const float *w = corr ? a->corr_w + 3 * m * nn : NULL;
-        /* Diener 2008 section 5.2: q̃ = a atan(b q) saturates the modal coordinate;
-         * b == 0 (no fit) leaves it linear, q̃ = q. */
-        float qt = q[m];
-        if (corr && a->corr_b[m] != 0.0f) {
-            qt = a->corr_a[m] * atanf(a->corr_b[m] * q[m]);
-        }
+        float qt = corr ? asset_corr_qt(a->corr_a[m], a->corr_b[m], q[m]) : q[m];
         float qt2 = qt * qt;
         for (size_t i = 0; i < 3 * nn; i++) {
             out[i] += qt * v[i] + (w ? qt2 * w[i] : 0.0f);
+        }
+    }
+}
+
+void asset_reconstruct_node(const float *rest, const float *corr_v, const float *corr_w,
+                            const float *corr_a, const float *corr_b, uint32_t n_nodes,
+                            const float *q, uint32_t n_modes, uint32_t node, float x[3])
+{
+    for (int k = 0; k < 3; k++) {
+        x[k] = rest[3 * (size_t)node + (size_t)k];
+    }
+    for (uint32_t m = 0; m < n_modes; m++) {
+        const float qt = asset_corr_qt(corr_a[m], corr_b[m], q[m]);
+        const size_t o = ((size_t)m * n_nodes + node) * 3;
+        for (size_t k = 0; k < 3; k++) {
+            x[k] += qt * corr_v[o + k] + qt * qt * corr_w[o + k];
         }
     }
 }

@@ -5,6 +5,7 @@
 #ifndef GALE_ASSET_H
 #define GALE_ASSET_H
 
+#include <math.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -80,9 +81,24 @@ int asset_decode(const uint8_t *buf, size_t len, const char *name, asset *a, gal
 /* Frees every array of *a and zeroes it. NULL is a no-op. */
 void asset_fini(asset *a);
 
+/* The saturated modal coordinate of the strong-wind form (Diener 2008 section 5.2, eq. 16):
+ * q̃ = a atan(b q); b = 0 (no fit) leaves it linear, q̃ = q. The one C copy of the formula:
+ * shaders/skel.frag is its GLSL twin, held to asset_reconstruct by tests/test_render.c. */
+static inline float asset_corr_qt(float a, float b, float q)
+{
+    return b != 0.0f ? a * atanf(b * q) : q;
+}
+
 /* The C reference reconstruction (the GPU does the same): node positions
- * out[3 n_nodes] = rest + Σ_i q̃_i v_i + q̃_i² w_i with q̃_i = a_i atan(b_i q_i), using
- * the first n_modes_used modes of q. */
+ * out[3 n_nodes] = rest + Σ_i q̃_i v_i + q̃_i² w_i with q̃_i = asset_corr_qt(a_i, b_i, q_i),
+ * using the first n_modes_used modes of q; without a correction, rest + Σ_i q_i φ_i. */
 void asset_reconstruct(const asset *a, const float *q, uint32_t n_modes_used, float *out);
+
+/* The same pose for one node only: x[3] = rest + Σ_i q̃_i v_i + q̃_i² w_i at `node`, for
+ * correction arrays laid out as in an asset (v, w: [mode][node][3]; corr_a, corr_b: [mode])
+ * of a tree with n_nodes nodes, using n_modes modes of q. */
+void asset_reconstruct_node(const float *rest, const float *corr_v, const float *corr_w,
+                            const float *corr_a, const float *corr_b, uint32_t n_nodes,
+                            const float *q, uint32_t n_modes, uint32_t node, float x[3]);
 
 #endif

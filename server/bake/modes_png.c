@@ -12,11 +12,11 @@
 
 enum { PANEL_W = 420, PANEL_H = 520, COLS = 3 };
 
-/* Node positions of mode m alone at q: rest + q̃ v + q̃² w, q̃ = a atan(b q). */
+/* Node positions of mode m alone at q: rest + q̃ v + q̃² w (asset_corr_qt). */
 static void deform(const asset *a, uint32_t m, double q, float *out)
 {
     const size_t n = a->n_nodes, off = (size_t)m * n * 3;
-    const double b = (double)a->corr_b[m], qt = b > 0.0 ? (double)a->corr_a[m] * atan(b * q) : q;
+    const double qt = (double)asset_corr_qt(a->corr_a[m], a->corr_b[m], (float)q);
     for (size_t c = 0; c < 3 * n; c++) {
         out[c] = a->rest[c] + (float)(qt * (double)a->corr_v[off + c] +
                                       qt * qt * (double)a->corr_w[off + c]);
