@@ -33,8 +33,8 @@ static void fill_b(void *ctx, double *v)
     v[0] = 3;
     v[1] = 0;
     v[2] = 1.2345e-7;
-    v[3] = NAN;
-    v[4] = -INFINITY;
+    v[3] = (double)NAN;
+    v[4] = -(double)INFINITY;
 }
 
 static void test_render(void)

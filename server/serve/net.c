@@ -103,7 +103,7 @@ _Static_assert(NET_N_ROWS == 8 + NET_ROLE_COUNT, "one gale_clients row per role"
 static void net_fill(void *ctx, double *v)
 {
     net_server *s = ctx;
-    const net_metrics *m = &s->m;
+    net_metrics *m = &s->m;
     v[0] = (double)atomic_load(&m->snapshots);
     v[1] = (double)atomic_load(&m->bytes_sent);
     v[2] = (double)atomic_load(&m->frames_sent);

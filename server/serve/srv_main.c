@@ -230,7 +230,7 @@ int main(int argc, char **argv)
     rc = srv_run(s);
     on_signal(0); /* wakes the waiter when the server stopped on its own */
     pthread_join(sig_thread, NULL);
-    const sim_metrics *sm = srv_sim_metrics(s);
+    sim_metrics *sm = srv_sim_metrics(s);
     net_metrics *m = srv_metrics(s);
     fprintf(stderr,
             "gale-server: stopped after %llu ticks (%llu overruns, max tick %.2f ms), %llu "

@@ -158,7 +158,7 @@ static const metric_row pub_rows[] = {
 
 static void pub_fill(void *ctx, double *v)
 {
-    const srv_pub_counters *m = ctx;
+    srv_pub_counters *m = ctx;
     v[0] = (double)atomic_load(&m->leaves_shed);
     v[1] = (double)atomic_load(&m->view_snapshots);
     v[2] = (double)atomic_load(&m->view_encode_ns) * 1e-9;
