@@ -257,7 +257,7 @@ static void test_view(void)
     CHECK(check_view(da, sa, 25, -20, 5, 3, c2, &worst) == 0);
     CHECK(c2[0] > 0 && c2[1] + c2[2] > 0);
     CHECK_NEAR(worst, 0, 0.5 + 1e-3);
-    net_metrics *mt = srv_metrics(S);
+    srv_pub_counters *mt = srv_pub_metrics(S);
     unsigned long long vn = atomic_load(&mt->view_snapshots);
     CHECK(vn > 0);
     if (vn) {
@@ -454,10 +454,11 @@ int main(void)
     RUN(test_slow_consumer);
     RUN(test_bad_inputs);
     RUN(test_http);
+    sim_metrics *sm = srv_sim_metrics(S);
     net_metrics *m = srv_metrics(S);
     fprintf(stderr, "  server: %llu ticks, %llu overruns, %llu frames sent\n",
-            (unsigned long long)atomic_load(&m->ticks),
-            (unsigned long long)atomic_load(&m->overruns),
+            (unsigned long long)atomic_load(&sm->ticks),
+            (unsigned long long)atomic_load(&sm->overruns),
             (unsigned long long)atomic_load(&m->frames_sent));
     stop_server();
     return check_report();

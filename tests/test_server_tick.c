@@ -168,10 +168,67 @@ static void test_balls(void)
     tick_destroy(t);
 }
 
+/* A wind grid stand-in whose pressure solve reports the iterations and residual set. */
+typedef struct solve_wind {
+    int iterations;
+    double residual;
+} solve_wind;
+
+static int sw_step(void *ctx, float dt_s, wind_step_stats *st)
+{
+    const solve_wind *f = ctx;
+    (void)dt_s;
+    st->iterations = f->iterations;
+    st->residual = f->residual;
+    return 0;
+}
+
+/* tick_stats tells a pressure solve that used its whole budget and stayed above the
+ * tolerance 1/div_reduction; ticks without a wind step say so. */
+static void test_unconverged(void)
+{
+    float omega[1] = { 3 }, gamma[1] = { 0.3f }, basis[3] = { 0, 0, 0 }, qstep[1] = { 1e-4f };
+    tick_species sp = { .n_modes = 1, .omega = omega, .gamma = gamma, .wind_basis = basis,
+                        .qstep = qstep, .height_m = 10 };
+    scene s = one_tree(0, 5);
+    s.wind_every = 2;
+    solve_wind f = { .iterations = 30, .residual = 0.02 };
+    tick_wind tw = { .ctx = &f, .set_inflow = fw_inflow, .step = sw_step,
+                     .sample_many = fw_sample, .max_iterations = 30, .div_reduction = 100 };
+    tick_sim *t = tick_create(&(tick_desc){ .sc = &s, .species = &sp, .wind = &tw }, NULL);
+    CHECK(t != NULL);
+    if (!t) {
+        return;
+    }
+    tick_stats st;
+    CHECK(tick_step(t, NULL, &st, NULL) == 0); /* tick 0: a wind step */
+    CHECK(st.wind_stepped && st.wind_unconverged);
+    CHECK(st.wind_iters == 30);
+    CHECK_NEAR(st.wind_residual, 0.02, 0);
+    CHECK(tick_step(t, NULL, &st, NULL) == 0); /* tick 1: none (every 2) */
+    CHECK(!st.wind_stepped && !st.wind_unconverged);
+    f.residual = 0.005; /* within 1/100 on the last iteration */
+    CHECK(tick_step(t, NULL, &st, NULL) == 0);
+    CHECK(st.wind_stepped && !st.wind_unconverged);
+    f = (solve_wind){ .iterations = 12, .residual = 0.02 }; /* stopped before the budget */
+    tick_step(t, NULL, &st, NULL);
+    tick_step(t, NULL, &st, NULL);
+    CHECK(st.wind_stepped && !st.wind_unconverged);
+    tick_destroy(t);
+
+    tw.max_iterations = 0; /* budget unknown: never counted */
+    f = (solve_wind){ .iterations = 30, .residual = 0.5 };
+    t = tick_create(&(tick_desc){ .sc = &s, .species = &sp, .wind = &tw }, NULL);
+    CHECK(t && tick_step(t, NULL, &st, NULL) == 0);
+    CHECK(st.wind_stepped && !st.wind_unconverged);
+    tick_destroy(t);
+}
+
 int main(void)
 {
     RUN(test_step_response);
     RUN(test_balls);
+    RUN(test_unconverged);
     RUN(test_leaves_and_errors);
     return check_report();
 }

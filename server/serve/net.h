@@ -1,8 +1,9 @@
-/* Serving over libwebsockets on one port (DESIGN.md "Wire"): the gale WebSocket
- * protocol (JSON control in, binary state out), HTTP GET of baked assets by content
- * hash, /healthz and /metrics (Prometheus text). One lws service thread; the simulation
- * thread publishes encoded snapshots, each encoded once and shared by every connection
- * through a bounded per-connection queue (sendq.h), so a slow client never slows others. */
+/* Serving over libwebsockets on one port (protocol/PROTOCOL.md, server/SERVER.md
+ * "Serving"): the gale WebSocket protocol (JSON control in, binary state out), HTTP GET
+ * of baked assets by content hash, /healthz, and /metrics (a metric.h registry rendered
+ * as Prometheus text). One lws service thread; the simulation thread publishes encoded
+ * snapshots, each encoded once and shared by every connection through a bounded
+ * per-connection queue (sendq.h), so a slow client never slows others. */
 #ifndef GALE_NET_H
 #define GALE_NET_H
 
@@ -12,6 +13,7 @@
 #include <stdint.h>
 
 #include "err.h"
+#include "metric.h"
 
 typedef struct net_server net_server;
 
@@ -20,10 +22,10 @@ enum { NET_ROLE_NONE, NET_ROLE_VIEWER, NET_ROLE_KIOSK, NET_ROLE_WALL, NET_ROLE_L
        NET_ROLE_COUNT };
 
 /* One published snapshot: the binary messages of one snapshot (sequence number seq),
- * each encoded once and shared by every connection. A connection that holds snapshots seq-1 and seq-2 gets delta2 (linear
- * prediction from both), one that holds only seq-1 (it was a keyframe) gets delta1,
- * any other (late joiner, after drops, after a resync request) the keyframe. Extra
- * messages (leaf seeds, coarse wind) follow the state. */
+ * each encoded once and shared by every connection. A connection that holds snapshots
+ * seq-1 and seq-2 gets delta2 (linear prediction from both), one that holds only seq-1
+ * (it was a keyframe) gets delta1, any other (late joiner, after drops, after a resync
+ * request) the keyframe. Extra messages (leaf seeds, coarse wind) follow the state. */
 #define NET_SNAP_MAX_EXTRA 2
 typedef struct net_snap {
     atomic_int refs;        /* 0 = free in the pool */
@@ -86,26 +88,23 @@ typedef struct net_desc {
     void (*closed)(void *user, const net_peer *peer);
     int max_streams;          /* view streams published besides the shared one (sizes the
                                  snapshot pool and the hand-over queue); 0 → none */
+    const metric_reg *metrics; /* the rows served at /metrics, borrowed and complete before
+                                  net_run; NULL → an empty page */
+    const atomic_uint *tick;  /* the simulation's tick counter, borrowed: /healthz and the
+                                 connection log lines show it; NULL → 0 */
 } net_desc;
 
-/* Counters, readable from any thread; the simulation thread writes the tick ones. */
+/* The network's counters, readable from any thread (net_metrics_register makes them
+ * /metrics rows). */
 typedef struct net_metrics {
-    atomic_ullong ticks;
-    atomic_ullong tick_ns_sum;
-    atomic_ullong tick_ns_max;
-    atomic_ullong overruns;
-    atomic_ullong snapshots;
+    atomic_ullong snapshots;        /* shared-stream snapshots published (net_publish) */
     atomic_ullong bytes_sent;
     atomic_ullong frames_sent;
     atomic_ullong frames_dropped;
     atomic_ullong bad_messages;
     atomic_ullong laggards_closed;
     atomic_ullong connections_total;
-    atomic_ullong leaves_shed;
-    atomic_ullong view_snapshots;   /* view-stream snapshots encoded (sim thread) */
-    atomic_ullong view_encode_ns;   /* time spent encoding them */
     atomic_int clients[NET_ROLE_COUNT];
-    atomic_uint current_tick;
 } net_metrics;
 
 /* Creates the lws context and listens; NULL on failure (port in use...) with err filled.
@@ -115,8 +114,12 @@ net_server *net_create(const net_desc *d, gale_err *err);
 void net_destroy(net_server *s);
 /* The port actually listened on. */
 int net_port(const net_server *s);
-/* Shared counters. */
+/* The network's counters. */
 net_metrics *net_get_metrics(net_server *s);
+/* Adds the network's rows (gale_snapshots_total, gale_bytes_sent_total, ...,
+ * gale_clients{role=...}) to r; s is borrowed for r's life. Fails only when r is full
+ * (metric_reg_add). */
+int net_metrics_register(net_server *s, metric_reg *r, gale_err *err);
 
 /* Simulation thread: a free snapshot from the pool to fill (refs set to 1), or NULL when
  * all are still in flight (counted; the caller skips publishing this one). */

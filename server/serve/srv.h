@@ -1,7 +1,8 @@
 /* The running server: a simulation thread (tick.h at tick_hz, a snapshot every
- * tick_hz/snapshot_hz ticks, quantised and encoded once with protocol/wire.h) handing
- * frames to the lws service thread (net.h), and the control protocol (ctl.h: hello,
- * welcome, kiosk wind commands, resync, ping). DESIGN.md "Data flow" and "Wire". */
+ * tick_hz/snapshot_hz ticks, quantised and encoded once per stream with protocol/wire.h)
+ * handing frames to the lws service thread (net.h), and the control protocol (ctl.h:
+ * hello, welcome, views, kiosk wind commands, resync, ping). server/SERVER.md "Loop",
+ * "Views and LOD" and "Serving"; protocol/PROTOCOL.md. */
 #ifndef GALE_SRV_H
 #define GALE_SRV_H
 
@@ -12,6 +13,7 @@
 #include "net.h"
 #include "scenario.h"
 #include "scene.h"
+#include "sim_metrics.h"
 #include "tick.h"
 
 /* One species as served: its modal data, quantisation steps and asset file. */
@@ -38,6 +40,13 @@ typedef struct srv_desc {
     int history;                  /* snapshots of float q kept for srv_history_q; 0 → none */
 } srv_desc;
 
+/* The snapshot publisher's counters (the sim thread writes, any thread reads). */
+typedef struct srv_pub_counters {
+    atomic_ullong leaves_shed;    /* leaf seeds gathered for LEAVES frames */
+    atomic_ullong view_snapshots; /* view-stream snapshots encoded and published */
+    atomic_ullong view_encode_ns; /* time spent encoding them [ns] */
+} srv_pub_counters;
+
 typedef struct srv srv;
 
 /* Builds the simulation and starts listening (not yet serving); NULL with err filled. */
@@ -51,7 +60,11 @@ void srv_stop(srv *s);
 void srv_destroy(srv *s);
 
 int srv_port(const srv *s);
+/* The counters behind /metrics, by owner: the network's, the simulation's, the
+ * publisher's. Valid until srv_destroy; readable from any thread. */
 net_metrics *srv_metrics(srv *s);
+sim_metrics *srv_sim_metrics(srv *s);
+srv_pub_counters *srv_pub_metrics(srv *s);
 /* Float q (before quantisation) of tree t at snapshot seq, kept when desc.history > 0
  * (tests compare decoded frames with it): copies up to cap modes and returns the count,
  * or -1 when that snapshot is no longer (or not yet) held. Thread-safe. */

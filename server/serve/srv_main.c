@@ -199,9 +199,11 @@ int main(int argc, char **argv)
             fprintf(stderr, "gale-server: wind grid: %s\n", err.msg);
             goto done;
         }
+        wind_desc wd = wind_get_desc(grid);
         tw = (tick_wind){ .ctx = grid, .set_inflow = w_inflow, .step = w_step,
                           .sample_many = w_sample, .coarse = w_coarse,
-                          .add_ball = w_ball };
+                          .add_ball = w_ball, .max_iterations = wd.max_iterations,
+                          .div_reduction = wd.div_reduction };
     }
     if (check) {
         fprintf(stderr, "gale-server: %s: config ok: %d trees, %d species\n",
@@ -228,13 +230,14 @@ int main(int argc, char **argv)
     rc = srv_run(s);
     on_signal(0); /* wakes the waiter when the server stopped on its own */
     pthread_join(sig_thread, NULL);
+    sim_metrics *sm = srv_sim_metrics(s);
     net_metrics *m = srv_metrics(s);
     fprintf(stderr,
             "gale-server: stopped after %llu ticks (%llu overruns, max tick %.2f ms), %llu "
             "snapshots, %llu frames sent, %llu dropped for slow clients, %llu bad messages\n",
-            (unsigned long long)atomic_load(&m->ticks),
-            (unsigned long long)atomic_load(&m->overruns),
-            (double)atomic_load(&m->tick_ns_max) * 1e-6,
+            (unsigned long long)atomic_load(&sm->ticks),
+            (unsigned long long)atomic_load(&sm->overruns),
+            (double)atomic_load(&sm->tick_ns_max) * 1e-6,
             (unsigned long long)atomic_load(&m->snapshots),
             (unsigned long long)atomic_load(&m->frames_sent),
             (unsigned long long)atomic_load(&m->frames_dropped),

@@ -180,8 +180,15 @@ int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
                                  "tick %u: wind step broke down (non-finite field)", t->tick);
             }
             local.wind_ms = now_ms() - w0;
+            local.wind_stepped = true;
             local.wind_iters = ws.iterations;
             local.wind_div = ws.div_after;
+            local.wind_residual = ws.residual;
+            /* the solve stops at max_iterations or once the residual is within
+             * 1/div_reduction of the start (wind.h wind_desc) */
+            local.wind_unconverged = t->d.wind->max_iterations > 0 &&
+                                     ws.iterations >= t->d.wind->max_iterations &&
+                                     ws.residual * (double)t->d.wind->div_reduction > 1.0;
         }
         /* 2. sample the wind at every crown */
         t->d.wind->sample_many(t->d.wind->ctx, t->n_trees, t->crown, t->vel);

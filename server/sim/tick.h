@@ -1,11 +1,12 @@
-/* The fixed-step simulation (DESIGN.md "Data flow", server tick): step the wind grid
- * (every k ticks), sample the wind at each tree's crown, rotate it into the tree frame,
- * force each mode with f_i = |v| v·p_i (Diener 2008 section 4) and advance each mode by
- * the exact discrete oscillator update (modal.h, DESIGN.md "Integration"), quantise q
- * into the snapshot buffer on snapshot ticks, and shed leaves (leaf.h). */
+/* The fixed-step simulation (server/SERVER.md "Loop"): step the wind grid (every k
+ * ticks), sample the wind at each tree's crown, rotate it into the tree frame, force each
+ * mode with f_i = |v| v·p_i (Diener 2008 section 4) and advance each mode by the exact
+ * discrete oscillator update (modal.h), quantise q into the snapshot buffer on snapshot
+ * ticks, and shed leaves (leaf.h). */
 #ifndef GALE_TICK_H
 #define GALE_TICK_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "err.h"
@@ -35,6 +36,10 @@ typedef struct tick_wind {
     int (*coarse)(void *ctx, int factor, float *out, int capacity, int dims[3]);
     /* wind_add_ball: a force ball for the next step only; may be NULL (balls ignored) */
     void (*add_ball)(void *ctx, const wind_ball *b);
+    /* the pressure solve's budget and required divergence reduction (wind_get_desc), to
+     * tell a solve that ran out of iterations; 0 → unknown, no solve counts as one */
+    int max_iterations;
+    float div_reduction;
 } tick_wind;
 
 typedef struct tick_desc {
@@ -45,13 +50,16 @@ typedef struct tick_desc {
 } tick_desc;
 
 typedef struct tick_stats {
-    double ms;          /* wall time of this tick */
-    double wind_ms;     /* of which the wind step */
-    int wind_iters;     /* pressure iterations of the wind step, 0 if none this tick */
-    double wind_div;    /* divergence after projection */
-    int leaves;         /* leaf seeds emitted */
-    int leaves_lost;    /* shed but over the per-tick cap */
-    float max_speed_ms; /* strongest wind at a crown */
+    double ms;             /* wall time of this tick */
+    double wind_ms;        /* of which the wind step */
+    bool wind_stepped;     /* the wind grid stepped this tick (the wind fields below are set) */
+    int wind_iters;        /* pressure iterations of the wind step, 0 if none this tick */
+    double wind_div;       /* divergence after projection */
+    double wind_residual;  /* relative residual ||b - A p|| / ||b|| of the pressure solve */
+    bool wind_unconverged; /* the solve used its whole budget, still above 1/div_reduction */
+    int leaves;            /* leaf seeds emitted */
+    int leaves_lost;       /* shed but over the per-tick cap */
+    float max_speed_ms;    /* strongest wind at a crown */
 } tick_stats;
 
 typedef struct tick_sim tick_sim;

@@ -1,0 +1,120 @@
+/* The network module's private parts, shared by net.c (life cycle, snapshot hand-over,
+ * the lws callback), net_ws.c (WebSocket connections) and net_http.c (HTTP: assets,
+ * /healthz, /metrics). Everything declared here runs on the lws service thread. */
+#ifndef GALE_NET_INT_H
+#define GALE_NET_INT_H
+
+#include <pthread.h>
+#include <time.h>
+
+#include <libwebsockets.h>
+
+#include "net.h"
+#include "sendq.h"
+
+#define NET_PUB_MAX 16    /* published snapshots per stream waiting for the service thread */
+#define NET_CTL_MAX 8     /* control replies queued per connection */
+#define NET_HTTP_CHUNK 16384
+#define NET_LOG_PER_S 20  /* rate limit of bad-input log lines */
+
+/* One queued control (text) message; data has LWS_PRE bytes of headroom. */
+typedef struct net_text {
+    uint8_t *data; /* owned */
+    size_t len;
+} net_text;
+
+/* Per-session data: one per WebSocket connection or HTTP transaction (lws allocates
+ * and zeroes it; we free what it points to on close). */
+typedef struct net_conn {
+    struct net_conn *next, *prev; /* the server's list of WebSocket connections */
+    struct lws *wsi;
+    uint32_t id;
+    char peer[64];
+    bool is_ws;
+    bool linked;
+    int role;             /* NET_ROLE_*; NONE until the hello is accepted */
+    sendq q;              /* net_snap*, one reference each */
+    net_snap *cur;        /* snapshot being written, one reference */
+    int cur_part;         /* 0 state, 1.. extras */
+    uint32_t last_seq;    /* seq of the last state message written */
+    uint32_t stream;      /* snapshot stream followed (net_peer.stream) */
+    uint32_t last_stream; /* stream of the last state message written */
+    int chain;            /* 0: holds nothing usable; 1: holds last_seq (a keyframe);
+                             2: holds last_seq and last_seq - 1 */
+    bool resync;          /* the client asked for a keyframe */
+    net_text ctl[NET_CTL_MAX];
+    int ctl_head, ctl_n;
+    uint8_t *rx;          /* owned [max_message + 1]: reassembly of fragmented messages */
+    size_t rx_len;
+    bool rx_oversize;
+    int close_code;       /* > 0: close at the next writeable */
+    char close_reason[100];
+    /* HTTP response */
+    uint8_t *http_owned;  /* owned body (metrics) or NULL */
+    const uint8_t *http_body;
+    size_t http_len, http_off;
+} net_conn;
+
+struct net_server {
+    net_desc d;
+    struct lws_context *ctx;
+    struct lws_vhost *vhost;
+    struct lws_protocols protocols[2];
+    int port;
+    net_metrics m;
+    atomic_int stop;
+    uint32_t next_id;
+    net_conn *conns; /* list head */
+    int n_conns;
+    /* snapshot pool and the hand-over queue (mutex: sim thread <-> service thread) */
+    net_snap *pool;  /* owned [n_pool] */
+    int n_pool;
+    pthread_mutex_t pub_lock;
+    net_snap **pub;   /* owned [pub_cap] */
+    net_snap **batch; /* owned [pub_cap], service thread */
+    int pub_n, pub_cap;
+    atomic_ullong pool_exhausted;
+    atomic_ullong pub_overflow;
+    /* rate limit of the bad-input log */
+    time_t log_sec;
+    int log_n;
+    unsigned log_suppressed;
+    uint8_t http_buf[LWS_PRE + NET_HTTP_CHUNK];
+};
+
+/* The tick counter the server lent (net_desc.tick), 0 without one. */
+static inline unsigned net_tick(const net_server *s)
+{
+    return s->d.tick ? atomic_load(s->d.tick) : 0u;
+}
+
+/* --- net_ws.c: WebSocket connections ---------------------------------------------------- */
+
+/* "conn 7 127.0.0.1 tick 1234: <what>" on stderr, at most NET_LOG_PER_S lines a second. */
+void net_conn_log(net_server *s, const net_conn *c, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+/* Drops one reference to a pooled snapshot (any thread). */
+void net_snap_unref(net_snap *p);
+/* Asks that c be closed with code/reason at its next writeable callback, after an error
+ * message (ctl.h CTL_ERROR) that carries the same code and reason. */
+void net_conn_close(net_server *s, net_conn *c, int code, const char *reason);
+/* A new WebSocket connection on wsi: sets up c (lws zeroed it) and links it; -1 refuses
+ * the connection (out of memory). */
+int net_ws_established(net_server *s, net_conn *c, struct lws *wsi);
+/* The connection closed: unlinks it and frees what c points to. */
+void net_conn_free(net_server *s, net_conn *c);
+/* Queues every snapshot the simulation published on the ready connections of its stream. */
+void net_deliver_published(net_server *s);
+/* SERVER_WRITEABLE: one message to c; -1 closes it. */
+int net_ws_writeable(net_server *s, net_conn *c);
+/* RECEIVE: a fragment of a control message, handed to net_desc.control once whole. */
+int net_ws_receive(net_server *s, net_conn *c, const void *in, size_t len);
+
+/* --- net_http.c: HTTP ------------------------------------------------------------------- */
+
+/* LWS_CALLBACK_HTTP for uri: starts the response; nonzero closes the transaction. */
+int net_http_request(net_server *s, net_conn *c, const char *uri);
+/* HTTP_WRITEABLE: the next chunk of the body; nonzero closes the transaction. */
+int net_http_writeable(net_server *s, net_conn *c);
+
+#endif

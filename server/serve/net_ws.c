@@ -1,0 +1,350 @@
+/* WebSocket connections: per-connection state, control replies and close, the hand-over
+ * of published snapshots to each connection's queue, and the writeable/receive callbacks
+ * (see net.h; shaped after lws minimal-ws-server-ring). Runs on the lws service thread. */
+#include "net_int.h"
+
+#include <inttypes.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <sys/socket.h>
+
+#include "ctl.h"
+#include "wire.h"
+
+void net_conn_log(net_server *s, const net_conn *c, const char *fmt, ...)
+{
+    time_t now = time(NULL);
+    if (now != s->log_sec) {
+        if (s->log_suppressed) {
+            fprintf(stderr, "gale-server: %u more connection messages suppressed\n",
+                    s->log_suppressed);
+        }
+        s->log_sec = now;
+        s->log_n = 0;
+        s->log_suppressed = 0;
+    }
+    if (++s->log_n > NET_LOG_PER_S) {
+        s->log_suppressed++;
+        return;
+    }
+    char msg[256];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    fprintf(stderr, "gale-server: conn %" PRIu32 " %s tick %u: %s\n", c->id, c->peer,
+            net_tick(s), msg);
+}
+
+void net_snap_unref(net_snap *p)
+{
+    atomic_fetch_sub_explicit(&p->refs, 1, memory_order_acq_rel);
+}
+
+static void snap_release_cb(void *item, void *ctx)
+{
+    net_server *s = ctx;
+    atomic_fetch_add_explicit(&s->m.frames_dropped, 1, memory_order_relaxed);
+    net_snap_unref(item);
+}
+
+static void conn_queue_owned(net_conn *c, uint8_t *b, size_t len);
+
+void net_conn_close(net_server *s, net_conn *c, int code, const char *reason)
+{
+    if (c->close_code) {
+        return;
+    }
+    c->close_code = code;
+    snprintf(c->close_reason, sizeof c->close_reason, "%s", reason);
+    if (code != WIRE_CLOSE_GOING_AWAY) {
+        net_conn_log(s, c, "closing %d (%s): %s", code, wire_close_name(code), reason);
+    }
+    ctl_msg m = { .type = CTL_ERROR };
+    m.u.error.code = code;
+    snprintf(m.u.error.message, sizeof m.u.error.message, "%s", reason);
+    char buf[512];
+    size_t n = 0;
+    uint8_t *b;
+    if (c->ctl_n < NET_CTL_MAX && !ctl_encode_into(&m, buf, sizeof buf, &n, NULL) &&
+        (b = malloc(LWS_PRE + n))) {
+        memcpy(b + LWS_PRE, buf, n);
+        conn_queue_owned(c, b, n);
+    }
+    lws_callback_on_writable(c->wsi);
+}
+
+static void bad_input(net_server *s, net_conn *c, int code, const char *reason)
+{
+    atomic_fetch_add_explicit(&s->m.bad_messages, 1, memory_order_relaxed);
+    net_conn_close(s, c, code, reason);
+}
+
+static void conn_queue_owned(net_conn *c, uint8_t *b, size_t len)
+{
+    c->ctl[(c->ctl_head + c->ctl_n) % NET_CTL_MAX] = (net_text){ .data = b, .len = len };
+    c->ctl_n++;
+}
+
+/* Queues a text message (copied with LWS_PRE headroom). */
+static int conn_queue_text(net_server *s, net_conn *c, const char *text, size_t len)
+{
+    if (c->ctl_n >= NET_CTL_MAX - 1) {
+        /* one slot stays free for the error message a close sends */
+        bad_input(s, c, WIRE_CLOSE_FULL, "control replies not read: too many requests in flight");
+        return -1;
+    }
+    uint8_t *b = malloc(LWS_PRE + len + 1);
+    if (!b) {
+        net_conn_close(s, c, LWS_CLOSE_STATUS_UNEXPECTED_CONDITION, "server out of memory");
+        return -1;
+    }
+    memcpy(b + LWS_PRE, text, len);
+    conn_queue_owned(c, b, len);
+    lws_callback_on_writable(c->wsi);
+    return 0;
+}
+
+void net_conn_free(net_server *s, net_conn *c)
+{
+    if (c->linked) {
+        if (c->role != NET_ROLE_NONE && s->d.closed) {
+            s->d.closed(s->d.control_user, &(net_peer){ .id = c->id, .addr = c->peer,
+                                                        .role = c->role, .stream = c->stream });
+        }
+        if (c->prev) {
+            c->prev->next = c->next;
+        } else {
+            s->conns = c->next;
+        }
+        if (c->next) {
+            c->next->prev = c->prev;
+        }
+        c->linked = false;
+        s->n_conns--;
+        atomic_fetch_sub(&s->m.clients[c->role], 1);
+    }
+    if (c->cur) {
+        net_snap_unref(c->cur);
+        c->cur = NULL;
+    }
+    /* queued snapshots are released without counting them as dropped */
+    c->q.release = NULL;
+    for (int i = 0; i < c->q.count; i++) {
+        net_snap_unref(c->q.slot[(c->q.head + i) % c->q.cap]);
+    }
+    c->q.count = 0;
+    sendq_fini(&c->q);
+    for (int i = 0; i < c->ctl_n; i++) {
+        free(c->ctl[(c->ctl_head + i) % NET_CTL_MAX].data);
+    }
+    c->ctl_n = 0;
+    free(c->rx);
+    c->rx = NULL;
+}
+
+int net_ws_established(net_server *s, net_conn *c, struct lws *wsi)
+{
+    memset(c, 0, sizeof *c);
+    c->wsi = wsi;
+    c->id = ++s->next_id;
+    c->is_ws = true;
+    lws_get_peer_simple(wsi, c->peer, sizeof c->peer);
+    gale_err e;
+    c->rx = malloc(s->d.max_message + 1);
+    if (!c->rx || sendq_init(&c->q, s->d.queue_frames, snap_release_cb, s, &e)) {
+        free(c->rx);
+        c->rx = NULL;
+        return -1;
+    }
+    int fd = lws_get_socket_fd(wsi), one = 1;
+    if (s->d.sndbuf > 0) {
+        setsockopt(fd, SOL_SOCKET, SO_SNDBUF, &s->d.sndbuf, sizeof s->d.sndbuf);
+    }
+    /* Small state frames back to back: no Nagle wait for the previous one's ACK. */
+    setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+    c->next = s->conns;
+    if (s->conns) {
+        s->conns->prev = c;
+    }
+    s->conns = c;
+    c->linked = true;
+    s->n_conns++;
+    atomic_fetch_add(&s->m.clients[NET_ROLE_NONE], 1);
+    atomic_fetch_add(&s->m.connections_total, 1);
+    if (atomic_load(&s->stop)) {
+        net_conn_close(s, c, WIRE_CLOSE_GOING_AWAY, "server shutting down");
+    } else if (s->n_conns > s->d.max_clients) {
+        net_conn_close(s, c, WIRE_CLOSE_FULL, "server full: try again later");
+    }
+    return 0;
+}
+
+void net_deliver_published(net_server *s)
+{
+    net_snap **batch = s->batch;
+    int n;
+    pthread_mutex_lock(&s->pub_lock);
+    n = s->pub_n;
+    memcpy(batch, s->pub, sizeof batch[0] * (size_t)n);
+    s->pub_n = 0;
+    pthread_mutex_unlock(&s->pub_lock);
+    for (int i = 0; i < n; i++) {
+        net_snap *p = batch[i];
+        for (net_conn *c = s->conns; c; c = c->next) {
+            if (c->role == NET_ROLE_NONE || c->close_code || c->stream != p->stream) {
+                continue;
+            }
+            atomic_fetch_add_explicit(&p->refs, 1, memory_order_relaxed);
+            sendq_push(&c->q, p);
+            if (c->q.drop_streak >= (uint32_t)s->d.lag_limit) {
+                char why[100];
+                snprintf(why, sizeof why, "too slow: %u snapshots dropped in a row",
+                         c->q.drop_streak);
+                atomic_fetch_add(&s->m.laggards_closed, 1);
+                sendq_clear(&c->q);
+                net_conn_close(s, c, WIRE_CLOSE_SLOW, why);
+                continue;
+            }
+            lws_callback_on_writable(c->wsi);
+        }
+        net_snap_unref(p); /* the publisher's reference */
+    }
+}
+
+static int ws_write(net_server *s, net_conn *c, uint8_t *data, size_t len,
+                    enum lws_write_protocol kind)
+{
+    int n = lws_write(c->wsi, data, len, kind);
+    if (n < (int)len) {
+        return -1; /* the peer is gone: lws closes the connection */
+    }
+    atomic_fetch_add_explicit(&s->m.bytes_sent, len, memory_order_relaxed);
+    atomic_fetch_add_explicit(&s->m.frames_sent, 1, memory_order_relaxed);
+    return 0;
+}
+
+int net_ws_writeable(net_server *s, net_conn *c)
+{
+    if (c->close_code && !c->ctl_n) {
+        lws_close_reason(c->wsi, (enum lws_close_status)c->close_code,
+                         (unsigned char *)c->close_reason, strlen(c->close_reason));
+        return -1;
+    }
+    if (c->ctl_n) {
+        /* Control replies first: they are few and small, and a hello's scene comes before
+         * any state. */
+        net_text t = c->ctl[c->ctl_head];
+        c->ctl_head = (c->ctl_head + 1) % NET_CTL_MAX;
+        c->ctl_n--;
+        int rc = ws_write(s, c, t.data + LWS_PRE, t.len, LWS_WRITE_TEXT);
+        free(t.data);
+        if (rc) {
+            return -1;
+        }
+        if (c->ctl_n || c->q.count || c->close_code) {
+            lws_callback_on_writable(c->wsi);
+        }
+        return 0;
+    }
+    if (!c->cur) {
+        c->cur = sendq_pop(&c->q);
+        c->cur_part = 0;
+        if (!c->cur) {
+            return 0;
+        }
+    }
+    net_snap *p = c->cur;
+    int rc;
+    if (c->cur_part == 0) {
+        bool next = !c->resync && c->chain > 0 && p->seq == c->last_seq + 1u &&
+                    p->stream == c->last_stream;
+        if (next && c->chain >= 2 && p->delta2_len) {
+            rc = ws_write(s, c, p->delta2, p->delta2_len, LWS_WRITE_BINARY);
+            c->chain = 2;
+        } else if (next && p->delta1_len) {
+            rc = ws_write(s, c, p->delta1, p->delta1_len, LWS_WRITE_BINARY);
+            c->chain = 2;
+        } else {
+            rc = ws_write(s, c, p->key, p->key_len, LWS_WRITE_BINARY);
+            c->chain = 1;
+        }
+        c->resync = false;
+        c->last_seq = p->seq;
+        c->last_stream = p->stream;
+        c->cur_part = 1;
+    } else {
+        int e = c->cur_part - 1;
+        rc = ws_write(s, c, p->extra[e], p->extra_len[e], LWS_WRITE_BINARY);
+        c->cur_part++;
+    }
+    if (rc) {
+        return -1;
+    }
+    while (c->cur_part >= 1 && c->cur_part <= NET_SNAP_MAX_EXTRA &&
+           !p->extra_len[c->cur_part - 1]) {
+        c->cur_part++;
+    }
+    if (c->cur_part > NET_SNAP_MAX_EXTRA) {
+        net_snap_unref(p);
+        c->cur = NULL;
+    }
+    if (c->cur || c->q.count || c->ctl_n) {
+        lws_callback_on_writable(c->wsi);
+    }
+    return 0;
+}
+
+int net_ws_receive(net_server *s, net_conn *c, const void *in, size_t len)
+{
+    if (c->close_code) {
+        return 0; /* already on its way out: ignore what follows */
+    }
+    if (lws_frame_is_binary(c->wsi)) {
+        bad_input(s, c, WIRE_CLOSE_BINARY,
+                  "binary message: only JSON text control messages are accepted");
+        return 0;
+    }
+    if (c->rx_len + len > s->d.max_message) {
+        char why[100];
+        snprintf(why, sizeof why, "message too large: expected <= %zu bytes, got %zu+",
+                 s->d.max_message, c->rx_len + len);
+        bad_input(s, c, WIRE_CLOSE_TOO_BIG, why);
+        return 0;
+    }
+    memcpy(c->rx + c->rx_len, in, len);
+    c->rx_len += len;
+    if (!lws_is_final_fragment(c->wsi) || lws_remaining_packet_payload(c->wsi)) {
+        return 0;
+    }
+    c->rx[c->rx_len] = 0;
+    char *reply = NULL, why[100];
+    size_t reply_len = 0;
+    why[0] = 0;
+    net_peer peer = { .id = c->id, .addr = c->peer, .role = c->role, .stream = c->stream };
+    int code = s->d.control(s->d.control_user, &peer, (const char *)c->rx, c->rx_len, &reply,
+                            &reply_len, why, sizeof why);
+    c->rx_len = 0;
+    if (code) {
+        free(reply);
+        bad_input(s, c, code, why[0] ? why : "rejected");
+        return 0;
+    }
+    if (peer.role != c->role && peer.role > NET_ROLE_NONE && peer.role < NET_ROLE_COUNT) {
+        atomic_fetch_sub(&s->m.clients[c->role], 1);
+        atomic_fetch_add(&s->m.clients[peer.role], 1);
+        c->role = peer.role;
+    }
+    c->resync = c->resync || peer.resync;
+    c->stream = peer.stream; /* a frame of another stream than the last is a keyframe */
+    if (reply) {
+        conn_queue_text(s, c, reply, reply_len);
+        free(reply);
+    }
+    return 0;
+}

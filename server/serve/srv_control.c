@@ -1,0 +1,188 @@
+/* The control protocol on the lws thread (ctl.h, protocol/PROTOCOL.md): hello and the
+ * welcome it gets, the view a connection follows (one snapshot stream per distinct view),
+ * kiosk wind commands into the scenario, resync and ping. */
+#include "srv_int.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int welcome(srv *s, const net_peer *p, int ctl_role, char **reply, size_t *len, char *why,
+                   size_t why_cap)
+{
+    ctl_msg m = { .type = CTL_WELCOME };
+    ctl_welcome *w = &m.u.welcome;
+    w->protocol = WIRE_PROTOCOL_VERSION;
+    w->client_id = p->id;
+    w->role = ctl_role;
+    w->tick_hz = (float)s->d.sc->tick_hz;
+    w->snapshot_hz = (float)(s->d.sc->tick_hz / s->ticks_per_snap);
+    w->server_us = srv_mono_us();
+    w->tick = atomic_load(&s->simm.current_tick);
+    w->n_species = (uint32_t)s->d.sc->n_species;
+    w->species = s->wspecies;
+    w->n_instances = (uint32_t)s->d.sc->n_trees;
+    w->instances = s->winst;
+    /* The houses: every scene obstacle fits the wire. */
+    _Static_assert(SCENE_MAX_OBSTACLES <= WIRE_MAX_OBSTACLES, "scene obstacles exceed the wire");
+    const scene *sc = s->d.sc;
+    w->obstacles = sc->n_obstacles > 0 ? calloc((size_t)sc->n_obstacles, sizeof *w->obstacles)
+                                       : NULL;
+    if (sc->n_obstacles > 0 && !w->obstacles) {
+        snprintf(why, why_cap, "cannot encode the welcome: out of memory");
+        return WIRE_CLOSE_BAD_FIELD;
+    }
+    w->n_obstacles = (uint32_t)sc->n_obstacles;
+    for (int i = 0; i < sc->n_obstacles; i++) {
+        memcpy(w->obstacles[i].min, sc->obstacles[i].min, sizeof w->obstacles[i].min);
+        memcpy(w->obstacles[i].max, sc->obstacles[i].max, sizeof w->obstacles[i].max);
+    }
+    gale_err e;
+    int rc = ctl_encode(&m, reply, len, &e);
+    free(w->obstacles);
+    if (rc) {
+        snprintf(why, why_cap, "cannot encode the welcome: %s", e.msg);
+        return WIRE_CLOSE_BAD_FIELD;
+    }
+    return 0;
+}
+
+/* Moves a connection from stream `old` to the stream of view v (lws thread): an equal view
+ * already encoded is shared, else a free slot takes it. Returns the new stream, 0 for the
+ * shared whole-scene stream (v covers everything, or all SRV_MAX_VIEWS slots are taken). */
+static uint32_t view_join(srv *s, uint32_t old, const ctl_view *v)
+{
+    uint32_t stream = 0;
+    pthread_mutex_lock(&s->view_lock);
+    for (int k = 0; k < SRV_MAX_VIEWS && old; k++) {
+        srv_view *w = &s->views[k];
+        if (w->stream == old && --w->users <= 0) {
+            w->stream = 0;
+            w->users = 0;
+        }
+    }
+    if (v && v->kind != CTL_VIEW_ALL) {
+        int free_slot = -1;
+        for (int k = 0; k < SRV_MAX_VIEWS && !stream; k++) {
+            srv_view *w = &s->views[k];
+            if (w->stream && !memcmp(&w->v, v, sizeof *v)) {
+                w->users++;
+                stream = w->stream;
+            } else if (!w->stream && free_slot < 0) {
+                free_slot = k;
+            }
+        }
+        if (!stream && free_slot >= 0) {
+            s->views[free_slot] = (srv_view){ .v = *v, .stream = ++s->next_stream, .users = 1 };
+            stream = s->views[free_slot].stream;
+        }
+    }
+    pthread_mutex_unlock(&s->view_lock);
+    return stream;
+}
+
+void srv_on_closed(void *user, const net_peer *p)
+{
+    if (p->stream) {
+        view_join(user, p->stream, NULL);
+    }
+}
+
+int srv_on_control(void *user, net_peer *p, const char *text, size_t len, char **reply,
+                   size_t *reply_len, char *why, size_t why_cap)
+{
+    srv *s = user;
+    ctl_msg m;
+    int code = WIRE_CLOSE_BAD_JSON;
+    gale_err e;
+    if (ctl_decode(text, len, CTL_MAX_CLIENT_BYTES, &m, &code, &e)) {
+        snprintf(why, why_cap, "%s", e.msg);
+        return code ? code : WIRE_CLOSE_BAD_JSON;
+    }
+    int rc = 0;
+    if (!ctl_from_client(m.type)) {
+        snprintf(why, why_cap, "type: %s is a server message", ctl_type_name(m.type));
+        rc = WIRE_CLOSE_UNKNOWN_TYPE;
+    } else if (m.type == CTL_HELLO) {
+        const ctl_hello *h = &m.u.hello;
+        if (p->role != NET_ROLE_NONE) {
+            snprintf(why, why_cap, "hello: a second hello on one connection");
+            rc = WIRE_CLOSE_ORDER;
+        } else if (h->protocol != WIRE_PROTOCOL_VERSION) {
+            snprintf(why, why_cap, "hello.protocol: expected %d, got %d", WIRE_PROTOCOL_VERSION,
+                     h->protocol);
+            rc = WIRE_CLOSE_VERSION;
+        } else if (h->role == CTL_ROLE_KIOSK &&
+                   (!s->d.sc->kiosk_token[0] || strcmp(h->token, s->d.sc->kiosk_token))) {
+            snprintf(why, why_cap, "hello.token: wrong kiosk token");
+            rc = WIRE_CLOSE_BAD_TOKEN;
+        } else {
+            rc = welcome(s, p, h->role, reply, reply_len, why, why_cap);
+            if (!rc) {
+                p->role = h->role + 1; /* NET_ROLE_* follows ctl_role, shifted by NONE */
+                p->resync = true;
+                p->stream = view_join(s, p->stream, &h->view);
+            }
+        }
+    } else if (p->role == NET_ROLE_NONE) {
+        snprintf(why, why_cap, "%s before hello", ctl_type_name(m.type));
+        rc = WIRE_CLOSE_ORDER;
+    } else if (m.type == CTL_WIND) {
+        const ctl_wind *w = &m.u.wind;
+        if (p->role != NET_ROLE_KIOSK) {
+            snprintf(why, why_cap, "wind: only a kiosk may steer the wind (this is a %s)",
+                     ctl_role_name(p->role - 1));
+            rc = WIRE_CLOSE_FORBIDDEN;
+        } else if (strcmp(w->token, s->d.sc->kiosk_token)) {
+            snprintf(why, why_cap, "wind.token: wrong kiosk token");
+            rc = WIRE_CLOSE_BAD_TOKEN;
+        } else if (w->has_gust) {
+            /* The scenario's gust process has no override (scenario.h dials hold the
+             * sustained wind and its direction only): say so rather than ignore it. */
+            snprintf(why, why_cap, "wind.gust: not supported (the scenario sets the "
+                                   "turbulence); send speed_ms and dir_deg only");
+            rc = WIRE_CLOSE_BAD_FIELD;
+        } else if (s->scen) {
+            pthread_mutex_lock(&s->scen_lock);
+            if (w->has_speed) {
+                /* the scenario's dial holds a sustained wind in [0, 90] m/s */
+                scenario_set_dial(s->scen, w->speed_ms > 90.0f ? 90.0 : (double)w->speed_ms, NULL);
+            }
+            if (w->has_dir) {
+                /* ctl: toward, from +x counter-clockwise; scenario: from, clockwise from
+                 * north. Coming from θ + 180° (math) is bearing 90° − (θ + 180°). */
+                double from = fmod(270.0 - (double)w->dir_deg + 720.0, 360.0);
+                scenario_set_direction(s->scen, from, NULL);
+            }
+            if (w->has_scenario && !w->scenario[0]) {
+                scenario_clear_override(s->scen);
+            }
+            pthread_mutex_unlock(&s->scen_lock);
+        } else if (w->has_speed || w->has_dir) {
+            const scene *sc = s->d.sc;
+            wind_inflow in = { .dir_rad = (w->has_dir ? w->dir_deg : sc->wind_dir_deg) *
+                                          0.017453292f,
+                               .u10_ms = w->has_speed ? w->speed_ms : sc->wind_u10_ms };
+            tick_set_inflow(s->tick, &in);
+        }
+    } else if (m.type == CTL_RESYNC) {
+        p->resync = true;
+    } else if (m.type == CTL_VIEW) {
+        /* the new stream's first frame is a keyframe (net.c: a stream change breaks the
+         * delta chain) */
+        p->stream = view_join(s, p->stream, &m.u.view);
+    } else if (m.type == CTL_PING) {
+        ctl_msg pong = { .type = CTL_PONG };
+        pong.u.pong.id = m.u.ping.id;
+        pong.u.pong.client_us = m.u.ping.client_us;
+        pong.u.pong.server_us = srv_mono_us();
+        pong.u.pong.tick = atomic_load(&s->simm.current_tick);
+        if (ctl_encode(&pong, reply, reply_len, &e)) {
+            snprintf(why, why_cap, "pong: %s", e.msg);
+            rc = WIRE_CLOSE_BAD_FIELD;
+        }
+    }
+    ctl_msg_fini(&m);
+    return rc;
+}

@@ -1,0 +1,118 @@
+/* The server object shared by its parts: srv.c (life cycle), srv_control.c (control
+ * messages, lws thread), srv_publish.c (snapshots, sim thread) and srv_loop.c (the
+ * fixed-step loop, sim thread). Beside each field: which thread owns it. */
+#ifndef GALE_SRV_INT_H
+#define GALE_SRV_INT_H
+
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdbool.h>
+#include <time.h>
+
+#include "ctl.h"
+#include "metric.h"
+#include "srv.h"
+#include "srv_stream.h"
+#include "wire.h"
+
+#define SRV_MAX_VIEWS 4    /* distinct client views encoded per snapshot; beyond them a
+                              connection's view is ignored (it gets the whole scene) */
+#define SRV_LOD_MODES 4    /* modes sent for trees beyond a view's lod_m */
+#define SRV_WIND_EVERY 15  /* snapshots between coarse wind slices (2 per second at 30/s) */
+#define SRV_WIND_FACTOR 4  /* grid cells per coarse cell along each axis */
+#define SRV_LEAF_EVERY 3   /* snapshots between leaf frames (10 per second at 30/s): leaves
+                              carry their spawn tick, so batching them costs no accuracy
+                              and saves a WebSocket message per client per snapshot */
+#define SRV_OVERRUN_LOG_PER_S 5 /* overrun lines a second at most */
+#define SRV_SOLVE_LOG_S 10 /* seconds between lines about solves out of budget */
+
+/* One distinct view and the connections following it (lws thread, under view_lock). */
+typedef struct srv_view {
+    ctl_view v;
+    uint32_t stream; /* 0 = slot free */
+    int users;
+} srv_view;
+
+/* The sim thread's encoder for one view slot. */
+typedef struct srv_vsel {
+    srv_stream enc;  /* enc.id: the stream the modes below were selected for; 0 none */
+    uint8_t *modes;  /* owned [n_trees]: ctl_view_select of the slot's view */
+} srv_vsel;
+
+struct srv {
+    srv_desc d;
+    net_server *net;
+    net_asset assets[SCENE_MAX_SPECIES];
+    tick_sim *tick;
+    tick_species ts[SCENE_MAX_SPECIES]; /* what the tick borrows */
+    pthread_t thread;
+    atomic_int stop;
+    pthread_mutex_t scen_lock;   /* scenario: evaluated by the sim thread, dialled by kiosks */
+    scenario *scen;
+    /* metrics: each owner's counters, and the registry /metrics renders (complete after
+     * srv_create) */
+    sim_metrics simm;
+    srv_pub_counters pubm;
+    metric_reg reg;
+    /* snapshot encoding (sim thread only) */
+    wire_scene wscene;
+    uint8_t *tree_species;       /* owned [n_trees] */
+    uint8_t *tree_modes;         /* owned [n_trees] */
+    int16_t *qbuf[3];            /* owned [n_trees * stride]: current, previous, before */
+    int cur;                     /* index of the current buffer in qbuf */
+    srv_stream shared;           /* the whole-scene stream (net_snap.stream 0) */
+    uint32_t seq;
+    int ticks_per_snap;
+    wire_leaf *leaves;           /* owned [WIRE_MAX_LEAVES] gathered since the last snapshot */
+    uint32_t n_leaves;
+    /* welcome template (lws thread) */
+    ctl_species *wspecies;       /* owned [n_species] */
+    ctl_instance *winst;         /* owned [n_trees] */
+    /* float history for tests */
+    pthread_mutex_t hist_lock;
+    float *hist;                 /* owned [history][n_trees * stride] */
+    uint32_t *hist_seq;          /* owned [history] */
+    int stride;
+    /* coarse wind slices (sim thread): a WIND frame every SRV_WIND_EVERY snapshots */
+    float *coarse;               /* owned [coarse_cap] */
+    int coarse_cap;
+    int8_t *slice;               /* owned [WIRE_MAX_WIND_SIDE² × 3] */
+    /* per-client views: up to SRV_MAX_VIEWS distinct views, each its own snapshot stream
+     * (net.h net_snap.stream), encoded once per snapshot and shared by its connections */
+    pthread_mutex_t view_lock;   /* guards views (lws thread joins/leaves, sim thread reads) */
+    srv_view views[SRV_MAX_VIEWS];
+    uint32_t next_stream;
+    srv_vsel vsel[SRV_MAX_VIEWS]; /* sim thread: the encoder of each slot's stream */
+    float *tree_pos;             /* owned [n_trees * 3] tree bases for ctl_view_select */
+    float view_margin_m;         /* a tree counts as in view within this of the region */
+    /* log rate limits (sim thread) */
+    time_t olog_sec;             /* overruns: the second being counted */
+    int olog_n;                  /*           lines in it */
+    bool slog_any;               /* solves out of budget: a line was written */
+    time_t slog_sec;             /*           when (monotonic seconds) */
+    unsigned long long slog_n;   /*           solves since that line */
+};
+
+/* Server clock [us] (CLOCK_MONOTONIC), as welcome, pong and frame headers carry it. */
+static inline uint64_t srv_mono_us(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (uint64_t)t.tv_sec * 1000000ull + (uint64_t)t.tv_nsec / 1000u;
+}
+
+/* srv_control.c, lws thread: net_desc.control and net_desc.closed. */
+int srv_on_control(void *user, net_peer *p, const char *text, size_t len, char **reply,
+                   size_t *reply_len, char *why, size_t why_cap);
+void srv_on_closed(void *user, const net_peer *p);
+
+/* srv_publish.c, sim thread: snapshot s->seq + 1 of tick `tick` from s->qbuf[s->cur]
+ * (which tick_step just filled) to every stream; then rotates the buffers. */
+void srv_publish(srv *s, uint32_t tick);
+/* The publisher's rows (gale_leaves_shed_total, gale_view_*) into r. */
+int srv_publish_register(srv *s, metric_reg *r, gale_err *err);
+
+/* srv_loop.c: the simulation thread (arg: the srv), until s->stop. */
+void *srv_loop(void *arg);
+
+#endif

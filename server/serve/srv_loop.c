@@ -1,0 +1,107 @@
+/* The fixed-step loop on the simulation thread (server/SERVER.md "Loop"): scenario →
+ * inflow, one tick, leaf seeds gathered, a snapshot every ticks_per_snap ticks, the
+ * simulation's metrics, and the overrun policy: a late tick is counted and logged but
+ * never skipped, so simulated time stays exact. */
+#include "srv_int.h"
+
+#include <stdio.h>
+
+/* A pressure solve that ran out of its iteration budget: one line at most every
+ * SRV_SOLVE_LOG_S seconds, saying how many such solves there were since the last. */
+static void log_unconverged(srv *s, uint32_t tick, const tick_stats *ts)
+{
+    struct timespec now;
+    clock_gettime(CLOCK_MONOTONIC, &now);
+    s->slog_n++;
+    if (s->slog_any && now.tv_sec - s->slog_sec < SRV_SOLVE_LOG_S) {
+        return;
+    }
+    fprintf(stderr,
+            "gale-server: tick %u: wind pressure solve ran out of its budget (%d iterations, "
+            "residual %.3g, target %.3g); %llu out of budget since the last such line\n",
+            tick, ts->wind_iters, ts->wind_residual, 1.0 / (double)s->d.wind->div_reduction,
+            s->slog_n);
+    s->slog_any = true;
+    s->slog_sec = now.tv_sec;
+    s->slog_n = 0;
+}
+
+void *srv_loop(void *arg)
+{
+    srv *s = arg;
+    sim_metrics *mt = &s->simm;
+    const double dt = 1.0 / s->d.sc->tick_hz;
+    const uint64_t period_ns = (uint64_t)(dt * 1e9);
+    struct timespec next;
+    clock_gettime(CLOCK_MONOTONIC, &next);
+    while (!atomic_load(&s->stop)) {
+        uint32_t tick = tick_now(s->tick);
+        if (s->scen) {
+            scenario_state st;
+            pthread_mutex_lock(&s->scen_lock);
+            scenario_eval(s->scen, tick * dt, &st);
+            pthread_mutex_unlock(&s->scen_lock);
+            tick_set_inflow(s->tick, &st.inflow);
+        }
+        tick_stats ts;
+        gale_err e;
+        bool snap = (tick + 1) % (uint32_t)s->ticks_per_snap == 0;
+        if (tick_step(s->tick, snap ? s->qbuf[s->cur] : NULL, &ts, &e)) {
+            fprintf(stderr, "gale-server: %s: stopping the simulation\n", e.msg);
+            net_stop(s->net);
+            break;
+        }
+        if (ts.wind_unconverged) {
+            log_unconverged(s, tick, &ts);
+        }
+        const leaf_seed *ls;
+        int nl = tick_leaves(s->tick, &ls);
+        for (int i = 0; i < nl && s->n_leaves < WIRE_MAX_LEAVES; i++) {
+            s->leaves[s->n_leaves++] = (wire_leaf){ .instance = ls[i].instance,
+                                                    .slot = (uint16_t)ls[i].slot,
+                                                    .spawn_tick = ls[i].spawn_tick,
+                                                    .seed = ls[i].variation };
+        }
+        if (snap) {
+            srv_publish(s, tick + 1);
+        }
+        struct timespec now;
+        clock_gettime(CLOCK_MONOTONIC, &now);
+        uint64_t ns = sim_metrics_tick(mt, tick + 1, &ts);
+        /* the next tick is due one period after this one was */
+        next.tv_nsec += (long)period_ns;
+        while (next.tv_nsec >= 1000000000L) {
+            next.tv_nsec -= 1000000000L;
+            next.tv_sec++;
+        }
+        int64_t late_ns = (int64_t)(now.tv_sec - next.tv_sec) * 1000000000LL +
+                          (now.tv_nsec - next.tv_nsec);
+        if (late_ns > (int64_t)period_ns || ns > period_ns) {
+            /* Overrun: the tick's work took longer than a period, or the loop fell a whole
+             * period behind. The tick is still run (ticks are never skipped, simulated
+             * time stays exact); the loop catches up back to back, and a schedule more
+             * than 0.25 s behind restarts from now. */
+            unsigned long long k = sim_metrics_overrun(mt);
+            time_t sec = time(NULL);
+            if (sec != s->olog_sec) {
+                s->olog_sec = sec;
+                s->olog_n = 0;
+            }
+            if (s->olog_n++ < SRV_OVERRUN_LOG_PER_S) {
+                fprintf(stderr,
+                        "gale-server: tick %u overran: work %.2f ms (wind %.2f ms, %d pressure "
+                        "iterations) of a %.2f ms budget, finished %.2f ms after the next tick "
+                        "was due; %llu overruns\n",
+                        tick, ts.ms, ts.wind_ms, ts.wind_iters, dt * 1e3, (double)late_ns * 1e-6,
+                        k);
+            }
+            if (late_ns > 250000000LL) {
+                next = now;
+            }
+        }
+        if (late_ns <= 0) {
+            clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next, NULL);
+        }
+    }
+    return NULL;
+}

@@ -1,0 +1,150 @@
+/* The metric registry (metric.h): Prometheus text byte for byte (HELP and TYPE once per
+ * name, labels, fixed and significant digits, NaN and infinities), growth past the
+ * first buffer, its limits; and the simulation's rows (sim_metrics.h) after a tick. */
+#include "check.h"
+#include "metric.h"
+#include "sim_metrics.h"
+
+#include <stdlib.h>
+
+static const metric_row rows_a[] = {
+    { "a_total", NULL, "A things.", METRIC_COUNTER, 0 },
+    { "b_seconds", NULL, "B time.", METRIC_GAUGE, 6 },
+};
+
+static const metric_row rows_b[] = {
+    { "c", "role=\"x\"", "C by role.", METRIC_GAUGE, 0 },
+    { "c", "role=\"y\"", "C by role.", METRIC_GAUGE, 0 },
+    { "d", NULL, "D.", METRIC_GAUGE, -3 },
+    { "e", NULL, "E.", METRIC_GAUGE, 2 },
+    { "f", NULL, "F.", METRIC_GAUGE, 2 },
+};
+
+static void fill_a(void *ctx, double *v)
+{
+    const double *src = ctx;
+    v[0] = src[0];
+    v[1] = src[1];
+}
+
+static void fill_b(void *ctx, double *v)
+{
+    (void)ctx;
+    v[0] = 3;
+    v[1] = 0;
+    v[2] = 1.2345e-7;
+    v[3] = (double)NAN;
+    v[4] = -(double)INFINITY;
+}
+
+static void test_render(void)
+{
+    metric_reg r;
+    memset(&r, 0, sizeof r);
+    double a[2] = { 12, 0.25 };
+    CHECK(metric_reg_add(&r, rows_a, 2, fill_a, a, NULL) == 0);
+    CHECK(metric_reg_add(&r, rows_b, 5, fill_b, NULL, NULL) == 0);
+    size_t len = 0;
+    char *t = metric_reg_render(&r, &len);
+    const char *want = "# HELP a_total A things.\n# TYPE a_total counter\na_total 12\n"
+                       "# HELP b_seconds B time.\n# TYPE b_seconds gauge\nb_seconds 0.250000\n"
+                       "# HELP c C by role.\n# TYPE c gauge\nc{role=\"x\"} 3\nc{role=\"y\"} 0\n"
+                       "# HELP d D.\n# TYPE d gauge\nd 1.23e-07\n"
+                       "# HELP e E.\n# TYPE e gauge\ne NaN\n"
+                       "# HELP f F.\n# TYPE f gauge\nf -Inf\n";
+    CHECK(t && !strcmp(t, want));
+    CHECK(t && len == strlen(want));
+    if (t && strcmp(t, want)) {
+        fprintf(stderr, "got:\n%s", t);
+    }
+    free(t);
+    a[0] = 13; /* values are read at each render */
+    t = metric_reg_render(&r, &len);
+    CHECK(t && strstr(t, "\na_total 13\n"));
+    free(t);
+}
+
+static const metric_row long_row[] = {
+    { "a_long_metric_name_to_fill_the_page_total", NULL,
+      "A help line long enough that a few hundred of them outgrow the first buffer.",
+      METRIC_COUNTER, 0 },
+};
+
+static void fill_one(void *ctx, double *v)
+{
+    (void)ctx;
+    v[0] = 1;
+}
+
+static void test_growth_and_limits(void)
+{
+    metric_reg r;
+    memset(&r, 0, sizeof r);
+    metric_row many[METRIC_MAX_ROWS];
+    for (int i = 0; i < METRIC_MAX_ROWS; i++) {
+        many[i] = long_row[0];
+    }
+    for (int k = 0; k < METRIC_MAX_TABLES; k++) {
+        CHECK(metric_reg_add(&r, many, METRIC_MAX_ROWS, fill_one, NULL, NULL) == 0);
+    }
+    gale_err e;
+    CHECK(metric_reg_add(&r, long_row, 1, fill_one, NULL, &e) == GALE_E_RANGE);
+    CHECK_STR_HAS(e.msg, "metric_reg_add: tables: expected <= 8, got 9");
+    size_t len = 0;
+    char *t = metric_reg_render(&r, &len);
+    /* one family: HELP and TYPE once, then every sample */
+    size_t one = strlen("a_long_metric_name_to_fill_the_page_total 1\n");
+    size_t head = strlen("# HELP a_long_metric_name_to_fill_the_page_total ") +
+                  strlen(long_row[0].help) + 1 +
+                  strlen("# TYPE a_long_metric_name_to_fill_the_page_total counter\n");
+    CHECK(t && len == head + one * METRIC_MAX_ROWS * METRIC_MAX_TABLES && len > 4096);
+    CHECK(t && strlen(t) == len);
+    free(t);
+
+    memset(&r, 0, sizeof r);
+    CHECK(metric_reg_add(&r, long_row, 0, fill_one, NULL, &e) == GALE_E_RANGE);
+    CHECK_STR_HAS(e.msg, "metric_reg_add: rows: expected 1..32, got 0");
+    CHECK(metric_reg_add(&r, long_row, 1, NULL, NULL, &e) == GALE_E_ARG);
+    t = metric_reg_render(&r, &len); /* empty registry: empty page */
+    CHECK(t && len == 0 && !t[0]);
+    free(t);
+}
+
+static void test_sim_rows(void)
+{
+    sim_metrics m;
+    memset(&m, 0, sizeof m);
+    metric_reg r;
+    memset(&r, 0, sizeof r);
+    CHECK(sim_metrics_register(&m, &r, NULL) == 0);
+    tick_stats ts = { .ms = 2.5, .wind_stepped = true, .wind_iters = 30, .wind_residual = 0.0125,
+                      .wind_unconverged = true };
+    CHECK(sim_metrics_tick(&m, 1, &ts) == 2500000u);
+    ts = (tick_stats){ .ms = 1.0 }; /* no wind step: the solver gauges keep the last one */
+    CHECK(sim_metrics_tick(&m, 2, &ts) == 1000000u);
+    CHECK(sim_metrics_overrun(&m) == 1);
+    CHECK(atomic_load(&m.current_tick) == 2);
+    size_t len = 0;
+    char *t = metric_reg_render(&r, &len);
+    CHECK(t != NULL);
+    if (t) {
+        CHECK_STR_HAS(t, "# TYPE gale_ticks_total counter\ngale_ticks_total 2\n");
+        CHECK_STR_HAS(t, "\ngale_tick_seconds_sum 0.003500\n");
+        CHECK_STR_HAS(t, "# TYPE gale_tick_seconds_max gauge\ngale_tick_seconds_max 0.002500\n");
+        CHECK_STR_HAS(t, "\ngale_tick_overruns_total 1\n");
+        CHECK_STR_HAS(t, "# TYPE gale_wind_pressure_iterations gauge\n"
+                         "gale_wind_pressure_iterations 30\n");
+        CHECK_STR_HAS(t, "\ngale_wind_pressure_residual 0.0125\n");
+        CHECK_STR_HAS(t, "# TYPE gale_wind_pressure_unconverged_total counter\n"
+                         "gale_wind_pressure_unconverged_total 1\n");
+    }
+    free(t);
+}
+
+int main(void)
+{
+    RUN(test_render);
+    RUN(test_growth_and_limits);
+    RUN(test_sim_rows);
+    return check_report();
+}
