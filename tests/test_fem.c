@@ -1,5 +1,5 @@
 /* Frame elements (server/fem.c) and the tree Cholesky (server/tree_chol.c): a cantilever
- * against the Euler-Bernoulli closed forms of REFERENCE.md "Modal analysis", symmetry,
+ * against the Euler-Bernoulli closed forms of PHYSICS.md "Modal analysis", symmetry,
  * rigid-body null space and mass of the element matrices, K positive definite once
  * clamped, and the zero-fill factorisation against a dense solve. */
 #include <math.h>
@@ -44,7 +44,7 @@ static int classify(const double *phi, int n_nodes, const double a[3])
 }
 
 /* Max relative error of the first four bending pairs and the first torsional mode of an
- * n_el-element cantilever along a, against REFERENCE.md's closed forms. */
+ * n_el-element cantilever along a, against PHYSICS.md's closed forms. */
 static double cantilever_error(int n_el, const double a[3], int verbose)
 {
     const double L = 10.0, r = 0.1, E = 1e10, rho = 1000.0, G = E / 2.6;

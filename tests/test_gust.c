@@ -9,7 +9,7 @@
 
 static void test_intensity(void)
 {
-    /* REFERENCE.md: I_u ≈ 0.29 at 10 m over z0 = 0.3 m */
+    /* PHYSICS.md: I_u ≈ 0.29 at 10 m over z0 = 0.3 m */
     CHECK_NEAR(gust_intensity(10.0, 0.3), 1.0 / log(10.0 / 0.3), 1e-12);
     CHECK_NEAR(gust_intensity(10.0, 0.3), 0.285, 0.005);
     CHECK(gust_intensity(10.0, 0.03) < gust_intensity(10.0, 0.3));

@@ -1,5 +1,5 @@
 /* Holland (1980) profile against its closed form: peak at Rmax, calm centre, far-field
- * decay, B from Vmax and Δp, and Andrew's landfall figures from REFERENCE.md. */
+ * decay, B from Vmax and Δp, and Andrew's landfall figures from PHYSICS.md. */
 #include <math.h>
 
 #include "check.h"
@@ -102,7 +102,7 @@ static void test_shape(void)
 
 static void test_andrew_figures(void)
 {
-    /* REFERENCE.md: V_g ≈ 0 at ≤ 5 km, 82 m/s at Rmax (18.5 km), 54 at 37 km, 16 at
+    /* PHYSICS.md: V_g ≈ 0 at ≤ 5 km, 82 m/s at Rmax (18.5 km), 54 at 37 km, 16 at
      * 100 km. Tolerance ±1.5 m/s: the figures are quoted to whole m/s and the ambient
      * pressure (1010–1013 hPa) is not pinned. */
     holland_vortex v = andrew();

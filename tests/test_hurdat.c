@@ -1,4 +1,4 @@
-/* HURDAT2 reader: the shipped Andrew and Charley rows, landfall values from REFERENCE.md,
+/* HURDAT2 reader: the shipped Andrew and Charley rows, landfall values from PHYSICS.md,
  * calendar arithmetic, and bad input with exact messages naming the line. */
 #include <string.h>
 

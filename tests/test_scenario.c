@@ -141,7 +141,7 @@ static void test_vortex_at_scene(void)
                          .f = holland_coriolis(25.5) };
     v.b = holland_b(74.6 / 0.9, v.pn_pa - v.pc_pa, v.rho);
     CHECK_NEAR(v.b, 2.36, 0.01);
-    /* REFERENCE.md: surface = 0.9 × gradient, × 0.8 over land */
+    /* PHYSICS.md: surface = 0.9 × gradient, × 0.8 over land */
     CHECK_NEAR(st.sustained_ms, 0.9 * 0.8 * holland_gradient_wind(&v, 37000.0), 1e-6);
     CHECK_NEAR(st.pressure_hpa, holland_pressure(&v, 37000.0) / 100.0, 1e-9);
     CHECK_NEAR(st.distance_km, 37.0, 1e-9);

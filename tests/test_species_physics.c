@@ -1,4 +1,4 @@
-/* Physical sanity of the shipped species (REFERENCE.md "Trees", DESIGN.md "Physics"):
+/* Physical sanity of the shipped species (server/PHYSICS.md "Trees"):
  * each species is generated and baked, then its first modes and its static response to a
  * uniform wind are checked against what real trees do. */
 #include <math.h>
@@ -142,7 +142,7 @@ static void phys_check(const char *name, double lo20, double hi20, double storm,
     if (t.a.n_modes < 4) {
         return;
     }
-    /* REFERENCE.md "Trees": first natural frequencies of trees are 0.2-2 Hz */
+    /* PHYSICS.md "Trees": first natural frequencies of trees are 0.2-2 Hz */
     double f1 = (double)t.a.omega[0] / (2.0 * PHYS_PI);
     CHECK(f1 >= 0.2 && f1 <= 2.0);
     /* the first two modes are the whole-tree sway in two planes: the trunk top and the

@@ -1,4 +1,4 @@
-/* The bake pipeline (DESIGN.md data flow): skeleton + species -> frame elements -> lowest
+/* The bake pipeline (PHYSICS.md "Data flow"): skeleton + species -> frame elements -> lowest
  * modes -> wind projection basis -> strong-wind correction -> tube mesh -> asset, with a
  * report of what it found and how long each stage took. */
 #ifndef GALE_BAKE_H

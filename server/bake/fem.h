@@ -1,5 +1,5 @@
 /* 3D Euler-Bernoulli frame elements on a tree skeleton (Diener 2008 section 3.1 and
- * appendix; DESIGN.md "Beam model"): 6 DOF per node, consistent mass with torsional
+ * appendix; PHYSICS.md "Beam model"): 6 DOF per node, consistent mass with torsional
  * inertia, root clamped, stored as 6x6 blocks in tree order (each node couples only to
  * its parent), which is what makes the zero-fill factorisation of tree_chol.h possible. */
 #ifndef GALE_FEM_H

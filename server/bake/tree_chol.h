@@ -1,7 +1,7 @@
 /* Block Cholesky factorisation of a symmetric positive definite matrix with tree
  * structure (6x6 blocks, each node coupled only to its parent), eliminated leaves first:
  * no fill-in, O(n) work and memory. The solver behind the shift-invert eigen path
- * (DESIGN.md "Modes"). */
+ * (PHYSICS.md "Modes"). */
 #ifndef GALE_TREE_CHOL_H
 #define GALE_TREE_CHOL_H
 

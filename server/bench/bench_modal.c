@@ -104,7 +104,7 @@ int bench_modal(int argc, char **argv)
     for (int k = 0; k < n_species; k++) {
         for (int i = 0; i < n_modes; i++) {
             int j = k * n_modes + i;
-            /* First modes 0.3-2 Hz rising to tens of Hz (DESIGN.md "Modes"). */
+            /* First modes 0.3-2 Hz rising to tens of Hz (PHYSICS.md "Modes"). */
             omega[j] = 6.2831853f * (0.3f + 0.7f * (float)i * (float)i / 4.0f + RND());
             gamma[j] = 0.1f + 1e-3f * omega[j] * omega[j] * 0.01f;
             for (int c = 0; c < 3; c++) {

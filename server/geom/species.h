@@ -9,7 +9,7 @@
 
 typedef struct species {
     char name[64];
-    /* mechanics (Diener 2008 section 3; DESIGN.md "Beam model") */
+    /* mechanics (Diener 2008 section 3; PHYSICS.md "Beam model") */
     double E_pa;           /* Young's modulus [Pa]; default 1e10 */
     double rho_kg_m3;      /* wood density [kg/m^3]; default 1000 */
     double G_pa;           /* shear modulus [Pa]; default E/2.6 */

@@ -1,4 +1,4 @@
-/* Ornstein–Uhlenbeck gusts: see gust.h and REFERENCE.md "Gusts in time". */
+/* Ornstein–Uhlenbeck gusts: see gust.h and PHYSICS.md "Wind with height and gusts". */
 #include "gust.h"
 #include "hash.h"
 

@@ -1,6 +1,6 @@
 /* Seeded gusts: an Ornstein–Uhlenbeck process per wind component (along, across, up) with
  * integral time scale T_u = L_u / U and standard deviations σ_u = I_u U, σ_v = 0.75 σ_u,
- * σ_w = 0.5 σ_u (REFERENCE.md "Gusts in time"; turbulence intensity I_u ≈ 1/ln(z/z0)). */
+ * σ_w = 0.5 σ_u (PHYSICS.md "Wind with height and gusts": I_u ≈ 1/ln(z/z0)). */
 #ifndef GALE_GUST_H
 #define GALE_GUST_H
 

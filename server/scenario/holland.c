@@ -1,4 +1,4 @@
-/* The Holland (1980) parametric hurricane profile: see holland.h and REFERENCE.md
+/* The Holland (1980) parametric hurricane profile: see holland.h and PHYSICS.md
  * "Hurricanes". */
 #include "holland.h"
 

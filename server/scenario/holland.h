@@ -1,6 +1,6 @@
 /* The Holland (1980) parametric hurricane: sea-level pressure and gradient wind as a
  * function of radius from the centre, with the shape parameter B taken from the peak wind
- * and the pressure deficit (REFERENCE.md "Hurricanes"). SI units throughout. */
+ * and the pressure deficit (PHYSICS.md "Hurricanes"). SI units throughout. */
 #ifndef GALE_HOLLAND_H
 #define GALE_HOLLAND_H
 

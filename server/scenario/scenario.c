@@ -1,7 +1,7 @@
 /* Wind scenarios: steady/gusty wind and hurricane replays (see scenario.h). The hurricane
  * is the Holland (1980) vortex (holland.h) on an interpolated track, reduced to the
  * surface, made asymmetric by the storm's forward motion and turned inward by an inflow
- * angle, evaluated at the scene's location (REFERENCE.md "Hurricanes"). */
+ * angle, evaluated at the scene's location (PHYSICS.md "Hurricanes"). */
 #include "scenario.h"
 
 #include <math.h>
@@ -522,7 +522,7 @@ void scenario_storm_at(const scenario *s, double ts, scenario_track_pt *out)
 void scenario_vortex_of(const scenario *s, const scenario_track_pt *c, holland_vortex *v)
 {
     /* HURDAT2's Vmax is the 1-min 10 m wind; B is fitted to the gradient-level peak,
-     * V_g = Vmax / surface_factor (REFERENCE.md: B ≈ 2.36 for Andrew at landfall) */
+     * V_g = Vmax / surface_factor (PHYSICS.md: B ≈ 2.36 for Andrew at landfall) */
     double vg = c->vmax_ms / s->surface_factor;
     v->pc_pa = c->pc_pa;
     v->pn_pa = s->pn_pa;

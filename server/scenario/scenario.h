@@ -1,7 +1,7 @@
 /* Wind scenarios: what drives the wind grid's borders over time. A steady or gusty wind
  * (mean speed, direction, log-law profile, Ornstein–Uhlenbeck gusts, Gaussian force balls;
  * Oliapuram & Kumar 2010 section 2), or a hurricane replay: a Holland (1980) vortex moving
- * along a track past the scene, reduced to the surface (DESIGN.md "Hurricane scenario"). */
+ * along a track past the scene, reduced to the surface (PHYSICS.md "Hurricane scenario"). */
 #ifndef GALE_SCENARIO_H
 #define GALE_SCENARIO_H
 

@@ -4,7 +4,7 @@
  *
  * Why multigrid and not the paper's Jacobi: on 256x256x16 a Jacobi sweep costs 0.71 ms on
  * this machine, 4 sweeps leave 96 % of the error and even 20,000 leave 28 % (the slowest
- * mode needs ~92,000 sweeps per decade; REFERENCE.md "Pressure solve"). Red-black SOR
+ * mode needs ~92,000 sweeps per decade; PHYSICS.md "Pressure solve"). Red-black SOR
  * needs ~970 sweeps and plain CG ~550 iterations for a 1e-2 residual; a V-cycle gains
  * about a decade per cycle independently of the grid size, so the 100x divergence
  * reduction costs 1-3 cycles, and fewer from a warm start in steady wind. MGPCG would
