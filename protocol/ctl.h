@@ -155,16 +155,6 @@ int ctl_encode(const ctl_msg *m, char **out, size_t *len, gale_err *err);
  * error). GALE_E_RANGE when it does not fit. Does not allocate outside cJSON. */
 int ctl_encode_into(const ctl_msg *m, char *buf, size_t cap, size_t *len, gale_err *err);
 
-/* Interest and LOD for one client: n_modes[t] = 0 for trees outside the view (a tree
- * counts as inside when any point within margin_m of its base pos[3t..3t+2] is), the
- * tree's full_modes[t] when inside and within v->lod_m of the view origin (circle centre
- * or frustum eye; lod_m = 0: no LOD), else min(full_modes[t], lod_modes) (lod_modes >= 1).
- * CTL_VIEW_ALL keeps every tree. Does not allocate; for the server's per-client
- * snapshot (wire_state.n_modes). */
-void ctl_view_select(const ctl_view *v, uint32_t n_trees, const float *pos,
-                     const uint8_t *full_modes, float margin_m, uint32_t lod_modes,
-                     uint8_t *n_modes);
-
 /* True for the types a client may send (hello, view, wind, resync, ping). */
 bool ctl_from_client(int type);
 

@@ -11,6 +11,7 @@
 #include <time.h>
 
 #include "ctl.h"
+#include "view_select.h"
 #include "wire.h"
 
 #define SRV_MAX_VIEWS 4  /* distinct client views encoded per snapshot; beyond them a
@@ -326,8 +327,8 @@ static void publish_views(srv *s, const wire_header *h0, const net_snap *p)
         }
         uint64_t t0 = mono_us();
         if (vs->stream != streams[k]) {
-            ctl_view_select(&views[k], n, s->tree_pos, s->tree_modes, s->view_margin_m,
-                            SRV_LOD_MODES, vs->modes);
+            view_select(&views[k], n, s->tree_pos, s->tree_modes, s->view_margin_m,
+                        SRV_LOD_MODES, vs->modes);
             vs->stream = streams[k];
             vs->held = 0;
         }
