@@ -1,5 +1,5 @@
-/* The JSON control half of the gale wire (DESIGN.md "Wire"): hello, welcome (scene
- * description), view, wind commands, resync, ping/pong, error. Text in, structs out and
+/* The JSON control half of the gale wire (PROTOCOL.md "Control messages"): hello,
+ * welcome (scene description), view, wind commands, resync, ping/pong, error. Text in, structs out and
  * back, through cJSON; every rejection names the field and carries its close code
  * (wire.h enum wire_close). PROTOCOL.md lists the messages and their fields. */
 #ifndef GALE_CTL_H

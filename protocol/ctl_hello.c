@@ -1,6 +1,6 @@
-/* hello (PROTOCOL.md "hello"): a client's first message, with its protocol version, role,
- * optional view and optional kiosk token. The version is read first: a client of another
- * version may not share the other fields. */
+/* hello (PROTOCOL.md "Control messages"): a client's first message, with its protocol
+ * version, role, optional view and optional kiosk token. The version is read first: a
+ * client of another version may not share the other fields. */
 #include "ctl_int.h"
 
 int ctl_hello_parse(ctl_rd *c, const cJSON *o, ctl_hello *h)
@@ -33,13 +33,18 @@ int ctl_hello_parse(ctl_rd *c, const cJSON *o, ctl_hello *h)
 
 int ctl_hello_encode(ctl_rd *c, const ctl_hello *h, cJSON *o)
 {
-    if (h->protocol != WIRE_PROTOCOL_VERSION) {
-        return ctl_fail(c, WIRE_CLOSE_VERSION, GALE_E_RANGE, "hello.protocol: expected %d, got %d",
-                        WIRE_PROTOCOL_VERSION, h->protocol);
-    }
+    /* Arguments outside their enums first: they are the caller's bug, whatever else. */
     const char *rn = ctl_role_name(h->role);
     if (!rn) {
         return ctl_fail(c, 0, GALE_E_ARG, "hello.role: expected a ctl_role, got %d", h->role);
+    }
+    if (h->view.kind != CTL_VIEW_ALL && (h->view.kind < 0 || h->view.kind >= CTL_N_VIEWS)) {
+        return ctl_fail(c, 0, GALE_E_ARG, "hello.view.kind: expected a ctl_view_kind, got %d",
+                        h->view.kind);
+    }
+    if (h->protocol != WIRE_PROTOCOL_VERSION) {
+        return ctl_fail(c, WIRE_CLOSE_VERSION, GALE_E_RANGE, "hello.protocol: expected %d, got %d",
+                        WIRE_PROTOCOL_VERSION, h->protocol);
     }
     if (h->token[0]) {
         int rc = json_check_string(&c->j, "hello", "token", h->token, sizeof h->token);

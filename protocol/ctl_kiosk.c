@@ -1,6 +1,6 @@
-/* wind (PROTOCOL.md "wind"): a kiosk's command, with its token and any of speed,
- * direction, gust intensity and scenario. Each field is optional and flagged by has_*;
- * only the given ones are written. */
+/* wind (PROTOCOL.md "Control messages"): a kiosk's command, with its token and any of
+ * speed, direction, gust intensity and scenario. Each field is optional and flagged by
+ * has_*; only the given ones are written. */
 #include "ctl_int.h"
 
 /* Limits of the command's fields, shared by both directions. */

@@ -1,5 +1,5 @@
-/* The connection's small messages (PROTOCOL.md "resync", "ping", "pong", "error"): a
- * client asking for a keyframe, the clock round trip both ways, and the error the server
+/* The connection's small messages (PROTOCOL.md "Control messages"): resync (a client
+ * asking for a keyframe), ping and pong (the clock round trip), and the error the server
  * sends before it closes. */
 #include "ctl_int.h"
 

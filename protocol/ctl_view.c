@@ -1,5 +1,5 @@
-/* The view object (PROTOCOL.md "View object": all, circle or frustum, optional lod_m),
- * which hello carries and the view message replaces, and the view message itself. */
+/* The view object (PROTOCOL.md "Control messages": all, circle or frustum, optional
+ * lod_m), which hello carries and the view message replaces, and the view message. */
 #include <string.h>
 
 #include "ctl_int.h"

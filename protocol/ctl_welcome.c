@@ -1,7 +1,8 @@
-/* welcome (PROTOCOL.md "welcome"): the scene a client is let into: protocol, its id and
- * granted role, rates, the server clock, the species with their asset URLs and hashes,
- * every instance as a row [species, x, y, z, yaw_rad, scale] and every obstacle as a row
- * [min_x, min_y, min_z, max_x, max_y, max_z]. A decoded welcome owns its three arrays. */
+/* welcome (PROTOCOL.md "Control messages"): the scene a client is let into: protocol,
+ * its id and granted role, rates, the server clock, the species with their asset URLs
+ * and hashes, every instance as a row [species, x, y, z, yaw_rad, scale] and every
+ * obstacle as a row [min_x, min_y, min_z, max_x, max_y, max_z]. A decoded welcome owns
+ * its three arrays. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -367,14 +368,15 @@ static int rows_encode(ctl_rd *c, const ctl_welcome *w, cJSON *o)
 int ctl_welcome_encode(ctl_rd *c, const ctl_welcome *w, cJSON *o)
 {
     const json_rd *r = &c->j;
+    /* A role outside its enum first: it is the caller's bug, whatever else. */
+    const char *rn = ctl_role_name(w->role);
+    if (!rn) {
+        return ctl_fail(c, 0, GALE_E_ARG, "welcome.role: expected a ctl_role, got %d", w->role);
+    }
     if (w->protocol != WIRE_PROTOCOL_VERSION) {
         return ctl_fail(c, WIRE_CLOSE_VERSION, GALE_E_RANGE,
                         "welcome.protocol: expected %d, got %d", WIRE_PROTOCOL_VERSION,
                         w->protocol);
-    }
-    const char *rn = ctl_role_name(w->role);
-    if (!rn) {
-        return ctl_fail(c, 0, GALE_E_ARG, "welcome.role: expected a ctl_role, got %d", w->role);
     }
     double th = ctl_jnum(w->tick_hz), sh = ctl_jnum(w->snapshot_hz);
     int rc = json_check_number(r, "welcome", "tick_hz", 1, 1000, th);

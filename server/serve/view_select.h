@@ -1,4 +1,4 @@
-/* Interest and LOD selection for one client's view (PROTOCOL.md "View"): which trees a
+/* Interest and LOD selection for one client's view (PROTOCOL.md "Control messages", view): which trees a
  * snapshot stream carries and with how many modes. Server policy: the wire only carries
  * the per-tree mode counts it yields (wire_state.n_modes). */
 #ifndef GALE_VIEW_SELECT_H

@@ -1,4 +1,4 @@
-/* Quantisation steps of the snapshot stream (PROTOCOL.md "Quantisation"): per species and
+/* Quantisation steps of the snapshot stream (PROTOCOL.md "Quantisation of q"): per species and
  * mode, the step of q that keeps every node's error under a fraction of the tree height.
  * Server policy: the wire carries the steps in every keyframe, a client only applies them. */
 #ifndef GALE_QUANT_STEPS_H
