@@ -1,6 +1,6 @@
 /* Client HUD: stb_truetype glyph atlas and layout, the HUD's text (wind in m/s, km/h and
- * mph with the Saffir–Simpson class as REFERENCE.md tabulates it, connection, fps,
- * latency) and a GL 3.3 overlay pass of alpha-blended quads. */
+ * mph with the Saffir–Simpson class or Beaufort force of protocol/wind_scale.h,
+ * connection, fps, latency) and a GL 3.3 overlay pass of alpha-blended quads. */
 #include <epoxy/gl.h>
 
 #include "hud.h"

@@ -148,7 +148,9 @@ void ctl_msg_fini(ctl_msg *m);
 
 /* Encodes *m as one line of JSON into a new NUL-terminated buffer *out (malloc'd, caller
  * frees with free()) of *len bytes (without the NUL). Rejects values a decoder would
- * reject (GALE_E_RANGE / GALE_E_ARG). */
+ * reject: each field is checked against the decoder's own limit as it is written
+ * (GALE_E_RANGE; an enum outside its range GALE_E_ARG), so the text is not parsed again.
+ * tests/test_ctl.c checks that whatever it writes decodes. */
 int ctl_encode(const ctl_msg *m, char **out, size_t *len, gale_err *err);
 
 /* Encodes *m into buf[cap] (NUL-terminated); for small messages on hot paths (pong,

@@ -472,7 +472,7 @@ static void test_encode_self_check(void)
         size_t n = 0;
         gale_err e = { 0 };
         int rc = ctl_encode(&m, &s, &n, &e);
-        static char small[8192];
+        char small[8192];
         size_t n2 = 0;
         gale_err e2 = { 0 };
         int rc2 = ctl_encode_into(&m, small, sizeof small, &n2, &e2);
