@@ -234,22 +234,22 @@ float hud_text_width(const hud_font *f, const char *utf8)
 int hud_saffir_simpson(float speed_ms)
 {
     /* the HUD counts from tropical storm = 0, so a hurricane's number is its category */
-    return wind_ss_classify((double)speed_ms) - 1;
+    return wind_scale_ss_class((double)speed_ms) - 1;
 }
 
 const char *hud_category_name(int cls)
 {
-    return cls >= -1 && cls < WIND_SS_COUNT - 1 ? wind_ss_title(cls + 1) : "?";
+    return cls >= -1 && cls < WIND_SCALE_SS_COUNT - 1 ? wind_scale_ss_title(cls + 1) : "?";
 }
 
 int hud_beaufort(float speed_ms)
 {
-    return wind_beaufort((double)speed_ms);
+    return wind_scale_beaufort((double)speed_ms);
 }
 
 const char *hud_beaufort_name(int force)
 {
-    return wind_beaufort_title(force);
+    return wind_scale_beaufort_title(force);
 }
 
 int hud_format(const hud_state *s, char lines[HUD_MAX_LINES][HUD_LINE_CHARS])

@@ -1,7 +1,7 @@
 /* The JSON control half of the gale wire (PROTOCOL.md "Control messages"): hello,
- * welcome (scene description), view, wind commands, resync, ping/pong, error. Text in, structs out and
- * back, through cJSON; every rejection names the field and carries its close code
- * (wire.h enum wire_close). PROTOCOL.md lists the messages and their fields. */
+ * welcome (scene description), view, wind commands, resync, ping/pong, error. Text in,
+ * structs out and back, through cJSON; every rejection names the field and carries its
+ * close code (wire.h enum wire_close). PROTOCOL.md lists the messages and their fields. */
 #ifndef GALE_CTL_H
 #define GALE_CTL_H
 

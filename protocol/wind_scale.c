@@ -11,7 +11,7 @@ typedef struct ss_row {
     const char *abbrev; /* short label */
 } ss_row;
 
-static const ss_row ss_table[WIND_SS_COUNT] = {
+static const ss_row ss_table[WIND_SCALE_SS_COUNT] = {
     { 0, "tropical depression", "Tropical depression", "TD" },
     { 34, "tropical storm", "Tropical storm", "TS" },
     { 64, "Category 1", "Category 1 hurricane", "Cat 1" },
@@ -47,17 +47,17 @@ static const bft_row bft_table[BFT_FORCES] = {
 
 static int ss_valid(int c)
 {
-    return c >= 0 && c < WIND_SS_COUNT;
+    return c >= 0 && c < WIND_SCALE_SS_COUNT;
 }
 
-int wind_ss_classify(double sustained_ms)
+int wind_scale_ss_class(double sustained_ms)
 {
     if (!(sustained_ms > 0.0)) {
-        return WIND_SS_TD;
+        return WIND_SCALE_TD;
     }
     double kt = floor(sustained_ms / WIND_SCALE_MS_PER_KT + 0.5);
-    int c = WIND_SS_TD;
-    for (int i = 1; i < WIND_SS_COUNT; i++) {
+    int c = WIND_SCALE_TD;
+    for (int i = 1; i < WIND_SCALE_SS_COUNT; i++) {
         if (kt >= ss_table[i].lower_kt) {
             c = i;
         }
@@ -65,31 +65,31 @@ int wind_ss_classify(double sustained_ms)
     return c;
 }
 
-double wind_ss_lower_ms(int c)
+double wind_scale_ss_lower_ms(int c)
 {
     if (!ss_valid(c)) {
         return -1.0;
     }
     /* rounding to the nearest knot: half a knot below the class's first whole knot */
-    return c == WIND_SS_TD ? 0.0 : (ss_table[c].lower_kt - 0.5) * WIND_SCALE_MS_PER_KT;
+    return c == WIND_SCALE_TD ? 0.0 : (ss_table[c].lower_kt - 0.5) * WIND_SCALE_MS_PER_KT;
 }
 
-const char *wind_ss_name(int c)
+const char *wind_scale_ss_name(int c)
 {
     return ss_valid(c) ? ss_table[c].name : "?";
 }
 
-const char *wind_ss_title(int c)
+const char *wind_scale_ss_title(int c)
 {
     return ss_valid(c) ? ss_table[c].title : "?";
 }
 
-const char *wind_ss_abbrev(int c)
+const char *wind_scale_ss_abbrev(int c)
 {
     return ss_valid(c) ? ss_table[c].abbrev : "?";
 }
 
-int wind_beaufort(double ms)
+int wind_scale_beaufort(double ms)
 {
     if (!(ms > 0.0)) {
         return 0;
@@ -109,12 +109,12 @@ int wind_beaufort(double ms)
     return BFT_FORCES - 1;
 }
 
-const char *wind_beaufort_name(int b)
+const char *wind_scale_beaufort_name(int b)
 {
     return b >= 0 && b < BFT_FORCES ? bft_table[b].name : "?";
 }
 
-const char *wind_beaufort_title(int b)
+const char *wind_scale_beaufort_title(int b)
 {
     return b >= 0 && b < BFT_FORCES ? bft_table[b].title : "?";
 }

@@ -8,17 +8,17 @@ static const double mid_kt[SAFFIR_COUNT] = { 25.0, 48.5, 73.0, 89.0, 104.0, 124.
 
 saffir_class saffir_classify(double sustained_ms)
 {
-    return (saffir_class)wind_ss_classify(sustained_ms);
+    return (saffir_class)wind_scale_ss_class(sustained_ms);
 }
 
 const char *saffir_name(saffir_class c)
 {
-    return wind_ss_name((int)c);
+    return wind_scale_ss_name((int)c);
 }
 
 const char *saffir_short(saffir_class c)
 {
-    return wind_ss_abbrev((int)c);
+    return wind_scale_ss_abbrev((int)c);
 }
 
 double saffir_representative_ms(saffir_class c)
@@ -28,15 +28,15 @@ double saffir_representative_ms(saffir_class c)
 
 double saffir_lower_ms(saffir_class c)
 {
-    return wind_ss_lower_ms((int)c);
+    return wind_scale_ss_lower_ms((int)c);
 }
 
 int saffir_beaufort(double ms)
 {
-    return wind_beaufort(ms);
+    return wind_scale_beaufort(ms);
 }
 
 const char *saffir_beaufort_name(int b)
 {
-    return wind_beaufort_name(b);
+    return wind_scale_beaufort_name(b);
 }

@@ -1,6 +1,6 @@
-/* Interest and LOD selection for one client's view (PROTOCOL.md "Control messages", view): which trees a
- * snapshot stream carries and with how many modes. Server policy: the wire only carries
- * the per-tree mode counts it yields (wire_state.n_modes). */
+/* Interest and LOD selection for one client's view (PROTOCOL.md "Control messages",
+ * view): which trees a snapshot stream carries and with how many modes. Server policy:
+ * the wire only carries the per-tree mode counts it yields (wire_state.n_modes). */
 #ifndef GALE_VIEW_SELECT_H
 #define GALE_VIEW_SELECT_H
 
