@@ -1,6 +1,6 @@
 /* Client HUD: stb_truetype glyph atlas and layout, the HUD's text (wind in m/s, km/h and
- * mph with the Saffir–Simpson class as REFERENCE.md tabulates it, connection, fps,
- * latency) and a GL 3.3 overlay pass of alpha-blended quads. */
+ * mph with the Saffir–Simpson class or Beaufort force of protocol/wind_scale.h,
+ * connection, fps, latency) and a GL 3.3 overlay pass of alpha-blended quads. */
 #include <epoxy/gl.h>
 
 #include "hud.h"
@@ -11,6 +11,8 @@
 #include <string.h>
 
 #include <stb_truetype.h>
+
+#include "wind_scale.h"
 
 #define ATLAS_W    1024
 #define ATLAS_H    512
@@ -231,70 +233,23 @@ float hud_text_width(const hud_font *f, const char *utf8)
 
 int hud_saffir_simpson(float speed_ms)
 {
-    /* classify in knots (REFERENCE.md table; 1 kt = 0.514444 m/s) */
-    double kt = floor((double)speed_ms / 0.514444 + 0.5);
-    if (!(kt >= 34.0)) {
-        return -1;
-    }
-    if (kt < 64.0) {
-        return 0;
-    }
-    if (kt < 83.0) {
-        return 1;
-    }
-    if (kt < 96.0) {
-        return 2;
-    }
-    if (kt < 113.0) {
-        return 3;
-    }
-    if (kt < 137.0) {
-        return 4;
-    }
-    return 5;
+    /* the HUD counts from tropical storm = 0, so a hurricane's number is its category */
+    return wind_scale_ss_class((double)speed_ms) - 1;
 }
 
 const char *hud_category_name(int cls)
 {
-    static const char *names[] = { "Tropical depression",  "Tropical storm",
-                                   "Category 1 hurricane", "Category 2 hurricane",
-                                   "Category 3 hurricane", "Category 4 hurricane",
-                                   "Category 5 hurricane" };
-    if (cls < -1 || cls > 5) {
-        return "?";
-    }
-    return names[cls + 1];
+    return cls >= -1 && cls < WIND_SCALE_SS_COUNT - 1 ? wind_scale_ss_title(cls + 1) : "?";
 }
-
-/* WMO No. 8 upper limits of forces 0..11 in tenths of m/s; force 12 above the last. */
-static const int beaufort_upper_dms[12] = { 2, 15, 33, 54, 79, 107, 138, 171, 207, 244, 284, 326 };
 
 int hud_beaufort(float speed_ms)
 {
-    if (!(speed_ms > 0.0f)) {
-        return 0;
-    }
-    if (speed_ms > 1000.0f) {
-        return 12;
-    }
-    /* a speed belongs to the first force whose limit it does not exceed at 0.1 m/s */
-    int dms = (int)floor((double)speed_ms * 10.0 + 0.5);
-    for (int b = 0; b < 12; b++) {
-        if (dms <= beaufort_upper_dms[b]) {
-            return b;
-        }
-    }
-    return 12;
+    return wind_scale_beaufort((double)speed_ms);
 }
 
 const char *hud_beaufort_name(int force)
 {
-    static const char *names[13] = {
-        "Calm",         "Light air",     "Light breeze", "Gentle breeze", "Moderate breeze",
-        "Fresh breeze", "Strong breeze", "Near gale",    "Gale",          "Strong gale",
-        "Storm",        "Violent storm", "Hurricane force",
-    };
-    return force >= 0 && force <= 12 ? names[force] : "?";
+    return wind_scale_beaufort_title(force);
 }
 
 int hud_format(const hud_state *s, char lines[HUD_MAX_LINES][HUD_LINE_CHARS])

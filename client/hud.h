@@ -48,14 +48,18 @@ uint32_t hud_text_quads(const hud_font *f, float x, float y, const char *utf8, h
 
 /* ---- what the HUD says (no GL) ------------------------------------------------------ */
 
-/* Saffir–Simpson class of a 1-minute sustained 10 m wind, classified in knots (NHC):
- * -1 tropical depression (≤ 33 kt), 0 tropical storm (34–63 kt), 1..5 hurricane category
- * (64, 83, 96, 113, 137 kt). Speeds are rounded to the nearest knot first. */
+/* Saffir–Simpson class of a 1-minute sustained 10 m wind (protocol/wind_scale.h, counted
+ * from tropical storm): -1 tropical depression (≤ 33 kt), 0 tropical storm (34–63 kt),
+ * 1..5 hurricane category (64, 83, 96, 113, 137 kt), i.e. wind_scale_ss_class - 1. Speeds
+ * are rounded to the nearest knot first. */
 int hud_saffir_simpson(float speed_ms);
-const char *hud_category_name(int cls); /* "Tropical depression", "Category 3 hurricane" */
-/* Beaufort force 0..12 of a 10 m wind (WMO No. 8 limits, rounded to 0.1 m/s) and its
- * name ("Strong breeze"): what the HUD names a wind below tropical-storm strength, where
- * "tropical depression" would mislabel a breeze on a calm day. */
+/* wind_scale_ss_title of a class counted as above: "Tropical depression", "Category 3
+ * hurricane"; "?" out of range. */
+const char *hud_category_name(int cls);
+/* Beaufort force 0..12 of a 10 m wind (wind_scale_beaufort: WMO No. 8 limits, rounded to
+ * 0.1 m/s) and its title ("Strong breeze"): what the HUD names a wind below
+ * tropical-storm strength, where "tropical depression" would mislabel a breeze on a
+ * calm day. */
 int hud_beaufort(float speed_ms);
 const char *hud_beaufort_name(int force);
 

@@ -1,7 +1,7 @@
-/* The JSON control half of the gale wire (DESIGN.md "Wire"): hello, welcome (scene
- * description), view, wind commands, resync, ping/pong, error. Text in, structs out and
- * back, through cJSON; every rejection names the field and carries its close code
- * (wire.h enum wire_close). PROTOCOL.md lists the messages and their fields. */
+/* The JSON control half of the gale wire (PROTOCOL.md "Control messages"): hello,
+ * welcome (scene description), view, wind commands, resync, ping/pong, error. Text in,
+ * structs out and back, through cJSON; every rejection names the field and carries its
+ * close code (wire.h enum wire_close). PROTOCOL.md lists the messages and their fields. */
 #ifndef GALE_CTL_H
 #define GALE_CTL_H
 
@@ -148,22 +148,14 @@ void ctl_msg_fini(ctl_msg *m);
 
 /* Encodes *m as one line of JSON into a new NUL-terminated buffer *out (malloc'd, caller
  * frees with free()) of *len bytes (without the NUL). Rejects values a decoder would
- * reject (GALE_E_RANGE / GALE_E_ARG). */
+ * reject: each field is checked against the decoder's own limit as it is written
+ * (GALE_E_RANGE; an enum outside its range GALE_E_ARG), so the text is not parsed again.
+ * tests/test_ctl.c checks that whatever it writes decodes. */
 int ctl_encode(const ctl_msg *m, char **out, size_t *len, gale_err *err);
 
 /* Encodes *m into buf[cap] (NUL-terminated); for small messages on hot paths (pong,
  * error). GALE_E_RANGE when it does not fit. Does not allocate outside cJSON. */
 int ctl_encode_into(const ctl_msg *m, char *buf, size_t cap, size_t *len, gale_err *err);
-
-/* Interest and LOD for one client: n_modes[t] = 0 for trees outside the view (a tree
- * counts as inside when any point within margin_m of its base pos[3t..3t+2] is), the
- * tree's full_modes[t] when inside and within v->lod_m of the view origin (circle centre
- * or frustum eye; lod_m = 0: no LOD), else min(full_modes[t], lod_modes) (lod_modes >= 1).
- * CTL_VIEW_ALL keeps every tree. Does not allocate; for the server's per-client
- * snapshot (wire_state.n_modes). */
-void ctl_view_select(const ctl_view *v, uint32_t n_trees, const float *pos,
-                     const uint8_t *full_modes, float margin_m, uint32_t lod_modes,
-                     uint8_t *n_modes);
 
 /* True for the types a client may send (hello, view, wind, resync, ping). */
 bool ctl_from_client(int type);

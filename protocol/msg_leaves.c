@@ -4,6 +4,7 @@
 #include <stdio.h>
 
 #include "wire.h"
+#include "wire_cursor.h"
 #include "wire_int.h"
 
 #define LEAF_BYTES 14u

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "wire.h"
+#include "wire_cursor.h"
 #include "wire_int.h"
 
 #define GROUP 8u        /* modes per group; a full group of width w is exactly w bytes */

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "wire.h"
+#include "wire_cursor.h"
 #include "wire_int.h"
 
 #define WIND_FIXED 24u /* bytes before the cells */

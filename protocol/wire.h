@@ -1,7 +1,8 @@
-/* The binary half of the gale wire (DESIGN.md "Wire"): frame header, little-endian
- * cursor reader/writer, quantisation of modal coordinates q (Diener 2008 section 3),
- * state keyframes and deltas, leaf seeds (Vazquez 2008) and coarse wind slices
- * (Oliapuram & Kumar section 2). PROTOCOL.md has the byte tables. */
+/* The binary half of the gale wire (PROTOCOL.md "Binary frames"): frame header, close
+ * codes, quantisation of modal coordinates q (Diener 2008 section 3), state keyframes and
+ * deltas, leaf seeds (Vazquez 2008), coarse wind slices (Oliapuram & Kumar section 2) and
+ * the client's decoder. The byte cursor they are written with is wire_cursor.h.
+ * PROTOCOL.md has the byte tables. */
 #ifndef GALE_WIRE_H
 #define GALE_WIRE_H
 
@@ -10,6 +11,7 @@
 #include <stdint.h>
 
 #include "err.h"
+#include "wire_cursor.h"
 #include "wire_limits.h"
 
 /* ---- frame header: every binary frame starts with it (20 bytes) ---------------------- */
@@ -55,63 +57,6 @@ enum wire_close {
 /* Name of a close code ("bad-json", "version", ...), "unknown" for others. */
 const char *wire_close_name(int code);
 
-/* ---- little-endian cursor (STYLE.md 4.6) -------------------------------------------- */
-
-/* Reader: a cursor with a sticky bad flag; any short read sets bad and returns 0. Check
- * bad once before acting on what was read. */
-typedef struct wire_reader {
-    const uint8_t *p, *end;
-    bool bad;
-} wire_reader;
-
-/* Writer: same for output; an overflowing put sets bad and writes nothing. */
-typedef struct wire_writer {
-    uint8_t *p, *end;
-    bool bad;
-} wire_writer;
-
-static inline wire_reader wire_reader_make(const uint8_t *buf, size_t len)
-{
-    wire_reader r = { buf, buf + len, false };
-    return r;
-}
-
-static inline wire_writer wire_writer_make(uint8_t *buf, size_t cap)
-{
-    wire_writer w = { buf, buf + cap, false };
-    return w;
-}
-
-static inline size_t wire_reader_left(const wire_reader *r)
-{
-    return (size_t)(r->end - r->p);
-}
-
-uint8_t wire_get_u8(wire_reader *r);
-uint16_t wire_get_u16(wire_reader *r);
-uint32_t wire_get_u32(wire_reader *r);
-uint64_t wire_get_u64(wire_reader *r);
-float wire_get_f32(wire_reader *r);
-/* LEB128 unsigned varint, at most 5 bytes for 32 bits; overlong or >32-bit sets bad. */
-uint32_t wire_get_varint(wire_reader *r);
-
-void wire_put_u8(wire_writer *w, uint8_t v);
-void wire_put_u16(wire_writer *w, uint16_t v);
-void wire_put_u32(wire_writer *w, uint32_t v);
-void wire_put_u64(wire_writer *w, uint64_t v);
-void wire_put_f32(wire_writer *w, float v);
-void wire_put_varint(wire_writer *w, uint32_t v);
-
-static inline uint32_t wire_zigzag(int32_t v)
-{
-    return ((uint32_t)v << 1) ^ (uint32_t)(v >> 31);
-}
-
-static inline int32_t wire_unzigzag(uint32_t v)
-{
-    return (int32_t)(v >> 1) ^ -(int32_t)(v & 1u);
-}
-
 /* ---- frame header ------------------------------------------------------------------- */
 
 /* Writes h (magic and version are written as WIRE_MAGIC / WIRE_PROTOCOL_VERSION). */
@@ -142,18 +87,6 @@ static inline float wire_dequantize(int16_t v, float step)
 {
     return (float)v * step;
 }
-
-/* Default relative node error per mode: step_i = eps * H / max_node |d u / d q_i|. */
-#define WIRE_DEFAULT_EPS 1.0e-3f
-
-struct asset;
-
-/* Quantisation steps for one species: steps[i] = eps * H / s_i with s_i the largest
- * displacement per unit q_i over all nodes (for the strong-wind form u = q~ v + q~^2 w,
- * q~ = a atan(b q), that is |a_i b_i| max |v_i| at q = 0; phi is used when no correction
- * is baked). eps = 0 means WIRE_DEFAULT_EPS. Writes a->n_modes steps (caller-owned,
- * at least WIRE_MAX_MODES long). A mode that moves nothing gets step = eps * H. */
-int wire_quant_steps(const struct asset *a, float eps, float *steps, gale_err *err);
 
 /* ---- scene and snapshots (server and client share the picture) --------------------- */
 

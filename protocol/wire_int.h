@@ -1,5 +1,6 @@
-/* Private to the wire module: the decoder's storage and the per-message decoders that
- * wire_decode dispatches to. Not installed; included by wire.c and msg_*.c only. */
+/* Private to the wire module: the decoder's storage and the per-message body decoders
+ * that wire_decode dispatches to. Included by wire_decoder.c and msg_*.c only; it
+ * includes wire.h, which includes wire_cursor.h (one way: nothing below includes it). */
 #ifndef GALE_WIRE_INT_H
 #define GALE_WIRE_INT_H
 
@@ -39,11 +40,5 @@ int wire_decode_wind(wire_reader *r, const wire_header *h, int8_t *v, wire_wind 
 
 /* Short message type name for errors ("KEYFRAME", ...). */
 const char *wire_type_name(unsigned type);
-
-/* Byte offset of the cursor from the frame start, for messages. */
-static inline size_t wire_offset(const wire_reader *r, const uint8_t *start)
-{
-    return (size_t)(r->p - start);
-}
 
 #endif

@@ -11,7 +11,7 @@
  * headroom and keeps a tree index within 18 bits. */
 #define WIRE_MAX_TREES 262144u
 
-/* Modes per tree. DESIGN.md: N = 16..64 modes per species. */
+/* Modes per tree. A scene bakes 16..64 modes per species (the shipped ones 24..32). */
 #define WIRE_MAX_MODES 64u
 
 /* Species in one scene. A species index is one byte on the wire; 64 species is far more

@@ -1,6 +1,7 @@
 /* Tests of the JSON control messages (protocol/ctl.h): golden text per message type,
- * round trips, every truncation rejected, and the exact error text and close code of
- * each kind of bad input. */
+ * round trips, every truncation rejected, the exact error text and close code of each
+ * kind of bad input, and the encoder's self-check: what it writes, the decoder accepts. */
+#include <math.h>
 #include <stdlib.h>
 
 #include "check.h"
@@ -326,43 +327,197 @@ static void test_errors(void)
     CHECK(ctl_encode_into(&m, tiny, sizeof tiny, &n, &e) == GALE_E_RANGE);
 }
 
-/* Circle and frustum interest with LOD, against positions worked out by hand. */
-static void test_view_select(void)
+
+/* ---- the encoder's self-check, kept here rather than on the send path ---------------- */
+
+static uint64_t rng_state = 0x9e3779b97f4a7c15ull;
+
+static uint32_t rnd(uint32_t n)
 {
-    const float pos[5 * 3] = { 0, 0, 0, 50, 0, 0, 0, 120, 0, -10, 0, 0, 0, 104, 0 };
-    const uint8_t full[5] = { 32, 32, 16, 32, 32 };
-    uint8_t n[5];
-    ctl_view all = { .kind = CTL_VIEW_ALL };
-    ctl_view_select(&all, 5, pos, full, 0, 8, n);
-    CHECK(n[0] == 32 && n[2] == 16 && n[4] == 32);
-    /* Circle at the origin, radius 100, LOD beyond 40 m, 5 m margin. */
-    ctl_view c = { .kind = CTL_VIEW_CIRCLE, .radius_m = 100, .lod_m = 40 };
-    ctl_view_select(&c, 5, pos, full, 5, 8, n);
-    CHECK(n[0] == 32);  /* centre */
-    CHECK(n[1] == 8);   /* 50 m: inside, beyond LOD */
-    CHECK(n[2] == 0);   /* 120 m: outside */
-    CHECK(n[3] == 32);  /* 10 m */
-    CHECK(n[4] == 8);   /* 104 m: outside the radius, inside the margin */
-    /* Frustum from (0, -10, 0) looking +y, 90 degrees, far 150. */
-    ctl_view f = { .kind = CTL_VIEW_FRUSTUM, .eye = { 0, -10, 0 }, .dir = { 0, 2, 0 },
-                   .fov_deg = 90, .far_m = 150 };
-    ctl_view_select(&f, 5, pos, full, 0, 8, n);
-    CHECK(n[0] == 32);  /* on the axis, 10 m ahead */
-    CHECK(n[1] == 0);   /* (50, 10): 78.7 degrees off axis */
-    CHECK(n[2] == 16);  /* 130 m ahead */
-    CHECK(n[3] == 32);  /* (-10, 10): exactly on the 45 degree edge */
-    f.far_m = 100;
-    ctl_view_select(&f, 5, pos, full, 0, 8, n);
-    CHECK(n[2] == 0 && n[4] == 0);
-    ctl_view_select(&f, 5, pos, full, 20, 8, n);
-    CHECK(n[4] == 32 && n[1] == 0); /* 114 m within far + margin; 50 m across is not */
+    rng_state = rng_state * 6364136223846793005ull + 1442695040888963407ull;
+    return (uint32_t)((rng_state >> 33) % n);
+}
+
+/* A float near the limits the decoder checks, or an ordinary one. */
+static float edge_float(void)
+{
+    static const float edges[] = { 0.0f,   -0.0f, 1e-45f, 1e-3f,  0.9e-3f, 0.1f,  0.09f,
+                                   1.0f,   0.5f,  179.0f, 180.0f, 100.0f,  101.0f, 360.0f,
+                                   1000.0f, 1001.0f, 1e6f, 1.0000001e6f, -1e6f, -1.0000001e6f,
+                                   NAN,    INFINITY, -INFINITY, -1.0f };
+    if (rnd(3) == 0) {
+        return (float)rnd(2000000) / 100.0f - 10000.0f;
+    }
+    return edges[rnd(sizeof edges / sizeof edges[0])];
+}
+
+static void fill_str(char *s, size_t cap)
+{
+    static const char chars[] = "abcXYZ019 -_/\"\\\t\n\x01\xc3\xa9";
+    size_t n = rnd(4) == 0 ? cap - 1 : rnd((uint32_t)cap);
+    for (size_t i = 0; i < n; i++) {
+        s[i] = chars[rnd(sizeof chars - 1)];
+    }
+    s[n] = '\0';
+}
+
+static void fill_view(ctl_view *v)
+{
+    v->kind = (int)rnd(4) - (rnd(8) == 0 ? 1 : 0); /* now and then not a kind */
+    v->x = edge_float();
+    v->y = edge_float();
+    v->radius_m = edge_float();
+    for (int k = 0; k < 3; k++) {
+        v->eye[k] = edge_float();
+        v->dir[k] = rnd(3) ? edge_float() : 0.0f;
+    }
+    v->fov_deg = edge_float();
+    v->far_m = edge_float();
+    v->lod_m = rnd(2) ? edge_float() : 0.0f;
+}
+
+/* A random message of a random type, often with a value a decoder rejects. Arrays point
+ * into the caller's storage. */
+static void fill_msg(ctl_msg *m, ctl_species *sp, ctl_instance *in, ctl_obstacle *ob)
+{
+    memset(m, 0, sizeof *m);
+    m->type = 1 + (int)rnd(8);
+    static const uint64_t us[] = { 0, 1, 9007199254740992ull, 9007199254740993ull,
+                                   9007199254740994ull, UINT64_MAX, 123456789 };
+    switch (m->type) {
+    case CTL_HELLO:
+        m->u.hello.protocol = rnd(8) ? WIRE_PROTOCOL_VERSION : 2;
+        m->u.hello.role = (int)rnd(5);
+        fill_view(&m->u.hello.view);
+        fill_str(m->u.hello.token, sizeof m->u.hello.token);
+        break;
+    case CTL_VIEW:
+        fill_view(&m->u.view);
+        break;
+    case CTL_WIND:
+        fill_str(m->u.wind.token, sizeof m->u.wind.token);
+        m->u.wind.has_speed = rnd(2);
+        m->u.wind.speed_ms = edge_float();
+        m->u.wind.has_dir = rnd(2);
+        m->u.wind.dir_deg = edge_float();
+        m->u.wind.has_gust = rnd(2);
+        m->u.wind.gust = rnd(2) ? (float)rnd(100) / 80.0f : edge_float();
+        m->u.wind.has_scenario = rnd(2);
+        fill_str(m->u.wind.scenario, sizeof m->u.wind.scenario);
+        break;
+    case CTL_RESYNC:
+        m->u.resync_seq = rnd(2) ? UINT32_MAX : rnd(1000);
+        break;
+    case CTL_PING:
+        m->u.ping = (ctl_ping){ rnd(2) ? UINT32_MAX : rnd(9), us[rnd(7)] };
+        break;
+    case CTL_PONG:
+        m->u.pong = (ctl_pong){ rnd(9), us[rnd(7)], us[rnd(7)], rnd(2) ? UINT32_MAX : 7 };
+        break;
+    case CTL_ERROR:
+        m->u.error.code = rnd(2) ? 4000 + (int)rnd(12) : (int)rnd(6000);
+        fill_str(m->u.error.message, sizeof m->u.error.message);
+        break;
+    default: { /* CTL_WELCOME */
+        ctl_welcome *w = &m->u.welcome;
+        w->protocol = rnd(8) ? WIRE_PROTOCOL_VERSION : 0;
+        w->client_id = rnd(100);
+        w->role = (int)rnd(5);
+        w->tick_hz = rnd(2) ? 60.0f : edge_float();
+        w->snapshot_hz = rnd(2) ? 30.0f : edge_float();
+        w->server_us = us[rnd(7)];
+        w->tick = rnd(1000);
+        w->n_species = rnd(4);
+        w->species = sp;
+        for (uint32_t i = 0; i < 3; i++) {
+            fill_str(sp[i].name, sizeof sp[i].name);
+            fill_str(sp[i].url, sizeof sp[i].url);
+            snprintf(sp[i].hash, sizeof sp[i].hash, "%s",
+                     rnd(4) ? "0123456789abcdef" : rnd(2) ? "0123456789ABCDEF" : "0123");
+            sp[i].n_modes = rnd(4) ? 1 + rnd(64) : rnd(2) ? 0 : 65;
+        }
+        w->n_instances = rnd(4);
+        w->instances = in;
+        for (uint32_t i = 0; i < 3; i++) {
+            in[i] = (ctl_instance){ rnd(4), { edge_float(), edge_float(), edge_float() },
+                                    edge_float(), rnd(2) ? 1.0f : edge_float() };
+        }
+        w->n_obstacles = rnd(3);
+        w->obstacles = ob;
+        for (uint32_t i = 0; i < 2; i++) {
+            for (int k = 0; k < 3; k++) {
+                ob[i].min[k] = rnd(2) ? (float)rnd(10) : edge_float();
+                ob[i].max[k] = rnd(2) ? ob[i].min[k] + (float)rnd(10) : edge_float();
+            }
+        }
+        break;
+    }
+    }
+}
+
+/* Whatever ctl_encode and ctl_encode_into write, ctl_decode accepts, and the decoded
+ * message encodes again; a refusal is a range or argument error with the same text from
+ * both encoders. Both outcomes must occur often. */
+static void test_encode_self_check(void)
+{
+    int accepted = 0, refused = 0;
+    bool all = true;
+    for (int it = 0; it < 40000; it++) {
+        ctl_species sp[3];
+        ctl_instance in[3];
+        ctl_obstacle ob[2];
+        ctl_msg m;
+        fill_msg(&m, sp, in, ob);
+        char *s = NULL;
+        size_t n = 0;
+        gale_err e = { 0 };
+        int rc = ctl_encode(&m, &s, &n, &e);
+        char small[8192];
+        size_t n2 = 0;
+        gale_err e2 = { 0 };
+        int rc2 = ctl_encode_into(&m, small, sizeof small, &n2, &e2);
+        if (rc) {
+            refused++;
+            bool ok = (rc == GALE_E_RANGE || rc == GALE_E_ARG) && s == NULL &&
+                      strncmp(e.msg, "ctl_encode: ", 12) == 0 && rc2 == rc &&
+                      strcmp(e.msg, e2.msg) == 0;
+            if (!ok) {
+                fprintf(stderr, "  type %d refused with %d: %s\n", m.type, rc, e.msg);
+            }
+            all &= ok;
+            continue;
+        }
+        accepted++;
+        ctl_msg back;
+        int close = -1;
+        bool ok = rc2 == 0 && n2 == n && strcmp(small, s) == 0;
+        ok = ok && ctl_decode(s, n, CTL_MAX_SERVER_BYTES, &back, &close, &e) == 0 &&
+             close == 0 && back.type == m.type;
+        if (ok) {
+            /* The decoded message encodes again: to the same text, except that a
+             * direction of 360 degrees decodes as 0. */
+            char *again = NULL;
+            size_t n3 = 0;
+            ok = ctl_encode(&back, &again, &n3, &e) == 0 &&
+                 ((n3 == n && strcmp(again, s) == 0) || (m.type == CTL_WIND && m.u.wind.has_dir));
+            free(again);
+            ctl_msg_fini(&back);
+        }
+        if (!ok) {
+            fprintf(stderr, "  encoded but not decoded back alike: %s (%s)\n", s, e.msg);
+        }
+        all &= ok;
+        free(s);
+    }
+    CHECK(all);
+    CHECK(accepted > 5000 && refused > 5000);
 }
 
 int main(void)
 {
-    RUN(test_view_select);
     RUN(test_golden);
     RUN(round_trip_fields);
     RUN(test_errors);
+    RUN(test_encode_self_check);
     return check_report();
 }

@@ -3,7 +3,6 @@
  * clamps, and delta chains that decode to the same state as keyframes. */
 #include <stdlib.h>
 
-#include "asset.h"
 #include "check.h"
 #include "wire.h"
 
@@ -96,33 +95,6 @@ static void test_quantize(void)
     CHECK(wire_wind_quantize(-1e30f, 0.5f) == -127);
     CHECK(wire_wind_quantize(10.0f, 0.5f) == 20);
     CHECK(wire_wind_quantize(-10.2f, 0.5f) == -20);
-}
-
-/* A tiny asset: 2 nodes, 2 modes; steps follow eps * H / max |a b v|. */
-static void test_quant_steps(void)
-{
-    float phi[2 * 2 * 3] = { 0, 0, 0, 3, 4, 0, /* mode 0: |phi| max 5 */
-                             0, 0, 0, 0, 0, 0 /* mode 1 moves nothing */ };
-    float ca[2] = { 2.0f, 1.0f }, cb[2] = { 0.5f, 1.0f };
-    asset a = { 0 };
-    strcpy(a.species, "t");
-    a.n_nodes = 2;
-    a.n_modes = 2;
-    a.height_m = 10.0f;
-    a.phi = phi;
-    float steps[WIRE_MAX_MODES];
-    gale_err e;
-    CHECK(wire_quant_steps(&a, 0.01f, steps, &e) == 0);
-    CHECK_NEAR(steps[0], 0.01 * 10 / 5, 1e-7);
-    CHECK_NEAR(steps[1], 0.01 * 10, 1e-7);
-    a.corr_v = phi;
-    a.corr_a = ca;
-    a.corr_b = cb;
-    CHECK(wire_quant_steps(&a, 0.0f, steps, &e) == 0);
-    CHECK_NEAR(steps[0], 1e-3 * 10 / (5 * 2.0 * 0.5), 1e-8);
-    a.height_m = NAN;
-    CHECK(wire_quant_steps(&a, 0.01f, steps, &e) == GALE_E_RANGE);
-    CHECK_STR_HAS(e.msg, "wire_quant_steps: t: height_m: expected > 0, got nan");
 }
 
 static void test_header_golden(void)
@@ -531,7 +503,6 @@ int main(void)
     RUN(test_cursor);
     RUN(test_varint);
     RUN(test_quantize);
-    RUN(test_quant_steps);
     RUN(test_header_golden);
     RUN(test_wind_golden);
     RUN(test_state_golden);

@@ -24,6 +24,7 @@
 #include "gust.h"
 #include "lsystem.h"
 #include "modal.h"
+#include "quant_steps.h"
 #include "species.h"
 #include "wire.h"
 
@@ -153,7 +154,7 @@ static double hist_pct(const uint64_t *h, uint64_t n, double p)
 
 int bench_wire(int argc, char **argv)
 {
-    double seconds = 60.0, mean_ms = 20.0, intensity = 0.3, eps = WIRE_DEFAULT_EPS;
+    double seconds = 60.0, mean_ms = 20.0, intensity = 0.3, eps = QUANT_STEPS_DEFAULT_EPS;
     double keyframe_s = 10.0;
     int n_trees = 200, n_modes = 32, error_every = 3;
     bool json = false, synthetic = false;
@@ -203,7 +204,7 @@ int bench_wire(int argc, char **argv)
         int rc = synthetic
                      ? bake_species(nodes[s], 101 + (uint64_t)s, n_modes, 0.3, 2e-3, &sp[s], &err)
                      : bake_shipped(shipped[s], n_modes, &sp[s], &err);
-        if (rc || wire_quant_steps(&sp[s], (float)eps, steps[s], &err)) {
+        if (rc || quant_steps_derive(&sp[s], (float)eps, steps[s], &err)) {
             fprintf(stderr, "gale-bench wire: species %d: %s\n", s, err.msg);
             return 1;
         }

@@ -1,71 +1,49 @@
-/* Validated JSON configuration: see cfg.h. */
+/* Validated JSON configuration: see cfg.h. Parsing, key checks and typed getters are
+ * protocol/json.h's, in its FILE voice; what is cfg's own is the file and its name. */
 #include "cfg.h"
 
 #include <errno.h>
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "json.h"
+
+/* The kit's reader for document d: messages start with its file name. */
+static json_rd reader(const cfg_doc *d, gale_err *err)
+{
+    json_rd r = { d->name, JSON_VOICE_FILE, err };
+    return r;
+}
+
 void cfg_path(char *out, size_t cap, const char *path, const char *key)
 {
-    if (path && path[0]) {
-        snprintf(out, cap, "%s.%s", path, key);
-    } else {
-        snprintf(out, cap, "%s", key);
-    }
+    json_path(out, cap, path, key);
 }
 
 void cfg_path_index(char *out, size_t cap, const char *path, int i)
 {
-    snprintf(out, cap, "%s[%d]", path ? path : "", i);
-}
-
-static const char *type_name(const cJSON *j)
-{
-    if (!j) {
-        return "nothing";
-    }
-    switch (j->type & 0xff) {
-    case cJSON_False:
-    case cJSON_True: return "a boolean";
-    case cJSON_NULL: return "null";
-    case cJSON_Number: return "a number";
-    case cJSON_String: return "a string";
-    case cJSON_Array: return "an array";
-    case cJSON_Object: return "an object";
-    default: return "an invalid value";
-    }
+    json_path_index(out, cap, path, i);
 }
 
 int cfg_parse(cfg_doc *d, const char *name, const char *text, size_t len, gale_err *err)
 {
     memset(d, 0, sizeof *d);
     snprintf(d->name, sizeof d->name, "%s", name ? name : "<config>");
-    const char *end = NULL;
-    d->root = cJSON_ParseWithLengthOpts(text, len, &end, false);
+    size_t at = 0;
+    d->root = json_parse(text, len, &at);
     if (!d->root) {
-        /* cJSON leaves end at the byte where parsing failed: turn it into line:col. */
-        size_t off = (end && end >= text && (size_t)(end - text) <= len) ? (size_t)(end - text)
-                                                                          : 0;
-        int line = 1, col = 1;
-        for (size_t i = 0; i < off; i++) {
-            if (text[i] == '\n') {
-                line++;
-                col = 1;
-            } else {
-                col++;
-            }
-        }
         if (len == 0) {
             return gale_errf(err, GALE_E_PARSE, "%s: empty file: expected a JSON object",
                              d->name);
         }
+        int line, col;
+        json_line_col(text, at, &line, &col);
         return gale_errf(err, GALE_E_PARSE, "%s:%d:%d: invalid JSON", d->name, line, col);
     }
     if (!cJSON_IsObject(d->root)) {
         int rc = gale_errf(err, GALE_E_PARSE, "%s: expected a JSON object at the top, got %s",
-                           d->name, type_name(d->root));
+                           d->name, json_kind(d->root));
         cfg_fini(d);
         return rc;
     }
@@ -125,209 +103,75 @@ void cfg_fini(cfg_doc *d)
 int cfg_check_keys(const cfg_doc *d, const cJSON *obj, const char *path,
                    const char *const *allowed, gale_err *err)
 {
-    if (!cJSON_IsObject(obj)) {
-        return gale_errf(err, GALE_E_PARSE, "%s: %s: expected an object, got %s", d->name,
-                         path && path[0] ? path : "(top)", type_name(obj));
-    }
-    for (const cJSON *c = obj->child; c; c = c->next) {
-        bool ok = false;
-        for (const char *const *a = allowed; *a; a++) {
-            if (c->string && strcmp(c->string, *a) == 0) {
-                ok = true;
-                break;
-            }
-        }
-        if (!ok) {
-            char p[256];
-            cfg_path(p, sizeof p, path, c->string ? c->string : "?");
-            return gale_errf(err, GALE_E_PARSE, "%s: %s: unknown key", d->name, p);
-        }
-        /* a duplicate key would silently shadow the first: reject it */
-        for (const cJSON *e = c->next; e; e = e->next) {
-            if (c->string && e->string && strcmp(c->string, e->string) == 0) {
-                char p[256];
-                cfg_path(p, sizeof p, path, c->string);
-                return gale_errf(err, GALE_E_PARSE, "%s: %s: duplicate key", d->name, p);
-            }
-        }
-    }
-    return GALE_OK;
+    json_rd r = reader(d, err);
+    return json_check_keys(&r, obj, path, allowed);
 }
 
 const cJSON *cfg_child(const cfg_doc *d, const cJSON *obj, const char *path, const char *key,
                        int type, bool required, bool *found, gale_err *err)
 {
-    char p[256];
-    cfg_path(p, sizeof p, path, key);
-    const cJSON *c = cJSON_GetObjectItemCaseSensitive(obj, key);
+    json_rd r = reader(d, err);
+    const cJSON *c = NULL;
+    int rc = json_child(&r, obj, path, key, type, required, &c);
     if (found) {
-        *found = c != NULL;
-    }
-    if (!c) {
-        if (required) {
-            gale_errf(err, GALE_E_PARSE, "%s: %s: required key missing", d->name, p);
-        }
-        return NULL;
-    }
-    if ((c->type & 0xff) != type) {
-        cJSON probe = { 0 };
-        probe.type = type;
-        gale_errf(err, GALE_E_PARSE, "%s: %s: expected %s, got %s", d->name, p,
-                  type_name(&probe), type_name(c));
-        if (found) {
-            *found = false;
-        }
-        return NULL;
+        *found = rc == 0 && c != NULL;
     }
     return c;
-}
-
-/* Fetches obj[key] as a number; 1 = got it, 0 = absent (not required), < 0 = error. */
-static int get_number(const cfg_doc *d, const cJSON *obj, const char *path, const char *key,
-                      bool required, double *v, gale_err *err)
-{
-    char p[256];
-    cfg_path(p, sizeof p, path, key);
-    const cJSON *c = cJSON_GetObjectItemCaseSensitive(obj, key);
-    if (!c) {
-        if (required) {
-            return gale_errf(err, GALE_E_PARSE, "%s: %s: required key missing", d->name, p);
-        }
-        return 0;
-    }
-    if (!cJSON_IsNumber(c)) {
-        return gale_errf(err, GALE_E_PARSE, "%s: %s: expected a number, got %s", d->name, p,
-                         type_name(c));
-    }
-    if (!isfinite(c->valuedouble)) {
-        return gale_errf(err, GALE_E_RANGE, "%s: %s: expected a finite number", d->name, p);
-    }
-    *v = c->valuedouble;
-    return 1;
 }
 
 int cfg_number(const cfg_doc *d, const cJSON *obj, const char *path, const char *key,
                bool required, double def, double min, double max, double *out, gale_err *err)
 {
+    json_rd r = reader(d, err);
     double v = def;
-    int rc = get_number(d, obj, path, key, required, &v, err);
-    if (rc < 0) {
-        return rc;
+    int rc = json_number(&r, obj, path, key, required, min, max, &v, NULL);
+    if (rc == GALE_OK) {
+        *out = v;
     }
-    if (rc == 1 && (v < min || v > max)) {
-        char p[256];
-        cfg_path(p, sizeof p, path, key);
-        return gale_errf(err, GALE_E_RANGE, "%s: %s: expected a number in [%g, %g], got %g",
-                         d->name, p, min, max, v);
-    }
-    *out = v;
-    return GALE_OK;
+    return rc;
 }
 
 int cfg_int(const cfg_doc *d, const cJSON *obj, const char *path, const char *key,
             bool required, long long def, long long min, long long max, long long *out,
             gale_err *err)
 {
-    double v = (double)def;
-    int rc = get_number(d, obj, path, key, required, &v, err);
-    if (rc < 0) {
-        return rc;
+    json_rd r = reader(d, err);
+    long long v = def;
+    int rc = json_int(&r, obj, path, key, required, min, max, &v, NULL);
+    if (rc == GALE_OK) {
+        *out = v;
     }
-    if (rc == 1) {
-        char p[256];
-        cfg_path(p, sizeof p, path, key);
-        if (v != floor(v) || v < (double)min || v > (double)max) {
-            return gale_errf(err, GALE_E_RANGE,
-                             "%s: %s: expected an integer in [%lld, %lld], got %g", d->name, p,
-                             min, max, v);
-        }
-        *out = (long long)v;
-    } else {
-        *out = def;
-    }
-    return GALE_OK;
+    return rc;
 }
 
 int cfg_bool(const cfg_doc *d, const cJSON *obj, const char *path, const char *key,
              bool required, bool def, bool *out, gale_err *err)
 {
-    char p[256];
-    cfg_path(p, sizeof p, path, key);
-    const cJSON *c = cJSON_GetObjectItemCaseSensitive(obj, key);
-    if (!c) {
-        if (required) {
-            return gale_errf(err, GALE_E_PARSE, "%s: %s: required key missing", d->name, p);
-        }
-        *out = def;
-        return GALE_OK;
+    json_rd r = reader(d, err);
+    bool v = def;
+    int rc = json_bool(&r, obj, path, key, required, &v, NULL);
+    if (rc == GALE_OK) {
+        *out = v;
     }
-    if (!cJSON_IsBool(c)) {
-        return gale_errf(err, GALE_E_PARSE, "%s: %s: expected a boolean, got %s", d->name, p,
-                         type_name(c));
-    }
-    *out = cJSON_IsTrue(c);
-    return GALE_OK;
+    return rc;
 }
 
 int cfg_string(const cfg_doc *d, const cJSON *obj, const char *path, const char *key,
                bool required, const char *def, char *out, size_t cap, gale_err *err)
 {
-    char p[256];
-    cfg_path(p, sizeof p, path, key);
-    const cJSON *c = cJSON_GetObjectItemCaseSensitive(obj, key);
-    const char *s = def;
-    if (!c) {
-        if (required) {
-            return gale_errf(err, GALE_E_PARSE, "%s: %s: required key missing", d->name, p);
-        }
-    } else if (!cJSON_IsString(c)) {
-        return gale_errf(err, GALE_E_PARSE, "%s: %s: expected a string, got %s", d->name, p,
-                         type_name(c));
-    } else {
-        s = c->valuestring;
-    }
-    if (!s) {
-        s = "";
-    }
-    if (strlen(s) >= cap) {
-        return gale_errf(err, GALE_E_RANGE, "%s: %s: expected at most %zu characters, got %zu",
-                         d->name, p, cap - 1, strlen(s));
-    }
-    memcpy(out, s, strlen(s) + 1);
-    return GALE_OK;
+    json_rd r = reader(d, err);
+    return json_string(&r, obj, path, key, required, def, out, cap, NULL);
 }
 
 int cfg_vec(const cfg_doc *d, const cJSON *obj, const char *path, const char *key,
             bool required, int n, const double *def, double min, double max, double *out,
             gale_err *err)
 {
-    char p[256];
-    cfg_path(p, sizeof p, path, key);
-    const cJSON *c = cJSON_GetObjectItemCaseSensitive(obj, key);
-    if (!c) {
-        if (required) {
-            return gale_errf(err, GALE_E_PARSE, "%s: %s: required key missing", d->name, p);
-        }
-        if (def) {
-            memcpy(out, def, (size_t)n * sizeof *out);
-        }
-        return GALE_OK;
+    json_rd r = reader(d, err);
+    bool has = false;
+    int rc = json_vec(&r, obj, path, key, required, n, min, max, out, &has);
+    if (rc == GALE_OK && !has && def) {
+        memcpy(out, def, (size_t)n * sizeof *out);
     }
-    if (!cJSON_IsArray(c) || cJSON_GetArraySize(c) != n) {
-        return gale_errf(err, GALE_E_PARSE, "%s: %s: expected an array of %d numbers, got %s",
-                         d->name, p, n, type_name(c));
-    }
-    int i = 0;
-    for (const cJSON *e = c->child; e; e = e->next, i++) {
-        if (!cJSON_IsNumber(e) || !isfinite(e->valuedouble)) {
-            return gale_errf(err, GALE_E_PARSE, "%s: %s[%d]: expected a finite number, got %s",
-                             d->name, p, i, type_name(e));
-        }
-        if (e->valuedouble < min || e->valuedouble > max) {
-            return gale_errf(err, GALE_E_RANGE, "%s: %s[%d]: expected a number in [%g, %g], got %g",
-                             d->name, p, i, min, max, e->valuedouble);
-        }
-        out[i] = e->valuedouble;
-    }
-    return GALE_OK;
+    return rc;
 }

@@ -1,6 +1,6 @@
 /* Validated JSON configuration (species, scenarios, scenes): syntax errors carry
  * file:line:col, value errors carry the key path ("scene.trees[3].yaw_deg"); unknown
- * keys are errors. Built on cJSON. */
+ * and repeated keys are errors. The config files' face of protocol/json.h. */
 #ifndef GALE_CFG_H
 #define GALE_CFG_H
 

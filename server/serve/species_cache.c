@@ -11,6 +11,7 @@
 
 #include "bake.h"
 #include "hash.h"
+#include "quant_steps.h"
 #include "lsystem.h"
 #include "species.h"
 
@@ -135,7 +136,7 @@ int species_cache_get(const char *species_file, int n_modes, const char *cache_d
     }
     e->baked = true;
 done:
-    if ((rc = wire_quant_steps(&e->a, 0, e->qstep, err))) {
+    if ((rc = quant_steps_derive(&e->a, 0, e->qstep, err))) {
         goto fail;
     }
     snprintf(e->hash, sizeof e->hash, "%016llx", (unsigned long long)hash64(e->bytes, e->len));

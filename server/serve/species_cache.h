@@ -21,7 +21,7 @@ typedef struct species_entry {
     size_t len;
     char hash[17];                /* content hash of bytes (hash64), 16 hex digits */
     uint64_t source_hash;         /* cache key: what it was baked from */
-    float qstep[WIRE_MAX_MODES];  /* quantisation steps (wire_quant_steps) */
+    float qstep[WIRE_MAX_MODES];  /* quantisation steps (quant_steps_derive) */
     bool baked;                   /* baked now rather than read from the cache */
     double seconds;               /* time to bake or load */
     char path[512];               /* cache file */

@@ -19,7 +19,7 @@
 /* One species as served: its modal data, quantisation steps and asset file. */
 typedef struct srv_species {
     tick_species modal;        /* arrays borrowed for the server's life */
-    const float *qstep;        /* [modal.n_modes] quantisation step per mode (wire_quant_steps) */
+    const float *qstep;        /* [modal.n_modes] quantisation step per mode (quant_steps_derive) */
     char hash[17];             /* content hash of the asset file, 16 hex digits; "" = none */
     const uint8_t *asset_bytes; /* borrowed; NULL = not served */
     size_t asset_len;

@@ -36,7 +36,7 @@ typedef struct srv_view {
 /* The sim thread's encoder for one view slot. */
 typedef struct srv_vsel {
     srv_stream enc;  /* enc.id: the stream the modes below were selected for; 0 none */
-    uint8_t *modes;  /* owned [n_trees]: ctl_view_select of the slot's view */
+    uint8_t *modes;  /* owned [n_trees]: view_select of the slot's view */
 } srv_vsel;
 
 struct srv {
@@ -83,7 +83,7 @@ struct srv {
     srv_view views[SRV_MAX_VIEWS];
     uint32_t next_stream;
     srv_vsel vsel[SRV_MAX_VIEWS]; /* sim thread: the encoder of each slot's stream */
-    float *tree_pos;             /* owned [n_trees * 3] tree bases for ctl_view_select */
+    float *tree_pos;             /* owned [n_trees * 3] tree bases for view_select */
     float view_margin_m;         /* a tree counts as in view within this of the region */
     /* log rate limits (sim thread) */
     time_t olog_sec;             /* overruns: the second being counted */

@@ -2,6 +2,7 @@
  * each view stream's (srv_stream.h), the coarse wind and leaf frames beside them, handed
  * to net_publish; the float history tests compare with; the publisher's metrics. */
 #include "srv_int.h"
+#include "view_select.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -38,7 +39,7 @@ static int encode_wind(srv *s, wire_header *h, net_snap *p, gale_err *e)
 }
 
 /* One snapshot per view stream: the state encoded with the view's per-tree mode counts
- * (ctl_view_select), the extras of the shared snapshot p copied. A stream whose
+ * (view_select), the extras of the shared snapshot p copied. A stream whose
  * selection is new starts with a keyframe (srv_stream_start). */
 static void publish_views(srv *s, const wire_header *h, const srv_qhist *qh, const net_snap *p)
 {
@@ -59,7 +60,7 @@ static void publish_views(srv *s, const wire_header *h, const srv_qhist *qh, con
         }
         uint64_t t0 = srv_mono_us();
         if (vs->enc.id != streams[k]) {
-            ctl_view_select(&views[k], n, s->tree_pos, s->tree_modes, s->view_margin_m,
+            view_select(&views[k], n, s->tree_pos, s->tree_modes, s->view_margin_m,
                             SRV_LOD_MODES, vs->modes);
             srv_stream_start(&vs->enc, streams[k], vs->modes);
         }

@@ -15,7 +15,7 @@ typedef struct modal_species {
     const float *omega;        /* [n_modes] [rad/s] > 0 */
     const float *gamma;        /* [n_modes] [1/s] >= 0 */
     const float *wind_basis;   /* [n_modes][3] p_i, tree frame */
-    const float *qstep;        /* [n_modes] quantisation step (wire_quant_steps) > 0 */
+    const float *qstep;        /* [n_modes] quantisation step (quant_steps_derive) > 0 */
 } modal_species;
 
 typedef struct modal_desc {

@@ -20,7 +20,7 @@ typedef struct tick_species {
     const float *omega;      /* [n_modes] [rad/s] */
     const float *gamma;      /* [n_modes] [1/s] */
     const float *wind_basis; /* [n_modes][3] p_i, tree frame */
-    const float *qstep;      /* [n_modes] quantisation step of the snapshot (wire_quant_steps) */
+    const float *qstep;      /* [n_modes] quantisation step of the snapshot (quant_steps_derive) */
     float height_m;          /* rest height: the wind is sampled at 0.7 of it */
     uint32_t n_leaves;       /* leaf slots per tree */
 } tick_species;

@@ -1,0 +1,76 @@
+/* wind (PROTOCOL.md "Control messages"): a kiosk's command, with its token and any of
+ * speed, direction, gust intensity and scenario. Each field is optional and flagged by
+ * has_*; only the given ones are written. */
+#include "ctl_int.h"
+
+/* Limits of the command's fields, shared by both directions. */
+#define SPEED_MAX_MS 100.0
+#define DIR_MAX_DEG 360.0
+#define GUST_MAX 1.0
+
+int ctl_wind_parse(ctl_rd *c, const cJSON *o, ctl_wind *w)
+{
+    static const char *const keys[] = { "type",  "token", "speed_ms", "dir_deg",
+                                        "gust",  "scenario", NULL };
+    const json_rd *r = &c->j;
+    int rc = json_check_keys(r, o, "wind", keys);
+    double s = 0, d = 0, g = 0;
+    if (!rc) {
+        rc = json_string(r, o, "wind", "token", true, NULL, w->token, sizeof w->token, NULL);
+    }
+    if (!rc) {
+        rc = json_number(r, o, "wind", "speed_ms", false, 0, SPEED_MAX_MS, &s, &w->has_speed);
+    }
+    if (!rc) {
+        rc = json_number(r, o, "wind", "dir_deg", false, 0, DIR_MAX_DEG, &d, &w->has_dir);
+    }
+    if (!rc) {
+        rc = json_number(r, o, "wind", "gust", false, 0, GUST_MAX, &g, &w->has_gust);
+    }
+    if (!rc) {
+        rc = json_string(r, o, "wind", "scenario", false, NULL, w->scenario, sizeof w->scenario,
+                         &w->has_scenario);
+    }
+    w->speed_ms = (float)s;
+    w->dir_deg = (float)(d >= DIR_MAX_DEG ? 0 : d);
+    w->gust = (float)g;
+    return rc;
+}
+
+/* Checks an optional number as written (ctl_jnum) and adds it. */
+static int put_num(ctl_rd *c, cJSON *o, const char *key, float f, double hi)
+{
+    double v = ctl_jnum(f);
+    int rc = json_check_number(&c->j, "wind", key, 0, hi, v);
+    if (!rc && !ctl_add_num(o, key, v)) {
+        rc = ctl_fail(c, 0, GALE_E_NOMEM, "wind: out of memory");
+    }
+    return rc;
+}
+
+int ctl_wind_encode(ctl_rd *c, const ctl_wind *w, cJSON *o)
+{
+    int rc = json_check_string(&c->j, "wind", "token", w->token, sizeof w->token);
+    if (!rc && w->has_scenario) {
+        rc = json_check_string(&c->j, "wind", "scenario", w->scenario, sizeof w->scenario);
+    }
+    if (rc) {
+        return rc;
+    }
+    if (!cJSON_AddStringToObject(o, "token", w->token)) {
+        return ctl_fail(c, 0, GALE_E_NOMEM, "wind: out of memory");
+    }
+    if (w->has_speed && (rc = put_num(c, o, "speed_ms", w->speed_ms, SPEED_MAX_MS))) {
+        return rc;
+    }
+    if (w->has_dir && (rc = put_num(c, o, "dir_deg", w->dir_deg, DIR_MAX_DEG))) {
+        return rc;
+    }
+    if (w->has_gust && (rc = put_num(c, o, "gust", w->gust, GUST_MAX))) {
+        return rc;
+    }
+    if (w->has_scenario && !cJSON_AddStringToObject(o, "scenario", w->scenario)) {
+        return ctl_fail(c, 0, GALE_E_NOMEM, "wind: out of memory");
+    }
+    return 0;
+}

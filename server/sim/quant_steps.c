@@ -1,0 +1,60 @@
+/* Quantisation steps of q from each mode's largest node displacement (Diener 2008 section
+ * 5.2 form): see quant_steps.h. */
+#include "quant_steps.h"
+
+#include <math.h>
+
+#include "wire_limits.h"
+
+int quant_steps_derive(const asset *a, float eps, float *steps, gale_err *err)
+{
+    if (eps == 0.0f) {
+        eps = QUANT_STEPS_DEFAULT_EPS;
+    }
+    if (!(eps > 0.0f && eps < 1.0f)) {
+        return gale_errf(err, GALE_E_ARG, "quant_steps_derive: eps: expected (0, 1), got %g",
+                         (double)eps);
+    }
+    if (a->n_modes == 0 || a->n_modes > WIRE_MAX_MODES) {
+        return gale_errf(err, GALE_E_RANGE,
+                         "quant_steps_derive: %s: n_modes: expected 1..%u, got %u", a->species,
+                         WIRE_MAX_MODES, a->n_modes);
+    }
+    if (!(a->height_m > 0.0f) || !isfinite(a->height_m)) {
+        return gale_errf(err, GALE_E_RANGE,
+                         "quant_steps_derive: %s: height_m: expected > 0, got %g", a->species,
+                         (double)a->height_m);
+    }
+    const float h_m = a->height_m;
+    for (uint32_t m = 0; m < a->n_modes; m++) {
+        /* Largest node displacement per unit q_m. With the strong-wind form
+         * u = q~ v + q~^2 w, q~ = a atan(b q), du/dq at q = 0 is a b v (Diener 2008
+         * section 5.2); without the correction it is phi. */
+        const float *v = a->corr_v ? a->corr_v : a->phi;
+        float gain = 1.0f;
+        if (a->corr_v && a->corr_a && a->corr_b) {
+            gain = fabsf(a->corr_a[m] * a->corr_b[m]);
+        }
+        float smax = 0.0f;
+        if (v) {
+            const float *vm = v + (size_t)m * a->n_nodes * 3;
+            for (uint32_t i = 0; i < a->n_nodes; i++) {
+                float s2 = vm[3 * i] * vm[3 * i] + vm[3 * i + 1] * vm[3 * i + 1] +
+                           vm[3 * i + 2] * vm[3 * i + 2];
+                smax = s2 > smax ? s2 : smax;
+            }
+        }
+        smax = sqrtf(smax) * gain;
+        float step = eps * h_m;
+        if (smax > 0.0f && isfinite(smax)) {
+            step = eps * h_m / smax;
+        }
+        if (!(step > 0.0f) || !isfinite(step)) {
+            return gale_errf(err, GALE_E_NUMERIC,
+                             "quant_steps_derive: %s: mode %u: step: expected finite > 0, got %g",
+                             a->species, m, (double)step);
+        }
+        steps[m] = step;
+    }
+    return 0;
+}
