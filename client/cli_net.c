@@ -2,8 +2,8 @@
  * minimal-http-client examples): the WebSocket state machine (connect, hello, welcome,
  * frames, pings, resync, backoff), message reassembly into one preallocated buffer, and
  * blocking HTTP GETs of assets over the same context. */
-#include "mono.h"
 #include "cli_net.h"
+#include "mono.h"
 
 #include <libwebsockets.h>
 

@@ -1,5 +1,5 @@
-/* Client HUD (DESIGN.md "Hurricane scenario": the HUD shows speed and the Saffir–Simpson
- * category): a TrueType font baked into a glyph atlas with stb_truetype, text layout,
+/* Client HUD (server/PHYSICS.md "Hurricane scenario": the HUD shows speed and the
+ * Saffir–Simpson category): a TrueType font baked into a glyph atlas with stb_truetype, text layout,
  * the HUD's lines (wind in m/s, km/h, mph; category; connection; fps; latency) and one
  * small OpenGL 3.3 pass that draws them over the rendered frame. */
 #ifndef GALE_HUD_H

@@ -1,6 +1,7 @@
-/* The little-endian byte cursor every binary frame is read and written with (STYLE.md
- * 4.6): a reader and a writer with a sticky bad flag, fixed-width and LEB128 varint
- * fields, zigzag signs. Knows no message; the msg_*.c codecs and the decoder build on it. */
+/* The little-endian byte cursor every binary frame is read and written with, byte by
+ * byte as PROTOCOL.md requires: a reader and a writer with a sticky bad flag, fixed-width
+ * and LEB128 varint fields, zigzag signs. Knows no message; the msg_*.c codecs and the
+ * decoder build on it. */
 #ifndef GALE_WIRE_CURSOR_H
 #define GALE_WIRE_CURSOR_H
 

@@ -130,7 +130,7 @@ static void test_ink(void)
 static void test_saffir_simpson(void)
 {
     const double kt = 0.514444;
-    /* class boundaries of REFERENCE.md, in knots */
+    /* class boundaries of server/PHYSICS.md "Hurricanes", in knots */
     const int lo[7] = { 0, 34, 64, 83, 96, 113, 137 };
     for (int c = 0; c < 7; c++) {
         CHECK(hud_saffir_simpson((float)(lo[c] * kt)) == c - 1);

@@ -1,5 +1,5 @@
 /* Saffir–Simpson classes from the 1-minute sustained wind, both sides of every threshold
- * (knots per REFERENCE.md), and the Beaufort classes below tropical-storm force. */
+ * (knots per server/PHYSICS.md "Hurricanes"), and the Beaufort classes below tropical-storm force. */
 #include "check.h"
 #include "saffir.h"
 

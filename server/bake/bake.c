@@ -1,8 +1,8 @@
 /* The bake pipeline: frame model (fem.c), shift-invert modes (eigen.c), Rayleigh damping
  * γ_i = α + β ω_i² (Diener 2008 eq. 9), wind basis (basis.c, section 4), correction
  * (correction.c, section 5.2), mesh (mesh.h); everything the asset holds. */
-#include "mono.h"
 #include "bake.h"
+#include "mono.h"
 
 #include <math.h>
 #include <stdlib.h>

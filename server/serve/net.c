@@ -2,6 +2,7 @@
  * context and the snapshot pool, hands published snapshots from the simulation thread to
  * the service thread, and routes each callback to net_ws.c or net_http.c. Everything but
  * net_snap_acquire, net_publish and net_stop runs on the one lws service thread. */
+#include "mono.h"
 #include "net_int.h"
 
 #include <stdio.h>
@@ -11,13 +12,6 @@
 #include "ctl.h"
 #include "metric.h"
 #include "wire.h"
-
-static uint64_t now_ns(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (uint64_t)t.tv_sec * 1000000000ull + (uint64_t)t.tv_nsec;
-}
 
 static int net_callback(struct lws *wsi, enum lws_callback_reasons reason, void *user, void *in,
                         size_t len)
@@ -324,8 +318,8 @@ int net_run(net_server *s, int grace_ms)
     }
     /* Tell every client why (1001 going away) and give them grace_ms to close. */
     lws_cancel_service(s->ctx);
-    uint64_t until = now_ns() + (uint64_t)grace_ms * 1000000ull;
-    while (n >= 0 && s->n_conns > 0 && now_ns() < until) {
+    uint64_t until = mono_ns() + (uint64_t)grace_ms * 1000000ull;
+    while (n >= 0 && s->n_conns > 0 && mono_ns() < until) {
         n = lws_service(s->ctx, 0);
     }
     return n < 0 ? GALE_E_IO : GALE_OK;

@@ -1,12 +1,12 @@
 /* Species assets baked on start or loaded from the cache: see species_cache.h. */
 #include "species_cache.h"
+#include "mono.h"
 
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "bake.h"
@@ -14,13 +14,6 @@
 #include "quant_steps.h"
 #include "lsystem.h"
 #include "species.h"
-
-static double now_s(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
-}
 
 /* Reads a whole file (at most max bytes) into a malloc'd buffer. */
 static int read_all(const char *path, size_t max, uint8_t **out, size_t *len, gale_err *err)
@@ -91,7 +84,7 @@ int species_cache_get(const char *species_file, int n_modes, const char *cache_d
                       species_entry *e, gale_err *err)
 {
     memset(e, 0, sizeof *e);
-    double t0 = now_s();
+    double t0 = mono_s();
     uint8_t *text = NULL;
     size_t len = 0;
     species sp;
@@ -140,7 +133,7 @@ done:
         goto fail;
     }
     snprintf(e->hash, sizeof e->hash, "%016llx", (unsigned long long)hash64(e->bytes, e->len));
-    e->seconds = now_s() - t0;
+    e->seconds = mono_s() - t0;
     free(text);
     skeleton_fini(&sk);
     return GALE_OK;

@@ -2,8 +2,8 @@
  * JSON -> L-system skeleton -> bake.h -> asset) or loaded from a cache folder where baked
  * assets are kept by the hash of what they were baked from (the species file's bytes,
  * the mode count and the bake version, as gale-bake computes it). The file bytes are
- * served to clients by their own content hash. (DESIGN.md "Data flow": bake on first
- * use, cached by content hash.) */
+ * served to clients by their own content hash (PHYSICS.md "Data flow": bake on first
+ * use, cached by content hash). */
 #ifndef GALE_SPECIES_CACHE_H
 #define GALE_SPECIES_CACHE_H
 

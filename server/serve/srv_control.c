@@ -18,7 +18,7 @@ static int welcome(srv *s, const net_peer *p, int ctl_role, char **reply, size_t
     w->role = ctl_role;
     w->tick_hz = (float)s->d.sc->tick_hz;
     w->snapshot_hz = (float)(s->d.sc->tick_hz / s->ticks_per_snap);
-    w->server_us = srv_mono_us();
+    w->server_us = mono_us();
     w->tick = atomic_load(&s->simm.current_tick);
     w->n_species = (uint32_t)s->d.sc->n_species;
     w->species = s->wspecies;
@@ -176,7 +176,7 @@ int srv_on_control(void *user, net_peer *p, const char *text, size_t len, char *
         ctl_msg pong = { .type = CTL_PONG };
         pong.u.pong.id = m.u.ping.id;
         pong.u.pong.client_us = m.u.ping.client_us;
-        pong.u.pong.server_us = srv_mono_us();
+        pong.u.pong.server_us = mono_us();
         pong.u.pong.tick = atomic_load(&s->simm.current_tick);
         if (ctl_encode(&pong, reply, reply_len, &e)) {
             snprintf(why, why_cap, "pong: %s", e.msg);

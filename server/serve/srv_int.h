@@ -9,6 +9,7 @@
 #include <stdbool.h>
 #include <time.h>
 
+#include "mono.h"
 #include "ctl.h"
 #include "metric.h"
 #include "srv.h"
@@ -92,14 +93,6 @@ struct srv {
     time_t slog_sec;             /*           when (monotonic seconds) */
     unsigned long long slog_n;   /*           solves since that line */
 };
-
-/* Server clock [us] (CLOCK_MONOTONIC), as welcome, pong and frame headers carry it. */
-static inline uint64_t srv_mono_us(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (uint64_t)t.tv_sec * 1000000ull + (uint64_t)t.tv_nsec / 1000u;
-}
 
 /* srv_control.c, lws thread: net_desc.control and net_desc.closed. */
 int srv_on_control(void *user, net_peer *p, const char *text, size_t len, char **reply,

@@ -58,7 +58,7 @@ static void publish_views(srv *s, const wire_header *h, const srv_qhist *qh, con
             vs->enc.id = 0;
             continue;
         }
-        uint64_t t0 = srv_mono_us();
+        uint64_t t0 = mono_us();
         if (vs->enc.id != streams[k]) {
             view_select(&views[k], n, s->tree_pos, s->tree_modes, s->view_margin_m,
                             SRV_LOD_MODES, vs->modes);
@@ -82,7 +82,7 @@ static void publish_views(srv *s, const wire_header *h, const srv_qhist *qh, con
             continue;
         }
         atomic_fetch_add(&s->pubm.view_snapshots, 1);
-        atomic_fetch_add(&s->pubm.view_encode_ns, (srv_mono_us() - t0) * 1000u);
+        atomic_fetch_add(&s->pubm.view_encode_ns, (mono_us() - t0) * 1000u);
         net_publish(s->net, q);
     }
 }
@@ -116,7 +116,7 @@ void srv_publish(srv *s, uint32_t tick)
                            .stride = (uint32_t)stride };
     net_snap *p = net_snap_acquire(s->net);
     if (p) {
-        wire_header h = { .tick = tick, .server_time_us = srv_mono_us() };
+        wire_header h = { .tick = tick, .server_time_us = mono_us() };
         gale_err e;
         int rc = srv_stream_encode(&s->shared, &h, s->seq, &s->wscene, &qh, p, &e);
         if (!rc && s->coarse && s->seq % SRV_WIND_EVERY == 1) {

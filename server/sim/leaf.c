@@ -1,25 +1,13 @@
 /* Leaf shedding: see leaf.h. Each (seed, tree, tick) gets its own counter-based random
  * stream, so the order trees are visited in does not change the result. */
 #include "leaf.h"
+#include "hash.h"
 
 #include <math.h>
 
-static uint64_t mix64(uint64_t z)
-{
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-
-static uint64_t rng_next(uint64_t *s)
-{
-    *s += 0x9E3779B97F4A7C15ull;
-    return mix64(*s);
-}
-
 static double rng_unit(uint64_t *s)
 {
-    return (double)(rng_next(s) >> 11) * (1.0 / 9007199254740992.0);
+    return (double)(hash64_splitmix(s) >> 11) * (1.0 / 9007199254740992.0);
 }
 
 double leaf_rate(const leaf_desc *d, double speed_ms)
@@ -42,7 +30,7 @@ int leaf_shed(const leaf_desc *d, uint32_t instance, uint32_t n_slots, double sp
     if (mean > 32) {
         mean = 32;
     }
-    uint64_t st = mix64(d->seed ^ mix64(((uint64_t)instance << 32) | tick));
+    uint64_t st = hash64_final(d->seed ^ hash64_final(((uint64_t)instance << 32) | tick));
     /* Knuth's Poisson draw: multiply uniforms until below e^-mean (mean <= 32 keeps
      * e^-mean far above the double's smallest normal). */
     double limit = exp(-mean), p = rng_unit(&st);
@@ -53,7 +41,7 @@ int leaf_shed(const leaf_desc *d, uint32_t instance, uint32_t n_slots, double sp
     }
     int lost = 0;
     for (int i = 0; i < k; i++) {
-        uint64_t r = rng_next(&st);
+        uint64_t r = hash64_splitmix(&st);
         if (*n >= cap) {
             lost++;
             continue;

@@ -1,5 +1,6 @@
 /* The fixed-step simulation: see tick.h. */
 #include "tick.h"
+#include "mono.h"
 
 #include "modal.h"
 
@@ -7,7 +8,6 @@
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 struct tick_sim {
     tick_desc d;
@@ -142,17 +142,10 @@ static void sample_profile(tick_sim *t, const wind_inflow *in)
     }
 }
 
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
-}
-
 int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
 {
     tick_stats local = { 0 };
-    double t0 = now_ms();
+    double t0 = mono_ms();
     const scene *sc = t->d.sc;
     wind_inflow in;
     bool dirty;
@@ -170,7 +163,7 @@ int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
         int every = sc->wind_every > 0 ? sc->wind_every : 1;
         if (t->tick % (uint32_t)every == 0) {
             wind_step_stats ws = { 0 };
-            double w0 = now_ms();
+            double w0 = mono_ms();
             /* the scenario's Gaussian force balls act on each step (wind_add_ball) */
             for (int b = 0; b < t->n_balls && t->d.wind->add_ball; b++) {
                 t->d.wind->add_ball(t->d.wind->ctx, &t->balls[b]);
@@ -179,7 +172,7 @@ int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
                 return gale_errf(err, GALE_E_NUMERIC,
                                  "tick %u: wind step broke down (non-finite field)", t->tick);
             }
-            local.wind_ms = now_ms() - w0;
+            local.wind_ms = mono_ms() - w0;
             local.wind_stepped = true;
             local.wind_iters = ws.iterations;
             local.wind_div = ws.div_after;
@@ -216,7 +209,7 @@ int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
     }
     local.leaves = t->n_leaves;
     t->tick++;
-    local.ms = now_ms() - t0;
+    local.ms = mono_ms() - t0;
     if (st) {
         *st = local;
     }
