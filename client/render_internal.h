@@ -1,7 +1,7 @@
 /* gale_render internals shared by its files: render.c (create, destroy, frame, readback),
  * render_gpu.c (buffers, targets, common uniforms), render_shader.c (run-time shader
- * loading), render_species.c, render_scene.c (instances, q, wind, houses), render_fall.c
- * (falling leaves). Not part of the public API. */
+ * loading), render_species.c, render_scene.c (instances, q, houses), render_wind.c (the
+ * coarse wind), render_fall.c (falling leaves). Not part of the public API. */
 #ifndef GALE_RENDER_INTERNAL_H
 #define GALE_RENDER_INTERNAL_H
 
@@ -170,6 +170,9 @@ double render_rel_time(render *r, double t);
 int render_trees_alloc(render *r, uint32_t cap, gale_err *err);
 /* Uploads every instance transform (and the rest slot) to the trees buffer. */
 void render_trees_upload(render *r);
+
+/* ---- render_wind.c ---- */
+
 /* The coarse wind [m/s] at world point p: the grid cell holding it (heights clamped into
  * the grid), else the uniform wind. */
 void render_wind_at(const render *r, const float p[3], float out[3]);

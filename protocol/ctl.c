@@ -5,45 +5,11 @@
  * against the parser's own limits, so no output is parsed again on send. */
 #include "ctl.h"
 
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "ctl_int.h"
-
-const char *const ctl_role_names[CTL_N_ROLES] = { "viewer", "kiosk", "wall-tile", "load" };
-const char *const ctl_view_names[CTL_N_VIEWS] = { "all", "circle", "frustum" };
-static const char *const type_names[] = { NULL,      "hello",   "view", "wind", "resync",
-                                          "ping",    "welcome", "pong", "error" };
-
-#define N_TYPES (int)(sizeof type_names / sizeof type_names[0])
-
-const char *ctl_role_name(int role)
-{
-    return role >= 0 && role < CTL_N_ROLES ? ctl_role_names[role] : NULL;
-}
-
-const char *ctl_type_name(int type)
-{
-    return type > 0 && type < N_TYPES ? type_names[type] : NULL;
-}
-
-bool ctl_from_client(int type)
-{
-    return type >= CTL_HELLO && type <= CTL_PING;
-}
-
-int ctl_fail(ctl_rd *c, int close, int code, const char *fmt, ...)
-{
-    char msg[sizeof c->j.err->msg];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(msg, sizeof msg, fmt, ap);
-    va_end(ap);
-    c->close = close;
-    return json_fail(&c->j, code, "%s", msg);
-}
 
 /* ---- decoding ------------------------------------------------------------------------ */
 
@@ -73,8 +39,8 @@ static int read_type(ctl_rd *c, const cJSON *root, int *type)
                         "type: %s: expected a string, got %s", ty ? "wrong type" : "missing",
                         json_kind(ty));
     }
-    for (int i = 1; i < N_TYPES; i++) {
-        if (strcmp(ty->valuestring, type_names[i]) == 0) {
+    for (int i = 1; ctl_type_name(i); i++) {
+        if (strcmp(ty->valuestring, ctl_type_name(i)) == 0) {
             *type = i;
             return 0;
         }
@@ -163,18 +129,6 @@ void ctl_msg_fini(ctl_msg *m)
 }
 
 /* ---- encoding ------------------------------------------------------------------------ */
-
-double ctl_jnum(float f)
-{
-    char b[32];
-    snprintf(b, sizeof b, "%.7g", (double)f);
-    return strtod(b, NULL);
-}
-
-bool ctl_add_num(cJSON *o, const char *k, double v)
-{
-    return cJSON_AddNumberToObject(o, k, v) != NULL;
-}
 
 static int encode_body(ctl_rd *c, const ctl_msg *m, cJSON *o)
 {
@@ -280,29 +234,4 @@ int ctl_encode_into(const ctl_msg *m, char *buf, size_t cap, size_t *len, gale_e
     }
     *len = n;
     return 0;
-}
-
-/* ---- shared by the message codecs ---------------------------------------------------- */
-
-int ctl_get_enum(ctl_rd *c, const cJSON *o, const char *path, const char *key,
-                 const char *const *names, int n, const char *list, int *out)
-{
-    char s[32];
-    int rc = json_string(&c->j, o, path, key, true, NULL, s, sizeof s, NULL);
-    if (rc) {
-        const cJSON *j = cJSON_GetObjectItemCaseSensitive(o, key);
-        if (j && cJSON_IsString(j)) { /* too long: report as not one of the names */
-            return ctl_fail(c, 0, GALE_E_RANGE, "%s.%s: expected one of %s, got \"%.31s...\"",
-                            path, key, list, j->valuestring);
-        }
-        return rc;
-    }
-    for (int i = 0; i < n; i++) {
-        if (names[i] && strcmp(s, names[i]) == 0) {
-            *out = i;
-            return 0;
-        }
-    }
-    return ctl_fail(c, 0, GALE_E_RANGE, "%s.%s: expected one of %s, got \"%s\"", path, key, list,
-                    s);
 }

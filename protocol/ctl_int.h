@@ -1,5 +1,6 @@
-/* Private to the control codec: the reader state every message parser shares, and each
- * message's parse/encode pair that ctl.c dispatches to. Included by ctl*.c only. */
+/* Private to the control codec: the reader state every message parser shares, the helpers
+ * of ctl_common.c, and each message's parse/encode pair that ctl.c dispatches to.
+ * Included by ctl*.c only. */
 #ifndef GALE_CTL_INT_H
 #define GALE_CTL_INT_H
 

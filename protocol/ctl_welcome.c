@@ -45,7 +45,7 @@ static int get_row(ctl_rd *c, const cJSON *e, const char *what, int i, const cha
     return 0;
 }
 
-static int species_parse(ctl_rd *c, const cJSON *e, int i, ctl_species *s)
+static int welcome_species_parse(ctl_rd *c, const cJSON *e, int i, ctl_species *s)
 {
     static const char *const keys[] = { "name", "url", "hash", "n_modes", NULL };
     const json_rd *r = &c->j;
@@ -254,7 +254,7 @@ int ctl_welcome_parse(ctl_rd *c, const cJSON *o, ctl_welcome *w)
     w->n_species = (uint32_t)ns;
     int i = 0;
     for (const cJSON *e = sp->child; e; e = e->next, i++) {
-        if ((rc = species_parse(c, e, i, &w->species[i]))) {
+        if ((rc = welcome_species_parse(c, e, i, &w->species[i]))) {
             return rc;
         }
     }
@@ -271,7 +271,7 @@ static int oom(ctl_rd *c)
     return ctl_fail(c, 0, GALE_E_NOMEM, "welcome: out of memory");
 }
 
-static int species_encode(ctl_rd *c, const ctl_species *s, int i, cJSON *sa)
+static int welcome_species_encode(ctl_rd *c, const ctl_species *s, int i, cJSON *sa)
 {
     const json_rd *r = &c->j;
     char path[40];
@@ -404,7 +404,7 @@ int ctl_welcome_encode(ctl_rd *c, const ctl_welcome *w, cJSON *o)
         return oom(c);
     }
     for (uint32_t i = 0; i < w->n_species; i++) {
-        if ((rc = species_encode(c, &w->species[i], (int)i, sa))) {
+        if ((rc = welcome_species_encode(c, &w->species[i], (int)i, sa))) {
             return rc;
         }
     }
