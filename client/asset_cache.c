@@ -24,6 +24,23 @@ uint64_t asset_cache_hash(const uint8_t *buf, size_t len)
     return hash64_update(HASH64_INIT, buf, len); /* plain FNV-1a 64, no final mix */
 }
 
+int asset_cache_verify(const char *want_hex, const uint8_t *buf, size_t len, const char *what,
+                       gale_err *err)
+{
+    if (!want_hex || strlen(want_hex) != 16 || strspn(want_hex, "0123456789abcdef") != 16) {
+        return gale_errf(err, GALE_E_ARG, "%s: content hash: expected 16 lowercase hex digits, "
+                         "got \"%.20s\"", what, want_hex ? want_hex : "");
+    }
+    char got[17];
+    snprintf(got, sizeof got, "%016llx", (unsigned long long)hash64(buf, len));
+    if (strcmp(got, want_hex) != 0) {
+        return gale_errf(err, GALE_E_CHECKSUM,
+                         "%s: content hash %s, expected %s (the welcome's): refused", what, got,
+                         want_hex);
+    }
+    return 0;
+}
+
 int asset_cache_key_ok(const char *key)
 {
     size_t n = key ? strlen(key) : 0;

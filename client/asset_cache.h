@@ -44,6 +44,13 @@ int asset_cache_load(asset_cache *c, const char *key, uint8_t **out, size_t *len
 int asset_cache_store(asset_cache *c, const char *key, const uint8_t *buf, size_t len,
                       gale_err *err);
 
+/* Checks len bytes against the content hash a welcome names them by (`hash`: 16
+ * lowercase hex digits of hash64 over every byte of the asset file, protocol/ASSET.md
+ * "Content hash"). Returns 0 when they match, else GALE_E_CHECKSUM with "what: content
+ * hash H, expected E: refused" in err (GALE_E_ARG when want_hex is not 16 hex digits). */
+int asset_cache_verify(const char *want_hex, const uint8_t *buf, size_t len, const char *what,
+                       gale_err *err);
+
 /* 64-bit FNV-1a of len bytes: the entry checksum. */
 uint64_t asset_cache_hash(const uint8_t *buf, size_t len);
 

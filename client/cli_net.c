@@ -3,6 +3,7 @@
  * frames, pings, resync, backoff), message reassembly into one preallocated buffer, and
  * blocking HTTP GETs of assets over the same context. */
 #include "cli_net.h"
+#include "asset_cache.h"
 #include "mono.h"
 
 #include <libwebsockets.h>
@@ -609,6 +610,24 @@ int cli_net_fetch(cli_net *n, const char *path, size_t max_len, double timeout_s
     n->fetch_cap = 0;
     n->fetch_len = 0;
     return *out ? 0 : gale_errf(err, GALE_E_NOMEM, "cli_net_fetch: no memory");
+}
+
+int cli_net_fetch_asset(cli_net *n, const char *path, const char *hash_hex, size_t max_len,
+                        double timeout_s, uint8_t **out, size_t *len, gale_err *err)
+{
+    int rc = cli_net_fetch(n, path, max_len, timeout_s, out, len, err);
+    if (rc) {
+        return rc;
+    }
+    char what[400];
+    snprintf(what, sizeof what, "http://%s%s", n->server_name, path);
+    rc = asset_cache_verify(hash_hex, *out, *len, what, err);
+    if (rc) {
+        free(*out);
+        *out = NULL;
+        *len = 0;
+    }
+    return rc;
 }
 
 cli_net_stats cli_net_get_stats(const cli_net *n)

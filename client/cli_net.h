@@ -89,6 +89,13 @@ int cli_net_send_wind(cli_net *n, const ctl_wind *w, gale_err *err);
 int cli_net_fetch(cli_net *n, const char *path, size_t max_len, double timeout_s, uint8_t **out,
               size_t *len, gale_err *err);
 
+/* cli_net_fetch of an asset, then its bytes checked against hash_hex, the species' hash
+ * in the welcome (asset_cache_verify): on a mismatch GALE_E_CHECKSUM ("http://HOST/PATH:
+ * content hash H, expected E (the welcome's): refused"), the bytes freed and *out NULL, so
+ * nothing unverified reaches the decoder or the cache. Other failures as cli_net_fetch. */
+int cli_net_fetch_asset(cli_net *n, const char *path, const char *hash_hex, size_t max_len,
+                        double timeout_s, uint8_t **out, size_t *len, gale_err *err);
+
 cli_net_stats cli_net_get_stats(const cli_net *n);
 
 /* The server clock estimate fed by pongs and frame arrivals. */

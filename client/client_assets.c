@@ -1,5 +1,6 @@
 /* gale-client asset fetch: a species' baked asset from the disk cache by content hash,
- * else downloaded from the server over HTTP and cached (protocol/ASSET.md). */
+ * else downloaded from the server over HTTP and cached; either way its bytes must hash
+ * to the welcome's hash (protocol/ASSET.md "Content hash"). */
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -14,11 +15,20 @@ int client_assets_load(client *c, const ctl_species *s, asset *a, gale_err *err)
     char key[64];
     snprintf(key, sizeof key, "%s.gasset", s->hash);
     bool cached = c->cache && asset_cache_load(c->cache, key, &buf, &len, &cerr) == 0;
+    if (cached && asset_cache_verify(s->hash, buf, len, key, &cerr) != 0) {
+        /* an entry stored under this hash holding other bytes is never drawn */
+        free(buf);
+        buf = NULL;
+        cached = false;
+    }
     if (!cached) {
         if (cerr.code != GALE_E_IO && cerr.code != 0) {
             fprintf(stderr, "gale-client: cache: %s (fetching again)\n", cerr.msg);
         }
-        int rc = cli_net_fetch(c->net, s->url, ASSET_CACHE_MAX_BYTES, 60.0, &buf, &len, err);
+        /* the download must hash to the welcome's hash, else it is refused and not cached
+         * (PROTOCOL.md "Handshake", ASSET.md "Content hash") */
+        int rc = cli_net_fetch_asset(c->net, s->url, s->hash, ASSET_CACHE_MAX_BYTES, 60.0, &buf,
+                                     &len, err);
         if (rc != 0) {
             return rc;
         }

@@ -52,7 +52,7 @@ double ctl_jnum(float f)
 
 bool ctl_add_num(cJSON *o, const char *k, double v)
 {
-    return cJSON_AddNumberToObject(o, k, v) != NULL;
+    return json_add_number(o, k, v) != NULL;
 }
 
 int ctl_get_enum(ctl_rd *c, const cJSON *o, const char *path, const char *key,

@@ -41,7 +41,8 @@ int ctl_get_enum(ctl_rd *c, const cJSON *o, const char *path, const char *key,
  * encoders check the value they write, so a check sees what a decoder will. */
 double ctl_jnum(float f);
 
-/* Adds o[k] = v; false when out of memory. */
+/* Adds o[k] = v (json_add_number: an integer of magnitude <= 2^53 exactly); false when out
+ * of memory. */
 bool ctl_add_num(cJSON *o, const char *k, double v);
 
 /* Each message's pair. parse: o is the message object (its "type" already read); fills

@@ -372,3 +372,15 @@ int json_child(const json_rd *r, const cJSON *obj, const char *path, const char 
     *out = j;
     return GALE_OK;
 }
+
+cJSON *json_add_number(cJSON *o, const char *key, double v)
+{
+    /* cJSON's own %d covers the int range; beyond it its %.15g (accepted when it reads back
+     * within a relative DBL_EPSILON) drops the last digits of large integers. */
+    if (v == floor(v) && fabs(v) > 2147483647.0 && fabs(v) <= 9007199254740992.0) {
+        char b[24];
+        snprintf(b, sizeof b, "%.0f", v);
+        return cJSON_AddRawToObject(o, key, b);
+    }
+    return cJSON_AddNumberToObject(o, key, v);
+}

@@ -91,6 +91,12 @@ int json_check_int(const json_rd *r, const char *path, const char *key, long lon
 int json_check_string(const json_rd *r, const char *path, const char *key, const char *s,
                       size_t cap);
 
+/* Adds number v under key to object o, as json_number reads it back: an integer of
+ * magnitude ≤ 2^53 is written with all its digits (cJSON alone prints 2^53 − 1 as
+ * 9.00719925474099e+15), any other value as cJSON prints it. Returns the new item, or NULL
+ * when out of memory (o unchanged). */
+cJSON *json_add_number(cJSON *o, const char *key, double v);
+
 /* Fails with code and "where: " + the formatted text. */
 int json_fail(const json_rd *r, int code, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));

@@ -20,6 +20,7 @@ static const uint8_t asset_bytes[] = "not a real asset, served verbatim by hash"
 static srv *S;
 static pthread_t S_thread;
 static scene SC;
+static double FIXTURE_KEYFRAME_S; /* srv_desc.keyframe_s; 0 = the server's default */
 
 static void *serve(void *arg)
 {
@@ -65,7 +66,8 @@ static int start_server(void)
     }
     S = srv_create(&(srv_desc){ .sc = &SC, .species = sp, .port = -1, .iface = "127.0.0.1",
                                 .queue_frames = 4, .lag_limit = 20, .sndbuf = 16384,
-                                .quiet = 1, .history = 120 },
+                                .quiet = 1, .history = 120,
+                                .keyframe_s = FIXTURE_KEYFRAME_S },
                    &e);
     if (!S) {
         fprintf(stderr, "%s\n", e.msg);

@@ -284,7 +284,35 @@ static void test_golden(void)
                       (uint32_t)buf[19] << 24;
         CHECK(pc == hash_crc32(want + 24, len - 24));
     }
+    /* its content hash, as a welcome names it (ASSET.md "Content hash") */
+    CHECK(hash64(buf, len) == 0x1898eb1eeb74783aull);
     free(buf);
+}
+
+/* The content hash's test vectors in ASSET.md "Content hash": FNV-1a 64 (the standard
+ * offset basis and prime) then the splitmix64 finaliser. */
+static void test_hash_vectors(void)
+{
+    static const struct {
+        const char *in;
+        uint64_t fnv, hash;
+    } v[] = {
+        { "", 0xcbf29ce484222325ull, 0xf52a15e9a9b5e89bull },
+        { "a", 0xaf63dc4c8601ec8cull, 0x02c0bdbf481420f8ull },
+        { "gale", 0x8ade89720434de6aull, 0x5e643f92003bf3a8ull },
+        { "The quick brown fox jumps over the lazy dog", 0xf3f9b7f5e7e47110ull,
+          0x1e8e6a079b167ea7ull },
+    };
+    for (size_t i = 0; i < sizeof v / sizeof v[0]; i++) {
+        size_t n = strlen(v[i].in);
+        CHECK(hash64_update(HASH64_INIT, v[i].in, n) == v[i].fnv);
+        CHECK(hash64(v[i].in, n) == v[i].hash);
+        CHECK(hash64_final(v[i].fnv) == v[i].hash);
+    }
+    /* incremental over any split gives the same */
+    const char *q = v[3].in;
+    CHECK(hash64_final(hash64_update(hash64_update(HASH64_INIT, q, 10), q + 10, strlen(q) - 10)) ==
+          v[3].hash);
 }
 
 static void expect_reject(const uint8_t *buf, size_t len, int code, const char *msg)
@@ -478,6 +506,7 @@ int main(void)
     RUN(test_hash);
     RUN(test_round_trip);
     RUN(test_golden);
+    RUN(test_hash_vectors);
     RUN(test_truncation);
     RUN(test_corruption);
     RUN(test_absurd_counts);

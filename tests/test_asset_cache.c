@@ -167,6 +167,19 @@ static void test_hash(void)
     CHECK(asset_cache_hash((const uint8_t *)"foobar", 6) == 0x85944171f73967e8ull);
 }
 
+/* The welcome's hash check (ASSET.md "Content hash" test vectors). */
+static void test_verify(void)
+{
+    gale_err e = { 0 };
+    const uint8_t g[4] = { 'g', 'a', 'l', 'e' };
+    CHECK(asset_cache_verify("5e643f92003bf3a8", g, 4, "x", &e) == 0);
+    CHECK(asset_cache_verify("5e643f92003bf3a9", g, 4, "/assets/x.gasset", &e) == GALE_E_CHECKSUM);
+    CHECK_STR_HAS(e.msg, "/assets/x.gasset: content hash 5e643f92003bf3a8, expected "
+                         "5e643f92003bf3a9 (the welcome's): refused");
+    CHECK(asset_cache_verify("5E643F92003BF3A8", g, 4, "x", &e) == GALE_E_ARG);
+    CHECK(asset_cache_verify("f52a15e9a9b5e89b", g, 0, "x", &e) == 0);
+}
+
 int main(void)
 {
     snprintf(root, sizeof root, "/tmp/gale_test_cache_%ld", (long)getpid());
@@ -178,5 +191,6 @@ int main(void)
     char cmd[300];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", root);
     CHECK(system(cmd) == 0);
+    RUN(test_verify);
     return check_report();
 }

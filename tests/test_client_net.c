@@ -1,7 +1,8 @@
 /* Client networking against a scripted peer on a loopback port (a real lws server in a
  * thread, speaking the real protocol): hello with the role, welcome, frames decoded, bad
  * and truncated frames dropped and counted, a gap answered with a resync, the clock from
- * pongs, HTTP asset fetches (200, 404, too long), and reconnection with backoff after the
+ * pongs, HTTP asset fetches (200, 404, too long, bytes that do not hash to the welcome's
+ * hash refused), and reconnection with backoff after the
  * server closes the connection and after it goes away and comes back on the same port. */
 #include <libwebsockets.h>
 
@@ -14,6 +15,7 @@
 #include "mono.h"
 #include "check.h"
 #include "cli_net.h"
+#include "hash.h"
 
 #define N_TREES         3
 #define N_MODES         4
@@ -411,6 +413,20 @@ static void test_session(void)
     CHECK(cli_net_fetch(n, s.species_url, 1000, 5.0, &body, &len, &err) == GALE_E_RANGE);
     CHECK_STR_HAS(err.msg, "body over 1000 bytes");
     CHECK(body == NULL);
+    /* an asset must hash to the welcome's hash: the peer's bytes are not the ones
+     * 0123456789abcdef names, so they are refused and none come back */
+    body = asset_bytes;
+    len = 1;
+    CHECK(cli_net_fetch_asset(n, s.species_url, "0123456789abcdef", 1 << 20, 5.0, &body, &len,
+                              &err) == GALE_E_CHECKSUM);
+    CHECK(body == NULL && len == 0);
+    CHECK_STR_HAS(err.msg, "/assets/0123456789abcdef.gasset: content hash ");
+    CHECK_STR_HAS(err.msg, ", expected 0123456789abcdef (the welcome's): refused");
+    char right[17];
+    snprintf(right, sizeof right, "%016llx", (unsigned long long)hash64(asset_bytes, ASSET_BYTES));
+    CHECK(cli_net_fetch_asset(n, s.species_url, right, 1 << 20, 5.0, &body, &len, &err) == 0);
+    CHECK(len == ASSET_BYTES && body && memcmp(body, asset_bytes, len) == 0);
+    free(body);
     /* and the WebSocket is still live after the fetches */
     POLL_UNTIL(n, 0, 0.1);
     CHECK(cli_net_get_stats(n).state == CLI_NET_LIVE);

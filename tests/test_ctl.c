@@ -89,6 +89,24 @@ static void test_golden(void)
     m = (ctl_msg){ .type = CTL_PONG, .u.pong = { 7, 1234567890123ull, 5000000ull, 300 } };
     golden(&m, "{\"type\":\"pong\",\"id\":7,\"client_us\":1234567890123,\"server_us\":5000000,"
                "\"tick\":300}");
+    /* integers up to 2^53 come back with every digit (PROTOCOL.md "Control messages") */
+    m = (ctl_msg){ .type = CTL_PONG,
+                   .u.pong = { UINT32_MAX, 9007199254740991ull, 9007199254740992ull, UINT32_MAX } };
+    golden(&m, "{\"type\":\"pong\",\"id\":4294967295,\"client_us\":9007199254740991,"
+               "\"server_us\":9007199254740992,\"tick\":4294967295}");
+    {
+        const char *pj = "{\"type\":\"pong\",\"id\":1,\"client_us\":9007199254740991,"
+                         "\"server_us\":9007199254740992,\"tick\":2}";
+        ctl_msg back;
+        int close = 0;
+        gale_err e;
+        CHECK(ctl_decode(pj, strlen(pj), CTL_MAX_SERVER_BYTES, &back, &close, &e) == 0);
+        CHECK(back.u.pong.client_us == 9007199254740991ull);
+        CHECK(back.u.pong.server_us == 9007199254740992ull);
+        ctl_msg_fini(&back);
+    }
+    m = (ctl_msg){ .type = CTL_PING, .u.ping = { 1, 9007199254740991ull } };
+    golden(&m, "{\"type\":\"ping\",\"id\":1,\"client_us\":9007199254740991}");
 
     m = (ctl_msg){ .type = CTL_ERROR };
     m.u.error.code = WIRE_CLOSE_VERSION;

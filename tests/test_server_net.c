@@ -116,13 +116,17 @@ static void test_late_joiner_and_ping(void)
     CHECK(w != NULL);
     free(w);
     wsraw_text(&c, "{\"type\": \"ping\", \"id\": 9, \"client_us\": 12345}");
-    int got_key = 0, got_pong = 0, first_state = 0;
-    for (int i = 0; i < 30 && !(got_key && got_pong); i++) {
+    /* 2^53 - 1 comes back with every digit (PROTOCOL.md "Control messages") */
+    wsraw_text(&c, "{\"type\": \"ping\", \"id\": 10, \"client_us\": 9007199254740991}");
+    int got_key = 0, got_pong = 0, got_big = 0, first_state = 0;
+    for (int i = 0; i < 40 && !(got_key && got_pong && got_big); i++) {
         uint8_t *b;
         size_t n;
         int op = wsraw_recv(&c, &b, &n, 3000);
         if (op == 1) {
             got_pong += strstr((char *)b, "\"pong\"") && strstr((char *)b, "12345");
+            got_big += strstr((char *)b, "\"pong\"") &&
+                       strstr((char *)b, "\"client_us\":9007199254740991,");
         } else if (op == 2 && n >= WIRE_HEADER_BYTES) {
             int type = b[6];
             if ((type == WIRE_MSG_KEYFRAME || type == WIRE_MSG_DELTA) && !first_state) {
@@ -137,6 +141,7 @@ static void test_late_joiner_and_ping(void)
     }
     CHECK(first_state == WIRE_MSG_KEYFRAME); /* a late joiner starts on a keyframe */
     CHECK(got_pong == 1);
+    CHECK(got_big == 1);
     wsraw_close(&c);
 }
 
@@ -327,6 +332,8 @@ static void test_slow_consumer(void)
     wsraw_close(&fast);
 }
 
+static char last_reason[256]; /* bad_case's close reason */
+
 static int bad_case(const char *what, int opcode, const void *data, size_t len, int want)
 {
     wsraw c;
@@ -339,6 +346,7 @@ static int bad_case(const char *what, int opcode, const void *data, size_t len, 
         fprintf(stderr, "  %s: expected close %d, got %d (%s)\n", what, want, code,
                 c.close_reason);
     }
+    snprintf(last_reason, sizeof last_reason, "%s", c.close_reason);
     wsraw_close(&c);
     return code;
 }
@@ -359,6 +367,7 @@ static void test_bad_inputs(void)
     big[0] = '{';
     big[sizeof big - 1] = '}';
     CHECK(bad_case("oversized", 1, big, sizeof big, WIRE_CLOSE_TOO_BIG) == WIRE_CLOSE_TOO_BIG);
+    CHECK_STR_HAS(last_reason, "message too large: expected <= 4096 bytes, got "); /* PROTOCOL.md */
     const uint8_t garbage[] = { 0x47, 0x41, 0x4c, 0x45, 0xff, 0x00, 0x13, 0x37 };
     CHECK(bad_case("binary", 2, garbage, sizeof garbage, WIRE_CLOSE_BINARY) == WIRE_CLOSE_BINARY);
     snprintf(h, sizeof h, "{\"type\": \"hello\", \"protocol\": %d, \"role\": \"viewer\"}",
@@ -370,6 +379,40 @@ static void test_bad_inputs(void)
     CHECK(bad_case("token", 1, h, strlen(h), WIRE_CLOSE_BAD_TOKEN) == WIRE_CLOSE_BAD_TOKEN);
     CHECK(bad_case("before hello", 1, "{\"type\": \"resync\", \"seq\": 0}", 28, WIRE_CLOSE_ORDER) ==
           WIRE_CLOSE_ORDER);
+
+    /* server-only types from a client are out of order (4009), before or after hello */
+    const char *pong = "{\"type\": \"pong\", \"id\": 1, \"client_us\": 2, \"server_us\": 3, "
+                       "\"tick\": 4}";
+    CHECK(bad_case("pong before hello", 1, pong, strlen(pong), WIRE_CLOSE_ORDER) ==
+          WIRE_CLOSE_ORDER);
+    CHECK_STR_HAS(last_reason, "type: pong is a server message");
+    ctl_species wsp = { "a", "/assets/000000000000abc0.gasset", "000000000000abc0", 6 };
+    ctl_instance wi = { 0, { 1, 2, 0 }, 0, 1 };
+    ctl_msg wm = { .type = CTL_WELCOME };
+    wm.u.welcome = (ctl_welcome){ .protocol = WIRE_PROTOCOL_VERSION, .role = CTL_ROLE_VIEWER,
+                                  .tick_hz = 60, .snapshot_hz = 30, .n_species = 1,
+                                  .species = &wsp, .n_instances = 1, .instances = &wi };
+    char welcome_text[1024];
+    size_t wlen = 0;
+    CHECK(ctl_encode_into(&wm, welcome_text, sizeof welcome_text, &wlen, NULL) == 0);
+    const char *server_only[] = {
+        pong,
+        "{\"type\": \"error\", \"code\": 4002, \"message\": \"x\"}",
+        welcome_text,
+    };
+    for (int i = 0; i < 3; i++) {
+        wsraw so;
+        w = hello(&so, "viewer", NULL);
+        free(w);
+        wsraw_text(&so, server_only[i]);
+        int code = wsraw_wait_close(&so, 3000);
+        if (code != WIRE_CLOSE_ORDER) {
+            fprintf(stderr, "  %s: expected 4009, got %d (%s)\n", server_only[i], code,
+                    so.close_reason);
+        }
+        CHECK(code == WIRE_CLOSE_ORDER);
+        wsraw_close(&so);
+    }
 
     /* a viewer sending wind */
     wsraw v;

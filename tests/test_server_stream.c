@@ -1,7 +1,7 @@
 /* The one snapshot-stream encoder (srv_stream.h): the shared stream and a view stream
  * with the same per-tree modes give the same bytes, both equal to the wire encoders
  * called directly; deltas appear as the stream holds one and two snapshots, and a failed
- * or skipped snapshot starts it over with a keyframe. */
+ * or skipped snapshot starts it over with a keyframe, and so does every key_every-th seq. */
 #include "check.h"
 #include "srv_stream.h"
 
@@ -83,9 +83,9 @@ static void test_shared_equals_view(void)
     uint8_t view_modes[N], lod_modes[N] = { 4, 0, 2, 3, 0, 1 };
     memcpy(view_modes, full_modes, N);
     srv_stream shared, view, lod;
-    srv_stream_start(&shared, 0, full_modes);
-    srv_stream_start(&view, 7, view_modes);
-    srv_stream_start(&lod, 9, lod_modes);
+    srv_stream_start(&shared, 0, full_modes, 0);
+    srv_stream_start(&view, 7, view_modes, 0);
+    srv_stream_start(&lod, 9, lod_modes, 0);
     int16_t q[3][N * STRIDE];
     int cur = 0;
     for (int k = 1; k <= 5; k++) {
@@ -122,7 +122,7 @@ static void test_failure_and_skip(void)
     uint8_t modes[N];
     memcpy(modes, full_modes, N);
     srv_stream st;
-    srv_stream_start(&st, 3, modes);
+    srv_stream_start(&st, 3, modes, 0);
     int16_t q[3][N * STRIDE];
     for (int k = 0; k < 3; k++) {
         fill_q(q[k], k);
@@ -156,9 +156,38 @@ static void test_failure_and_skip(void)
     CHECK(a.s.key_len > 0 && a.s.delta1_len == 0 && a.s.delta2_len == 0);
 }
 
+/* With key_every 4, snapshots 4, 8, 12 carry a keyframe only (every connection takes it)
+ * and the two after each rebuild delta1 then delta2. */
+static void test_periodic_keyframe(void)
+{
+    wire_scene sc = make_scene();
+    srv_stream st;
+    srv_stream_start(&st, 0, full_modes, 4);
+    int16_t q[3][N * STRIDE];
+    for (int k = 0; k < 3; k++) {
+        fill_q(q[k], k);
+    }
+    srv_qhist qh = { .q = { q[0], q[1], q[2] }, .n_trees = N, .stride = STRIDE };
+    wire_header h = { .tick = 2 };
+    int key_only = 0, bad = 0;
+    for (uint32_t seq = 1; seq <= 13; seq++) {
+        snap_bufs a;
+        snap_init(&a);
+        CHECK(srv_stream_encode(&st, &h, seq, &sc, &qh, &a.s, NULL) == 0);
+        /* seq 1 starts the stream; 4, 8, 12 are the periodic ones */
+        uint32_t since = seq % 4 == 0 || seq == 1 ? 0 : seq < 4 ? seq - 1 : seq % 4;
+        bool want1 = since >= 1, want2 = since >= 2;
+        bad += a.s.key_len == 0 || (a.s.delta1_len > 0) != want1 || (a.s.delta2_len > 0) != want2;
+        key_only += a.s.delta1_len == 0 && a.s.delta2_len == 0;
+    }
+    CHECK(bad == 0);
+    CHECK(key_only == 4);
+}
+
 int main(void)
 {
     RUN(test_shared_equals_view);
     RUN(test_failure_and_skip);
+    RUN(test_periodic_keyframe);
     return check_report();
 }

@@ -48,6 +48,9 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     if (s->ticks_per_snap < 1) {
         s->ticks_per_snap = 1;
     }
+    double key_snaps = (d->keyframe_s > 0 ? d->keyframe_s : SRV_KEYFRAME_S) * sc->tick_hz /
+                       s->ticks_per_snap;
+    s->key_every = key_snaps < 1 ? 1u : key_snaps > 1e9 ? 1000000000u : (uint32_t)lround(key_snaps);
     /* wire scene: species per tree, modes and steps per species */
     s->tree_species = calloc((size_t)n, 1);
     s->tree_modes = calloc((size_t)n, 1);
@@ -108,7 +111,7 @@ srv *srv_create(const srv_desc *d, gale_err *err)
                                       .yaw_rad = tr->yaw_rad,
                                       .scale = tr->scale };
     }
-    srv_stream_start(&s->shared, 0, s->tree_modes);
+    srv_stream_start(&s->shared, 0, s->tree_modes, s->key_every);
     if (d->history > 0) {
         s->hist = calloc((size_t)d->history * (size_t)n * (size_t)s->stride, sizeof(float));
         s->hist_seq = calloc((size_t)d->history, sizeof *s->hist_seq);

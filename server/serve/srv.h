@@ -38,6 +38,8 @@ typedef struct srv_desc {
     int sndbuf;                   /* 0 → net default */
     int quiet;                    /* 1: no start-up lines */
     int history;                  /* snapshots of float q kept for srv_history_q; 0 → none */
+    double keyframe_s;            /* server time between periodic keyframes on every stream;
+                                     0 → SRV_KEYFRAME_S (PROTOCOL.md "Sequence and gaps") */
 } srv_desc;
 
 /* The snapshot publisher's counters (the sim thread writes, any thread reads). */

@@ -102,8 +102,9 @@ int srv_on_control(void *user, net_peer *p, const char *text, size_t len, char *
     }
     int rc = 0;
     if (!ctl_from_client(m.type)) {
+        /* a known type in the wrong direction is out of order, not unknown (PROTOCOL.md) */
         snprintf(why, why_cap, "type: %s is a server message", ctl_type_name(m.type));
-        rc = WIRE_CLOSE_UNKNOWN_TYPE;
+        rc = WIRE_CLOSE_ORDER;
     } else if (m.type == CTL_HELLO) {
         const ctl_hello *h = &m.u.hello;
         if (p->role != NET_ROLE_NONE) {

@@ -24,6 +24,10 @@
 #define SRV_LEAF_EVERY 3   /* snapshots between leaf frames (10 per second at 30/s): leaves
                               carry their spawn tick, so batching them costs no accuracy
                               and saves a WebSocket message per client per snapshot */
+#define SRV_KEYFRAME_S 5.0 /* default seconds between periodic keyframes: a client that lost
+                              state without noticing recovers within it, for one keyframe
+                              (about 2.3 deltas' bytes, PROTOCOL.md Figures) per 150
+                              snapshots at 30/s */
 #define SRV_OVERRUN_LOG_PER_S 5 /* overrun lines a second at most */
 #define SRV_SOLVE_LOG_S 10 /* seconds between lines about solves out of budget */
 
@@ -64,6 +68,7 @@ struct srv {
     srv_stream shared;           /* the whole-scene stream (net_snap.stream 0) */
     uint32_t seq;
     int ticks_per_snap;
+    uint32_t key_every;          /* snapshots between periodic keyframes (desc.keyframe_s) */
     wire_leaf *leaves;           /* owned [WIRE_MAX_LEAVES] gathered since the last snapshot */
     uint32_t n_leaves;
     /* welcome template (lws thread) */

@@ -40,7 +40,8 @@ static int encode_wind(srv *s, wire_header *h, net_snap *p, gale_err *e)
 
 /* One snapshot per view stream: the state encoded with the view's per-tree mode counts
  * (view_select), the extras of the shared snapshot p copied. A stream whose
- * selection is new starts with a keyframe (srv_stream_start). */
+ * selection is new starts with a keyframe, and every stream sends only a keyframe on the
+ * periodic seqs (srv_stream_start), the shared one and the views on the same snapshots. */
 static void publish_views(srv *s, const wire_header *h, const srv_qhist *qh, const net_snap *p)
 {
     uint32_t streams[SRV_MAX_VIEWS];
@@ -62,7 +63,7 @@ static void publish_views(srv *s, const wire_header *h, const srv_qhist *qh, con
         if (vs->enc.id != streams[k]) {
             view_select(&views[k], n, s->tree_pos, s->tree_modes, s->view_margin_m,
                             SRV_LOD_MODES, vs->modes);
-            srv_stream_start(&vs->enc, streams[k], vs->modes);
+            srv_stream_start(&vs->enc, streams[k], vs->modes, s->key_every);
         }
         net_snap *q = net_snap_acquire(s->net);
         if (!q) {

@@ -1,9 +1,9 @@
 /* One snapshot stream's encoder: see srv_stream.h. */
 #include "srv_stream.h"
 
-void srv_stream_start(srv_stream *st, uint32_t id, const uint8_t *n_modes)
+void srv_stream_start(srv_stream *st, uint32_t id, const uint8_t *n_modes, uint32_t key_every)
 {
-    *st = (srv_stream){ .id = id, .n_modes = n_modes, .held = 0 };
+    *st = (srv_stream){ .id = id, .n_modes = n_modes, .held = 0, .key_every = key_every };
 }
 
 int srv_stream_encode(srv_stream *st, const wire_header *h, uint32_t seq,
@@ -17,6 +17,9 @@ int srv_stream_encode(srv_stream *st, const wire_header *h, uint32_t seq,
     prev2.q = qh->q[2];
     out->seq = seq;
     out->stream = st->id;
+    if (st->key_every && seq % st->key_every == 0) {
+        st->held = 0; /* no delta: every connection takes the keyframe (net.h net_snap) */
+    }
     int rc = wire_encode_keyframe(h, seq, scene, &cur, out->key, out->cap, &out->key_len, err);
     if (!rc && st->held >= 1) {
         rc = wire_encode_delta(h, seq, scene, &cur, &prev, NULL, out->delta1, out->cap,

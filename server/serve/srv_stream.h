@@ -25,15 +25,19 @@ typedef struct srv_stream {
     uint32_t id;            /* net_snap.stream: 0 the shared stream */
     const uint8_t *n_modes; /* [n_trees] modes encoded per tree, borrowed */
     int held;               /* snapshots in a row encoded with these modes: 0, 1, 2 (or more) */
+    uint32_t key_every;     /* a snapshot whose seq is a multiple of it is keyframe only; 0 never */
 } srv_stream;
 
 /* (Re)starts stream id with per-tree mode counts n_modes (borrowed while the stream
- * lasts): its next snapshot gets a keyframe only. */
-void srv_stream_start(srv_stream *st, uint32_t id, const uint8_t *n_modes);
+ * lasts): its next snapshot gets a keyframe only, and so does every snapshot whose seq is
+ * a multiple of key_every (0: none), so that every connection on the stream gets a
+ * KEYFRAME at least that often (PROTOCOL.md "Sequence and gaps"). */
+void srv_stream_start(srv_stream *st, uint32_t id, const uint8_t *n_modes, uint32_t key_every);
 
 /* Encodes snapshot seq (header h: tick and server time) of the stream into out: the
  * keyframe, delta1 when the stream holds the previous snapshot, delta2 when it holds the
- * two previous; sets out->seq and out->stream. The stream then holds one more. Fails
+ * two previous (neither on a periodic keyframe's seq); sets out->seq and out->stream. The
+ * stream then holds one more. Fails
  * with the wire_encode_* error in err; the stream then holds none (its clients see a gap
  * and get the next keyframe) and out's lengths mean nothing. */
 int srv_stream_encode(srv_stream *st, const wire_header *h, uint32_t seq,
