@@ -1,8 +1,10 @@
 /* Scene config: defaults, forest layout (count, spacing, obstacles, determinism) and the
- * exact error text for bad configs (key path, expected, got). */
+ * exact error text for bad configs (key path, expected, got); no shipped scene carries a
+ * kiosk token; the operator's token (file over environment over config) and its limits. */
 #include "check.h"
 #include "scene.h"
 
+#include <dirent.h>
 #include <stdlib.h>
 
 static int parse(scene *s, const char *text, gale_err *e)
@@ -113,7 +115,7 @@ static void test_default_scene(void)
     CHECK(rc == 0);
     CHECK(s.n_trees >= 100 && s.n_obstacles >= 3 && s.grid_on);
     CHECK_NEAR(s.tick_hz, 60, 0);
-    CHECK(s.kiosk_token[0] != 0);
+    CHECK(s.kiosk_token[0] == 0); /* a kiosk needs the operator's token */
     scene_fini(&s);
     /* the file on disk parses the same */
     CHECK(scene_load(&s, GALE_SOURCE_DIR "/configs/scenes/default.json", &e) == 0);
@@ -123,11 +125,135 @@ static void test_default_scene(void)
     CHECK_STR_HAS(e.msg, "/nonexistent/scene.json: cannot open");
 }
 
+/* Every scene shipped in configs/scenes/ leaves kiosks off: a token in a public file would
+ * let anyone steer the wind. */
+static void test_no_shipped_token(void)
+{
+    DIR *d = opendir(GALE_SOURCE_DIR "/configs/scenes");
+    CHECK(d != NULL);
+    int files = 0;
+    for (struct dirent *de; d && (de = readdir(d));) {
+        size_t n = strlen(de->d_name);
+        if (n < 6 || strcmp(de->d_name + n - 5, ".json")) {
+            continue;
+        }
+        char path[600];
+        snprintf(path, sizeof path, GALE_SOURCE_DIR "/configs/scenes/%s", de->d_name);
+        scene s;
+        gale_err e = { 0 };
+        int rc = scene_load(&s, path, &e);
+        if (rc) {
+            fprintf(stderr, "%s: %s\n", path, e.msg);
+        }
+        CHECK(rc == 0);
+        if (s.kiosk_token[0]) {
+            fprintf(stderr, "%s carries a kiosk token\n", path);
+        }
+        CHECK(s.kiosk_token[0] == 0);
+        scene_fini(&s);
+        files++;
+    }
+    if (d) {
+        closedir(d);
+    }
+    CHECK(files >= 1);
+}
+
+static void write_file(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "wb");
+    if (f) {
+        fputs(text, f);
+        fclose(f);
+    }
+}
+
+#define T63 "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789+"
+#define TREE ", \"trees\": [{\"species\": \"oak\", \"pos\": [0, 0]}]"
+
+static void test_kiosk_token(void)
+{
+    scene s;
+    gale_err e = { 0 };
+    char src[600];
+    /* the config's token: 63 bytes are what a hello may carry, 64 are refused */
+    CHECK(strlen(T63) == 63);
+    CHECK(parse(&s, "{" SP TREE ", \"kiosk_token\": \"" T63 "\"}", &e) == 0);
+    CHECK(!strcmp(s.kiosk_token, T63));
+    CHECK(scene_kiosk_token_resolve(&s, NULL, NULL, src, sizeof src, &e) == 0);
+    CHECK(!strcmp(s.kiosk_token, T63));
+    CHECK_STR_HAS(src, "the config's kiosk_token");
+    scene_fini(&s);
+    check_err("{" SP TREE ", \"kiosk_token\": \"" T63 "x\"}",
+              "t.json: kiosk_token: expected at most 63 bytes (what a kiosk's hello may carry), "
+              "got 64");
+    check_err("{" SP TREE ", \"kiosk_token\": 5}", "t.json: kiosk_token: expected a string");
+
+    /* no token anywhere: kiosks off, source "" */
+    CHECK(parse(&s, "{" SP TREE "}", &e) == 0);
+    CHECK(scene_kiosk_token_resolve(&s, NULL, "", src, sizeof src, &e) == 0);
+    CHECK(s.kiosk_token[0] == 0 && src[0] == 0);
+    /* the environment over the config */
+    scene_fini(&s);
+    CHECK(parse(&s, "{" SP TREE ", \"kiosk_token\": \"cfg\"}", &e) == 0);
+    CHECK(scene_kiosk_token_resolve(&s, NULL, "from-env", src, sizeof src, &e) == 0);
+    CHECK(!strcmp(s.kiosk_token, "from-env"));
+    CHECK(!strcmp(src, SCENE_KIOSK_TOKEN_ENV));
+    /* the file over both: its first line, without "\n" or "\r\n" */
+    write_file("kiosk_token_a.txt", "from-file\nsecond line\n");
+    CHECK(scene_kiosk_token_resolve(&s, "kiosk_token_a.txt", "from-env", src, sizeof src, &e) ==
+          0);
+    CHECK(!strcmp(s.kiosk_token, "from-file"));
+    CHECK(!strcmp(src, "kiosk token file kiosk_token_a.txt"));
+    write_file("kiosk_token_b.txt", " spaced token \r\n");
+    CHECK(scene_kiosk_token_resolve(&s, "kiosk_token_b.txt", NULL, NULL, 0, &e) == 0);
+    CHECK(!strcmp(s.kiosk_token, " spaced token "));
+    write_file("kiosk_token_c.txt", T63); /* no newline at all */
+    CHECK(scene_kiosk_token_resolve(&s, "kiosk_token_c.txt", NULL, NULL, 0, &e) == 0);
+    CHECK(!strcmp(s.kiosk_token, T63));
+    /* failures name the file or the variable and leave the token as it was */
+    write_file("kiosk_token_long.txt", T63 "x\n");
+    CHECK(scene_kiosk_token_resolve(&s, "kiosk_token_long.txt", NULL, src, sizeof src, &e) ==
+          GALE_E_RANGE);
+    CHECK_STR_HAS(e.msg, "kiosk token file kiosk_token_long.txt: expected at most 63 bytes (what "
+                         "a kiosk's hello may carry), got 64");
+    CHECK(!strcmp(s.kiosk_token, T63));
+    write_file("kiosk_token_empty.txt", "\nsecond\n");
+    CHECK(scene_kiosk_token_resolve(&s, "kiosk_token_empty.txt", "env", NULL, 0, &e) ==
+          GALE_E_RANGE);
+    CHECK_STR_HAS(e.msg, "kiosk token file kiosk_token_empty.txt: the first line is empty");
+    write_file("kiosk_token_empty.txt", "");
+    CHECK(scene_kiosk_token_resolve(&s, "kiosk_token_empty.txt", "env", NULL, 0, &e) ==
+          GALE_E_RANGE);
+    CHECK_STR_HAS(e.msg, "kiosk token file kiosk_token_empty.txt: the first line is empty");
+    CHECK(scene_kiosk_token_resolve(&s, "no_such_token_file.txt", "env", NULL, 0, &e) ==
+          GALE_E_IO);
+    CHECK_STR_HAS(e.msg, "kiosk token file no_such_token_file.txt: cannot open: ");
+    CHECK(scene_kiosk_token_resolve(&s, NULL, T63 "x", NULL, 0, &e) == GALE_E_RANGE);
+    CHECK_STR_HAS(e.msg, SCENE_KIOSK_TOKEN_ENV ": expected at most 63 bytes (what a kiosk's "
+                         "hello may carry), got 64");
+    CHECK(!strcmp(s.kiosk_token, T63));
+    /* a very long first line is refused without reading all of it */
+    FILE *f = fopen("kiosk_token_huge.txt", "wb");
+    for (int i = 0; f && i < 100000; i++) {
+        fputc('y', f);
+    }
+    if (f) {
+        fclose(f);
+    }
+    CHECK(scene_kiosk_token_resolve(&s, "kiosk_token_huge.txt", NULL, NULL, 0, &e) ==
+          GALE_E_RANGE);
+    CHECK_STR_HAS(e.msg, "got more than 65536");
+    scene_fini(&s);
+}
+
 int main(void)
 {
     RUN(test_defaults);
     RUN(test_forest_spacing);
     RUN(test_errors);
     RUN(test_default_scene);
+    RUN(test_no_shipped_token);
+    RUN(test_kiosk_token);
     return check_report();
 }

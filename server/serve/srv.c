@@ -22,6 +22,7 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     pthread_mutex_init(&s->scen_lock, NULL);
     pthread_mutex_init(&s->hist_lock, NULL);
     pthread_mutex_init(&s->view_lock, NULL);
+    kiosk_gate_init(&s->kgate);
     const scene *sc = d->sc;
     const int n = sc->n_trees;
     tick_species *ts = s->ts;
@@ -159,9 +160,10 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     if (!s->net) {
         goto fail;
     }
-    /* /metrics: the simulation's rows, the network's, the publisher's */
+    /* /metrics: the simulation's rows, the network's, the publisher's, the kiosk gate's */
     if (sim_metrics_register(&s->simm, &s->reg, err) ||
-        net_metrics_register(s->net, &s->reg, err) || srv_publish_register(s, &s->reg, err)) {
+        net_metrics_register(s->net, &s->reg, err) || srv_publish_register(s, &s->reg, err) ||
+        kiosk_gate_register(&s->kgate, &s->reg, err)) {
         goto fail;
     }
     if (!d->quiet) {

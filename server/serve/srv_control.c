@@ -1,6 +1,7 @@
 /* The control protocol on the lws thread (ctl.h, protocol/PROTOCOL.md): hello and the
- * welcome it gets, the view a connection follows (one snapshot stream per distinct view),
- * kiosk wind commands into the scenario, resync and ping. */
+ * welcome it gets (a kiosk's through the token gate, kiosk_gate.h), the view a connection
+ * follows (one snapshot stream per distinct view), kiosk wind commands into the scenario,
+ * resync and ping. */
 #include "srv_int.h"
 
 #include <math.h>
@@ -82,6 +83,28 @@ static uint32_t view_join(srv *s, uint32_t old, const ctl_view *v)
     return stream;
 }
 
+/* A kiosk hello's token through the gate (server/SERVER.md "Kiosk tokens"): 0 to let it
+ * in, else WIRE_CLOSE_BAD_TOKEN with the reason in why. */
+static int kiosk_hello(srv *s, const net_peer *p, const char *token, char *why, size_t why_cap)
+{
+    const char *want = s->d.sc->kiosk_token;
+    uint64_t wait_us = 0;
+    kiosk_gate_verdict v = kiosk_gate_check(&s->kgate, p->addr, token, want, mono_us(), &wait_us);
+    if (v == KIOSK_GATE_PASS) {
+        return 0;
+    }
+    if (v == KIOSK_GATE_WAIT) {
+        snprintf(why, why_cap, "hello.token: not checked: wrong kiosk tokens from this address; "
+                               "retry in %.2f s", (double)wait_us * 1e-6);
+    } else if (!want[0]) {
+        snprintf(why, why_cap, "hello.token: kiosks are disabled (the server has no kiosk "
+                               "token)");
+    } else {
+        snprintf(why, why_cap, "hello.token: wrong kiosk token");
+    }
+    return WIRE_CLOSE_BAD_TOKEN;
+}
+
 void srv_on_closed(void *user, const net_peer *p)
 {
     if (p->stream) {
@@ -114,10 +137,8 @@ int srv_on_control(void *user, net_peer *p, const char *text, size_t len, char *
             snprintf(why, why_cap, "hello.protocol: expected %d, got %d", WIRE_PROTOCOL_VERSION,
                      h->protocol);
             rc = WIRE_CLOSE_VERSION;
-        } else if (h->role == CTL_ROLE_KIOSK &&
-                   (!s->d.sc->kiosk_token[0] || strcmp(h->token, s->d.sc->kiosk_token))) {
-            snprintf(why, why_cap, "hello.token: wrong kiosk token");
-            rc = WIRE_CLOSE_BAD_TOKEN;
+        } else if (h->role == CTL_ROLE_KIOSK && (rc = kiosk_hello(s, p, h->token, why, why_cap))) {
+            /* refused: rc and why are set */
         } else {
             rc = welcome(s, p, h->role, reply, reply_len, why, why_cap);
             if (!rc) {
@@ -135,7 +156,8 @@ int srv_on_control(void *user, net_peer *p, const char *text, size_t len, char *
             snprintf(why, why_cap, "wind: only a kiosk may steer the wind (this is a %s)",
                      ctl_role_name(p->role - 1));
             rc = WIRE_CLOSE_FORBIDDEN;
-        } else if (strcmp(w->token, s->d.sc->kiosk_token)) {
+        } else if (!kiosk_gate_token_eq(w->token, s->d.sc->kiosk_token)) {
+            kiosk_gate_count_failure(&s->kgate);
             snprintf(why, why_cap, "wind.token: wrong kiosk token");
             rc = WIRE_CLOSE_BAD_TOKEN;
         } else if (w->has_gust) {

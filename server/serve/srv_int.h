@@ -11,6 +11,7 @@
 
 #include "mono.h"
 #include "ctl.h"
+#include "kiosk_gate.h"
 #include "metric.h"
 #include "srv.h"
 #include "srv_stream.h"
@@ -54,6 +55,8 @@ struct srv {
     atomic_int stop;
     pthread_mutex_t scen_lock;   /* scenario: evaluated by the sim thread, dialled by kiosks */
     scenario *scen;
+    kiosk_gate kgate;            /* kiosk token checks and their per-address delays (lws
+                                    thread; its counters are read by /metrics) */
     /* metrics: each owner's counters, and the registry /metrics renders (complete after
      * srv_create) */
     sim_metrics simm;

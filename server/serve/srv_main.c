@@ -18,13 +18,18 @@
 static void usage(FILE *f)
 {
     fprintf(f, "usage: gale-server [--config FILE.json] [--port N] [--iface ADDR] [--cache DIR]\n"
-               "                   [--check]\n"
+               "                   [--kiosk-token-file FILE] [--check]\n"
                "  --config FILE  scene config (default: the embedded town block,\n"
                "                 configs/scenes/default.json)\n"
                "  --port N       listen port, 0 for any free one (default 8080)\n"
-               "  --iface ADDR   listen address (default: all)\n"
+               "  --iface ADDR   listen address (default 127.0.0.1: this machine only;\n"
+               "                 all or 0.0.0.0: every interface)\n"
                "  --cache DIR    baked species assets (default $XDG_CACHE_HOME/gale-server\n"
                "                 or ~/.cache/gale-server)\n"
+               "  --kiosk-token-file FILE\n"
+               "                 the kiosk token: the file's first line (over\n"
+               "                 $" SCENE_KIOSK_TOKEN_ENV " over the config's kiosk_token;\n"
+               "                 none of them: kiosks are refused)\n"
                "  --check        validate the config, bake or load the species, and exit\n");
 }
 
@@ -92,7 +97,7 @@ int main(int argc, char **argv)
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
     signal(SIGPIPE, SIG_IGN);
-    const char *config = NULL, *iface = NULL, *cache = NULL;
+    const char *config = NULL, *iface = "127.0.0.1", *cache = NULL, *token_file = NULL;
     long port = 8080;
     int check = 0;
     for (int i = 1; i < argc; i++) {
@@ -109,7 +114,10 @@ int main(int argc, char **argv)
             }
             i++;
         } else if (!strcmp(a, "--iface") && v) {
-            iface = v;
+            iface = !strcmp(v, "all") || !strcmp(v, "0.0.0.0") ? NULL : v;
+            i++;
+        } else if (!strcmp(a, "--kiosk-token-file") && v) {
+            token_file = v;
             i++;
         } else if (!strcmp(a, "--cache") && v) {
             cache = v;
@@ -144,6 +152,20 @@ int main(int argc, char **argv)
         /* a bad config: say why and refuse to start (Redis FATAL CONFIG) */
         fprintf(stderr, "gale-server: bad config: %s\n", err.msg);
         return 1;
+    }
+    char token_from[600];
+    if (scene_kiosk_token_resolve(&sc, token_file, getenv(SCENE_KIOSK_TOKEN_ENV), token_from,
+                                  sizeof token_from, &err)) {
+        fprintf(stderr, "gale-server: kiosk token: %s\n", err.msg);
+        scene_fini(&sc);
+        return 1;
+    }
+    if (token_from[0]) {
+        fprintf(stderr, "gale-server: kiosks enabled: token from %s\n", token_from);
+    } else {
+        fprintf(stderr, "gale-server: kiosks disabled: no kiosk token set (give one with "
+                        "--kiosk-token-file FILE, $" SCENE_KIOSK_TOKEN_ENV " or the config's "
+                        "kiosk_token)\n");
     }
     int status = 1;
     species_entry ent[SCENE_MAX_SPECIES];
@@ -224,6 +246,16 @@ int main(int argc, char **argv)
     if (pthread_create(&sig_thread, NULL, wait_signal, s)) {
         fprintf(stderr, "gale-server: cannot start the signal thread\n");
         goto done;
+    }
+    /* where it listens, on stderr beside the other start-up lines; the stdout line below
+     * is the one scripts read the port from */
+    if (iface) {
+        fprintf(stderr, "gale-server: listening on %s port %d%s\n", iface, srv_port(s),
+                !strcmp(iface, "127.0.0.1") ? " (this machine only; --iface all serves every "
+                                              "interface)"
+                                            : "");
+    } else {
+        fprintf(stderr, "gale-server: listening on every interface, port %d\n", srv_port(s));
     }
     printf("gale-server: listening on port %d\n", srv_port(s));
     fflush(stdout);

@@ -5,6 +5,7 @@
 #include "scene.h"
 #include "hash.h"
 
+#include <errno.h>
 #include <libgen.h>
 #include <math.h>
 #include <stdio.h>
@@ -458,6 +459,86 @@ static int parse_trees(scene *s, const cfg_doc *d, const cJSON *root, gale_err *
     return GALE_OK;
 }
 
+/* s->kiosk_token = token, refused when a hello could not carry it (where: its origin). */
+static int set_kiosk_token(scene *s, const char *token, const char *where, gale_err *err)
+{
+    size_t n = strlen(token);
+    if (n > (size_t)SCENE_KIOSK_TOKEN_MAX) {
+        return gale_errf(err, GALE_E_RANGE,
+                         "%s: expected at most %d bytes (what a kiosk's hello may carry), "
+                         "got %zu",
+                         where, SCENE_KIOSK_TOKEN_MAX, n);
+    }
+    memcpy(s->kiosk_token, token, n + 1);
+    return GALE_OK;
+}
+
+/* The first line of the file at path into out[cap], without its "\n" or "\r\n"; *len
+ * gets its whole length (counting stops past 65536 bytes). */
+static int read_first_line(const char *path, char *out, size_t cap, size_t *len, gale_err *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        return gale_errf(err, GALE_E_IO, "kiosk token file %s: cannot open: %s", path,
+                         strerror(errno));
+    }
+    size_t n = 0;
+    int c;
+    while (n <= 65536 && (c = fgetc(f)) != EOF && c != '\n') {
+        if (n + 1 < cap) {
+            out[n] = (char)c;
+        }
+        n++;
+    }
+    bool bad = ferror(f) != 0;
+    fclose(f);
+    if (bad) {
+        return gale_errf(err, GALE_E_IO, "kiosk token file %s: cannot read", path);
+    }
+    if (n > 0 && n < cap && out[n - 1] == '\r') {
+        n--;
+    }
+    out[n < cap ? n : cap - 1] = 0;
+    *len = n;
+    return GALE_OK;
+}
+
+int scene_kiosk_token_resolve(scene *s, const char *token_file, const char *env_token,
+                              char *source, size_t source_cap, gale_err *err)
+{
+    char where[SCENE_PATH_MAX + 32];
+    int rc = GALE_OK;
+    const char *from = s->kiosk_token[0] ? "the config's kiosk_token" : "";
+    if (token_file) {
+        char line[SCENE_KIOSK_TOKEN_MAX + 2];
+        size_t n = 0;
+        snprintf(where, sizeof where, "kiosk token file %s", token_file);
+        if ((rc = read_first_line(token_file, line, sizeof line, &n, err))) {
+            return rc;
+        }
+        if (n == 0) {
+            return gale_errf(err, GALE_E_RANGE, "%s: the first line is empty (expected the "
+                                                "kiosk token)", where);
+        }
+        if (n > (size_t)SCENE_KIOSK_TOKEN_MAX) {
+            return gale_errf(err, GALE_E_RANGE,
+                             "%s: expected at most %d bytes (what a kiosk's hello may carry), "
+                             "got %s%zu",
+                             where, SCENE_KIOSK_TOKEN_MAX, n > 65536 ? "more than " : "",
+                             n > 65536 ? (size_t)65536 : n);
+        }
+        rc = set_kiosk_token(s, line, where, err);
+        from = where;
+    } else if (env_token && env_token[0]) {
+        rc = set_kiosk_token(s, env_token, SCENE_KIOSK_TOKEN_ENV, err);
+        from = SCENE_KIOSK_TOKEN_ENV;
+    }
+    if (!rc && source) {
+        snprintf(source, source_cap, "%s", from);
+    }
+    return rc;
+}
+
 int scene_species_index(const scene *s, const char *name)
 {
     for (int i = 0; i < s->n_species; i++) {
@@ -488,14 +569,15 @@ int scene_parse(scene *s, const char *name, const char *text, size_t len, const 
         return rc;
     }
     const cJSON *r = d.root;
-    char scen[SCENE_PATH_MAX];
+    char scen[SCENE_PATH_MAX], token[1024], where[SCENE_PATH_MAX + 16];
+    snprintf(where, sizeof where, "%s: kiosk_token", d.name);
     if ((rc = cfg_check_keys(&d, r, "", keys, err)) ||
         (rc = cfg_string(&d, r, "", "name", false, "scene", s->name, sizeof s->name, err)) ||
         (rc = cfg_number(&d, r, "", "tick_hz", false, 60, 1, 1000, &s->tick_hz, err)) ||
         (rc = cfg_number(&d, r, "", "snapshot_hz", false, 30, 0.1, 1000, &s->snapshot_hz,
                          err)) ||
-        (rc = cfg_string(&d, r, "", "kiosk_token", false, "", s->kiosk_token,
-                         sizeof s->kiosk_token, err)) ||
+        (rc = cfg_string(&d, r, "", "kiosk_token", false, "", token, sizeof token, err)) ||
+        (rc = set_kiosk_token(s, token, where, err)) ||
         (rc = cfg_string(&d, r, "", "scenario", false, "", scen, sizeof scen, err)) ||
         (rc = parse_wind(s, &d, r, err)) || (rc = parse_leaves(s, &d, r, err)) ||
         (rc = parse_species(s, &d, r, base_dir, err)) ||

@@ -12,12 +12,16 @@
 
 #include "err.h"
 #include "wind.h"
+#include "wire_limits.h"
 
 #define SCENE_MAX_SPECIES 16      /* species per scene: one baked asset each */
 #define SCENE_MAX_TREES 200000    /* beyond this a tick cannot fit in 16 ms on 2 cores */
 #define SCENE_MAX_OBSTACLES 1024  /* boxes voxelised into the wind grid at start */
 #define SCENE_MAX_FORESTS 64      /* generated blocks */
 #define SCENE_PATH_MAX 512
+#define SCENE_KIOSK_TOKEN_MAX ((int)CTL_MAX_TOKEN - 1) /* bytes: what a kiosk's hello may
+                                                          carry (PROTOCOL.md "hello") */
+#define SCENE_KIOSK_TOKEN_ENV "GALE_KIOSK_TOKEN" /* the operator's token from the environment */
 
 typedef struct scene_species {
     char name[64];                /* referenced by trees[].species */
@@ -37,7 +41,8 @@ typedef struct scene {
     double tick_hz;               /* simulation rate; default 60, [1, 1000] */
     double snapshot_hz;           /* state frames per second; default 30, <= tick_hz */
     int wind_every;               /* wind grid steps once every k ticks; default 1 */
-    char kiosk_token[128];        /* a kiosk's hello must carry it; "" = kiosks refused */
+    char kiosk_token[SCENE_KIOSK_TOKEN_MAX + 1]; /* a kiosk's hello must carry it; "" =
+                                                    kiosks refused (scene_kiosk_token_resolve) */
     char scenario[SCENE_PATH_MAX];/* wind scenario file, "" = steady inflow only */
 
     /* wind grid (wind.h); grid_on false: the inflow profile alone, no solver */
@@ -74,6 +79,16 @@ int scene_load(scene *s, const char *path, gale_err *err);
 /* The scene compiled into the server from configs/scenes/default.json; its paths resolve
  * against share_dir (the source tree by default). */
 int scene_load_default(scene *s, const char *share_dir, gale_err *err);
+/* The operator's kiosk token over the config's (server/SERVER.md "Kiosk tokens"): the
+ * first line of token_file when it is given (NULL: none; a trailing "\n" or "\r\n" is
+ * not part of the token), else env_token when non-empty (the value of
+ * SCENE_KIOSK_TOKEN_ENV; NULL: unset), else the config's kiosk_token as parsed. source
+ * (may be NULL) gets where the token came from, for the start-up log ("" when there is
+ * none: kiosks are refused). Fails, leaving s->kiosk_token as it was, when the file cannot
+ * be read or its first line is empty, or the token is longer than SCENE_KIOSK_TOKEN_MAX
+ * bytes; err names the file or the variable. */
+int scene_kiosk_token_resolve(scene *s, const char *token_file, const char *env_token,
+                              char *source, size_t source_cap, gale_err *err);
 /* Frees the arrays; NULL or an empty scene is a no-op. */
 void scene_fini(scene *s);
 
