@@ -40,6 +40,9 @@ static int net_callback(struct lws *wsi, enum lws_callback_reasons reason, void 
     case LWS_CALLBACK_HTTP_WRITEABLE:
         return net_http_writeable(s, c) ? -1 : 0;
 
+    case LWS_CALLBACK_HTTP_BODY_COMPLETION:
+        return 0; /* a request body is discarded; net_http_writeable completes the reply */
+
     case LWS_CALLBACK_CLOSED_HTTP:
         if (c) {
             free(c->http_owned);

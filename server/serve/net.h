@@ -92,6 +92,12 @@ typedef struct net_desc {
                                   net_run; NULL → an empty page */
     const atomic_uint *tick;  /* the simulation's tick counter, borrowed: /healthz and the
                                  connection log lines show it; NULL → 0 */
+    int http_idle_s;          /* an HTTP response that could write no chunk for this long [s]
+                                 is closed (the timer restarts on every chunk, so a slow
+                                 reader that keeps reading completes); 0 → 10 */
+    int http_sndbuf;          /* kernel send buffer of HTTP responses [bytes]; 0 → the
+                                 kernel's own (autotuned, so downloads keep their speed on
+                                 long links) */
 } net_desc;
 
 /* The network's counters, readable from any thread (net_metrics_register makes them

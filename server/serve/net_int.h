@@ -50,9 +50,10 @@ typedef struct net_conn {
     int close_code;       /* > 0: close at the next writeable */
     char close_reason[100];
     /* HTTP response */
-    uint8_t *http_owned;  /* owned body (metrics) or NULL */
+    uint8_t *http_owned;  /* owned body (healthz, metrics) or NULL */
     const uint8_t *http_body;
-    size_t http_len, http_off;
+    size_t http_len, http_off; /* bytes of http_body to send, and sent */
+    bool http_active;     /* a response is under way: HTTP_WRITEABLE sends or completes it */
 } net_conn;
 
 struct net_server {
