@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "cfg.h"
+#include "wire.h"
 
 extern const unsigned char scene_default_json[];
 extern const size_t scene_default_json_len;
@@ -200,6 +201,18 @@ static int parse_wind(scene *s, const cfg_doc *d, const cJSON *root, gale_err *e
                              d->name, i, g[i]);
         }
         s->grid[i] = (int)g[i];
+    }
+    /* checked here, not at allocation: wind_create would fail (or swap) only at start */
+    long long cells = (long long)s->grid[0] * s->grid[1] * s->grid[2];
+    if (cells > SCENE_MAX_GRID_CELLS) {
+        const double gib = 1024.0 * 1024.0 * 1024.0;
+        return gale_errf(err, GALE_E_RANGE,
+                         "%s: wind.grid: %d x %d x %d = %lld cells, about %.3g GiB at %d bytes a "
+                         "cell: expected at most %d cells (%.3g GiB)",
+                         d->name, s->grid[0], s->grid[1], s->grid[2], cells,
+                         (double)cells * SCENE_GRID_CELL_BYTES / gib, SCENE_GRID_CELL_BYTES,
+                         SCENE_MAX_GRID_CELLS,
+                         (double)SCENE_MAX_GRID_CELLS * SCENE_GRID_CELL_BYTES / gib);
     }
     if (every != floor(every)) {
         return gale_errf(err, GALE_E_RANGE, "%s: wind.every: expected an integer, got %g",
@@ -458,6 +471,28 @@ static int parse_trees(scene *s, const cfg_doc *d, const cJSON *root, gale_err *
     return GALE_OK;
 }
 
+/* Trees x modes: every state frame is sized for all trees at the scene's most modes
+ * (wire_state_bound), and a client refuses a frame over WIRE_MAX_FRAME_BYTES, so a scene
+ * whose keyframe could exceed it is refused here rather than on the wire. */
+static int check_frame_size(const scene *s, const cfg_doc *d, gale_err *err)
+{
+    int most = 0;
+    for (int i = 1; i < s->n_species; i++) {
+        most = s->species[i].modes > s->species[most].modes ? i : most;
+    }
+    int modes = s->species[most].modes;
+    size_t bound = wire_state_bound((uint32_t)s->n_trees, (uint32_t)modes,
+                                    (uint32_t)s->n_species);
+    if (bound > WIRE_MAX_FRAME_BYTES) {
+        return gale_errf(err, GALE_E_RANGE,
+                         "%s: species[%d].modes: %d trees x %d modes: a keyframe may take %zu "
+                         "bytes: expected at most %u (the largest frame a client accepts); "
+                         "fewer trees or modes",
+                         d->name, most, s->n_trees, modes, bound, WIRE_MAX_FRAME_BYTES);
+    }
+    return GALE_OK;
+}
+
 int scene_species_index(const scene *s, const char *name)
 {
     for (int i = 0; i < s->n_species; i++) {
@@ -505,6 +540,9 @@ int scene_parse(scene *s, const char *name, const char *text, size_t len, const 
     if (s->snapshot_hz > s->tick_hz) {
         rc = gale_errf(err, GALE_E_RANGE, "%s: snapshot_hz: expected <= tick_hz (%g), got %g",
                        d.name, s->tick_hz, s->snapshot_hz);
+        goto fail;
+    }
+    if ((rc = check_frame_size(s, &d, err))) {
         goto fail;
     }
     if (scen[0] && !resolve_path(s->scenario, sizeof s->scenario, base_dir, scen)) {

@@ -18,6 +18,12 @@
 #define SCENE_MAX_OBSTACLES 1024  /* boxes voxelised into the wind grid at start */
 #define SCENE_MAX_FORESTS 64      /* generated blocks */
 #define SCENE_PATH_MAX 512
+/* Wind grid cells. A cell costs about SCENE_GRID_CELL_BYTES: velocity and its advection
+ * scratch 24, the multigrid levels 32, the solid mask 1, plus the halo (61 measured on
+ * 256 x 256 x 32 after a step), so the cap keeps one grid under 1 GiB. 2^24 cells is 16
+ * times the 256 x 256 x 16 grid of Oliapuram & Kumar 2010 section 2.4. */
+#define SCENE_MAX_GRID_CELLS (1 << 24)
+#define SCENE_GRID_CELL_BYTES 60
 
 typedef struct scene_species {
     char name[64];                /* referenced by trees[].species */
