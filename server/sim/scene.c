@@ -371,6 +371,29 @@ static int species_ref(const scene *s, const cfg_doc *d, const cJSON *e, const c
     return GALE_OK;
 }
 
+/* Trees x modes: every state frame is sized for all trees at the scene's most modes
+ * (wire_state_bound), and a client refuses a frame over WIRE_MAX_FRAME_BYTES, so a scene
+ * whose keyframe could exceed it is refused here, before any tree is placed, rather than
+ * on the wire. */
+static int check_frame_size(const scene *s, const cfg_doc *d, long long n_trees,
+                            gale_err *err)
+{
+    int most = 0;
+    for (int i = 1; i < s->n_species; i++) {
+        most = s->species[i].modes > s->species[most].modes ? i : most;
+    }
+    int modes = s->species[most].modes;
+    size_t bound = wire_state_bound((uint32_t)n_trees, (uint32_t)modes, (uint32_t)s->n_species);
+    if (bound > WIRE_MAX_FRAME_BYTES) {
+        return gale_errf(err, GALE_E_RANGE,
+                         "%s: species[%d].modes: %lld trees x %d modes: a keyframe may take %zu "
+                         "bytes: expected at most %u (the largest frame a client accepts); "
+                         "fewer trees or modes",
+                         d->name, most, n_trees, modes, bound, WIRE_MAX_FRAME_BYTES);
+    }
+    return GALE_OK;
+}
+
 static int parse_trees(scene *s, const cfg_doc *d, const cJSON *root, gale_err *err)
 {
     static const char *const tkeys[] = { "species", "pos", "yaw_deg", "scale", NULL };
@@ -408,6 +431,9 @@ static int parse_trees(scene *s, const cfg_doc *d, const cJSON *root, gale_err *
         return gale_errf(err, GALE_E_RANGE,
                          "%s: trees + forest: expected 1 to %d trees in all, got %lld", d->name,
                          SCENE_MAX_TREES, total);
+    }
+    if (check_frame_size(s, d, total, err)) {
+        return err->code;
     }
     s->trees = calloc((size_t)total, sizeof *s->trees);
     if (!s->trees) {
@@ -471,28 +497,6 @@ static int parse_trees(scene *s, const cfg_doc *d, const cJSON *root, gale_err *
     return GALE_OK;
 }
 
-/* Trees x modes: every state frame is sized for all trees at the scene's most modes
- * (wire_state_bound), and a client refuses a frame over WIRE_MAX_FRAME_BYTES, so a scene
- * whose keyframe could exceed it is refused here rather than on the wire. */
-static int check_frame_size(const scene *s, const cfg_doc *d, gale_err *err)
-{
-    int most = 0;
-    for (int i = 1; i < s->n_species; i++) {
-        most = s->species[i].modes > s->species[most].modes ? i : most;
-    }
-    int modes = s->species[most].modes;
-    size_t bound = wire_state_bound((uint32_t)s->n_trees, (uint32_t)modes,
-                                    (uint32_t)s->n_species);
-    if (bound > WIRE_MAX_FRAME_BYTES) {
-        return gale_errf(err, GALE_E_RANGE,
-                         "%s: species[%d].modes: %d trees x %d modes: a keyframe may take %zu "
-                         "bytes: expected at most %u (the largest frame a client accepts); "
-                         "fewer trees or modes",
-                         d->name, most, s->n_trees, modes, bound, WIRE_MAX_FRAME_BYTES);
-    }
-    return GALE_OK;
-}
-
 int scene_species_index(const scene *s, const char *name)
 {
     for (int i = 0; i < s->n_species; i++) {
@@ -540,9 +544,6 @@ int scene_parse(scene *s, const char *name, const char *text, size_t len, const 
     if (s->snapshot_hz > s->tick_hz) {
         rc = gale_errf(err, GALE_E_RANGE, "%s: snapshot_hz: expected <= tick_hz (%g), got %g",
                        d.name, s->tick_hz, s->snapshot_hz);
-        goto fail;
-    }
-    if ((rc = check_frame_size(s, &d, err))) {
         goto fail;
     }
     if (scen[0] && !resolve_path(s->scenario, sizeof s->scenario, base_dir, scen)) {
