@@ -25,6 +25,15 @@ cJSON *json_parse(const char *text, size_t len, size_t *at)
     return root;
 }
 
+size_t json_skip_space(const char *text, size_t len, size_t at)
+{
+    while (at < len && (text[at] == ' ' || text[at] == '\t' || text[at] == '\n' ||
+                        text[at] == '\r')) {
+        at++;
+    }
+    return at;
+}
+
 void json_line_col(const char *text, size_t at, int *line, int *col)
 {
     *line = 1;

@@ -39,6 +39,12 @@ typedef struct json_rd {
  * syntax errors (with json_line_col). */
 cJSON *json_parse(const char *text, size_t len, size_t *at);
 
+/* Offset of the first byte at or after `at` in text[len] that is not JSON whitespace
+ * (space, tab, LF, CR: RFC 8259 section 2; a NUL byte is not whitespace); len when the
+ * rest is all whitespace. A reader that takes one value per text refuses the text when
+ * this, taken from json_parse's *at, is below len: trailing bytes are never ignored. */
+size_t json_skip_space(const char *text, size_t len, size_t at);
+
 /* 1-based line and column of byte offset at in text. */
 void json_line_col(const char *text, size_t at, int *line, int *col);
 

@@ -116,6 +116,66 @@ static void test_bad_files(void)
     CHECK(count_files() == 0);
 }
 
+/* A file of exactly `size` bytes: text, then spaces (sparse zeros when text is NULL). */
+static void put_sized(const char *name, const char *text, long size)
+{
+    char p[512];
+    snprintf(p, sizeof p, "%s/%s", dir, name);
+    FILE *f = fopen(p, "wb");
+    CHECK(f != NULL);
+    if (!f) {
+        return;
+    }
+    long n = 0;
+    if (text) {
+        fputs(text, f);
+        n = (long)strlen(text);
+        for (; n < size; n++) {
+            fputc(' ', f);
+        }
+    }
+    fclose(f);
+    CHECK(truncate(p, size) == 0);
+}
+
+/* Inputs are capped before they are read: a species file at 1 MiB (what gale-server
+ * reads), a skeleton CSV at 64 MiB (1 000 000 rows); a pipe is cut at the cap. */
+static void test_input_caps(void)
+{
+    put_sized("big.json", NULL, (1L << 20) + 1);
+    CHECK(bake("--species big.json --out x.gasset") == 1);
+    CHECK_STR_HAS(out, "gale-bake: big.json: 1048577 bytes: expected at most 1048576 (a species "
+                       "file: what gale-server reads)");
+    put_sized("big.csv", NULL, (64L << 20) + 1);
+    CHECK(bake("--skeleton big.csv --out x.gasset") == 1);
+    CHECK_STR_HAS(out, "gale-bake: big.csv: 67108865 bytes: expected at most 67108864 (a "
+                       "skeleton CSV: 1000000 rows of about 60 bytes)");
+    CHECK(bake("--species /dev/stdin --out x.gasset < big.json") == 1);
+    CHECK_STR_HAS(out, "/dev/stdin: 1048577 bytes: expected at most 1048576");
+    CHECK(bake("--species /dev/stdin --out x.gasset < /dev/zero") == 1);
+    CHECK_STR_HAS(out, "gale-bake: /dev/stdin: more than 1048576 bytes: expected at most "
+                       "1048576 (a species file: what gale-server reads)");
+    /* exactly at the cap the file is read and parsed: the parse names the key */
+    put_sized("edge.json", "{\"name\": \"x\", \"bogus\": 1}", 1L << 20);
+    CHECK(bake("--species edge.json --out x.gasset") == 1);
+    CHECK_STR_HAS(out, "gale-bake: edge.json: bogus: unknown key");
+    /* bytes after the species object: refused at their line:col */
+    put("tail.json", "{\"name\": \"x\"}\n}\n");
+    CHECK(bake("--species tail.json --out x.gasset") == 1);
+    CHECK_STR_HAS(out, "gale-bake: tail.json:2:1: trailing bytes after the JSON object: "
+                       "expected the end of the file");
+    /* a grammar that explodes names the file and the generator key */
+    put("boom.json", "{\"name\": \"x\", \"generator\": {\"depth\": 10, \"branch\": "
+                     "{\"tip_children\": 8, \"prune_prob\": 0, \"length_ratio\": 1}}}\n");
+    CHECK(bake("--species boom.json --out x.gasset") == 1);
+    CHECK_STR_HAS(out, "gale-bake: boom.json: generator.depth: 10 levels grow more than 200000 "
+                       "stems");
+    CHECK(!exists("x.gasset"));
+    char p[512];
+    snprintf(p, sizeof p, "%s/big.csv", dir);
+    remove(p);
+}
+
 static void check_report_file(const char *name, int nodes, int modes)
 {
     char p[512];
@@ -192,6 +252,7 @@ int main(void)
     }
     RUN(test_bad_arguments);
     RUN(test_bad_files);
+    RUN(test_input_caps);
     RUN(test_skeleton_end_to_end);
     RUN(test_species_end_to_end);
     char cmd[512];

@@ -270,14 +270,38 @@ static void test_bad_params(void)
     p.branch.end = 0.2;
     CHECK(lsystem_generate(&p, &s, &err) == GALE_E_RANGE);
     CHECK_STR_HAS(err.msg, "branch: expected 0 <= start <= end <= 1");
-    /* a grammar that explodes is refused, not allocated */
+    /* a grammar that explodes is refused, not allocated, naming the key to change */
     p = lsystem_params_default();
     p.depth = 10;
     p.branch.tip_children = 8;
     p.branch.prune_prob = 0.0;
     p.branch.length_ratio = 1.0;
     CHECK(lsystem_generate(&p, &s, &err) == GALE_E_RANGE);
-    CHECK_STR_HAS(err.msg, "stems");
+    CHECK_STR_HAS(err.msg, "lsystem: generator.depth: 10 levels grow more than 200000 stems: "
+                           "expected fewer (lower depth, whorls, per_whorl or tip_children)");
+    CHECK(s.n == 0 && s.parent == NULL);
+    /* with the source named (species_parse names it), the message starts with the file */
+    snprintf(p.where, sizeof p.where, "%s", "oak.json");
+    CHECK(lsystem_generate(&p, &s, &err) == GALE_E_RANGE);
+    CHECK_STR_HAS(err.msg, "oak.json: generator.depth: 10 levels grow more than 200000 stems");
+    CHECK(strncmp(err.msg, "oak.json: ", 10) == 0);
+    snprintf(p.where, sizeof p.where, "%s", "");
+    /* few enough stems (32 767), but 50 elements on each is past the node limit */
+    p = lsystem_params_default();
+    p.depth = 7;
+    p.trunk.length_ratio = p.branch.length_ratio = 1.0;
+    p.trunk.length_top = p.branch.length_top = 1.0;
+    p.trunk.prune_prob = p.branch.prune_prob = 0.0;
+    p.segment_m = 0.12;
+    CHECK(lsystem_generate(&p, &s, &err) == GALE_E_RANGE);
+    CHECK_STR_HAS(err.msg, "lsystem: generator.segment_m: 1633924 nodes with 0.12 m elements: "
+                           "expected at most 1000000 (longer segment_m, or set target_nodes)");
+    CHECK(s.n == 0 && s.parent == NULL);
+    /* the same grammar with a node target fits */
+    p.target_nodes = 5000;
+    CHECK(lsystem_generate(&p, &s, &err) == 0);
+    CHECK(s.n > 0 && s.n < 200000);
+    skeleton_fini(&s);
 }
 
 int main(void)

@@ -551,6 +551,10 @@ static void test_bad_files(void)
                "bad.json: hurricane.site.lon_deg: required key missing");
     expect_bad("{\"steady\":{\"u10_ms\":5},}", "bad.json:1:24: invalid JSON");
     expect_bad("[1]", "bad.json: expected a JSON object at the top, got an array");
+    expect_bad("{\"steady\":{\"u10_ms\":5}}\n{\"steady\":{\"u10_ms\":50}}",
+               "bad.json:2:1: trailing bytes after the JSON object: expected the end of the file");
+    expect_bad("{\"steady\":{\"u10_ms\":5}} ]", "bad.json:1:25: trailing bytes after the JSON "
+                                                  "object: expected the end of the file");
     /* a missing file names the path */
     gale_err err = { 0 };
     CHECK(scenario_load("/nonexistent/x.json", &err) == NULL);

@@ -104,6 +104,58 @@ static void test_errors(void)
     CHECK(scene_parse(&s, "t", "{\"wind\": 1}", 11, NULL, NULL) < 0);
 }
 
+#define TREE "\"trees\": [{\"species\": \"oak\", \"pos\": [0,0]}]"
+
+/* Nothing but JSON whitespace may follow the object: a second object, stray text or a
+ * NUL is refused at its line:col, whitespace is not. */
+static void test_trailing_bytes(void)
+{
+    check_err("{" SP ", " TREE "}\n}", "t.json:2:1: trailing bytes after the JSON object: "
+                                       "expected the end of the file");
+    check_err("{" SP ", " TREE "}\n\n  {" SP ", " TREE "}\n",
+              "t.json:3:3: trailing bytes after the JSON object: expected the end of the file");
+    check_err("{" SP ", " TREE "} x", "t.json:1:");
+    const char nul[] = "{" SP ", " TREE "}\n";
+    scene s;
+    gale_err e = { 0 };
+    CHECK(scene_parse(&s, "t.json", nul, sizeof nul, "/base", &e) == GALE_E_PARSE);
+    CHECK_STR_HAS(e.msg, "t.json:2:1: trailing bytes after the JSON object");
+    CHECK(s.trees == NULL);
+    CHECK(parse(&s, "\n {" SP ", " TREE "} \t\r\n \n", &e) == 0);
+    CHECK(s.n_trees == 1);
+    scene_fini(&s);
+}
+
+/* Sizes refused at validation, before anything is allocated: the wind grid's cells and
+ * trees x modes against the largest frame a client accepts. */
+static void test_size_limits(void)
+{
+    check_err("{" SP ", \"wind\": {\"grid\": [1024, 1024, 1024]}, " TREE "}",
+              "t.json: wind.grid: 1024 x 1024 x 1024 = 1073741824 cells, about 60 GiB at 60 "
+              "bytes a cell: expected at most 16777216 cells (0.938 GiB)");
+    check_err("{" SP ", \"wind\": {\"grid\": [1024, 1024, 17]}, " TREE "}",
+              "t.json: wind.grid: 1024 x 1024 x 17 = 17825792 cells, about 0.996 GiB at 60 "
+              "bytes a cell: expected at most 16777216 cells (0.938 GiB)");
+    scene s;
+    gale_err e = { 0 };
+    CHECK(parse(&s, "{" SP ", \"wind\": {\"grid\": [1024, 1024, 16]}, " TREE "}", &e) == 0);
+    CHECK(s.grid[0] * s.grid[1] * s.grid[2] == SCENE_MAX_GRID_CELLS);
+    scene_fini(&s);
+    /* 200 000 trees at 64 modes: about 30 MB of keyframe; at 32 modes they fit */
+#define MANY(modes)                                                                           \
+    "{\"species\": [{\"name\": \"a\", \"file\": \"a.json\", \"modes\": 8},"                   \
+    " {\"name\": \"oak\", \"file\": \"oak.json\", \"modes\": " #modes "}],"                     \
+    " \"forest\": [{\"species\": \"oak\", \"count\": 200000, \"area_min\": [0, 0],"             \
+    " \"area_max\": [2000, 2000]}]}"
+    check_err(MANY(64), "t.json: species[1].modes: 200000 trees x 64 modes: a keyframe may "
+                        "take 31800561 bytes: expected at most 16777216 (the largest frame a "
+                        "client accepts); fewer trees or modes");
+    CHECK(parse(&s, MANY(32), &e) == 0);
+    CHECK(s.n_trees == 200000);
+    scene_fini(&s);
+#undef MANY
+}
+
 static void test_default_scene(void)
 {
     scene s;
@@ -169,7 +221,7 @@ static void write_file(const char *path, const char *text)
 }
 
 #define T63 "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789+"
-#define TREE ", \"trees\": [{\"species\": \"oak\", \"pos\": [0, 0]}]"
+#define AND_TREE ", \"trees\": [{\"species\": \"oak\", \"pos\": [0, 0]}]"
 
 static void test_kiosk_token(void)
 {
@@ -178,24 +230,24 @@ static void test_kiosk_token(void)
     char src[600];
     /* the config's token: 63 bytes are what a hello may carry, 64 are refused */
     CHECK(strlen(T63) == 63);
-    CHECK(parse(&s, "{" SP TREE ", \"kiosk_token\": \"" T63 "\"}", &e) == 0);
+    CHECK(parse(&s, "{" SP AND_TREE ", \"kiosk_token\": \"" T63 "\"}", &e) == 0);
     CHECK(!strcmp(s.kiosk_token, T63));
     CHECK(scene_kiosk_token_resolve(&s, NULL, NULL, src, sizeof src, &e) == 0);
     CHECK(!strcmp(s.kiosk_token, T63));
     CHECK_STR_HAS(src, "the config's kiosk_token");
     scene_fini(&s);
-    check_err("{" SP TREE ", \"kiosk_token\": \"" T63 "x\"}",
+    check_err("{" SP AND_TREE ", \"kiosk_token\": \"" T63 "x\"}",
               "t.json: kiosk_token: expected at most 63 bytes (what a kiosk's hello may carry), "
               "got 64");
-    check_err("{" SP TREE ", \"kiosk_token\": 5}", "t.json: kiosk_token: expected a string");
+    check_err("{" SP AND_TREE ", \"kiosk_token\": 5}", "t.json: kiosk_token: expected a string");
 
     /* no token anywhere: kiosks off, source "" */
-    CHECK(parse(&s, "{" SP TREE "}", &e) == 0);
+    CHECK(parse(&s, "{" SP AND_TREE "}", &e) == 0);
     CHECK(scene_kiosk_token_resolve(&s, NULL, "", src, sizeof src, &e) == 0);
     CHECK(s.kiosk_token[0] == 0 && src[0] == 0);
     /* the environment over the config */
     scene_fini(&s);
-    CHECK(parse(&s, "{" SP TREE ", \"kiosk_token\": \"cfg\"}", &e) == 0);
+    CHECK(parse(&s, "{" SP AND_TREE ", \"kiosk_token\": \"cfg\"}", &e) == 0);
     CHECK(scene_kiosk_token_resolve(&s, NULL, "from-env", src, sizeof src, &e) == 0);
     CHECK(!strcmp(s.kiosk_token, "from-env"));
     CHECK(!strcmp(src, SCENE_KIOSK_TOKEN_ENV));
@@ -252,6 +304,8 @@ int main(void)
     RUN(test_defaults);
     RUN(test_forest_spacing);
     RUN(test_errors);
+    RUN(test_trailing_bytes);
+    RUN(test_size_limits);
     RUN(test_default_scene);
     RUN(test_no_shipped_token);
     RUN(test_kiosk_token);

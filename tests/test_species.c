@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "lsystem.h"
 #include "species.h"
 
 static int parse(const char *json, species *sp, gale_err *err)
@@ -100,6 +101,49 @@ static void test_errors(void)
                  GALE_E_PARSE, "generator.trunk.tip_continue: expected a boolean, got a number");
 }
 
+/* Bytes after the object are refused at their line:col; whitespace is not. */
+static void test_trailing_bytes(void)
+{
+    expect_error("{\"name\":\"x\"} x", GALE_E_PARSE,
+                 "t.json:1:14: trailing bytes after the JSON object: expected the end of the file");
+    expect_error("{\"name\":\"x\"}\n{\"name\":\"y\"}\n", GALE_E_PARSE,
+                 "t.json:2:1: trailing bytes after the JSON object: expected the end of the file");
+    species sp;
+    gale_err err = { 0 };
+    CHECK(parse("{\"name\":\"x\"}\n\t \r\n", &sp, &err) == 0);
+    CHECK(strcmp(sp.name, "x") == 0);
+}
+
+/* The generator runs after the parse; its failures still name the species file and the
+ * generator key to change. */
+static void test_generator_errors_name_the_file(void)
+{
+    const char *boom = "{\"name\":\"x\",\"generator\":{\"depth\":10,\"branch\":"
+                       "{\"tip_children\":8,\"prune_prob\":0,\"length_ratio\":1}}}\n";
+    species sp;
+    skeleton s;
+    gale_err err = { 0 };
+    CHECK(species_parse(boom, strlen(boom), "oak.json", &sp, &err) == 0);
+    CHECK(strcmp(sp.gen.where, "oak.json") == 0);
+    CHECK(lsystem_generate(&sp.gen, &s, &err) == GALE_E_RANGE);
+    CHECK_STR_HAS(err.msg, "oak.json: generator.depth: 10 levels grow more than 200000 stems: "
+                           "expected fewer (lower depth, whorls, per_whorl or tip_children)");
+    /* loaded from a file (in the build directory): the path it was loaded from */
+    FILE *f = fopen("species-explode.json", "wb");
+    CHECK(f != NULL);
+    if (f) {
+        fputs(boom, f);
+        fclose(f);
+    }
+    CHECK(species_load("species-explode.json", &sp, &err) == 0);
+    CHECK(lsystem_generate(&sp.gen, &s, &err) == GALE_E_RANGE);
+    CHECK(strncmp(err.msg, "species-explode.json: generator.depth: 10 levels", 48) == 0);
+    remove("species-explode.json");
+    /* a failed parse leaves the defaults, which name no file */
+    CHECK(parse("{\"name\":1}", &sp, &err) == GALE_E_PARSE);
+    CHECK(sp.gen.where[0] == '\0');
+}
+
 static void test_load_missing(void)
 {
     species sp;
@@ -113,6 +157,8 @@ int main(void)
     RUN(test_shipped);
     RUN(test_values);
     RUN(test_errors);
+    RUN(test_trailing_bytes);
+    RUN(test_generator_errors_name_the_file);
     RUN(test_load_missing);
     return check_report();
 }

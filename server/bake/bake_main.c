@@ -2,9 +2,11 @@
  * asset file, printing a readable report; optionally the report as JSON and a PNG of the
  * first mode shapes. Outputs appear whole or not at all. */
 #include <errno.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cjson/cJSON.h>
@@ -15,6 +17,13 @@
 #include "modes_png.h"
 #include "skeleton.h"
 #include "species.h"
+
+/* Input caps, checked before the input is read. A species file is read by gale-server
+ * only up to 1 MiB (serve/species_cache.c), so a larger one would bake here and never
+ * serve; the shipped ones are under 2 KiB. A skeleton CSV holds at most 1 000 000 rows
+ * (skeleton_csv.c) of about 60 bytes: 64 MiB, the cap of skeleton_load_csv too. */
+#define BAKE_MAX_SPECIES_BYTES ((size_t)1 << 20)
+#define BAKE_MAX_SKELETON_BYTES ((size_t)64 << 20)
 
 static void usage(FILE *out)
 {
@@ -27,9 +36,10 @@ static void usage(FILE *out)
             "\n"
             "  --skeleton FILE.csv  skeleton to bake: id,parent,x,y,z,radius with a header line,\n"
             "                       parent -1 for the single root, z up, metres; default wood\n"
-            "                       (E 1e10 Pa, rho 1000 kg/m^3) and damping\n"
+            "                       (E 1e10 Pa, rho 1000 kg/m^3) and damping; at most %zu MiB\n"
             "  --species FILE.json  species to bake: its L-system generates the skeleton, its\n"
-            "                       wood, damping, drag and look constants are used\n"
+            "                       wood, damping, drag and look constants are used; at most\n"
+            "                       %zu MiB (what gale-server reads)\n"
             "  --modes N            modes to keep, 1..%d (default 32)\n"
             "  --out FILE           asset file to write (written atomically)\n"
             "  --report FILE.json   also write the report as JSON: nodes, modes, frequencies_hz,\n"
@@ -39,23 +49,35 @@ static void usage(FILE *out)
             "\n"
             "Exit status 0 on success; 2 on bad arguments; 1 when the input is bad or the bake\n"
             "fails (the message names the file, line or key). Nothing is written on failure.\n",
-            BAKE_MAX_MODES);
+            BAKE_MAX_SKELETON_BYTES >> 20, BAKE_MAX_SPECIES_BYTES >> 20, BAKE_MAX_MODES);
 }
 
-static int read_file(const char *path, char **out, size_t *len, gale_err *err)
+/* Reads path whole into *out (NUL-terminated, caller frees) when it holds at most max
+ * bytes; a larger file is refused naming it, its size when known, the cap and `what`. */
+static int read_file(const char *path, size_t max, const char *what, char **out, size_t *len,
+                     gale_err *err)
 {
     FILE *f = fopen(path, "rb");
     if (!f) {
         return gale_errf(err, GALE_E_IO, "%s: cannot open: %s", path, strerror(errno));
     }
+    struct stat st;
+    if (fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode) && (uintmax_t)st.st_size > max) {
+        fclose(f);
+        return gale_errf(err, GALE_E_RANGE, "%s: %jd bytes: expected at most %zu (%s)", path,
+                         (intmax_t)st.st_size, max, what);
+    }
     size_t cap = 65536, n = 0;
     char *buf = malloc(cap + 1);
     while (buf) {
         n += fread(buf + n, 1, cap - n, f);
-        if (n < cap) {
+        if (n < cap || n > max) {
             break;
         }
-        cap *= 2;
+        cap *= 2; /* at most max + 1 bytes are read: enough to tell it is too large */
+        if (cap > max + 1) {
+            cap = max + 1;
+        }
         char *nb = realloc(buf, cap + 1);
         if (!nb) {
             free(buf);
@@ -72,6 +94,11 @@ static int read_file(const char *path, char **out, size_t *len, gale_err *err)
     if (bad) {
         free(buf);
         return gale_errf(err, GALE_E_IO, "%s: read error", path);
+    }
+    if (n > max) {
+        free(buf);
+        return gale_errf(err, GALE_E_RANGE, "%s: more than %zu bytes: expected at most %zu (%s)",
+                         path, max, max, what);
     }
     buf[n] = '\0';
     *out = buf;
@@ -165,7 +192,10 @@ int main(int argc, char **argv)
     memset(&a, 0, sizeof a);
     char tmp_report[4096] = "", tmp_png[4096] = "";
     int status = 1;
-    if (read_file(in_path, &text, &len, &err) != GALE_OK) {
+    if (read_file(in_path, skel_path ? BAKE_MAX_SKELETON_BYTES : BAKE_MAX_SPECIES_BYTES,
+                  skel_path ? "a skeleton CSV: 1000000 rows of about 60 bytes"
+                            : "a species file: what gale-server reads",
+                  &text, &len, &err) != GALE_OK) {
         goto fail;
     }
     if (species_path) {

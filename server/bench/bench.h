@@ -7,6 +7,13 @@ int bench_wind(int argc, char **argv);
 int bench_modal(int argc, char **argv);
 int bench_wire(int argc, char **argv);
 
+/* The machine's memory bandwidth [GB/s]: a STREAM triad a = b + 3 c over three arrays of
+ * 2^24 doubles (384 MiB, far past the caches) on `threads` threads, best of 5, counted as
+ * 24 bytes per element (STREAM's convention: write-allocate traffic not counted, so a
+ * benchmark's byte model leaves it out too). Allocates and frees its arrays; 0 when they
+ * cannot be allocated. */
+double bench_triad_gb_s(int threads);
+
 /* Answers an argument a subcommand does not take: "--help"/"-h" print usage on stdout and
  * give exit status 0, anything else prints it on stderr and gives 2. */
 int bench_usage(const char *arg, const char *usage);

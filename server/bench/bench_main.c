@@ -14,7 +14,7 @@ typedef struct bench_cmd {
 static const bench_cmd bench_cmds[] = {
     { "bake", bench_bake, "bake time and peak memory for generated trees (JSON)" },
     { "wind", bench_wind, "wind solver ms/step, divergence reduction, bandwidth (JSON)" },
-    { "modal", bench_modal, "per-tick modal update of many trees (JSON)" },
+    { "modal", bench_modal, "per-tick modal update of many trees, bandwidth (JSON)" },
     { "wire", bench_wire, "state stream bytes per tree and node error, gusty run (JSON)" },
 };
 

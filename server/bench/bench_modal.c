@@ -1,8 +1,11 @@
-/* gale-bench modal: the per-tick cost of the batch modal update (server/modal.c) for
+/* gale-bench modal: the per-tick cost of the batch modal update (server/sim/modal.c) for
  * many trees: wind sampled at each tree from the real wind field (wind_sample_many on a
  * 128 x 128 x 8 grid spun up under a gusty inflow), forces f_i = |v| v.p_i in the tree
  * frame, exact update, quantisation into the snapshot buffer. Prints JSON; medians over
- * the ticks. The wind solver's own step is not timed here (gale-bench wind). */
+ * the ticks, with the tick's byte model and the machine's triad bandwidth measured in the
+ * same run (bench_triad.c), so the figure reads as a fraction of the memory limit. The
+ * wind solver's own step is not timed here (gale-bench wind). */
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -40,6 +43,32 @@ static int cmp_cell(const void *a, const void *b)
         return (ka > kb) - (ka < kb);
     }
     return (p[0] > q[0]) - (p[0] < q[0]); /* ties by x: the order is fully defined */
+}
+
+/* Bytes one tick moves per tree at least, array by array (each read or written once per
+ * pass; the species constants, the wind grid and the padding lanes' coefficients are a
+ * few MB at most and stay in cache, so they are not counted; write-allocate is not
+ * counted, as in the triad). modal.c keeps each tree's q and q' as 2 x pad floats, pad
+ * the modes rounded up to its 16-lane groups (MODE_PAD):
+ *   sampling (wind_sample_many): position 12 read, wind 12 written;
+ *   update (modal_tick): wind 12, cos/sin of the yaw 8, species index 1 and the state
+ *   8 pad read; the state 8 pad written, and with a snapshot the int16 row 2 modes. */
+typedef struct modal_bytes {
+    double read, written; /* per tree per tick */
+} modal_bytes;
+
+static modal_bytes modal_tree_bytes(int n_modes, bool sample, bool snapshot)
+{
+    const double pad = (double)((n_modes + 15) / 16 * 16);
+    modal_bytes b = { 12.0 + 8.0 + 1.0 + 8.0 * pad, 8.0 * pad };
+    if (snapshot) {
+        b.written += 2.0 * n_modes;
+    }
+    if (sample) {
+        b.read += 12.0;
+        b.written += 12.0;
+    }
+    return b;
 }
 
 static double pct(double *v, int n, double p)
@@ -153,6 +182,8 @@ int bench_modal(int argc, char **argv)
             return 1;
         }
     }
+    /* measured here, between the set-up and the ticks, on the threads the ticks use */
+    double gbs = bench_triad_gb_s(threads);
     for (int k = -20; k < ticks; k++) { /* 20 warm-up ticks */
         double c0 = cpu_ms();
         double t0 = mono_ms();
@@ -188,19 +219,37 @@ int bench_modal(int argc, char **argv)
         }
         fclose(la);
     }
+    /* the tick (sampling, update, quantisation) and the update between snapshots */
+    const modal_bytes tb = modal_tree_bytes(n_modes, true, true);
+    const modal_bytes ub = modal_tree_bytes(n_modes, false, false);
+    const double tick_bytes = (tb.read + tb.written) * n_trees;
+    const double upd_bytes = (ub.read + ub.written) * n_trees;
+    const double tick_gbs = med_t > 0.0 ? tick_bytes / (med_t * 1e-3) / 1e9 : 0.0;
+    const double upd_gbs = med_ns > 0.0 ? upd_bytes / (med_ns * 1e-3) / 1e9 : 0.0;
+    const double frac = gbs > 0.0 ? tick_gbs / gbs : 0.0;
+    const double upd_frac = gbs > 0.0 ? upd_gbs / gbs : 0.0;
     if (json) {
         printf("{\"bench\":\"modal\",\"trees\":%d,\"modes\":%d,\"species\":%d,\"threads\":%d,"
                "\"ticks\":%d,\"sample_ms_median\":%.3f,\"update_quantise_ms_median\":%.3f,"
                "\"tick_ms_median\":%.3f,\"tick_ms_p95\":%.3f,\"tick_ms_max\":%.3f,"
                "\"ns_per_tree_mode\":%.3f,\"cpu_ms_per_tick_median\":%.3f,"
                "\"update_only_ms_median\":%.3f,\"loadavg_1min\":%.2f,\"target_ms\":3.0,"
-               "\"checksum\":%ld}\n",
+               "\"machine_gb_per_s\":%.2f,\"bytes_per_tree_read\":%.0f,"
+               "\"bytes_per_tree_written\":%.0f,\"bytes_per_tick_model\":%.0f,"
+               "\"tick_effective_gb_per_s\":%.2f,\"bandwidth_fraction\":%.3f,"
+               "\"update_only_bytes_per_tree\":%.0f,\"update_only_effective_gb_per_s\":%.2f,"
+               "\"update_only_bandwidth_fraction\":%.3f,\"checksum\":%ld}\n",
                n_trees, n_modes, n_species, threads, ticks, med_s, med_m, med_t, p95_t, max_t,
-               med_t * 1e6 / ((double)n_trees * n_modes), med_cpu, med_ns, load[0], check);
+               med_t * 1e6 / ((double)n_trees * n_modes), med_cpu, med_ns, load[0], gbs,
+               tb.read, tb.written, tick_bytes, tick_gbs, frac, ub.read + ub.written, upd_gbs,
+               upd_frac, check);
     } else {
         printf("modal: %d trees x %d modes, %d threads: tick median %.3f ms (sample %.3f, "
-               "update+quantise %.3f), p95 %.3f, max %.3f\n",
-               n_trees, n_modes, threads, med_t, med_s, med_m, p95_t, max_t);
+               "update+quantise %.3f), p95 %.3f, max %.3f\n"
+               "modal: %.0f + %.0f bytes per tree read + written: %.2f GB/s, %.3f of the "
+               "machine's triad %.2f GB/s (update alone %.3f)\n",
+               n_trees, n_modes, threads, med_t, med_s, med_m, p95_t, max_t, tb.read,
+               tb.written, tick_gbs, frac, gbs, upd_frac);
     }
     modal_destroy(m);
     free(omega);

@@ -1,7 +1,8 @@
 /* gale-bench wind: milliseconds per wind step, divergence reduction and solver cycles
  * on a suburban scene (houses, log-law inflow, a jittered force ball), with the machine's
- * memory bandwidth from a STREAM triad run in the same process (Oliapuram & Kumar 2010
- * section 2.4 reports 520 ms serial CPU and 14.1 ms on a GTX 280 for 256x256x16). */
+ * memory bandwidth from a STREAM triad run in the same process (bench_triad.c) and the
+ * step's byte model (Oliapuram & Kumar 2010 section 2.4 reports 520 ms serial CPU and
+ * 14.1 ms on a GTX 280 for 256x256x16). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -33,42 +34,6 @@ static double quantile(double *v, int n, double q)
     qsort(v, (size_t)n, sizeof *v, cmp_double);
     int i = (int)ceil(q * n) - 1;
     return v[i < 0 ? 0 : i >= n ? n - 1 : i];
-}
-
-/* STREAM triad a = b + s c over arrays far larger than the caches, best of 5, counted as
- * 24 bytes per element (STREAM's convention, write-allocate not counted). */
-static double triad_gb_s(int threads)
-{
-    const size_t n = (size_t)1 << 24; /* 3 x 128 MiB */
-    double *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b), *c = malloc(n * sizeof *c);
-    if (!a || !b || !c) {
-        free(a);
-        free(b);
-        free(c);
-        return 0.0;
-    }
-    const long nl = (long)n;
-#pragma omp parallel for schedule(static) num_threads(threads)
-    for (long i = 0; i < nl; i++) {
-        a[i] = 0.0;
-        b[i] = 1.0;
-        c[i] = 2.0;
-    }
-    double best = 1e30;
-    for (int rep = 0; rep < 5; rep++) {
-        double t0 = mono_ms();
-#pragma omp parallel for schedule(static) num_threads(threads)
-        for (long i = 0; i < nl; i++) {
-            a[i] = b[i] + 3.0 * c[i];
-        }
-        double t = mono_ms() - t0;
-        best = t < best ? t : best;
-    }
-    double check = a[n / 2];
-    free(a);
-    free(b);
-    free(c);
-    return check == 7.0 ? 24.0 * (double)n / (best * 1e-3) / 1e9 : 0.0;
 }
 
 /* Bytes one step moves at least, array by array (each array read or written once per
@@ -140,7 +105,7 @@ int bench_wind(int argc, char **argv)
         fprintf(stderr, "gale-bench wind: %s\n", err.msg);
         return 1;
     }
-    double gbs = triad_gb_s(threads);
+    double gbs = bench_triad_gb_s(threads);
     wind_set_inflow(w, &(wind_inflow){ .dir_rad = 0.5f, .u10_ms = u10 });
     wind_fill_inflow(w);
     double *ms = malloc((size_t)steps * sizeof *ms);

@@ -47,6 +47,18 @@ int cfg_parse(cfg_doc *d, const char *name, const char *text, size_t len, gale_e
         cfg_fini(d);
         return rc;
     }
+    /* cJSON stops after the first value: a second object or stray text after it would
+     * otherwise be silently ignored (a config pasted twice, a merge left half-done) */
+    size_t rest = json_skip_space(text, len, at);
+    if (rest < len) {
+        int line, col;
+        json_line_col(text, rest, &line, &col);
+        cfg_fini(d);
+        return gale_errf(err, GALE_E_PARSE,
+                         "%s:%d:%d: trailing bytes after the JSON object: expected the end of "
+                         "the file",
+                         d->name, line, col);
+    }
     return GALE_OK;
 }
 

@@ -17,7 +17,8 @@ typedef struct cfg_doc {
 } cfg_doc;
 
 /* Parses text (len bytes, need not be NUL-terminated) into *d. A syntax error reports
- * name:line:col. The root must be an object. */
+ * name:line:col. The root must be an object, and nothing but JSON whitespace may follow
+ * it (anything else is refused at its name:line:col). */
 int cfg_parse(cfg_doc *d, const char *name, const char *text, size_t len, gale_err *err);
 /* Reads a file and parses it; I/O errors name the path. */
 int cfg_load(cfg_doc *d, const char *path, gale_err *err);

@@ -38,7 +38,15 @@ typedef struct ls_stem {
 typedef struct ls_stems {
     ls_stem *s;
     int n, cap;
+    const char *where; /* for messages: ls_where() of the parameters */
+    int depth;         /* levels being expanded, for messages */
 } ls_stems;
+
+/* First word of every message: the species file the parameters came from. */
+static const char *ls_where(const lsystem_params *p)
+{
+    return p->where[0] ? p->where : "lsystem";
+}
 
 /* uniform in [0, 1) with 53 random bits */
 static double ls_uniform(uint64_t *state)
@@ -203,8 +211,10 @@ static ls_stem *ls_push(ls_stems *st, gale_err *err)
 {
     if (st->n == st->cap) {
         if (st->cap >= LS_MAX_STEMS) {
-            gale_errf(err, GALE_E_RANGE, "lsystem: more than %d stems: lower depth or branching",
-                      LS_MAX_STEMS);
+            gale_errf(err, GALE_E_RANGE,
+                      "%s: generator.depth: %d levels grow more than %d stems: expected fewer "
+                      "(lower depth, whorls, per_whorl or tip_children)",
+                      st->where, st->depth, LS_MAX_STEMS);
             return NULL;
         }
         int cap = st->cap ? 2 * st->cap : 256;
@@ -213,7 +223,7 @@ static ls_stem *ls_push(ls_stems *st, gale_err *err)
         }
         ls_stem *s = realloc(st->s, (size_t)cap * sizeof *s);
         if (!s) {
-            gale_errf(err, GALE_E_NOMEM, "lsystem: out of memory for %d stems", cap);
+            gale_errf(err, GALE_E_NOMEM, "%s: out of memory for %d stems", st->where, cap);
             return NULL;
         }
         st->s = s;
@@ -269,6 +279,8 @@ static int ls_expand(const lsystem_params *p, int depth, ls_stems *st, gale_err 
 {
     double min_len = LS_MIN_SEG_FRAC * p->trunk_length_m;
     double wobble = p->wobble_deg * LS_DEG;
+    st->where = ls_where(p);
+    st->depth = depth;
     ls_stem *tr = ls_push(st, err);
     if (!tr) {
         return err ? err->code : GALE_E_NOMEM;
@@ -364,13 +376,24 @@ static long ls_count(const ls_stems *st, double seg)
     return n;
 }
 
-/* Phase 2: cuts each stem into elements of about `seg` and emits nodes parents-first. */
-static int ls_emit(const ls_stems *st, double seg, skeleton *out, gale_err *err)
+/* Phase 2: cuts each stem into elements of about `seg` and emits nodes parents-first.
+ * The node count is known before anything is allocated; past the limit the message names
+ * the key that set the segment length (target_nodes when given, else segment_m). */
+static int ls_emit(const lsystem_params *p, const ls_stems *st, double seg, skeleton *out,
+                   gale_err *err)
 {
     long total = ls_count(st, seg);
+    if (total > LS_MAX_NODES && p->target_nodes > 0) {
+        return gale_errf(err, GALE_E_RANGE,
+                         "%s: generator.target_nodes: %ld nodes at the closest segment length: "
+                         "expected at most %d",
+                         st->where, total, LS_MAX_NODES);
+    }
     if (total > LS_MAX_NODES) {
-        return gale_errf(err, GALE_E_RANGE, "lsystem: %ld nodes: expected at most %d", total,
-                         LS_MAX_NODES);
+        return gale_errf(err, GALE_E_RANGE,
+                         "%s: generator.segment_m: %ld nodes with %.3g m elements: expected at "
+                         "most %d (longer segment_m, or set target_nodes)",
+                         st->where, total, seg, LS_MAX_NODES);
     }
     int rc = skeleton_alloc(out, (int)total, err);
     if (rc != 0) {
@@ -384,7 +407,8 @@ static int ls_emit(const ls_stems *st, double seg, skeleton *out, gale_err *err)
         free(nseg);
         free(base);
         skeleton_fini(out);
-        return gale_errf(err, GALE_E_NOMEM, "lsystem: out of memory for %d stems", st->n);
+        return gale_errf(err, GALE_E_NOMEM, "%s: out of memory for %d stems", st->where,
+                         st->n);
     }
     out->parent[0] = -1;
     out->radius[0] = (float)st->s[0].r0;
@@ -457,19 +481,21 @@ static void ls_pipe(skeleton *s, double tip, double e)
     free(acc);
 }
 
-static int ls_check_rule(const lsystem_rule *r, const char *name, gale_err *err)
+/* name: the rule's key path ("generator.trunk"); where: ls_where(). */
+static int ls_check_rule(const lsystem_rule *r, const char *where, const char *name,
+                         gale_err *err)
 {
     if (r->whorls < 0 || r->whorls > 64 || r->per_whorl < 0 || r->per_whorl > 16 ||
         r->tip_children < 0 || r->tip_children > 32) {
         return gale_errf(
             err, GALE_E_RANGE,
-            "lsystem: %s: whorls 0..64, per_whorl 0..16, tip_children 0..32, got %d, %d, %d", name,
-            r->whorls, r->per_whorl, r->tip_children);
+            "%s: %s: whorls 0..64, per_whorl 0..16, tip_children 0..32, got %d, %d, %d", where,
+            name, r->whorls, r->per_whorl, r->tip_children);
     }
     if (!(r->start >= 0.0 && r->start <= r->end && r->end <= 1.0)) {
         return gale_errf(err, GALE_E_RANGE,
-                         "lsystem: %s: expected 0 <= start <= end <= 1, got %g, %g", name, r->start,
-                         r->end);
+                         "%s: %s: expected 0 <= start <= end <= 1, got %g, %g", where, name,
+                         r->start, r->end);
     }
     if (!(r->length_ratio > 0.0 && r->length_ratio <= 2.0) ||
         !(r->radius_ratio > 0.0 && r->radius_ratio <= 1.0) ||
@@ -479,11 +505,12 @@ static int ls_check_rule(const lsystem_rule *r, const char *name, gale_err *err)
         !(r->continue_ratio >= 0.0 && r->continue_ratio <= 2.0) || !isfinite(r->angle_deg) ||
         !isfinite(r->tip_angle_deg) || !isfinite(r->angle_jitter_deg) || !isfinite(r->bend_deg)) {
         return gale_errf(err, GALE_E_RANGE,
-                         "lsystem: %s: a ratio, taper, jitter or angle is out of range", name);
+                         "%s: %s: a ratio, taper, jitter or angle is out of range", where,
+                         name);
     }
     if (r->tip_continue && !(r->continue_ratio > 0.0)) {
-        return gale_errf(err, GALE_E_RANGE, "lsystem: %s: tip_continue needs continue_ratio > 0",
-                         name);
+        return gale_errf(err, GALE_E_RANGE, "%s: %s: tip_continue needs continue_ratio > 0",
+                         where, name);
     }
     return GALE_OK;
 }
@@ -536,15 +563,18 @@ lsystem_params lsystem_params_default(void)
 int lsystem_generate(const lsystem_params *p, skeleton *out, gale_err *err)
 {
     memset(out, 0, sizeof *out);
+    const char *where = ls_where(p);
     if (p->depth < 0 || p->depth > 10) {
-        return gale_errf(err, GALE_E_RANGE, "lsystem: depth: expected 0..10, got %d", p->depth);
+        return gale_errf(err, GALE_E_RANGE, "%s: generator.depth: expected 0..10, got %d", where,
+                         p->depth);
     }
     if (!(p->trunk_length_m > 0.0 && p->trunk_length_m <= 200.0) ||
         !(p->trunk_radius_m > 0.0 && p->trunk_radius_m <= 10.0)) {
         return gale_errf(
             err, GALE_E_RANGE,
-            "lsystem: trunk: expected length in (0, 200] m and radius in (0, 10] m, got %g, %g",
-            p->trunk_length_m, p->trunk_radius_m);
+            "%s: generator.trunk_length_m, trunk_radius_m: expected (0, 200] m and (0, 10] m, "
+            "got %g, %g",
+            where, p->trunk_length_m, p->trunk_radius_m);
     }
     if (!(p->trunk_taper > 0.0 && p->trunk_taper <= 1.0) || !(p->segment_m >= 0.0) ||
         !isfinite(p->segment_m) || !isfinite(p->trunk_bend_deg) || !isfinite(p->twist_deg) ||
@@ -552,16 +582,17 @@ int lsystem_generate(const lsystem_params *p, skeleton *out, gale_err *err)
         !(p->tip_radius_m >= 0.0 && p->tip_radius_m <= 1.0) ||
         !(p->pipe_exponent == 0.0 || (p->pipe_exponent >= 1.5 && p->pipe_exponent <= 4.0))) {
         return gale_errf(err, GALE_E_RANGE,
-                         "lsystem: trunk_taper (0, 1], segment_m >= 0, wobble 0..90 deg, "
-                         "tip_radius_m 0..1, pipe_exponent 0 or 1.5..4 expected");
+                         "%s: generator: trunk_taper (0, 1], segment_m >= 0, wobble 0..90 deg, "
+                         "tip_radius_m 0..1, pipe_exponent 0 or 1.5..4 expected",
+                         where);
     }
     if (p->target_nodes < 0 || p->target_nodes > LS_MAX_NODES) {
-        return gale_errf(err, GALE_E_RANGE, "lsystem: target_nodes: expected 0..%d, got %d",
-                         LS_MAX_NODES, p->target_nodes);
+        return gale_errf(err, GALE_E_RANGE, "%s: generator.target_nodes: expected 0..%d, got %d",
+                         where, LS_MAX_NODES, p->target_nodes);
     }
-    int rc = ls_check_rule(&p->trunk, "trunk", err);
+    int rc = ls_check_rule(&p->trunk, where, "generator.trunk", err);
     if (rc == 0) {
-        rc = ls_check_rule(&p->branch, "branch", err);
+        rc = ls_check_rule(&p->branch, where, "generator.branch", err);
     }
     if (rc != 0) {
         return rc;
@@ -615,7 +646,7 @@ int lsystem_generate(const lsystem_params *p, skeleton *out, gale_err *err)
         }
     }
     if (rc == 0) {
-        rc = ls_emit(&st, seg, out, err);
+        rc = ls_emit(p, &st, seg, out, err);
     }
     if (rc == 0) {
         ls_pipe(out, p->tip_radius_m, p->pipe_exponent);

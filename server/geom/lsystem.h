@@ -50,6 +50,8 @@ typedef struct lsystem_params {
                               * children */
     lsystem_rule trunk;      /* how the trunk spawns the first branches */
     lsystem_rule branch;     /* how every deeper stem spawns its children */
+    char where[160];         /* first word of every failure: the species file these came
+                              * from (species_parse sets it); "" reads "lsystem" */
 } lsystem_params;
 
 /* A parameter set that gives a plain broadleaf tree; species files start from it. */
@@ -59,7 +61,10 @@ lsystem_params lsystem_params_default(void);
  * skeleton_fini). Same parameters, same skeleton, on every machine. Nodes come
  * parents-first, root at the origin, z up, metres; order[] holds the branch order.
  * With target_nodes > 0 the segment length (never below 2% of the trunk length) and,
- * when that cannot reach the target, the depth are adjusted. */
+ * when that cannot reach the target, the depth are adjusted. A bad parameter, or a
+ * grammar that grows past 200 000 stems or 1 000 000 nodes, fails with GALE_E_RANGE
+ * before anything that size is allocated; every message reads "where: generator.KEY:
+ * ..." with KEY the species-file key to change (the fields are named as those keys). */
 int lsystem_generate(const lsystem_params *p, skeleton *out, gale_err *err);
 
 #endif

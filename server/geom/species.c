@@ -331,6 +331,8 @@ static int sp_from_doc(const cfg_doc *d, species *sp, gale_err *err)
     }
     /* ν ≈ 0.3: G = E / (2 (1 + ν)) = E / 2.6 unless given */
     sp->G_pa = G > 0.0 ? G : sp->E_pa / 2.6;
+    /* the generator runs later (bake, server start): its failures name this file too */
+    snprintf(sp->gen.where, sizeof sp->gen.where, "%s", d->name);
     return GALE_OK;
 }
 

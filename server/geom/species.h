@@ -33,7 +33,9 @@ typedef struct species {
 void species_default(species *sp);
 
 /* Parses a species JSON document (text of `name`, for messages) into *sp. Unknown keys,
- * wrong types and out-of-range values are errors naming the key path and line. */
+ * wrong types, out-of-range values and bytes after the object are errors naming the key
+ * path or line. sp->gen.where gets `name`, so lsystem_generate's failures name the file
+ * and the generator key. */
 int species_parse(const char *text, size_t len, const char *name, species *sp, gale_err *err);
 
 /* Reads and parses a species file. */

@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "cfg.h"
+#include "wire.h"
 
 extern const unsigned char scene_default_json[];
 extern const size_t scene_default_json_len;
@@ -202,6 +203,18 @@ static int parse_wind(scene *s, const cfg_doc *d, const cJSON *root, gale_err *e
         }
         s->grid[i] = (int)g[i];
     }
+    /* checked here, not at allocation: wind_create would fail (or swap) only at start */
+    long long cells = (long long)s->grid[0] * s->grid[1] * s->grid[2];
+    if (cells > SCENE_MAX_GRID_CELLS) {
+        const double gib = 1024.0 * 1024.0 * 1024.0;
+        return gale_errf(err, GALE_E_RANGE,
+                         "%s: wind.grid: %d x %d x %d = %lld cells, about %.3g GiB at %d bytes a "
+                         "cell: expected at most %d cells (%.3g GiB)",
+                         d->name, s->grid[0], s->grid[1], s->grid[2], cells,
+                         (double)cells * SCENE_GRID_CELL_BYTES / gib, SCENE_GRID_CELL_BYTES,
+                         SCENE_MAX_GRID_CELLS,
+                         (double)SCENE_MAX_GRID_CELLS * SCENE_GRID_CELL_BYTES / gib);
+    }
     if (every != floor(every)) {
         return gale_errf(err, GALE_E_RANGE, "%s: wind.every: expected an integer, got %g",
                          d->name, every);
@@ -359,6 +372,29 @@ static int species_ref(const scene *s, const cfg_doc *d, const cJSON *e, const c
     return GALE_OK;
 }
 
+/* Trees x modes: every state frame is sized for all trees at the scene's most modes
+ * (wire_state_bound), and a client refuses a frame over WIRE_MAX_FRAME_BYTES, so a scene
+ * whose keyframe could exceed it is refused here, before any tree is placed, rather than
+ * on the wire. */
+static int check_frame_size(const scene *s, const cfg_doc *d, long long n_trees,
+                            gale_err *err)
+{
+    int most = 0;
+    for (int i = 1; i < s->n_species; i++) {
+        most = s->species[i].modes > s->species[most].modes ? i : most;
+    }
+    int modes = s->species[most].modes;
+    size_t bound = wire_state_bound((uint32_t)n_trees, (uint32_t)modes, (uint32_t)s->n_species);
+    if (bound > WIRE_MAX_FRAME_BYTES) {
+        return gale_errf(err, GALE_E_RANGE,
+                         "%s: species[%d].modes: %lld trees x %d modes: a keyframe may take %zu "
+                         "bytes: expected at most %u (the largest frame a client accepts); "
+                         "fewer trees or modes",
+                         d->name, most, n_trees, modes, bound, WIRE_MAX_FRAME_BYTES);
+    }
+    return GALE_OK;
+}
+
 static int parse_trees(scene *s, const cfg_doc *d, const cJSON *root, gale_err *err)
 {
     static const char *const tkeys[] = { "species", "pos", "yaw_deg", "scale", NULL };
@@ -396,6 +432,9 @@ static int parse_trees(scene *s, const cfg_doc *d, const cJSON *root, gale_err *
         return gale_errf(err, GALE_E_RANGE,
                          "%s: trees + forest: expected 1 to %d trees in all, got %lld", d->name,
                          SCENE_MAX_TREES, total);
+    }
+    if (check_frame_size(s, d, total, err)) {
+        return err->code;
     }
     s->trees = calloc((size_t)total, sizeof *s->trees);
     if (!s->trees) {

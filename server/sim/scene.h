@@ -22,6 +22,12 @@
 #define SCENE_KIOSK_TOKEN_MAX ((int)CTL_MAX_TOKEN - 1) /* bytes: what a kiosk's hello may
                                                           carry (PROTOCOL.md "hello") */
 #define SCENE_KIOSK_TOKEN_ENV "GALE_KIOSK_TOKEN" /* the operator's token from the environment */
+/* Wind grid cells. A cell costs about SCENE_GRID_CELL_BYTES: velocity and its advection
+ * scratch 24, the multigrid levels 32, the solid mask 1, plus the halo (61 measured on
+ * 256 x 256 x 32 after a step), so the cap keeps one grid under 1 GiB. 2^24 cells is 16
+ * times the 256 x 256 x 16 grid of Oliapuram & Kumar 2010 section 2.4. */
+#define SCENE_MAX_GRID_CELLS (1 << 24)
+#define SCENE_GRID_CELL_BYTES 60
 
 typedef struct scene_species {
     char name[64];                /* referenced by trees[].species */
