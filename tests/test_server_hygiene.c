@@ -3,8 +3,9 @@
  * a stuck reader is culled and its descriptor released within the close bound; under a
  * lowered RLIMIT_NOFILE the extra connections get 4010 or are refused, /healthz answers
  * and the server does not spin; SIGTERM with stuck peers ends within ~3 s and a reading
- * peer gets 1001; a ping flood is closed with 4012. Palm scenes, assets cached in the
- * build tree. */
+ * peer gets 1001; --max-connections turns the next away with 4010; a ping flood is closed
+ * with 4012, by the unread replies or by the rate; bad option values are refused. Palm
+ * scenes, assets cached in the build tree. */
 #include "check.h"
 #include "mono.h"
 #include "net.h"
@@ -245,6 +246,10 @@ static void test_hello_deadline(void)
         clients = healthz_clients(c.port);
     }
     CHECK(clients == 1);
+    char *metrics = NULL;
+    CHECK(wsraw_http_get(c.port, "/metrics", &metrics) == 200);
+    CHECK_STR_HAS(metrics ? metrics : "", "gale_hello_timeouts_total 3\n");
+    free(metrics);
     int state = 0;
     for (int i = 0; i < 40 && state < 10; i++) {
         uint8_t *b;
@@ -428,17 +433,25 @@ static void test_sigterm_stuck_peers(void)
     wsraw_close(&good);
 }
 
-/* A ping flood is closed with 4012 (too many messages); pings at 5 a second are not. */
+/* --max-connections 3: the fourth gets 4010; a ping flood is closed with 4012 (too many
+ * messages); pings at 5 a second are not. */
 static void test_ping_flood(void)
 {
+    const char *extra[] = { "--max-connections", "3", NULL };
     child c;
-    if (start(&c, small_cfg, 0, NULL, "flood")) {
+    if (start(&c, small_cfg, 0, extra, "flood")) {
         CHECK(0);
         return;
     }
-    wsraw calm, flood;
+    wsraw calm, flood, third, fourth;
     CHECK(join(&calm, c.port) == 1);
     CHECK(join(&flood, c.port) == 1);
+    CHECK(join(&third, c.port) == 1);
+    CHECK(join(&fourth, c.port) == WIRE_CLOSE_FULL);
+    CHECK_STR_HAS(fourth.close_reason, "server full: 3 connections");
+    wsraw_close(&fourth);
+    wsraw_close(&third);
+    /* 60 at once: the replies pile up unread */
     for (int i = 0; i < 60; i++) {
         char p[96];
         snprintf(p, sizeof p, "{\"type\": \"ping\", \"id\": %d, \"client_us\": 1}", i);
@@ -446,6 +459,28 @@ static void test_ping_flood(void)
     }
     CHECK(wsraw_wait_close(&flood, 3000) == WIRE_CLOSE_RATE);
     CHECK_STR_HAS(flood.close_reason, "too many messages");
+    wsraw_close(&flood);
+    /* 50 a second, reading every pong: the bucket (a burst of 20, then 10 a second) ends it
+     * after about 25 */
+    CHECK(join(&flood, c.port) == 1);
+    int flood_pongs = 0;
+    double f0 = mono_s(), fnext = f0;
+    while (mono_s() - f0 < 3.0 && !flood.close_code) {
+        if (mono_s() >= fnext) {
+            wsraw_text(&flood, "{\"type\": \"ping\", \"id\": 2, \"client_us\": 1}");
+            fnext += 0.02;
+        }
+        uint8_t *b;
+        size_t n;
+        int op = wsraw_recv(&flood, &b, &n, 5);
+        flood_pongs += op == 1 && strstr((const char *)b, "\"pong\"");
+        free(b);
+    }
+    fprintf(stderr, "  50 pings a second: %d pongs, then close %d after %.2f s\n", flood_pongs,
+            flood.close_code, mono_s() - f0);
+    CHECK(flood.close_code == WIRE_CLOSE_RATE);
+    CHECK_STR_HAS(flood.close_reason, "expected <= 10 a second after a burst of 20");
+    CHECK(flood_pongs >= 20 && flood_pongs <= 40);
     int pongs = 0;
     double t0 = mono_s(), next = t0;
     while (mono_s() - t0 < 3.0 && !calm.close_code) {
@@ -466,6 +501,25 @@ static void test_ping_flood(void)
     stop(&c);
 }
 
+/* Bad values of the new options are refused with exit status 2. */
+static void test_bad_options(void)
+{
+    const char *bad[][3] = { { "--max-connections", "0", "expected 1..1000000" },
+                             { "--hello-timeout", "0", "expected seconds in [0.01, 3600]" } };
+    for (int i = 0; i < 2; i++) {
+        child c;
+        const char *extra[] = { bad[i][0], bad[i][1], NULL };
+        CHECK(start(&c, small_cfg, 0, extra, "badopt") == -1);
+        FILE *f = fopen(c.log, "r");
+        char log[1024] = "";
+        if (f) {
+            log[fread(log, 1, sizeof log - 1, f)] = 0;
+            fclose(f);
+        }
+        CHECK_STR_HAS(log, bad[i][2]);
+    }
+}
+
 int main(void)
 {
     signal(SIGPIPE, SIG_IGN);
@@ -476,5 +530,6 @@ int main(void)
     RUN(test_fd_limit);
     RUN(test_sigterm_stuck_peers);
     RUN(test_ping_flood);
+    RUN(test_bad_options);
     return check_report();
 }
