@@ -49,10 +49,12 @@ enum wire_close {
     WIRE_CLOSE_FORBIDDEN = 4006,   /* role may not send this (a viewer sending wind) */
     WIRE_CLOSE_BAD_TOKEN = 4007,   /* kiosk token wrong */
     WIRE_CLOSE_SLOW = 4008,        /* client stayed too far behind; its queue overflowed */
-    WIRE_CLOSE_ORDER = 4009,       /* message before hello, a second hello, or a server-only
-                                      type (welcome, pong, error) from a client */
+    WIRE_CLOSE_ORDER = 4009,       /* message before hello, a second hello, no hello in time,
+                                      or a server-only type (welcome, pong, error) from a
+                                      client */
     WIRE_CLOSE_FULL = 4010,        /* server at its connection limit */
     WIRE_CLOSE_BAD_FRAME = 4011,   /* (client side) server frame failed to decode */
+    WIRE_CLOSE_RATE = 4012,        /* client sent control messages faster than allowed */
 };
 
 /* Name of a close code ("bad-json", "version", ...), "unknown" for others. */

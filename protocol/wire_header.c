@@ -99,6 +99,8 @@ const char *wire_close_name(int code)
         return "full";
     case WIRE_CLOSE_BAD_FRAME:
         return "bad-frame";
+    case WIRE_CLOSE_RATE:
+        return "too-many";
     default:
         return "unknown";
     }

@@ -5,9 +5,12 @@
 #include "mono.h"
 #include "net_int.h"
 
+#include <dirent.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include <sys/resource.h>
 
 #include "ctl.h"
 #include "metric.h"
@@ -20,6 +23,21 @@ static int net_callback(struct lws *wsi, enum lws_callback_reasons reason, void 
     net_conn *c = user;
 
     switch (reason) {
+    case LWS_CALLBACK_FILTER_NETWORK_CONNECTION:
+        /* in: the accepted descriptor (user is lws' accept record, not a net_conn). The
+         * kernel hands out the lowest free number, so one at or above the cap means the
+         * descriptors below are all taken: refuse it now and keep the rest free. */
+        if (s && (int)(lws_intptr_t)in >= s->lim.fd_cap) {
+            atomic_fetch_add(&s->m.refused, 1);
+            net_log(s, "connection refused at accept: descriptor %d, cap %d (RLIMIT_NOFILE %ld)",
+                    (int)(lws_intptr_t)in, s->lim.fd_cap, s->lim.nofile);
+            return 1;
+        }
+        return 0;
+
+    case LWS_CALLBACK_TIMER:
+        return net_ws_timer(s, c);
+
     case LWS_CALLBACK_EVENT_WAIT_CANCELLED:
         if (!s) {
             return 0;
@@ -87,6 +105,10 @@ static const metric_row net_rows[] = {
     { "gale_laggards_closed_total", NULL, "Connections closed for falling too far behind.",
       METRIC_COUNTER, 0 },
     { "gale_connections_total", NULL, "WebSocket connections accepted.", METRIC_COUNTER, 0 },
+    { "gale_connections_refused_total", NULL,
+      "Connections refused at the connection or descriptor limit.", METRIC_COUNTER, 0 },
+    { "gale_hello_timeouts_total", NULL, "Connections closed for sending no hello in time.",
+      METRIC_COUNTER, 0 },
     { "gale_clients", "role=\"none\"", "Connected WebSocket clients by role.", METRIC_GAUGE, 0 },
     { "gale_clients", "role=\"viewer\"", "Connected WebSocket clients by role.", METRIC_GAUGE, 0 },
     { "gale_clients", "role=\"kiosk\"", "Connected WebSocket clients by role.", METRIC_GAUGE, 0 },
@@ -95,7 +117,7 @@ static const metric_row net_rows[] = {
     { "gale_clients", "role=\"load\"", "Connected WebSocket clients by role.", METRIC_GAUGE, 0 },
 };
 #define NET_N_ROWS ((int)(sizeof net_rows / sizeof net_rows[0]))
-_Static_assert(NET_N_ROWS == 8 + NET_ROLE_COUNT, "one gale_clients row per role");
+_Static_assert(NET_N_ROWS == 10 + NET_ROLE_COUNT, "one gale_clients row per role");
 
 static void net_fill(void *ctx, double *v)
 {
@@ -109,14 +131,62 @@ static void net_fill(void *ctx, double *v)
     v[5] = (double)atomic_load(&m->bad_messages);
     v[6] = (double)atomic_load(&m->laggards_closed);
     v[7] = (double)atomic_load(&m->connections_total);
+    v[8] = (double)atomic_load(&m->refused);
+    v[9] = (double)atomic_load(&m->hello_timeouts);
     for (int r = 0; r < NET_ROLE_COUNT; r++) {
-        v[8 + r] = (double)atomic_load(&m->clients[r]);
+        v[10 + r] = (double)atomic_load(&m->clients[r]);
     }
 }
 
 int net_metrics_register(net_server *s, metric_reg *r, gale_err *err)
 {
     return metric_reg_add(r, net_rows, NET_N_ROWS, net_fill, s, err);
+}
+
+/* --- limits ---------------------------------------------------------------------------- */
+
+/* Descriptors open in this process now (Linux /proc/self/fd), -1 when unknown. */
+static int open_fds(void)
+{
+    DIR *d = opendir("/proc/self/fd");
+    if (!d) {
+        return -1;
+    }
+    int n = 0;
+    for (struct dirent *e; (e = readdir(d));) {
+        n += e->d_name[0] != '.';
+    }
+    closedir(d);
+    return n - 1; /* the directory's own descriptor */
+}
+
+/* Sizes the limits from RLIMIT_NOFILE once the context (and its listen socket) exists:
+ * accepted sockets get descriptors below fd_cap; of the sockets that leaves room for,
+ * 7/8 may be WebSocket connections, the rest HTTP (/healthz answers at the limit) and
+ * upgrades refused with 4010. */
+static void size_limits(net_server *s)
+{
+    struct rlimit rl;
+    long nofile = 1024;
+    if (!getrlimit(RLIMIT_NOFILE, &rl)) {
+        nofile = rl.rlim_cur == RLIM_INFINITY || rl.rlim_cur > (rlim_t)NET_NOFILE_MAX
+                     ? NET_NOFILE_MAX
+                     : (long)rl.rlim_cur;
+    }
+    net_limits *l = &s->lim;
+    l->nofile = nofile;
+    l->requested = s->d.max_clients;
+    l->fd_cap = (int)(nofile - NET_FD_RESERVE);
+    int open = open_fds();
+    int sockets = l->fd_cap - (open < 0 ? NET_FD_RESERVE : open);
+    int ws = sockets - sockets / 8;
+    l->max_clients = s->d.max_clients < ws ? s->d.max_clients : ws;
+    if (l->max_clients < 1) {
+        l->max_clients = 1;
+    }
+    if (l->fd_cap < 1) {
+        l->fd_cap = 1;
+    }
 }
 
 /* --- life cycle ------------------------------------------------------------------------- */
@@ -151,6 +221,9 @@ net_server *net_create(const net_desc *desc, gale_err *err)
     }
     if (!s->d.max_clients) {
         s->d.max_clients = 2048;
+    }
+    if (!s->d.hello_timeout_ms) {
+        s->d.hello_timeout_ms = 5000;
     }
     if (!s->d.queue_frames) {
         s->d.queue_frames = 8;
@@ -229,6 +302,7 @@ net_server *net_create(const net_desc *desc, gale_err *err)
     }
     s->vhost = lws_get_vhost_by_name(s->ctx, "default");
     s->port = s->vhost ? lws_get_vhost_listen_port(s->vhost) : s->d.port;
+    size_limits(s);
     return s;
 fail:
     net_destroy(s);
@@ -264,6 +338,11 @@ void net_destroy(net_server *s)
 int net_port(const net_server *s)
 {
     return s->port;
+}
+
+net_limits net_get_limits(const net_server *s)
+{
+    return s->lim;
 }
 
 net_metrics *net_get_metrics(net_server *s)
@@ -313,17 +392,27 @@ void net_stop(net_server *s)
     lws_cancel_service(s->ctx);
 }
 
+/* The drain's grace timer: nothing to do but wake lws_service. */
+static void grace_wake(lws_sorted_usec_list_t *sul)
+{
+    (void)sul;
+}
+
 int net_run(net_server *s, int grace_ms)
 {
     int n = 0;
     while (n >= 0 && !atomic_load(&s->stop)) {
         n = lws_service(s->ctx, 0);
     }
-    /* Tell every client why (1001 going away) and give them grace_ms to close. */
+    /* Tell every client why (1001 going away) and give them grace_ms to close; the close
+     * bound ends each within NET_CLOSE_BOUND_MS. lws_service waits for its next event or
+     * timer: the last close (net_conn_free) and the grace timer wake it. */
     lws_cancel_service(s->ctx);
     uint64_t until = mono_ns() + (uint64_t)grace_ms * 1000000ull;
+    lws_sul_schedule(s->ctx, 0, &s->grace_sul, grace_wake, (lws_usec_t)grace_ms * 1000);
     while (n >= 0 && s->n_conns > 0 && mono_ns() < until) {
         n = lws_service(s->ctx, 0);
     }
+    lws_sul_cancel(&s->grace_sul);
     return n < 0 ? GALE_E_IO : GALE_OK;
 }

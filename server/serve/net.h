@@ -69,10 +69,17 @@ typedef struct net_peer {
 typedef int (*net_control_fn)(void *user, net_peer *peer, const char *text, size_t len,
                               char **reply, size_t *reply_len, char *why, size_t why_cap);
 
+/* A connection being closed (any code) has its socket closed by this bound even when its
+ * peer never reads the close (server/SERVER.md "Connections"). */
+#define NET_CLOSE_BOUND_MS 2000
+
 typedef struct net_desc {
     int port;                 /* 0 → 8080; -1 → an ephemeral port (tests) */
     const char *iface;        /* NULL → all interfaces; "127.0.0.1" for loopback only */
-    int max_clients;          /* 0 → 2048 */
+    int max_clients;          /* WebSocket connections; 0 → 2048; lowered to what the open-file
+                                 limit (RLIMIT_NOFILE) leaves room for (net_get_limits) */
+    int hello_timeout_ms;     /* a connection with no accepted hello this long after its
+                                 upgrade is closed with 4009; 0 → 5000, < 0 → never */
     int queue_frames;         /* per-connection snapshot queue; 0 → 8 */
     int lag_limit;            /* drops in a row before a laggard is closed; 0 → 90 (3 s at 30/s) */
     size_t snap_cap;          /* bytes per state message (after LWS_PRE); required */
@@ -110,8 +117,20 @@ typedef struct net_metrics {
     atomic_ullong bad_messages;
     atomic_ullong laggards_closed;
     atomic_ullong connections_total;
+    atomic_ullong refused;          /* closed with 4010, or at accept at the descriptor cap */
+    atomic_ullong hello_timeouts;   /* closed with 4009 for saying no hello in time */
     atomic_int clients[NET_ROLE_COUNT];
 } net_metrics;
+
+/* The connection limits net_create settled on. */
+typedef struct net_limits {
+    int requested;     /* net_desc.max_clients (after its default) */
+    int max_clients;   /* WebSocket connections served; more get 4010 */
+    int fd_cap;        /* an accepted socket with a descriptor number at or above this is
+                          closed at once (the rest of the descriptors stay free so accept
+                          never fails with EMFILE) */
+    long nofile;       /* RLIMIT_NOFILE's soft limit when net_create ran */
+} net_limits;
 
 /* Creates the lws context and listens; NULL on failure (port in use...) with err filled.
  * Allocates the snapshot pool up front. */
@@ -120,6 +139,8 @@ net_server *net_create(const net_desc *d, gale_err *err);
 void net_destroy(net_server *s);
 /* The port actually listened on. */
 int net_port(const net_server *s);
+/* The connection limits in force. */
+net_limits net_get_limits(const net_server *s);
 /* The network's counters. */
 net_metrics *net_get_metrics(net_server *s);
 /* Adds the network's rows (gale_snapshots_total, gale_bytes_sent_total, ...,
@@ -134,8 +155,9 @@ net_snap *net_snap_acquire(net_server *s);
  * every ready connection and drops the caller's reference. Wakes the service loop. */
 void net_publish(net_server *s, net_snap *snap);
 
-/* Service thread: runs lws until net_stop; then tells every client (close 1001) and
- * returns after they are closed or grace_ms passed. */
+/* Service thread: runs lws until net_stop; then tells every client (close 1001, each
+ * socket closed within NET_CLOSE_BOUND_MS whatever its peer does) and returns after they
+ * are closed or grace_ms passed. */
 int net_run(net_server *s, int grace_ms);
 /* Any thread or a signal handler: asks net_run to finish. */
 void net_stop(net_server *s);

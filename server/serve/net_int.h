@@ -13,7 +13,21 @@
 #include "sendq.h"
 
 #define NET_PUB_MAX 16    /* published snapshots per stream waiting for the service thread */
-#define NET_CTL_MAX 8     /* control replies queued per connection */
+/* Control messages a connection may send: a token bucket of NET_MSG_BURST messages refilled
+ * at NET_MSG_PER_S a second (beyond it: close 4012). gale-client sends 2 pings a second and
+ * a resync or a wind command now and then; a page reload's hello, view and ping fit the
+ * burst many times over. */
+#define NET_MSG_BURST 20
+#define NET_MSG_PER_S 10
+/* Control replies queued per connection: a whole burst's replies and the error of a close,
+ * so that the bucket, not this queue, bounds a client that sends faster than it reads. */
+#define NET_CTL_MAX (NET_MSG_BURST + 4)
+/* Descriptors kept below RLIMIT_NOFILE for what the server opens besides connections (the
+ * transient accept of a connection refused at the cap, log and cache files, threads'
+ * event fds), so accept never fails with EMFILE. */
+#define NET_FD_RESERVE 16
+/* Highest RLIMIT_NOFILE the sizing counts with (lws sizes a table by it). */
+#define NET_NOFILE_MAX (1L << 20)
 #define NET_HTTP_CHUNK 16384
 #define NET_LOG_PER_S 20  /* rate limit of bad-input log lines */
 
@@ -42,12 +56,14 @@ typedef struct net_conn {
     int chain;            /* 0: holds nothing usable; 1: holds last_seq (a keyframe);
                              2: holds last_seq and last_seq - 1 */
     bool resync;          /* the client asked for a keyframe */
+    double tokens;        /* control messages the bucket allows now (NET_MSG_BURST at most) */
+    uint64_t tokens_ns;   /* mono_ns of the last refill */
     net_text ctl[NET_CTL_MAX];
     int ctl_head, ctl_n;
     uint8_t *rx;          /* owned [max_message + 1]: reassembly of fragmented messages */
     size_t rx_len;
     bool rx_oversize;
-    int close_code;       /* > 0: close at the next writeable */
+    int close_code;       /* > 0: close at the next writeable, or hard at the close bound */
     char close_reason[100];
     /* HTTP response */
     uint8_t *http_owned;  /* owned body (healthz, metrics) or NULL */
@@ -67,6 +83,8 @@ struct net_server {
     uint32_t next_id;
     net_conn *conns; /* list head */
     int n_conns;
+    net_limits lim;
+    lws_sorted_usec_list_t grace_sul; /* wakes net_run's drain at its deadline */
     /* snapshot pool and the hand-over queue (mutex: sim thread <-> service thread) */
     net_snap *pool;  /* owned [n_pool] */
     int n_pool;
@@ -91,9 +109,12 @@ static inline unsigned net_tick(const net_server *s)
 
 /* --- net_ws.c: WebSocket connections ---------------------------------------------------- */
 
-/* "conn 7 127.0.0.1 tick 1234: <what>" on stderr, at most NET_LOG_PER_S lines a second. */
+/* "conn 7 127.0.0.1 tick 1234: <what>" on stderr; it and net_log share a limit of
+ * NET_LOG_PER_S lines a second. */
 void net_conn_log(net_server *s, const net_conn *c, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
+/* "gale-server: <what>" on stderr, rate-limited as net_conn_log. */
+void net_log(net_server *s, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 /* Drops one reference to a pooled snapshot (any thread). */
 void net_snap_unref(net_snap *p);
 /* Asks that c be closed with code/reason at its next writeable callback, after an error
@@ -110,6 +131,8 @@ void net_deliver_published(net_server *s);
 int net_ws_writeable(net_server *s, net_conn *c);
 /* RECEIVE: a fragment of a control message, handed to net_desc.control once whole. */
 int net_ws_receive(net_server *s, net_conn *c, const void *in, size_t len);
+/* TIMER: the hello deadline (close 4009) or the close bound (the socket closed hard). */
+int net_ws_timer(net_server *s, net_conn *c);
 
 /* --- net_http.c: HTTP ------------------------------------------------------------------- */
 

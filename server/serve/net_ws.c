@@ -1,6 +1,7 @@
 /* WebSocket connections: per-connection state, control replies and close, the hand-over
  * of published snapshots to each connection's queue, and the writeable/receive callbacks
  * (see net.h; shaped after lws minimal-ws-server-ring). Runs on the lws service thread. */
+#include "mono.h"
 #include "net_int.h"
 
 #include <inttypes.h>
@@ -16,7 +17,8 @@
 #include "ctl.h"
 #include "wire.h"
 
-void net_conn_log(net_server *s, const net_conn *c, const char *fmt, ...)
+/* The shared limit of the connection log: true when one more line may go out this second. */
+static bool log_allowed(net_server *s)
 {
     time_t now = time(NULL);
     if (now != s->log_sec) {
@@ -30,6 +32,14 @@ void net_conn_log(net_server *s, const net_conn *c, const char *fmt, ...)
     }
     if (++s->log_n > NET_LOG_PER_S) {
         s->log_suppressed++;
+        return false;
+    }
+    return true;
+}
+
+void net_conn_log(net_server *s, const net_conn *c, const char *fmt, ...)
+{
+    if (!log_allowed(s)) {
         return;
     }
     char msg[256];
@@ -39,6 +49,19 @@ void net_conn_log(net_server *s, const net_conn *c, const char *fmt, ...)
     va_end(ap);
     fprintf(stderr, "gale-server: conn %" PRIu32 " %s tick %u: %s\n", c->id, c->peer,
             net_tick(s), msg);
+}
+
+void net_log(net_server *s, const char *fmt, ...)
+{
+    if (!log_allowed(s)) {
+        return;
+    }
+    char msg[256];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    fprintf(stderr, "gale-server: %s\n", msg);
 }
 
 void net_snap_unref(net_snap *p)
@@ -77,6 +100,9 @@ void net_conn_close(net_server *s, net_conn *c, int code, const char *reason)
         conn_queue_owned(c, b, n);
     }
     lws_callback_on_writable(c->wsi);
+    /* A peer that never reads never makes the socket writeable: the close bound ends it
+     * anyway (net_ws_timer), so it holds its descriptor and slot no longer than that. */
+    lws_set_timer_usecs(c->wsi, (lws_usec_t)NET_CLOSE_BOUND_MS * 1000);
 }
 
 static void bad_input(net_server *s, net_conn *c, int code, const char *reason)
@@ -96,7 +122,10 @@ static int conn_queue_text(net_server *s, net_conn *c, const char *text, size_t 
 {
     if (c->ctl_n >= NET_CTL_MAX - 1) {
         /* one slot stays free for the error message a close sends */
-        bad_input(s, c, WIRE_CLOSE_FULL, "control replies not read: too many requests in flight");
+        char why[100];
+        snprintf(why, sizeof why, "too many messages: replies not read, expected <= %d in flight",
+                 NET_CTL_MAX - 1);
+        bad_input(s, c, WIRE_CLOSE_RATE, why);
         return -1;
     }
     uint8_t *b = malloc(LWS_PRE + len + 1);
@@ -128,6 +157,9 @@ void net_conn_free(net_server *s, net_conn *c)
         c->linked = false;
         s->n_conns--;
         atomic_fetch_sub(&s->m.clients[c->role], 1);
+        if (atomic_load(&s->stop) && !s->n_conns) {
+            lws_cancel_service(s->ctx); /* the drain is done: wake net_run */
+        }
     }
     if (c->cur) {
         net_snap_unref(c->cur);
@@ -177,10 +209,19 @@ int net_ws_established(net_server *s, net_conn *c, struct lws *wsi)
     s->n_conns++;
     atomic_fetch_add(&s->m.clients[NET_ROLE_NONE], 1);
     atomic_fetch_add(&s->m.connections_total, 1);
+    c->tokens = NET_MSG_BURST;
+    c->tokens_ns = mono_ns();
+    if (s->d.hello_timeout_ms > 0) {
+        lws_set_timer_usecs(wsi, (lws_usec_t)s->d.hello_timeout_ms * 1000);
+    }
     if (atomic_load(&s->stop)) {
         net_conn_close(s, c, WIRE_CLOSE_GOING_AWAY, "server shutting down");
-    } else if (s->n_conns > s->d.max_clients) {
-        net_conn_close(s, c, WIRE_CLOSE_FULL, "server full: try again later");
+    } else if (s->n_conns > s->lim.max_clients) {
+        atomic_fetch_add(&s->m.refused, 1);
+        char why[100];
+        snprintf(why, sizeof why, "server full: %d connections, try again later",
+                 s->lim.max_clients);
+        net_conn_close(s, c, WIRE_CLOSE_FULL, why);
     }
     return 0;
 }
@@ -323,6 +364,19 @@ int net_ws_receive(net_server *s, net_conn *c, const void *in, size_t len)
         return 0;
     }
     c->rx[c->rx_len] = 0;
+    uint64_t now = mono_ns();
+    c->tokens += (double)(now - c->tokens_ns) * 1e-9 * NET_MSG_PER_S;
+    c->tokens = c->tokens < NET_MSG_BURST ? c->tokens : NET_MSG_BURST;
+    c->tokens_ns = now;
+    if (c->tokens < 1.0) {
+        char why[100];
+        snprintf(why, sizeof why,
+                 "too many messages: expected <= %d a second after a burst of %d",
+                 NET_MSG_PER_S, NET_MSG_BURST);
+        bad_input(s, c, WIRE_CLOSE_RATE, why);
+        return 0;
+    }
+    c->tokens -= 1.0;
     char *reply = NULL, why[100];
     size_t reply_len = 0;
     why[0] = 0;
@@ -345,6 +399,27 @@ int net_ws_receive(net_server *s, net_conn *c, const void *in, size_t len)
     if (reply) {
         conn_queue_text(s, c, reply, reply_len);
         free(reply);
+    }
+    return 0;
+}
+
+int net_ws_timer(net_server *s, net_conn *c)
+{
+    if (!c || !c->is_ws || !c->linked) {
+        return 0;
+    }
+    if (c->close_code) {
+        /* The close bound passed and the peer has not taken the close: drop the socket
+         * without the rest of the handshake. */
+        lws_set_timeout(c->wsi, PENDING_TIMEOUT_CLOSE_SEND, LWS_TO_KILL_ASYNC);
+        return 0;
+    }
+    if (c->role == NET_ROLE_NONE) {
+        atomic_fetch_add(&s->m.hello_timeouts, 1);
+        char why[100];
+        snprintf(why, sizeof why, "hello: expected within %d ms of the upgrade, got none",
+                 s->d.hello_timeout_ms);
+        net_conn_close(s, c, WIRE_CLOSE_ORDER, why);
     }
     return 0;
 }

@@ -143,6 +143,7 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     s->net = net_create(&(net_desc){ .port = d->port,
                                      .iface = d->iface,
                                      .max_clients = d->max_clients,
+                                     .hello_timeout_ms = d->hello_timeout_ms,
                                      .queue_frames = d->queue_frames,
                                      .lag_limit = d->lag_limit,
                                      .sndbuf = d->sndbuf,
@@ -185,7 +186,8 @@ int srv_run(srv *s)
         fprintf(stderr, "gale-server: cannot start the simulation thread\n");
         return GALE_E_STATE;
     }
-    int rc = net_run(s->net, 1000);
+    /* the close bound ends every connection; the grace is a backstop behind it */
+    int rc = net_run(s->net, NET_CLOSE_BOUND_MS + 500);
     atomic_store(&s->stop, 1);
     pthread_join(s->thread, NULL);
     return rc;
@@ -229,6 +231,11 @@ void srv_destroy(srv *s)
 int srv_port(const srv *s)
 {
     return net_port(s->net);
+}
+
+net_limits srv_net_limits(const srv *s)
+{
+    return net_get_limits(s->net);
 }
 
 net_metrics *srv_metrics(srv *s)

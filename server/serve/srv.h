@@ -34,7 +34,8 @@ typedef struct srv_desc {
     const char *iface;            /* NULL → all interfaces */
     int queue_frames;             /* per-connection snapshot queue; 0 → 8 */
     int lag_limit;                /* 0 → net default */
-    int max_clients;              /* 0 → net default */
+    int max_clients;              /* 0 → net default (net_desc.max_clients) */
+    int hello_timeout_ms;         /* 0 → net default, < 0 → never (net_desc.hello_timeout_ms) */
     int sndbuf;                   /* 0 → net default */
     int quiet;                    /* 1: no start-up lines */
     int history;                  /* snapshots of float q kept for srv_history_q; 0 → none */
@@ -54,7 +55,7 @@ typedef struct srv srv;
 /* Builds the simulation and starts listening (not yet serving); NULL with err filled. */
 srv *srv_create(const srv_desc *d, gale_err *err);
 /* Runs the simulation thread and serves on the calling thread until srv_stop; then
- * closes every client with 1001 and returns 0. */
+ * closes every client with 1001 (each socket within NET_CLOSE_BOUND_MS) and returns 0. */
 int srv_run(srv *s);
 /* Any thread or a signal handler: ends srv_run. */
 void srv_stop(srv *s);
@@ -62,6 +63,8 @@ void srv_stop(srv *s);
 void srv_destroy(srv *s);
 
 int srv_port(const srv *s);
+/* The connection limits the network settled on (net_get_limits). */
+net_limits srv_net_limits(const srv *s);
 /* The counters behind /metrics, by owner: the network's, the simulation's, the
  * publisher's. Valid until srv_destroy; readable from any thread. */
 net_metrics *srv_metrics(srv *s);

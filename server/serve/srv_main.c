@@ -9,6 +9,8 @@
 #include <string.h>
 #include <unistd.h>
 
+#include <sys/resource.h>
+
 #include "scenario.h"
 #include "scene.h"
 #include "species_cache.h"
@@ -18,7 +20,8 @@
 static void usage(FILE *f)
 {
     fprintf(f, "usage: gale-server [--config FILE.json] [--port N] [--iface ADDR] [--cache DIR]\n"
-               "                   [--kiosk-token-file FILE] [--check]\n"
+               "                   [--kiosk-token-file FILE] [--max-connections N]\n"
+               "                   [--hello-timeout S] [--check]\n"
                "  --config FILE  scene config (default: the embedded town block,\n"
                "                 configs/scenes/default.json)\n"
                "  --port N       listen port, 0 for any free one (default 8080)\n"
@@ -30,6 +33,10 @@ static void usage(FILE *f)
                "                 the kiosk token: the file's first line (over\n"
                "                 $" SCENE_KIOSK_TOKEN_ENV " over the config's kiosk_token;\n"
                "                 none of them: kiosks are refused)\n"
+               "  --max-connections N  WebSocket connections served, more get close 4010\n"
+               "                 (default 2048; lowered to what the open-file limit allows)\n"
+               "  --hello-timeout S  seconds a connection may take to say hello before it\n"
+               "                 is closed with 4009 (default 5)\n"
                "  --check        validate the config, bake or load the species, and exit\n");
 }
 
@@ -57,6 +64,29 @@ static int w_coarse(void *ctx, int factor, float *out, int capacity, int dims[3]
 static void w_ball(void *ctx, const wind_ball *b)
 {
     wind_add_ball(ctx, b);
+}
+
+/* The open-file limit: the soft limit raised to the hard one (capped where lws would size
+ * a table by it), so the connection limit is what the operator asked for where the system
+ * allows it (the network sizes the limit from what this leaves). */
+static void raise_nofile(void)
+{
+    struct rlimit rl;
+    if (getrlimit(RLIMIT_NOFILE, &rl)) {
+        return;
+    }
+    rlim_t want = rl.rlim_max;
+    if (want == RLIM_INFINITY || want > (rlim_t)1 << 20) {
+        want = (rlim_t)1 << 20;
+    }
+    if (rl.rlim_cur == RLIM_INFINITY || rl.rlim_cur >= want) {
+        return;
+    }
+    rl.rlim_cur = want;
+    if (setrlimit(RLIMIT_NOFILE, &rl)) {
+        fprintf(stderr, "gale-server: cannot raise the open-file limit to %llu: %s\n",
+                (unsigned long long)want, strerror(errno));
+    }
 }
 
 /* SIGINT/SIGTERM: the handler only writes the signal number to a pipe (async-signal
@@ -98,7 +128,8 @@ int main(int argc, char **argv)
     sigaction(SIGTERM, &sa, NULL);
     signal(SIGPIPE, SIG_IGN);
     const char *config = NULL, *iface = "127.0.0.1", *cache = NULL, *token_file = NULL;
-    long port = 8080;
+    long port = 8080, max_conn = 0;
+    double hello_s = 0;
     int check = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -121,6 +152,26 @@ int main(int argc, char **argv)
             i++;
         } else if (!strcmp(a, "--cache") && v) {
             cache = v;
+            i++;
+        } else if (!strcmp(a, "--max-connections") && v) {
+            char *end;
+            max_conn = strtol(v, &end, 10);
+            if (*end || end == v || max_conn < 1 || max_conn > 1000000) {
+                fprintf(stderr,
+                        "gale-server: --max-connections: expected 1..1000000, got \"%s\"\n", v);
+                return 2;
+            }
+            i++;
+        } else if (!strcmp(a, "--hello-timeout") && v) {
+            char *end;
+            hello_s = strtod(v, &end);
+            if (*end || end == v || !(hello_s >= 0.01 && hello_s <= 3600)) {
+                fprintf(stderr,
+                        "gale-server: --hello-timeout: expected seconds in [0.01, 3600], got "
+                        "\"%s\"\n",
+                        v);
+                return 2;
+            }
             i++;
         } else if (!strcmp(a, "--check")) {
             check = 1;
@@ -234,13 +285,26 @@ int main(int argc, char **argv)
         goto done;
     }
 
+    raise_nofile();
     s = srv_create(&(srv_desc){ .sc = &sc, .species = sp, .scen = scen,
                                 .wind = sc.grid_on ? &tw : NULL,
-                                .port = port ? (int)port : -1, .iface = iface },
+                                .port = port ? (int)port : -1, .iface = iface,
+                                .max_clients = (int)max_conn,
+                                .hello_timeout_ms = hello_s > 0 ? (int)(hello_s * 1000 + 0.5) : 0 },
                    &err);
     if (!s) {
         fprintf(stderr, "gale-server: %s\n", err.msg);
         goto done;
+    }
+    net_limits lim = srv_net_limits(s);
+    if (lim.max_clients < lim.requested) {
+        fprintf(stderr,
+                "gale-server: connection limit %d, lowered from %d: the open-file limit "
+                "(RLIMIT_NOFILE %ld) leaves room for no more\n",
+                lim.max_clients, lim.requested, lim.nofile);
+    } else {
+        fprintf(stderr, "gale-server: connection limit %d (RLIMIT_NOFILE %ld)\n",
+                lim.max_clients, lim.nofile);
     }
     pthread_t sig_thread;
     if (pthread_create(&sig_thread, NULL, wait_signal, s)) {
