@@ -1,6 +1,7 @@
 /* The baked species asset file (ASSET.md): a 24-byte header (magic, version, payload
- * length, payload CRC-32, header CRC-32) and seven sections in fixed order, every field
- * little-endian and fixed-width, written and read byte by byte. Counts are checked
+ * length, payload CRC-32, header CRC-32), seven sections in fixed order and, from version
+ * 2, optional sections (SRID: source node ids); every field little-endian and
+ * fixed-width, written and read byte by byte. Counts are checked
  * against the limits below and against the bytes left before anything is allocated.
  * asset_reconstruct is the strong-wind deformation of Diener 2008 section 5.2. */
 #include "asset.h"
@@ -32,20 +33,23 @@
 #define ASSET_MAX_PARAMS 1048576u
 
 #define ASSET_HEADER_BYTES 24u
+/* The seven required sections, then the optional ones a reader knows. */
 #define ASSET_SECTIONS     7
+#define ASSET_SECTION_SRID 7
+#define ASSET_TAGS         8
 
 static const uint8_t asset_magic[4] = { 'G', 'A', 'S', 'T' };
 
 /* Section tags, in file order (the four characters read as a little-endian u32). */
 #define TAG(a, b, c, d) \
     ((uint32_t)(a) | (uint32_t)(b) << 8 | (uint32_t)(c) << 16 | (uint32_t)(d) << 24)
-static const uint32_t asset_tags[ASSET_SECTIONS] = {
+static const uint32_t asset_tags[ASSET_TAGS] = {
     TAG('M', 'E', 'T', 'A'), TAG('S', 'K', 'E', 'L'), TAG('M', 'O', 'D', 'E'),
     TAG('C', 'O', 'R', 'R'), TAG('M', 'E', 'S', 'H'), TAG('L', 'E', 'A', 'F'),
-    TAG('L', 'O', 'O', 'K'),
+    TAG('L', 'O', 'O', 'K'), TAG('S', 'R', 'I', 'D'),
 };
-static const char *const asset_tag_names[ASSET_SECTIONS] = { "META", "SKEL", "MODE", "CORR",
-                                                             "MESH", "LEAF", "LOOK" };
+static const char *const asset_tag_names[ASSET_TAGS] = { "META", "SKEL", "MODE", "CORR",
+                                                         "MESH", "LEAF", "LOOK", "SRID" };
 
 /* ---- writer: a growing buffer with a sticky out-of-memory flag ---- */
 
@@ -394,6 +398,16 @@ int asset_encode(const asset *a, uint8_t **out, size_t *len, gale_err *err)
     w_u32(&w, a->leaf_shape);
     w_end(&w, at);
 
+    /* optional sections: their presence makes the file version 2 */
+    const uint32_t version = a->source_id ? 2u : 1u;
+    if (a->source_id) {
+        at = w_begin(&w, ASSET_SECTION_SRID);
+        w_f32s(&w, a->source_origin, 3);
+        w_u32(&w, a->n_nodes);
+        w_u32s(&w, a->source_id, nn);
+        w_end(&w, at);
+    }
+
     if (w.oom) {
         free(w.buf);
         return gale_errf(err, GALE_E_NOMEM, "asset encode: out of memory");
@@ -401,7 +415,7 @@ int asset_encode(const asset *a, uint8_t **out, size_t *len, gale_err *err)
     uint8_t *h = w.buf;
     size_t payload = w.len - ASSET_HEADER_BYTES;
     memcpy(h, asset_magic, 4);
-    put_u32_at(h + 4, ASSET_VERSION);
+    put_u32_at(h + 4, version);
     put_u64_at(h + 8, (uint64_t)payload);
     put_u32_at(h + 16, hash_crc32(h + ASSET_HEADER_BYTES, payload));
     put_u32_at(h + 20, hash_crc32(h, 20));
@@ -694,6 +708,80 @@ static void r_look(asset_reader *r, asset *a)
     r_section_end(r, 6, end);
 }
 
+static int u64_cmp(const void *x, const void *y)
+{
+    const uint64_t p = *(const uint64_t *)x, q = *(const uint64_t *)y;
+    return p < q ? -1 : p > q;
+}
+
+/* SRID body from r->pos to end: the CSV position of the root, then one id per node, all
+ * distinct. */
+static void r_srid(asset_reader *r, asset *a, size_t end)
+{
+    r_f32s(r, a->source_origin, 3, "source_origin");
+    size_t at = r->pos;
+    uint32_t n = r_count(r, "n_source_ids", ASSET_MAX_NODES, 4);
+    if (!r->bad && n != a->n_nodes) {
+        r_fail(r, GALE_E_FORMAT, "n_source_ids", at, "count %u, expected n_nodes (%u)", n,
+               a->n_nodes);
+    }
+    size_t nn = a->n_nodes;
+    a->source_id = r_alloc(r, nn, sizeof *a->source_id, "source_id");
+    at = r->pos;
+    r_u32s(r, a->source_id, nn, "source_id");
+    /* distinct: sort (id, node) pairs; report the duplicate that comes first by node */
+    uint64_t *keys = r_alloc(r, nn, sizeof *keys, "source_id");
+    if (keys) {
+        for (size_t i = 0; i < nn; i++) {
+            keys[i] = (uint64_t)a->source_id[i] << 32 | (uint64_t)i;
+        }
+        qsort(keys, nn, sizeof *keys, u64_cmp);
+        size_t dup = nn, first = 0;
+        for (size_t i = 1; i < nn; i++) {
+            size_t node = (size_t)(keys[i] & 0xffffffffu);
+            if (keys[i] >> 32 == keys[i - 1] >> 32 && node < dup) {
+                dup = node;
+                first = (size_t)(keys[i - 1] & 0xffffffffu);
+            }
+        }
+        if (dup < nn) {
+            r_fail(r, GALE_E_FORMAT, "source_id", at + 4 * dup,
+                   "node %zu: id %u, already the id of node %zu (ids must be distinct)", dup,
+                   a->source_id[dup], first);
+        }
+        free(keys);
+    }
+    r_section_end(r, ASSET_SECTION_SRID, end);
+}
+
+/* The optional sections after LOOK (version 2 on): SRID at most once; a tag this build
+ * does not know is skipped by its length (ASSET.md "Optional sections"). */
+static void r_optional(asset_reader *r, asset *a)
+{
+    while (!r->bad && r->pos < r->len) {
+        size_t at = r->pos;
+        uint32_t tag = r_u32(r, "section tag");
+        uint64_t slen = r_u64(r, "section length");
+        if (r->bad) {
+            return;
+        }
+        if (slen > (uint64_t)(r->len - r->pos)) {
+            r_fail(r, GALE_E_FORMAT, "section length", at + 4,
+                   "section length %llu, only %zu bytes left", (unsigned long long)slen,
+                   r->len - r->pos);
+            return;
+        }
+        size_t end = r->pos + (size_t)slen;
+        if (tag != asset_tags[ASSET_SECTION_SRID]) {
+            r->pos = end;
+        } else if (a->source_id) {
+            r_fail(r, GALE_E_FORMAT, "SRID", at, "second SRID section (at most one)");
+        } else {
+            r_srid(r, a, end);
+        }
+    }
+}
+
 int asset_decode(const uint8_t *buf, size_t len, const char *name, asset *a, gale_err *err)
 {
     memset(a, 0, sizeof *a);
@@ -722,9 +810,9 @@ int asset_decode(const uint8_t *buf, size_t len, const char *name, asset *a, gal
                          "computed 0x%08x",
                          name, hcrc, hcrc_now);
     }
-    if (version != ASSET_VERSION) {
-        return gale_errf(err, GALE_E_VERSION, "%s: version at byte 4: expected %d, got %u", name,
-                         ASSET_VERSION, version);
+    if (version < ASSET_VERSION_MIN || version > ASSET_VERSION) {
+        return gale_errf(err, GALE_E_VERSION, "%s: version at byte 4: expected %d..%d, got %u",
+                         name, ASSET_VERSION_MIN, ASSET_VERSION, version);
     }
     if (payload != (uint64_t)(len - ASSET_HEADER_BYTES)) {
         return gale_errf(err, GALE_E_FORMAT,
@@ -747,8 +835,12 @@ int asset_decode(const uint8_t *buf, size_t len, const char *name, asset *a, gal
     r_mesh(&r, a);
     r_leaves(&r, a);
     r_look(&r, a);
-    if (!r.bad && r.pos != len) {
-        r_fail(&r, GALE_E_FORMAT, "end", r.pos, "%zu bytes after the last section", len - r.pos);
+    if (version >= 2) {
+        r_optional(&r, a);
+    } else if (!r.bad && r.pos != len) {
+        r_fail(&r, GALE_E_FORMAT, "end", r.pos,
+               "%zu bytes after the last section (version 1 has no optional sections)",
+               len - r.pos);
     }
     if (r.bad) {
         asset_fini(a);
@@ -766,6 +858,7 @@ void asset_fini(asset *a)
     free(a->parent);
     free(a->rest);
     free(a->radius);
+    free(a->source_id);
     free(a->omega);
     free(a->gamma);
     free(a->wind_basis);

@@ -11,7 +11,11 @@
 
 #include "err.h"
 
-#define ASSET_VERSION 1
+/* Newest version this build reads and writes; it reads every version from
+ * ASSET_VERSION_MIN. A file with no optional section is written as version 1, so readers
+ * of version 1 keep reading it (ASSET.md "Versions"). */
+#define ASSET_VERSION 2
+#define ASSET_VERSION_MIN 1
 #define ASSET_MAX_LODS 4
 
 /* All arrays are owned by the asset and freed by asset_fini. Per-mode per-node arrays
@@ -29,6 +33,12 @@ typedef struct asset {
     float *rest;           /* [3 n_nodes] rest positions [m] */
     float *radius;         /* [n_nodes] [m] */
     float height_m;        /* max z of the rest skeleton */
+
+    /* source node ids (optional SRID section): where each node came from in the skeleton
+     * CSV; NULL for a skeleton without ids (grown from a species' L-system) */
+    uint32_t *source_id;     /* [n_nodes] or NULL: the CSV id of node i, all distinct */
+    float source_origin[3];  /* the CSV position of the root [m]: CSV = rest + origin;
+                              * 0 when source_id is NULL */
 
     /* modes (Diener 2008 sections 3-4) */
     uint32_t n_modes;
@@ -69,7 +79,8 @@ typedef struct asset {
     uint32_t leaf_shape;   /* 0 broad leaf, 1 palm leaflet, 2 needle tuft */
 } asset;
 
-/* Encodes a into a new buffer (*out, malloc'd, caller frees) of *len bytes. */
+/* Encodes a into a new buffer (*out, malloc'd, caller frees) of *len bytes: version 2
+ * with an SRID section when a->source_id is set, else version 1. */
 int asset_encode(const asset *a, uint8_t **out, size_t *len, gale_err *err);
 
 /* Decodes len bytes into *a (caller-owned struct; arrays owned by it, free with

@@ -1,7 +1,8 @@
 /* Asset file format (protocol/ASSET.md): round trip of every field, golden bytes of a
  * minimal asset, rejection of every truncation, flipped bytes, wrong magic and version,
- * absurd counts (with the field and offset in the message); the strong-wind
- * reconstruction against hand-computed values; atomic save and load. */
+ * absurd counts (with the field and offset in the message); the optional SRID section
+ * (source node ids): round trip, version rule, refused maps, skipped unknown sections;
+ * the strong-wind reconstruction against hand-computed values; atomic save and load. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -103,6 +104,11 @@ static void check_equal(const asset *a, const asset *b)
     CHECK(memcmp(a->parent, b->parent, nn * sizeof *a->parent) == 0);
     CHECK(same_f(a->rest, b->rest, 3 * nn) && same_f(a->radius, b->radius, nn));
     CHECK(a->height_m == b->height_m);
+    CHECK((a->source_id == NULL) == (b->source_id == NULL));
+    if (a->source_id && b->source_id) {
+        CHECK(memcmp(a->source_id, b->source_id, nn * sizeof *a->source_id) == 0);
+    }
+    CHECK(same_f(a->source_origin, b->source_origin, 3));
     CHECK(same_f(a->omega, b->omega, nm) && same_f(a->gamma, b->gamma, nm));
     CHECK(same_f(a->wind_basis, b->wind_basis, 3 * nm));
     CHECK(same_f(a->phi, b->phi, 3 * nm * nn) && same_f(a->phi_rot, b->phi_rot, 3 * nm * nn));
@@ -387,12 +393,21 @@ static void test_corruption(void)
     buf[0] = 'X';
     expect_reject(buf, len, GALE_E_FORMAT, "magic at byte 0: expected \"GAST\"");
     buf[0] = 'G';
+    put32(buf, 4, 3);
+    fix_crcs(buf, len);
+    expect_reject(buf, len, GALE_E_VERSION, "t.asset: version at byte 4: expected 1..2, got 3");
+    put32(buf, 4, 0);
+    fix_crcs(buf, len);
+    expect_reject(buf, len, GALE_E_VERSION, "t.asset: version at byte 4: expected 1..2, got 0");
+    /* version 2 with no optional section is read like version 1 */
     put32(buf, 4, 2);
     fix_crcs(buf, len);
-    expect_reject(buf, len, GALE_E_VERSION, "t.asset: version at byte 4: expected 1, got 2");
+    asset ok;
+    CHECK(asset_decode(buf, len, "t.asset", &ok, &err) == 0);
+    CHECK(ok.source_id == NULL);
+    asset_fini(&ok);
     put32(buf, 4, 1);
     fix_crcs(buf, len);
-    asset ok;
     CHECK(asset_decode(buf, len, "t.asset", &ok, &err) == 0);
     asset_fini(&ok);
     free(buf);
@@ -431,6 +446,202 @@ static void test_absurd_counts(void)
     put32(buf, n_nodes_at + 20, 0x7fc00000u);
     fix_crcs(buf, len);
     expect_reject(buf, len, GALE_E_FORMAT, "rest at byte 157: not a finite number");
+    free(buf);
+}
+
+/* make_tiny with the source ids of a CSV whose ids were 70, 5, 12 and whose root sat at
+ * (1.5, -2, 0.25). */
+static void make_tiny_ids(asset *a)
+{
+    make_tiny(a);
+    static const uint32_t ids[3] = { 70, 5, 12 };
+    a->source_id = DUP(ids);
+    a->source_origin[0] = 1.5f;
+    a->source_origin[1] = -2.0f;
+    a->source_origin[2] = 0.25f;
+}
+
+/* Appends a section (tag, body) to a copy of an encoded asset, sets the version and
+ * repairs the payload length and both CRCs; *out_len is the new length. */
+static uint8_t *append_section(const uint8_t *buf, size_t len, const char tag[4],
+                               const uint8_t *body, size_t body_len, uint32_t version,
+                               size_t *out_len)
+{
+    size_t n = len + 12 + body_len;
+    uint8_t *b = calloc(n, 1);
+    memcpy(b, buf, len);
+    memcpy(b + len, tag, 4);
+    put32(b, len + 4, (uint32_t)body_len);
+    if (body_len) {
+        memcpy(b + len + 12, body, body_len);
+    }
+    put32(b, 4, version);
+    put32(b, 8, (uint32_t)(n - 24));
+    put32(b, 12, 0);
+    fix_crcs(b, n);
+    *out_len = n;
+    return b;
+}
+
+/* SRID (ASSET.md "Optional sections"): with source ids the file is version 2 and they
+ * come back exactly; without them it is version 1 and source_id is NULL. */
+static void test_source_ids(void)
+{
+    asset a, b;
+    make_tiny_ids(&a);
+    uint8_t *buf, *buf2;
+    size_t len, len2;
+    gale_err err = { 0 };
+    CHECK(asset_encode(&a, &buf, &len, &err) == 0);
+    CHECK(buf[4] == 2 && buf[5] == 0 && buf[6] == 0 && buf[7] == 0);
+    int rc = asset_decode(buf, len, "ids.asset", &b, &err);
+    if (rc) {
+        fprintf(stderr, "%s\n", err.msg);
+    }
+    CHECK(rc == 0);
+    if (rc == 0) {
+        check_equal(&a, &b);
+        CHECK(b.source_id != NULL);
+        if (b.source_id) {
+            CHECK(b.source_id[0] == 70 && b.source_id[1] == 5 && b.source_id[2] == 12);
+        }
+        CHECK(b.source_origin[0] == 1.5f && b.source_origin[1] == -2.0f &&
+              b.source_origin[2] == 0.25f);
+        CHECK(asset_encode(&b, &buf2, &len2, &err) == 0);
+        CHECK(len2 == len && memcmp(buf, buf2, len) == 0);
+        free(buf2);
+        asset_fini(&b);
+    }
+    /* the section: 12 header + origin 12 + count 4 + 3 ids */
+    const size_t srid = len - 40;
+    CHECK(memcmp(buf + srid, "SRID", 4) == 0 && buf[srid + 4] == 28);
+    /* the same asset without ids: seven sections, version 1, 40 bytes less */
+    free(a.source_id);
+    a.source_id = NULL;
+    CHECK(asset_encode(&a, &buf2, &len2, &err) == 0);
+    CHECK(buf2[4] == 1 && len2 == len - 40);
+    CHECK(asset_decode(buf2, len2, "noids.asset", &b, &err) == 0);
+    CHECK(b.source_id == NULL);
+    CHECK(b.source_origin[0] == 0.0f && b.source_origin[1] == 0.0f && b.source_origin[2] == 0.0f);
+    asset_fini(&b);
+    /* an optional section this build does not know is skipped; SRID after it still read */
+    static const uint8_t five[5] = { 1, 2, 3, 4, 5 };
+    size_t len3;
+    uint8_t *unk = append_section(buf2, len2, "XTRA", five, sizeof five, 2, &len3);
+    CHECK(asset_decode(unk, len3, "unk.asset", &b, &err) == 0);
+    CHECK(b.source_id == NULL);
+    asset_fini(&b);
+    size_t len4;
+    uint8_t *both = append_section(unk, len3, "SRID", buf + srid + 12, 28, 2, &len4);
+    rc = asset_decode(both, len4, "both.asset", &b, &err);
+    CHECK(rc == 0);
+    if (rc == 0) {
+        CHECK(b.source_id && b.source_id[0] == 70 && b.source_id[2] == 12);
+        asset_fini(&b);
+    }
+    free(both);
+    free(unk);
+    /* version 1 has no optional sections: SRID after LOOK is refused there */
+    unk = append_section(buf2, len2, "SRID", buf + srid + 12, 28, 1, &len3);
+    char want[128];
+    snprintf(want, sizeof want,
+             "end at byte %zu: 40 bytes after the last section (version 1 has no optional "
+             "sections)",
+             len2);
+    expect_reject(unk, len3, GALE_E_FORMAT, want);
+    free(unk);
+    free(buf2);
+    free(buf);
+    asset_fini(&a);
+}
+
+/* A map that does not fit the skeleton is refused naming the field and its byte. */
+static void test_source_ids_refused(void)
+{
+    asset a;
+    make_tiny_ids(&a);
+    uint8_t *buf;
+    size_t len;
+    gale_err err = { 0 };
+    CHECK(asset_encode(&a, &buf, &len, &err) == 0);
+    asset_fini(&a);
+    const size_t srid = len - 40, origin_at = srid + 12, count_at = srid + 24, ids_at = srid + 28;
+    char want[160];
+    /* wrong count: fewer ids than nodes, the section length following */
+    put32(buf, count_at, 2);
+    put32(buf, srid + 4, 24);
+    size_t short_len = len - 4;
+    uint8_t *s = malloc(short_len);
+    memcpy(s, buf, short_len);
+    put32(s, 8, (uint32_t)(short_len - 24));
+    fix_crcs(s, short_len);
+    snprintf(want, sizeof want, "n_source_ids at byte %zu: count 2, expected n_nodes (3)",
+             count_at);
+    expect_reject(s, short_len, GALE_E_FORMAT, want);
+    free(s);
+    /* more ids than nodes */
+    put32(buf, count_at, 4);
+    put32(buf, srid + 4, 28);
+    fix_crcs(buf, len);
+    expect_reject(buf, len, GALE_E_FORMAT, "n_source_ids at byte");
+    expect_reject(buf, len, GALE_E_FORMAT, "count 4 needs 16 bytes, 12 left");
+    /* the right count but the section length disagreeing */
+    put32(buf, count_at, 3);
+    put32(buf, srid + 4, 27);
+    fix_crcs(buf, len);
+    expect_reject(buf, len, GALE_E_FORMAT, "SRID at byte");
+    put32(buf, srid + 4, 28);
+    /* a duplicate id: node 2 says 70 like node 0 */
+    put32(buf, ids_at + 8, 70);
+    fix_crcs(buf, len);
+    snprintf(want, sizeof want,
+             "t.asset: source_id at byte %zu: node 2: id 70, already the id of node 0 (ids "
+             "must be distinct)",
+             ids_at + 8);
+    expect_reject(buf, len, GALE_E_FORMAT, want);
+    put32(buf, ids_at + 8, 12);
+    /* a non-finite origin */
+    put32(buf, origin_at + 4, 0x7f800000u);
+    fix_crcs(buf, len);
+    snprintf(want, sizeof want, "source_origin at byte %zu: not a finite number", origin_at + 4);
+    expect_reject(buf, len, GALE_E_FORMAT, want);
+    put32(buf, origin_at + 4, 0);
+    fix_crcs(buf, len);
+    asset ok;
+    CHECK(asset_decode(buf, len, "t.asset", &ok, &err) == 0);
+    asset_fini(&ok);
+    /* SRID twice */
+    size_t len2;
+    uint8_t *twice = append_section(buf, len, "SRID", buf + srid + 12, 28, 2, &len2);
+    snprintf(want, sizeof want, "SRID at byte %zu: second SRID section (at most one)", len);
+    expect_reject(twice, len2, GALE_E_FORMAT, want);
+    free(twice);
+    /* an optional section longer than what is left */
+    uint8_t *big = append_section(buf, len, "XTRA", NULL, 0, 2, &len2);
+    put32(big, len + 4, 99);
+    fix_crcs(big, len2);
+    expect_reject(big, len2, GALE_E_FORMAT, "section length 99, only 0 bytes left");
+    free(big);
+    /* fewer than a section header's 12 bytes after the last section */
+    uint8_t *tail = calloc(len + 5, 1);
+    memcpy(tail, buf, len);
+    put32(tail, 8, (uint32_t)(len + 5 - 24));
+    fix_crcs(tail, len + 5);
+    expect_reject(tail, len + 5, GALE_E_FORMAT, "section length at byte");
+    expect_reject(tail, len + 5, GALE_E_FORMAT, "truncated: need 4 bytes, 1 left");
+    free(tail);
+    /* every truncation of the ids is a format fault, never a crash */
+    int bad = 0;
+    for (size_t n = srid + 1; n < len; n++) {
+        uint8_t *c = malloc(n);
+        memcpy(c, buf, n);
+        put32(c, 8, (uint32_t)(n - 24));
+        fix_crcs(c, n);
+        asset b;
+        bad += asset_decode(c, n, "t.asset", &b, &err) != GALE_E_FORMAT;
+        free(c);
+    }
+    CHECK(bad == 0);
     free(buf);
 }
 
@@ -510,6 +721,8 @@ int main(void)
     RUN(test_truncation);
     RUN(test_corruption);
     RUN(test_absurd_counts);
+    RUN(test_source_ids);
+    RUN(test_source_ids_refused);
     RUN(test_reconstruct);
     RUN(test_file);
     return check_report();
