@@ -1,6 +1,7 @@
 /* gale-bake end to end: bad arguments and bad files give a non-zero exit and a message
  * naming the fault, and create no output; good input writes an asset that loads back, a
- * report with the promised fields, and a mode-shape PNG. */
+ * report with the promised fields, and a mode-shape PNG; a CSV's node ids come back
+ * from the asset's SRID map, an L-system species has none. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -234,13 +235,108 @@ static void test_skeleton_end_to_end(void)
     asset_fini(&a);
 }
 
+/* The first bytes of a file in dir: the asset version is at byte 4. */
+static unsigned file_version(const char *name)
+{
+    char p[512];
+    unsigned char h[8] = { 0 };
+    snprintf(p, sizeof p, "%s/%s", dir, name);
+    FILE *f = fopen(p, "rb");
+    if (f) {
+        CHECK(fread(h, 1, sizeof h, f) == sizeof h);
+        fclose(f);
+    }
+    return (unsigned)h[4] | (unsigned)h[5] << 8 | (unsigned)h[6] << 16 | (unsigned)h[7] << 24;
+}
+
+/* ASSET.md "Node numbering": ids out of order, the root on the third row and off the
+ * origin, children listed before their parents. Every asset node's source id names the
+ * CSV row with its position (rest + source_origin), radius and parent. */
+static void test_source_ids(void)
+{
+    static const struct {
+        unsigned id;
+        int parent;
+        float x, y, z, r;
+    } rows[] = {
+        { 57, 12, 10.4f, 20.3f, 11.3f, 0.03f }, { 12, 900, 10.0f, 20.0f, 11.0f, 0.08f },
+        { 900, -1, 10.0f, 20.0f, 10.0f, 0.1f }, { 3, 12, 10.0f, 20.0f, 12.0f, 0.06f },
+        { 41, 3, 10.5f, 20.0f, 12.5f, 0.03f },  { 8, 3, 9.5f, 20.0f, 12.5f, 0.03f },
+    };
+    const int n = (int)(sizeof rows / sizeof rows[0]);
+    char csv[1024] = "id,parent,x,y,z,radius\n";
+    for (int i = 0; i < n; i++) {
+        size_t l = strlen(csv);
+        snprintf(csv + l, sizeof csv - l, "%u,%d,%g,%g,%g,%g\n", rows[i].id, rows[i].parent,
+                 (double)rows[i].x, (double)rows[i].y, (double)rows[i].z, (double)rows[i].r);
+    }
+    put("ids.csv", csv);
+    CHECK(bake("--skeleton ids.csv --modes 4 --out ids.gasset") == 0);
+    CHECK(file_version("ids.gasset") == 2);
+    char p[512];
+    snprintf(p, sizeof p, "%s/ids.gasset", dir);
+    asset a;
+    gale_err err;
+    CHECK(asset_load(p, &a, &err) == GALE_OK);
+    CHECK(a.n_nodes == (uint32_t)n && a.source_id != NULL);
+    if (a.n_nodes != (uint32_t)n || !a.source_id) {
+        asset_fini(&a);
+        return;
+    }
+    CHECK(a.source_origin[0] == 10.0f && a.source_origin[1] == 20.0f &&
+          a.source_origin[2] == 10.0f);
+    /* node 0 is the root row, though it is the third in the file */
+    CHECK(a.source_id[0] == 900 && a.parent[0] == -1);
+    int seen[6] = { 0 };
+    for (int i = 0; i < n; i++) {
+        int row = -1;
+        for (int k = 0; k < n; k++) {
+            if (rows[k].id == a.source_id[i]) {
+                row = k;
+            }
+        }
+        CHECK(row >= 0);
+        if (row < 0) {
+            continue;
+        }
+        seen[row]++;
+        CHECK_NEAR(a.rest[3 * i + 0] + a.source_origin[0], rows[row].x, 1e-5);
+        CHECK_NEAR(a.rest[3 * i + 1] + a.source_origin[1], rows[row].y, 1e-5);
+        CHECK_NEAR(a.rest[3 * i + 2] + a.source_origin[2], rows[row].z, 1e-5);
+        CHECK(a.radius[i] == rows[row].r);
+        if (a.parent[i] < 0) {
+            CHECK(rows[row].parent == -1);
+        } else {
+            CHECK(rows[row].parent == (int)a.source_id[a.parent[i]]);
+        }
+    }
+    for (int k = 0; k < n; k++) {
+        CHECK(seen[k] == 1);
+    }
+    /* breadth-first, children in file order: 900; 12; 57, 3; 41, 8 */
+    static const unsigned order[6] = { 900, 12, 57, 3, 41, 8 };
+    for (int i = 0; i < n; i++) {
+        CHECK(a.source_id[i] == order[i]);
+    }
+    asset_fini(&a);
+}
+
 static void test_species_end_to_end(void)
 {
     CHECK(bake("--species " GALE_SOURCE_DIR "/configs/species/oak.json --modes 12 --out oak.gasset "
                "--report oak.json --modes-png oak.png") == 0);
     check_report_file("oak.json", 0, 12);
     CHECK(exists("oak.png"));
-    CHECK(count_files() == 3); /* ok.gasset, oak.gasset, oak.png */
+    CHECK(count_files() == 4); /* ok.gasset, ids.gasset, oak.gasset, oak.png */
+    /* an L-system skeleton has no source ids: no SRID, a version-1 file */
+    CHECK(file_version("oak.gasset") == 1);
+    char p[512];
+    snprintf(p, sizeof p, "%s/oak.gasset", dir);
+    asset a;
+    gale_err err;
+    CHECK(asset_load(p, &a, &err) == GALE_OK);
+    CHECK(a.n_nodes > 100 && a.source_id == NULL);
+    asset_fini(&a);
 }
 
 int main(void)
@@ -254,6 +350,7 @@ int main(void)
     RUN(test_bad_files);
     RUN(test_input_caps);
     RUN(test_skeleton_end_to_end);
+    RUN(test_source_ids);
     RUN(test_species_end_to_end);
     char cmd[512];
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);

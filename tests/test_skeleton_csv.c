@@ -33,6 +33,8 @@ static void test_good(void)
     if (rc == 0 && s.n == 4) {
         CHECK(s.src_id[0] == 10 && s.parent[0] == -1);
         CHECK(s.pos[0] == 0.0f && s.pos[1] == 0.0f && s.pos[2] == 0.0f);
+        /* the root's own position, kept so pos + src_origin is the file's */
+        CHECK(s.src_origin[0] == 1.0f && s.src_origin[1] == 1.0f && s.src_origin[2] == 0.0f);
         CHECK(s.src_id[1] == 20 && s.parent[1] == 0);
         CHECK_NEAR(s.pos[3 * 1 + 2], 2.0, 1e-6);
         /* 30 and 40 both hang on 20, in file order */

@@ -109,6 +109,18 @@ int bake_run(const skeleton *s, const species *sp, const bake_desc *d, asset *a,
     a->parent = malloc((size_t)n * sizeof *a->parent);
     a->rest = malloc((size_t)n * 3 * sizeof *a->rest);
     a->radius = malloc((size_t)n * sizeof *a->radius);
+    /* a CSV skeleton's ids, so each asset node can be traced to its row (ASSET.md SRID) */
+    if (s->src_id) {
+        a->source_id = malloc((size_t)n * sizeof *a->source_id);
+        if (!a->source_id) {
+            rc = gale_errf(err, GALE_E_NOMEM, "bake: out of memory filling the asset");
+            goto fail;
+        }
+        for (int i = 0; i < n; i++) {
+            a->source_id[i] = (uint32_t)s->src_id[i];
+        }
+        memcpy(a->source_origin, s->src_origin, sizeof a->source_origin);
+    }
     a->n_modes = (uint32_t)nm;
     a->omega = malloc((size_t)nm * sizeof *a->omega);
     a->gamma = malloc((size_t)nm * sizeof *a->gamma);

@@ -14,11 +14,16 @@ typedef struct skeleton {
     float *pos;    /* owned [3n] rest position [m], tree frame, z up, root at the origin */
     float *radius; /* owned [n] [m], > 0; an element's radius is the mean of its two nodes' */
     int *order;    /* owned [n] branch order: 0 trunk, 1 first branches, ... */
-    int *src_id;   /* owned [n] or NULL: the node's id in the source file, for messages */
+    int *src_id;   /* owned [n] or NULL: the node's id in the source file, for messages and
+                    * the asset's SRID section (protocol/ASSET.md) */
+    float src_origin[3]; /* with src_id: the root's position in the source file [m]; pos is
+                          * relative to it */
 } skeleton;
 
 /* Parses CSV text `id,parent,x,y,z,radius` (header line first, one node a line,
- * parent -1 for the single root) into *s, reordered parents-first. `name` is the file
+ * parent -1 for the single root) into *s, reordered parents-first (breadth-first from the
+ * root, children in file order) and moved so the root is at the origin; src_id and
+ * src_origin keep the ids and the root's position (protocol/ASSET.md "Node numbering"). `name` is the file
  * name used in messages ("trees/oak.csv:14: duplicate id 7"). On failure *s is left
  * empty and err says the line and the fault. */
 int skeleton_parse_csv(const char *text, size_t len, const char *name, skeleton *s,

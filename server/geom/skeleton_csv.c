@@ -452,6 +452,9 @@ int skeleton_parse_csv(const char *text, size_t len, const char *name, skeleton 
         }
         s->radius[k] = (float)r->r;
     }
+    for (int c = 0; c < 3; c++) {
+        s->src_origin[c] = (float)rows[root].x[c];
+    }
     /* branch orders: among a node's children the one whose direction continues the
      * node's own (vertical for the root) best keeps its order; the others add one */
     for (int k = 0; k < nrows; k++) {
