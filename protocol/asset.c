@@ -426,9 +426,10 @@ int asset_encode(const asset *a, uint8_t **out, size_t *len, gale_err *err)
 
 /* ---- decode ---- */
 
-/* Reads a section header; checks the tag and that the stated length fits. Returns the
- * offset where the section must end. */
-static size_t r_section(asset_reader *r, int section)
+/* Reads a section header; checks the tag (any tag when section < 0: an optional section,
+ * its tag then in *tag) and that the stated length fits. Returns the offset where the
+ * section must end. */
+static size_t r_section(asset_reader *r, int section, uint32_t *tag_out)
 {
     size_t at = r->pos;
     uint32_t tag = r_u32(r, "section tag");
@@ -436,14 +437,17 @@ static size_t r_section(asset_reader *r, int section)
     if (r->bad) {
         return 0;
     }
-    if (tag != asset_tags[section]) {
+    if (tag_out) {
+        *tag_out = tag;
+    }
+    if (section >= 0 && tag != asset_tags[section]) {
         r_fail(r, GALE_E_FORMAT, "section tag", at, "expected %s (0x%08x), got 0x%08x",
                asset_tag_names[section], asset_tags[section], tag);
         return 0;
     }
     if (slen > (uint64_t)(r->len - r->pos)) {
-        r_fail(r, GALE_E_FORMAT, asset_tag_names[section], at + 4,
-               "section length %llu, only %zu bytes left", (unsigned long long)slen,
+        r_fail(r, GALE_E_FORMAT, section >= 0 ? asset_tag_names[section] : "section length",
+               at + 4, "section length %llu, only %zu bytes left", (unsigned long long)slen,
                r->len - r->pos);
         return 0;
     }
@@ -473,7 +477,7 @@ static void r_check_unit(asset_reader *r, const float *v, size_t n, const char *
 
 static void r_meta(asset_reader *r, asset *a)
 {
-    size_t end = r_section(r, 0);
+    size_t end = r_section(r, 0, NULL);
     size_t at = r->pos;
     if (r_need(r, 64, "species")) {
         memcpy(a->species, r->buf + r->pos, 64);
@@ -500,7 +504,7 @@ static void r_meta(asset_reader *r, asset *a)
 
 static void r_skel(asset_reader *r, asset *a)
 {
-    size_t end = r_section(r, 1);
+    size_t end = r_section(r, 1, NULL);
     size_t at = r->pos;
     /* per node: parent, 3 coordinates, radius */
     a->n_nodes = r_count(r, "n_nodes", ASSET_MAX_NODES, 20);
@@ -539,7 +543,7 @@ static void r_skel(asset_reader *r, asset *a)
 
 static void r_modes(asset_reader *r, asset *a)
 {
-    size_t end = r_section(r, 2);
+    size_t end = r_section(r, 2, NULL);
     size_t at = r->pos;
     a->n_modes = r_count(r, "n_modes", ASSET_MAX_MODES, 20);
     if (!r->bad && (uint64_t)a->n_modes * a->n_nodes > ASSET_MAX_MODE_NODES) {
@@ -574,7 +578,7 @@ static void r_modes(asset_reader *r, asset *a)
 
 static void r_corr(asset_reader *r, asset *a)
 {
-    size_t end = r_section(r, 3);
+    size_t end = r_section(r, 3, NULL);
     size_t at = r->pos;
     uint32_t has = r_u32(r, "has_correction");
     if (!r->bad && has > 1) {
@@ -600,7 +604,7 @@ static void r_corr(asset_reader *r, asset *a)
 
 static void r_mesh(asset_reader *r, asset *a)
 {
-    size_t end = r_section(r, 4);
+    size_t end = r_section(r, 4, NULL);
     /* per vertex: position, normal, two bones, weight */
     a->n_verts = r_count(r, "n_verts", ASSET_MAX_VERTS, 36);
     size_t nv = a->n_verts;
@@ -662,7 +666,7 @@ static void r_mesh(asset_reader *r, asset *a)
 
 static void r_leaves(asset_reader *r, asset *a)
 {
-    size_t end = r_section(r, 5);
+    size_t end = r_section(r, 5, NULL);
     /* per leaf: node, offset, normal, size */
     a->n_leaves = r_count(r, "n_leaves", ASSET_MAX_LEAVES, 32);
     size_t nl = a->n_leaves;
@@ -697,7 +701,7 @@ static void r_leaves(asset_reader *r, asset *a)
 
 static void r_look(asset_reader *r, asset *a)
 {
-    size_t end = r_section(r, 6);
+    size_t end = r_section(r, 6, NULL);
     r_f32s(r, a->bark_rgb, 3, "bark_rgb");
     r_f32s(r, a->leaf_rgb, 3, "leaf_rgb");
     size_t at = r->pos;
@@ -760,18 +764,11 @@ static void r_optional(asset_reader *r, asset *a)
 {
     while (!r->bad && r->pos < r->len) {
         size_t at = r->pos;
-        uint32_t tag = r_u32(r, "section tag");
-        uint64_t slen = r_u64(r, "section length");
+        uint32_t tag = 0;
+        size_t end = r_section(r, -1, &tag);
         if (r->bad) {
             return;
         }
-        if (slen > (uint64_t)(r->len - r->pos)) {
-            r_fail(r, GALE_E_FORMAT, "section length", at + 4,
-                   "section length %llu, only %zu bytes left", (unsigned long long)slen,
-                   r->len - r->pos);
-            return;
-        }
-        size_t end = r->pos + (size_t)slen;
         if (tag != asset_tags[ASSET_SECTION_SRID]) {
             r->pos = end;
         } else if (a->source_id) {

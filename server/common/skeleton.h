@@ -23,9 +23,9 @@ typedef struct skeleton {
 /* Parses CSV text `id,parent,x,y,z,radius` (header line first, one node a line,
  * parent -1 for the single root) into *s, reordered parents-first (breadth-first from the
  * root, children in file order) and moved so the root is at the origin; src_id and
- * src_origin keep the ids and the root's position (protocol/ASSET.md "Node numbering"). `name` is the file
- * name used in messages ("trees/oak.csv:14: duplicate id 7"). On failure *s is left
- * empty and err says the line and the fault. */
+ * src_origin keep the ids and the root's position (protocol/ASSET.md "Node numbering").
+ * `name` is the file name used in messages ("trees/oak.csv:14: duplicate id 7"). On
+ * failure *s is left empty and err says the line and the fault. */
 int skeleton_parse_csv(const char *text, size_t len, const char *name, skeleton *s,
                        gale_err *err);
 
