@@ -102,7 +102,8 @@ hpid=$!
 "$load" --url "ws://127.0.0.1:$port" --clients 50 --seconds "$seconds" --json >out/bench-soak.json &
 lpid=$!
 samples=()
-for ((t = 30; t <= seconds; t += 30)); do
+# every sample is taken while the load runs (the last one 30 s or less before its end)
+for ((t = 30; t < seconds; t += 30)); do
     sleep 30
     r="$(rss)" f="$(fds)"
     samples+=("$r $f")
@@ -117,16 +118,20 @@ trap - EXIT
 # the first sample is the warm-up (pool, caches); the goals compare the rest with the second
 first="${samples[1]:-${samples[0]:-0 0}}"
 last="${samples[-1]:-0 0}"
-python3 - "$first" "$last" "$status" <<'EOF'
+python3 - "$first" "$last" "$status" "${samples[@]:1}" <<'EOF'
 import json, sys
 first, last, status = sys.argv[1].split(), sys.argv[2].split(), int(sys.argv[3])
+after = [tuple(int(x) for x in s.split()) for s in sys.argv[4:]] or [(0, 0)]
 rep = json.load(open("out/bench-soak.json"))
 r0, f0, r1, f1 = int(first[0]), int(first[1]), int(last[0]), int(last[1])
 flat = lambda a, b: a > 0 and abs(b - a) <= 0.05 * a
 p99 = rep["latency_ms"]["p99"]
 gaps = rep["sequence_gaps"]
 print(json.dumps({"bench": "soak", "good_clients": rep, "server": {
-    "rss_kb": {"first": r0, "last": r1}, "fds": {"first": f0, "last": f1},
+    "rss_kb": {"first": r0, "last": r1, "min": min(a[0] for a in after),
+               "max": max(a[0] for a in after)},
+    "fds": {"first": f0, "last": f1, "min": min(a[1] for a in after),
+            "max": max(a[1] for a in after)},
     "exit_status": status},
     "goals": {"rss_flat": flat(r0, r1), "fds_flat": flat(f0, f1), "p99_le_50ms": p99 <= 50,
               "no_gaps": gaps == 0}}))
