@@ -82,9 +82,7 @@ int ctl_decode(const char *text, size_t len, size_t max_len, ctl_msg *m, int *cl
     size_t at = 0;
     root = json_parse(text, len, &at);
     if (root) {
-        while (at < len && strchr(" \t\r\n", text[at]) && text[at] != '\0') {
-            at++;
-        }
+        at = json_skip_space(text, len, at);
     }
     if (!root || at < len) {
         rc = fail_syntax(&c, text, len, at, root != NULL);

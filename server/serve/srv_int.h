@@ -97,9 +97,8 @@ struct srv {
     /* log rate limits (sim thread) */
     time_t olog_sec;             /* overruns: the second being counted */
     int olog_n;                  /*           lines in it */
-    bool slog_any;               /* solves out of budget: a line was written */
-    time_t slog_sec;             /*           when (monotonic seconds) */
-    unsigned long long slog_n;   /*           solves since that line */
+    double slog_next_s;          /* solves out of budget: next line no earlier [s, mono_s] */
+    unsigned long long slog_n;   /* solves out of budget since that line */
 };
 
 /* srv_control.c, lws thread: net_desc.control and net_desc.closed. */

@@ -10,10 +10,9 @@
  * SRV_SOLVE_LOG_S seconds, saying how many such solves there were since the last. */
 static void log_unconverged(srv *s, uint32_t tick, const tick_stats *ts)
 {
-    struct timespec now;
-    clock_gettime(CLOCK_MONOTONIC, &now);
+    const double now_s = mono_s();
     s->slog_n++;
-    if (s->slog_any && now.tv_sec - s->slog_sec < SRV_SOLVE_LOG_S) {
+    if (now_s < s->slog_next_s) {
         return;
     }
     fprintf(stderr,
@@ -21,8 +20,7 @@ static void log_unconverged(srv *s, uint32_t tick, const tick_stats *ts)
             "residual %.3g, target %.3g); %llu out of budget since the last such line\n",
             tick, ts->wind_iters, ts->wind_residual, 1.0 / (double)s->d.wind->div_reduction,
             s->slog_n);
-    s->slog_any = true;
-    s->slog_sec = now.tv_sec;
+    s->slog_next_s = now_s + SRV_SOLVE_LOG_S;
     s->slog_n = 0;
 }
 
