@@ -118,16 +118,17 @@ void client_stream_on_frame(void *user, const wire_frame *f, const wire_decoder 
 {
     client *c = user;
     (void)recv_s;
-    if (f->hdr.type == WIRE_MSG_WIND) {
+    /* f->types: one frame, or every frame of a BUNDLE (PROTOCOL.md "BUNDLE") */
+    if (f->types & (1u << WIRE_MSG_WIND)) {
         take_wind(c, &f->wind);
-        return;
     }
     if (!c->scene_ready) {
         return; /* the decoder keeps its state; the jitter buffer starts once assets are in */
     }
-    if (f->hdr.type == WIRE_MSG_KEYFRAME || f->hdr.type == WIRE_MSG_DELTA) {
+    if (f->types & ((1u << WIRE_MSG_KEYFRAME) | (1u << WIRE_MSG_DELTA))) {
         take_state(c, f, dec);
-    } else if (f->hdr.type == WIRE_MSG_LEAVES) {
+    }
+    if (f->types & (1u << WIRE_MSG_LEAVES)) {
         take_leaves(c, f);
     }
 }

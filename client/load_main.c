@@ -96,6 +96,9 @@ static void on_binary(load_run *r, load_conn *c, const uint8_t *b, size_t len)
         note_error(r, "decode", e.msg);
         return;
     }
+    /* f.types: one frame, or every frame of a BUNDLE (PROTOCOL.md "BUNDLE") */
+    r->leaf_frames += (f.types >> WIRE_MSG_LEAVES) & 1u;
+    r->wind_frames += (f.types >> WIRE_MSG_WIND) & 1u;
     if (f.hdr.type == WIRE_MSG_KEYFRAME || f.hdr.type == WIRE_MSG_DELTA) {
         r->state_frames++;
         if (f.hdr.type == WIRE_MSG_KEYFRAME) {
@@ -116,10 +119,6 @@ static void on_binary(load_run *r, load_conn *c, const uint8_t *b, size_t len)
         if (lat > r->lat_max_us) {
             r->lat_max_us = lat;
         }
-    } else if (f.hdr.type == WIRE_MSG_LEAVES) {
-        r->leaf_frames++;
-    } else if (f.hdr.type == WIRE_MSG_WIND) {
-        r->wind_frames++;
     }
 }
 

@@ -24,6 +24,7 @@ enum wire_msg_type {
     WIRE_MSG_DELTA = 2,    /* q relative to the previous snapshot (seq - 1) */
     WIRE_MSG_LEAVES = 3,   /* leaf seeds shed this tick */
     WIRE_MSG_WIND = 4,     /* coarse horizontal wind slice */
+    WIRE_MSG_BUNDLE = 7,   /* container: other frames of one snapshot in one message */
 };
 
 typedef struct wire_header {
@@ -157,6 +158,16 @@ int8_t wire_wind_quantize(float v_ms, float scale_ms);
 int wire_encode_wind(const wire_header *h, const wire_wind *wind, uint8_t *buf, size_t cap,
                      size_t *len, gale_err *err);
 
+/* ---- BUNDLE: several frames in one message (PROTOCOL.md "BUNDLE") ------------------- */
+
+/* buf holds one whole frame of *len bytes; rewrites it in place into a BUNDLE carrying that
+ * frame first, then the n_more frames more[i] (more_len[i] bytes each, whole frames, not
+ * inside buf); *len gets the bundle's size. The bundle's header has the first frame's tick
+ * and server time. GALE_E_RANGE when it does not fit cap, GALE_E_ARG past WIRE_MAX_BUNDLE
+ * frames. Does not allocate. */
+int wire_bundle_wrap(uint8_t *buf, size_t cap, size_t *len, const uint8_t *const *more,
+                     const size_t *more_len, uint32_t n_more, gale_err *err);
+
 /* ---- decoder (client side) ---------------------------------------------------------- */
 
 typedef struct wire_decoder_desc {
@@ -173,7 +184,9 @@ void wire_decoder_destroy(wire_decoder *d); /* NULL is a no-op */
 /* What one decoded frame was. Pointers are owned by the decoder and valid until the next
  * wire_decode on it. */
 typedef struct wire_frame {
-    wire_header hdr;
+    wire_header hdr;            /* a BUNDLE: its state frame's header (else its first's) */
+    uint32_t types;             /* bit 1 << type of every frame decoded: one bit for a plain
+                                   frame, one per inner frame for a BUNDLE */
     uint32_t seq;               /* KEYFRAME / DELTA: snapshot sequence number */
     uint32_t n_leaves;          /* LEAVES */
     const wire_leaf *leaves;    /* LEAVES: [n_leaves] */
@@ -181,6 +194,8 @@ typedef struct wire_frame {
 } wire_frame;
 
 /* Decodes one binary frame. KEYFRAME replaces the decoder's state; DELTA applies to it.
+ * A BUNDLE decodes each inner frame into the one *out (see types); any inner failure
+ * fails the whole bundle, the state unchanged.
  * Nothing in the decoder changes unless the whole frame is valid. Errors: GALE_E_FORMAT
  * (truncated, bad magic/type/count, trailing bytes, a value outside its range),
  * GALE_E_VERSION, GALE_E_RANGE (more trees/modes than the decoder was created for),

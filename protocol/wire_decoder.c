@@ -87,16 +87,27 @@ int wire_decode(wire_decoder *d, const uint8_t *buf, size_t len, wire_frame *out
     if (rc) {
         return rc;
     }
-    switch (out->hdr.type) {
+    if (out->hdr.type == WIRE_MSG_BUNDLE) {
+        return wire_decode_bundle(d, &r, &out->hdr, out, err);
+    }
+    out->types = 1u << out->hdr.type;
+    return wire_decode_body(d, &r, &out->hdr, out, err);
+}
+
+int wire_decode_body(wire_decoder *d, wire_reader *r, const wire_header *h, wire_frame *out,
+                     gale_err *err)
+{
+    int rc;
+    switch (h->type) {
     case WIRE_MSG_KEYFRAME:
     case WIRE_MSG_DELTA:
-        return wire_decode_state(d, &r, &out->hdr, out, err);
+        return wire_decode_state(d, r, h, out, err);
     case WIRE_MSG_LEAVES:
-        rc = wire_decode_leaves(&r, &out->hdr, d->leaves, &out->n_leaves, err);
+        rc = wire_decode_leaves(r, h, d->leaves, &out->n_leaves, err);
         out->leaves = rc ? NULL : d->leaves;
         return rc;
-    default: /* WIRE_MSG_WIND; wire_get_header checked the type */
-        return wire_decode_wind(&r, &out->hdr, d->wind, &out->wind, err);
+    default: /* WIRE_MSG_WIND; wire_get_header checked the type, the callers BUNDLE */
+        return wire_decode_wind(r, h, d->wind, &out->wind, err);
     }
 }
 

@@ -38,6 +38,15 @@ int wire_decode_leaves(wire_reader *r, const wire_header *h, wire_leaf *leaves,
 int wire_decode_wind(wire_reader *r, const wire_header *h, int8_t *v, wire_wind *out,
                      gale_err *err);
 
+/* The body (after the header h) of one frame of any type but BUNDLE, into out's fields
+ * for that type; out is not cleared, so a BUNDLE's frames accumulate in one wire_frame. */
+int wire_decode_body(wire_decoder *d, wire_reader *r, const wire_header *h, wire_frame *out,
+                     gale_err *err);
+/* A BUNDLE's body (msg_bundle.c): checks the container, then decodes each inner frame with
+ * wire_decode_body, the state frame last. */
+int wire_decode_bundle(wire_decoder *d, wire_reader *r, const wire_header *h, wire_frame *out,
+                       gale_err *err);
+
 /* Short message type name for errors ("KEYFRAME", ...). */
 const char *wire_type_name(unsigned type);
 

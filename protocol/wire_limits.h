@@ -31,6 +31,10 @@
  * largest wind grid; a slice is at most 256 x 256 cells. */
 #define WIRE_MAX_WIND_SIDE 256u
 
+/* Frames in one BUNDLE: a snapshot's state and its leaves, wind, weather, damage ...
+ * (one of each type) need fewer than 8; 16 leaves room for types to come. */
+#define WIRE_MAX_BUNDLE 16u
+
 /* Largest binary frame either side accepts: a keyframe of every tree at full modes is
  * bounded by wire_state_bound(); 100 000 trees x 32 modes fit in well under 16 MiB. */
 #define WIRE_MAX_FRAME_BYTES (16u << 20)

@@ -129,6 +129,9 @@ static void test_late_joiner_and_ping(void)
                        strstr((char *)b, "\"client_us\":9007199254740991,");
         } else if (op == 2 && n >= WIRE_HEADER_BYTES) {
             int type = b[6];
+            if (type == WIRE_MSG_BUNDLE && n >= 25 + WIRE_HEADER_BYTES) {
+                type = b[25 + 6]; /* gale-server puts the state first (PROTOCOL.md "BUNDLE") */
+            }
             if ((type == WIRE_MSG_KEYFRAME || type == WIRE_MSG_DELTA) && !first_state) {
                 first_state = type;
             }

@@ -205,6 +205,45 @@ static void pre_free(uint8_t *p)
     }
 }
 
+/* --- BUNDLE: a state frame and its extras in one message (PROTOCOL.md "BUNDLE") ------- */
+
+/* Bytes of a state buffer: the encoders' cap plus room to wrap it with every extra. */
+static size_t net_bundle_cap(const net_server *s)
+{
+    return s->d.snap_cap + WIRE_HEADER_BYTES + 1u + 4u * (1u + NET_SNAP_MAX_EXTRA) +
+           NET_SNAP_MAX_EXTRA * s->d.extra_cap;
+}
+
+/* Sim thread, once per published snapshot (not per client): each state variant becomes a
+ * BUNDLE of itself and the extras; the extras are then not sent on their own. */
+static void net_bundle(net_server *s, net_snap *p)
+{
+    const uint8_t *more[NET_SNAP_MAX_EXTRA];
+    size_t more_len[NET_SNAP_MAX_EXTRA];
+    uint32_t n = 0;
+    for (int e = 0; e < NET_SNAP_MAX_EXTRA; e++) {
+        if (p->extra_len[e]) {
+            more[n] = p->extra[e];
+            more_len[n++] = p->extra_len[e];
+        }
+    }
+    if (!n) {
+        return;
+    }
+    uint8_t *buf[3] = { p->key, p->delta1, p->delta2 };
+    size_t *len[3] = { &p->key_len, &p->delta1_len, &p->delta2_len };
+    for (int v = 0; v < 3; v++) {
+        gale_err e;
+        if (*len[v] && wire_bundle_wrap(buf[v], net_bundle_cap(s), len[v], more, more_len, n, &e)) {
+            fprintf(stderr, "gale-server: snapshot %u: extras sent apart: %s\n", p->seq, e.msg);
+            return; /* not reached: net_bundle_cap holds the largest state and every extra */
+        }
+    }
+    for (int e = 0; e < NET_SNAP_MAX_EXTRA; e++) {
+        p->extra_len[e] = 0;
+    }
+}
+
 net_server *net_create(const net_desc *desc, gale_err *err)
 {
     net_server *s = calloc(1, sizeof *s);
@@ -264,9 +303,9 @@ net_server *net_create(const net_desc *desc, gale_err *err)
         net_snap *p = &s->pool[i];
         p->cap = s->d.snap_cap;
         p->extra_cap = s->d.extra_cap;
-        p->key = pre_alloc(p->cap);
-        p->delta1 = pre_alloc(p->cap);
-        p->delta2 = pre_alloc(p->cap);
+        p->key = pre_alloc(net_bundle_cap(s));
+        p->delta1 = pre_alloc(net_bundle_cap(s));
+        p->delta2 = pre_alloc(net_bundle_cap(s));
         bool ok = p->key && p->delta1 && p->delta2;
         for (int e = 0; e < NET_SNAP_MAX_EXTRA; e++) {
             p->extra[e] = pre_alloc(p->extra_cap);
@@ -370,6 +409,9 @@ net_snap *net_snap_acquire(net_server *s)
 
 void net_publish(net_server *s, net_snap *p)
 {
+    if (!s->d.separate_extras) {
+        net_bundle(s, p);
+    }
     pthread_mutex_lock(&s->pub_lock);
     if (s->pub_n == s->pub_cap) {
         /* The service thread is not keeping up: the oldest waiting snapshot goes. */

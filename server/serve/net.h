@@ -25,7 +25,9 @@ enum { NET_ROLE_NONE, NET_ROLE_VIEWER, NET_ROLE_KIOSK, NET_ROLE_WALL, NET_ROLE_L
  * each encoded once and shared by every connection. A connection that holds snapshots
  * seq-1 and seq-2 gets delta2 (linear prediction from both), one that holds only seq-1
  * (it was a keyframe) gets delta1, any other (late joiner, after drops, after a resync
- * request) the keyframe. Extra messages (leaf seeds, coarse wind) follow the state. */
+ * request) the keyframe. Extra messages (leaf seeds, coarse wind) follow the state, or
+ * (net_desc.separate_extras false) net_publish wraps each state variant and the extras
+ * into one BUNDLE and clears extra_len. */
 #define NET_SNAP_MAX_EXTRA 2
 typedef struct net_snap {
     atomic_int refs;        /* 0 = free in the pool */
@@ -84,6 +86,9 @@ typedef struct net_desc {
     int lag_limit;            /* drops in a row before a laggard is closed; 0 → 90 (3 s at 30/s) */
     size_t snap_cap;          /* bytes per state message (after LWS_PRE); required */
     size_t extra_cap;         /* bytes per extra message; 0 → 65536 */
+    bool separate_extras;     /* true: extras go as messages of their own; false: each
+                                 state frame and the extras of its snapshot travel as one
+                                 BUNDLE (PROTOCOL.md "BUNDLE"), one write per client */
     size_t max_message;       /* largest control message accepted; 0 → CTL_MAX_CLIENT_BYTES */
     int sndbuf;               /* kernel send buffer per connection [bytes]; 0 → 32768,
                                  -1 → the kernel's own (bounds what a stalled client pins) */

@@ -149,6 +149,7 @@ srv *srv_create(const srv_desc *d, gale_err *err)
                                      .sndbuf = d->sndbuf,
                                      .snap_cap = cap,
                                      .extra_cap = extra,
+                                     .separate_extras = d->separate_extras,
                                      .assets = s->assets,
                                      .n_assets = sc->n_species,
                                      .control = srv_on_control,

@@ -38,6 +38,8 @@ typedef struct srv_desc {
     int hello_timeout_ms;         /* 0 → net default, < 0 → never (net_desc.hello_timeout_ms) */
     int sndbuf;                   /* 0 → net default */
     int quiet;                    /* 1: no start-up lines */
+    bool separate_extras;         /* leaves and wind as messages of their own, not inside
+                                     the state's BUNDLE (net_desc.separate_extras) */
     int history;                  /* snapshots of float q kept for srv_history_q; 0 → none */
     double keyframe_s;            /* server time between periodic keyframes on every stream;
                                      0 → SRV_KEYFRAME_S (PROTOCOL.md "Sequence and gaps") */

@@ -21,7 +21,7 @@ static void usage(FILE *f)
 {
     fprintf(f, "usage: gale-server [--config FILE.json] [--port N] [--iface ADDR] [--cache DIR]\n"
                "                   [--kiosk-token-file FILE] [--max-connections N]\n"
-               "                   [--hello-timeout S] [--check]\n"
+               "                   [--hello-timeout S] [--no-bundle] [--check]\n"
                "  --config FILE  scene config (default: the embedded town block,\n"
                "                 configs/scenes/default.json)\n"
                "  --port N       listen port, 0 for any free one (default 8080)\n"
@@ -37,6 +37,8 @@ static void usage(FILE *f)
                "                 (default 2048; lowered to what the open-file limit allows)\n"
                "  --hello-timeout S  seconds a connection may take to say hello before it\n"
                "                 is closed with 4009 (default 5)\n"
+               "  --no-bundle    send leaves and wind as messages of their own instead of\n"
+               "                 inside the snapshot's BUNDLE (one write per client)\n"
                "  --check        validate the config, bake or load the species, and exit\n");
 }
 
@@ -131,6 +133,7 @@ int main(int argc, char **argv)
     long port = 8080, max_conn = 0;
     double hello_s = 0;
     int check = 0;
+    bool no_bundle = false;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "--config") && v) {
@@ -173,6 +176,8 @@ int main(int argc, char **argv)
                 return 2;
             }
             i++;
+        } else if (!strcmp(a, "--no-bundle")) {
+            no_bundle = true;
         } else if (!strcmp(a, "--check")) {
             check = 1;
         } else if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -290,7 +295,8 @@ int main(int argc, char **argv)
                                 .wind = sc.grid_on ? &tw : NULL,
                                 .port = port ? (int)port : -1, .iface = iface,
                                 .max_clients = (int)max_conn,
-                                .hello_timeout_ms = hello_s > 0 ? (int)(hello_s * 1000 + 0.5) : 0 },
+                                .hello_timeout_ms = hello_s > 0 ? (int)(hello_s * 1000 + 0.5) : 0,
+                                .separate_extras = no_bundle },
                    &err);
     if (!s) {
         fprintf(stderr, "gale-server: %s\n", err.msg);
