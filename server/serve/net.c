@@ -207,11 +207,15 @@ static void pre_free(uint8_t *p)
 
 /* --- BUNDLE: a state frame and its extras in one message (PROTOCOL.md "BUNDLE") ------- */
 
-/* Bytes of a state buffer: the encoders' cap plus room to wrap it with every extra. */
+size_t net_snap_buffer_cap(size_t snap_cap, size_t extra_cap)
+{
+    return snap_cap + WIRE_HEADER_BYTES + 1u + 4u * (1u + NET_SNAP_MAX_EXTRA) +
+           NET_SNAP_MAX_EXTRA * extra_cap;
+}
+
 static size_t net_bundle_cap(const net_server *s)
 {
-    return s->d.snap_cap + WIRE_HEADER_BYTES + 1u + 4u * (1u + NET_SNAP_MAX_EXTRA) +
-           NET_SNAP_MAX_EXTRA * s->d.extra_cap;
+    return net_snap_buffer_cap(s->d.snap_cap, s->d.extra_cap);
 }
 
 /* Sim thread, once per published snapshot (not per client): each state variant becomes a
@@ -412,6 +416,9 @@ void net_publish(net_server *s, net_snap *p)
     if (!s->d.separate_extras) {
         net_bundle(s, p);
     }
+    if (s->d.published) {
+        s->d.published(s->d.published_user, p);
+    }
     pthread_mutex_lock(&s->pub_lock);
     if (s->pub_n == s->pub_cap) {
         /* The service thread is not keeping up: the oldest waiting snapshot goes. */
@@ -425,6 +432,12 @@ void net_publish(net_server *s, net_snap *p)
     if (!p->stream) {
         atomic_fetch_add(&s->m.snapshots, 1); /* view streams are counted by their encoder */
     }
+    lws_cancel_service(s->ctx);
+}
+
+void net_reset_streams(net_server *s)
+{
+    atomic_store(&s->reset_streams, 1);
     lws_cancel_service(s->ctx);
 }
 

@@ -100,6 +100,10 @@ typedef struct net_desc {
     void (*closed)(void *user, const net_peer *peer);
     int max_streams;          /* view streams published besides the shared one (sizes the
                                  snapshot pool and the hand-over queue); 0 → none */
+    /* called by net_publish with every snapshot as it goes out (bundled), on the publishing
+     * thread; NULL: none (a broker bridge, server/relay/) */
+    void (*published)(void *user, const net_snap *snap);
+    void *published_user;
     const metric_reg *metrics; /* the rows served at /metrics, borrowed and complete before
                                   net_run; NULL → an empty page */
     const atomic_uint *tick;  /* the simulation's tick counter, borrowed: /healthz and the
@@ -152,6 +156,14 @@ net_metrics *net_get_metrics(net_server *s);
  * gale_clients{role=...}) to r; s is borrowed for r's life. Fails only when r is full
  * (metric_reg_add). */
 int net_metrics_register(net_server *s, metric_reg *r, gale_err *err);
+
+/* Bytes behind each state buffer of a pooled snapshot: the encoders' snap_cap plus room
+ * to wrap it with every extra into a BUNDLE. */
+size_t net_snap_buffer_cap(size_t snap_cap, size_t extra_cap);
+
+/* Any thread: at the next delivery every connection follows the shared stream (0) and
+ * gets a keyframe (the publisher's streams started over: a relay's server restarted). */
+void net_reset_streams(net_server *s);
 
 /* Simulation thread: a free snapshot from the pool to fill (refs set to 1), or NULL when
  * all are still in flight (counted; the caller skips publishing this one). */

@@ -92,6 +92,7 @@ struct net_server {
     net_snap **pub;   /* owned [pub_cap] */
     net_snap **batch; /* owned [pub_cap], service thread */
     int pub_n, pub_cap;
+    atomic_int reset_streams; /* net_reset_streams asked; the service thread acts */
     atomic_ullong pool_exhausted;
     atomic_ullong pub_overflow;
     /* rate limit of the bad-input log */

@@ -230,6 +230,12 @@ void net_deliver_published(net_server *s)
 {
     net_snap **batch = s->batch;
     int n;
+    if (atomic_exchange(&s->reset_streams, 0)) {
+        for (net_conn *c = s->conns; c; c = c->next) {
+            c->stream = 0;
+            c->resync = true;
+        }
+    }
     pthread_mutex_lock(&s->pub_lock);
     n = s->pub_n;
     memcpy(batch, s->pub, sizeof batch[0] * (size_t)n);

@@ -22,6 +22,7 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     pthread_mutex_init(&s->scen_lock, NULL);
     pthread_mutex_init(&s->hist_lock, NULL);
     pthread_mutex_init(&s->view_lock, NULL);
+    pthread_mutex_init(&s->ctl_lock, NULL);
     kiosk_gate_init(&s->kgate);
     const scene *sc = d->sc;
     const int n = sc->n_trees;
@@ -140,6 +141,8 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     if (s->coarse && extra < WIRE_HEADER_BYTES + 64 + (size_t)s->coarse_cap) {
         extra = WIRE_HEADER_BYTES + 64 + (size_t)s->coarse_cap; /* one layer ≤ all layers */
     }
+    s->snap_cap = cap;
+    s->extra_cap = extra;
     s->net = net_create(&(net_desc){ .port = d->port,
                                      .iface = d->iface,
                                      .max_clients = d->max_clients,
@@ -150,11 +153,13 @@ srv *srv_create(const srv_desc *d, gale_err *err)
                                      .snap_cap = cap,
                                      .extra_cap = extra,
                                      .separate_extras = d->separate_extras,
+                                     .published = d->published,
+                                     .published_user = d->published_user,
                                      .assets = s->assets,
                                      .n_assets = sc->n_species,
-                                     .control = srv_on_control,
+                                     .control = srv_control_serial,
                                      .control_user = s,
-                                     .closed = srv_on_closed,
+                                     .closed = srv_closed_serial,
                                      .max_streams = SRV_MAX_VIEWS,
                                      .metrics = &s->reg,
                                      .tick = &s->simm.current_tick },
@@ -226,6 +231,7 @@ void srv_destroy(srv *s)
     pthread_mutex_destroy(&s->scen_lock);
     pthread_mutex_destroy(&s->view_lock);
     pthread_mutex_destroy(&s->hist_lock);
+    pthread_mutex_destroy(&s->ctl_lock);
     free(s);
 }
 

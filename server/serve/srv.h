@@ -38,6 +38,8 @@ typedef struct srv_desc {
     int hello_timeout_ms;         /* 0 → net default, < 0 → never (net_desc.hello_timeout_ms) */
     int sndbuf;                   /* 0 → net default */
     int quiet;                    /* 1: no start-up lines */
+    void (*published)(void *user, const net_snap *snap); /* net_desc.published; NULL none */
+    void *published_user;
     bool separate_extras;         /* leaves and wind as messages of their own, not inside
                                      the state's BUNDLE (net_desc.separate_extras) */
     int history;                  /* snapshots of float q kept for srv_history_q; 0 → none */
@@ -63,6 +65,15 @@ int srv_run(srv *s);
 void srv_stop(srv *s);
 /* NULL is a no-op. */
 void srv_destroy(srv *s);
+
+/* For a broker bridge (server/relay/): a relayed connection's control message and close,
+ * handled as the lws thread handles its own (serialised with it, any thread); the
+ * assets served; the snapshot buffer sizes (net_desc.snap_cap, extra_cap). */
+int srv_remote_control(srv *s, net_peer *p, const char *text, size_t len, char **reply,
+                       size_t *reply_len, char *why, size_t why_cap);
+void srv_remote_closed(srv *s, const net_peer *p);
+const net_asset *srv_assets(const srv *s, int *n);
+void srv_snap_caps(const srv *s, size_t *snap_cap, size_t *extra_cap, int *max_streams);
 
 int srv_port(const srv *s);
 /* The connection limits the network settled on (net_get_limits). */

@@ -55,6 +55,8 @@ struct srv {
     atomic_int stop;
     pthread_mutex_t scen_lock;   /* scenario: evaluated by the sim thread, dialled by kiosks */
     scenario *scen;
+    pthread_mutex_t ctl_lock;    /* serialises control handling (srv_remote.c) */
+    size_t snap_cap, extra_cap;  /* net_desc's, for a broker bridge */
     kiosk_gate kgate;            /* kiosk token checks and their per-address delays (lws
                                     thread; its counters are read by /metrics) */
     /* metrics: each owner's counters, and the registry /metrics renders (complete after
@@ -100,6 +102,12 @@ struct srv {
     double slog_next_s;          /* solves out of budget: next line no earlier [s, mono_s] */
     unsigned long long slog_n;   /* solves out of budget since that line */
 };
+
+/* srv_remote.c: net_desc.control and net_desc.closed, srv_on_control and srv_on_closed
+ * under ctl_lock (the lws thread and a broker bridge's thread both call them). */
+int srv_control_serial(void *user, net_peer *p, const char *text, size_t len, char **reply,
+                       size_t *reply_len, char *why, size_t why_cap);
+void srv_closed_serial(void *user, const net_peer *p);
 
 /* srv_control.c, lws thread: net_desc.control and net_desc.closed. */
 int srv_on_control(void *user, net_peer *p, const char *text, size_t len, char **reply,

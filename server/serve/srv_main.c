@@ -13,6 +13,7 @@
 
 #include "scenario.h"
 #include "scene.h"
+#include "link_server.h"
 #include "species_cache.h"
 #include "srv.h"
 #include "wind.h"
@@ -21,7 +22,7 @@ static void usage(FILE *f)
 {
     fprintf(f, "usage: gale-server [--config FILE.json] [--port N] [--iface ADDR] [--cache DIR]\n"
                "                   [--kiosk-token-file FILE] [--max-connections N]\n"
-               "                   [--hello-timeout S] [--no-bundle] [--check]\n"
+               "                   [--hello-timeout S] [--no-bundle] [--nats URL] [--check]\n"
                "  --config FILE  scene config (default: the embedded town block,\n"
                "                 configs/scenes/default.json)\n"
                "  --port N       listen port, 0 for any free one (default 8080)\n"
@@ -39,6 +40,9 @@ static void usage(FILE *f)
                "                 is closed with 4009 (default 5)\n"
                "  --no-bundle    send leaves and wind as messages of their own instead of\n"
                "                 inside the snapshot's BUNDLE (one write per client)\n"
+               "  --nats URL     also publish every snapshot once on NATS (nats://HOST:PORT,\n"
+               "                 comma-separated for a cluster) for gale-relay edges, and\n"
+               "                 answer their clients' control messages\n"
                "  --check        validate the config, bake or load the species, and exit\n");
 }
 
@@ -134,6 +138,8 @@ int main(int argc, char **argv)
     double hello_s = 0;
     int check = 0;
     bool no_bundle = false;
+    const char *nats_url = NULL;
+    link_server *link = NULL;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "--config") && v) {
@@ -175,6 +181,9 @@ int main(int argc, char **argv)
                         v);
                 return 2;
             }
+            i++;
+        } else if (!strcmp(a, "--nats") && v) {
+            nats_url = v;
             i++;
         } else if (!strcmp(a, "--no-bundle")) {
             no_bundle = true;
@@ -291,16 +300,29 @@ int main(int argc, char **argv)
     }
 
     raise_nofile();
+    if (nats_url && !(link = link_server_create(nats_url, &err))) {
+        fprintf(stderr, "gale-server: %s\n", err.msg);
+        goto done;
+    }
     s = srv_create(&(srv_desc){ .sc = &sc, .species = sp, .scen = scen,
                                 .wind = sc.grid_on ? &tw : NULL,
                                 .port = port ? (int)port : -1, .iface = iface,
                                 .max_clients = (int)max_conn,
                                 .hello_timeout_ms = hello_s > 0 ? (int)(hello_s * 1000 + 0.5) : 0,
-                                .separate_extras = no_bundle },
+                                .separate_extras = no_bundle,
+                                .published = link ? link_server_publish : NULL,
+                                .published_user = link },
                    &err);
     if (!s) {
         fprintf(stderr, "gale-server: %s\n", err.msg);
         goto done;
+    }
+    if (link && link_server_attach(link, s, &err)) {
+        fprintf(stderr, "gale-server: %s\n", err.msg);
+        goto done;
+    }
+    if (link) {
+        fprintf(stderr, "gale-server: publishing on NATS %s\n", nats_url);
     }
     net_limits lim = srv_net_limits(s);
     if (lim.max_clients < lim.requested) {
@@ -346,6 +368,7 @@ int main(int argc, char **argv)
             (unsigned long long)atomic_load(&m->bad_messages));
     status = rc ? 1 : 0;
 done:
+    link_server_destroy(link); /* before the server its handlers call */
     srv_destroy(s);
     wind_destroy(grid);
     scenario_destroy(scen);
