@@ -82,16 +82,27 @@ char *metric_reg_render(const metric_reg *r, size_t *len)
     }
     m.b[0] = 0;
     const char *family = NULL;
+    char family_buf[128];
     for (int k = 0; k < r->n; k++) {
         const metric_table *t = &r->t[k];
         double v[METRIC_MAX_ROWS] = { 0 };
         t->fill(t->ctx, v);
         for (int i = 0; i < t->n_rows; i++) {
             const metric_row *row = &t->rows[i];
-            if (!family || strcmp(family, row->name)) {
-                buf_printf(&m, "# HELP %s %s\n# TYPE %s %s\n", row->name, row->help, row->name,
-                           row->type == METRIC_COUNTER ? "counter" : "gauge");
-                family = row->name;
+            /* a histogram's family is its rows' name less _bucket, _sum or _count */
+            size_t flen = strlen(row->name);
+            if (row->type == METRIC_HISTOGRAM) {
+                const char *u = strrchr(row->name, '_');
+                flen = u ? (size_t)(u - row->name) : flen;
+            }
+            if (!family || strlen(family) != flen || strncmp(family, row->name, flen)) {
+                buf_printf(&m, "# HELP %.*s %s\n# TYPE %.*s %s\n", (int)flen, row->name,
+                           row->help, (int)flen, row->name,
+                           row->type == METRIC_COUNTER ? "counter"
+                           : row->type == METRIC_GAUGE ? "gauge"
+                                                       : "histogram");
+                snprintf(family_buf, sizeof family_buf, "%.*s", (int)flen, row->name);
+                family = family_buf;
             }
             if (row->label) {
                 buf_printf(&m, "%s{%s} ", row->name, row->label);

@@ -11,7 +11,10 @@
 #define METRIC_MAX_TABLES 8  /* owners in one registry (simulation, network, publisher...) */
 #define METRIC_MAX_ROWS 32   /* rows of one table (one fill call writes them all) */
 
-typedef enum metric_type { METRIC_COUNTER, METRIC_GAUGE } metric_type;
+/* METRIC_HISTOGRAM: a row of a histogram family, named <family>_bucket (with an le label,
+ * cumulative), <family>_sum or <family>_count; HELP and TYPE are written once for the
+ * family. */
+typedef enum metric_type { METRIC_COUNTER, METRIC_GAUGE, METRIC_HISTOGRAM } metric_type;
 
 /* One sample. Rows of one name must follow each other: the first of them carries the
  * HELP and TYPE lines for all. */

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "relay.h"
+#include "svc_notify.h"
 
 static relay *g_relay;
 
@@ -90,7 +91,12 @@ int main(int argc, char **argv)
             d.iface ? d.iface : "every interface,", relay_port(r));
     printf("gale-relay: listening on port %d\n", relay_port(r));
     fflush(stdout);
+    char status_line[160];
+    snprintf(status_line, sizeof status_line, "READY=1\nSTATUS=relaying NATS %s, port %d",
+             d.nats_url, relay_port(r));
+    svc_notify(status_line);
     int rc = relay_run(r);
+    svc_notify("STOPPING=1\nSTATUS=stopping");
     g_relay = NULL;
     relay_destroy(r);
     return rc ? 1 : 0;

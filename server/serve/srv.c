@@ -10,6 +10,20 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* gale_build_info: the running build, by label (Prometheus's convention: the value is 1). */
+#define STR_(x) #x
+#define STR(x) STR_(x)
+static const metric_row build_rows[] = {
+    { "gale_build_info", "version=\"" GALE_VERSION "\",protocol=\"" STR(WIRE_PROTOCOL_VERSION) "\"",
+      "The gale build serving.", METRIC_GAUGE, 0 },
+};
+
+static void build_fill(void *ctx, double *v)
+{
+    (void)ctx;
+    v[0] = 1;
+}
+
 srv *srv_create(const srv_desc *d, gale_err *err)
 {
     srv *s = calloc(1, sizeof *s);
@@ -168,7 +182,8 @@ srv *srv_create(const srv_desc *d, gale_err *err)
         goto fail;
     }
     /* /metrics: the simulation's rows, the network's, the publisher's, the kiosk gate's */
-    if (sim_metrics_register(&s->simm, &s->reg, err) ||
+    if (metric_reg_add(&s->reg, build_rows, 1, build_fill, NULL, err) ||
+        sim_metrics_register(&s->simm, &s->reg, err) ||
         net_metrics_register(s->net, &s->reg, err) || srv_publish_register(s, &s->reg, err) ||
         kiosk_gate_register(&s->kgate, &s->reg, err)) {
         goto fail;

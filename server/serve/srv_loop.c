@@ -3,6 +3,7 @@
  * simulation's metrics, and the overrun policy: a late tick is counted and logged but
  * never skipped, so simulated time stays exact. */
 #include "srv_int.h"
+#include "svc_notify.h"
 
 #include <stdio.h>
 
@@ -32,7 +33,15 @@ void *srv_loop(void *arg)
     const uint64_t period_ns = (uint64_t)(dt * 1e9);
     struct timespec next;
     clock_gettime(CLOCK_MONOTONIC, &next);
+    /* systemd's watchdog is pinged from here, so a wedged simulation trips it (SERVER.md
+     * "Debian service"): four pings per interval */
+    const uint64_t wd_us = svc_watchdog_us() / 4u;
+    uint64_t wd_next_us = 0;
     while (!atomic_load(&s->stop)) {
+        if (wd_us && mono_us() >= wd_next_us) {
+            svc_notify("WATCHDOG=1");
+            wd_next_us = mono_us() + wd_us;
+        }
         uint32_t tick = tick_now(s->tick);
         if (s->scen) {
             scenario_state st;

@@ -16,6 +16,7 @@
 #include "link_server.h"
 #include "species_cache.h"
 #include "srv.h"
+#include "svc_notify.h"
 #include "wind.h"
 
 static void usage(FILE *f)
@@ -351,7 +352,12 @@ int main(int argc, char **argv)
     }
     printf("gale-server: listening on port %d\n", srv_port(s));
     fflush(stdout);
+    char status_line[160];
+    snprintf(status_line, sizeof status_line, "READY=1\nSTATUS=scene %s, %d trees, port %d%s",
+             sc.name, sc.n_trees, srv_port(s), link ? ", publishing on NATS" : "");
+    svc_notify(status_line);
     rc = srv_run(s);
+    svc_notify("STOPPING=1\nSTATUS=stopping");
     on_signal(0); /* wakes the waiter when the server stopped on its own */
     pthread_join(sig_thread, NULL);
     sim_metrics *sm = srv_sim_metrics(s);

@@ -155,7 +155,7 @@ static const metric_row pub_rows[] = {
     { "gale_leaves_shed_total", NULL, "Leaf seeds emitted.", METRIC_COUNTER, 0 },
     { "gale_view_snapshots_total", NULL, "Snapshots encoded for per-client views.",
       METRIC_COUNTER, 0 },
-    { "gale_view_encode_seconds_sum", NULL, "Time spent encoding them.", METRIC_COUNTER, 6 },
+    { "gale_view_encode_seconds_total", NULL, "Time spent encoding them.", METRIC_COUNTER, 6 },
 };
 
 static void pub_fill(void *ctx, double *v)

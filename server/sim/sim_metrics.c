@@ -1,9 +1,23 @@
 /* The simulation's metrics: see sim_metrics.h. */
 #include "sim_metrics.h"
 
+const double sim_tick_bucket_s[SIM_TICK_BUCKETS - 1] = { 0.0005, 0.001, 0.002, 0.004,
+                                                          0.008,  0.016, 0.032, 0.064 };
+
 static const metric_row sim_rows[] = {
     { "gale_ticks_total", NULL, "Simulation ticks run.", METRIC_COUNTER, 0 },
-    { "gale_tick_seconds_sum", NULL, "Wall time spent in ticks.", METRIC_COUNTER, 6 },
+    { "gale_tick_seconds_bucket", "le=\"0.0005\"", "Wall time of the ticks' work.",
+      METRIC_HISTOGRAM, 0 },
+    { "gale_tick_seconds_bucket", "le=\"0.001\"", "", METRIC_HISTOGRAM, 0 },
+    { "gale_tick_seconds_bucket", "le=\"0.002\"", "", METRIC_HISTOGRAM, 0 },
+    { "gale_tick_seconds_bucket", "le=\"0.004\"", "", METRIC_HISTOGRAM, 0 },
+    { "gale_tick_seconds_bucket", "le=\"0.008\"", "", METRIC_HISTOGRAM, 0 },
+    { "gale_tick_seconds_bucket", "le=\"0.016\"", "", METRIC_HISTOGRAM, 0 },
+    { "gale_tick_seconds_bucket", "le=\"0.032\"", "", METRIC_HISTOGRAM, 0 },
+    { "gale_tick_seconds_bucket", "le=\"0.064\"", "", METRIC_HISTOGRAM, 0 },
+    { "gale_tick_seconds_bucket", "le=\"+Inf\"", "", METRIC_HISTOGRAM, 0 },
+    { "gale_tick_seconds_sum", NULL, "", METRIC_HISTOGRAM, 6 },
+    { "gale_tick_seconds_count", NULL, "", METRIC_HISTOGRAM, 0 },
     { "gale_tick_seconds_max", NULL, "Longest tick.", METRIC_GAUGE, 6 },
     { "gale_tick_overruns_total", NULL, "Ticks that ended after the next one was due.",
       METRIC_COUNTER, 0 },
@@ -22,12 +36,19 @@ static void sim_fill(void *ctx, double *v)
 {
     sim_metrics *m = ctx;
     v[0] = (double)atomic_load(&m->ticks);
-    v[1] = (double)atomic_load(&m->tick_ns_sum) * 1e-9;
-    v[2] = (double)atomic_load(&m->tick_ns_max) * 1e-9;
-    v[3] = (double)atomic_load(&m->overruns);
-    v[4] = (double)atomic_load(&m->wind_iterations);
-    v[5] = atomic_load(&m->wind_residual);
-    v[6] = (double)atomic_load(&m->wind_unconverged);
+    double below = 0; /* buckets are cumulative on the page */
+    for (int b = 0; b < SIM_TICK_BUCKETS; b++) {
+        below += (double)atomic_load(&m->tick_le[b]);
+        v[1 + b] = below;
+    }
+    const int h = 1 + SIM_TICK_BUCKETS;
+    v[h] = (double)atomic_load(&m->tick_ns_sum) * 1e-9;
+    v[h + 1] = below;
+    v[h + 2] = (double)atomic_load(&m->tick_ns_max) * 1e-9;
+    v[h + 3] = (double)atomic_load(&m->overruns);
+    v[h + 4] = (double)atomic_load(&m->wind_iterations);
+    v[h + 5] = atomic_load(&m->wind_residual);
+    v[h + 6] = (double)atomic_load(&m->wind_unconverged);
 }
 
 uint64_t sim_metrics_tick(sim_metrics *m, uint32_t tick, const tick_stats *st)
@@ -36,6 +57,11 @@ uint64_t sim_metrics_tick(sim_metrics *m, uint32_t tick, const tick_stats *st)
     atomic_store(&m->current_tick, tick);
     atomic_fetch_add(&m->ticks, 1);
     atomic_fetch_add(&m->tick_ns_sum, ns);
+    int b = 0;
+    while (b < SIM_TICK_BUCKETS - 1 && (double)ns * 1e-9 > sim_tick_bucket_s[b]) {
+        b++;
+    }
+    atomic_fetch_add(&m->tick_le[b], 1);
     if (ns > atomic_load(&m->tick_ns_max)) {
         atomic_store(&m->tick_ns_max, ns);
     }

@@ -12,11 +12,18 @@
 #include "metric.h"
 #include "tick.h"
 
+/* Buckets of the tick-time histogram gale_tick_seconds (upper bounds [s]: 0.5 ms doubling
+ * to 64 ms, then +Inf; a 60 Hz tick has 16.7 ms). */
+#define SIM_TICK_BUCKETS 9
+extern const double sim_tick_bucket_s[SIM_TICK_BUCKETS - 1];
+
 /* Caller-owned; zeroed is the start state. */
 typedef struct sim_metrics {
     atomic_ullong ticks;
     atomic_ullong tick_ns_sum;      /* wall time of the ticks' work [ns] */
     atomic_ullong tick_ns_max;      /* longest tick [ns] */
+    atomic_ullong tick_le[SIM_TICK_BUCKETS]; /* ticks no longer than sim_tick_bucket_s[i]
+                                               (not cumulative; the last one: the rest) */
     atomic_ullong overruns;         /* ticks that ended after the next one was due */
     atomic_uint current_tick;       /* ticks run so far: the tick of the latest state */
     atomic_int wind_iterations;     /* pressure iterations of the last wind step */

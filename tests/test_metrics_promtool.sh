@@ -1,0 +1,31 @@
+#!/bin/sh
+# /metrics of the real gale-server passes `promtool check metrics` (Prometheus's own
+# linter: base units, _total counters, histogram families), and carries the tick-time
+# histogram and gale_build_info (server/SERVER.md "Serving").
+# Usage: test_metrics_promtool.sh GALE_SERVER PROMTOOL SOURCE_DIR (run in the build tree)
+set -eu
+server="$1"; promtool="$2"; src="$3"
+cat >promtool_scene.json <<JSON
+{"name": "promtool", "species": [{"name": "palm", "file": "$src/configs/species/palm.json", "modes": 8}],
+ "forest": [{"species": "palm", "count": 4, "area_min": [-20, -20], "area_max": [20, 20], "min_spacing_m": 3}],
+ "wind": {"solver": false, "u10_ms": 12}}
+JSON
+"$server" --config promtool_scene.json --port 0 --cache promtool_cache >promtool_server.out 2>promtool_server.log &
+pid=$!
+trap 'kill -TERM $pid 2>/dev/null || true' EXIT
+port=""
+i=0
+while [ -z "$port" ] && [ $i -lt 900 ]; do
+    port="$(sed -n 's/^gale-server: listening on port \([0-9]*\)$/\1/p' promtool_server.out)"
+    kill -0 $pid 2>/dev/null || { cat promtool_server.log; exit 1; }
+    sleep 0.1
+    i=$((i + 1))
+done
+[ -n "$port" ] || { echo "server did not start"; exit 1; }
+sleep 0.5
+curl -sf "http://127.0.0.1:$port/metrics" >promtool_metrics.txt
+"$promtool" check metrics <promtool_metrics.txt
+grep -q '^# TYPE gale_tick_seconds histogram$' promtool_metrics.txt
+grep -q '^gale_tick_seconds_bucket{le="+Inf"} [1-9]' promtool_metrics.txt
+grep -q '^gale_build_info{version="[0-9.]*",protocol="1"} 1$' promtool_metrics.txt
+echo "promtool: /metrics clean ($(grep -c '^gale_' promtool_metrics.txt) samples)"
