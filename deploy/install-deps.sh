@@ -11,7 +11,7 @@ pkgs=(
     xvfb xauth libgl1-mesa-dri libegl-mesa0 libglx-mesa0
     clang libclang-rt-14-dev curl
     nats-server libnats-dev
-    prometheus lintian systemd dpkg-dev fakeroot
+    prometheus lintian dpkg-dev
 )
 
 missing=()
