@@ -1,8 +1,9 @@
 /* gale-relay on loopback with a real nats-server, gale-server --nats and relays, all
  * processes started here (server/SERVER.md "Relays"): a client on a relay decodes the
  * same state as a client on the server for the same seqs, gets the same welcome species
- * and the same asset bytes over HTTP; resync, view and kiosk hellos (wrong token closed
- * 4007 by the server's check, right one welcomed) work through a relay; a killed relay's
+ * and the same asset bytes over HTTP; the relay answers its own /healthz and /metrics;
+ * resync, view and kiosk hellos (wrong token closed 4007 by the server's check, right one
+ * welcomed) work through a relay; a killed relay's
  * client is back on a keyframe from another relay within 2 s; a restarted gale-server and
  * a restarted nats-server each bring the relay's client back on a keyframe within 2 s
  * without reconnecting, seq still increasing, and no frame fails to decode. Palm scene of
@@ -329,6 +330,13 @@ static void test_same_values(void)
     CHECK(http_get(server.port, path, &ls, &hs) == 200);
     CHECK(http_get(relay_a.port, path, &lr, &hr) == 200);
     CHECK(ls > 1000 && ls == lr && hs == hr);
+    /* the relay's own /healthz and /metrics */
+    char *body = NULL;
+    CHECK(wsraw_http_get(relay_a.port, "/healthz", &body) == 200 && body && !strncmp(body, "ok tick ", 8));
+    free(body);
+    CHECK(wsraw_http_get(relay_a.port, "/metrics", &body) == 200 && body &&
+          strstr(body, "\ngale_relay_snapshots_total ") && strstr(body, "gale_clients{role=\"viewer\"} 1"));
+    free(body);
     cli_fini(&s);
     cli_fini(&r);
 }

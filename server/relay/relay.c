@@ -19,6 +19,7 @@
 
 struct relay {
     relay_desc d;
+    metric_reg reg; /* /metrics: the relay's rows and its network's */
     natsConnection *nc;
     natsSubscription *snaps;
     net_server *net;
@@ -214,6 +215,23 @@ static int fetch(relay *r, gale_err *err)
     return 0;
 }
 
+static const metric_row relay_rows[] = {
+    { "gale_relay_snapshots_total", NULL, "Snapshots taken from NATS and relayed.",
+      METRIC_COUNTER, 0 },
+    { "gale_relay_snapshots_bad_total", NULL, "NATS snapshot messages that did not decode.",
+      METRIC_COUNTER, 0 },
+    { "gale_relay_snapshots_unsent_total", NULL,
+      "Snapshots dropped for want of a free pool snapshot.", METRIC_COUNTER, 0 },
+};
+
+static void relay_fill(void *ctx, double *v)
+{
+    relay *r = ctx;
+    v[0] = (double)atomic_load(&r->snaps_in);
+    v[1] = (double)atomic_load(&r->snaps_bad);
+    v[2] = (double)atomic_load(&r->snaps_unsent);
+}
+
 relay *relay_create(const relay_desc *d, gale_err *err)
 {
     relay *r = calloc(1, sizeof *r);
@@ -251,9 +269,11 @@ relay *relay_create(const relay_desc *d, gale_err *err)
                                      .control_user = r,
                                      .closed = relay_closed,
                                      .max_streams = (int)r->info.max_streams,
+                                     .metrics = &r->reg,
                                      .tick = &r->tick },
                         err);
-    if (!r->net) {
+    if (!r->net || metric_reg_add(&r->reg, relay_rows, 3, relay_fill, r, err) ||
+        net_metrics_register(r->net, &r->reg, err)) {
         relay_destroy(r);
         return NULL;
     }
