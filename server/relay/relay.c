@@ -263,6 +263,9 @@ relay *relay_create(const relay_desc *d, gale_err *err)
                                      .iface = d->iface,
                                      .snap_cap = r->info.snap_cap,
                                      .extra_cap = r->info.extra_cap,
+                                     /* the server bundled already (or, with --no-bundle,
+                                        chose not to): its clients' frames, unchanged */
+                                     .separate_extras = true,
                                      .assets = r->assets,
                                      .n_assets = (int)r->info.n_assets,
                                      .control = relay_control,
