@@ -91,7 +91,7 @@ static void golden(const char *name, const uint8_t *rgb)
 {
     char path[512], outp[512];
     snprintf(path, sizeof path, "%s/tests/golden/%s.png", GALE_SOURCE_DIR, name);
-    snprintf(outp, sizeof outp, "render_%s.png", name);
+    snprintf(outp, sizeof outp, "%s/render_%s.png", GALE_TEST_DIR, name);
     stbi_write_png(outp, W, H, 3, rgb, W * 3); /* beside the test, to look at */
     if (getenv("GALE_UPDATE_GOLDEN")) {
         CHECK(stbi_write_png(path, W, H, 3, rgb, W * 3) != 0);
@@ -255,7 +255,7 @@ static int falling_shot(const render_camera *cam, double t, double *cx, double *
     uint8_t *img = shot(cam, t);
     int n = leaf_pixels(img, bg, cx, cy);
     if (t == 2.0) {
-        stbi_write_png("render_falling_air.png", W, H, 3, img, W * 3);
+        stbi_write_png(GALE_TEST_DIR "/render_falling_air.png", W, H, 3, img, W * 3);
     }
     free(bg);
     free(img);
@@ -377,7 +377,7 @@ static void test_dolly_no_pop(void)
         uint8_t *img = shot(&cam, 0.0);
         tree_stats(img, bg, &cover[f], col[f]);
         if (f == 24) {
-            stbi_write_png("render_dolly_band.png", W, H, 3, img, W * 3);
+            stbi_write_png(GALE_TEST_DIR "/render_dolly_band.png", W, H, 3, img, W * 3);
         }
         free(bg);
         free(img);
