@@ -10,6 +10,7 @@ pkgs=(
     libglfw3-dev libepoxy-dev libegl-dev libgl-dev libcglm-dev libstb-dev fonts-dejavu-core
     xvfb xauth libgl1-mesa-dri libegl-mesa0 libglx-mesa0
     clang libclang-rt-14-dev curl
+    valgrind
     nats-server libnats-dev
     prometheus lintian dpkg-dev
 )

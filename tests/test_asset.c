@@ -676,9 +676,10 @@ static void test_reconstruct(void)
 
 static void test_file(void)
 {
-    char dir[] = "/tmp/gale_asset_XXXXXX";
+    char dir[256];
+    snprintf(dir, sizeof dir, "%s/asset_XXXXXX", GALE_TEST_DIR);
     CHECK(mkdtemp(dir) != NULL);
-    char path[256];
+    char path[320];
     snprintf(path, sizeof path, "%s/tiny.asset", dir);
     asset a, b;
     make_tiny(&a);

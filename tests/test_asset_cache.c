@@ -182,7 +182,7 @@ static void test_verify(void)
 
 int main(void)
 {
-    snprintf(root, sizeof root, "/tmp/gale_test_cache_%ld", (long)getpid());
+    snprintf(root, sizeof root, "%s/asset_cache_%ld", GALE_TEST_DIR, (long)getpid());
     RUN(test_round_trip);
     RUN(test_corruption);
     RUN(test_keys);

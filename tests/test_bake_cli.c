@@ -341,7 +341,7 @@ static void test_species_end_to_end(void)
 
 int main(void)
 {
-    snprintf(dir, sizeof dir, "/tmp/gale-bake-cli-XXXXXX");
+    snprintf(dir, sizeof dir, "%s/bake-cli-XXXXXX", GALE_TEST_DIR);
     if (!mkdtemp(dir)) {
         perror("mkdtemp");
         return 1;
@@ -353,7 +353,7 @@ int main(void)
     RUN(test_source_ids);
     RUN(test_species_end_to_end);
     char cmd[512];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir); /* whether the checks passed or not */
     if (system(cmd) != 0) {
         fprintf(stderr, "could not remove %s\n", dir);
     }

@@ -124,7 +124,7 @@ static void test_ink(void)
     /* ink spans the text minus side bearings: within 4 px of the pen advance */
     CHECK_NEAR(right + 1 - left, hud_text_width(font36, text), 6.0);
     CHECK(left >= 10 && left <= 14);
-    stbi_write_png("hud_ink.png", W, H, 1, img, W);
+    stbi_write_png(GALE_TEST_DIR "/hud_ink.png", W, H, 1, img, W);
 }
 
 static void test_saffir_simpson(void)
@@ -277,7 +277,7 @@ static void test_gl_pass(void)
     for (int y = 0; y < H; y++) {
         memcpy(flipped + (size_t)y * W * 3, rgb + (size_t)(H - 1 - y) * W * 3, W * 3);
     }
-    stbi_write_png("hud_gl.png", W, H, 3, flipped, W * 3);
+    stbi_write_png(GALE_TEST_DIR "/hud_gl.png", W, H, 3, flipped, W * 3);
     /* panel: from the margin (16 px) to the widest line + padding */
     char lines[HUD_MAX_LINES][HUD_LINE_CHARS];
     int n = hud_format(&s, lines);

@@ -91,7 +91,7 @@ static void golden(const char *name, const uint8_t *rgb)
 {
     char path[512], outp[512];
     snprintf(path, sizeof path, "%s/tests/golden/%s.png", GALE_SOURCE_DIR, name);
-    snprintf(outp, sizeof outp, "render_%s.png", name);
+    snprintf(outp, sizeof outp, "%s/render_%s.png", GALE_TEST_DIR, name);
     stbi_write_png(outp, W, H, 3, rgb, W * 3); /* beside the test, to look at */
     if (getenv("GALE_UPDATE_GOLDEN")) {
         CHECK(stbi_write_png(path, W, H, 3, rgb, W * 3) != 0);
@@ -218,6 +218,68 @@ static void test_golden_falling(void)
     free(img);
 }
 
+/* Falling leaves seen in the air: 80 leaves leave tree 0 (at x = -6, y = 4) at t = 0 in
+ * calm air, seen from 6 m. Leaf pixels are those that differ from the same frame with no
+ * falling leaves. Shortly after release they are in the crown's image rows; 2 s later they
+ * are lower on screen (falling, not frozen), still in the tree's image columns; once
+ * landed (t = 60 s) the few in view lie on the ground at the foot of the frame. */
+static int leaf_pixels(const uint8_t *img, const uint8_t *bg, double *cx, double *cy)
+{
+    int n = 0;
+    double sx = 0.0, sy = 0.0;
+    for (int p = 0; p < W * H; p++) {
+        int d = 0;
+        for (int c = 0; c < 3; c++) {
+            d += abs((int)img[3 * p + c] - (int)bg[3 * p + c]);
+        }
+        if (d > 30) {
+            n++;
+            sx += p % W;
+            sy += p / W;
+        }
+    }
+    *cx = n ? sx / n : -1.0;
+    *cy = n ? sy / n : -1.0;
+    return n;
+}
+
+static int falling_shot(const render_camera *cam, double t, double *cx, double *cy)
+{
+    scene(3, (const float[3]){ 0.0f, 0.0f, 0.0f }, 0.0f);
+    uint8_t *bg = shot(cam, t);
+    for (uint32_t k = 0; k < 80; k++) {
+        render_leaf_seed s = { .tree = 0, .slot = (k * 7919u) % A[0].n_leaves,
+                               .spawn_time_s = 0.0, .seed = 500u + k };
+        CHECK(render_add_falling_leaf(R, &s, &err) == 0);
+    }
+    uint8_t *img = shot(cam, t);
+    int n = leaf_pixels(img, bg, cx, cy);
+    if (t == 2.0) {
+        stbi_write_png(GALE_TEST_DIR "/render_falling_air.png", W, H, 3, img, W * 3);
+    }
+    free(bg);
+    free(img);
+    render_clear_falling(R);
+    return n;
+}
+
+static void test_falling_in_air(void)
+{
+    /* level camera at 4 m: the horizon is the middle image row; the tree is centred */
+    const render_camera cam = { .eye = { -6.0f, -2.0f, 4.0f }, .target = { -6.0f, 4.0f, 4.0f } };
+    double x0, y0, x2, y2, xl, yl;
+    int n0 = falling_shot(&cam, 0.3, &x0, &y0);
+    int n2 = falling_shot(&cam, 2.0, &x2, &y2);
+    int nl = falling_shot(&cam, 60.0, &xl, &yl);
+    fprintf(stderr, "falling leaves: t 0.3 s %d px at (%.0f, %.0f), t 2 s %d px at (%.0f, "
+            "%.0f), t 60 s %d px at (%.0f, %.0f)\n", n0, x0, y0, n2, x2, y2, nl, xl, yl);
+    CHECK(n0 >= 40 && n2 >= 40 && nl >= 5);
+    CHECK(y2 > y0 + 10.0);                          /* lower on screen: falling */
+    CHECK(fabs(x2 - W / 2) < W / 4);                /* beside their tree */
+    CHECK(y0 < H / 2);                              /* released above eye height */
+    CHECK(yl > y2 + 40.0);                          /* landed: the ground at the frame's foot */
+}
+
 /* centroid x of the pixels that differ from the empty scene, in the upper image rows */
 static double crown_centroid(const uint8_t *img, const uint8_t *bg, int *count)
 {
@@ -315,7 +377,7 @@ static void test_dolly_no_pop(void)
         uint8_t *img = shot(&cam, 0.0);
         tree_stats(img, bg, &cover[f], col[f]);
         if (f == 24) {
-            stbi_write_png("render_dolly_band.png", W, H, 3, img, W * 3);
+            stbi_write_png(GALE_TEST_DIR "/render_dolly_band.png", W, H, 3, img, W * 3);
         }
         free(bg);
         free(img);
@@ -480,6 +542,7 @@ int main(void)
     RUN(test_golden_rest);
     RUN(test_golden_pose);
     RUN(test_golden_falling);
+    RUN(test_falling_in_air);
     RUN(test_wind_moves_crowns_downwind);
     RUN(test_dolly_no_pop);
     RUN(test_bad_input);

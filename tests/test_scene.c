@@ -156,22 +156,83 @@ static void test_size_limits(void)
 #undef MANY
 }
 
+/* The two scenes hold the same content: every field, every tree, every box (the scenario
+ * path may differ only in how it is resolved, so its file name is compared). */
+static void check_same_scene(const scene *a, const scene *b)
+{
+    CHECK(!strcmp(a->name, b->name));
+    CHECK(a->tick_hz == b->tick_hz && a->snapshot_hz == b->snapshot_hz);
+    CHECK(a->wind_every == b->wind_every && a->grid_on == b->grid_on);
+    CHECK(!memcmp(a->grid, b->grid, sizeof a->grid) && a->cell_m == b->cell_m);
+    CHECK(!memcmp(a->origin, b->origin, sizeof a->origin));
+    CHECK(a->wind_dir_deg == b->wind_dir_deg && a->wind_u10_ms == b->wind_u10_ms);
+    CHECK(a->leaf_rate_hz == b->leaf_rate_hz && a->leaf_calm_ms == b->leaf_calm_ms &&
+          a->leaf_ref_ms == b->leaf_ref_ms && a->leaf_seed == b->leaf_seed);
+    const char *sa = strrchr(a->scenario, '/'), *sb = strrchr(b->scenario, '/');
+    CHECK(sa && sb && !strcmp(sa, sb));
+    CHECK(a->n_species == b->n_species);
+    for (int i = 0; i < a->n_species && i < b->n_species; i++) {
+        CHECK(!strcmp(a->species[i].name, b->species[i].name));
+        CHECK(a->species[i].modes == b->species[i].modes);
+    }
+    CHECK(a->n_obstacles == b->n_obstacles && a->n_trees == b->n_trees);
+    if (a->n_obstacles == b->n_obstacles) {
+        CHECK(!memcmp(a->obstacles, b->obstacles, (size_t)a->n_obstacles * sizeof *a->obstacles));
+    }
+    if (a->n_trees == b->n_trees) {
+        CHECK(!memcmp(a->trees, b->trees, (size_t)a->n_trees * sizeof *a->trees));
+    }
+}
+
+/* The built-in scene is configs/scenes/default.json: its content pinned here (the town
+ * block of five houses and three seeded forests), and the file on disk parses to the same
+ * scene field by field. */
 static void test_default_scene(void)
 {
-    scene s;
+    scene s, f;
     gale_err e = { 0 };
     int rc = scene_load_default(&s, NULL, &e);
     if (rc) {
         fprintf(stderr, "default scene: %s\n", e.msg);
     }
     CHECK(rc == 0);
-    CHECK(s.n_trees >= 100 && s.n_obstacles >= 3 && s.grid_on);
+    CHECK(!strcmp(s.name, "town-block"));
     CHECK_NEAR(s.tick_hz, 60, 0);
+    CHECK_NEAR(s.snapshot_hz, 30, 0);
+    CHECK(s.grid_on && s.grid[0] == 48 && s.grid[1] == 48 && s.grid[2] == 12);
+    CHECK_NEAR(s.cell_m, 2.5, 0);
+    CHECK_NEAR(s.origin[0], -60, 0);
+    CHECK_NEAR(s.origin[1], -60, 0);
+    CHECK(s.wind_every == 4);
+    CHECK(strstr(s.scenario, "gusty.json") != NULL);
+    CHECK(s.n_species == 3 && !strcmp(s.species[0].name, "oak") &&
+          !strcmp(s.species[1].name, "palm") && !strcmp(s.species[2].name, "pine"));
+    CHECK(s.species[0].modes == 32 && s.species[1].modes == 24 && s.species[2].modes == 32);
+    CHECK(s.n_obstacles == 5);
+    if (s.n_obstacles == 5) {
+        CHECK_NEAR(s.obstacles[1].min[0], -5, 0);
+        CHECK_NEAR(s.obstacles[4].max[2], 9, 0);
+    }
+    /* the explicit oak, then 70 of each forest (the spacing lets all of them stand) */
+    CHECK(s.n_trees == 211);
+    if (s.n_trees > 0) {
+        CHECK(s.trees[0].species == 0 && s.trees[0].pos[0] == 0.0f && s.trees[0].pos[1] == 0.0f);
+        CHECK_NEAR(s.trees[0].scale, 1.2, 1e-6);
+    }
+    int per[3] = { 0 };
+    for (int i = 1; i < s.n_trees; i++) {
+        per[s.trees[i].species < 3 ? s.trees[i].species : 0]++;
+        CHECK(fabsf(s.trees[i].pos[0]) <= 58.0f && fabsf(s.trees[i].pos[1]) <= 58.0f);
+        /* palms in the south half, pines in the north (their forests' areas) */
+        CHECK(s.trees[i].species != 1 || s.trees[i].pos[1] <= 0.0f);
+        CHECK(s.trees[i].species != 2 || s.trees[i].pos[1] >= 0.0f);
+    }
+    CHECK(per[0] == 70 && per[1] == 70 && per[2] == 70);
     CHECK(s.kiosk_token[0] == 0); /* a kiosk needs the operator's token */
-    scene_fini(&s);
     /* the file on disk parses the same */
-    CHECK(scene_load(&s, GALE_SOURCE_DIR "/configs/scenes/default.json", &e) == 0);
-    CHECK(s.n_trees >= 100);
+    CHECK(scene_load(&f, GALE_SOURCE_DIR "/configs/scenes/default.json", &e) == 0);
+    check_same_scene(&s, &f);
+    scene_fini(&f);
     scene_fini(&s);
     CHECK(scene_load(&s, "/nonexistent/scene.json", &e) == GALE_E_IO);
     CHECK_STR_HAS(e.msg, "/nonexistent/scene.json: cannot open");

@@ -46,8 +46,10 @@ static void test_load_run(void)
     CHECK(num(j, "decode_errors") == 0);
     CHECK(num(j, "disconnects") == 0);
     CHECK(num(j, "keyframes") >= 20);
-    /* 30 snapshots/s for ~3 s each */
-    CHECK(num(j, "state_frames") >= 20 * 60);
+    /* every client got its keyframe and deltas after it (counts, not a rate: the rate
+       belongs to gale-bench and deploy/bench-load.sh) */
+    CHECK(num(j, "state_frames") > num(j, "keyframes"));
+    CHECK(num(j, "sequence_gaps") == 0);
     const cJSON *lat = cJSON_GetObjectItemCaseSensitive(j, "latency_ms");
     CHECK(lat && num(lat, "samples") == num(j, "state_frames"));
     CHECK(lat && num(lat, "p50") <= num(lat, "p99") && num(lat, "p99") <= num(lat, "max") + 0.01);

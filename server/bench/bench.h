@@ -2,6 +2,8 @@
 #ifndef GALE_BENCH_H
 #define GALE_BENCH_H
 
+#include <stddef.h>
+
 int bench_bake(int argc, char **argv);
 int bench_wind(int argc, char **argv);
 int bench_modal(int argc, char **argv);
@@ -13,6 +15,10 @@ int bench_wire(int argc, char **argv);
  * benchmark's byte model leaves it out too). Allocates and frees its arrays; 0 when they
  * cannot be allocated. */
 double bench_triad_gb_s(int threads);
+
+/* The same triad over three arrays of bytes / 3 in all (at least 24 KiB): sized like a
+ * benchmark's working set it measures what the caches holding that set deliver. */
+double bench_triad_sized_gb_s(int threads, size_t bytes);
 
 /* Answers an argument a subcommand does not take: "--help"/"-h" print usage on stdout and
  * give exit status 0, anything else prints it on stderr and gives 2. */

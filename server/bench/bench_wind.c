@@ -36,25 +36,45 @@ static double quantile(double *v, int n, double q)
     return v[i < 0 ? 0 : i >= n ? n - 1 : i];
 }
 
-/* Bytes one step moves at least, array by array (each array read or written once per
- * kernel pass, 4-byte floats; constant-coefficient rows, the vast majority, read no
- * coefficient or mask arrays: their g, diag and end cells come from a per-row table),
- * for n cells and `cycles` V-cycles:
- *   advection 3 components read + 3 written: 24; forces, borders, divergence: 3 read,
- *   b written: 16; first residual p, b: 8; projection p, 3 components read and written:
- *   28. Per V-cycle on the finest level: prolongation p read and written, idiag: 12;
- *   2 red-black sweeps x 2 colour passes x (p, b read, p written): 48; residual 8; the
- *   coarser levels add about 1/7. */
-static double step_bytes(double n, double cycles)
+/* Bytes per cell one step moves at least, by phase, array by array (each array read or
+ * written once per kernel pass, 4-byte floats; constant-coefficient rows, the vast
+ * majority, read no coefficient or mask arrays: their g, diag and end cells come from a
+ * per-row table), for `cycles` V-cycles. deploy/wind-cachesim.sh measures the same phases
+ * in a cache simulation.
+ *   advection: the three components traced in one sweep (wind_advect.c), each read once
+ *   and each tmp written once: 24;
+ *   forces, borders, divergence: 3 read, b written: 16;
+ *   solve: first residual p, b: 8; per V-cycle on the finest level prolongation p read
+ *   and written, idiag: 12; 2 red-black sweeps x 2 colour passes x (p, b read, p
+ *   written): 48; residual 8; the coarser levels add about 1/7;
+ *   projection: p, 3 components read and written: 28. */
+typedef struct step_model {
+    double advect, forces, solve, project;
+} step_model;
+
+static step_model step_bytes_per_cell(double cycles)
 {
-    double fixed = 24.0 + 16.0 + 8.0 + 28.0;
-    double per_cycle = (12.0 + 48.0 + 8.0) * (8.0 / 7.0);
-    return n * (fixed + cycles * per_cycle);
+    return (step_model){ .advect = 24.0, .forces = 16.0,
+                         .solve = 8.0 + cycles * (12.0 + 48.0 + 8.0) * (8.0 / 7.0),
+                         .project = 28.0 };
+}
+
+/* The 1, 5 and 15 minute load averages (zeros where /proc is missing). */
+static void loadavg(double l[3])
+{
+    l[0] = l[1] = l[2] = 0.0;
+    FILE *f = fopen("/proc/loadavg", "r");
+    if (f) {
+        if (fscanf(f, "%lf %lf %lf", &l[0], &l[1], &l[2]) != 3) {
+            l[0] = l[1] = l[2] = 0.0;
+        }
+        fclose(f);
+    }
 }
 
 int bench_wind(int argc, char **argv)
 {
-    int nx = 256, ny = 256, nz = 16, steps = 100, threads = 2, houses = 24;
+    int nx = 256, ny = 256, nz = 16, steps = 100, threads = 2, houses = 24, triad = 1;
     float dt = 1.0f / 60.0f, u10 = 20.0f;
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--grid") == 0 && i + 1 < argc) {
@@ -70,11 +90,14 @@ int bench_wind(int argc, char **argv)
             houses = atoi(argv[++i]);
         } else if (strcmp(argv[i], "--u10") == 0 && i + 1 < argc) {
             u10 = (float)atof(argv[++i]);
+        } else if (strcmp(argv[i], "--no-triad") == 0) {
+            triad = 0; /* under a cache simulation (deploy/wind-cachesim.sh) */
         } else if (strcmp(argv[i], "--json") == 0) {
             /* JSON is the only output */
         } else {
             return bench_usage(argv[i], "usage: gale-bench wind [--grid 256x256x16] [--steps 100] "
-                                        "[--threads 2] [--houses 24] [--u10 20] [--json]\n");
+                                        "[--threads 2] [--houses 24] [--u10 20] [--no-triad] "
+                                        "[--json]\n");
         }
     }
     if (steps < 1 || steps > 100000 || houses < 0 || houses > 10000) {
@@ -105,7 +128,15 @@ int bench_wind(int argc, char **argv)
         fprintf(stderr, "gale-bench wind: %s\n", err.msg);
         return 1;
     }
-    double gbs = bench_triad_gb_s(threads);
+    /* two triads: one over the step's working set (SCENE_GRID_CELL_BYTES-like 61 B per
+       cell, scene.h), which on a grid that fits the last-level cache measures the cache,
+       and the DRAM-sized one */
+    const double cells = (double)nx * ny * nz;
+    const size_t ws_bytes = (size_t)(cells * 61.0);
+    double l0[3];
+    loadavg(l0);
+    double gbs_ws = triad ? bench_triad_sized_gb_s(threads, ws_bytes) : 0.0;
+    double gbs = triad ? bench_triad_gb_s(threads) : 0.0;
     wind_set_inflow(w, &(wind_inflow){ .dir_rad = 0.5f, .u10_ms = u10 });
     wind_fill_inflow(w);
     double *ms = malloc((size_t)steps * sizeof *ms);
@@ -156,25 +187,30 @@ int bench_wind(int argc, char **argv)
     wind_destroy(w);
     double med = quantile(ms, steps, 0.5), p95 = quantile(ms, steps, 0.95);
     double cpu_med = quantile(cpu, steps, 0.5);
-    double load1 = 0.0;
-    FILE *lf = fopen("/proc/loadavg", "r");
-    if (lf) {
-        if (fscanf(lf, "%lf", &load1) != 1) {
-            load1 = 0.0;
-        }
-        fclose(lf);
-    }
+    double l1[3];
+    loadavg(l1);
     double red_med = quantile(red, steps, 0.5), it_med = quantile(its, steps, 0.5);
-    double cells = (double)nx * ny * nz;
-    double bytes = step_bytes(cells, its_sum / steps);
+    step_model bm = step_bytes_per_cell(its_sum / steps);
+    double per_cell = bm.advect + bm.forces + bm.solve + bm.project;
+    double bytes = cells * per_cell;
     double eff = bytes / (med * 1e-3) / 1e9;
-    printf("{\"grid\": [%d, %d, %d], \"steps\": %d, \"threads\": %d, \"houses\": %d, "
+    printf("{\"inputs\": {\"cell_m\": %.1f, \"dt_s\": %.5f, \"u10_ms\": %.1f, "
+           "\"ball_force\": [30, 10, 0], \"working_set_bytes\": %zu}, "
+           "\"bytes_per_cell_model\": {\"advect\": %.1f, \"forces_bc_divergence\": %.1f, "
+           "\"pressure_solve\": %.1f, \"projection\": %.1f, \"total\": %.1f}, "
+           "\"triad_working_set_gb_per_s\": %.2f, \"bandwidth_fraction_working_set\": %.3f, "
+           "\"loadavg_before\": [%.2f, %.2f, %.2f], \"loadavg_after\": [%.2f, %.2f, %.2f], ",
+           (double)h, (double)dt, (double)u10, ws_bytes, bm.advect, bm.forces, bm.solve,
+           bm.project, per_cell, gbs_ws, gbs_ws > 0.0 ? eff / gbs_ws : 0.0, l0[0], l0[1], l0[2],
+           l1[0], l1[1], l1[2]);
+    double load1 = l1[0];
+    printf("\"grid\": [%d, %d, %d], \"steps\": %d, \"threads\": %d, \"houses\": %d, "
            "\"div_reduction_required\": %g, \"ms_per_step_median\": %.3f, "
            "\"ms_per_step_p95\": %.3f, \"divergence_reduction_median\": %.1f, "
            "\"divergence_reduction_min\": %.1f, \"iterations_median\": %g, "
            "\"iterations_mean\": %.2f, \"final_divergence_rms_per_s\": %.4g, "
-           "\"failed_steps\": %d, \"machine_gb_per_s\": %.2f, \"bytes_per_step_model\": %.0f, "
-           "\"solver_effective_gb_per_s\": %.2f, \"bandwidth_fraction\": %.3f, "
+           "\"failed_steps\": %d, \"triad_dram_gb_per_s\": %.2f, \"bytes_per_step_model\": %.0f, "
+           "\"solver_effective_gb_per_s\": %.2f, \"bandwidth_fraction_dram\": %.3f, "
            "\"ms_mean_advect\": %.3f, \"ms_mean_forces_bc_divergence\": %.3f, "
            "\"ms_mean_pressure_solve\": %.3f, \"ms_mean_projection\": %.3f, "
            "\"cpu_ms_per_step_per_thread_median\": %.3f, \"loadavg_1min\": %.2f}\n",

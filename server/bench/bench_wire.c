@@ -6,7 +6,13 @@
  * Ornstein-Uhlenbeck gust process per tree, advanced by gale_modal at 60 Hz, encoded at
  * 30 snapshots/s by the real encoder and decoded by the real decoder. Node error: the
  * client's decoded q against the server's float q, both through the reconstruction
- * u = rest + sum q~ v + q~^2 w, as a fraction of tree height. Prints JSON. */
+ * u = rest + sum q~ v + q~^2 w, as a fraction of tree height; and what a client shows:
+ * the decoded snapshots through the client's jitter buffer (client/jitter.c, 0.1 s
+ * playout delay) and its Hermite interpolation at every 60 Hz display tick, against the
+ * server's q at that render time. The stream counts every frame a viewer gets, by frame
+ * type from the header (KEYFRAME, DELTA, LEAVES from leaf.c shedding, WIND slices, the
+ * pong text frames answering its pings), with the WebSocket frame headers (RFC 6455
+ * section 5.2, server to client, unmasked), in bytes per client-second. Prints JSON. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,6 +28,9 @@
 #include "eigen.h"
 #include "fem.h"
 #include "gust.h"
+#include "jitter.h"
+#include "leaf.h"
+#include "ctl.h"
 #include "lsystem.h"
 #include "modal.h"
 #include "quant_steps.h"
@@ -152,6 +161,16 @@ static double hist_pct(const uint64_t *h, uint64_t n, double p)
     return HMAX;
 }
 
+/* The frame type's byte in every binary frame: after the 4-byte magic and the 2-byte
+ * version (PROTOCOL.md "Frame header"; wire_header.c). */
+enum { WIRE_TYPE_BYTE = 6 };
+
+/* WebSocket frame header bytes of a server-to-client frame of len payload bytes. */
+static size_t ws_header_bytes(size_t len)
+{
+    return len < 126 ? 2 : len < 65536 ? 4 : 10;
+}
+
 int bench_wire(int argc, char **argv)
 {
     double seconds = 60.0, mean_ms = 20.0, intensity = 0.3, eps = QUANT_STEPS_DEFAULT_EPS;
@@ -231,9 +250,30 @@ int bench_wire(int argc, char **argv)
     }
     float *pa = malloc(sizeof(float) * 3 * max_nodes), *pb = malloc(sizeof(float) * 3 * max_nodes);
     float *qf = malloc(sizeof(float) * stride), *qd = malloc(sizeof(float) * stride);
-    uint64_t *hist = calloc(HBINS, sizeof *hist);
+    uint64_t *hist = calloc(HBINS, sizeof *hist), *hist_shown = calloc(HBINS, sizeof *hist_shown);
+    /* the server's float q of the last 8 ticks (render time is 6 ticks back) and the
+       client's decoded snapshot and interpolated display */
+    enum { RING = 8, DELAY_TICKS = 6 };
+    float *ring = malloc(sizeof(float) * RING * (size_t)n_trees * stride);
+    float *csnap = malloc(sizeof(float) * (size_t)n_trees * stride);
+    float *shown = malloc(sizeof(float) * (size_t)n_trees * stride);
+    jitter *jit = jitter_create(&(jitter_desc){ .n_values = (uint32_t)(n_trees * (int)stride),
+                                                .playout_delay_s = 0.1 }, &err);
+    enum { LEAF_CAP = 4096 };
+    leaf_seed *shed = malloc(LEAF_CAP * sizeof *shed);
+    wire_leaf *wl = malloc(LEAF_CAP * sizeof *wl);
+    int n_shed = 0;
+    const leaf_desc ld = { .rate_hz = 0.002f, .calm_ms = 3.0f, .ref_ms = 20.0f, .seed = 11 };
+    const uint32_t slots = 1500; /* leaf slots per tree: the shipped species' 1500-5300 */
+    /* the coarse wind slice of the default scene's 48 x 48 grid at 4 cells per coarse cell */
+    enum { WNX = 12, WNY = 12 };
+    int8_t slice[3 * WNX * WNY];
+    uint64_t type_bytes[256] = { 0 }, type_frames[256] = { 0 }, ws_bytes = 0, text_bytes = 0,
+             text_frames = 0, n_shown = 0;
+    double shown_max = 0.0;
     if (!tree_sp || !yaw || !wind || !gu || !snap[0] || !snap[1] || !snap[2] || !nm ||
-        !frame || !pa || !pb || !qf || !qd || !hist) {
+        !frame || !pa || !pb || !qf || !qd || !hist || !hist_shown || !ring || !csnap ||
+        !shown || !jit || !shed || !wl) {
         fprintf(stderr, "gale-bench wire: out of memory\n");
         return 1;
     }
@@ -284,6 +324,44 @@ int bench_wire(int argc, char **argv)
         bool snap_tick = k >= 0 && k % 2 == 0; /* 60 Hz ticks, 30 snapshots/s */
         int16_t *cur = snap[(seq + 1) % 3];
         modal_tick(m, wind, snap_tick ? cur : NULL);
+        if (k >= -RING) {
+            float *rq = ring + (size_t)((k + warm) % RING) * (size_t)n_trees * stride;
+            for (int t = 0; t < n_trees; t++) {
+                modal_get(m, (uint32_t)t, rq + (size_t)t * stride, NULL);
+            }
+        }
+        if (k >= 0) {
+            for (int t = 0; t < n_trees; t++) {
+                const float *v = &wind[3 * t];
+                double sp_ms = sqrt((double)(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
+                leaf_shed(&ld, (uint32_t)t, slots, sp_ms, (uint32_t)(k + warm), dt, shed,
+                          LEAF_CAP, &n_shed);
+            }
+        }
+        /* what the client displays at this tick: 0.1 s behind, interpolated; graded on
+           the ticks of the graded snapshots and the ticks between them */
+        if (k >= 2 * DELAY_TICKS && jitter_count(jit) >= 2 &&
+            ((k / 2) % error_every) == 0) {
+            double t_render = (double)k * 16667e-6 - (double)DELAY_TICKS / 60.0;
+            jitter_sample(jit, t_render, shown, NULL);
+            const float *truth =
+                ring + (size_t)((k + warm - DELAY_TICKS) % RING) * (size_t)n_trees * stride;
+            for (int t = 0; t < n_trees; t++) {
+                const asset *a = &sp[tree_sp[t]];
+                asset_reconstruct(a, truth + (size_t)t * stride, (uint32_t)n_modes, pa);
+                asset_reconstruct(a, shown + (size_t)t * stride, (uint32_t)n_modes, pb);
+                for (uint32_t i = 0; i < a->n_nodes; i++) {
+                    double dx = (double)pa[3 * i] - (double)pb[3 * i];
+                    double dy = (double)pa[3 * i + 1] - (double)pb[3 * i + 1];
+                    double dz = (double)pa[3 * i + 2] - (double)pb[3 * i + 2];
+                    double e = sqrt(dx * dx + dy * dy + dz * dz) / (double)a->height_m;
+                    int bin = (int)(e / HMAX * HBINS);
+                    hist_shown[bin < HBINS ? bin : HBINS - 1]++;
+                    n_shown++;
+                    shown_max = e > shown_max ? e : shown_max;
+                }
+            }
+        }
         if (!snap_tick) {
             continue;
         }
@@ -310,6 +388,59 @@ int bench_wire(int argc, char **argv)
         wire_frame f;
         if (wire_decode(dec, frame, len, &f, &err) != 0) {
             decode_errors++;
+        } else {
+            for (int t = 0; t < n_trees; t++) {
+                wire_decoder_q(dec, (uint32_t)t, csnap + (size_t)t * stride, (uint32_t)n_modes);
+            }
+            jitter_insert(jit, h.tick, (double)h.server_time_us * 1e-6, csnap, NULL);
+        }
+        type_bytes[frame[WIRE_TYPE_BYTE]] += len;
+        type_frames[frame[WIRE_TYPE_BYTE]]++;
+        ws_bytes += ws_header_bytes(len);
+        /* the other frames a viewer gets with this snapshot (srv_publish.c's cadence) */
+        if (seq % 15 == 1) { /* SRV_WIND_EVERY */
+            for (int c = 0; c < 3 * WNX * WNY; c++) {
+                /* a slice as gusty as the trees' wind: cell c/3 takes a tree's */
+                float v = wind[3 * ((c / 3) % n_trees) + c % 3];
+                slice[c] = wire_wind_quantize(v, (float)(mean_ms * 2.0 / 127.0 + 0.05));
+            }
+            wire_wind ww = { .x0_m = -60, .y0_m = -60, .z_m = 5, .cell_m = 10,
+                             .scale_ms = (float)(mean_ms * 2.0 / 127.0 + 0.05), .nx = WNX,
+                             .ny = WNY, .v = slice };
+            size_t wlen = 0;
+            h.type = WIRE_MSG_WIND;
+            if (wire_encode_wind(&h, &ww, frame, cap, &wlen, &err) == 0) {
+                type_bytes[frame[WIRE_TYPE_BYTE]] += wlen;
+                type_frames[frame[WIRE_TYPE_BYTE]]++;
+                ws_bytes += ws_header_bytes(wlen);
+            }
+        }
+        if (n_shed && seq % 3 == 0) { /* SRV_LEAF_EVERY */
+            uint32_t nl = (uint32_t)n_shed < WIRE_MAX_LEAVES ? (uint32_t)n_shed : WIRE_MAX_LEAVES;
+            for (uint32_t i = 0; i < nl; i++) {
+                wl[i] = (wire_leaf){ .instance = shed[i].instance, .slot = (uint16_t)shed[i].slot,
+                                     .spawn_tick = shed[i].spawn_tick, .seed = shed[i].variation };
+            }
+            size_t llen = 0;
+            h.type = WIRE_MSG_LEAVES;
+            if (wire_encode_leaves(&h, wl, nl, frame, cap, &llen, &err) == 0) {
+                type_bytes[frame[WIRE_TYPE_BYTE]] += llen;
+                type_frames[frame[WIRE_TYPE_BYTE]]++;
+                ws_bytes += ws_header_bytes(llen);
+            }
+            n_shed = 0;
+        }
+        if (seq % 15 == 0) { /* a pong for each ping (cli_net: every 0.5 s) */
+            char pong[256];
+            size_t plen = 0;
+            ctl_msg pm = { .type = CTL_PONG, .u.pong = { .id = seq, .client_us = h.server_time_us,
+                                                          .server_us = h.server_time_us,
+                                                          .tick = h.tick } };
+            if (ctl_encode_into(&pm, pong, sizeof pong, &plen, &err) == 0) {
+                text_bytes += plen;
+                text_frames++;
+                ws_bytes += ws_header_bytes(plen);
+            }
         }
         dec_s += mono_s() - t1;
         enc_s += t1 - t0;
@@ -358,6 +489,11 @@ int bench_wire(int argc, char **argv)
     double per_tree_key = n_key ? (double)bytes_key / (double)n_key / n_trees : 0.0;
     double p50 = hist_pct(hist, n_err, 0.50), p99 = hist_pct(hist, n_err, 0.99);
     double kbps = (double)(bytes_key + bytes_delta) / seconds * 8.0 / 1000.0;
+    double sp50 = hist_pct(hist_shown, n_shown, 0.50), sp99 = hist_pct(hist_shown, n_shown, 0.99);
+    uint64_t all_bytes = ws_bytes + text_bytes;
+    for (int t = 0; t < 256; t++) {
+        all_bytes += type_bytes[t];
+    }
     const char *recon = "asset_reconstruct";
     if (json) {
         printf("{\"bench\":\"wire\",\"seconds\":%.1f,\"trees\":%d,\"modes\":%d,\"species\":%d,"
@@ -371,7 +507,7 @@ int bench_wire(int argc, char **argv)
                "\"node_error_max_of_height\":%.6f,\"node_samples\":%llu,"
                "\"max_node_displacement_of_height\":[%.4f,%.4f,%.4f],\"decode_errors\":%d,"
                "\"state_mismatches\":%d,\"encode_us_per_tree\":%.3f,\"decode_us_per_tree\":%.3f,"
-               "\"target_bytes\":24,\"target_p99\":0.005}\n",
+               "\"target_bytes\":24,\"target_p99\":0.005,",
                seconds, n_trees, n_modes, NS, sp[0].n_nodes, sp[1].n_nodes, sp[2].n_nodes,
                synthetic ? "synthetic skeletons baked by fem+eigen+basis+correction"
                          : "configs/species oak, palm, pine baked by bake_run",
@@ -380,6 +516,30 @@ int bench_wire(int argc, char **argv)
                (unsigned long long)n_key, per_tree, per_tree_delta, per_tree_key, kbps, p50, p99,
                err_max, (unsigned long long)n_err, sp_disp[0], sp_disp[1], sp_disp[2], decode_errors, mismatches,
                enc_s / (double)snaps / n_trees * 1e6, dec_s / (double)snaps / n_trees * 1e6);
+        printf("\"bytes_per_client_s_by_frame_type\":{");
+        for (int t = 0, first = 1; t < 256; t++) {
+            if (type_frames[t]) {
+                printf("%s\"%d\":{\"frames\":%llu,\"bytes_per_s\":%.0f}", first ? "" : ",", t,
+                       (unsigned long long)type_frames[t], (double)type_bytes[t] / seconds);
+                first = 0;
+            }
+        }
+        double load[3] = { 0 };
+        FILE *lf = fopen("/proc/loadavg", "r");
+        if (lf) {
+            if (fscanf(lf, "%lf %lf %lf", &load[0], &load[1], &load[2]) != 3) {
+                load[0] = -1;
+            }
+            fclose(lf);
+        }
+        printf("},\"text_pong_bytes_per_s\":%.0f,\"websocket_header_bytes_per_s\":%.0f,"
+               "\"bytes_per_client_s\":%.0f,\"bytes_per_tree_per_client_s\":%.2f,"
+               "\"shown_node_error_p50_of_height\":%.6f,\"shown_node_error_p99_of_height\":%.6f,"
+               "\"shown_node_error_max_of_height\":%.6f,\"shown_node_samples\":%llu,"
+               "\"playout_delay_s\":0.1,\"leaf_slots_per_tree\":%u,\"loadavg\":[%.2f,%.2f,%.2f]}\n",
+               (double)text_bytes / seconds, (double)ws_bytes / seconds,
+               (double)all_bytes / seconds, (double)all_bytes / seconds / n_trees, sp50, sp99,
+               shown_max, (unsigned long long)n_shown, slots, load[0], load[1], load[2]);
     } else {
         printf("wire: %d trees x %d modes, %.0f s gusty (mean %.1f m/s, I %.2f): %.2f bytes/tree/"
                "snapshot (deltas %.2f, keyframes %.2f), node error p99 %.4f%% of H (max %.4f%%), "
@@ -411,5 +571,12 @@ int bench_wire(int argc, char **argv)
     free(qf);
     free(qd);
     free(hist);
+    free(hist_shown);
+    free(ring);
+    free(csnap);
+    free(shown);
+    free(shed);
+    free(wl);
+    jitter_destroy(jit);
     return decode_errors || mismatches ? 1 : 0;
 }

@@ -174,28 +174,38 @@ static void advect_row(wind_grid *w, int a, float s, int r)
 }
 
 /* Rows per block of the advection sweep: a block is swept plane by plane (k outer, j
- * inner), so the three planes a row reads (k - 1, k, k + 1) of the block's few rows stay
- * in the core's L2 across the sweep and each sample comes from memory about once. */
+ * inner), and each row (j, k) of all three components is traced in the same pass, so the
+ * three planes a row reads (k - 1, k, k + 1) of u, v and w for the block's few rows stay
+ * in the core's L2 across the sweep and each velocity array comes from memory about once
+ * per step (not once per component). */
 #define ADVECT_BLOCK_ROWS 16
 
 void wind_advect(wind_grid *w, float dt_over_h)
 {
     const size_t samples = (size_t)w->nx * (size_t)w->ny * (size_t)w->nz;
     const int threads = samples >= WIND_PAR_MIN ? w->d.threads : 1;
-    /* The three components are independent (each reads all three, writes its own tmp):
-     * one parallel region, no barrier between them. Static block chunks: the same rows
-     * go to the same thread every step, and the result does not depend on the split. */
-#pragma omp parallel num_threads(threads)
+    /* MAC components differ by one sample on their own axis: sweep the largest extent
+     * and skip the rows a component lacks. Each output row is the same function of the
+     * old field whichever pass computes it (writes go to tmp), so the result does not
+     * depend on the order or the split; static block chunks give the same rows to the
+     * same thread every step. */
+    int ny = 0, nz = 0;
     for (int a = 0; a < 3; a++) {
-        const int ny = w->c[a].n[1], nz = w->c[a].n[2];
-        const int nb = (ny + ADVECT_BLOCK_ROWS - 1) / ADVECT_BLOCK_ROWS;
-#pragma omp for schedule(static) nowait
-        for (int b = 0; b < nb; b++) {
-            const int j0 = b * ADVECT_BLOCK_ROWS;
-            const int j1 = j0 + ADVECT_BLOCK_ROWS < ny ? j0 + ADVECT_BLOCK_ROWS : ny;
-            for (int k = 0; k < nz; k++) {
-                for (int j = j0; j < j1; j++) {
-                    advect_row(w, a, dt_over_h, k * ny + j);
+        ny = w->c[a].n[1] > ny ? w->c[a].n[1] : ny;
+        nz = w->c[a].n[2] > nz ? w->c[a].n[2] : nz;
+    }
+    const int nb = (ny + ADVECT_BLOCK_ROWS - 1) / ADVECT_BLOCK_ROWS;
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (int b = 0; b < nb; b++) {
+        const int j0 = b * ADVECT_BLOCK_ROWS;
+        const int j1 = j0 + ADVECT_BLOCK_ROWS < ny ? j0 + ADVECT_BLOCK_ROWS : ny;
+        for (int k = 0; k < nz; k++) {
+            for (int j = j0; j < j1; j++) {
+                for (int a = 0; a < 3; a++) {
+                    const int na1 = w->c[a].n[1], na2 = w->c[a].n[2];
+                    if (j < na1 && k < na2) {
+                        advect_row(w, a, dt_over_h, k * na1 + j);
+                    }
                 }
             }
         }

@@ -1,6 +1,8 @@
 /* Fuzz target for binary frames: every input is decoded by a decoder that has first
  * seen a valid keyframe (so DELTA bodies get decoded too), then by a fresh one. A frame
- * that decodes must leave the decoder's state self-consistent; nothing may crash. */
+ * that decodes must leave the decoder's state self-consistent (every q finite and within
+ * what an int16 times the largest step can reach); nothing may crash. */
+#include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -33,6 +35,37 @@ static size_t base_keyframe(uint8_t *buf, size_t cap)
     return n;
 }
 
+/* Decodes data with d and checks what it accepted. */
+static void check_decode(wire_decoder *d, const uint8_t *data, size_t size)
+{
+    wire_frame f;
+    gale_err e;
+    int rc = wire_decode(d, data, size, &f, &e);
+    if (rc == 0 && (f.hdr.type == WIRE_MSG_KEYFRAME || f.hdr.type == WIRE_MSG_DELTA)) {
+        const wire_scene *sc = wire_decoder_scene(d);
+        if (sc->n_trees > 64) {
+            abort(); /* the decoder's max_trees */
+        }
+        float q[16];
+        for (uint32_t t = 0; t < sc->n_trees; t++) {
+            uint32_t n = wire_decoder_q(d, t, q, 16);
+            if (n > 16) {
+                abort();
+            }
+            for (uint32_t m = 0; m < n; m++) {
+                /* |q| <= 32768 x step, and a step is a finite float */
+                if (!isfinite(q[m])) {
+                    abort();
+                }
+            }
+        }
+    } else if (rc == 0 && (f.types & (1u << WIRE_MSG_LEAVES)) && f.n_leaves > WIRE_MAX_LEAVES) {
+        abort();
+    } else if (rc != 0 && e.msg[0] == '\0') {
+        abort(); /* every rejection says why */
+    }
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     static uint8_t kbuf[512];
@@ -47,24 +80,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (wire_decode(dec, kbuf, nk, &f, NULL) != 0) {
         abort();
     }
-    gale_err e;
-    int rc = wire_decode(dec, data, size, &f, &e);
-    if (rc == 0 && (f.hdr.type == WIRE_MSG_KEYFRAME || f.hdr.type == WIRE_MSG_DELTA)) {
-        /* Every decoded value is in range and dequantises to a finite number. */
-        const wire_scene *sc = wire_decoder_scene(dec);
-        float q[16];
-        for (uint32_t t = 0; t < sc->n_trees; t++) {
-            uint32_t n = wire_decoder_q(dec, t, q, 16);
-            for (uint32_t m = 0; m < n; m++) {
-                if (!(q[m] == q[m])) {
-                    abort();
-                }
-            }
-        }
-    } else if (rc == 0 && (f.types & (1u << WIRE_MSG_LEAVES)) && f.n_leaves > WIRE_MAX_LEAVES) {
+    check_decode(dec, data, size);
+    /* a fresh decoder: no keyframe seen, so a DELTA must be refused, a KEYFRAME taken */
+    wire_decoder *fresh =
+        wire_decoder_create(&(wire_decoder_desc){ .max_trees = 64, .max_modes = 16 }, NULL);
+    if (!fresh) {
         abort();
-    } else if (rc != 0 && e.msg[0] == '\0') {
-        abort(); /* every rejection says why */
     }
+    check_decode(fresh, data, size);
+    wire_decoder_destroy(fresh);
     return 0;
 }
