@@ -2,7 +2,7 @@
  * minimal asset, rejection of every truncation, flipped bytes, wrong magic and version,
  * absurd counts (with the field and offset in the message); the optional SRID section
  * (source node ids): round trip, version rule, refused maps, skipped unknown sections;
- * the strong-wind reconstruction against hand-computed values; atomic save and load. */
+ * the length-true reconstruction against hand-computed values; atomic save and load. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
