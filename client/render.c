@@ -137,14 +137,14 @@ void render_destroy(render *r)
         render_buf_free(&r->trees);
         render_buf_free(&r->q);
         render_buf_free(&r->list_buf);
-        GLuint texs[] = { r->skel_tex, r->wind_tex, r->path_tex, r->fbo_col };
+        GLuint texs[] = { r->skel_tex, r->seg_tex, r->wind_tex, r->path_tex, r->fbo_col };
         for (size_t i = 0; i < sizeof texs / sizeof texs[0]; i++) {
             if (texs[i]) {
                 glDeleteTextures(1, &texs[i]);
             }
         }
-        GLuint fbos[] = { r->skel_fbo, r->fbo };
-        for (size_t i = 0; i < 2; i++) {
+        GLuint fbos[] = { r->skel_fbo, r->seg_fbo, r->fbo };
+        for (size_t i = 0; i < sizeof fbos / sizeof fbos[0]; i++) {
             if (fbos[i]) {
                 glDeleteFramebuffers(1, &fbos[i]);
             }

@@ -1,5 +1,5 @@
 /* gale_render: draws a forest from baked species assets and per-tree modal vectors q.
- * Skeletons are rebuilt on the GPU in the strong-wind form (Diener 2008 sections 5.1-5.2),
+ * Skeletons are rebuilt on the GPU in the length-true pose (PHYSICS.md; Diener 2008 5.1),
  * tube meshes skinned from them (Singh sections 2.1-2.4), leaves and falling leaves on one
  * shared path (Vazquez 2008 sections 3-5), LOD down to billboards. OpenGL 3.3 core. */
 #ifndef GALE_RENDER_H

@@ -184,8 +184,9 @@ int render_demo_asset(asset *a, const render_demo_desc *desc, gale_err *err)
     a->corr_w = calloc(3 * (size_t)nm * nn, sizeof(float));
     a->corr_a = calloc(nm, sizeof(float));
     a->corr_b = calloc(nm, sizeof(float));
+    a->phi = calloc(3 * (size_t)nm * nn, sizeof(float));
     if (!a->omega || !a->gamma || !a->wind_basis || !a->corr_v || !a->corr_w || !a->corr_a ||
-        !a->corr_b) {
+        !a->corr_b || !a->phi) {
         goto nomem;
     }
     for (uint32_t m = 0; m < nm; m++) {
@@ -193,7 +194,7 @@ int render_demo_asset(asset *a, const render_demo_desc *desc, gale_err *err)
         a->gamma[m] = 0.3f + 0.02f * a->omega[m] * a->omega[m];
         a->corr_a[m] = 1.0f + 0.1f * (float)(m % 3);
         a->corr_b[m] = 1.0f / a->corr_a[m];
-        float *vm = &a->corr_v[(size_t)m * 3 * nn], *wm = &a->corr_w[(size_t)m * 3 * nn];
+        float *vm = &a->phi[(size_t)m * 3 * nn];
         /* modes 0, 1: whole-tree sway in x and y; higher: pairs of branch modes, each
            moving the branches of one group across their axis */
         float dir[3] = { m % 2 == 0 ? 1.0f : 0.0f, m % 2 == 0 ? 0.0f : 1.0f, 0.0f };
@@ -214,20 +215,19 @@ int render_demo_asset(asset *a, const render_demo_desc *desc, gale_err *err)
                 for (int c = 0; c < 3; c++) {
                     vm[3 * i + c] = vm[3 * b.base[i] + c];
                 }
-                wm[3 * i + 2] = wm[3 * b.base[i] + 2];
             }
             for (int c = 0; c < 3; c++) {
                 vm[3 * i + c] += s * dir[c];
             }
-            /* nearly length-keeping: a node swung sideways by |v| drops by |v|²/(2 r) */
-            float rr = m < 2 ? fmaxf(a->rest[3 * i + 2], 0.5f) : fmaxf(b.along[i], 0.3f);
-            wm[3 * i + 2] += -0.5f * s * s / rr;
         }
         /* p_i: sway modes catch the most wind; branch modes alternate sign */
         float pw = m < 2 ? 0.05f : (m % 4 < 2 ? 0.02f : -0.02f);
         a->wind_basis[3 * m] = dir[0] * pw;
         a->wind_basis[3 * m + 1] = dir[1] * pw;
     }
+
+    /* the length-true pose's fields from these linear shapes (ASSET.md "CORR") */
+    asset_pose_fields(a->rest, a->parent, nn, a->phi, nm, a->corr_v, a->corr_w);
 
     /* tube mesh: LOD 0 with 8 sides, LOD 1 with 4, one segment per non-root node */
     const uint32_t sides[2] = { 8, 4 };

@@ -1,6 +1,7 @@
 /* Small in-code species assets for gale_render's tests, tool and benchmark while no baked
  * asset is at hand: a branching skeleton with made-up (but smooth, root-clamped) mode shapes
- * and strong-wind correction terms, a two-LOD tube mesh skinned to it, and leaf slots. */
+ * and the length-true pose fields derived from them, a two-LOD tube mesh skinned to it, and
+ * leaf slots. */
 #ifndef GALE_RENDER_DEMO_H
 #define GALE_RENDER_DEMO_H
 

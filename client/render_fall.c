@@ -99,12 +99,12 @@ int render_add_falling_leaf(render *r, const render_leaf_seed *ls, gale_err *err
     if (!isfinite(ls->spawn_time_s)) {
         return gale_errf(err, GALE_E_RANGE, "render_add_falling_leaf: spawn time not finite");
     }
-    /* the slot's node in the tree's current pose: rest + Σ q̃ v + q̃² w for that node only
-       (Diener 2008 section 5.2) */
+    /* the slot's node in the tree's current pose, the length-true form of asset_reconstruct
+       for that node only (PHYSICS.md "Length-true pose") */
     uint32_t j = s->leaf_node[ls->slot];
     const float *q = &r->q_stage[(size_t)ls->tree * r->q_stride];
     float x[3];
-    asset_reconstruct_node(s->rest, s->corr_v, s->corr_w, s->corr_a, s->corr_b, s->n_nodes, q,
+    asset_reconstruct_node(s->rest, s->parent, s->corr_v, s->corr_w, s->corr_a, s->corr_b, s->n_nodes, q,
                            s->n_modes, j, x);
     float sc = in->scale > 0.0f ? in->scale : 1.0f, cy = cosf(in->yaw), sy = sinf(in->yaw);
     const float *off = &s->leaf_offset[3 * ls->slot];

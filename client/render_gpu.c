@@ -144,21 +144,24 @@ int render_skel_ensure(render *r, int width, int rows, gale_err *err)
                          "render: skeleton texture %dx%d exceeds GL_MAX_TEXTURE_SIZE %d", w, rows,
                          maxs);
     }
-    if (!r->skel_tex) {
-        glGenTextures(1, &r->skel_tex);
-        glGenFramebuffers(1, &r->skel_fbo);
-    }
-    glBindTexture(GL_TEXTURE_2D, r->skel_tex);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, w, h, 0, GL_RGBA, GL_FLOAT, NULL);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glBindFramebuffer(GL_FRAMEBUFFER, r->skel_fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, r->skel_tex, 0);
-    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-        return gale_errf(err, GALE_E_STATE,
-                         "render: skeleton texture %dx%d not renderable "
-                         "(RGBA32F)",
-                         w, h);
+    GLuint *texs[2] = { &r->skel_tex, &r->seg_tex }, *fbos[2] = { &r->skel_fbo, &r->seg_fbo };
+    for (int k = 0; k < 2; k++) {
+        if (!*texs[k]) {
+            glGenTextures(1, texs[k]);
+            glGenFramebuffers(1, fbos[k]);
+        }
+        glBindTexture(GL_TEXTURE_2D, *texs[k]);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, w, h, 0, GL_RGBA, GL_FLOAT, NULL);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glBindFramebuffer(GL_FRAMEBUFFER, *fbos[k]);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, *texs[k], 0);
+        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+            return gale_errf(err, GALE_E_STATE,
+                             "render: skeleton texture %dx%d not renderable "
+                             "(RGBA32F)",
+                             w, h);
+        }
     }
     r->skel_w = w;
     r->skel_h = h;

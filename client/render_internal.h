@@ -49,7 +49,7 @@ typedef struct render_prog {
     GLint u_viewproj, u_eye, u_sun_dir, u_sun_col, u_sky_zenith, u_sky_horizon, u_ground_col;
     GLint u_fog_dist, u_time, u_wind_origin, u_wind_extent, u_wind_uniform;
     /* skel */
-    GLint u_base, u_nodes, u_target, u_qstride, u_ab;
+    GLint u_base, u_nodes, u_target, u_qstride, u_ab, u_pass;
     /* tree, leaf */
     GLint u_bark, u_nleaves, u_aspect, u_crown, u_leafcol, u_shape;
     /* sky, house, bill */
@@ -75,6 +75,7 @@ typedef struct rs_species {
     float *rest, *corr_v, *corr_w, *leaf_offset, *leaf_normal, *leaf_size;
     float corr_a[RENDER_MAX_MODES], corr_b[RENDER_MAX_MODES];
     uint32_t *leaf_node;
+    int32_t *parent; /* [n_nodes], -1 at the root: the pose walks up it */
 } rs_species;
 
 /* one falling-leaf record, the vertex layout of shaders/fall.vert */
@@ -110,6 +111,7 @@ struct render {
     uint32_t grp_base[RENDER_MAX_SPECIES][G_COUNT], grp_n[RENDER_MAX_SPECIES][G_COUNT];
 
     GLuint skel_tex, skel_fbo;
+    GLuint seg_tex, seg_fbo; /* the skeleton pass's posed segments (shaders/skel.frag) */
     int skel_w, skel_h;
 
     GLuint wind_tex;

@@ -25,6 +25,7 @@ void render_species_free(rs_species *s)
     render_buf_free(&s->node);
     render_buf_free(&s->leaf);
     free(s->rest);
+    free(s->parent);
     free(s->corr_v);
     free(s->corr_w);
     free(s->leaf_offset);
@@ -286,12 +287,14 @@ int render_add_species(render *r, const asset *a, gale_err *err)
     s->leaf_normal = dup_f(a->leaf_normal, 3 * (size_t)a->n_leaves);
     s->leaf_size = dup_f(a->leaf_size, a->n_leaves);
     s->leaf_node = malloc((size_t)a->n_leaves * sizeof(uint32_t) + 1);
-    if (!s->rest || !s->corr_v || !s->corr_w || !s->leaf_offset || !s->leaf_normal ||
+    s->parent = malloc(nn * sizeof(int32_t));
+    if (!s->rest || !s->parent || !s->corr_v || !s->corr_w || !s->leaf_offset || !s->leaf_normal ||
         !s->leaf_size || !s->leaf_node) {
         render_species_free(s);
         return gale_errf(err, GALE_E_NOMEM, "render_add_species: out of memory");
     }
     memcpy(s->leaf_node, a->leaf_node, (size_t)a->n_leaves * sizeof(uint32_t));
+    memcpy(s->parent, a->parent, nn * sizeof(int32_t));
 
     /* q stride: the most modes of any species */
     if (a->n_modes > r->q_stride) {
@@ -323,8 +326,6 @@ void render_draw_skeleton(render *r, const rs_species *s, uint32_t base, uint32_
     if (n == 0) {
         return;
     }
-    glBindFramebuffer(GL_FRAMEBUFFER, r->skel_fbo);
-    glViewport(0, 0, r->skel_w, r->skel_h);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
     const render_prog *p = &r->p_skel;
@@ -339,8 +340,18 @@ void render_draw_skeleton(render *r, const rs_species *s, uint32_t base, uint32_
     render_bind_buf(RU_NODE, &s->node);
     render_bind_buf(RU_Q, &r->q);
     glBindVertexArray(r->vao_empty);
+    /* shaders/skel.frag: posed segments into seg_tex, then their sums up to the root into
+     * skel_tex (PHYSICS.md "Length-true pose") */
+    glBindFramebuffer(GL_FRAMEBUFFER, r->seg_fbo);
+    glViewport(0, 0, r->skel_w, r->skel_h);
+    glUniform1i(p->u_pass, 0);
     glDrawArraysInstanced(GL_TRIANGLES, 0, 6, (GLsizei)n);
-    r->stats.draw_calls++;
+    glBindFramebuffer(GL_FRAMEBUFFER, r->skel_fbo);
+    render_bind_tex(RU_SKEL, GL_TEXTURE_2D, r->seg_tex);
+    glUniform1i(p->u_pass, 1);
+    glDrawArraysInstanced(GL_TRIANGLES, 0, 6, (GLsizei)n);
+    render_bind_tex(RU_SKEL, GL_TEXTURE_2D, r->skel_tex);
+    r->stats.draw_calls += 2;
 }
 
 static void bind_tree_inputs(render *r, const rs_species *s)

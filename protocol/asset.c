@@ -3,7 +3,7 @@
  * 2, optional sections (SRID: source node ids); every field little-endian and
  * fixed-width, written and read byte by byte. Counts are checked
  * against the limits below and against the bytes left before anything is allocated.
- * asset_reconstruct is the strong-wind deformation of Diener 2008 section 5.2. */
+ * asset_reconstruct (asset_pose.c) is the length-true pose of PHYSICS.md. */
 #include "asset.h"
 
 #include <math.h>

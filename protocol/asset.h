@@ -48,11 +48,12 @@ typedef struct asset {
     float *phi;            /* [n_modes][n_nodes][3] linear mode translation, mass-normalised */
     float *phi_rot;        /* [n_modes][n_nodes][3] linear mode rotation [rad per unit q] */
 
-    /* strong-wind correction (section 5.2): u = Σ q̃ v + q̃² w, q̃ = a atan(b q) */
-    float *corr_v;         /* [n_modes][n_nodes][3] */
-    float *corr_w;         /* [n_modes][n_nodes][3] */
+    /* length-true pose (PHYSICS.md "Length-true pose"; section CORR): segment p -> i is
+     * R(Σ q̃ v_i) (rest_i - rest_p + Σ q̃ w_i) hung from p's posed end, q̃ = a atan(b q) */
+    float *corr_v;         /* [n_modes][n_nodes][3] segment rotation vector per unit q̃ [rad] */
+    float *corr_w;         /* [n_modes][n_nodes][3] segment axial stretch per unit q̃ [m] */
     float *corr_a;         /* [n_modes] */
-    float *corr_b;         /* [n_modes] */
+    float *corr_b;         /* [n_modes]; 0: q̃ = q (what gale-bake writes) */
 
     /* tube mesh of trunk and branches, skinned to the skeleton */
     uint32_t n_verts;
@@ -92,24 +93,35 @@ int asset_decode(const uint8_t *buf, size_t len, const char *name, asset *a, gal
 /* Frees every array of *a and zeroes it. NULL is a no-op. */
 void asset_fini(asset *a);
 
-/* The saturated modal coordinate of the strong-wind form (Diener 2008 section 5.2, eq. 16):
- * q̃ = a atan(b q); b = 0 (no fit) leaves it linear, q̃ = q. The one C copy of the formula:
- * shaders/skel.frag is its GLSL twin, held to asset_reconstruct by tests/test_render.c. */
+/* The saturated modal coordinate q̃ = a atan(b q) of the pose (Diener 2008 section 5.2,
+ * eq. 16); b = 0 leaves it linear, q̃ = q. The one C copy of the formula: shaders/skel.frag
+ * is its GLSL twin, held to asset_reconstruct by tests/test_render.c. */
 static inline float asset_corr_qt(float a, float b, float q)
 {
     return b != 0.0f ? a * atanf(b * q) : q;
 }
 
-/* The C reference reconstruction (the GPU does the same): node positions
- * out[3 n_nodes] = rest + Σ_i q̃_i v_i + q̃_i² w_i with q̃_i = asset_corr_qt(a_i, b_i, q_i),
- * using the first n_modes_used modes of q; without a correction, rest + Σ_i q_i φ_i. */
+/* The length-true pose's fields from the linear mode translations (ASSET.md "CORR"): for
+ * each mode and segment p -> i with rest vector s and Δ = φ_i − φ_p, the rotation vector
+ * v = s × Δ / |s|² and the axial stretch w = s (s·Δ) / |s|², so that v × s + w = Δ and the
+ * pose's slope at q = 0 is φ. Root rows (and a zero-length segment's v) are 0; w then
+ * carries Δ whole. phi, v, w: [n_modes][n_nodes][3]; parent[i] < i for i > 0. */
+void asset_pose_fields(const float *rest, const int32_t *parent, uint32_t n_nodes,
+                       const float *phi, uint32_t n_modes, float *v, float *w);
+
+/* The C reference pose (the GPU does the same, shaders/skel.frag): node positions
+ * out[3 n_nodes], the root at rest and each node its parent's posed position plus its
+ * posed segment R(Θ) (s + e), Θ = Σ_i q̃_i v_i, e = Σ_i q̃_i w_i, s the rest segment,
+ * q̃_i = asset_corr_qt(a_i, b_i, q_i), over the first n_modes_used modes of q. Without
+ * the CORR arrays, the linear response rest + Σ_i q_i φ_i. */
 void asset_reconstruct(const asset *a, const float *q, uint32_t n_modes_used, float *out);
 
-/* The same pose for one node only: x[3] = rest + Σ_i q̃_i v_i + q̃_i² w_i at `node`, for
- * correction arrays laid out as in an asset (v, w: [mode][node][3]; corr_a, corr_b: [mode])
- * of a tree with n_nodes nodes, using n_modes modes of q. */
-void asset_reconstruct_node(const float *rest, const float *corr_v, const float *corr_w,
-                            const float *corr_a, const float *corr_b, uint32_t n_nodes,
-                            const float *q, uint32_t n_modes, uint32_t node, float x[3]);
+/* The same pose for one node only, x[3], for arrays laid out as in an asset (v, w:
+ * [mode][node][3]; corr_a, corr_b: [mode]; parent[n_nodes], -1 at the root) of a tree
+ * with n_nodes nodes, using n_modes modes of q. Costs the node's depth x n_modes. */
+void asset_reconstruct_node(const float *rest, const int32_t *parent, const float *corr_v,
+                            const float *corr_w, const float *corr_a, const float *corr_b,
+                            uint32_t n_nodes, const float *q, uint32_t n_modes, uint32_t node,
+                            float x[3]);
 
 #endif

@@ -1,28 +1,71 @@
-// Node positions from the modal state in the strong-wind form (Diener 2008 section 5.2):
-// x = rest + Σ c_i (q̃_i v_i + q̃_i² w_i), q̃_i = a_i atan(b_i q_i) (b_i = 0: q̃_i = q_i);
-// c_i fades the last mode in or out as the LOD mode count changes. The GLSL twin of
-// asset_corr_qt / asset_reconstruct (protocol/asset.h), held to it by tests/test_render.c.
+// Node positions from the modal state in the length-true form (PHYSICS.md "Length-true
+// pose"), in two passes over the same rows. u_pass 0: each node's posed segment
+// R(Θ) (s + e), Θ = Σ c_i q̃_i v_i, e = Σ c_i q̃_i w_i, s the rest segment from its parent
+// (the root writes its rest position), q̃_i = a_i atan(b_i q_i) (b_i = 0: q̃_i = q_i);
+// c_i fades the last mode in or out as the LOD mode count changes. u_pass 1: a node's
+// position, the sum of the posed segments from it up to the root (u_skel holds pass 0).
+// The GLSL twin of asset_corr_qt / asset_reconstruct (protocol/asset_pose.c), held to it
+// by tests/test_render.c.
 uniform samplerBuffer u_vw;   // [(m n_nodes + node) 2 + {0: v, 1: w}]
 uniform samplerBuffer u_node; // rest xyz, parent
 uniform samplerBuffer u_q;    // [tree stride + m]
+uniform sampler2D u_skel;     // pass 1: the posed segments of pass 0
 uniform int u_qstride;
 uniform int u_nodes;
+uniform int u_pass;
 uniform vec2 u_ab[64];        // a_i, b_i
 flat in int v_tree;
 flat in float v_modes;
 out vec4 o_pos;
+
+vec3 posed_segment(vec3 th, vec3 s)
+{
+    float t2 = dot(th, th);
+    // sin t / t and (1 - cos t) / t² by their series where the closed forms lose digits
+    float sa, ca;
+    if (t2 < 1e-4) {
+        sa = 1.0 - t2 / 6.0;
+        ca = 0.5 - t2 / 24.0;
+    } else {
+        float t = sqrt(t2);
+        sa = sin(t) / t;
+        ca = (1.0 - cos(t)) / t2;
+    }
+    vec3 c = cross(th, s);
+    return s + sa * c + ca * cross(th, c);
+}
+
 void main()
 {
     int node = int(gl_FragCoord.x);
-    vec3 x = texelFetch(u_node, node).xyz;
+    int row = int(gl_FragCoord.y);
+    vec4 rn = texelFetch(u_node, node);
+    if (u_pass == 1) {
+        vec3 x = vec3(0.0);
+        int j = node;
+        for (int guard = 0; guard < u_nodes && j >= 0; guard++) {
+            x += texelFetch(u_skel, ivec2(j, row), 0).xyz;
+            j = int(texelFetch(u_node, j).w);
+        }
+        o_pos = vec4(x, 1.0);
+        return;
+    }
+    int p = int(rn.w);
+    if (p < 0) {
+        o_pos = vec4(rn.xyz, 1.0);
+        return;
+    }
+    vec3 s = rn.xyz - texelFetch(u_node, p).xyz;
+    vec3 th = vec3(0.0);
     int nm = int(ceil(v_modes));
     int qb = v_tree * u_qstride;
     for (int m = 0; m < nm; m++) {
         float q = texelFetch(u_q, qb + m).x;
         float qt = u_ab[m].y != 0.0 ? u_ab[m].x * atan(u_ab[m].y * q) : q;
-        float c = clamp(v_modes - float(m), 0.0, 1.0);
+        float c = clamp(v_modes - float(m), 0.0, 1.0) * qt;
         int t = (m * u_nodes + node) * 2;
-        x += c * (qt * texelFetch(u_vw, t).xyz + qt * qt * texelFetch(u_vw, t + 1).xyz);
+        th += c * texelFetch(u_vw, t).xyz;
+        s += c * texelFetch(u_vw, t + 1).xyz;
     }
-    o_pos = vec4(x, 1.0);
+    o_pos = vec4(posed_segment(th, s), 1.0);
 }

@@ -2,7 +2,7 @@
  * minimal asset, rejection of every truncation, flipped bytes, wrong magic and version,
  * absurd counts (with the field and offset in the message); the optional SRID section
  * (source node ids): round trip, version rule, refused maps, skipped unknown sections;
- * the strong-wind reconstruction against hand-computed values; atomic save and load. */
+ * the length-true reconstruction against hand-computed values; atomic save and load. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -649,28 +649,82 @@ static void test_reconstruct(void)
 {
     asset a;
     make_tiny(&a);
-    float q[2] = { 0.4f, -2.0f }, out[9];
+    /* mode 1 alone (b = 0, q̃ = q): v = (0, 0.2, 0), (0, 0.5, 0) turn the segments about y,
+     * w = (0, 0, -0.02), (0, 0, -0.05) stretch them; by hand, with q1 = -2: segment 1 is
+     * (0, 0, 1.04) turned by -0.4 rad, segment 2 (0.5, 0, 1.1) by -1 rad */
+    float q[2] = { 0.0f, -2.0f }, out[9], x[3];
     asset_reconstruct(&a, q, 2, out);
-    /* node 2 (rest 0.5, 0, 2): mode 0 saturates, q̃0 = 2 atan(0.5 * 0.4); mode 1 has b = 0,
-     * so q̃1 = q1 = -2 (linear) */
-    double q0 = 2.0 * atan(0.2), q1 = -2.0;
-    CHECK_NEAR(out[6], 0.5 + q0 * 0.3, 1e-6);
-    CHECK_NEAR(out[7], q1 * 0.5, 1e-6);
-    CHECK_NEAR(out[8], 2.0 + q0 * q0 * -0.04 + q1 * q1 * -0.05, 1e-6);
-    /* root stays put */
     CHECK(out[0] == 0.0f && out[1] == 0.0f && out[2] == 0.0f);
-    /* only the first mode */
+    const double x1 = 1.04 * sin(-0.4), z1 = 1.04 * cos(-0.4);
+    const double x2 = x1 + 0.5 * cos(-1.0) + 1.1 * sin(-1.0);
+    const double z2 = z1 - 0.5 * sin(-1.0) + 1.1 * cos(-1.0);
+    CHECK_NEAR(out[3], x1, 1e-6);
+    CHECK_NEAR(out[4], 0.0, 1e-7);
+    CHECK_NEAR(out[5], z1, 1e-6);
+    CHECK_NEAR(out[6], x2, 1e-6);
+    CHECK_NEAR(out[8], z2, 1e-6);
+    /* both modes, mode 0 saturated (q̃0 = 2 atan(0.5 q0)): each segment keeps the length
+     * of its stretched rest vector s + Σ q̃ w */
+    q[0] = 0.4f;
+    asset_reconstruct(&a, q, 2, out);
+    const double qt0 = 2.0 * atan(0.2), qt1 = -2.0;
+    const double l1 = 1.0 + qt0 * -0.01 + qt1 * -0.02;
+    const double l2 = hypot(0.5, 1.0 + qt0 * -0.04 + qt1 * -0.05);
+    CHECK_NEAR(sqrt((double)out[3] * (double)out[3] + (double)out[4] * (double)out[4] +
+                    (double)out[5] * (double)out[5]),
+               l1, 1e-6);
+    const double d2[3] = { (double)out[6] - (double)out[3], (double)out[7] - (double)out[4],
+                           (double)out[8] - (double)out[5] };
+    CHECK_NEAR(sqrt(d2[0] * d2[0] + d2[1] * d2[1] + d2[2] * d2[2]), l2, 1e-6);
+    /* one node alone, walking up its parents, is the same pose */
+    for (uint32_t i = 0; i < 3; i++) {
+        asset_reconstruct_node(a.rest, a.parent, a.corr_v, a.corr_w, a.corr_a, a.corr_b, 3, q, 2,
+                               i, x);
+        for (int c = 0; c < 3; c++) {
+            CHECK_NEAR(x[c], out[3 * i + c], 1e-6);
+        }
+    }
+    /* only the first mode: mode 1's turn about y is gone */
     asset_reconstruct(&a, q, 1, out);
-    CHECK_NEAR(out[7], 0.0, 1e-7);
+    CHECK_NEAR(out[3], 0.0, 1e-7);
     /* more modes than there are: clamped */
     asset_reconstruct(&a, q, 99, out);
-    CHECK_NEAR(out[7], q1 * 0.5, 1e-6);
-    /* without correction: linear in phi */
+    CHECK_NEAR(sqrt((double)out[3] * (double)out[3] + (double)out[4] * (double)out[4] +
+                    (double)out[5] * (double)out[5]),
+               l1, 1e-6);
+    /* without the pose fields: linear in phi */
     free(a.corr_w);
     a.corr_w = NULL;
     asset_reconstruct(&a, q, 2, out);
     CHECK_NEAR(out[6], 0.5 + 0.4 * 0.3, 1e-6);
+    CHECK_NEAR(out[7], -2.0 * 0.5, 1e-6);
     CHECK_NEAR(out[8], 2.0, 1e-6);
+    asset_fini(&a);
+}
+
+/* asset_pose_fields: v × s + w = φ_i − φ_p for every segment (the slope at q = 0) */
+static void test_pose_fields(void)
+{
+    asset a;
+    make_tiny(&a);
+    float v[18], w[18];
+    asset_pose_fields(a.rest, a.parent, 3, a.phi, 2, v, w);
+    for (int m = 0; m < 2; m++) {
+        for (int i = 1; i < 3; i++) {
+            const int p = a.parent[i];
+            const float *vi = v + 9 * m + 3 * i, *wi = w + 9 * m + 3 * i;
+            float sg[3], d[3];
+            for (int c = 0; c < 3; c++) {
+                sg[c] = a.rest[3 * i + c] - a.rest[3 * p + c];
+                d[c] = a.phi[9 * m + 3 * i + c] - a.phi[9 * m + 3 * p + c];
+            }
+            CHECK_NEAR(vi[1] * sg[2] - vi[2] * sg[1] + wi[0], d[0], 1e-6);
+            CHECK_NEAR(vi[2] * sg[0] - vi[0] * sg[2] + wi[1], d[1], 1e-6);
+            CHECK_NEAR(vi[0] * sg[1] - vi[1] * sg[0] + wi[2], d[2], 1e-6);
+            /* w lies along the segment */
+            CHECK_NEAR(wi[0] * sg[2] - wi[2] * sg[0], 0.0, 1e-6);
+        }
+    }
     asset_fini(&a);
 }
 
@@ -725,6 +779,7 @@ int main(void)
     RUN(test_source_ids);
     RUN(test_source_ids_refused);
     RUN(test_reconstruct);
+    RUN(test_pose_fields);
     RUN(test_file);
     return check_report();
 }

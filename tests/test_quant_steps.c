@@ -1,12 +1,12 @@
 /* Tests of the server's quantisation-step derivation (server/sim/quant_steps.h): steps
- * follow eps * H / max |a b v| per mode, and a bad height is refused by name. */
+ * follow eps * H / max |a b phi| per mode (|phi| where b = 0), and a bad height is refused by name. */
 #include <string.h>
 
 #include "check.h"
 #include "quant_steps.h"
 #include "wire_limits.h"
 
-/* A tiny asset: 2 nodes, 2 modes; steps follow eps * H / max |a b v|. */
+/* A tiny asset: 2 nodes, 2 modes; steps follow eps * H / max |a b phi|. */
 static void test_quant_steps(void)
 {
     float phi[2 * 2 * 3] = { 0, 0, 0, 3, 4, 0, /* mode 0: |phi| max 5 */
@@ -28,6 +28,12 @@ static void test_quant_steps(void)
     a.corr_b = cb;
     CHECK(quant_steps_derive(&a, 0.0f, steps, &e) == 0);
     CHECK_NEAR(steps[0], 1e-3 * 10 / (5 * 2.0 * 0.5), 1e-8);
+    /* b = 0: q~ = q, the slope is phi itself; the pose fields (rotations) are not lengths */
+    float rot[12] = { 0, 0, 0, 0, 9, 0, 0, 0, 0, 0, 0, 0 };
+    a.corr_v = rot;
+    cb[0] = 0.0f;
+    CHECK(quant_steps_derive(&a, 0.0f, steps, &e) == 0);
+    CHECK_NEAR(steps[0], 1e-3 * 10 / 5, 1e-8);
     a.height_m = NAN;
     CHECK(quant_steps_derive(&a, 0.01f, steps, &e) == GALE_E_RANGE);
     CHECK_STR_HAS(e.msg, "quant_steps_derive: t: height_m: expected > 0, got nan");

@@ -111,7 +111,7 @@ static void golden(const char *name, const uint8_t *rgb)
 }
 
 /* Reads tree t's skeleton back from the GPU and holds it to asset_reconstruct, the one C
- * copy of the strong-wind form: |gpu - ref| <= 1e-4 |ref| per node (|ref| = distance from
+ * copy of the length-true pose: |gpu - ref| <= 1e-4 |ref| per node (|ref| = distance from
  * the root, 1 cm floor). Returns the largest displacement from rest [m]. */
 static double check_skeleton(uint32_t t, const asset *a, const float *q)
 {

@@ -93,7 +93,7 @@ static double phys_share(const asset *a, int mode, int node)
 
 /* Static response to a uniform horizontal wind of `speed` [m/s]: q_i = f_i / ω_i² with
  * f_i = |v| v·p_i (the steady state of q̈ + γq̇ + ω²q = f), reconstructed with the
- * strong-wind correction. Returns the largest horizontal displacement of the leader's
+ * length-true pose. Returns the largest horizontal displacement of the leader's
  * top over PHYS_DIRS azimuths, as a fraction of the height; *max_node gets the largest
  * displacement of any node, same units. */
 static double phys_static(const phys_tree *t, double speed, double *max_node)

@@ -1,6 +1,7 @@
 /* The bake pipeline: frame model (fem.c), shift-invert modes (eigen.c), Rayleigh damping
- * γ_i = α + β ω_i² (Diener 2008 eq. 9), wind basis (basis.c, section 4), correction
- * (correction.c, section 5.2), mesh (mesh.h); everything the asset holds. */
+ * γ_i = α + β ω_i² (Diener 2008 eq. 9), wind basis (basis.c, section 4), the
+ * length-true pose's fields (asset_pose_fields, PHYSICS.md "Length-true pose"), mesh
+ * (mesh.h); everything the asset holds. */
 #include "bake.h"
 #include "mono.h"
 
@@ -64,9 +65,7 @@ int bake_run(const skeleton *s, const species *sp, const bake_desc *d, asset *a,
     }
     fem_model f;
     eigen_result er;
-    corr_result cr;
     memset(&er, 0, sizeof er);
-    memset(&cr, 0, sizeof cr);
     double *tr = NULL, *rot = NULL, *rest = NULL, *p = NULL;
     int rc = fem_build(s, &(fem_material){ sp->E_pa, sp->rho_kg_m3, sp->G_pa }, &f, err);
     if (rc != GALE_OK) {
@@ -95,11 +94,6 @@ int bake_run(const skeleton *s, const species *sp, const bake_desc *d, asset *a,
     for (int i = 0; i < 3 * n; i++) {
         rest[i] = (double)s->pos[i];
     }
-    rc = corr_fit(rest, f.parent, n, tr, rot, nm, &bd.corr, &cr, err);
-    if (rc != GALE_OK) {
-        goto fail;
-    }
-    const double t4 = mono_s();
 
     /* the asset */
     snprintf(a->species, sizeof a->species, "%s", sp->name);
@@ -127,10 +121,10 @@ int bake_run(const skeleton *s, const species *sp, const bake_desc *d, asset *a,
     a->wind_basis = to_float(p, (size_t)nm * 3);
     a->phi = to_float(tr, (size_t)nm * n * 3);
     a->phi_rot = to_float(rot, (size_t)nm * n * 3);
-    a->corr_v = to_float(cr.v, (size_t)nm * n * 3);
-    a->corr_w = to_float(cr.w, (size_t)nm * n * 3);
-    a->corr_a = to_float(cr.a, (size_t)nm);
-    a->corr_b = to_float(cr.b, (size_t)nm);
+    a->corr_v = malloc((size_t)nm * n * 3 * sizeof *a->corr_v);
+    a->corr_w = malloc((size_t)nm * n * 3 * sizeof *a->corr_w);
+    a->corr_a = malloc((size_t)nm * sizeof *a->corr_a);
+    a->corr_b = malloc((size_t)nm * sizeof *a->corr_b);
     if (!a->params_json || !a->parent || !a->rest || !a->radius || !a->omega || !a->gamma ||
         !a->wind_basis || !a->phi || !a->phi_rot || !a->corr_v || !a->corr_w || !a->corr_a ||
         !a->corr_b) {
@@ -148,7 +142,12 @@ int bake_run(const skeleton *s, const species *sp, const bake_desc *d, asset *a,
             a->height_m = s->pos[3 * i + 2];
         }
     }
+    /* the pose is linear in q (q̃ = q): its slope at rest is φ, and no saturation is fitted */
+    asset_pose_fields(a->rest, a->parent, a->n_nodes, a->phi, a->n_modes, a->corr_v, a->corr_w);
+    const double t4 = mono_s();
     for (int m = 0; m < nm; m++) {
+        a->corr_a[m] = 1.0f;
+        a->corr_b[m] = 0.0f;
         const double w = sqrt(er.omega2[m]);
         a->omega[m] = (float)w;
         /* Diener 2008 eq. 9: γ_i = α + β ω_i² */
@@ -172,9 +171,7 @@ int bake_run(const skeleton *s, const species *sp, const bake_desc *d, asset *a,
     r.eigen_solves = er.n_op;
     r.eigen_residual = er.max_residual;
     r.ortho_error = er.ortho_error;
-    r.amp_rot_rad = cr.amp_rot_rad;
-    r.length_err_linear = cr.err_linear;
-    r.length_err_corrected = cr.err_corrected;
+    pose_check_run(a, &sp->drag, &r.pose);
     r.seconds = mono_s() - t0;
     if (rep) {
         *rep = r;
@@ -186,7 +183,6 @@ fail:
     memset(a, 0, sizeof *a);
 done:
     free(tr), free(rot), free(rest), free(p);
-    corr_result_fini(&cr);
     eigen_result_fini(&er);
     fem_fini(&f);
     return rc;
@@ -216,16 +212,24 @@ char *bake_report_json(const asset *a, const bake_report *rep)
                                                                   p[2] * p[2]))));
     }
     cJSON_AddNumberToObject(o, "seconds", rep->seconds);
+    const pose_check *pc = &rep->pose;
     cJSON *bl = cJSON_AddObjectToObject(o, "branch_length_error");
-    char amp[160];
-    snprintf(amp, sizeof amp,
-             "each mode alone at |q| up to the amplitude where its largest node rotation is "
-             "%.2f rad (%.0f deg)",
-             rep->amp_rot_rad, rep->amp_rot_rad * 180.0 / M_PI);
-    cJSON_AddStringToObject(bl, "amplitude", amp);
-    cJSON_AddNumberToObject(bl, "amplitude_rad", rep->amp_rot_rad);
-    cJSON_AddNumberToObject(bl, "without_correction", rep->length_err_linear);
-    cJSON_AddNumberToObject(bl, "with_correction", rep->length_err_corrected);
+    cJSON_AddStringToObject(bl, "pose",
+                            "static wind pose along +x, all modes, scaled so the linear "
+                            "pose's largest node displacement is the given share of the height");
+    cJSON_AddNumberToObject(bl, "linear_at_20pct", pc->len_linear_20);
+    cJSON_AddNumberToObject(bl, "pose_at_20pct", pc->len_pose_20);
+    cJSON_AddNumberToObject(bl, "linear_at_10pct", pc->len_linear_10);
+    cJSON_AddNumberToObject(bl, "pose_at_10pct", pc->len_pose_10);
+    cJSON_AddNumberToObject(bl, "small_q_error", pc->small_q_err);
+    cJSON *df = cJSON_AddArrayToObject(o, "deflection");
+    for (int k = 0; k < POSE_CHECK_SPEEDS; k++) {
+        cJSON *row = cJSON_CreateObject();
+        cJSON_AddNumberToObject(row, "wind_ms", pc->speed_ms[k]);
+        cJSON_AddNumberToObject(row, "rigid_m", pc->defl_rigid_m[k]);
+        cJSON_AddNumberToObject(row, "streamlined_m", pc->defl_stream_m[k]);
+        cJSON_AddItemToArray(df, row);
+    }
     cJSON *e = cJSON_AddObjectToObject(o, "eigen");
     cJSON_AddStringToObject(e, "method", rep->eigen_dense ? "dense LAPACK dsygvd"
                                                           : "ARPACK Lanczos on (K^-1 M)^2, "
@@ -268,11 +272,19 @@ void bake_report_print(FILE *out, const asset *a, const bake_report *rep)
                 (double)a->gamma[m] / (2.0 * w),
                 sqrt((double)(p[0] * p[0] + p[1] * p[1] + p[2] * p[2])));
     }
+    const pose_check *pc = &rep->pose;
     fprintf(out,
-            "branch-length error at %.2f rad (largest node rotation, each mode alone): "
-            "%.2f%% linear, %.2f%% corrected\n",
-            rep->amp_rot_rad, 100.0 * rep->length_err_linear,
-            100.0 * rep->length_err_corrected);
+            "branch-length change, static wind pose of all modes at 20%% (10%%) of height: "
+            "%.2f%% (%.2f%%) linear, %.3f%% (%.3f%%) length-true pose; at 0.1%% of height the "
+            "pose is within %.4f%% of the linear response\n",
+            100.0 * pc->len_linear_20, 100.0 * pc->len_linear_10, 100.0 * pc->len_pose_20,
+            100.0 * pc->len_pose_10, 100.0 * pc->small_q_err);
+    fprintf(out, "static deflection at the crown's wind speed (largest node displacement):\n");
+    fprintf(out, "  wind [m/s]  rigid drag [m]  streamlined [m]  streamlined [%% of height]\n");
+    for (int k = 0; k < POSE_CHECK_SPEEDS; k++) {
+        fprintf(out, "  %10.0f  %14.2f  %15.2f  %26.1f\n", pc->speed_ms[k], pc->defl_rigid_m[k],
+                pc->defl_stream_m[k], 100.0 * pc->defl_stream_m[k] / (double)a->height_m);
+    }
     fprintf(out, "mesh %u vertices, %u triangles, %u LODs, %u leaves\n", a->n_verts,
             a->n_indices / 3, a->n_lods, a->n_leaves);
     fprintf(out,

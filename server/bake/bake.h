@@ -1,5 +1,5 @@
 /* The bake pipeline (PHYSICS.md "Data flow"): skeleton + species -> frame elements -> lowest
- * modes -> wind projection basis -> strong-wind correction -> tube mesh -> asset, with a
+ * modes -> wind projection basis -> length-true pose fields -> tube mesh -> asset, with a
  * report of what it found and how long each stage took. */
 #ifndef GALE_BAKE_H
 #define GALE_BAKE_H
@@ -8,17 +8,17 @@
 #include <stdio.h>
 
 #include "asset.h"
-#include "correction.h"
 #include "err.h"
+#include "pose_check.h"
 #include "skeleton.h"
 #include "species.h"
 
-#define BAKE_VERSION 1
+/* 2: CORR holds the length-true pose's fields (PHYSICS.md "Length-true pose") */
+#define BAKE_VERSION 2
 #define BAKE_MAX_MODES 256
 
 typedef struct bake_desc {
     int n_modes;            /* modes kept, 1..BAKE_MAX_MODES; 0: 32 */
-    corr_desc corr;         /* strong-wind correction; zero fields take its defaults */
     const char *params_json; /* borrowed: what the asset was baked from (copied); NULL: "{}" */
     uint64_t source_hash;   /* stored in the asset as given */
 } bake_desc;
@@ -33,8 +33,7 @@ typedef struct bake_report {
     int eigen_solves;       /* solves with the tree Cholesky of K */
     double eigen_residual;  /* max |K φ - ω² M φ| / |K φ| */
     double ortho_error;     /* max |Φ^T M Φ - I| */
-    double amp_rot_rad;     /* strong-wind amplitude of the branch-length figures */
-    double length_err_linear, length_err_corrected; /* max relative, each mode alone */
+    pose_check pose;        /* branch lengths, small-q error, deflection against wind speed */
 } bake_report;
 
 /* Bakes skeleton s with species sp (mechanics, drag, look) into *a (caller-owned struct,

@@ -32,7 +32,7 @@ static void usage(FILE *out)
             "                 [--report FILE.json] [--modes-png FILE.png]\n"
             "\n"
             "Bakes a tree into a gale asset: frame-element model, lowest modes, wind basis,\n"
-            "strong-wind correction, tube mesh and leaves (Diener 2008).\n"
+            "length-true pose fields, tube mesh and leaves (Diener 2008).\n"
             "\n"
             "  --skeleton FILE.csv  skeleton to bake: id,parent,x,y,z,radius with a header line,\n"
             "                       parent -1 for the single root, z up, metres; default wood\n"

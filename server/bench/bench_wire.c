@@ -1,7 +1,7 @@
 /* gale-bench wire: bytes per tree per snapshot and skeleton node error of the state
  * stream (protocol/PROTOCOL.md) over a gusty run. Trees are the shipped species
  * (configs/species: oak, palm, pine) baked by bake_run (FEM, lowest modes, wind basis p_i,
- * strong-wind correction: Diener 2008 sections 3-5.2), or with --synthetic seeded
+ * length-true pose: Diener 2008 sections 3-4, PHYSICS.md), or with --synthetic seeded
  * synthetic skeletons through the same stages; driven by a mean wind with an
  * Ornstein-Uhlenbeck gust process per tree, advanced by gale_modal at 60 Hz, encoded at
  * 30 snapshots/s by the real encoder and decoded by the real decoder. Node error: the
@@ -24,7 +24,6 @@
 #include "bake.h"
 #include "bake_tree.h"
 #include "basis.h"
-#include "correction.h"
 #include "eigen.h"
 #include "fem.h"
 #include "gust.h"
@@ -55,7 +54,6 @@ static int bake_species(int n_nodes, uint64_t seed, int n_modes, double alpha, d
     skeleton sk = { 0 };
     fem_model fm = { 0 };
     eigen_result er = { 0 };
-    corr_result cr = { 0 };
     double *trans = NULL, *rot = NULL, *p = NULL, *rest = NULL;
     int rc = bake_tree_generate(n_nodes, seed, &sk, err);
     if (!rc) {
@@ -82,10 +80,6 @@ static int bake_species(int n_nodes, uint64_t seed, int n_modes, double alpha, d
     for (size_t i = 0; i < 3 * nn; i++) {
         rest[i] = sk.pos[i];
     }
-    rc = corr_fit(rest, sk.parent, sk.n, trans, rot, n_modes, &(corr_desc){ 0 }, &cr, err);
-    if (rc) {
-        goto done;
-    }
     memset(a, 0, sizeof *a);
     snprintf(a->species, sizeof a->species, "synthetic-%d-%llu", n_nodes,
              (unsigned long long)seed);
@@ -98,10 +92,10 @@ static int bake_species(int n_nodes, uint64_t seed, int n_modes, double alpha, d
     a->gamma = malloc(sizeof(float) * (size_t)n_modes);
     a->wind_basis = to_float(p, 3 * (size_t)n_modes);
     a->phi = to_float(trans, (size_t)n_modes * nn * 3);
-    a->corr_v = to_float(cr.v, (size_t)n_modes * nn * 3);
-    a->corr_w = to_float(cr.w, (size_t)n_modes * nn * 3);
-    a->corr_a = to_float(cr.a, (size_t)n_modes);
-    a->corr_b = to_float(cr.b, (size_t)n_modes);
+    a->corr_v = malloc(sizeof(float) * (size_t)n_modes * nn * 3);
+    a->corr_w = malloc(sizeof(float) * (size_t)n_modes * nn * 3);
+    a->corr_a = malloc(sizeof(float) * (size_t)n_modes);
+    a->corr_b = malloc(sizeof(float) * (size_t)n_modes);
     if (!a->parent || !a->rest || !a->omega || !a->gamma || !a->wind_basis || !a->phi ||
         !a->corr_v || !a->corr_w || !a->corr_a || !a->corr_b) {
         rc = gale_errf(err, GALE_E_NOMEM, "bench wire: out of memory");
@@ -111,8 +105,11 @@ static int bake_species(int n_nodes, uint64_t seed, int n_modes, double alpha, d
         a->parent[i] = sk.parent[i];
         a->height_m = sk.pos[3 * i + 2] > a->height_m ? sk.pos[3 * i + 2] : a->height_m;
     }
+    asset_pose_fields(a->rest, a->parent, a->n_nodes, a->phi, a->n_modes, a->corr_v, a->corr_w);
     for (int m = 0; m < n_modes; m++) {
         double w2 = er.omega2[m];
+        a->corr_a[m] = 1.0f;
+        a->corr_b[m] = 0.0f;
         a->omega[m] = (float)sqrt(w2);
         a->gamma[m] = (float)(alpha + beta * w2);
     }
@@ -121,7 +118,6 @@ done:
     free(rot);
     free(p);
     free(rest);
-    corr_result_fini(&cr);
     eigen_result_fini(&er);
     fem_fini(&fm);
     skeleton_fini(&sk);
@@ -509,7 +505,7 @@ int bench_wire(int argc, char **argv)
                "\"state_mismatches\":%d,\"encode_us_per_tree\":%.3f,\"decode_us_per_tree\":%.3f,"
                "\"target_bytes\":24,\"target_p99\":0.005,",
                seconds, n_trees, n_modes, NS, sp[0].n_nodes, sp[1].n_nodes, sp[2].n_nodes,
-               synthetic ? "synthetic skeletons baked by fem+eigen+basis+correction"
+               synthetic ? "synthetic skeletons baked by fem+eigen+basis+pose fields"
                          : "configs/species oak, palm, pine baked by bake_run",
                recon, t_bake,
                mean_ms, intensity, eps, keyframe_s, (unsigned long long)snaps,

@@ -21,6 +21,12 @@ void species_default(species *sp)
     sp->rayleigh_beta = 0.004;
     /* ½ ρ_air C_D with ρ_air = 1.2 kg/m^3 and C_D = 1 for a cylinder in cross flow */
     sp->drag_c = 0.6;
+    /* rigid drag unless the file says otherwise; the fits start near 10 m/s and end
+     * near 25 m/s (PHYSICS.md "Streamlining") */
+    sp->drag.vogel_b = 0.0f;
+    sp->drag.u0_ms = 10.0f;
+    sp->drag.fit_max_ms = 25.0f;
+    sp->drag.hold_above_fit = 0;
     sp->gen = lsystem_params_default();
     sp->bark_rgb[0] = 0.36f;
     sp->bark_rgb[1] = 0.27f;
@@ -111,6 +117,11 @@ static const sp_field look_fields[] = {
     SPF(bark_rgb, SP_RGB, 0.0, 1.0),          SPF(leaf_rgb, SP_RGB, 0.0, 1.0),
     SPF(leaf_size_m, SP_FLT, 0.005, 10.0),    SPF(leaves_per_tip, SP_INT, 0, 64),
     SPF(leaf_spread_deg, SP_FLT, 0.0, 180.0),
+};
+static const sp_field drag_fields[] = {
+    { "vogel_b", SP_FLT, -1.5, 0.0, offsetof(species, drag.vogel_b) },
+    { "u0_ms", SP_FLT, 0.1, 100.0, offsetof(species, drag.u0_ms) },
+    { "fit_max_ms", SP_FLT, 0.1, 200.0, offsetof(species, drag.fit_max_ms) },
 };
 #undef SPF
 
@@ -302,9 +313,45 @@ static int sp_look(const cfg_doc *d, const cJSON *root, species *sp, gale_err *e
                      d->name, shape);
 }
 
+/* "drag": the streamlining law (drag_law.h); above_fit is "extend" or "hold". */
+static int sp_drag(const cfg_doc *d, const cJSON *root, species *sp, gale_err *err)
+{
+    static const char *const extra[] = { "above_fit", NULL };
+    static const char *const modes[] = { "extend", "hold" };
+    const cJSON *o;
+    int rc = sp_section(d, root, "", "drag", &o, err);
+    if (rc != 0 || !o) {
+        return rc;
+    }
+    rc = sp_keys(d, o, "drag", drag_fields, COUNT(drag_fields), extra, err);
+    if (rc == 0) {
+        rc = sp_read(d, o, "drag", drag_fields, COUNT(drag_fields), sp, err);
+    }
+    char mode[16];
+    if (rc == 0) {
+        rc = cfg_string(d, o, "drag", "above_fit", false, modes[sp->drag.hold_above_fit], mode,
+                        sizeof mode, err);
+    }
+    if (rc != 0) {
+        return rc;
+    }
+    if (!(sp->drag.fit_max_ms >= sp->drag.u0_ms)) {
+        return gale_errf(err, GALE_E_RANGE, "%s: drag.fit_max_ms: expected >= u0_ms (%g), got %g",
+                         d->name, (double)sp->drag.u0_ms, (double)sp->drag.fit_max_ms);
+    }
+    for (int i = 0; i < 2; i++) {
+        if (strcmp(mode, modes[i]) == 0) {
+            sp->drag.hold_above_fit = i;
+            return GALE_OK;
+        }
+    }
+    return gale_errf(err, GALE_E_RANGE, "%s: drag.above_fit: expected \"extend\" or \"hold\", got \"%s\"",
+                     d->name, mode);
+}
+
 static int sp_from_doc(const cfg_doc *d, species *sp, gale_err *err)
 {
-    static const char *const extra[] = { "name", "G_pa", "generator", "look", NULL };
+    static const char *const extra[] = { "name", "G_pa", "generator", "look", "drag", NULL };
     const cJSON *r = d->root;
     double G = -1.0;
     int rc = sp_keys(d, r, "", top_fields, COUNT(top_fields), extra, err);
@@ -322,6 +369,9 @@ static int sp_from_doc(const cfg_doc *d, species *sp, gale_err *err)
     }
     if (rc == 0) {
         rc = sp_look(d, r, sp, err);
+    }
+    if (rc == 0) {
+        rc = sp_drag(d, r, sp, err);
     }
     if (rc != 0) {
         return rc;

@@ -4,6 +4,7 @@
 #ifndef GALE_SPECIES_H
 #define GALE_SPECIES_H
 
+#include "drag_law.h"
 #include "err.h"
 #include "lsystem.h"
 
@@ -18,6 +19,7 @@ typedef struct species {
     double drag_c;         /* C of p_i = C ∫ D φ_i ds: ½ ρ_air C_D [kg/m^3]; D is the
                             * branch diameter only, so C lumps the foliage's frontal area
                             * too and may well exceed ½ ρ_air (shipped: 0.25-1.8) */
+    drag_law drag;         /* streamlining of C_d with speed, the species file's "drag" */
     /* generator */
     lsystem_params gen;
     /* look */

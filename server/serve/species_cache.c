@@ -100,6 +100,7 @@ int species_cache_get(const char *species_file, int n_modes, const char *cache_d
     key = bake_hash(key, &n_modes, sizeof n_modes);
     key = bake_hash(key, &ver, sizeof ver);
     e->source_hash = key;
+    e->drag = sp.drag;
     if ((rc = make_dirs(cache_dir, err))) {
         goto fail;
     }

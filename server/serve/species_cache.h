@@ -12,6 +12,7 @@
 #include <stdint.h>
 
 #include "asset.h"
+#include "drag_law.h"
 #include "err.h"
 #include "wire.h"
 
@@ -22,6 +23,7 @@ typedef struct species_entry {
     char hash[17];                /* content hash of bytes (hash64), 16 hex digits */
     uint64_t source_hash;         /* cache key: what it was baked from */
     float qstep[WIRE_MAX_MODES];  /* quantisation steps (quant_steps_derive) */
+    drag_law drag;                /* the species file's streamlining (species.h) */
     bool baked;                   /* baked now rather than read from the cache */
     double seconds;               /* time to bake or load */
     char path[512];               /* cache file */

@@ -26,6 +26,7 @@ typedef struct modal_sp {
     float *a11, *a12, *a21, *a22, *b1, *b2; /* osc_exact per mode */
     float *px, *py, *pz;                     /* wind basis p_i, tree frame */
     float *inv_step;                         /* 1 / quantisation step; 0 in padding */
+    drag_law drag;                           /* streamlining (PHYSICS.md "Streamlining") */
 } modal_sp;
 
 struct modal {
@@ -36,6 +37,7 @@ struct modal {
     float *state;            /* owned: per tree [2][pad]: q then q' */
     uint8_t *tree_species;   /* owned: [n_trees] */
     float *cos_yaw, *sin_yaw;/* owned: [n_trees] */
+    float *drag_mult;        /* owned: [n_trees] per-tree drag factor, 1 unless set */
 };
 
 modal *modal_create(const modal_desc *d, gale_err *err)
@@ -79,6 +81,9 @@ modal *modal_create(const modal_desc *d, gale_err *err)
             goto fail;
         }
         m->sp[s].n_modes = in->n_modes;
+        if (d->species_drag) {
+            m->sp[s].drag = d->species_drag[s];
+        }
         m->stride = in->n_modes > m->stride ? in->n_modes : m->stride;
     }
     m->pad = (m->stride + MODE_PAD - 1) / MODE_PAD * MODE_PAD;
@@ -125,7 +130,8 @@ modal *modal_create(const modal_desc *d, gale_err *err)
     m->tree_species = malloc(d->n_trees);
     m->cos_yaw = malloc(sizeof(float) * d->n_trees);
     m->sin_yaw = malloc(sizeof(float) * d->n_trees);
-    if (!m->tree_species || !m->cos_yaw || !m->sin_yaw) {
+    m->drag_mult = malloc(sizeof(float) * d->n_trees);
+    if (!m->tree_species || !m->cos_yaw || !m->sin_yaw || !m->drag_mult) {
         goto nomem;
     }
     for (uint32_t t = 0; t < d->n_trees; t++) {
@@ -143,6 +149,7 @@ modal *modal_create(const modal_desc *d, gale_err *err)
         m->tree_species[t] = d->tree_species[t];
         m->cos_yaw[t] = cosf(yaw);
         m->sin_yaw[t] = sinf(yaw);
+        m->drag_mult[t] = 1.0f;
     }
     /* 64-byte aligned so a tree's state starts on a cache line when pad is a multiple
      * of 16 (the common 16 / 32 / 64 modes). */
@@ -172,6 +179,7 @@ void modal_destroy(modal *m)
     free(m->tree_species);
     free(m->cos_yaw);
     free(m->sin_yaw);
+    free(m->drag_mult);
     free(m);
 }
 
@@ -235,8 +243,11 @@ static void range_tick(const modal *m, uint32_t t0, uint32_t t1, const float *wi
         const float cy = m->cos_yaw[t], sy = m->sin_yaw[t];
         const float vx = cy * wx + sy * wy;
         const float vy = -sy * wx + cy * wy;
-        const float sv = sqrtf(wx * wx + wy * wy + wz * wz);
+        const float u = sqrtf(wx * wx + wy * wy + wz * wz);
         const modal_sp *sp = &m->sp[m->tree_species[t]];
+        /* f_i = C_d(U)/C_d0 · mult · |v| v·p_i: the crown's streamlining (drag_law.h) and
+         * the tree's own factor (modal_set_drag_mult) scale the whole force */
+        const float sv = u * drag_law_scale(&sp->drag, u) * m->drag_mult[t];
         float *q = m->state + (size_t)t * 2 * pad;
         /* When the row is exactly the padded modes (16, 32, 64), quantise straight into
          * the snapshot; otherwise into qq and copy the row's part. */
@@ -279,6 +290,18 @@ uint32_t modal_get(const modal *m, uint32_t t, float *q, float *qdot)
         memcpy(qdot, st + m->pad, nm * sizeof(float));
     }
     return nm;
+}
+
+void modal_set_drag_mult(modal *m, uint32_t t, float mult)
+{
+    if (t < m->n_trees && mult >= 0.0f && isfinite(mult)) {
+        m->drag_mult[t] = mult;
+    }
+}
+
+float modal_drag_mult(const modal *m, uint32_t t)
+{
+    return t < m->n_trees ? m->drag_mult[t] : 0.0f;
 }
 
 void modal_set(modal *m, uint32_t t, const float *q, const float *qdot)

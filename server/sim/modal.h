@@ -7,6 +7,7 @@
 
 #include <stdint.h>
 
+#include "drag_law.h"
 #include "err.h"
 
 /* One species' modal data (borrowed for modal_create only; copied). */
@@ -23,6 +24,8 @@ typedef struct modal_desc {
     uint32_t n_species;           /* 1..WIRE_MAX_SPECIES */
     const modal_species *species; /* [n_species] borrowed for the call */
     const uint8_t *tree_species;  /* [n_trees] index into species, borrowed for the call */
+    const drag_law *species_drag; /* [n_species] streamlining, borrowed for the call; NULL:
+                                   * rigid drag, f ∝ U², for every species */
     const float *tree_yaw_rad;    /* [n_trees] rotation about z, tree -> world; NULL = 0 */
     double dt_s;                  /* tick length [s]; 0 = 1/60 */
     int n_threads;                /* worker threads for modal_tick; 0 = 2, 1 = none */
@@ -42,14 +45,20 @@ uint32_t modal_n_trees(const modal *m);
 uint32_t modal_tree_modes(const modal *m, uint32_t t);
 
 /* One tick: wind_world[3 t + k] is the wind sampled at tree t (world frame, [m/s]);
- * each tree's modes advance by one dt under f_i = |v| v.p_i (v rotated into the tree
- * frame by -yaw), and qsnap[t * stride + i] receives the quantised q (when qsnap is not
+ * each tree's modes advance by one dt under f_i = s(|v|) k_t |v| v.p_i (v rotated into the tree
+ * frame by -yaw; s the species' drag_law_scale, k_t the tree's drag factor), and qsnap[t * stride + i] receives the quantised q (when qsnap is not
  * NULL; entries beyond a tree's modes are written 0). Does not allocate. */
 void modal_tick(modal *m, const float *wind_world, int16_t *qsnap);
 
 /* Float state of tree t: q[n] and qdot[n] for n = its modes (either may be NULL);
  * returns n. */
 uint32_t modal_get(const modal *m, uint32_t t, float *q, float *qdot);
+/* Tree t's drag factor (default 1): every modal force of the tree is multiplied by it,
+ * e.g. by the leaf area a storm has left. Ignored for t out of range or a negative or
+ * non-finite value. */
+void modal_set_drag_mult(modal *m, uint32_t t, float mult);
+float modal_drag_mult(const modal *m, uint32_t t); /* 0 for t out of range */
+
 /* Sets tree t's state (tests, restore). */
 void modal_set(modal *m, uint32_t t, const float *q, const float *qdot);
 

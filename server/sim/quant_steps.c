@@ -1,5 +1,5 @@
-/* Quantisation steps of q from each mode's largest node displacement (Diener 2008 section
- * 5.2 form): see quant_steps.h. */
+/* Quantisation steps of q from each mode's largest node displacement per unit q at rest:
+ * see quant_steps.h. */
 #include "quant_steps.h"
 
 #include <math.h>
@@ -27,12 +27,12 @@ int quant_steps_derive(const asset *a, float eps, float *steps, gale_err *err)
     }
     const float h_m = a->height_m;
     for (uint32_t m = 0; m < a->n_modes; m++) {
-        /* Largest node displacement per unit q_m. With the strong-wind form
-         * u = q~ v + q~^2 w, q~ = a atan(b q), du/dq at q = 0 is a b v (Diener 2008
-         * section 5.2); without the correction it is phi. */
-        const float *v = a->corr_v ? a->corr_v : a->phi;
+        /* Largest node displacement per unit q_m at q = 0: the length-true pose's slope
+         * there is φ times dq̃/dq = a b (q̃ = a atan(b q); 1 where b = 0, q̃ = q), see
+         * PHYSICS.md "Length-true pose". */
+        const float *v = a->phi;
         float gain = 1.0f;
-        if (a->corr_v && a->corr_a && a->corr_b) {
+        if (a->corr_a && a->corr_b && a->corr_b[m] != 0.0f) {
             gain = fabsf(a->corr_a[m] * a->corr_b[m]);
         }
         float smax = 0.0f;

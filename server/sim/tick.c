@@ -43,6 +43,7 @@ tick_sim *tick_create(const tick_desc *d, gale_err *err)
     t->dt_s = (float)(1.0 / sc->tick_hz);
     t->n_trees = sc->n_trees;
     modal_species ms[SCENE_MAX_SPECIES];
+    drag_law drag[SCENE_MAX_SPECIES];
     for (int i = 0; i < sc->n_species; i++) {
         const tick_species *sp = &d->species[i];
         ms[i] = (modal_species){ .n_modes = sp->n_modes,
@@ -50,6 +51,7 @@ tick_sim *tick_create(const tick_desc *d, gale_err *err)
                                  .gamma = sp->gamma,
                                  .wind_basis = sp->wind_basis,
                                  .qstep = sp->qstep };
+        drag[i] = sp->drag;
     }
     uint8_t *species = calloc((size_t)t->n_trees, 1);
     float *yaw = calloc((size_t)t->n_trees, sizeof *yaw);
@@ -76,6 +78,7 @@ tick_sim *tick_create(const tick_desc *d, gale_err *err)
                                        .n_species = (uint32_t)sc->n_species,
                                        .species = ms,
                                        .tree_species = species,
+                                       .species_drag = drag,
                                        .tree_yaw_rad = yaw,
                                        .dt_s = (double)t->dt_s,
                                        .n_threads = 1 },
@@ -249,4 +252,11 @@ int tick_leaves(const tick_sim *t, const leaf_seed **out)
 const float *tick_crown_wind(const tick_sim *t)
 {
     return t->vel;
+}
+
+void tick_set_drag_mult(tick_sim *t, int tree, float mult)
+{
+    if (tree >= 0) {
+        modal_set_drag_mult(t->m, (uint32_t)tree, mult);
+    }
 }

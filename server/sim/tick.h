@@ -9,6 +9,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "drag_law.h"
 #include "err.h"
 #include "leaf.h"
 #include "scene.h"
@@ -23,6 +24,7 @@ typedef struct tick_species {
     const float *qstep;      /* [n_modes] quantisation step of the snapshot (quant_steps_derive) */
     float height_m;          /* rest height: the wind is sampled at 0.7 of it */
     uint32_t n_leaves;       /* leaf slots per tree */
+    drag_law drag;           /* streamlining of the crown (drag_law.h); zero: rigid, ∝ U² */
 } tick_species;
 
 /* The wind grid as the tick drives it (wind.h functions on a wind_grid in the server;
@@ -90,6 +92,9 @@ int tick_n_trees(const tick_sim *t);
 int tick_stride(const tick_sim *t);
 /* Float q of tree `tree` into q[cap]; returns its mode count. */
 int tick_get_q(const tick_sim *t, int tree, float *q, int cap);
+/* Tree `tree`'s drag factor (modal_set_drag_mult; default 1, e.g. the leaf area left
+ * after stripping). Call from the thread that runs tick_step, between ticks. */
+void tick_set_drag_mult(tick_sim *t, int tree, float mult);
 /* The leaf seeds of the last tick. */
 int tick_leaves(const tick_sim *t, const leaf_seed **out);
 /* The wind velocity [m/s, world] sampled at each crown during the last tick, [n_trees][3]. */

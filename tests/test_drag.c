@@ -1,0 +1,119 @@
+/* Streamlining drag (server/common/drag_law.h, PHYSICS.md "Streamlining") through the
+ * modal tick: the force grows as U^(2+B) between U_0 and the fit's top, as U² below U_0,
+ * as U² again above the top with "hold"; a tree's drag factor scales its force; the
+ * shipped species carry their Vogel exponents, and a bad "drag" section is refused by
+ * key path. */
+#include <math.h>
+#include <string.h>
+
+#include "check.h"
+#include "drag_law.h"
+#include "modal.h"
+#include "species.h"
+
+/* q after one step from rest under a steady wind u along x: b1 · f, so q ∝ the force */
+static double force_q(const drag_law *d, float u, float mult)
+{
+    const float omega[1] = { 3.0f }, gamma[1] = { 0.2f }, p[3] = { 0.7f, 0.0f, 0.0f };
+    const float step[1] = { 1e-4f };
+    modal_species sp = { .n_modes = 1, .omega = omega, .gamma = gamma, .wind_basis = p,
+                         .qstep = step };
+    uint8_t ts[1] = { 0 };
+    gale_err e;
+    modal *m = modal_create(&(modal_desc){ .n_trees = 1, .n_species = 1, .species = &sp,
+                                           .tree_species = ts, .species_drag = d,
+                                           .dt_s = 0.01, .n_threads = 1 },
+                            &e);
+    CHECK(m != NULL);
+    if (!m) {
+        return 0.0;
+    }
+    if (mult != 1.0f) {
+        modal_set_drag_mult(m, 0, mult);
+        CHECK(modal_drag_mult(m, 0) == mult);
+    }
+    const float wind[3] = { u, 0.0f, 0.0f };
+    modal_tick(m, wind, NULL);
+    float q;
+    modal_get(m, 0, &q, NULL);
+    modal_destroy(m);
+    return (double)q;
+}
+
+static void test_exponent(void)
+{
+    const float bs[4] = { -0.5f, -0.75f, -0.85f, -0.9f };
+    for (int k = 0; k < 4; k++) {
+        const drag_law d = { .vogel_b = bs[k], .u0_ms = 10.0f, .fit_max_ms = 25.0f };
+        const double f1 = force_q(&d, 12.0f, 1.0f), f2 = force_q(&d, 22.0f, 1.0f);
+        const double want = pow(22.0 / 12.0, 2.0 + (double)bs[k]);
+        CHECK(f1 > 0.0);
+        CHECK_NEAR(f2 / f1, want, 0.01 * want);
+        /* "extend" carries the exponent above the fit's top */
+        const double f3 = force_q(&d, 60.0f, 1.0f);
+        const double want3 = pow(60.0 / 22.0, 2.0 + (double)bs[k]);
+        CHECK_NEAR(f3 / f2, want3, 0.01 * want3);
+    }
+}
+
+static void test_rigid_below_u0_and_hold(void)
+{
+    const drag_law d = { .vogel_b = -0.85f, .u0_ms = 10.0f, .fit_max_ms = 25.0f,
+                         .hold_above_fit = 1 };
+    /* below U_0: rigid, ∝ U² (a breeze as with drag_c alone) */
+    CHECK_NEAR(force_q(&d, 8.0f, 1.0f) / force_q(&d, 4.0f, 1.0f), 4.0, 0.04);
+    const drag_law rigid = { 0 };
+    CHECK_NEAR(force_q(&d, 9.0f, 1.0f), force_q(&rigid, 9.0f, 1.0f), 1e-12);
+    /* above the top with "hold": C_d frozen at its value there, ∝ U² again */
+    CHECK_NEAR(force_q(&d, 60.0f, 1.0f) / force_q(&d, 30.0f, 1.0f), 4.0, 0.04);
+    /* no species_drag at all: rigid */
+    CHECK_NEAR(force_q(NULL, 40.0f, 1.0f) / force_q(NULL, 20.0f, 1.0f), 4.0, 0.04);
+}
+
+static void test_tree_factor(void)
+{
+    const drag_law d = { .vogel_b = -0.75f, .u0_ms = 10.0f, .fit_max_ms = 25.0f };
+    const double f = force_q(&d, 30.0f, 1.0f), h = force_q(&d, 30.0f, 0.4f);
+    CHECK_NEAR(h / f, 0.4, 1e-5);
+    CHECK(force_q(&d, 30.0f, 0.0f) == 0.0);
+}
+
+static void test_species_files(void)
+{
+    const char *names[3] = { "oak", "pine", "palm" };
+    const float want[3] = { -0.85f, -0.75f, -0.75f };
+    for (int k = 0; k < 3; k++) {
+        char path[4096];
+        snprintf(path, sizeof path, "%s/configs/species/%s.json", GALE_SOURCE_DIR, names[k]);
+        species sp;
+        gale_err e;
+        CHECK(species_load(path, &sp, &e) == GALE_OK);
+        CHECK(sp.drag.vogel_b == want[k]);
+        CHECK(sp.drag.u0_ms == 10.0f && sp.drag.fit_max_ms == 25.0f && !sp.drag.hold_above_fit);
+    }
+    static const char bad_mode[] =
+        "{\"name\": \"t\", \"drag\": {\"vogel_b\": -0.5, \"above_fit\": \"stop\"}}";
+    static const char bad_b[] = "{\"name\": \"t\", \"drag\": {\"vogel_b\": 0.5}}";
+    static const char bad_key[] = "{\"name\": \"t\", \"drag\": {\"vogel\": -0.5}}";
+    static const char bad_top[] =
+        "{\"name\": \"t\", \"drag\": {\"u0_ms\": 20, \"fit_max_ms\": 15}}";
+    species sp;
+    gale_err e;
+    CHECK(species_parse(bad_mode, strlen(bad_mode), "t.json", &sp, &e) != GALE_OK);
+    CHECK_STR_HAS(e.msg, "drag.above_fit");
+    CHECK(species_parse(bad_b, strlen(bad_b), "t.json", &sp, &e) != GALE_OK);
+    CHECK_STR_HAS(e.msg, "drag.vogel_b");
+    CHECK(species_parse(bad_key, strlen(bad_key), "t.json", &sp, &e) != GALE_OK);
+    CHECK_STR_HAS(e.msg, "vogel");
+    CHECK(species_parse(bad_top, strlen(bad_top), "t.json", &sp, &e) != GALE_OK);
+    CHECK_STR_HAS(e.msg, "drag.fit_max_ms");
+}
+
+int main(void)
+{
+    RUN(test_exponent);
+    RUN(test_rigid_below_u0_and_hold);
+    RUN(test_tree_factor);
+    RUN(test_species_files);
+    return check_report();
+}
