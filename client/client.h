@@ -39,6 +39,11 @@ typedef struct client_args {
     int tile[4];            /* wall-tile: col, row, cols, rows */
     float bezel;            /* wall-tile: hidden strip / tile width */
     const char *cache_dir;
+    /* wall-tile from a wall file (client_wall.c) */
+    const char *wall_path;  /* --wall FILE */
+    const char *tile_name;  /* --tile NAME with --wall */
+    bool size_set;          /* --size given (else the tile's px) */
+    bool list_tiles;        /* --list-tiles: print the file's tile names and exit */
 } client_args;
 
 typedef struct client_species {
@@ -54,6 +59,9 @@ typedef struct client {
     asset_cache *cache;
     jitter *jit;
     camera cam;
+    struct wall *wall; /* owned: the wall file of --wall, NULL without */
+    int wall_tile;     /* this tile's index in it */
+    bool hud_on;       /* this client draws the HUD (client_wall_hud_px) */
     bool camera_set; /* the camera was fitted to a scene (once per run; R refits it) */
 
     /* scene of the last welcome (owned copies) */
@@ -128,6 +136,19 @@ void client_input_screenshot_name(char *buf, size_t cap);
 /* Kiosk role only: moves the wind dial by delta [m/s] (starting from the streamed speed,
  * kept within 0..100) and sends the command with the kiosk token; failures are logged. */
 void client_kiosk_dial(client *c, float delta_ms);
+
+/* ---- client_wall.c ---- */
+
+/* --wall: loads the file, finds --tile (or prints the names for --list-tiles), takes the
+ * tile's px as the size unless --size was given. 0, 1 when it listed the tiles (exit 0),
+ * or -1 with the reason on stderr. */
+int client_wall_setup(client *c);
+/* HUD text size [px] for this client: a wall tile's hud_text_mm on its glass, 0 (no HUD)
+ * on the wall's other tiles; default_px elsewhere. */
+float client_wall_hud_px(const client *c, float default_px);
+/* view and proj of this tile for the camera (wall file, or --tile C,R,COLS,ROWS). */
+void client_wall_matrices(const client *c, int fb_w, int fb_h, float z_near, float z_far,
+                          float view[16], float proj[16]);
 
 /* ---- client_frame.c ---- */
 

@@ -42,11 +42,39 @@ static void usage(FILE *f)
             "  --delay MS             playout delay behind server time, default 100\n"
             "  --tile C,R,COLS,ROWS   wall-tile: this tile of a COLS x ROWS wall (0,0 top left)\n"
             "  --bezel F              wall-tile: hidden glass between tiles / tile width (0)\n"
+            "  --wall FILE            wall-tile: the wall file (configs/walls/README.md); then\n"
+            "                         --tile NAME names this tile and implies --role wall-tile\n"
+            "  --list-tiles           with --wall: print the file's tile names and exit\n"
             "  --cache DIR            asset cache (default $XDG_CACHE_HOME/gale)\n"
             "  --help                 this text\n"
             "keys: left-drag orbit, right-drag pan, wheel zoom, WASD/QE fly, F11 fullscreen,\n"
             "      F12 or P screenshot, R reset view, kiosk: + / - dial the wind, Esc quit.\n"
             "Exit status: 0 ok, 2 bad arguments, 3 no state received (headless), 1 other.\n");
+}
+
+/* --tile and --wall belong to wall tiles: refused with another role; --wall alone sets it. */
+static int client_args_wall_check(client_args *a, bool role_given)
+{
+    bool tile_given = a->tile_name || a->tile[2] > 0;
+    if (a->wall_path && !role_given) {
+        a->role = CTL_ROLE_WALL_TILE;
+    }
+    if ((tile_given || a->wall_path) && a->role != CTL_ROLE_WALL_TILE) {
+        fprintf(stderr, "gale-client: %s: only for wall tiles, but the role is %s (use --role "
+                        "wall-tile, or --wall FILE --tile NAME)\n",
+                tile_given ? "--tile" : "--wall", ctl_role_name(a->role));
+        return -1;
+    }
+    if (a->tile_name && !a->wall_path) {
+        fprintf(stderr, "gale-client: --tile %s: a tile name needs --wall FILE (or give "
+                        "C,R,COLS,ROWS)\n", a->tile_name);
+        return -1;
+    }
+    if (a->list_tiles && !a->wall_path) {
+        fprintf(stderr, "gale-client: --list-tiles: needs --wall FILE\n");
+        return -1;
+    }
+    return 0;
 }
 
 static int parse_args(int argc, char **argv, client_args *a)
@@ -57,6 +85,7 @@ static int parse_args(int argc, char **argv, client_args *a)
                         .frames = 60,
                         .delay_s = 0.1,
                         .wait_s = 30.0 };
+    bool role_given = false;
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -67,12 +96,18 @@ static int parse_args(int argc, char **argv, client_args *a)
         } else if (strcmp(o, "--headless") == 0) {
             a->headless = true;
             takes = false;
+        } else if (strcmp(o, "--list-tiles") == 0) {
+            a->list_tiles = true;
+            takes = false;
+        } else if (strcmp(o, "--wall") == 0 && v) {
+            a->wall_path = v;
         } else if (!v) {
             fprintf(stderr, "gale-client: %s: expected a value\n", o);
             return -1;
         } else if (strcmp(o, "--url") == 0) {
             a->url = v;
         } else if (strcmp(o, "--role") == 0) {
+            role_given = true;
             if (strcmp(v, "viewer") == 0) {
                 a->role = CTL_ROLE_VIEWER;
             } else if (strcmp(v, "kiosk") == 0) {
@@ -85,6 +120,7 @@ static int parse_args(int argc, char **argv, client_args *a)
                 return -1;
             }
         } else if (strcmp(o, "--size") == 0) {
+            a->size_set = true;
             if (sscanf(v, "%dx%d", &a->width, &a->height) != 2 || a->width < 16 || a->height < 16 ||
                 a->width > 16384 || a->height > 16384) {
                 fprintf(stderr, "gale-client: --size: expected WxH within 16..16384, got \"%s\"\n",
@@ -113,6 +149,8 @@ static int parse_args(int argc, char **argv, client_args *a)
                 fprintf(stderr, "gale-client: --wait: expected > 0 s, got \"%s\"\n", v);
                 return -1;
             }
+        } else if (strcmp(o, "--tile") == 0 && !strchr(v, ',')) {
+            a->tile_name = v; /* a tile of --wall FILE */
         } else if (strcmp(o, "--tile") == 0) {
             int *t = a->tile;
             if (sscanf(v, "%d,%d,%d,%d", &t[0], &t[1], &t[2], &t[3]) != 4 || t[2] < 1 || t[3] < 1 ||
@@ -139,7 +177,10 @@ static int parse_args(int argc, char **argv, client_args *a)
             i++;
         }
     }
-    if (!a->url) {
+    if (client_args_wall_check(a, role_given) != 0) {
+        return -1;
+    }
+    if (!a->url && !a->list_tiles) {
         fprintf(stderr, "gale-client: --url ws://HOST:PORT is required (see --help)\n");
         return -1;
     }
@@ -155,6 +196,11 @@ int main(int argc, char **argv)
     memset(&c, 0, sizeof c);
     if (parse_args(argc, argv, &c.a) != 0) {
         return 2;
+    }
+    int ws = client_wall_setup(&c);
+    if (ws != 0) {
+        free(c.wall);
+        return ws > 0 ? 0 : 2;
     }
     signal(SIGINT, on_signal);
     signal(SIGTERM, on_signal);
@@ -190,7 +236,9 @@ int main(int argc, char **argv)
         fprintf(stderr, "gale-client: render: %s\n", err.msg);
         goto done;
     }
-    c.hud = hud_create(&(hud_desc){ .px = c.a.height >= 1000 ? 22.0f : 18.0f }, &err);
+    float hud_px = client_wall_hud_px(&c, c.a.height >= 1000 ? 22.0f : 18.0f);
+    c.hud_on = hud_px > 0.0f;
+    c.hud = hud_create(&(hud_desc){ .px = c.hud_on ? hud_px : 18.0f }, &err);
     if (!c.hud) {
         fprintf(stderr, "gale-client: hud: %s\n", err.msg);
         goto done;
@@ -299,5 +347,6 @@ done:
     free(c.w_species);
     free(c.w_instances);
     free(c.w_boxes);
+    free(c.wall);
     return status;
 }
