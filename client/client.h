@@ -7,6 +7,7 @@
 
 #include <stdbool.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "asset.h"
 #include "asset_cache.h"
@@ -44,7 +45,31 @@ typedef struct client_args {
     const char *tile_name;  /* --tile NAME with --wall */
     bool size_set;          /* --size given (else the tile's px) */
     bool list_tiles;        /* --list-tiles: print the file's tile names and exit */
+    bool swap_lock;         /* --swap-lock: present frame N on the group's "swap N" */
+    float rate_hz;          /* --rate: the wall group's frame rate (first tile's counts) */
+    int budget_ms;          /* --budget: longest wait for the group's swap */
+    const char *frame_log;  /* --frame-log FILE: "mono_us server_us_rendered frame_no" */
 } client_args;
+
+/* This tile's part of its wall group (client_wall_group.c, PROTOCOL.md "Wall groups"). */
+typedef struct client_wall_group {
+    bool have_sync;          /* the group's clock is known */
+    ctl_wall_sync sync;
+    uint32_t joined_connects; /* cli_net connects count the join was sent on; 0 none */
+    uint32_t frame;          /* frame being drawn */
+    bool have_frame;
+    uint32_t last_frame;     /* last frame presented */
+    bool have_last;
+    uint32_t swap;           /* highest "swap N" heard */
+    bool have_swap;
+    bool have_camera;        /* a wall_camera waits for its frame */
+    ctl_wall_camera camera;
+    bool camera_from_server; /* the server's camera rules (no tour) */
+    double render_t;         /* server time [s] the frame shows */
+    int64_t render_us;       /* the same in the group's integer clock [us] */
+    FILE *log;               /* --frame-log */
+    uint64_t presented, skipped, swap_timeouts;
+} client_wall_group;
 
 typedef struct client_species {
     char hash[17];
@@ -62,6 +87,7 @@ typedef struct client {
     struct wall *wall; /* owned: the wall file of --wall, NULL without */
     int wall_tile;     /* this tile's index in it */
     bool hud_on;       /* this client draws the HUD (client_wall_hud_px) */
+    client_wall_group wg;
     bool camera_set; /* the camera was fitted to a scene (once per run; R refits it) */
 
     /* scene of the last welcome (owned copies) */
@@ -149,6 +175,21 @@ float client_wall_hud_px(const client *c, float default_px);
 /* view and proj of this tile for the camera (wall file, or --tile C,R,COLS,ROWS). */
 void client_wall_matrices(const client *c, int fb_w, int fb_h, float z_near, float z_far,
                           float view[16], float proj[16]);
+
+/* ---- client_wall_group.c ---- */
+
+/* cli_net's on_wall: the group's clock, swaps and camera. */
+void client_wall_group_on_wall(void *user, const ctl_msg *m);
+/* Before drawing: (re)joins the group on each new connection; with the group's clock,
+ * waits for the next frame's turn (servicing the network) and sets wg.frame and
+ * wg.render_t, and the camera of that frame (server's, or the wall file's tour). False
+ * without a clock (the frame plays out on the tile's own estimate). */
+bool client_wall_group_begin(client *c);
+/* After drawing frame wg.frame: swap-lock reports it and waits for "swap N" at most the
+ * budget. */
+void client_wall_group_before_present(client *c);
+/* After presenting: the frame log line. */
+void client_wall_group_after_present(client *c);
 
 /* ---- client_frame.c ---- */
 

@@ -24,6 +24,10 @@ int client_frame_draw(client *c, double now, gale_err *err)
     double server_now = now;
     jitter_clock_server_time(cli_net_clock(c->net), now, &server_now);
     double render_t = server_now - c->a.delay_s;
+    if (c->wg.have_frame) {
+        render_t = c->wg.render_t; /* the wall group's instant (client_wall_group.c) */
+    }
+    c->wg.render_t = render_t;
     if (c->scene_ready && c->jit) {
         uint32_t stride = 0;
         float *staging = render_q_staging(c->r, &stride);

@@ -45,6 +45,11 @@ static void usage(FILE *f)
             "  --wall FILE            wall-tile: the wall file (configs/walls/README.md); then\n"
             "                         --tile NAME names this tile and implies --role wall-tile\n"
             "  --list-tiles           with --wall: print the file's tile names and exit\n"
+            "  --swap-lock            with --wall: present frame N on the group's \"swap N\"\n"
+            "  --rate HZ              with --wall: the group's frame rate (default 60)\n"
+            "  --budget MS            with --swap-lock: longest wait for the others (default 8)\n"
+            "  --frame-log FILE       one line a presented frame: mono_us server_us_rendered\n"
+            "                         frame_no (CLOCK_MONOTONIC at swap, the server time shown)\n"
             "  --cache DIR            asset cache (default $XDG_CACHE_HOME/gale)\n"
             "  --help                 this text\n"
             "keys: left-drag orbit, right-drag pan, wheel zoom, WASD/QE fly, F11 fullscreen,\n"
@@ -70,6 +75,10 @@ static int client_args_wall_check(client_args *a, bool role_given)
                         "C,R,COLS,ROWS)\n", a->tile_name);
         return -1;
     }
+    if (a->swap_lock && !a->wall_path) {
+        fprintf(stderr, "gale-client: --swap-lock: needs --wall FILE (the group is the wall)\n");
+        return -1;
+    }
     if (a->list_tiles && !a->wall_path) {
         fprintf(stderr, "gale-client: --list-tiles: needs --wall FILE\n");
         return -1;
@@ -84,7 +93,9 @@ static int parse_args(int argc, char **argv, client_args *a)
                         .height = 720,
                         .frames = 60,
                         .delay_s = 0.1,
-                        .wait_s = 30.0 };
+                        .wait_s = 30.0,
+                        .rate_hz = 60.0f,
+                        .budget_ms = 8 };
     bool role_given = false;
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i];
@@ -99,6 +110,24 @@ static int parse_args(int argc, char **argv, client_args *a)
         } else if (strcmp(o, "--list-tiles") == 0) {
             a->list_tiles = true;
             takes = false;
+        } else if (strcmp(o, "--swap-lock") == 0) {
+            a->swap_lock = true;
+            takes = false;
+        } else if (strcmp(o, "--frame-log") == 0 && v) {
+            a->frame_log = v;
+        } else if (strcmp(o, "--rate") == 0 && v) {
+            a->rate_hz = (float)atof(v);
+            if (!(a->rate_hz >= 1.0f && a->rate_hz <= (float)CTL_WALL_MAX_RATE_HZ)) {
+                fprintf(stderr, "gale-client: --rate: expected 1..%d Hz, got \"%s\"\n",
+                        CTL_WALL_MAX_RATE_HZ, v);
+                return -1;
+            }
+        } else if (strcmp(o, "--budget") == 0 && v) {
+            a->budget_ms = atoi(v);
+            if (a->budget_ms < 1 || a->budget_ms > 1000) {
+                fprintf(stderr, "gale-client: --budget: expected 1..1000 ms, got \"%s\"\n", v);
+                return -1;
+            }
         } else if (strcmp(o, "--wall") == 0 && v) {
             a->wall_path = v;
         } else if (!v) {
@@ -202,6 +231,11 @@ int main(int argc, char **argv)
         free(c.wall);
         return ws > 0 ? 0 : 2;
     }
+    if (c.a.frame_log && !(c.wg.log = fopen(c.a.frame_log, "w"))) {
+        fprintf(stderr, "gale-client: --frame-log %s: cannot open for writing\n", c.a.frame_log);
+        free(c.wall);
+        return 2;
+    }
     signal(SIGINT, on_signal);
     signal(SIGTERM, on_signal);
     signal(SIGPIPE, SIG_IGN);
@@ -219,7 +253,8 @@ int main(int argc, char **argv)
                            &(cli_net_handler){ .user = &c,
                                                .on_welcome = client_stream_on_welcome,
                                                .on_frame = client_stream_on_frame,
-                                               .on_lost = client_stream_on_lost },
+                                               .on_lost = client_stream_on_lost,
+                                               .on_wall = client_wall_group_on_wall },
                            &err);
     if (!c.net) {
         fprintf(stderr, "gale-client: %s\n", err.msg);
@@ -284,6 +319,7 @@ int main(int argc, char **argv)
                 render_resize(c.r, w, h, NULL);
             }
         }
+        client_wall_group_begin(&c);
         if (client_frame_draw(&c, now, &err) != 0) {
             fprintf(stderr, "gale-client: frame: %s\n", err.msg);
             status = 1;
@@ -299,7 +335,9 @@ int main(int argc, char **argv)
             }
             c.want_screenshot = false;
         }
+        client_wall_group_before_present(&c);
         render_present(c.r);
+        client_wall_group_after_present(&c);
         if (c.a.headless) {
             if (c.got_state && ++frames_after_state >= c.a.frames) {
                 break;
@@ -307,9 +345,10 @@ int main(int argc, char **argv)
             if (!c.got_state && now - start > c.a.wait_s) {
                 break;
             }
-            /* pace at ~60 Hz so the stream advances between frames */
+            /* pace at ~60 Hz so the stream advances between frames (a wall group paces
+             * itself) */
             double spent = mono_s() - now;
-            if (spent < 1.0 / 60.0) {
+            if (!c.wg.have_sync && spent < 1.0 / 60.0) {
                 usleep((useconds_t)((1.0 / 60.0 - spent) * 1e6));
             }
         }
@@ -347,6 +386,14 @@ done:
     free(c.w_species);
     free(c.w_instances);
     free(c.w_boxes);
+    if (c.wall) {
+        fprintf(stderr, "gale-client: wall frames presented %llu, skipped %llu, swap timeouts %llu\n",
+                (unsigned long long)c.wg.presented, (unsigned long long)c.wg.skipped,
+                (unsigned long long)c.wg.swap_timeouts);
+    }
+    if (c.wg.log) {
+        fclose(c.wg.log);
+    }
     free(c.wall);
     return status;
 }

@@ -23,6 +23,11 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     pthread_mutex_init(&s->hist_lock, NULL);
     pthread_mutex_init(&s->view_lock, NULL);
     kiosk_gate_init(&s->kgate);
+    s->walls = wall_groups_create(srv_wall_send, s);
+    if (!s->walls) {
+        gale_errf(err, GALE_E_NOMEM, "srv_create: no memory");
+        goto fail;
+    }
     const scene *sc = d->sc;
     const int n = sc->n_trees;
     tick_species *ts = s->ts;
@@ -205,6 +210,7 @@ void srv_destroy(srv *s)
         return;
     }
     net_destroy(s->net);
+    wall_groups_destroy(s->walls);
     tick_destroy(s->tick);
     free(s->tree_species);
     free(s->tree_modes);
