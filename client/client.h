@@ -181,12 +181,12 @@ void client_wall_matrices(const client *c, int fb_w, int fb_h, float z_near, flo
 /* cli_net's on_wall: the group's clock, swaps and camera. */
 void client_wall_group_on_wall(void *user, const ctl_msg *m);
 /* Before drawing: (re)joins the group on each new connection; with the group's clock,
- * waits for the next frame's turn (servicing the network) and sets wg.frame and
- * wg.render_t, and the camera of that frame (server's, or the wall file's tour). False
- * without a clock (the frame plays out on the tile's own estimate). */
+ * picks the next frame whose instant is ahead (wg.frame, wg.render_t) and its camera (the
+ * server's, or the wall file's tour). False without a clock (the frame plays out on the
+ * tile's own estimate). */
 bool client_wall_group_begin(client *c);
-/* After drawing frame wg.frame: swap-lock reports it and waits for "swap N" at most the
- * budget. */
+/* After drawing frame wg.frame: finishes it, swap-lock reports it; waits (servicing the
+ * network) for its instant and, swap-lock, for "swap N" at most the budget after. */
 void client_wall_group_before_present(client *c);
 /* After presenting: the frame log line. */
 void client_wall_group_after_present(client *c);

@@ -1,6 +1,7 @@
 /* gale-client in its wall's group (protocol/PROTOCOL.md "Wall groups"): joins on every
- * connection, presents frame N when the server clock reaches the group's epoch + N period
- * and shows server time of that instant minus the delay (the same for every tile, not each
+ * connection, draws the next frame N ahead of its instant, presents it when the server
+ * clock reaches the group's epoch + N period and shows server time of that instant minus
+ * the delay (the same for every tile, not each
  * tile's own estimate), in swap-lock mode reports "frame N drawn" and presents on "swap N"
  * (or after the budget), takes the wall's camera at the frame it is stamped with, else the
  * wall file's tour, and writes the frame log. */
@@ -9,6 +10,8 @@
 #include <stdio.h>
 #include <string.h>
 #include <unistd.h>
+
+#include <epoxy/gl.h>
 
 #include "client.h"
 #include "mono.h"
@@ -111,16 +114,10 @@ bool client_wall_group_begin(client *c)
     }
     const double epoch_s = (double)g->sync.epoch_us * 1e-6;
     const double period_s = (double)g->sync.period_us * 1e-6;
-    double n = floor((server_now_s(c) - epoch_s) / period_s);
+    /* the next frame whose instant is still ahead: drawn now, presented at its instant
+     * (client_wall_group_before_present), never one frame twice */
+    double n = floor((server_now_s(c) - epoch_s) / period_s) + 1.0;
     if (g->have_last && n <= (double)g->last_frame) {
-        /* early: wait for the next frame's instant (at most a second, whatever the clock
-         * estimate does meanwhile) */
-        const double due = epoch_s + ((double)g->last_frame + 1.0) * period_s;
-        const double give_up = mono_s() + 1.0;
-        for (double left; (left = due - server_now_s(c)) > 0.0 && mono_s() < give_up;) {
-            cli_net_poll(c->net, mono_s());
-            usleep((useconds_t)(fmin(left, 1e-3) * 1e6));
-        }
         n = (double)g->last_frame + 1.0;
     } else if (g->have_last) {
         g->skipped += (uint64_t)(n - (double)g->last_frame - 1.0);
@@ -151,17 +148,31 @@ bool client_wall_group_begin(client *c)
 void client_wall_group_before_present(client *c)
 {
     client_wall_group *g = &c->wg;
-    if (!g->have_frame || !g->sync.swap_lock) {
+    if (!g->have_frame) {
         return;
     }
-    ctl_msg m = { .type = CTL_WALL_DRAWN };
-    m.u.wall_frame.frame = g->frame;
-    gale_err err = { 0 };
-    if (cli_net_send_wall(c->net, &m, &err) != 0) {
-        return;
+    glFinish(); /* the frame is drawn: what is left is waiting for its instant */
+    bool reported = false;
+    if (g->sync.swap_lock) {
+        ctl_msg m = { .type = CTL_WALL_DRAWN };
+        m.u.wall_frame.frame = g->frame;
+        gale_err err = { 0 };
+        reported = cli_net_send_wall(c->net, &m, &err) == 0;
     }
+    /* the frame's instant on the server clock (at most a second away, whatever the clock
+     * estimate does meanwhile) */
+    const double due = ((double)g->sync.epoch_us + (double)g->frame * g->sync.period_us) * 1e-6;
+    const double give_up = mono_s() + 1.0;
+    for (double left; (left = due - server_now_s(c)) > 0.0 && mono_s() < give_up;) {
+        cli_net_poll(c->net, mono_s());
+        left = due - server_now_s(c);
+        if (left > 0.0) {
+            usleep((useconds_t)(fmin(left, 1e-3) * 1e6));
+        }
+    }
+    /* swap-lock: then "swap N", at most the budget later */
     const double until = mono_s() + (double)g->sync.budget_ms * 1e-3;
-    while (!(g->have_swap && g->swap >= g->frame)) {
+    while (reported && !(g->have_swap && g->swap >= g->frame)) {
         double now = mono_s();
         if (now >= until) {
             g->swap_timeouts++;
@@ -169,7 +180,7 @@ void client_wall_group_before_present(client *c)
         }
         cli_net_poll(c->net, now);
         if (!(g->have_swap && g->swap >= g->frame)) {
-            usleep(200);
+            usleep(100);
         }
     }
 }
