@@ -236,6 +236,9 @@ int main(int argc, char **argv)
         free(c.wall);
         return 2;
     }
+    if (c.wg.log) {
+        setvbuf(c.wg.log, NULL, _IOLBF, 0); /* readable while the client runs */
+    }
     signal(SIGINT, on_signal);
     signal(SIGTERM, on_signal);
     signal(SIGPIPE, SIG_IGN);
