@@ -68,6 +68,10 @@ typedef struct client_wall_group {
     double render_t;         /* server time [s] the frame shows */
     int64_t render_us;       /* the same in the group's integer clock [us] */
     FILE *log;               /* --frame-log */
+    /* the operator (a kiosk with --wall) */
+    double next_camera_s;    /* no wall_camera before this [s, mono_s] */
+    bool sent_camera;
+    ctl_wall_camera last_sent;
     uint64_t presented, skipped, swap_timeouts;
 } client_wall_group;
 

@@ -21,6 +21,10 @@ int client_wall_setup(client *c)
         fprintf(stderr, "gale-client: --wall: %s\n", err.msg);
         return -1;
     }
+    if (c->a.role == CTL_ROLE_KIOSK && !c->a.list_tiles) {
+        c->wall_tile = -1; /* the operator: no tile of its own */
+        return 0;
+    }
     if (c->a.list_tiles) {
         for (int i = 0; i < c->wall->n_tiles; i++) {
             printf("%s\n", c->wall->tiles[i].name);
@@ -53,6 +57,9 @@ float client_wall_hud_px(const client *c, float default_px)
             return 0.0f; /* --tile C,R,COLS,ROWS: the HUD on tile 0,0 only */
         }
         return default_px;
+    }
+    if (c->wall_tile < 0) {
+        return default_px; /* the operator's own screen */
     }
     if (c->wall->hud_tile != c->wall_tile) {
         return 0.0f;

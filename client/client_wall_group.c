@@ -98,11 +98,49 @@ static void join(client *c, uint32_t connects)
     g->have_sync = g->have_last = g->have_swap = g->have_camera = false;
 }
 
+/* The operator (a kiosk with --wall): its camera to the wall, at most 5 times a second and
+ * only when it moved (the kiosk's message budget, PROTOCOL.md). */
+static void operate(client *c)
+{
+    client_wall_group *g = &c->wg;
+    const double now = mono_s();
+    if (now < g->next_camera_s || cli_net_get_stats(c->net).state != CLI_NET_LIVE) {
+        return;
+    }
+    ctl_msg m = { .type = CTL_WALL_CAMERA };
+    ctl_wall_camera *w = &m.u.wall_camera;
+    snprintf(w->wall, sizeof w->wall, "%s", c->wall->name);
+    float f[3], eye[3];
+    camera_forward(&c->cam, f);
+    camera_eye(&c->cam, eye);
+    w->distance_m = c->cam.mode == CAMERA_ORBIT ? c->cam.distance : 10.0f;
+    for (int k = 0; k < 3; k++) {
+        w->target_m[k] = eye[k] + f[k] * w->distance_m;
+    }
+    w->yaw_deg = remainderf(c->cam.yaw * 57.29578f, 720.0f);
+    w->pitch_deg = c->cam.pitch * 57.29578f;
+    if (g->sent_camera && !memcmp(&g->last_sent, w, sizeof *w)) {
+        return;
+    }
+    gale_err err = { 0 };
+    if (cli_net_send_wall(c->net, &m, &err) == 0) {
+        g->last_sent = *w;
+        g->sent_camera = true;
+        g->next_camera_s = now + 0.2;
+    }
+}
+
 bool client_wall_group_begin(client *c)
 {
     client_wall_group *g = &c->wg;
     g->have_frame = false;
     if (!c->wall) {
+        return false;
+    }
+    if (c->wall_tile < 0) {
+        if (c->camera_set) {
+            operate(c);
+        }
         return false;
     }
     cli_net_stats ns = cli_net_get_stats(c->net);

@@ -43,7 +43,8 @@ static void usage(FILE *f)
             "  --tile C,R,COLS,ROWS   wall-tile: this tile of a COLS x ROWS wall (0,0 top left)\n"
             "  --bezel F              wall-tile: hidden glass between tiles / tile width (0)\n"
             "  --wall FILE            wall-tile: the wall file (configs/walls/README.md); then\n"
-            "                         --tile NAME names this tile and implies --role wall-tile\n"
+            "                         --tile NAME names this tile and implies --role wall-tile;\n"
+            "                         with --role kiosk: this client's camera drives the wall\n"
             "  --list-tiles           with --wall: print the file's tile names and exit\n"
             "  --swap-lock            with --wall: present frame N on the group's \"swap N\"\n"
             "  --rate HZ              with --wall: the group's frame rate (default 60)\n"
@@ -64,7 +65,9 @@ static int client_args_wall_check(client_args *a, bool role_given)
     if (a->wall_path && !role_given) {
         a->role = CTL_ROLE_WALL_TILE;
     }
-    if ((tile_given || a->wall_path) && a->role != CTL_ROLE_WALL_TILE) {
+    /* a kiosk with --wall is the wall's operator: its camera drives the wall */
+    if ((tile_given || (a->wall_path && a->role != CTL_ROLE_KIOSK)) &&
+        a->role != CTL_ROLE_WALL_TILE) {
         fprintf(stderr, "gale-client: %s: only for wall tiles, but the role is %s (use --role "
                         "wall-tile, or --wall FILE --tile NAME)\n",
                 tile_given ? "--tile" : "--wall", ctl_role_name(a->role));

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Wall benchmark (not a test; protocol/PROTOCOL.md "Wall groups"): gale-server on the
 # client-test scene and the four tiles of configs/walls/flat-2x2.json as headless
-# gale-client processes on this machine for SECONDS (default 60) each run, once free-running
+# gale-client processes on this machine for SECONDS (default 60, from the last tile's join)
+# each run, once free-running
 # and once in swap-lock mode, every tile writing --frame-log. From the frame logs, over the
 # group frames every tile presented: tile-to-tile skew of the rendered server time (max -
 # min per frame) and the spread of the swap instants (CLOCK_MONOTONIC, one machine), p50,
@@ -37,7 +38,6 @@ for _ in $(seq 1 600); do
 done
 [ -n "$port" ] || { echo "bench-wall: server did not start" >&2; exit 1; }
 tiles="$("$client" --wall "$wall_file" --list-tiles)"
-frames=$((seconds * 60))
 
 run_mode() { # mode: free | swap-lock
     local mode="$1" extra=() pids=()
@@ -46,10 +46,19 @@ run_mode() { # mode: free | swap-lock
     load0="$(cut -d' ' -f1-3 /proc/loadavg)"
     for t in $tiles; do
         "$client" --url "ws://127.0.0.1:$port" --wall "$wall_file" --tile "$t" --headless \
-            --size "$size" --frames "$frames" --wait 60 --cache out/cache-client \
+            --size "$size" --frames 100000000 --wait 60 --cache out/cache-client \
             --frame-log "$out/$mode-$t.log" "${extra[@]}" 2>"$out/$mode-$t.err" &
         pids+=($!)
     done
+    # every tile runs SECONDS after the last one joined (SIGTERM: they finish cleanly)
+    for t in $tiles; do
+        for _ in $(seq 1 600); do
+            grep -q "joined at" "$out/$mode-$t.err" 2>/dev/null && break
+            sleep 0.1
+        done
+    done
+    sleep "$seconds"
+    for p in "${pids[@]}"; do kill -TERM "$p" 2>/dev/null || true; done
     for p in "${pids[@]}"; do wait "$p" || true; done
     python3 - "$mode" "$load0" "$(cut -d' ' -f1-3 /proc/loadavg)" "$(nproc)" "$size" \
         "$seconds" "$out" $tiles <<'EOF'

@@ -5,7 +5,8 @@
  * stamped frame, and no tile presents a frame at or past it with the old camera; a tile
  * stopped for a second (SIGSTOP) does not stop the others, which keep presenting within the
  * budget, and it is back in the group's numbering after; a tile killed and started again
- * presents its first group frame within 1 s of joining, on the group's clock. */
+ * presents its first group frame within 1 s of joining, on the group's clock; and
+ * deploy/wall.sh starts the whole wall headless. */
 #include <inttypes.h>
 #include <signal.h>
 #include <stdbool.h>
@@ -278,6 +279,33 @@ static void test_wall(void)
     }
 }
 
+/* deploy/wall.sh starts every tile headless; each writes its PNG and frame log. */
+static void test_launcher(void)
+{
+    char build[300], cmd[1400];
+    snprintf(build, sizeof build, "%s", GALE_CLIENT_EXE);
+    for (int k = 0; k < 2; k++) { /* build/client/gale-client → build */
+        char *slash = strrchr(build, '/');
+        if (slash) {
+            *slash = 0;
+        }
+    }
+    snprintf(cmd, sizeof cmd,
+             "GALE_BUILD='%s' '%s/deploy/wall.sh' '%s/configs/walls/flat-2x2.json' --headless "
+             "--frames 10 --size 64x36 --url ws://127.0.0.1:%d --out %s/sh -- --cache %s/sh-cache "
+             "--wait 60 2>%s/wall_sh.log",
+             build, GALE_SOURCE_DIR, GALE_SOURCE_DIR, port, tmp, tmp, tmp);
+    CHECK(system(cmd) == 0);
+    for (int t = 0; t < N_TILES; t++) {
+        char png[320], frames[320];
+        snprintf(png, sizeof png, "%s/sh/%s.png", tmp, TILES[t]);
+        snprintf(frames, sizeof frames, "%s/sh/%s.frames", tmp, TILES[t]);
+        struct stat st;
+        CHECK(stat(png, &st) == 0 && st.st_size > 0);
+        CHECK(stat(frames, &st) == 0 && st.st_size > 0);
+    }
+}
+
 int main(void)
 {
     snprintf(tmp, sizeof tmp, "wall_live");
@@ -288,6 +316,7 @@ int main(void)
         return 1;
     }
     RUN(test_wall);
+    RUN(test_launcher);
     for (int t = 0; t < N_TILES; t++) {
         if (tile_pid[t] > 0) {
             kill(tile_pid[t], SIGKILL);
