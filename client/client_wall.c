@@ -61,14 +61,8 @@ float client_wall_hud_px(const client *c, float default_px)
     if (c->wall_tile < 0) {
         return default_px; /* the operator's own screen */
     }
-    if (c->wall->hud_tile != c->wall_tile) {
-        return 0.0f;
-    }
-    /* text height on the glass: pixels per metre of this tile's height at its framebuffer
-     * size (--size may differ from the file's px) */
-    const wall_tile *t = &c->wall->tiles[c->wall_tile];
-    float px = c->wall->hud_text_mm * 1e-3f * (float)c->a.height / t->size_m[1];
-    return px < 8.0f ? 8.0f : px > 256.0f ? 256.0f : px;
+    /* at this tile's framebuffer height (--size may differ from the file's px) */
+    return wall_hud_px(c->wall, c->wall_tile, c->a.height);
 }
 
 void client_wall_matrices(const client *c, int fb_w, int fb_h, float z_near, float z_far,

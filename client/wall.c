@@ -294,6 +294,15 @@ int wall_find_tile(const wall *w, const char *name)
     return -1;
 }
 
+float wall_hud_px(const wall *w, int tile, int fb_h)
+{
+    if (tile < 0 || tile >= w->n_tiles || tile != w->hud_tile) {
+        return 0.0f;
+    }
+    float px = w->hud_text_mm * 1e-3f * (float)fb_h / w->tiles[tile].size_m[1];
+    return px < 8.0f ? 8.0f : px > 256.0f ? 256.0f : px;
+}
+
 /* ---- projection ---------------------------------------------------------------------- */
 
 void wall_tile_corners(const wall_tile *t, float pa[3], float pb[3], float pc[3])

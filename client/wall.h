@@ -57,6 +57,10 @@ int wall_load(wall *w, const char *path, gale_err *err);
 /* Index of the tile called name, -1 if none. */
 int wall_find_tile(const wall *w, const char *name);
 
+/* HUD text size [px] on tile `tile` drawn fb_h pixels high: hud_text_mm on its glass
+ * (size_m[1] tall), within 8..256 px; 0 on every tile but hud_tile (and on all with "off"). */
+float wall_hud_px(const wall *w, int tile, int fb_h);
+
 /* Corners of tile t's visible area: lower left, lower right, upper left (Kooima's pa, pb,
  * pc), wall frame [m]. */
 void wall_tile_corners(const wall_tile *t, float pa[3], float pb[3], float pc[3]);

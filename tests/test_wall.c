@@ -187,8 +187,29 @@ static void test_bad_files(void)
     CHECK_NEAR(w.tiles[0].normal[2], 1.0, 1e-6); /* normalised */
 }
 
+/* The HUD on the chosen tile only, its text hud_text_mm tall on the glass. */
+static void test_hud_placement(void)
+{
+    static wall w;
+    gale_err e = { 0 };
+    CHECK(wall_load(&w, WALLS "flat-2x2.json", &e) == 0);
+    const int hud = wall_find_tile(&w, "c0r0");
+    CHECK(w.hud_tile == hud);
+    /* 10 mm on 0.675 m of glass drawn 1080 px high: 16 px; at 540 px the floor of 8 */
+    CHECK_NEAR(wall_hud_px(&w, hud, 1080), 16.0, 1e-3);
+    CHECK_NEAR(wall_hud_px(&w, hud, 540), 8.0, 1e-3);
+    CHECK(wall_hud_px(&w, wall_find_tile(&w, "c1r1"), 1080) == 0.0f);
+    CHECK(wall_load(&w, WALLS "cave2-cylinder.json", &e) == 0);
+    /* 25 mm on 2.312 m drawn 3072 px high: 33.2 px, on col08 alone */
+    CHECK_NEAR(wall_hud_px(&w, wall_find_tile(&w, "col08"), 3072), 25e-3 * 3072 / 2.312, 1e-3);
+    CHECK(wall_hud_px(&w, wall_find_tile(&w, "col09"), 3072) == 0.0f);
+    w.hud_tile = -1; /* "off" */
+    CHECK(wall_hud_px(&w, wall_find_tile(&w, "col08"), 3072) == 0.0f);
+}
+
 int main(void)
 {
+    RUN(test_hud_placement);
     RUN(test_shipped);
     RUN(test_cylinder_frustum);
     RUN(test_camera_moves_frustum);
