@@ -247,6 +247,13 @@ static void test_wall(void)
     CHECK(wait_find(log, "wall flat-2x2: joined at mono_us", buf, sizeof buf, 60.0));
     CHECK(sscanf(strstr(buf, "mono_us"), "mono_us %llu", &joined_us) == 1);
     sleep(3);
+    char *page = NULL;
+    CHECK(wsraw_http_get(port, "/metrics", &page) == 200 && page);
+    if (page) {
+        CHECK_STR_HAS(page, "\ngale_wall_tiles 4\n");
+        CHECK_STR_HAS(page, "\ngale_wall_cameras_total 1\n");
+        free(page);
+    }
     for (int t = 0; t < N_TILES; t++) {
         kill(tile_pid[t], SIGTERM);
     }

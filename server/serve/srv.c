@@ -169,7 +169,8 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     /* /metrics: the simulation's rows, the network's, the publisher's, the kiosk gate's */
     if (sim_metrics_register(&s->simm, &s->reg, err) ||
         net_metrics_register(s->net, &s->reg, err) || srv_publish_register(s, &s->reg, err) ||
-        kiosk_gate_register(&s->kgate, &s->reg, err)) {
+        kiosk_gate_register(&s->kgate, &s->reg, err) ||
+        wall_groups_register(s->walls, &s->reg, err)) {
         goto fail;
     }
     if (!d->quiet) {

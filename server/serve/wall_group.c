@@ -245,3 +245,31 @@ wall_group_stats wall_groups_get_stats(const wall_groups *g)
 {
     return g->st;
 }
+
+static const metric_row rows[] = {
+    { "gale_wall_swaps_total", NULL, "wall-group swap barriers closed", METRIC_COUNTER, 0 },
+    { "gale_wall_swaps_complete_total", NULL, "swap barriers closed with every tile in",
+      METRIC_COUNTER, 0 },
+    { "gale_wall_left_out_total", NULL, "tile-frames left out of a swap (late past the budget)",
+      METRIC_COUNTER, 0 },
+    { "gale_wall_late_reports_total", NULL, "frame reports after their frame was swapped",
+      METRIC_COUNTER, 0 },
+    { "gale_wall_cameras_total", NULL, "wall cameras broadcast", METRIC_COUNTER, 0 },
+    { "gale_wall_tiles", NULL, "tiles in wall groups now", METRIC_GAUGE, 0 },
+};
+
+static void fill(void *ctx, double *v)
+{
+    const wall_group_stats *st = &((const wall_groups *)ctx)->st;
+    v[0] = (double)st->swaps;
+    v[1] = (double)st->complete;
+    v[2] = (double)st->left_out;
+    v[3] = (double)st->late;
+    v[4] = (double)st->cameras;
+    v[5] = st->members;
+}
+
+int wall_groups_register(wall_groups *g, metric_reg *r, gale_err *err)
+{
+    return metric_reg_add(r, rows, (int)(sizeof rows / sizeof rows[0]), fill, g, err);
+}

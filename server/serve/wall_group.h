@@ -14,6 +14,7 @@
 #include <stdint.h>
 
 #include "ctl.h"
+#include "metric.h"
 
 #define WALL_GROUP_MAX        8   /* walls served at once */
 #define WALL_GROUP_MAX_TILES  128 /* members of one wall */
@@ -57,5 +58,11 @@ void wall_groups_leave(wall_groups *g, uint32_t conn, uint64_t now_us);
 void wall_groups_poll(wall_groups *g, uint64_t now_us);
 
 wall_group_stats wall_groups_get_stats(const wall_groups *g);
+
+/* The groups' rows (gale_wall_swaps_total, gale_wall_swaps_complete_total,
+ * gale_wall_left_out_total, gale_wall_late_reports_total, gale_wall_cameras_total,
+ * gale_wall_tiles) into r; filled on the thread that renders /metrics, which is the lws
+ * thread the groups live on. */
+int wall_groups_register(wall_groups *g, metric_reg *r, gale_err *err);
 
 #endif
