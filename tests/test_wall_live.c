@@ -233,7 +233,9 @@ static void test_wall(void)
         read_frames(t, "");
         fprintf(stderr, "  %s: %d frames while c1r1 was stopped\n", TILES[t],
                 n_lines[t] - before[t]);
-        CHECK(n_lines[t] - before[t] >= 5); /* 30 Hz, 30 ms budget: ~17 on an idle machine */
+        /* not stalled: a stalled barrier presents none (30 Hz, 30 ms budget: ~17 on an idle
+         * machine, a few under a sanitizer on a loaded one) */
+        CHECK(n_lines[t] - before[t] >= 2);
     }
     kill(tile_pid[3], SIGCONT);
     sleep(2);
@@ -246,7 +248,10 @@ static void test_wall(void)
     unsigned long long joined_us = 0;
     CHECK(wait_find(log, "wall flat-2x2: joined at mono_us", buf, sizeof buf, 60.0));
     CHECK(sscanf(strstr(buf, "mono_us"), "mono_us %llu", &joined_us) == 1);
-    sleep(3);
+    /* until it presented 20 group frames (bounded: a count, not a rate) */
+    for (double until = mono_s() + 60.0; read_frames(3, "-again") < 20 && mono_s() < until;) {
+        usleep(200000);
+    }
     char *page = NULL;
     CHECK(wsraw_http_get(port, "/metrics", &page) == 200 && page);
     if (page) {
@@ -275,8 +280,8 @@ static void test_wall(void)
     for (int t = 0; t < 3; t++) {
         int shared = same_instants(t, 3);
         fprintf(stderr, "  %s and c1r1 again: %d frames in common\n", TILES[t], shared);
-        CHECK(shared >= 10);
-        CHECK(same_instants(t, (t + 1) % 3) >= 10);
+        CHECK(shared >= 5);
+        CHECK(same_instants(t, (t + 1) % 3) >= 5);
     }
     /* frame numbers only go forward on every tile */
     for (int t = 0; t < N_TILES; t++) {
