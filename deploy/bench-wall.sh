@@ -10,11 +10,13 @@
 # swap-lock budget timeouts. One JSON object per mode, with the load average before and
 # after. Goals (issue 12): skew p99 <= 1 ms (0 in swap-lock for frames all presented), swap
 # spread p99 <= 2 ms in swap-lock.
-# Usage: deploy/bench-wall.sh [SECONDS] [SIZE]   (SIZE WxH per tile, default 320x180)
+# Usage: deploy/bench-wall.sh [SECONDS] [SIZE] [RATE]   (SIZE WxH per tile, default 320x180;
+# RATE the group's frames a second, default 60)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-60}"
 size="${2:-320x180}"
+rate="${3:-60}"
 build="${GALE_BUILD:-build}"
 server="$build/server/gale-server"
 client="$build/client/gale-client"
@@ -46,7 +48,7 @@ run_mode() { # mode: free | swap-lock
     load0="$(cut -d' ' -f1-3 /proc/loadavg)"
     for t in $tiles; do
         "$client" --url "ws://127.0.0.1:$port" --wall "$wall_file" --tile "$t" --headless \
-            --size "$size" --frames 100000000 --wait 60 --cache out/cache-client \
+            --size "$size" --rate "$rate" --frames 100000000 --wait 60 --cache out/cache-client \
             --frame-log "$out/$mode-$t.log" "${extra[@]}" 2>"$out/$mode-$t.err" &
         pids+=($!)
     done
@@ -61,10 +63,10 @@ run_mode() { # mode: free | swap-lock
     for p in "${pids[@]}"; do kill -TERM "$p" 2>/dev/null || true; done
     for p in "${pids[@]}"; do wait "$p" || true; done
     python3 - "$mode" "$load0" "$(cut -d' ' -f1-3 /proc/loadavg)" "$(nproc)" "$size" \
-        "$seconds" "$out" $tiles <<'EOF'
+        "$seconds" "$out" "$rate" $tiles <<'EOF'
 import json, re, sys
-mode, load0, load1, cpus, size, seconds, out = sys.argv[1:8]
-tiles = sys.argv[8:]
+mode, load0, load1, cpus, size, seconds, out, rate = sys.argv[1:9]
+tiles = sys.argv[9:]
 logs, timeouts = {}, {}
 for t in tiles:
     d = {}
@@ -84,7 +86,7 @@ spread = [max(logs[t][f][0] for t in tiles) - min(logs[t][f][0] for t in tiles) 
 missed = {t: sum(1 for f in range(lo, hi + 1) if f not in logs[t]) for t in tiles}
 print(json.dumps({
     "bench": "wall", "mode": mode, "wall": "flat-2x2", "tiles": len(tiles), "tile_size": size,
-    "seconds": float(seconds), "cpus": int(cpus),
+    "seconds": float(seconds), "rate_hz": float(rate), "cpus": int(cpus),
     "loadavg_before": load0, "loadavg_after": load1,
     "frames_common": len(common), "frames_span": hi - lo + 1,
     "skew_us": {"p50": pct(skew, 50), "p99": pct(skew, 99), "max": max(skew, default=None)},
