@@ -157,6 +157,13 @@ static void handle_text(cli_net *n, const char *text, size_t len)
         jitter_clock_pong(&n->clock, (double)m.u.pong.client_us * 1e-6,
                           (double)m.u.pong.server_us * 1e-6, mono_s());
         break;
+    case CTL_WALL_SYNC:
+    case CTL_WALL_SWAP:
+    case CTL_WALL_CAMERA:
+        if (n->h.on_wall) {
+            n->h.on_wall(n->h.user, &m);
+        }
+        break;
     case CTL_ERROR:
         snprintf(n->st.last_error, sizeof n->st.last_error, "server: %.100s (%s)",
                  m.u.error.message, wire_close_name(m.u.error.code));
@@ -542,6 +549,15 @@ void cli_net_poll(cli_net *n, double now_s)
             break;
         }
     }
+}
+
+int cli_net_send_wall(cli_net *n, const ctl_msg *m, gale_err *err)
+{
+    if (n->st.state != CLI_NET_LIVE) {
+        return gale_errf(err, GALE_E_STATE, "%s: %s: not connected", n->server_name,
+                         ctl_type_name(m->type) ? ctl_type_name(m->type) : "wall message");
+    }
+    return queue_ctl(n, m, err);
 }
 
 int cli_net_send_wind(cli_net *n, const ctl_wind *w, gale_err *err)

@@ -35,6 +35,8 @@ typedef struct cli_net_handler {
     void (*on_frame)(void *user, const wire_frame *f, const wire_decoder *dec, double recv_s);
     /* The connection ended (close code or 0 for a transport error, and why). */
     void (*on_lost)(void *user, int close_code, const char *why);
+    /* A display-wall message from the server (wall_sync, wall_swap, wall_camera). */
+    void (*on_wall)(void *user, const ctl_msg *m);
 } cli_net_handler;
 
 typedef struct cli_net_desc {
@@ -79,6 +81,9 @@ void cli_net_poll(cli_net *n, double now_s);
 /* "host:port" of the server (owned by n). */
 const char *cli_net_server_name(const cli_net *n);
 
+/* Queues a display-wall message (wall_join, wall_drawn, wall_camera): GALE_E_STATE when
+ * not live or the send queue is full, GALE_E_RANGE when invalid. */
+int cli_net_send_wall(cli_net *n, const ctl_msg *m, gale_err *err);
 /* Queues a kiosk wind command (GALE_E_STATE when not live, GALE_E_RANGE when invalid). */
 int cli_net_send_wind(cli_net *n, const ctl_wind *w, gale_err *err);
 

@@ -7,6 +7,7 @@
 
 #include <stdbool.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "asset.h"
 #include "asset_cache.h"
@@ -39,7 +40,40 @@ typedef struct client_args {
     int tile[4];            /* wall-tile: col, row, cols, rows */
     float bezel;            /* wall-tile: hidden strip / tile width */
     const char *cache_dir;
+    /* wall-tile from a wall file (client_wall.c) */
+    const char *wall_path;  /* --wall FILE */
+    const char *tile_name;  /* --tile NAME with --wall */
+    bool size_set;          /* --size given (else the tile's px) */
+    bool list_tiles;        /* --list-tiles: print the file's tile names and exit */
+    bool swap_lock;         /* --swap-lock: present frame N on the group's "swap N" */
+    float rate_hz;          /* --rate: the wall group's frame rate (first tile's counts) */
+    int budget_ms;          /* --budget: longest wait for the group's swap */
+    const char *frame_log;  /* --frame-log FILE: "mono_us server_us_rendered frame_no" */
 } client_args;
+
+/* This tile's part of its wall group (client_wall_group.c, PROTOCOL.md "Wall groups"). */
+typedef struct client_wall_group {
+    bool have_sync;          /* the group's clock is known */
+    ctl_wall_sync sync;
+    uint32_t joined_connects; /* cli_net connects count the join was sent on; 0 none */
+    uint32_t frame;          /* frame being drawn */
+    bool have_frame;
+    uint32_t last_frame;     /* last frame presented */
+    bool have_last;
+    uint32_t swap;           /* highest "swap N" heard */
+    bool have_swap;
+    bool have_camera;        /* a wall_camera waits for its frame */
+    ctl_wall_camera camera;
+    bool camera_from_server; /* the server's camera rules (no tour) */
+    double render_t;         /* server time [s] the frame shows */
+    int64_t render_us;       /* the same in the group's integer clock [us] */
+    FILE *log;               /* --frame-log */
+    /* the operator (a kiosk with --wall) */
+    double next_camera_s;    /* no wall_camera before this [s, mono_s] */
+    bool sent_camera;
+    ctl_wall_camera last_sent;
+    uint64_t presented, skipped, swap_timeouts;
+} client_wall_group;
 
 typedef struct client_species {
     char hash[17];
@@ -54,6 +88,10 @@ typedef struct client {
     asset_cache *cache;
     jitter *jit;
     camera cam;
+    struct wall *wall; /* owned: the wall file of --wall, NULL without */
+    int wall_tile;     /* this tile's index in it */
+    bool hud_on;       /* this client draws the HUD (client_wall_hud_px) */
+    client_wall_group wg;
     bool camera_set; /* the camera was fitted to a scene (once per run; R refits it) */
 
     /* scene of the last welcome (owned copies) */
@@ -128,6 +166,34 @@ void client_input_screenshot_name(char *buf, size_t cap);
 /* Kiosk role only: moves the wind dial by delta [m/s] (starting from the streamed speed,
  * kept within 0..100) and sends the command with the kiosk token; failures are logged. */
 void client_kiosk_dial(client *c, float delta_ms);
+
+/* ---- client_wall.c ---- */
+
+/* --wall: loads the file, finds --tile (or prints the names for --list-tiles), takes the
+ * tile's px as the size unless --size was given. 0, 1 when it listed the tiles (exit 0),
+ * or -1 with the reason on stderr. */
+int client_wall_setup(client *c);
+/* HUD text size [px] for this client: a wall tile's hud_text_mm on its glass, 0 (no HUD)
+ * on the wall's other tiles; default_px elsewhere. */
+float client_wall_hud_px(const client *c, float default_px);
+/* view and proj of this tile for the camera (wall file, or --tile C,R,COLS,ROWS). */
+void client_wall_matrices(const client *c, int fb_w, int fb_h, float z_near, float z_far,
+                          float view[16], float proj[16]);
+
+/* ---- client_wall_group.c ---- */
+
+/* cli_net's on_wall: the group's clock, swaps and camera. */
+void client_wall_group_on_wall(void *user, const ctl_msg *m);
+/* Before drawing: (re)joins the group on each new connection; with the group's clock,
+ * picks the next frame whose instant is ahead (wg.frame, wg.render_t) and its camera (the
+ * server's, or the wall file's tour). False without a clock (the frame plays out on the
+ * tile's own estimate). */
+bool client_wall_group_begin(client *c);
+/* After drawing frame wg.frame: finishes it, swap-lock reports it; waits (servicing the
+ * network) for its instant and, swap-lock, for "swap N" at most the budget after. */
+void client_wall_group_before_present(client *c);
+/* After presenting: the frame log line. */
+void client_wall_group_after_present(client *c);
 
 /* ---- client_frame.c ---- */
 

@@ -24,6 +24,10 @@ int client_frame_draw(client *c, double now, gale_err *err)
     double server_now = now;
     jitter_clock_server_time(cli_net_clock(c->net), now, &server_now);
     double render_t = server_now - c->a.delay_s;
+    if (c->wg.have_frame) {
+        render_t = c->wg.render_t; /* the wall group's instant (client_wall_group.c) */
+    }
+    c->wg.render_t = render_t;
     if (c->scene_ready && c->jit) {
         uint32_t stride = 0;
         float *staging = render_q_staging(c->r, &stride);
@@ -44,9 +48,7 @@ int client_frame_draw(client *c, double now, gale_err *err)
     rc.up[2] = 1.0f;
     if (c->a.role == CTL_ROLE_WALL_TILE) {
         rc.matrices = true;
-        camera_view(&c->cam, rc.view);
-        camera_tile_proj(&c->cam, c->a.tile[0], c->a.tile[1], c->a.tile[2], c->a.tile[3],
-                         (float)fb_w / (float)fb_h, c->a.bezel, rc.z_near, rc.z_far, rc.proj);
+        client_wall_matrices(c, fb_w, fb_h, rc.z_near, rc.z_far, rc.view, rc.proj);
     }
     int rc_frame = render_frame(c->r, &rc, render_t, err);
     if (rc_frame != 0) {
@@ -67,7 +69,7 @@ int client_frame_draw(client *c, double now, gale_err *err)
         .frames_bad = ns.frames_bad,
         .role = ctl_role_name(c->a.role),
     };
-    if (c->a.role != CTL_ROLE_WALL_TILE || (c->a.tile[0] == 0 && c->a.tile[1] == 0)) {
+    if (c->hud_on) {
         hud_draw(c->hud, &hs, fb_w, fb_h);
     }
     return 0;

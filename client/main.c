@@ -42,11 +42,51 @@ static void usage(FILE *f)
             "  --delay MS             playout delay behind server time, default 100\n"
             "  --tile C,R,COLS,ROWS   wall-tile: this tile of a COLS x ROWS wall (0,0 top left)\n"
             "  --bezel F              wall-tile: hidden glass between tiles / tile width (0)\n"
+            "  --wall FILE            wall-tile: the wall file (configs/walls/README.md); then\n"
+            "                         --tile NAME names this tile and implies --role wall-tile;\n"
+            "                         with --role kiosk: this client's camera drives the wall\n"
+            "  --list-tiles           with --wall: print the file's tile names and exit\n"
+            "  --swap-lock            with --wall: present frame N on the group's \"swap N\"\n"
+            "  --rate HZ              with --wall: the group's frame rate (default 60)\n"
+            "  --budget MS            with --swap-lock: longest wait for the others (default 8)\n"
+            "  --frame-log FILE       one line a presented frame: mono_us server_us_rendered\n"
+            "                         frame_no (CLOCK_MONOTONIC at swap, the server time shown)\n"
             "  --cache DIR            asset cache (default $XDG_CACHE_HOME/gale)\n"
             "  --help                 this text\n"
             "keys: left-drag orbit, right-drag pan, wheel zoom, WASD/QE fly, F11 fullscreen,\n"
             "      F12 or P screenshot, R reset view, kiosk: + / - dial the wind, Esc quit.\n"
             "Exit status: 0 ok, 2 bad arguments, 3 no state received (headless), 1 other.\n");
+}
+
+/* --tile and --wall belong to wall tiles: refused with another role; --wall alone sets it. */
+static int client_args_wall_check(client_args *a, bool role_given)
+{
+    bool tile_given = a->tile_name || a->tile[2] > 0;
+    if (a->wall_path && !role_given) {
+        a->role = CTL_ROLE_WALL_TILE;
+    }
+    /* a kiosk with --wall is the wall's operator: its camera drives the wall */
+    if ((tile_given || (a->wall_path && a->role != CTL_ROLE_KIOSK)) &&
+        a->role != CTL_ROLE_WALL_TILE) {
+        fprintf(stderr, "gale-client: %s: only for wall tiles, but the role is %s (use --role "
+                        "wall-tile, or --wall FILE --tile NAME)\n",
+                tile_given ? "--tile" : "--wall", ctl_role_name(a->role));
+        return -1;
+    }
+    if (a->tile_name && !a->wall_path) {
+        fprintf(stderr, "gale-client: --tile %s: a tile name needs --wall FILE (or give "
+                        "C,R,COLS,ROWS)\n", a->tile_name);
+        return -1;
+    }
+    if (a->swap_lock && !a->wall_path) {
+        fprintf(stderr, "gale-client: --swap-lock: needs --wall FILE (the group is the wall)\n");
+        return -1;
+    }
+    if (a->list_tiles && !a->wall_path) {
+        fprintf(stderr, "gale-client: --list-tiles: needs --wall FILE\n");
+        return -1;
+    }
+    return 0;
 }
 
 static int parse_args(int argc, char **argv, client_args *a)
@@ -56,7 +96,10 @@ static int parse_args(int argc, char **argv, client_args *a)
                         .height = 720,
                         .frames = 60,
                         .delay_s = 0.1,
-                        .wait_s = 30.0 };
+                        .wait_s = 30.0,
+                        .rate_hz = 60.0f,
+                        .budget_ms = 8 };
+    bool role_given = false;
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -67,12 +110,36 @@ static int parse_args(int argc, char **argv, client_args *a)
         } else if (strcmp(o, "--headless") == 0) {
             a->headless = true;
             takes = false;
+        } else if (strcmp(o, "--list-tiles") == 0) {
+            a->list_tiles = true;
+            takes = false;
+        } else if (strcmp(o, "--swap-lock") == 0) {
+            a->swap_lock = true;
+            takes = false;
+        } else if (strcmp(o, "--frame-log") == 0 && v) {
+            a->frame_log = v;
+        } else if (strcmp(o, "--rate") == 0 && v) {
+            a->rate_hz = (float)atof(v);
+            if (!(a->rate_hz >= 1.0f && a->rate_hz <= (float)CTL_WALL_MAX_RATE_HZ)) {
+                fprintf(stderr, "gale-client: --rate: expected 1..%d Hz, got \"%s\"\n",
+                        CTL_WALL_MAX_RATE_HZ, v);
+                return -1;
+            }
+        } else if (strcmp(o, "--budget") == 0 && v) {
+            a->budget_ms = atoi(v);
+            if (a->budget_ms < 1 || a->budget_ms > 1000) {
+                fprintf(stderr, "gale-client: --budget: expected 1..1000 ms, got \"%s\"\n", v);
+                return -1;
+            }
+        } else if (strcmp(o, "--wall") == 0 && v) {
+            a->wall_path = v;
         } else if (!v) {
             fprintf(stderr, "gale-client: %s: expected a value\n", o);
             return -1;
         } else if (strcmp(o, "--url") == 0) {
             a->url = v;
         } else if (strcmp(o, "--role") == 0) {
+            role_given = true;
             if (strcmp(v, "viewer") == 0) {
                 a->role = CTL_ROLE_VIEWER;
             } else if (strcmp(v, "kiosk") == 0) {
@@ -85,6 +152,7 @@ static int parse_args(int argc, char **argv, client_args *a)
                 return -1;
             }
         } else if (strcmp(o, "--size") == 0) {
+            a->size_set = true;
             if (sscanf(v, "%dx%d", &a->width, &a->height) != 2 || a->width < 16 || a->height < 16 ||
                 a->width > 16384 || a->height > 16384) {
                 fprintf(stderr, "gale-client: --size: expected WxH within 16..16384, got \"%s\"\n",
@@ -113,6 +181,8 @@ static int parse_args(int argc, char **argv, client_args *a)
                 fprintf(stderr, "gale-client: --wait: expected > 0 s, got \"%s\"\n", v);
                 return -1;
             }
+        } else if (strcmp(o, "--tile") == 0 && !strchr(v, ',')) {
+            a->tile_name = v; /* a tile of --wall FILE */
         } else if (strcmp(o, "--tile") == 0) {
             int *t = a->tile;
             if (sscanf(v, "%d,%d,%d,%d", &t[0], &t[1], &t[2], &t[3]) != 4 || t[2] < 1 || t[3] < 1 ||
@@ -139,7 +209,10 @@ static int parse_args(int argc, char **argv, client_args *a)
             i++;
         }
     }
-    if (!a->url) {
+    if (client_args_wall_check(a, role_given) != 0) {
+        return -1;
+    }
+    if (!a->url && !a->list_tiles) {
         fprintf(stderr, "gale-client: --url ws://HOST:PORT is required (see --help)\n");
         return -1;
     }
@@ -155,6 +228,19 @@ int main(int argc, char **argv)
     memset(&c, 0, sizeof c);
     if (parse_args(argc, argv, &c.a) != 0) {
         return 2;
+    }
+    int ws = client_wall_setup(&c);
+    if (ws != 0) {
+        free(c.wall);
+        return ws > 0 ? 0 : 2;
+    }
+    if (c.a.frame_log && !(c.wg.log = fopen(c.a.frame_log, "w"))) {
+        fprintf(stderr, "gale-client: --frame-log %s: cannot open for writing\n", c.a.frame_log);
+        free(c.wall);
+        return 2;
+    }
+    if (c.wg.log) {
+        setvbuf(c.wg.log, NULL, _IOLBF, 0); /* readable while the client runs */
     }
     signal(SIGINT, on_signal);
     signal(SIGTERM, on_signal);
@@ -173,7 +259,8 @@ int main(int argc, char **argv)
                            &(cli_net_handler){ .user = &c,
                                                .on_welcome = client_stream_on_welcome,
                                                .on_frame = client_stream_on_frame,
-                                               .on_lost = client_stream_on_lost },
+                                               .on_lost = client_stream_on_lost,
+                                               .on_wall = client_wall_group_on_wall },
                            &err);
     if (!c.net) {
         fprintf(stderr, "gale-client: %s\n", err.msg);
@@ -190,7 +277,9 @@ int main(int argc, char **argv)
         fprintf(stderr, "gale-client: render: %s\n", err.msg);
         goto done;
     }
-    c.hud = hud_create(&(hud_desc){ .px = c.a.height >= 1000 ? 22.0f : 18.0f }, &err);
+    float hud_px = client_wall_hud_px(&c, c.a.height >= 1000 ? 22.0f : 18.0f);
+    c.hud_on = hud_px > 0.0f;
+    c.hud = hud_create(&(hud_desc){ .px = c.hud_on ? hud_px : 18.0f }, &err);
     if (!c.hud) {
         fprintf(stderr, "gale-client: hud: %s\n", err.msg);
         goto done;
@@ -236,6 +325,7 @@ int main(int argc, char **argv)
                 render_resize(c.r, w, h, NULL);
             }
         }
+        client_wall_group_begin(&c);
         if (client_frame_draw(&c, now, &err) != 0) {
             fprintf(stderr, "gale-client: frame: %s\n", err.msg);
             status = 1;
@@ -251,7 +341,9 @@ int main(int argc, char **argv)
             }
             c.want_screenshot = false;
         }
+        client_wall_group_before_present(&c);
         render_present(c.r);
+        client_wall_group_after_present(&c);
         if (c.a.headless) {
             if (c.got_state && ++frames_after_state >= c.a.frames) {
                 break;
@@ -259,9 +351,10 @@ int main(int argc, char **argv)
             if (!c.got_state && now - start > c.a.wait_s) {
                 break;
             }
-            /* pace at ~60 Hz so the stream advances between frames */
+            /* pace at ~60 Hz so the stream advances between frames (a wall group paces
+             * itself) */
             double spent = mono_s() - now;
-            if (spent < 1.0 / 60.0) {
+            if (!c.wg.have_sync && spent < 1.0 / 60.0) {
                 usleep((useconds_t)((1.0 / 60.0 - spent) * 1e6));
             }
         }
@@ -299,5 +392,14 @@ done:
     free(c.w_species);
     free(c.w_instances);
     free(c.w_boxes);
+    if (c.wall) {
+        fprintf(stderr, "gale-client: wall frames presented %llu, skipped %llu, swap timeouts %llu\n",
+                (unsigned long long)c.wg.presented, (unsigned long long)c.wg.skipped,
+                (unsigned long long)c.wg.swap_timeouts);
+    }
+    if (c.wg.log) {
+        fclose(c.wg.log);
+    }
+    free(c.wall);
     return status;
 }

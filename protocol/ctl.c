@@ -46,7 +46,8 @@ static int read_type(ctl_rd *c, const cJSON *root, int *type)
         }
     }
     return ctl_fail(c, WIRE_CLOSE_UNKNOWN_TYPE, GALE_E_PARSE,
-                    "type: expected one of hello|view|wind|resync|ping|welcome|pong|error, got \"%.40s\"",
+                    "type: expected one of hello|view|wind|resync|ping|welcome|pong|error|wall_*, "
+                    "got \"%.40s\"",
                     ty->valuestring);
 }
 
@@ -60,6 +61,11 @@ static int parse_body(ctl_rd *c, const cJSON *root, ctl_msg *m)
     case CTL_PING: return ctl_ping_parse(c, root, &m->u.ping);
     case CTL_WELCOME: return ctl_welcome_parse(c, root, &m->u.welcome);
     case CTL_PONG: return ctl_pong_parse(c, root, &m->u.pong);
+    case CTL_WALL_JOIN:
+    case CTL_WALL_DRAWN:
+    case CTL_WALL_CAMERA:
+    case CTL_WALL_SYNC:
+    case CTL_WALL_SWAP: return ctl_wall_parse(c, root, m->type, m);
     default: return ctl_error_parse(c, root, &m->u.error); /* CTL_ERROR */
     }
 }
@@ -138,6 +144,11 @@ static int encode_body(ctl_rd *c, const ctl_msg *m, cJSON *o)
     case CTL_PING: return ctl_ping_encode(c, &m->u.ping, o);
     case CTL_WELCOME: return ctl_welcome_encode(c, &m->u.welcome, o);
     case CTL_PONG: return ctl_pong_encode(c, &m->u.pong, o);
+    case CTL_WALL_JOIN:
+    case CTL_WALL_DRAWN:
+    case CTL_WALL_CAMERA:
+    case CTL_WALL_SYNC:
+    case CTL_WALL_SWAP: return ctl_wall_encode(c, m, o);
     default: return ctl_error_encode(c, &m->u.error, o); /* CTL_ERROR */
     }
 }

@@ -24,6 +24,12 @@ enum ctl_type {
     CTL_WELCOME, /* scene description, rates, asset URLs, instances */
     CTL_PONG,    /* reply to ping, with server time and tick */
     CTL_ERROR,   /* sent before closing: code and reason */
+    /* display walls (PROTOCOL.md "Wall groups", ctl_wall.c) */
+    CTL_WALL_JOIN,   /* client: a wall tile joins its wall's group */
+    CTL_WALL_DRAWN,  /* client: frame N drawn, waiting to swap (swap-lock) */
+    CTL_WALL_CAMERA, /* client (kiosk) sets the wall's camera; server: applies at frame N */
+    CTL_WALL_SYNC,   /* server: the group's frame clock (reply to wall_join) */
+    CTL_WALL_SWAP,   /* server: swap frame N now */
 };
 
 enum ctl_role {
@@ -120,6 +126,47 @@ typedef struct ctl_error {
     char message[CTL_MAX_ERROR];
 } ctl_error;
 
+/* Display walls (PROTOCOL.md "Wall groups"). Frame N of a group shows server time
+ * epoch_us + N period_us − delay_us and is presented at server time epoch_us + N period_us. */
+#define CTL_WALL_MAX_RATE_HZ 240
+typedef struct ctl_wall_join {
+    char wall[CTL_MAX_NAME];  /* the group: the wall file's name */
+    char tile[CTL_MAX_NAME];  /* this tile's name in it */
+    bool swap_lock;           /* wait for wall_swap before presenting */
+    float rate_hz;            /* frames a second, (0, CTL_WALL_MAX_RATE_HZ]; the first
+                                 member's rate holds for the group */
+    uint32_t budget_ms;       /* swap-lock: longest wait for the others, 1..1000 */
+    uint32_t delay_ms;        /* playout delay behind server time, 1..10000 */
+} ctl_wall_join;
+
+typedef struct ctl_wall_sync {
+    char wall[CTL_MAX_NAME];
+    uint64_t epoch_us;        /* server clock of frame 0 */
+    uint32_t period_us;       /* 1e6 / rate */
+    uint32_t delay_us;        /* playout delay of every tile */
+    uint32_t budget_ms;
+    bool swap_lock;
+    uint32_t members;         /* tiles in the group, this one included */
+} ctl_wall_sync;
+
+/* wall_drawn (client: frame) and wall_swap (server: frame, drawn = tiles in it, members =
+ * tiles in the group). */
+typedef struct ctl_wall_frame {
+    uint32_t frame;
+    uint32_t drawn;
+    uint32_t members;
+} ctl_wall_frame;
+
+/* The wall's orbit camera (camera.h): from a kiosk without frame; from the server with
+ * the frame every tile first draws it at. */
+typedef struct ctl_wall_camera {
+    char wall[CTL_MAX_NAME];
+    uint32_t frame;           /* server → tile; 0 from a client */
+    float target_m[3];
+    float distance_m;         /* [0.5, 5000] */
+    float yaw_deg, pitch_deg; /* [-720, 720], [-88, 88] */
+} ctl_wall_camera;
+
 typedef struct ctl_msg {
     int type; /* enum ctl_type */
     union {
@@ -131,6 +178,10 @@ typedef struct ctl_msg {
         ctl_welcome welcome;
         ctl_pong pong;
         ctl_error error;
+        ctl_wall_join wall_join;
+        ctl_wall_sync wall_sync;
+        ctl_wall_frame wall_frame; /* CTL_WALL_DRAWN, CTL_WALL_SWAP */
+        ctl_wall_camera wall_camera;
     } u;
 } ctl_msg;
 
@@ -157,7 +208,8 @@ int ctl_encode(const ctl_msg *m, char **out, size_t *len, gale_err *err);
  * error). GALE_E_RANGE when it does not fit. Does not allocate outside cJSON. */
 int ctl_encode_into(const ctl_msg *m, char *buf, size_t cap, size_t *len, gale_err *err);
 
-/* True for the types a client may send (hello, view, wind, resync, ping). */
+/* True for the types a client may send (hello, view, wind, resync, ping, wall_join,
+ * wall_drawn, wall_camera). */
 bool ctl_from_client(int type);
 
 /* Role and type names as on the wire ("viewer", "wall-tile", "hello", ...); NULL for an

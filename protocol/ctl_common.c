@@ -13,7 +13,10 @@
 const char *const ctl_role_names[CTL_N_ROLES] = { "viewer", "kiosk", "wall-tile", "load" };
 const char *const ctl_view_names[CTL_N_VIEWS] = { "all", "circle", "frustum" };
 static const char *const type_names[] = { NULL,      "hello",   "view", "wind", "resync",
-                                          "ping",    "welcome", "pong", "error" };
+                                          "ping",    "welcome", "pong", "error",
+                                          /* display walls */
+                                          "wall_join", "wall_drawn", "wall_camera",
+                                          "wall_sync", "wall_swap" };
 
 #define N_TYPES (int)(sizeof type_names / sizeof type_names[0])
 
@@ -29,7 +32,8 @@ const char *ctl_type_name(int type)
 
 bool ctl_from_client(int type)
 {
-    return type >= CTL_HELLO && type <= CTL_PING;
+    return (type >= CTL_HELLO && type <= CTL_PING) ||
+           (type >= CTL_WALL_JOIN && type <= CTL_WALL_CAMERA);
 }
 
 int ctl_fail(ctl_rd *c, int close, int code, const char *fmt, ...)

@@ -68,5 +68,8 @@ int ctl_error_parse(ctl_rd *c, const cJSON *o, ctl_error *e);
 int ctl_error_encode(ctl_rd *c, const ctl_error *e, cJSON *o);
 int ctl_welcome_parse(ctl_rd *c, const cJSON *o, ctl_welcome *w);
 int ctl_welcome_encode(ctl_rd *c, const ctl_welcome *w, cJSON *o);
+/* display walls: ctl_wall.c */
+int ctl_wall_parse(ctl_rd *c, const cJSON *o, int type, ctl_msg *m);
+int ctl_wall_encode(ctl_rd *c, const ctl_msg *m, cJSON *o);
 
 #endif

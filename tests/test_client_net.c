@@ -355,7 +355,7 @@ static void test_session(void)
                                      .backoff_min_s = 0.05,
                                      .backoff_max_s = 0.4,
                                      .ping_interval_s = 0.05 },
-                        &(cli_net_handler){ &s, on_welcome, on_frame, on_lost }, &err);
+                        &(cli_net_handler){ &s, on_welcome, on_frame, on_lost, NULL }, &err);
     CHECK(n != NULL);
     if (!n) {
         fprintf(stderr, "%s\n", err.msg);

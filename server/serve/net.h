@@ -172,6 +172,11 @@ net_snap *net_snap_acquire(net_server *s);
  * every ready connection and drops the caller's reference. Wakes the service loop. */
 void net_publish(net_server *s, net_snap *snap);
 
+/* Service thread (inside net_desc.control or closed): queues text for connection conn as
+ * a control reply is queued; 0, or -1 when conn is not an open WebSocket (or its queue is
+ * full: it is then closed with 4012 as a reader that does not read its replies). */
+int net_send_text(net_server *s, uint32_t conn, const char *text, size_t len);
+
 /* Service thread: runs lws until net_stop; then tells every client (close 1001, each
  * socket closed within NET_CLOSE_BOUND_MS whatever its peer does) and returns after they
  * are closed or grace_ms passed. */

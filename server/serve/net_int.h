@@ -19,6 +19,10 @@
  * burst many times over. */
 #define NET_MSG_BURST 20
 #define NET_MSG_PER_S 10
+/* A wall tile's bucket: a wall_drawn per frame at up to CTL_WALL_MAX_RATE_HZ besides the
+ * pings; the replies' queue below still bounds one that does not read its swaps. */
+#define NET_WALL_MSG_BURST 64
+#define NET_WALL_MSG_PER_S 250
 /* Control replies queued per connection: a whole burst's replies and the error of a close,
  * so that the bucket, not this queue, bounds a client that sends faster than it reads. */
 #define NET_CTL_MAX (NET_MSG_BURST + 4)

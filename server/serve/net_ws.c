@@ -139,6 +139,16 @@ static int conn_queue_text(net_server *s, net_conn *c, const char *text, size_t 
     return 0;
 }
 
+int net_send_text(net_server *s, uint32_t conn, const char *text, size_t len)
+{
+    for (net_conn *c = s->conns; c; c = c->next) {
+        if (c->id == conn) {
+            return c->close_code ? -1 : conn_queue_text(s, c, text, len);
+        }
+    }
+    return -1;
+}
+
 void net_conn_free(net_server *s, net_conn *c)
 {
     if (c->linked) {
@@ -371,14 +381,19 @@ int net_ws_receive(net_server *s, net_conn *c, const void *in, size_t len)
     }
     c->rx[c->rx_len] = 0;
     uint64_t now = mono_ns();
-    c->tokens += (double)(now - c->tokens_ns) * 1e-9 * NET_MSG_PER_S;
-    c->tokens = c->tokens < NET_MSG_BURST ? c->tokens : NET_MSG_BURST;
+    /* a wall tile reports every frame it draws (PROTOCOL.md "Wall groups") */
+    const bool wall = c->role == NET_ROLE_WALL;
+    const double per_s = wall ? NET_WALL_MSG_PER_S : NET_MSG_PER_S;
+    const double burst = wall ? NET_WALL_MSG_BURST : NET_MSG_BURST;
+    c->tokens += (double)(now - c->tokens_ns) * 1e-9 * per_s;
+    c->tokens = c->tokens < burst ? c->tokens : burst;
     c->tokens_ns = now;
     if (c->tokens < 1.0) {
         char why[100];
         snprintf(why, sizeof why,
                  "too many messages: expected <= %d a second after a burst of %d",
-                 NET_MSG_PER_S, NET_MSG_BURST);
+                 wall ? NET_WALL_MSG_PER_S : NET_MSG_PER_S,
+                 wall ? NET_WALL_MSG_BURST : NET_MSG_BURST);
         bad_input(s, c, WIRE_CLOSE_RATE, why);
         return 0;
     }

@@ -38,6 +38,11 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     pthread_mutex_init(&s->view_lock, NULL);
     pthread_mutex_init(&s->ctl_lock, NULL);
     kiosk_gate_init(&s->kgate);
+    s->walls = wall_groups_create(srv_wall_send, s);
+    if (!s->walls) {
+        gale_errf(err, GALE_E_NOMEM, "srv_create: no memory");
+        goto fail;
+    }
     const scene *sc = d->sc;
     const int n = sc->n_trees;
     tick_species *ts = s->ts;
@@ -185,7 +190,8 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     if (metric_reg_add(&s->reg, build_rows, 1, build_fill, NULL, err) ||
         sim_metrics_register(&s->simm, &s->reg, err) ||
         net_metrics_register(s->net, &s->reg, err) || srv_publish_register(s, &s->reg, err) ||
-        kiosk_gate_register(&s->kgate, &s->reg, err)) {
+        kiosk_gate_register(&s->kgate, &s->reg, err) ||
+        wall_groups_register(s->walls, &s->reg, err)) {
         goto fail;
     }
     if (!d->quiet) {
@@ -226,6 +232,7 @@ void srv_destroy(srv *s)
         return;
     }
     net_destroy(s->net);
+    wall_groups_destroy(s->walls);
     tick_destroy(s->tick);
     free(s->tree_species);
     free(s->tree_modes);

@@ -1,7 +1,7 @@
 /* The control protocol on the lws thread (ctl.h, protocol/PROTOCOL.md): hello and the
  * welcome it gets (a kiosk's through the token gate, kiosk_gate.h), the view a connection
  * follows (one snapshot stream per distinct view), kiosk wind commands into the scenario,
- * resync and ping. */
+ * resync and ping, and display walls' groups (wall_group.h). */
 #include "srv_int.h"
 
 #include <math.h>
@@ -107,9 +107,51 @@ static int kiosk_hello(srv *s, const net_peer *p, const char *token, char *why, 
 
 void srv_on_closed(void *user, const net_peer *p)
 {
+    srv *s = user;
     if (p->stream) {
-        view_join(user, p->stream, NULL);
+        view_join(s, p->stream, NULL);
     }
+    wall_groups_leave(s->walls, p->id, mono_us());
+}
+
+void srv_wall_send(void *user, uint32_t conn, const char *text, size_t len)
+{
+    srv *s = user;
+    net_send_text(s->net, conn, text, len);
+}
+
+/* The wall messages (wall_group.h): joins and frame reports from wall tiles, the camera
+ * from a kiosk. 0 or a close code with why. */
+static int wall_control(srv *s, const net_peer *p, const ctl_msg *m, char **reply,
+                        size_t *reply_len, char *why, size_t why_cap)
+{
+    const uint64_t now = mono_us();
+    wall_groups_poll(s->walls, now);
+    if (m->type == CTL_WALL_CAMERA) {
+        if (p->role != NET_ROLE_KIOSK) {
+            snprintf(why, why_cap, "wall_camera: only a kiosk may steer a wall (this is a %s)",
+                     ctl_role_name(p->role - 1));
+            return WIRE_CLOSE_FORBIDDEN;
+        }
+        return wall_groups_camera(s->walls, &m->u.wall_camera, now, why, why_cap);
+    }
+    if (p->role != NET_ROLE_WALL) {
+        snprintf(why, why_cap, "%s: only for wall tiles (this is a %s)", ctl_type_name(m->type),
+                 ctl_role_name(p->role - 1));
+        return WIRE_CLOSE_FORBIDDEN;
+    }
+    if (m->type == CTL_WALL_DRAWN) {
+        return wall_groups_drawn(s->walls, p->id, m->u.wall_frame.frame, now, why, why_cap);
+    }
+    ctl_msg sync = { .type = CTL_WALL_SYNC };
+    int rc = wall_groups_join(s->walls, p->id, &m->u.wall_join, now, &sync.u.wall_sync, why,
+                              why_cap);
+    gale_err e;
+    if (!rc && ctl_encode(&sync, reply, reply_len, &e)) {
+        snprintf(why, why_cap, "wall_sync: %s", e.msg);
+        rc = WIRE_CLOSE_BAD_FIELD;
+    }
+    return rc;
 }
 
 int srv_on_control(void *user, net_peer *p, const char *text, size_t len, char **reply,
@@ -189,6 +231,8 @@ int srv_on_control(void *user, net_peer *p, const char *text, size_t len, char *
                                .u10_ms = w->has_speed ? w->speed_ms : sc->wind_u10_ms };
             tick_set_inflow(s->tick, &in);
         }
+    } else if (m.type >= CTL_WALL_JOIN && m.type <= CTL_WALL_CAMERA) {
+        rc = wall_control(s, p, &m, reply, reply_len, why, why_cap);
     } else if (m.type == CTL_RESYNC) {
         p->resync = true;
     } else if (m.type == CTL_VIEW) {

@@ -16,6 +16,7 @@
 #include "srv.h"
 #include "srv_stream.h"
 #include "wire.h"
+#include "wall_group.h"
 
 #define SRV_MAX_VIEWS 4    /* distinct client views encoded per snapshot; beyond them a
                               connection's view is ignored (it gets the whole scene) */
@@ -99,6 +100,7 @@ struct srv {
     /* log rate limits (sim thread) */
     time_t olog_sec;             /* overruns: the second being counted */
     int olog_n;                  /*           lines in it */
+    wall_groups *walls;          /* display walls' groups (lws thread, srv_control.c) */
     double slog_next_s;          /* solves out of budget: next line no earlier [s, mono_s] */
     unsigned long long slog_n;   /* solves out of budget since that line */
 };
@@ -113,6 +115,8 @@ void srv_closed_serial(void *user, const net_peer *p);
 int srv_on_control(void *user, net_peer *p, const char *text, size_t len, char **reply,
                    size_t *reply_len, char *why, size_t why_cap);
 void srv_on_closed(void *user, const net_peer *p);
+/* wall_group.h's send: text to one connection (lws thread). */
+void srv_wall_send(void *user, uint32_t conn, const char *text, size_t len);
 
 /* srv_publish.c, sim thread: snapshot s->seq + 1 of tick `tick` from s->qbuf[s->cur]
  * (which tick_step just filled) to every stream; then rotates the buffers. */
