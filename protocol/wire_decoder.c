@@ -95,6 +95,11 @@ int wire_decode(wire_decoder *d, const uint8_t *buf, size_t len, wire_frame *out
         rc = wire_decode_leaves(&r, &out->hdr, d->leaves, &out->n_leaves, err);
         out->leaves = rc ? NULL : d->leaves;
         return rc;
+    case WIRE_MSG_DAMAGE:
+        rc = wire_decode_damage(&r, &out->hdr, d->damage, &out->n_damage, &out->damage_full,
+                                err);
+        out->damage = rc ? NULL : d->damage;
+        return rc;
     default: /* WIRE_MSG_WIND; wire_get_header checked the type */
         return wire_decode_wind(&r, &out->hdr, d->wind, &out->wind, err);
     }

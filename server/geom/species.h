@@ -4,6 +4,7 @@
 #ifndef GALE_SPECIES_H
 #define GALE_SPECIES_H
 
+#include "damage_params.h"
 #include "err.h"
 #include "lsystem.h"
 
@@ -18,6 +19,8 @@ typedef struct species {
     double drag_c;         /* C of p_i = C ∫ D φ_i ds: ½ ρ_air C_D [kg/m^3]; D is the
                             * branch diameter only, so C lumps the foliage's frontal area
                             * too and may well exceed ½ ρ_air (shipped: 0.25-1.8) */
+    /* storm damage (PHYSICS.md "Storm damage"): the `damage` section */
+    damage_params damage;
     /* generator */
     lsystem_params gen;
     /* look */

@@ -243,7 +243,8 @@ int main(int argc, char **argv)
                                           .gamma = a->gamma,
                                           .wind_basis = a->wind_basis,
                                           .height_m = a->height_m,
-                                          .n_leaves = a->n_leaves },
+                                          .n_leaves = a->n_leaves,
+                                          .damage = &ent[i].damage },
                                .qstep = ent[i].qstep,
                                .asset_bytes = ent[i].bytes,
                                .asset_len = ent[i].len };

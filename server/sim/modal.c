@@ -36,6 +36,8 @@ struct modal {
     float *state;            /* owned: per tree [2][pad]: q then q' */
     uint8_t *tree_species;   /* owned: [n_trees] */
     float *cos_yaw, *sin_yaw;/* owned: [n_trees] */
+    float *drag;             /* owned: [n_trees] multiplier of the tree's modal force, 1 =
+                                intact (damage.h: stripped leaves, lost branches) */
 };
 
 modal *modal_create(const modal_desc *d, gale_err *err)
@@ -125,7 +127,8 @@ modal *modal_create(const modal_desc *d, gale_err *err)
     m->tree_species = malloc(d->n_trees);
     m->cos_yaw = malloc(sizeof(float) * d->n_trees);
     m->sin_yaw = malloc(sizeof(float) * d->n_trees);
-    if (!m->tree_species || !m->cos_yaw || !m->sin_yaw) {
+    m->drag = malloc(sizeof(float) * d->n_trees);
+    if (!m->tree_species || !m->cos_yaw || !m->sin_yaw || !m->drag) {
         goto nomem;
     }
     for (uint32_t t = 0; t < d->n_trees; t++) {
@@ -143,6 +146,7 @@ modal *modal_create(const modal_desc *d, gale_err *err)
         m->tree_species[t] = d->tree_species[t];
         m->cos_yaw[t] = cosf(yaw);
         m->sin_yaw[t] = sinf(yaw);
+        m->drag[t] = 1.0f;
     }
     /* 64-byte aligned so a tree's state starts on a cache line when pad is a multiple
      * of 16 (the common 16 / 32 / 64 modes). */
@@ -172,6 +176,7 @@ void modal_destroy(modal *m)
     free(m->tree_species);
     free(m->cos_yaw);
     free(m->sin_yaw);
+    free(m->drag);
     free(m);
 }
 
@@ -235,7 +240,8 @@ static void range_tick(const modal *m, uint32_t t0, uint32_t t1, const float *wi
         const float cy = m->cos_yaw[t], sy = m->sin_yaw[t];
         const float vx = cy * wx + sy * wy;
         const float vy = -sy * wx + cy * wy;
-        const float sv = sqrtf(wx * wx + wy * wy + wz * wz);
+        /* the tree's drag multiplier scales its whole force (damage.h) */
+        const float sv = sqrtf(wx * wx + wy * wy + wz * wz) * m->drag[t];
         const modal_sp *sp = &m->sp[m->tree_species[t]];
         float *q = m->state + (size_t)t * 2 * pad;
         /* When the row is exactly the padded modes (16, 32, 64), quantise straight into
@@ -294,4 +300,16 @@ void modal_set(modal *m, uint32_t t, const float *q, const float *qdot)
     if (qdot) {
         memcpy(st + m->pad, qdot, nm * sizeof(float));
     }
+}
+
+void modal_set_drag(modal *m, uint32_t t, float factor)
+{
+    if (t < m->n_trees) {
+        m->drag[t] = factor;
+    }
+}
+
+float modal_get_drag(const modal *m, uint32_t t)
+{
+    return t < m->n_trees ? m->drag[t] : 0.0f;
 }

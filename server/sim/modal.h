@@ -53,4 +53,9 @@ uint32_t modal_get(const modal *m, uint32_t t, float *q, float *qdot);
 /* Sets tree t's state (tests, restore). */
 void modal_set(modal *m, uint32_t t, const float *q, const float *qdot);
 
+/* Multiplies tree t's modal force f_i by factor (>= 0; 1 at create): what storm damage
+ * leaves of its drag (damage.h). */
+void modal_set_drag(modal *m, uint32_t t, float factor);
+float modal_get_drag(const modal *m, uint32_t t);
+
 #endif

@@ -9,6 +9,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "damage.h"
 #include "err.h"
 #include "leaf.h"
 #include "scene.h"
@@ -23,6 +24,8 @@ typedef struct tick_species {
     const float *qstep;      /* [n_modes] quantisation step of the snapshot (quant_steps_derive) */
     float height_m;          /* rest height: the wind is sampled at 0.7 of it */
     uint32_t n_leaves;       /* leaf slots per tree */
+    const damage_table *damage; /* storm damage of the species (damage_table.h), borrowed;
+                                   NULL: its trees take none */
 } tick_species;
 
 /* The wind grid as the tick drives it (wind.h functions on a wind_grid in the server;
@@ -94,5 +97,16 @@ int tick_get_q(const tick_sim *t, int tree, float *q, int cap);
 int tick_leaves(const tick_sim *t, const leaf_seed **out);
 /* The wind velocity [m/s, world] sampled at each crown during the last tick, [n_trees][3]. */
 const float *tick_crown_wind(const tick_sim *t);
+
+/* Storm damage (damage.h); NULL when no species takes damage. Read it on the thread that
+ * runs tick_step. */
+const damage_sim *tick_damage(const tick_sim *t);
+/* Its /metrics counters (any thread); NULL without damage. */
+damage_counts *tick_damage_counts(tick_sim *t);
+/* Heals the forest before the next tick (kiosk reset, scenario restart). Safe from
+ * another thread. */
+void tick_request_heal(tick_sim *t);
+/* Heals it now (the thread that runs tick_step). */
+void tick_heal(tick_sim *t);
 
 #endif
