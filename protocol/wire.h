@@ -184,19 +184,35 @@ typedef struct wire_damage {
 int wire_encode_damage(const wire_header *h, bool full, const wire_damage *ev, uint32_t n,
                        uint8_t *buf, size_t cap, size_t *len, gale_err *err);
 
+/* The rank of a leaf slot and of a tree in [0, 2^32): a slot's rank on tree t is
+ * wire_damage_slot_rank(slot) + wire_damage_tree_rank(t) mod 2^32, so the server can find
+ * the slots of a band of ranks in a species' slots sorted once. */
+static inline uint32_t wire_damage_mix(uint32_t h)
+{
+    h ^= h >> 16;
+    h *= 0x7FEB352Du;
+    h ^= h >> 15;
+    h *= 0x846CA68Bu;
+    h ^= h >> 16;
+    return h;
+}
+static inline uint32_t wire_damage_slot_rank(uint32_t slot)
+{
+    return wire_damage_mix(slot * 0x9E3779B1u + 0x7F4A7C15u);
+}
+static inline uint32_t wire_damage_tree_rank(uint32_t tree)
+{
+    return wire_damage_mix(tree * 0x85EBCA77u + 0x165667B1u);
+}
+
 /* Whether leaf slot `slot` of tree `tree` is still on a crown with `level` of
- * WIRE_DAMAGE_LEVELS left: each slot has a fixed rank in [0, 1) from a hash of (tree,
- * slot), and the slots of lowest rank stay; server (which leaves it strips) and clients
- * (which they draw) agree through this one function. */
+ * WIRE_DAMAGE_LEVELS left: the slots of rank below level / WIRE_DAMAGE_LEVELS of the
+ * range stay. Server (which leaves it strips) and clients (which they draw) agree
+ * through this one function. */
 static inline bool wire_damage_leaf_kept(uint32_t tree, uint32_t slot, uint32_t level)
 {
-    uint32_t h = tree * 0x9E3779B1u ^ (slot + 0x7F4A7C15u) * 0x85EBCA77u;
-    h ^= h >> 15;
-    h *= 0x2C1B3C6Du;
-    h ^= h >> 12;
-    h *= 0x297A2D39u;
-    h ^= h >> 15;
-    return (uint64_t)(h >> 8) * WIRE_DAMAGE_LEVELS < (uint64_t)level << 24;
+    uint32_t r = wire_damage_slot_rank(slot) + wire_damage_tree_rank(tree);
+    return (uint64_t)r * WIRE_DAMAGE_LEVELS < (uint64_t)level << 32;
 }
 
 /* ---- decoder (client side) ---------------------------------------------------------- */

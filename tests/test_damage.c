@@ -312,10 +312,64 @@ static void test_cat4_replay(void)
     scenario_destroy(scen);
 }
 
+/* Stripped leaves: the slots shed are exactly those a client stops drawing at the final
+ * level (wire_damage_leaf_kept), each once. One oak that cannot break, 30 m/s. */
+static void test_strip_leaves(void)
+{
+    if (bake_all()) {
+        CHECK(0);
+        return;
+    }
+    damage_params p = tables[1].p;
+    p.mor_pa = 1e9;
+    p.c_reg_nm_kg = 5000;
+    damage_table strong;
+    CHECK(damage_table_build(&assets[1], 1e10, &p, &strong, NULL) == 0);
+    tick_species one = tsp[1];
+    one.damage = &strong;
+    static scene_tree tr = { .species = 0, .scale = 1 };
+    scene s;
+    memset(&s, 0, sizeof s);
+    s.tick_hz = 60;
+    s.snapshot_hz = 30;
+    s.n_species = 1;
+    s.wind_u10_ms = 30;
+    s.trees = &tr;
+    s.n_trees = 1;
+    tick_sim *t = tick_create(&(tick_desc){ .sc = &s, .species = &one }, NULL);
+    const uint32_t n = assets[1].n_leaves;
+    uint8_t *seen = calloc(n, 1);
+    int dup = 0, shed = 0;
+    for (int k = 0; t && seen && k < 60 * 60; k++) {
+        tick_step(t, NULL, NULL, NULL);
+        const leaf_seed *ls;
+        int nl = tick_leaves(t, &ls);
+        for (int i = 0; i < nl; i++) {
+            dup += seen[ls[i].slot]++ != 0;
+            shed++;
+        }
+    }
+    float leaf = 1;
+    CHECK(t && damage_tree(tick_damage(t), 0, &leaf, NULL) == 0);
+    uint32_t level = (uint32_t)(leaf * WIRE_DAMAGE_LEVELS + 0.5f);
+    int wrong = 0;
+    for (uint32_t k = 0; seen && k < n; k++) {
+        wrong += (seen[k] != 0) == wire_damage_leaf_kept(0, k, level);
+    }
+    fprintf(stderr, "  30 m/s for 60 s: leaf area %.2f (level %u/32), %d of %u slots shed\n",
+            (double)leaf, level, shed, n);
+    CHECK(level < WIRE_DAMAGE_LEVELS && shed > 0);
+    CHECK(dup == 0 && wrong == 0);
+    free(seen);
+    tick_destroy(t);
+    damage_table_fini(&strong);
+}
+
 int main(void)
 {
     RUN(test_critical_moments);
     RUN(test_strip_hugo);
+    RUN(test_strip_leaves);
     RUN(test_steady_15);
     RUN(test_cat4_replay);
     for (int k = 0; k < N_SP; k++) {

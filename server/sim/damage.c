@@ -202,30 +202,58 @@ static void recount(const damage_sim *s, const damage_table *tb, uint32_t t, dam
     ts->leaf_frac = l > 0.0f ? l : 0.0f;
 }
 
-/* Stripped leaves of tree t going from level a to b: the slots kept at a but not at b,
+/* First index of the species' sorted slot ranks at or above rank r. */
+static uint32_t first_rank(const damage_table *tb, uint64_t r)
+{
+    uint32_t i0 = 0, i1 = tb->n_leaves;
+    while (i0 < i1) {
+        uint32_t mid = i0 + (i1 - i0) / 2;
+        if ((tb->slot_rank[mid] >> 32) < r) {
+            i0 = mid + 1;
+        } else {
+            i1 = mid;
+        }
+    }
+    return i0;
+}
+
+/* Stripped leaves of tree t going from level a to b: the slots kept at a but not at b
+ * (ranks in [b, a) 32nds of the range: one or two runs of the species' sorted slot ranks),
  * on branches still there, each shed as a falling leaf. */
 static int strip_leaves(const damage_sim *s, const damage_table *tb, uint32_t t, uint32_t a,
                         uint32_t b, uint32_t tick, leaf_seed *out, int cap, int *n)
 {
     int lost = 0;
-    for (uint32_t k = 0; k < tb->n_leaves; k++) {
-        if (!wire_damage_leaf_kept(t, k, a) || wire_damage_leaf_kept(t, k, b)) {
+    const bool ts_broken = s->tree[t].broken > 0;
+    const uint32_t off = wire_damage_tree_rank(t);
+    /* tree rank r = slot rank + off; band [lo, hi) in tree ranks */
+    const uint64_t lo = (uint64_t)b << 27, hi = (uint64_t)a << 27;
+    for (int part = 0; part < 2; part++) {
+        /* slot ranks [lo - off, hi - off) mod 2^32: at most two runs */
+        uint64_t s0 = (lo - off) & 0xFFFFFFFFull, s1 = s0 + (hi - lo);
+        uint64_t from = part == 0 ? s0 : 0, to = part == 0 ? (s1 < (1ull << 32) ? s1 : 1ull << 32)
+                                                          : (s1 > (1ull << 32) ? s1 - (1ull << 32) : 0);
+        if (from >= to) {
             continue;
         }
-        uint32_t node = tb->leaf_node[k];
-        if (node < tb->n_nodes && gone(s, tb, t, tb->node_branch[node])) {
-            continue;
+        const uint32_t i0 = first_rank(tb, from), i1 = first_rank(tb, to);
+        for (uint32_t i = i0; i < i1; i++) {
+            if (*n >= cap) {
+                lost += (int)(i1 - i); /* over the per-tick cap: counted, not shed */
+                break;
+            }
+            uint32_t k = (uint32_t)tb->slot_rank[i];
+            uint32_t node = tb->leaf_node[k];
+            if (ts_broken && node < tb->n_nodes && gone(s, tb, t, tb->node_branch[node])) {
+                continue;
+            }
+            out[(*n)++] = (leaf_seed){ .instance = t,
+                                       .slot = k,
+                                       .spawn_tick = tick,
+                                       .variation = (uint32_t)(unit3(s->d.seed ^ 0x5157ull, t,
+                                                                     (uint64_t)k << 32 | tick) *
+                                                               4294967296.0) };
         }
-        if (*n >= cap) {
-            lost++;
-            continue;
-        }
-        out[(*n)++] = (leaf_seed){ .instance = t,
-                                   .slot = k,
-                                   .spawn_tick = tick,
-                                   .variation = (uint32_t)(unit3(s->d.seed ^ 0x5157ull, t,
-                                                                 (uint64_t)k << 32 | tick) *
-                                                           4294967296.0) };
     }
     return lost;
 }
@@ -243,20 +271,18 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
                        const float *v, uint32_t tick)
 {
     damage_tree_st *ts = &s->tree[t];
-    float *q = s->q;
-    uint32_t n = modal_get(m, t, q, NULL);
-    if (n > tb->n_modes) {
-        n = tb->n_modes;
-    }
-    float qn = 0.0f;
-    for (uint32_t i = 0; i < n; i++) {
-        qn += q[i] * q[i];
-    }
-    qn = sqrtf(qn);
+    /* |q| as the modal update left it (modal_qnorm2): the state itself is read only
+     * for a tree that might fail */
+    const float qn = sqrtf(modal_qnorm2(m, t));
     /* the weakest branch multiplier is exp(-sd) (normal3 is clamped to ±2, halved) */
     const float lo = ts->strength * expf(-(float)tb->p.strength_sd);
     if (!(qn >= lo * tb->q_screen)) {
         return;
+    }
+    float *q = s->q;
+    uint32_t n = modal_get(m, t, q, NULL);
+    if (n > tb->n_modes) {
+        n = tb->n_modes;
     }
     float mb = damage_moment((const float(*)[3])tb->stem_moment, q, n, NULL);
     uint8_t fall = 0;
@@ -280,9 +306,13 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
         return;
     }
     bool changed = false;
-    for (uint32_t b = 0; b < tb->n_branches; b++) {
+    for (uint32_t j = 0; j < tb->n_branches; j++) {
+        const uint32_t b = tb->order[j];
         const damage_branch *br = &tb->branch[b];
-        if (qn * br->moment_norm < lo * br->cap_nm || gone(s, tb, t, (int32_t)b)) {
+        if (qn * br->moment_norm < lo * br->cap_nm) {
+            break; /* branches by rising cap / norm: no later one can fail either */
+        }
+        if (gone(s, tb, t, (int32_t)b)) {
             continue;
         }
         const float(*mm)[3] = (const float(*)[3])(tb->branch_moment + (size_t)b * tb->n_modes * 3);
@@ -310,23 +340,20 @@ int damage_step(damage_sim *s, modal *m, const float *wind_world, uint32_t tick,
     s->n_ev = 0;
     int lost = 0;
     const float dt = (float)s->d.dt_s;
-    const bool census = tick % DAMAGE_EVERY == 0;
-    double area = 0.0;
-    uint32_t counted = 0;
-    for (uint32_t t = 0; t < s->d.n_trees; t++) {
+    /* each tree on its own tick of DAMAGE_EVERY: (tick + t) % DAMAGE_EVERY == 0 */
+    const uint32_t first = (DAMAGE_EVERY - tick % DAMAGE_EVERY) % DAMAGE_EVERY;
+    for (uint32_t t = first; t < s->d.n_trees; t += DAMAGE_EVERY) {
         const damage_table *tb = s->table[s->species[t]];
-        if (!tb) {
-            continue;
-        }
         damage_tree_st *ts = &s->tree[t];
-        counted++;
-        if (ts->fallen) {
+        if (!tb || ts->fallen) {
             continue;
         }
+        /* stripping over the ticks since this tree's last turn, then its stresses */
         const float *v = &wind_world[3 * (size_t)t];
         float sp = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
         if (sp > DAMAGE_STRIP_START_MS && ts->leaf > 1.0f - (float)tb->p.strip_max) {
-            float l = damage_strip_step(ts->leaf, sp, (float)tb->p.strip_max, dt);
+            float l = damage_strip_step(ts->leaf, sp, (float)tb->p.strip_max,
+                                        dt * (float)DAMAGE_EVERY);
             if (l != ts->leaf) {
                 ts->leaf = l;
                 modal_set_drag(m, t, drag_of(tb, ts));
@@ -339,14 +366,18 @@ int damage_step(damage_sim *s, modal *m, const float *wind_world, uint32_t tick,
                 }
             }
         }
-        if ((tick + t) % DAMAGE_EVERY == 0) {
-            check_tree(s, m, tb, t, v, tick);
-        }
-        if (census && !ts->fallen) {
-            area += (double)(ts->leaf * ts->leaf_frac);
-        }
+        check_tree(s, m, tb, t, v, tick);
     }
-    if (census) {
+    /* the standing leaf area for /metrics, once a second of 60 Hz ticks */
+    if (tick % 60 == 0) {
+        double area = 0.0;
+        uint32_t counted = 0;
+        for (uint32_t t = 0; t < s->d.n_trees; t++) {
+            if (s->table[s->species[t]]) {
+                counted++;
+                area += s->tree[t].fallen ? 0.0 : (double)(s->tree[t].leaf * s->tree[t].leaf_frac);
+            }
+        }
         atomic_store(&s->counts.leaf_area, counted ? area / counted : 1.0);
     }
     return lost;

@@ -7,6 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "wire.h"
+
 #define PI 3.14159265358979323846
 
 static void sub3(const float *a, const float *b, double o[3])
@@ -88,6 +90,27 @@ static float norm_modes(const float (*m)[3], uint32_t n)
         s += x * x + y * y + z * z;
     }
     return (float)sqrt(s);
+}
+
+static int cmp_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* cap / norm of a branch: the |q| below which it cannot fail at strength 1 */
+static double ratio(const damage_branch *b)
+{
+    return b->moment_norm > 0.0f ? (double)b->cap_nm / (double)b->moment_norm : 1e300;
+}
+
+static const damage_table *sort_branches; /* qsort has no context argument */
+
+static int cmp_ratio(const void *a, const void *b)
+{
+    double x = ratio(&sort_branches->branch[*(const uint32_t *)a]);
+    double y = ratio(&sort_branches->branch[*(const uint32_t *)b]);
+    return (x > y) - (x < y);
 }
 
 int damage_table_build(const asset *a, double E_pa, const damage_params *p, damage_table *t,
@@ -215,6 +238,23 @@ int damage_table_build(const asset *a, double E_pa, const damage_params *p, dama
         qs = s < qs ? s : qs;
     }
     t->q_screen = qs;
+    t->order = malloc(sizeof(uint32_t) * (nb ? nb : 1));
+    t->slot_rank = malloc(sizeof(uint64_t) * (a->n_leaves ? a->n_leaves : 1));
+    if (!t->order || !t->slot_rank) {
+        damage_table_fini(t);
+        return gale_errf(err, GALE_E_NOMEM, "damage_table_build: no memory for %u leaves",
+                         a->n_leaves);
+    }
+    for (uint32_t k = 0; k < a->n_leaves; k++) {
+        t->slot_rank[k] = (uint64_t)wire_damage_slot_rank(k) << 32 | k;
+    }
+    qsort(t->slot_rank, a->n_leaves, sizeof(uint64_t), cmp_u64);
+    for (uint32_t b = 0; b < nb; b++) {
+        t->order[b] = b;
+    }
+    sort_branches = t;
+    qsort(t->order, nb, sizeof(uint32_t), cmp_ratio);
+    sort_branches = NULL;
     return GALE_OK;
 }
 
@@ -226,6 +266,8 @@ void damage_table_fini(damage_table *t)
     free(t->branch);
     free(t->branch_moment);
     free(t->node_branch);
+    free(t->order);
+    free(t->slot_rank);
     memset(t, 0, sizeof *t);
 }
 

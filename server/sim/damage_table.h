@@ -38,6 +38,9 @@ typedef struct damage_table {
     int32_t *node_branch;    /* owned [n_nodes] branch a node belongs to; -1: the stem */
     uint32_t n_leaves;
     const uint32_t *leaf_node; /* [n_leaves] borrowed from the asset: the node of each slot */
+    uint64_t *slot_rank;     /* owned [n_leaves] wire_damage_slot_rank << 32 | slot, sorted */
+    uint32_t *order;         /* owned [n_branches] branches by cap_nm / moment_norm, rising:
+                                the first that cannot fail at |q| ends a check */
     float stem_moment[64][3];/* base moment of the stem element per unit q_i [N m] */
     float stem_norm;         /* sqrt(Σ_i |stem_moment_i|²) */
     double stem_d_m;         /* stem diameter at the base [m] */

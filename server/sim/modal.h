@@ -56,6 +56,9 @@ void modal_set(modal *m, uint32_t t, const float *q, const float *qdot);
 /* Multiplies tree t's modal force f_i by factor (>= 0; 1 at create): what storm damage
  * leaves of its drag (damage.h). */
 void modal_set_drag(modal *m, uint32_t t, float factor);
+/* Σ_i q_i² of tree t after the last modal_tick (0 before any; modal_set does not update
+ * it). */
+float modal_qnorm2(const modal *m, uint32_t t);
 float modal_get_drag(const modal *m, uint32_t t);
 
 #endif
