@@ -106,3 +106,13 @@ mat3 rot_z(float a)
     float c = cos(a), s = sin(a);
     return mat3(c, s, 0.0, -s, c, 0.0, 0.0, 0.0, 1.0);
 }
+
+// A tree's frame: yaw about z, then tipped over its root by `fall` towards azimuth `az`
+// (storm damage: a fallen tree lies; u_trees slot 1 .z, .w).
+mat3 tree_frame(float yaw, float fall, float az)
+{
+    vec3 k = vec3(-sin(az), cos(az), 0.0); // axis across the fall, top goes towards az
+    float c = cos(fall), s = sin(fall);
+    mat3 kx = mat3(0.0, k.z, -k.y, -k.z, 0.0, k.x, k.y, -k.x, 0.0);
+    return (mat3(1.0) + s * kx + (1.0 - c) * kx * kx) * rot_z(yaw);
+}

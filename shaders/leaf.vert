@@ -35,7 +35,7 @@ void main()
         r = rot_between(normalize(nj.xyz - texelFetch(u_node, p).xyz), normalize(xj - xp));
     }
     vec4 t0 = texelFetch(u_trees, tree * 2), t1 = texelFetch(u_trees, tree * 2 + 1);
-    mat3 rz = rot_z(t0.w);
+    mat3 rz = tree_frame(t0.w, t1.z, t1.w);
     uint h = hash_u(uint(tree) * 7919u + uint(leaf) * 104729u + 17u);
 
     vec3 n = l1.xyz;
