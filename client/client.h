@@ -14,6 +14,7 @@
 #include "camera.h"
 #include "cli_net.h"
 #include "ctl.h"
+#include "damage_view.h"
 #include "err.h"
 #include "hud.h"
 #include "jitter.h"
@@ -112,6 +113,10 @@ typedef struct client {
     float wind_ms;
     float kiosk_speed_ms; /* kiosk dial */
 
+    /* storm damage of the scene (DAMAGE frames), kept from the welcome on so the whole
+     * state after the first keyframe is not lost while assets load */
+    damage_view dmg;
+
     bool got_state;
     bool live_since_welcome;  /* state taken since the last welcome */
     uint64_t frames_mismatch; /* state frames whose tree count disagreed with the scene */
@@ -123,6 +128,12 @@ typedef struct client {
     bool fullscreen;
     int win_pos[2], win_size[2];
 } client;
+
+/* ---- client_damage.c: storm damage on screen ---- */
+
+/* Fallen (snapped or uprooted) trees lie on the ground, tipped over their root towards
+ * the fall azimuth; pushed to the renderer when the scene is ready. */
+void client_damage_draw(client *c);
 
 /* ---- client_stream.c: cli_net handler callbacks (user = the client) ---- */
 

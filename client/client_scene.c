@@ -101,6 +101,7 @@ int client_scene_setup(client *c, gale_err *err)
         c->camera_set = true;
     }
     c->scene_ready = true;
+    client_damage_draw(c);
     fprintf(stderr, "gale-client: scene ready: %u species on the GPU, %u trees, %u q per tree\n",
             c->n_loaded, n, c->stride);
     return 0;

@@ -35,6 +35,10 @@ void client_stream_on_welcome(void *user, const ctl_welcome *w)
     c->w.instances = c->w_instances;
     c->scene_pending = true;
     c->scene_ready = false;
+    damage_view_fini(&c->dmg);
+    if (damage_view_init(&c->dmg, w->n_instances ? w->n_instances : 1, NULL) != 0) {
+        fprintf(stderr, "gale-client: no memory for the damage of %u trees\n", w->n_instances);
+    }
     c->live_since_welcome = false;
     fprintf(stderr,
             "gale-client: %s: welcome as %s, %u species, %u trees, %u houses, %.0f Hz snapshots\n",
@@ -121,6 +125,15 @@ void client_stream_on_frame(void *user, const wire_frame *f, const wire_decoder 
     /* f->types: one frame, or every frame of a BUNDLE (PROTOCOL.md "BUNDLE") */
     if (f->types & (1u << WIRE_MSG_WIND)) {
         take_wind(c, &f->wind);
+    }
+    if (f->hdr.type == WIRE_MSG_DAMAGE) {
+        if (c->dmg.tree && damage_view_apply(&c->dmg, f->damage_full, f->damage, f->n_damage)) {
+            c->leaves_bad++; /* events for trees outside the scene */
+        }
+        if (c->scene_ready) {
+            client_damage_draw(c);
+        }
+        return;
     }
     if (!c->scene_ready) {
         return; /* the decoder keeps its state; the jitter buffer starts once assets are in */

@@ -389,6 +389,7 @@ done:
     asset_cache_destroy(c.cache);
     free(c.snap);
     free(c.wind_v);
+    damage_view_fini(&c.dmg);
     free(c.w_species);
     free(c.w_instances);
     free(c.w_boxes);

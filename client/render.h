@@ -39,6 +39,9 @@ typedef struct render_instance {
     float pos[3];              /* root position, world [m] */
     float yaw;                 /* rotation about z [rad] */
     float scale;               /* uniform scale; 0 = 1 */
+    float fall_rad;            /* tipped over its root by this angle (0 standing, π/2 lying) */
+    float fall_az_rad;         /* towards this azimuth, world, from +x towards +y */
+    uint32_t leaf_lost;        /* leaf levels stripped, 0 (full crown)..WIRE_DAMAGE_LEVELS */
 } render_instance;
 
 /* Camera. view/proj are derived from eye/target/up/fov unless `matrices` is set, in
@@ -107,6 +110,14 @@ int render_add_species(render *r, const asset *a, gale_err *err);
 /* Sets the scene's trees (copied). Instance index = tree index for q and leaf seeds.
  * Resets q to zero and clears falling leaves. 0 or negative GALE_E_*. */
 int render_set_instances(render *r, uint32_t n, const render_instance *inst, gale_err *err);
+/* Storm damage of tree t, applied at the next render_trees_commit: tipped over its root
+ * (a snapped or uprooted tree lying on the ground) and its crown thinned to the leaf slots
+ * wire_damage_leaf_kept keeps at WIRE_DAMAGE_LEVELS - leaf_lost. Trees out of range are
+ * ignored. */
+void render_set_damage(render *r, uint32_t t, float fall_rad, float fall_az_rad,
+                       uint32_t leaf_lost);
+/* Sends the instances' falls to the GPU. */
+void render_trees_commit(render *r);
 
 /* Stages q for one tree (n must equal its species' n_modes, else error). Staged q goes
  * to the GPU in one upload at the next render_frame. */

@@ -48,6 +48,10 @@ void render_trees_upload(render *r)
         t[8 * i + 3] = in->yaw;
         t[8 * i + 4] = in->scale > 0.0f ? in->scale : 1.0f;
         t[8 * i + 5] = (float)in->species;
+        /* slot 1 .z: the fall angle (< 2) plus 2 x the leaf levels lost (tree_frame,
+         * leaf_kept in shaders/common.glsl) */
+        t[8 * i + 6] = in->fall_rad + 2.0f * (float)in->leaf_lost;
+        t[8 * i + 7] = in->fall_az_rad;
     }
     render_buf_upload(&r->trees, GL_RGBA32F, t, (size_t)n * 8 * sizeof(float));
     free(t);
@@ -166,4 +170,19 @@ int render_set_obstacles(render *r, uint32_t n, const float *min_max, gale_err *
     free(v);
     r->house_verts = n * RENDER_HOUSE_VERTS;
     return 0;
+}
+
+void render_set_damage(render *r, uint32_t t, float fall_rad, float fall_az_rad,
+                       uint32_t leaf_lost)
+{
+    if (t < r->cap_trees) {
+        r->inst[t].fall_rad = fall_rad;
+        r->inst[t].fall_az_rad = fall_az_rad;
+        r->inst[t].leaf_lost = leaf_lost;
+    }
+}
+
+void render_trees_commit(render *r)
+{
+    render_trees_upload(r);
 }

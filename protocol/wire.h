@@ -25,6 +25,7 @@ enum wire_msg_type {
     WIRE_MSG_LEAVES = 3,   /* leaf seeds shed this tick */
     WIRE_MSG_WIND = 4,     /* coarse horizontal wind slice */
     WIRE_MSG_BUNDLE = 7,   /* container: other frames of one snapshot in one message */
+    WIRE_MSG_DAMAGE = 6,   /* storm damage events, or the whole damage state */
 };
 
 typedef struct wire_header {
@@ -158,6 +159,62 @@ int8_t wire_wind_quantize(float v_ms, float scale_ms);
 int wire_encode_wind(const wire_header *h, const wire_wind *wind, uint8_t *buf, size_t cap,
                      size_t *len, gale_err *err);
 
+/* ---- storm damage (PROTOCOL.md "DAMAGE") ------------------------------------------- */
+
+enum wire_damage_kind {
+    WIRE_DAMAGE_BRANCH = 1, /* node: first node of a branch that broke off with its sub-tree */
+    WIRE_DAMAGE_SNAP = 2,   /* whole tree: the stem broke at its base; value: fall azimuth */
+    WIRE_DAMAGE_UPROOT = 3, /* whole tree: it tipped over its root plate; value: azimuth */
+    WIRE_DAMAGE_STRIP = 4,  /* whole tree: value = leaf area left, in WIRE_DAMAGE_LEVELS */
+};
+#define WIRE_DAMAGE_WHOLE 0xFFFFFFFFu /* node of an event about the whole tree */
+#define WIRE_DAMAGE_LEVELS 32u        /* leaf area steps of a STRIP value (32 = intact) */
+
+typedef struct wire_damage {
+    uint32_t tree;  /* tree index, < n_trees */
+    uint32_t node;  /* skeleton node (BRANCH) or WIRE_DAMAGE_WHOLE */
+    uint8_t kind;   /* enum wire_damage_kind */
+    uint8_t value;  /* SNAP/UPROOT: fall azimuth in 1/256 turns (world, x towards y);
+                       STRIP: 0..WIRE_DAMAGE_LEVELS; BRANCH: 0 */
+    uint32_t tick;  /* tick it happened */
+} wire_damage;
+
+/* Encodes n damage events; full = 1 says they are the whole damage state at h->tick (the
+ * receiver heals every tree first), 0 that they happened since the last frame. Does not
+ * allocate. */
+int wire_encode_damage(const wire_header *h, bool full, const wire_damage *ev, uint32_t n,
+                       uint8_t *buf, size_t cap, size_t *len, gale_err *err);
+
+/* The rank of a leaf slot and of a tree in [0, 2^32): a slot's rank on tree t is
+ * wire_damage_slot_rank(slot) + wire_damage_tree_rank(t) mod 2^32, so the server can find
+ * the slots of a band of ranks in a species' slots sorted once. */
+static inline uint32_t wire_damage_mix(uint32_t h)
+{
+    h ^= h >> 16;
+    h *= 0x7FEB352Du;
+    h ^= h >> 15;
+    h *= 0x846CA68Bu;
+    h ^= h >> 16;
+    return h;
+}
+static inline uint32_t wire_damage_slot_rank(uint32_t slot)
+{
+    return wire_damage_mix(slot * 0x9E3779B1u + 0x7F4A7C15u);
+}
+static inline uint32_t wire_damage_tree_rank(uint32_t tree)
+{
+    return wire_damage_mix(tree * 0x85EBCA77u + 0x165667B1u);
+}
+
+/* Whether leaf slot `slot` of tree `tree` is still on a crown with `level` of
+ * WIRE_DAMAGE_LEVELS left: the slots of rank below level / WIRE_DAMAGE_LEVELS of the
+ * range stay. Server (which leaves it strips) and clients (which they draw) agree
+ * through this one function. */
+static inline bool wire_damage_leaf_kept(uint32_t tree, uint32_t slot, uint32_t level)
+{
+    uint32_t r = wire_damage_slot_rank(slot) + wire_damage_tree_rank(tree);
+    return (uint64_t)r * WIRE_DAMAGE_LEVELS < (uint64_t)level << 32;
+}
 /* ---- BUNDLE: several frames in one message (PROTOCOL.md "BUNDLE") ------------------- */
 
 /* buf holds one whole frame of *len bytes; rewrites it in place into a BUNDLE carrying that
@@ -191,6 +248,9 @@ typedef struct wire_frame {
     uint32_t n_leaves;          /* LEAVES */
     const wire_leaf *leaves;    /* LEAVES: [n_leaves] */
     wire_wind wind;             /* WIND */
+    bool damage_full;           /* DAMAGE: the events are the whole state */
+    uint32_t n_damage;          /* DAMAGE */
+    const wire_damage *damage;  /* DAMAGE: [n_damage] */
 } wire_frame;
 
 /* Decodes one binary frame. KEYFRAME replaces the decoder's state; DELTA applies to it.

@@ -27,6 +27,12 @@
  * hurricane scene; more are dropped by the server (leaves are decoration). */
 #define WIRE_MAX_LEAVES 4096u
 
+/* Damage events in one DAMAGE frame: a storm breaks a few branches per tree and moves
+ * each crown's leaf level through at most 32 steps; the whole-state frame after a
+ * keyframe lists every broken branch and fallen or stripped tree of a scene of hundreds
+ * of trees. 4096 events are 57 KiB, inside one of the server's 64 KiB extra buffers. */
+#define WIRE_MAX_DAMAGE 4096u
+
 /* Coarse wind slice: cells per side. A 256 x 256 x 16 grid (Oliapuram & Kumar) is the
  * largest wind grid; a slice is at most 256 x 256 cells. */
 #define WIRE_MAX_WIND_SIDE 256u

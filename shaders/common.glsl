@@ -106,3 +106,38 @@ mat3 rot_z(float a)
     float c = cos(a), s = sin(a);
     return mat3(c, s, 0.0, -s, c, 0.0, 0.0, 0.0, 1.0);
 }
+
+// Storm damage in u_trees slot 1 .z: the fall angle (< 2 rad) plus 2 x the leaf levels lost.
+float tree_fall(float z)
+{
+    return z - 2.0 * floor(z * 0.5);
+}
+
+// wire_damage_leaf_kept (protocol/wire.h), the same bits: whether a leaf slot of a tree
+// stays on a crown with `level` of 32 left.
+uint damage_mix(uint h)
+{
+    h ^= h >> 16u;
+    h *= 0x7FEB352Du;
+    h ^= h >> 15u;
+    h *= 0x846CA68Bu;
+    h ^= h >> 16u;
+    return h;
+}
+bool leaf_kept(uint tree, uint slot, float z)
+{
+    uint level = 32u - uint(floor(z * 0.5));
+    uint r = damage_mix(slot * 0x9E3779B1u + 0x7F4A7C15u) +
+             damage_mix(tree * 0x85EBCA77u + 0x165667B1u);
+    return level >= 32u || r < (level << 27u);
+}
+
+// A tree's frame: yaw about z, then tipped over its root by `fall` towards azimuth `az`
+// (storm damage: a fallen tree lies; u_trees slot 1 .z (tree_fall), .w).
+mat3 tree_frame(float yaw, float fall, float az)
+{
+    vec3 k = vec3(-sin(az), cos(az), 0.0); // axis across the fall, top goes towards az
+    float c = cos(fall), s = sin(fall);
+    mat3 kx = mat3(0.0, k.z, -k.y, -k.z, 0.0, k.x, k.y, -k.x, 0.0);
+    return (mat3(1.0) + s * kx + (1.0 - c) * kx * kx) * rot_z(yaw);
+}

@@ -35,7 +35,17 @@ void main()
         r = rot_between(normalize(nj.xyz - texelFetch(u_node, p).xyz), normalize(xj - xp));
     }
     vec4 t0 = texelFetch(u_trees, tree * 2), t1 = texelFetch(u_trees, tree * 2 + 1);
-    mat3 rz = rot_z(t0.w);
+    mat3 rz = tree_frame(t0.w, tree_fall(t1.z), t1.w);
+    if (!leaf_kept(uint(tree), uint(leaf), t1.z)) {
+        gl_Position = vec4(2.0, 2.0, 2.0, 1.0); // stripped: outside the clip volume
+        v_wpos = vec3(0.0);
+        v_nrm = vec3(0.0, 0.0, 1.0);
+        v_uv = vec2(0.0);
+        v_fade = 0.0;
+        v_var = 0.0;
+        v_ao = 0.0;
+        return;
+    }
     uint h = hash_u(uint(tree) * 7919u + uint(leaf) * 104729u + 17u);
 
     vec3 n = l1.xyz;

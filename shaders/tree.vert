@@ -41,7 +41,7 @@ void main()
     vec3 p = (1.0 - a_w) * (x0 + m0 * (a_pos - r0)) + a_w * (x1 + m1 * (a_pos - r1));
     vec3 n = (1.0 - a_w) * (m0 * a_nrm) + a_w * (m1 * a_nrm);
     vec4 t0 = texelFetch(u_trees, tree * 2), t1 = texelFetch(u_trees, tree * 2 + 1);
-    mat3 rz = rot_z(t0.w);
+    mat3 rz = tree_frame(t0.w, tree_fall(t1.z), t1.w);
     v_wpos = t0.xyz + rz * (p * t1.x);
     v_nrm = rz * n;
     v_local = a_pos;

@@ -13,6 +13,7 @@
 
 #include "asset_file.h"
 #include "bake.h"
+#include "damage_table.h"
 #include "lsystem.h"
 #include "modes_png.h"
 #include "skeleton.h"
@@ -123,6 +124,31 @@ static int write_file(const char *tmp, const char *data, size_t len, gale_err *e
     return GALE_OK;
 }
 
+/* The bake report's JSON with a "damage" object added (PHYSICS.md "Storm damage"): the
+ * critical moments and the steady crown wind at which the reference tree snaps and
+ * uproots. Takes json (malloc'd, freed here); returns a new text or NULL. */
+static char *report_with_damage(char *json, const damage_table *t, double snap_ms,
+                                double uproot_ms, double branch_ms)
+{
+    cJSON *o = json ? cJSON_Parse(json) : NULL;
+    free(json);
+    if (!o) {
+        return NULL;
+    }
+    cJSON *d = cJSON_AddObjectToObject(o, "damage");
+    cJSON_AddNumberToObject(d, "branches", t->n_branches);
+    cJSON_AddNumberToObject(d, "stem_d_m", t->stem_d_m);
+    cJSON_AddNumberToObject(d, "stem_mass_kg", t->stem_mass_kg);
+    cJSON_AddNumberToObject(d, "m_break_nm", t->m_break_nm);
+    cJSON_AddNumberToObject(d, "m_over_nm", t->m_over_nm);
+    cJSON_AddNumberToObject(d, "snap_ms", snap_ms);
+    cJSON_AddNumberToObject(d, "uproot_ms", uproot_ms);
+    cJSON_AddNumberToObject(d, "first_branch_ms", branch_ms);
+    char *out = cJSON_Print(o);
+    cJSON_Delete(o);
+    return out;
+}
+
 static int arg_fail(const char *msg, const char *what)
 {
     fprintf(stderr, "gale-bake: %s%s\n(see gale-bake --help)\n", msg, what ? what : "");
@@ -188,6 +214,8 @@ int main(int argc, char **argv)
     skeleton s;
     asset a;
     bake_report rep;
+    damage_table dt;
+    memset(&dt, 0, sizeof dt);
     memset(&s, 0, sizeof s);
     memset(&a, 0, sizeof a);
     char tmp_report[4096] = "", tmp_png[4096] = "";
@@ -243,8 +271,13 @@ int main(int argc, char **argv)
             goto fail;
         }
     }
+    double snap_ms = 0.0, uproot_ms = 0.0, branch_ms = 0.0;
+    if (damage_table_build(&a, sp.E_pa, &sp.damage, &dt, &err) != GALE_OK) {
+        goto fail;
+    }
+    damage_critical_speeds(&a, &dt, &snap_ms, &uproot_ms, &branch_ms);
     if (report) {
-        report_text = bake_report_json(&a, &rep);
+        report_text = report_with_damage(bake_report_json(&a, &rep), &dt, snap_ms, uproot_ms, branch_ms);
         if (!report_text) {
             gale_errf(&err, GALE_E_NOMEM, "out of memory writing the report");
             goto fail;
@@ -268,6 +301,11 @@ int main(int argc, char **argv)
     tmp_report[0] = '\0';
     tmp_png[0] = '\0';
     bake_report_print(stdout, &a, &rep);
+    printf("damage (PHYSICS.md \"Storm damage\"): %u branches; stem d %.3f m, %.0f kg; "
+           "M_break %.3g N m, M_over %.3g N m; steady wind at the crown to snap %.1f m/s, to "
+           "uproot %.1f m/s, to break the first branch %.1f m/s\n",
+           dt.n_branches, dt.stem_d_m, dt.stem_mass_kg, dt.m_break_nm, dt.m_over_nm, snap_ms,
+           uproot_ms, branch_ms);
     printf("wrote %s%s%s%s%s\n", out, report ? ", " : "", report ? report : "", png ? ", " : "",
            png ? png : "");
     status = 0;
@@ -282,6 +320,7 @@ done:
         unlink(tmp_png);
     }
     free(text), free(params), free(report_text);
+    damage_table_fini(&dt);
     asset_fini(&a);
     skeleton_fini(&s);
     return status;

@@ -17,7 +17,10 @@
 
 #include "mono.h"
 #include "bench.h"
+#include "bake.h"
+#include "damage.h"
 #include "leaf.h"
+#include "lsystem.h"
 #include "modal.h"
 #include "wind.h"
 #include "wire.h"
@@ -83,11 +86,59 @@ static double pct(double *v, int n, double p)
     return v[i];
 }
 
+/* What --damage adds: the shipped oak baked at the bench's mode count, its damage
+ * table for every species, the damage state of every tree. */
+typedef struct damage_bench {
+    asset a;
+    damage_table t;
+    damage_sim *sim;
+    leaf_seed leaves[4096];
+} damage_bench;
+
+static int damage_bench_init(damage_bench *b, modal *m, int n_trees, int n_modes,
+                             int n_species, const uint8_t *ts, const float *yaw, gale_err *err)
+{
+    (void)m;
+    memset(b, 0, sizeof *b);
+    species sp;
+    skeleton sk;
+    memset(&sk, 0, sizeof sk);
+    int rc = species_load(GALE_SOURCE_DIR "/configs/species/oak.json", &sp, err);
+    rc = rc ? rc : lsystem_generate(&sp.gen, &sk, err);
+    rc = rc ? rc : bake_run(&sk, &sp, &(bake_desc){ .n_modes = n_modes }, &b->a, NULL, err);
+    rc = rc ? rc : damage_table_build(&b->a, sp.E_pa, &sp.damage, &b->t, err);
+    skeleton_fini(&sk);
+    if (rc) {
+        return rc;
+    }
+    const damage_table *tables[WIRE_MAX_SPECIES];
+    for (int k = 0; k < n_species; k++) {
+        tables[k] = &b->t;
+    }
+    b->sim = damage_create(&(damage_desc){ .n_trees = (uint32_t)n_trees,
+                                           .n_species = (uint32_t)n_species,
+                                           .table = tables,
+                                           .tree_species = ts,
+                                           .tree_yaw_rad = yaw,
+                                           .seed = 1,
+                                           .dt_s = 1.0 / 60 },
+                           err);
+    return b->sim ? 0 : GALE_E_NOMEM;
+}
+
+static void damage_bench_fini(damage_bench *b)
+{
+    damage_destroy(b->sim);
+    damage_table_fini(&b->t);
+    asset_fini(&b->a);
+}
+
+
 int bench_modal(int argc, char **argv)
 {
     int n_trees = 100000, n_modes = 32, ticks = 300, n_species = 3, threads = 2, every = 4;
     float cell_m = 2.0f;
-    bool json = false;
+    bool json = false, damage = false;
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--trees") == 0 && i + 1 < argc) {
             n_trees = atoi(argv[++i]);
@@ -105,10 +156,12 @@ int bench_modal(int argc, char **argv)
             every = atoi(argv[++i]);
         } else if (strcmp(argv[i], "--json") == 0) {
             json = true;
+        } else if (strcmp(argv[i], "--damage") == 0) {
+            damage = true;
         } else {
             return bench_usage(argv[i], "usage: gale-bench modal [--trees N] [--modes M] [--species S] "
                                         "[--ticks K] [--threads T] [--cell-m 2] [--wind-every 4] "
-                                        "[--json]\n");
+                                        "[--damage] [--json]\n");
         }
     }
     if (n_trees < 1 || n_trees > (int)WIRE_MAX_TREES || n_modes < 1 ||
@@ -230,6 +283,13 @@ int bench_modal(int argc, char **argv)
     const leaf_desc ld = { .rate_hz = 0.002f, .calm_ms = 3.0f, .ref_ms = 20.0f, .seed = 11 };
     const uint32_t slots = 1500; /* leaf slots per tree: the shipped species' 1500-5300 */
     long n_shed = 0, enc_bytes = 0;
+    /* --damage: storm damage after each update (damage.h), every species with the damage
+     * table of the shipped oak */
+    damage_bench db;
+    if (damage && damage_bench_init(&db, m, n_trees, n_modes, n_species, ts, yaw, &err)) {
+        fprintf(stderr, "gale-bench modal: --damage: %s\n", err.msg);
+        return 1;
+    }
     /* measured here, between the set-up and the ticks, on the threads the ticks use */
     double gbs = bench_triad_gb_s(threads);
     for (int k = -20; k < ticks; k++) { /* 20 warm-up ticks */
@@ -251,6 +311,10 @@ int bench_modal(int argc, char **argv)
         wind_sample_many(wg, n_trees, pos, wind);
         double t1 = mono_ms();
         modal_tick(m, wind, snap);
+        if (damage) {
+            int nd = 0;
+            damage_step(db.sim, m, wind, (uint32_t)(k + 20), db.leaves, 4096, &nd);
+        }
         double t2 = mono_ms();
         int nl = 0;
         for (int t = 0; t < n_trees; t++) {
@@ -320,7 +384,7 @@ int bench_modal(int argc, char **argv)
     const double upd_frac = gbs > 0.0 ? upd_gbs / gbs : 0.0;
     if (json) {
         printf("{\"bench\":\"modal\",\"trees\":%d,\"modes\":%d,\"species\":%d,\"threads\":%d,"
-               "\"ticks\":%d,\"sample_ms_median\":%.3f,\"update_quantise_ms_median\":%.3f,"
+               "\"ticks\":%d,\"damage\":%s,\"sample_ms_median\":%.3f,\"update_quantise_ms_median\":%.3f,"
                "\"tick_ms_median\":%.3f,\"tick_ms_p95\":%.3f,\"tick_ms_max\":%.3f,"
                "\"ns_per_tree_mode\":%.3f,\"cpu_ms_per_tick_median\":%.3f,"
                "\"update_only_ms_median\":%.3f,\"loadavg_1min\":%.2f,\"target_ms\":3.0,"
@@ -334,8 +398,8 @@ int bench_modal(int argc, char **argv)
                "\"encode_ms_median\":%.3f,\"encoded_bytes_per_tick\":%.0f,"
                "\"leaves_shed_per_tick\":%.1f,\"wind_step_ms_mean\":%.1f,"
                "\"memory_floor_ms\":%.3f,\"loadavg\":[%.2f,%.2f,%.2f]}\n",
-               n_trees, n_modes, n_species, threads, ticks, med_s, med_m, med_t, p95_t, max_t,
-               med_t * 1e6 / ((double)n_trees * n_modes), med_cpu, med_ns, load[0], gbs,
+               n_trees, n_modes, n_species, threads, ticks, damage ? "true" : "false", med_s,
+               med_m, med_t, p95_t, max_t, med_t * 1e6 / ((double)n_trees * n_modes), med_cpu, med_ns, load[0], gbs,
                tb.read, tb.written, tick_bytes, tick_gbs, frac, ub.read + ub.written, upd_gbs,
                upd_frac, check, (double)cell_m, gxy, gxy, gz, every, slots, (double)side, med_l,
                med_e, enc_per_tick, (double)n_shed / ticks, wind_sum / ((ticks + every - 1) / every),
@@ -347,6 +411,9 @@ int bench_modal(int argc, char **argv)
                "machine's triad %.2f GB/s (update alone %.3f)\n",
                n_trees, n_modes, threads, med_t, med_s, med_m, p95_t, max_t, tb.read,
                tb.written, tick_gbs, frac, gbs, upd_frac);
+    }
+    if (damage) {
+        damage_bench_fini(&db);
     }
     modal_destroy(m);
     free(omega);

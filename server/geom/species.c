@@ -27,6 +27,7 @@ void species_default(species *sp)
     sp->drag.u0_ms = 10.0f;
     sp->drag.fit_max_ms = 25.0f;
     sp->drag.hold_above_fit = 0;
+    sp->damage = damage_params_default();
     sp->gen = lsystem_params_default();
     sp->bark_rgb[0] = 0.36f;
     sp->bark_rgb[1] = 0.27f;
@@ -124,6 +125,19 @@ static const sp_field drag_fields[] = {
     { "fit_max_ms", SP_FLT, 0.1, 200.0, offsetof(species, drag.fit_max_ms) },
 };
 #undef SPF
+
+/* clang-format off */
+#define DMF(k, lo, hi) { #k, SP_DBL, lo, hi, offsetof(damage_params, k) }
+/* clang-format on */
+/* storm damage (PHYSICS.md "Storm damage"): green-wood MOR is 20-100 MPa, C_reg of
+ * pulling tests 50-400 N m/kg; the bounds leave room for model tests */
+static const sp_field damage_fields[] = {
+    DMF(mor_pa, 1e6, 1e9),          DMF(f_knot, 0.1, 1.0),
+    DMF(stem_density_kg_m3, 10.0, 5000.0), DMF(c_reg_nm_kg, 1.0, 5000.0),
+    DMF(strength_sd, 0.0, 2.0),     DMF(leaf_drag_share, 0.0, 1.0),
+    DMF(strip_max, 0.0, 1.0),
+};
+#undef DMF
 
 #define COUNT(a) (sizeof(a) / sizeof((a)[0]))
 
@@ -349,9 +363,24 @@ static int sp_drag(const cfg_doc *d, const cJSON *root, species *sp, gale_err *e
                      d->name, mode);
 }
 
+static int sp_damage(const cfg_doc *d, const cJSON *root, damage_params *p, gale_err *err)
+{
+    const cJSON *o;
+    int rc = sp_section(d, root, "", "damage", &o, err);
+    if (rc != 0 || !o) {
+        return rc;
+    }
+    rc = sp_keys(d, o, "damage", damage_fields, COUNT(damage_fields), NULL, err);
+    if (rc == 0) {
+        rc = sp_read(d, o, "damage", damage_fields, COUNT(damage_fields), p, err);
+    }
+    return rc;
+}
+
 static int sp_from_doc(const cfg_doc *d, species *sp, gale_err *err)
 {
-    static const char *const extra[] = { "name", "G_pa", "generator", "look", "drag", NULL };
+    static const char *const extra[] = { "name", "G_pa", "generator", "look", "drag", "damage",
+                                         NULL };
     const cJSON *r = d->root;
     double G = -1.0;
     int rc = sp_keys(d, r, "", top_fields, COUNT(top_fields), extra, err);
@@ -372,6 +401,9 @@ static int sp_from_doc(const cfg_doc *d, species *sp, gale_err *err)
     }
     if (rc == 0) {
         rc = sp_drag(d, r, sp, err);
+    }
+    if (rc == 0) {
+        rc = sp_damage(d, r, &sp->damage, err);
     }
     if (rc != 0) {
         return rc;

@@ -5,6 +5,7 @@
 #define GALE_SPECIES_H
 
 #include "drag_law.h"
+#include "damage_params.h"
 #include "err.h"
 #include "lsystem.h"
 
@@ -20,6 +21,8 @@ typedef struct species {
                             * branch diameter only, so C lumps the foliage's frontal area
                             * too and may well exceed ½ ρ_air (shipped: 0.25-1.8) */
     drag_law drag;         /* streamlining of C_d with speed, the species file's "drag" */
+    /* storm damage (PHYSICS.md "Storm damage"): the `damage` section */
+    damage_params damage;
     /* generator */
     lsystem_params gen;
     /* look */

@@ -219,26 +219,30 @@ static size_t net_bundle_cap(const net_server *s)
 }
 
 /* Sim thread, once per published snapshot (not per client): each state variant becomes a
- * BUNDLE of itself and the extras; the extras are then not sent on their own. */
+ * BUNDLE of itself and the extras (the key extra, the whole damage state, only in the
+ * keyframe's); the extras are then not sent on their own. */
 static void net_bundle(net_server *s, net_snap *p)
 {
-    const uint8_t *more[NET_SNAP_MAX_EXTRA];
-    size_t more_len[NET_SNAP_MAX_EXTRA];
-    uint32_t n = 0;
-    for (int e = 0; e < NET_SNAP_MAX_EXTRA; e++) {
-        if (p->extra_len[e]) {
-            more[n] = p->extra[e];
-            more_len[n++] = p->extra_len[e];
-        }
-    }
-    if (!n) {
-        return;
-    }
     uint8_t *buf[3] = { p->key, p->delta1, p->delta2 };
     size_t *len[3] = { &p->key_len, &p->delta1_len, &p->delta2_len };
     for (int v = 0; v < 3; v++) {
+        const uint8_t *more[NET_SNAP_MAX_EXTRA];
+        size_t more_len[NET_SNAP_MAX_EXTRA];
+        uint32_t n = 0;
+        /* a bundle holds one frame of each type: in the keyframe's, the key extra stands
+         * for any other extra of its type (the whole damage state includes the events) */
+        const bool key_extra = v == 0 && p->extra_len[NET_SNAP_KEY_EXTRA] > 6;
+        for (int e = 0; e < NET_SNAP_MAX_EXTRA; e++) {
+            const bool shadowed = key_extra && e != NET_SNAP_KEY_EXTRA && p->extra_len[e] > 6 &&
+                                  p->extra[e][6] == p->extra[NET_SNAP_KEY_EXTRA][6];
+            if (p->extra_len[e] && (v == 0 || e != NET_SNAP_KEY_EXTRA) && !shadowed) {
+                more[n] = p->extra[e];
+                more_len[n++] = p->extra_len[e];
+            }
+        }
         gale_err e;
-        if (*len[v] && wire_bundle_wrap(buf[v], net_bundle_cap(s), len[v], more, more_len, n, &e)) {
+        if (n && *len[v] &&
+            wire_bundle_wrap(buf[v], net_bundle_cap(s), len[v], more, more_len, n, &e)) {
             fprintf(stderr, "gale-server: snapshot %u: extras sent apart: %s\n", p->seq, e.msg);
             return; /* not reached: net_bundle_cap holds the largest state and every extra */
         }

@@ -25,10 +25,12 @@ enum { NET_ROLE_NONE, NET_ROLE_VIEWER, NET_ROLE_KIOSK, NET_ROLE_WALL, NET_ROLE_L
  * each encoded once and shared by every connection. A connection that holds snapshots
  * seq-1 and seq-2 gets delta2 (linear prediction from both), one that holds only seq-1
  * (it was a keyframe) gets delta1, any other (late joiner, after drops, after a resync
- * request) the keyframe. Extra messages (leaf seeds, coarse wind) follow the state, or
- * (net_desc.separate_extras false) net_publish wraps each state variant and the extras
- * into one BUNDLE and clears extra_len. */
-#define NET_SNAP_MAX_EXTRA 2
+ * request) the keyframe. Extra messages (leaf seeds, coarse wind, damage events) follow
+ * the state; extra[NET_SNAP_KEY_EXTRA] (the whole damage state) only a keyframe. Unless
+ * net_desc.separate_extras, net_publish wraps each state variant and its extras into one
+ * BUNDLE and clears extra_len. */
+#define NET_SNAP_MAX_EXTRA 4
+#define NET_SNAP_KEY_EXTRA 3
 typedef struct net_snap {
     atomic_int refs;        /* 0 = free in the pool */
     uint32_t seq;           /* snapshot sequence number (wire.h) */

@@ -319,6 +319,7 @@ int net_ws_writeable(net_server *s, net_conn *c)
     net_snap *p = c->cur;
     int rc;
     if (c->cur_part == 0) {
+        c->cur_key = false;
         bool next = !c->resync && c->chain > 0 && p->seq == c->last_seq + 1u &&
                     p->stream == c->last_stream;
         if (next && c->chain >= 2 && p->delta2_len) {
@@ -330,6 +331,7 @@ int net_ws_writeable(net_server *s, net_conn *c)
         } else {
             rc = ws_write(s, c, p->key, p->key_len, LWS_WRITE_BINARY);
             c->chain = 1;
+            c->cur_key = true;
         }
         c->resync = false;
         c->last_seq = p->seq;
@@ -343,8 +345,10 @@ int net_ws_writeable(net_server *s, net_conn *c)
     if (rc) {
         return -1;
     }
+    /* the key extra (the whole damage state) goes only with a keyframe */
     while (c->cur_part >= 1 && c->cur_part <= NET_SNAP_MAX_EXTRA &&
-           !p->extra_len[c->cur_part - 1]) {
+           (!p->extra_len[c->cur_part - 1] ||
+            (c->cur_part - 1 == NET_SNAP_KEY_EXTRA && !c->cur_key))) {
         c->cur_part++;
     }
     if (c->cur_part > NET_SNAP_MAX_EXTRA) {

@@ -130,7 +130,8 @@ int species_cache_get(const char *species_file, int n_modes, const char *cache_d
     }
     e->baked = true;
 done:
-    if ((rc = quant_steps_derive(&e->a, 0, e->qstep, err))) {
+    if ((rc = quant_steps_derive(&e->a, 0, e->qstep, err)) ||
+        (rc = damage_table_build(&e->a, sp.E_pa, &sp.damage, &e->damage, err))) {
         goto fail;
     }
     snprintf(e->hash, sizeof e->hash, "%016llx", (unsigned long long)hash64(e->bytes, e->len));
@@ -150,6 +151,7 @@ void species_entry_fini(species_entry *e)
     if (!e) {
         return;
     }
+    damage_table_fini(&e->damage);
     asset_fini(&e->a);
     free(e->bytes);
     memset(e, 0, sizeof *e);

@@ -13,6 +13,7 @@
 
 #include "asset.h"
 #include "drag_law.h"
+#include "damage_table.h"
 #include "err.h"
 #include "wire.h"
 
@@ -27,6 +28,8 @@ typedef struct species_entry {
     bool baked;                   /* baked now rather than read from the cache */
     double seconds;               /* time to bake or load */
     char path[512];               /* cache file */
+    damage_table damage;          /* storm damage (damage_table.h) from the asset, the wood's
+                                     E and the species file's damage section */
 } species_entry;
 
 /* Fills *e for the species file with n_modes modes: from cache_dir when a valid entry

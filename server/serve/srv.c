@@ -4,6 +4,7 @@
  * thread owns the tick state, the lws thread the connections; they meet in net_publish
  * (snapshots), the scenario lock (kiosk commands), the view lock and a few atomics. */
 #include "srv_int.h"
+#include "damage_metrics.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -79,6 +80,8 @@ srv *srv_create(const srv_desc *d, gale_err *err)
         s->qbuf[k] = calloc((size_t)n * (size_t)s->stride, sizeof(int16_t));
     }
     s->leaves = calloc(WIRE_MAX_LEAVES, sizeof *s->leaves);
+    s->dmg_ev = calloc(WIRE_MAX_DAMAGE, sizeof *s->dmg_ev);
+    s->dmg_state = calloc(WIRE_MAX_DAMAGE, sizeof *s->dmg_state);
     s->wspecies = calloc((size_t)sc->n_species, sizeof *s->wspecies);
     s->winst = calloc((size_t)n, sizeof *s->winst);
     s->tree_pos = calloc((size_t)n * 3, sizeof *s->tree_pos);
@@ -88,7 +91,7 @@ srv *srv_create(const srv_desc *d, gale_err *err)
         vsel_ok = vsel_ok && s->vsel[k].modes;
     }
     if (!vsel_ok || !s->tree_pos || !s->tree_species || !s->tree_modes || !s->qbuf[0] || !s->qbuf[1] || !s->qbuf[2] ||
-        !s->leaves || !s->wspecies || !s->winst) {
+        !s->leaves || !s->wspecies || !s->winst || !s->dmg_ev || !s->dmg_state) {
         gale_errf(err, GALE_E_NOMEM, "srv_create: no memory for %d trees", n);
         goto fail;
     }
@@ -194,6 +197,11 @@ srv *srv_create(const srv_desc *d, gale_err *err)
         wall_groups_register(s->walls, &s->reg, err)) {
         goto fail;
     }
+    /* storm damage rows (damage_metrics.h), when any species takes damage */
+    if (tick_damage_counts(s->tick) &&
+        damage_metrics_register(tick_damage_counts(s->tick), &s->reg, err)) {
+        goto fail;
+    }
     if (!d->quiet) {
         fprintf(stderr,
                 "gale-server: scene %s: %d trees, %d species, %d obstacles, %d modes max; tick "
@@ -240,6 +248,8 @@ void srv_destroy(srv *s)
         free(s->qbuf[k]);
     }
     free(s->leaves);
+    free(s->dmg_ev);
+    free(s->dmg_state);
     free(s->wspecies);
     free(s->winst);
     free(s->hist);

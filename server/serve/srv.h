@@ -89,5 +89,8 @@ srv_pub_counters *srv_pub_metrics(srv *s);
 int srv_history_q(srv *s, uint32_t seq, int t, float *q, int cap);
 /* The quantisation step of mode m of tree t's species. */
 float srv_qstep(const srv *s, int t, int m);
+/* Heals the forest before the next tick (kiosk reset, scenario restart): every client
+ * then gets the whole, empty damage state. Any thread. */
+void srv_heal(srv *s);
 
 #endif

@@ -77,6 +77,13 @@ struct srv {
     uint32_t key_every;          /* snapshots between periodic keyframes (desc.keyframe_s) */
     wire_leaf *leaves;           /* owned [WIRE_MAX_LEAVES] gathered since the last snapshot */
     uint32_t n_leaves;
+    /* storm damage (sim thread; srv_damage.c): events gathered since the last snapshot, a
+     * whole-state frame due to everyone after a heal, the state for keyframes */
+    wire_damage *dmg_ev;         /* owned [WIRE_MAX_DAMAGE] */
+    uint32_t n_dmg_ev;
+    bool dmg_full_due;
+    unsigned long long dmg_heals;/* heals seen (damage_counts.heals) */
+    wire_damage *dmg_state;      /* owned [WIRE_MAX_DAMAGE] */
     /* welcome template (lws thread) */
     ctl_species *wspecies;       /* owned [n_species] */
     ctl_instance *winst;         /* owned [n_trees] */
@@ -123,6 +130,13 @@ void srv_wall_send(void *user, uint32_t conn, const char *text, size_t len);
 void srv_publish(srv *s, uint32_t tick);
 /* The publisher's rows (gale_leaves_shed_total, gale_view_*) into r. */
 int srv_publish_register(srv *s, metric_reg *r, gale_err *err);
+
+/* srv_damage.c, sim thread: gathers the damage events of the last tick (a heal makes the
+ * next snapshot carry the whole state to everyone). */
+void srv_damage_gather(srv *s);
+/* Encodes the damage frames of this snapshot into p: extra[2] the events (or the whole
+ * state after a heal), extra[NET_SNAP_KEY_EXTRA] the whole state for keyframes. */
+int srv_damage_encode(srv *s, const wire_header *h, net_snap *p, gale_err *e);
 
 /* srv_loop.c: the simulation thread (arg: the srv), until s->stop. */
 void *srv_loop(void *arg);

@@ -69,6 +69,7 @@ void *srv_loop(void *arg)
                                                     .spawn_tick = ls[i].spawn_tick,
                                                     .seed = ls[i].variation };
         }
+        srv_damage_gather(s);
         if (snap) {
             srv_publish(s, tick + 1);
         }

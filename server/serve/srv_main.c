@@ -259,7 +259,8 @@ int main(int argc, char **argv)
                                           .wind_basis = a->wind_basis,
                                           .height_m = a->height_m,
                                           .n_leaves = a->n_leaves,
-                                          .drag = ent[i].drag },
+                                          .drag = ent[i].drag,
+                                          .damage = &ent[i].damage },
                                .qstep = ent[i].qstep,
                                .asset_bytes = ent[i].bytes,
                                .asset_len = ent[i].len };

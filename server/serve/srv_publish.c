@@ -128,6 +128,9 @@ void srv_publish(srv *s, uint32_t tick)
             rc = wire_encode_leaves(&h, s->leaves, s->n_leaves, p->extra[0],
                                     p->extra_cap, &p->extra_len[0], &e);
         }
+        if (!rc) {
+            rc = srv_damage_encode(s, &h, p, &e);
+        }
         if (rc) {
             fprintf(stderr, "gale-server: tick %u: snapshot %u not sent: %s\n", tick, s->seq,
                     e.msg);

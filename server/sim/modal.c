@@ -37,7 +37,10 @@ struct modal {
     float *state;            /* owned: per tree [2][pad]: q then q' */
     uint8_t *tree_species;   /* owned: [n_trees] */
     float *cos_yaw, *sin_yaw;/* owned: [n_trees] */
-    float *drag_mult;        /* owned: [n_trees] per-tree drag factor, 1 unless set */
+    float *drag_mult;        /* owned: [n_trees] multiplier of the tree's modal force, 1 =
+                                intact (damage.h: stripped leaves, lost branches) */
+    float *qnorm2;           /* owned: [n_trees] Σ q_i² after the last tick (damage.h screens
+                                with it without reading the state) */
 };
 
 modal *modal_create(const modal_desc *d, gale_err *err)
@@ -131,7 +134,8 @@ modal *modal_create(const modal_desc *d, gale_err *err)
     m->cos_yaw = malloc(sizeof(float) * d->n_trees);
     m->sin_yaw = malloc(sizeof(float) * d->n_trees);
     m->drag_mult = malloc(sizeof(float) * d->n_trees);
-    if (!m->tree_species || !m->cos_yaw || !m->sin_yaw || !m->drag_mult) {
+    m->qnorm2 = calloc(d->n_trees, sizeof(float));
+    if (!m->tree_species || !m->cos_yaw || !m->sin_yaw || !m->drag_mult || !m->qnorm2) {
         goto nomem;
     }
     for (uint32_t t = 0; t < d->n_trees; t++) {
@@ -180,6 +184,7 @@ void modal_destroy(modal *m)
     free(m->cos_yaw);
     free(m->sin_yaw);
     free(m->drag_mult);
+    free(m->qnorm2);
     free(m);
 }
 
@@ -200,10 +205,13 @@ uint32_t modal_tree_modes(const modal *m, uint32_t t)
 
 /* One group of MODE_PAD modes of one tree: forces, exact update, quantisation. A fixed
  * trip count and restrict parameters let the compiler vectorise it at -O2. */
-static inline void modes_step(const modal_sp *sp, uint32_t g, float vx, float vy, float vz,
-                              float sv, float *restrict q, float *restrict v,
-                              int16_t *restrict qq)
+static inline float modes_step(const modal_sp *sp, uint32_t g, float vx, float vy, float vz,
+                               float sv, float *restrict q, float *restrict v,
+                               int16_t *restrict qq)
 {
+    /* q² per lane, summed after the loop: an in-loop float sum would keep the loop from
+     * vectorising (no reassociation without -ffast-math) */
+    float sq[MODE_PAD];
     const float *restrict a11 = sp->a11 + g, *restrict a12 = sp->a12 + g;
     const float *restrict a21 = sp->a21 + g, *restrict a22 = sp->a22 + g;
     const float *restrict b1 = sp->b1 + g, *restrict b2 = sp->b2 + g;
@@ -218,14 +226,20 @@ static inline void modes_step(const modal_sp *sp, uint32_t g, float vx, float vy
         q[i] = q1;
         v[i] = v1;
         qq[i] = wire_quantize(q1, inv[i]);
+        sq[i] = q1 * q1;
     }
+    float n2 = 0.0f;
+    for (uint32_t i = 0; i < MODE_PAD; i++) {
+        n2 += sq[i];
+    }
+    return n2;
 }
 
 /* Trees [t0, t1): wind into the tree frame, then each group of modes. Cloned for AVX-512
  * and AVX2 (chosen at load time by the CPU); the default build targets SSE4.2.
  * -std=c11 leaves floating-point contraction off, so every clone rounds alike. */
 __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-static void range_tick(const modal *m, uint32_t t0, uint32_t t1, const float *wind_world,
+static void range_tick(modal *m, uint32_t t0, uint32_t t1, const float *wind_world,
                        int16_t *qsnap)
 {
     const uint32_t pad = m->pad, stride = m->stride;
@@ -252,9 +266,11 @@ static void range_tick(const modal *m, uint32_t t0, uint32_t t1, const float *wi
         /* When the row is exactly the padded modes (16, 32, 64), quantise straight into
          * the snapshot; otherwise into qq and copy the row's part. */
         int16_t *out = qsnap && pad == stride ? qsnap + (size_t)t * stride : qq;
+        float n2 = 0.0f;
         for (uint32_t g = 0; g < pad; g += MODE_PAD) {
-            modes_step(sp, g, vx, vy, wz, sv, q + g, q + pad + g, out + g);
+            n2 += modes_step(sp, g, vx, vy, wz, sv, q + g, q + pad + g, out + g);
         }
+        m->qnorm2[t] = n2;
         if (qsnap && out == qq) {
             memcpy(qsnap + (size_t)t * stride, qq, stride * sizeof(int16_t));
         }
@@ -317,4 +333,9 @@ void modal_set(modal *m, uint32_t t, const float *q, const float *qdot)
     if (qdot) {
         memcpy(st + m->pad, qdot, nm * sizeof(float));
     }
+}
+
+float modal_qnorm2(const modal *m, uint32_t t)
+{
+    return t < m->n_trees ? m->qnorm2[t] : 0.0f;
 }

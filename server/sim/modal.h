@@ -54,12 +54,16 @@ void modal_tick(modal *m, const float *wind_world, int16_t *qsnap);
  * returns n. */
 uint32_t modal_get(const modal *m, uint32_t t, float *q, float *qdot);
 /* Tree t's drag factor (default 1): every modal force of the tree is multiplied by it,
- * e.g. by the leaf area a storm has left. Ignored for t out of range or a negative or
+ * e.g. by the leaf area and branches a storm has left (damage.h). Ignored for t out of range or a negative or
  * non-finite value. */
 void modal_set_drag_mult(modal *m, uint32_t t, float mult);
 float modal_drag_mult(const modal *m, uint32_t t); /* 0 for t out of range */
 
 /* Sets tree t's state (tests, restore). */
 void modal_set(modal *m, uint32_t t, const float *q, const float *qdot);
+
+/* Σ_i q_i² of tree t after the last modal_tick (0 before any; modal_set does not update
+ * it). */
+float modal_qnorm2(const modal *m, uint32_t t);
 
 #endif

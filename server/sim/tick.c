@@ -6,6 +6,7 @@
 
 #include <math.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -25,6 +26,8 @@ struct tick_sim {
     bool inflow_dirty;
     const wind_ball *balls; /* borrowed [n_balls] */
     int n_balls;
+    damage_sim *dmg;        /* owned; NULL when no species takes damage */
+    atomic_int heal;        /* a heal is due before the next tick */
 };
 
 tick_sim *tick_create(const tick_desc *d, gale_err *err)
@@ -83,6 +86,37 @@ tick_sim *tick_create(const tick_desc *d, gale_err *err)
                                        .dt_s = (double)t->dt_s,
                                        .n_threads = 1 },
                         err);
+    if (t->m) {
+        const damage_table *tables[SCENE_MAX_SPECIES];
+        bool any = false;
+        for (int i = 0; i < sc->n_species; i++) {
+            tables[i] = d->species[i].damage;
+            any = any || tables[i];
+        }
+        uint32_t *nl = any ? calloc((size_t)t->n_trees, sizeof *nl) : NULL;
+        for (int k = 0; nl && k < t->n_trees; k++) {
+            nl[k] = d->species[species[k]].n_leaves;
+        }
+        if (any && nl) {
+            t->dmg = damage_create(&(damage_desc){ .n_trees = (uint32_t)t->n_trees,
+                                                   .n_species = (uint32_t)sc->n_species,
+                                                   .table = tables,
+                                                   .tree_species = species,
+                                                   .tree_yaw_rad = yaw,
+                                                   .tree_leaves = nl,
+                                                   .seed = sc->leaf_seed ^ 0xDA3A6Eull,
+                                                   .dt_s = (double)t->dt_s },
+                                   err);
+        } else if (any) {
+            gale_errf(err, GALE_E_NOMEM, "tick_create: no memory for %d trees", t->n_trees);
+        }
+        free(nl);
+        if (any && !t->dmg) {
+            free(species);
+            free(yaw);
+            goto fail;
+        }
+    }
     free(species);
     free(yaw);
     if (!t->m) {
@@ -108,6 +142,7 @@ void tick_destroy(tick_sim *t)
         return;
     }
     modal_destroy(t->m);
+    damage_destroy(t->dmg);
     free(t->crown);
     free(t->vel);
     free(t->leaves);
@@ -157,6 +192,9 @@ int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
     dirty = t->inflow_dirty;
     t->inflow_dirty = false;
     pthread_mutex_unlock(&t->lock);
+    if (atomic_exchange(&t->heal, 0)) {
+        tick_heal(t);
+    }
 
     /* 1. wind */
     if (t->d.wind) {
@@ -210,6 +248,11 @@ int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
                           (double)t->dt_s, t->leaves, t->d.max_leaves_per_tick, &t->n_leaves);
         }
     }
+    /* 5. storm damage from the new modal state (damage.h); stripped leaves fall too */
+    if (t->dmg) {
+        local.leaves_lost += damage_step(t->dmg, t->m, t->vel, t->tick, t->leaves,
+                                         t->d.max_leaves_per_tick, &t->n_leaves);
+    }
     local.leaves = t->n_leaves;
     t->tick++;
     local.ms = mono_ms() - t0;
@@ -254,9 +297,24 @@ const float *tick_crown_wind(const tick_sim *t)
     return t->vel;
 }
 
-void tick_set_drag_mult(tick_sim *t, int tree, float mult)
+const damage_sim *tick_damage(const tick_sim *t)
 {
-    if (tree >= 0) {
-        modal_set_drag_mult(t->m, (uint32_t)tree, mult);
+    return t->dmg;
+}
+
+damage_counts *tick_damage_counts(tick_sim *t)
+{
+    return t->dmg ? damage_get_counts(t->dmg) : NULL;
+}
+
+void tick_request_heal(tick_sim *t)
+{
+    atomic_store(&t->heal, 1);
+}
+
+void tick_heal(tick_sim *t)
+{
+    if (t->dmg) {
+        damage_heal(t->dmg, t->m);
     }
 }

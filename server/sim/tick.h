@@ -10,6 +10,7 @@
 #include <stdint.h>
 
 #include "drag_law.h"
+#include "damage.h"
 #include "err.h"
 #include "leaf.h"
 #include "scene.h"
@@ -25,6 +26,8 @@ typedef struct tick_species {
     float height_m;          /* rest height: the wind is sampled at 0.7 of it */
     uint32_t n_leaves;       /* leaf slots per tree */
     drag_law drag;           /* streamlining of the crown (drag_law.h); zero: rigid, ∝ U² */
+    const damage_table *damage; /* storm damage of the species (damage_table.h), borrowed;
+                                   NULL: its trees take none */
 } tick_species;
 
 /* The wind grid as the tick drives it (wind.h functions on a wind_grid in the server;
@@ -92,12 +95,20 @@ int tick_n_trees(const tick_sim *t);
 int tick_stride(const tick_sim *t);
 /* Float q of tree `tree` into q[cap]; returns its mode count. */
 int tick_get_q(const tick_sim *t, int tree, float *q, int cap);
-/* Tree `tree`'s drag factor (modal_set_drag_mult; default 1, e.g. the leaf area left
- * after stripping). Call from the thread that runs tick_step, between ticks. */
-void tick_set_drag_mult(tick_sim *t, int tree, float mult);
 /* The leaf seeds of the last tick. */
 int tick_leaves(const tick_sim *t, const leaf_seed **out);
 /* The wind velocity [m/s, world] sampled at each crown during the last tick, [n_trees][3]. */
 const float *tick_crown_wind(const tick_sim *t);
+
+/* Storm damage (damage.h); NULL when no species takes damage. Read it on the thread that
+ * runs tick_step. */
+const damage_sim *tick_damage(const tick_sim *t);
+/* Its /metrics counters (any thread); NULL without damage. */
+damage_counts *tick_damage_counts(tick_sim *t);
+/* Heals the forest before the next tick (kiosk reset, scenario restart). Safe from
+ * another thread. */
+void tick_request_heal(tick_sim *t);
+/* Heals it now (the thread that runs tick_step). */
+void tick_heal(tick_sim *t);
 
 #endif

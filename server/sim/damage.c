@@ -1,0 +1,455 @@
+/* Storm damage of every tree: see damage.h. PHYSICS.md "Storm damage" has the model. */
+#include "damage.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "damage_strip.h"
+#include "hash.h"
+
+#define DAMAGE_LOG_MAX 65536u /* broken branches remembered for the whole-state frame */
+
+typedef struct damage_tree_st {
+    float strength;     /* seeded multiplier of every capacity of the tree */
+    float leaf;         /* leaf area left on the crown, 0..1 */
+    float area_frac;    /* ∫ D ds left after broken branches, 0..1 */
+    float leaf_frac;    /* leaf slots left after broken branches, 0..1 */
+    uint8_t level;      /* leaf level streamed, 0..WIRE_DAMAGE_LEVELS */
+    uint8_t fallen;     /* 0, WIRE_DAMAGE_SNAP or WIRE_DAMAGE_UPROOT */
+    uint8_t fall_az;    /* fall azimuth, 1/256 turns */
+    uint32_t fall_tick, level_tick;
+    uint32_t broken;    /* branches broken */
+} damage_tree_st;
+
+struct damage_sim {
+    damage_desc d;
+    const damage_table **table; /* owned array of borrowed tables [n_species] */
+    uint8_t *species;           /* owned [n_trees] */
+    float *cos_yaw, *sin_yaw;   /* owned [n_trees] */
+    damage_tree_st *tree;       /* owned [n_trees] */
+    uint64_t *bits;             /* owned [n_trees][words] broken branches */
+    uint32_t words;
+    float *q;                   /* owned [64] scratch */
+    wire_damage *ev;            /* owned [max_events] this tick's events */
+    int n_ev;
+    wire_damage *log;           /* owned [DAMAGE_LOG_MAX] broken branches, in order */
+    uint32_t n_log;
+    damage_counts counts;
+};
+
+/* Uniform in [0, 1) from (seed, a, b). */
+static double unit3(uint64_t seed, uint64_t a, uint64_t b)
+{
+    uint64_t s = seed ^ (a * 0x9E3779B97F4A7C15ull) ^ (b * 0xD1B54A32D192ED03ull);
+    return (double)(hash64_splitmix(&s) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/* A standard normal deviate from (seed, a, b) (Box-Muller), clamped to ±2 so a
+ * strength never strays beyond exp(±2 sd). */
+static double normal3(uint64_t seed, uint64_t a, uint64_t b)
+{
+    double u1 = unit3(seed, a, 2 * b + 1), u2 = unit3(seed, a, 2 * b + 2);
+    double z = sqrt(-2.0 * log(1.0 - u1)) * cos(6.283185307179586 * u2);
+    return z < -2.0 ? -2.0 : z > 2.0 ? 2.0 : z;
+}
+
+static void tree_intact(damage_sim *s, uint32_t t)
+{
+    damage_tree_st *ts = &s->tree[t];
+    const damage_table *tb = s->table[s->species[t]];
+    double sd = tb ? tb->p.strength_sd : 0.0;
+    /* log-normal strength per tree (seeded): a stand fails progressively */
+    *ts = (damage_tree_st){ .strength = (float)exp(sd * normal3(s->d.seed, t, 0)),
+                            .leaf = 1.0f,
+                            .area_frac = 1.0f,
+                            .leaf_frac = 1.0f,
+                            .level = WIRE_DAMAGE_LEVELS };
+    memset(s->bits + (size_t)t * s->words, 0, sizeof(uint64_t) * s->words);
+}
+
+damage_sim *damage_create(const damage_desc *d, gale_err *err)
+{
+    if (d->n_trees == 0 || d->n_trees > WIRE_MAX_TREES || d->n_species == 0 ||
+        d->n_species > WIRE_MAX_SPECIES || !d->table || !d->tree_species) {
+        gale_errf(err, GALE_E_ARG, "damage_create: expected 1..%u trees of 1..%u species, got %u, %u",
+                  WIRE_MAX_TREES, WIRE_MAX_SPECIES, d->n_trees, d->n_species);
+        return NULL;
+    }
+    damage_sim *s = calloc(1, sizeof *s);
+    if (!s) {
+        goto nomem;
+    }
+    s->d = *d;
+    if (s->d.max_events <= 0) {
+        s->d.max_events = (int)WIRE_MAX_DAMAGE;
+    }
+    uint32_t maxb = 1;
+    s->table = calloc(d->n_species, sizeof *s->table);
+    if (!s->table) {
+        goto nomem;
+    }
+    for (uint32_t k = 0; k < d->n_species; k++) {
+        s->table[k] = d->table[k];
+        if (s->table[k] && s->table[k]->n_branches > maxb) {
+            maxb = s->table[k]->n_branches;
+        }
+    }
+    s->words = (maxb + 63) / 64;
+    s->species = malloc(d->n_trees);
+    s->cos_yaw = malloc(sizeof(float) * d->n_trees);
+    s->sin_yaw = malloc(sizeof(float) * d->n_trees);
+    s->tree = calloc(d->n_trees, sizeof *s->tree);
+    s->bits = calloc((size_t)d->n_trees * s->words, sizeof(uint64_t));
+    s->q = calloc(64, sizeof(float));
+    s->ev = calloc((size_t)s->d.max_events, sizeof *s->ev);
+    s->log = calloc(DAMAGE_LOG_MAX, sizeof *s->log);
+    if (!s->species || !s->cos_yaw || !s->sin_yaw || !s->tree || !s->bits || !s->q || !s->ev ||
+        !s->log) {
+        goto nomem;
+    }
+    for (uint32_t t = 0; t < d->n_trees; t++) {
+        if (d->tree_species[t] >= d->n_species) {
+            gale_errf(err, GALE_E_RANGE, "damage_create: tree_species[%u]: expected < %u, got %u",
+                      t, d->n_species, (unsigned)d->tree_species[t]);
+            damage_destroy(s);
+            return NULL;
+        }
+        float yaw = d->tree_yaw_rad ? d->tree_yaw_rad[t] : 0.0f;
+        s->species[t] = d->tree_species[t];
+        s->cos_yaw[t] = cosf(yaw);
+        s->sin_yaw[t] = sinf(yaw);
+        tree_intact(s, t);
+    }
+    atomic_store(&s->counts.leaf_area, 1.0);
+    return s;
+nomem:
+    gale_errf(err, GALE_E_NOMEM, "damage_create: no memory for %u trees", d->n_trees);
+    damage_destroy(s);
+    return NULL;
+}
+
+void damage_destroy(damage_sim *s)
+{
+    if (!s) {
+        return;
+    }
+    free(s->table);
+    free(s->species);
+    free(s->cos_yaw);
+    free(s->sin_yaw);
+    free(s->tree);
+    free(s->bits);
+    free(s->q);
+    free(s->ev);
+    free(s->log);
+    free(s);
+}
+
+static void emit(damage_sim *s, uint32_t t, uint32_t node, uint8_t kind, uint8_t value,
+                 uint32_t tick)
+{
+    wire_damage e = { .tree = t, .node = node, .kind = kind, .value = value, .tick = tick };
+    if (s->n_ev < s->d.max_events) {
+        s->ev[s->n_ev++] = e;
+    } else {
+        atomic_fetch_add(&s->counts.lost, 1);
+    }
+    if (kind == WIRE_DAMAGE_BRANCH) {
+        if (s->n_log < DAMAGE_LOG_MAX) {
+            s->log[s->n_log++] = e;
+        } else {
+            atomic_fetch_add(&s->counts.lost, 1);
+        }
+    }
+}
+
+static bool bit(const damage_sim *s, uint32_t t, uint32_t b)
+{
+    return (s->bits[(size_t)t * s->words + b / 64] >> (b % 64)) & 1u;
+}
+
+/* Branch b of tree t is gone: it or a branch it grows from broke. */
+static bool gone(const damage_sim *s, const damage_table *tb, uint32_t t, int32_t b)
+{
+    for (; b >= 0; b = tb->branch[b].up) {
+        if (bit(s, t, (uint32_t)b)) {
+            return true;
+        }
+    }
+    return false;
+}
+
+/* Drag multiplier of a standing tree: the frontal area its broken branches took, and the
+ * leaves' share of the rest scaled by the leaf area left (PHYSICS.md "Storm damage"). */
+static float drag_of(const damage_table *tb, const damage_tree_st *ts)
+{
+    float c = (float)tb->p.leaf_drag_share;
+    return ts->area_frac * ((1.0f - c) + c * ts->leaf);
+}
+
+/* Area and leaf fractions left after the broken branches (top-most broken ones count). */
+static void recount(const damage_sim *s, const damage_table *tb, uint32_t t, damage_tree_st *ts)
+{
+    float a = 1.0f, l = 1.0f;
+    for (uint32_t b = 0; b < tb->n_branches; b++) {
+        if (bit(s, t, b) && !gone(s, tb, t, tb->branch[b].up)) {
+            a -= tb->branch[b].area_share;
+            l -= tb->branch[b].leaf_share;
+        }
+    }
+    ts->area_frac = a > 0.0f ? a : 0.0f;
+    ts->leaf_frac = l > 0.0f ? l : 0.0f;
+}
+
+/* First index of the species' sorted slot ranks at or above rank r. */
+static uint32_t first_rank(const damage_table *tb, uint64_t r)
+{
+    uint32_t i0 = 0, i1 = tb->n_leaves;
+    while (i0 < i1) {
+        uint32_t mid = i0 + (i1 - i0) / 2;
+        if ((tb->slot_rank[mid] >> 32) < r) {
+            i0 = mid + 1;
+        } else {
+            i1 = mid;
+        }
+    }
+    return i0;
+}
+
+/* Stripped leaves of tree t going from level a to b: the slots kept at a but not at b
+ * (ranks in [b, a) 32nds of the range: one or two runs of the species' sorted slot ranks),
+ * on branches still there, each shed as a falling leaf. */
+static int strip_leaves(const damage_sim *s, const damage_table *tb, uint32_t t, uint32_t a,
+                        uint32_t b, uint32_t tick, leaf_seed *out, int cap, int *n)
+{
+    int lost = 0;
+    const bool ts_broken = s->tree[t].broken > 0;
+    const uint32_t off = wire_damage_tree_rank(t);
+    /* tree rank r = slot rank + off; band [lo, hi) in tree ranks */
+    const uint64_t lo = (uint64_t)b << 27, hi = (uint64_t)a << 27;
+    for (int part = 0; part < 2; part++) {
+        /* slot ranks [lo - off, hi - off) mod 2^32: at most two runs */
+        uint64_t s0 = (lo - off) & 0xFFFFFFFFull, s1 = s0 + (hi - lo);
+        uint64_t from = part == 0 ? s0 : 0, to = part == 0 ? (s1 < (1ull << 32) ? s1 : 1ull << 32)
+                                                          : (s1 > (1ull << 32) ? s1 - (1ull << 32) : 0);
+        if (from >= to) {
+            continue;
+        }
+        const uint32_t i0 = first_rank(tb, from), i1 = first_rank(tb, to);
+        for (uint32_t i = i0; i < i1; i++) {
+            if (*n >= cap) {
+                lost += (int)(i1 - i); /* over the per-tick cap: counted, not shed */
+                break;
+            }
+            uint32_t k = (uint32_t)tb->slot_rank[i];
+            uint32_t node = tb->leaf_node[k];
+            if (ts_broken && node < tb->n_nodes && gone(s, tb, t, tb->node_branch[node])) {
+                continue;
+            }
+            out[(*n)++] = (leaf_seed){ .instance = t,
+                                       .slot = k,
+                                       .spawn_tick = tick,
+                                       .variation = (uint32_t)(unit3(s->d.seed ^ 0x5157ull, t,
+                                                                     (uint64_t)k << 32 | tick) *
+                                                               4294967296.0) };
+        }
+    }
+    return lost;
+}
+
+static uint8_t azimuth(const float *v)
+{
+    double a = atan2((double)v[1], (double)v[0]) / 6.283185307179586;
+    a -= floor(a);
+    return (uint8_t)((int)(a * 256.0 + 0.5) & 255);
+}
+
+/* The stresses of standing tree t from its modal state: the stem first (a tree that
+ * falls breaks nothing more), then every branch still on it. */
+static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t t,
+                       const float *v, uint32_t tick)
+{
+    damage_tree_st *ts = &s->tree[t];
+    /* |q| as the modal update left it (modal_qnorm2): the state itself is read only
+     * for a tree that might fail */
+    const float qn = sqrtf(modal_qnorm2(m, t));
+    /* the weakest branch multiplier is exp(-sd) (normal3 is clamped to ±2, halved) */
+    const float lo = ts->strength * expf(-(float)tb->p.strength_sd);
+    if (!(qn >= lo * tb->q_screen)) {
+        return;
+    }
+    float *q = s->q;
+    uint32_t n = modal_get(m, t, q, NULL);
+    if (n > tb->n_modes) {
+        n = tb->n_modes;
+    }
+    float mb = damage_moment((const float(*)[3])tb->stem_moment, q, n, NULL);
+    uint8_t fall = 0;
+    if (mb > ts->strength * (float)tb->m_over_nm && tb->m_over_nm <= tb->m_break_nm) {
+        fall = WIRE_DAMAGE_UPROOT;
+    } else if (mb > ts->strength * (float)tb->m_break_nm) {
+        fall = WIRE_DAMAGE_SNAP;
+    } else if (mb > ts->strength * (float)tb->m_over_nm) {
+        fall = WIRE_DAMAGE_UPROOT;
+    }
+    if (fall) {
+        ts->fallen = fall;
+        ts->fall_az = azimuth(v);
+        ts->fall_tick = tick;
+        emit(s, t, WIRE_DAMAGE_WHOLE, fall, ts->fall_az, tick);
+        atomic_fetch_add(fall == WIRE_DAMAGE_SNAP ? &s->counts.snapped : &s->counts.uprooted, 1);
+        /* a fallen tree lies still: no force, no motion */
+        memset(q, 0, sizeof(float) * n);
+        modal_set(m, t, q, q);
+        modal_set_drag_mult(m, t, 0.0f);
+        return;
+    }
+    bool changed = false;
+    for (uint32_t j = 0; j < tb->n_branches; j++) {
+        const uint32_t b = tb->order[j];
+        const damage_branch *br = &tb->branch[b];
+        if (qn * br->moment_norm < lo * br->cap_nm) {
+            break; /* branches by rising cap / norm: no later one can fail either */
+        }
+        if (gone(s, tb, t, (int32_t)b)) {
+            continue;
+        }
+        const float(*mm)[3] = (const float(*)[3])(tb->branch_moment + (size_t)b * tb->n_modes * 3);
+        float mbr = damage_moment(mm, q, n, NULL);
+        /* each branch its own strength about the tree's: exp(±sd) at most */
+        float mult = ts->strength *
+                     (float)exp(0.5 * tb->p.strength_sd * normal3(s->d.seed, t, (uint64_t)b + 1));
+        if (mbr > mult * br->cap_nm) {
+            s->bits[(size_t)t * s->words + b / 64] |= 1ull << (b % 64);
+            ts->broken++;
+            emit(s, t, br->node, WIRE_DAMAGE_BRANCH, 0, tick);
+            atomic_fetch_add(&s->counts.branches, 1);
+            changed = true;
+        }
+    }
+    if (changed) {
+        recount(s, tb, t, ts);
+        modal_set_drag_mult(m, t, drag_of(tb, ts));
+    }
+}
+
+int damage_step(damage_sim *s, modal *m, const float *wind_world, uint32_t tick,
+                leaf_seed *leaves, int cap, int *n_leaves)
+{
+    s->n_ev = 0;
+    int lost = 0;
+    const float dt = (float)s->d.dt_s;
+    /* each tree on its own tick of DAMAGE_EVERY: (tick + t) % DAMAGE_EVERY == 0 */
+    const uint32_t first = (DAMAGE_EVERY - tick % DAMAGE_EVERY) % DAMAGE_EVERY;
+    for (uint32_t t = first; t < s->d.n_trees; t += DAMAGE_EVERY) {
+        const damage_table *tb = s->table[s->species[t]];
+        damage_tree_st *ts = &s->tree[t];
+        if (!tb || ts->fallen) {
+            continue;
+        }
+        /* stripping over the ticks since this tree's last turn, then its stresses */
+        const float *v = &wind_world[3 * (size_t)t];
+        float sp = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        if (sp > DAMAGE_STRIP_START_MS && ts->leaf > 1.0f - (float)tb->p.strip_max) {
+            float l = damage_strip_step(ts->leaf, sp, (float)tb->p.strip_max,
+                                        dt * (float)DAMAGE_EVERY);
+            if (l != ts->leaf) {
+                ts->leaf = l;
+                modal_set_drag_mult(m, t, drag_of(tb, ts));
+                uint32_t lv = (uint32_t)(l * (float)WIRE_DAMAGE_LEVELS + 0.5f);
+                if (lv < ts->level) {
+                    lost += strip_leaves(s, tb, t, ts->level, lv, tick, leaves, cap, n_leaves);
+                    ts->level = (uint8_t)lv;
+                    ts->level_tick = tick;
+                    emit(s, t, WIRE_DAMAGE_WHOLE, WIRE_DAMAGE_STRIP, (uint8_t)lv, tick);
+                }
+            }
+        }
+        check_tree(s, m, tb, t, v, tick);
+    }
+    /* the standing leaf area for /metrics, once a second of 60 Hz ticks */
+    if (tick % 60 == 0) {
+        double area = 0.0;
+        uint32_t counted = 0;
+        for (uint32_t t = 0; t < s->d.n_trees; t++) {
+            if (s->table[s->species[t]]) {
+                counted++;
+                area += s->tree[t].fallen ? 0.0 : (double)(s->tree[t].leaf * s->tree[t].leaf_frac);
+            }
+        }
+        atomic_store(&s->counts.leaf_area, counted ? area / counted : 1.0);
+    }
+    return lost;
+}
+
+int damage_events(const damage_sim *s, const wire_damage **out)
+{
+    *out = s->ev;
+    return s->n_ev;
+}
+
+uint32_t damage_state(const damage_sim *s, wire_damage *out, uint32_t cap)
+{
+    uint32_t n = 0;
+    for (uint32_t t = 0; t < s->d.n_trees; t++) {
+        const damage_tree_st *ts = &s->tree[t];
+        if (ts->fallen) {
+            if (n < cap) {
+                out[n] = (wire_damage){ t, WIRE_DAMAGE_WHOLE, ts->fallen, ts->fall_az,
+                                        ts->fall_tick };
+            }
+            n++;
+        }
+        if (ts->level < WIRE_DAMAGE_LEVELS) {
+            if (n < cap) {
+                out[n] = (wire_damage){ t, WIRE_DAMAGE_WHOLE, WIRE_DAMAGE_STRIP, ts->level,
+                                        ts->level_tick };
+            }
+            n++;
+        }
+    }
+    for (uint32_t i = 0; i < s->n_log; i++) {
+        if (n < cap) {
+            out[n] = s->log[i];
+        }
+        n++;
+    }
+    return n;
+}
+
+void damage_heal(damage_sim *s, modal *m)
+{
+    for (uint32_t t = 0; t < s->d.n_trees; t++) {
+        tree_intact(s, t);
+        modal_set_drag_mult(m, t, 1.0f);
+    }
+    s->n_log = 0;
+    s->n_ev = 0;
+    atomic_store(&s->counts.leaf_area, 1.0);
+    atomic_fetch_add(&s->counts.heals, 1);
+}
+
+int damage_tree(const damage_sim *s, uint32_t t, float *leaf, uint32_t *broken)
+{
+    if (t >= s->d.n_trees) {
+        return 0;
+    }
+    if (leaf) {
+        *leaf = s->tree[t].leaf;
+    }
+    if (broken) {
+        *broken = s->tree[t].broken;
+    }
+    return s->tree[t].fallen;
+}
+
+float damage_strength(const damage_sim *s, uint32_t t)
+{
+    return t < s->d.n_trees ? s->tree[t].strength : 0.0f;
+}
+
+damage_counts *damage_get_counts(damage_sim *s)
+{
+    return &s->counts;
+}

@@ -1,0 +1,306 @@
+/* The storm-damage table of one species: see damage_table.h. Moments come from the
+ * linear modes of the asset: the end moment of an Euler-Bernoulli element from its end
+ * displacements and rotations (PHYSICS.md "Storm damage"). */
+#include "damage_table.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "wire.h"
+
+#define PI 3.14159265358979323846
+
+static void sub3(const float *a, const float *b, double o[3])
+{
+    for (int k = 0; k < 3; k++) {
+        o[k] = (double)a[k] - (double)b[k];
+    }
+}
+
+static double dot3(const double *a, const double *b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* The bending moment at the start of element p -> c in mode i: for a cubic Hermite beam,
+ * M_start = (EI/L) (4 θ_p + 2 θ_c - 6 ψ) in each bending plane, with θ the end rotations
+ * about the axes across the element and ψ = e × (u_c - u_p)⊥ / L the chord rotation (the
+ * element stiffness of Diener 2008 appendix, row of the start rotation). I is the
+ * element's, of its mean radius, as the bake's frame elements have it. */
+static void element_moment(const asset *a, double E_pa, uint32_t i, uint32_t p, uint32_t c,
+                           float out[3])
+{
+    const uint32_t n = a->n_nodes;
+    double e[3], d[3], tp[3], tc[3];
+    sub3(&a->rest[3 * c], &a->rest[3 * p], e);
+    double L = sqrt(dot3(e, e));
+    if (!(L > 0.0)) {
+        out[0] = out[1] = out[2] = 0.0f;
+        return;
+    }
+    for (int k = 0; k < 3; k++) {
+        e[k] /= L;
+    }
+    const float *ph = a->phi + (size_t)i * n * 3, *pr = a->phi_rot + (size_t)i * n * 3;
+    sub3(&ph[3 * c], &ph[3 * p], d);
+    for (int k = 0; k < 3; k++) {
+        tp[k] = pr[3 * p + k];
+        tc[k] = pr[3 * c + k];
+    }
+    double de = dot3(d, e), pe = dot3(tp, e), ce = dot3(tc, e);
+    double dp[3], psi[3], m[3];
+    for (int k = 0; k < 3; k++) {
+        dp[k] = d[k] - de * e[k];
+        tp[k] -= pe * e[k];
+        tc[k] -= ce * e[k];
+    }
+    psi[0] = (e[1] * dp[2] - e[2] * dp[1]) / L;
+    psi[1] = (e[2] * dp[0] - e[0] * dp[2]) / L;
+    psi[2] = (e[0] * dp[1] - e[1] * dp[0]) / L;
+    double r = 0.5 * ((double)a->radius[p] + (double)a->radius[c]);
+    double EI = E_pa * PI * r * r * r * r / 4.0;
+    for (int k = 0; k < 3; k++) {
+        m[k] = EI / L * (4.0 * tp[k] + 2.0 * tc[k] - 6.0 * psi[k]);
+        out[k] = (float)m[k];
+    }
+}
+
+float damage_moment(const float (*m)[3], const float *q, uint32_t n, float out[3])
+{
+    float x = 0.0f, y = 0.0f, z = 0.0f;
+    for (uint32_t i = 0; i < n; i++) {
+        x += q[i] * m[i][0];
+        y += q[i] * m[i][1];
+        z += q[i] * m[i][2];
+    }
+    if (out) {
+        out[0] = x;
+        out[1] = y;
+        out[2] = z;
+    }
+    return sqrtf(x * x + y * y + z * z);
+}
+
+static float norm_modes(const float (*m)[3], uint32_t n)
+{
+    double s = 0.0;
+    for (uint32_t i = 0; i < n; i++) {
+        double x = m[i][0], y = m[i][1], z = m[i][2];
+        s += x * x + y * y + z * z;
+    }
+    return (float)sqrt(s);
+}
+
+static int cmp_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* cap / norm of a branch: the |q| below which it cannot fail at strength 1 */
+static double ratio(const damage_branch *b)
+{
+    return b->moment_norm > 0.0f ? (double)b->cap_nm / (double)b->moment_norm : 1e300;
+}
+
+static const damage_table *sort_branches; /* qsort has no context argument */
+
+static int cmp_ratio(const void *a, const void *b)
+{
+    double x = ratio(&sort_branches->branch[*(const uint32_t *)a]);
+    double y = ratio(&sort_branches->branch[*(const uint32_t *)b]);
+    return (x > y) - (x < y);
+}
+
+int damage_table_build(const asset *a, double E_pa, const damage_params *p, damage_table *t,
+                       gale_err *err)
+{
+    memset(t, 0, sizeof *t);
+    const uint32_t n = a->n_nodes, nm = a->n_modes;
+    if (!a->phi || !a->phi_rot || n < 2 || nm == 0 || nm > 64 || a->parent[0] != -1) {
+        return gale_errf(err, GALE_E_ARG,
+                         "damage_table_build: %s: expected a rooted asset with linear modes "
+                         "(1..64), got %u nodes, %u modes",
+                         a->species, n, nm);
+    }
+    t->p = *p;
+    t->n_modes = nm;
+    t->n_nodes = n;
+    t->n_leaves = a->n_leaves;
+    t->leaf_node = a->leaf_node;
+    /* children: the thickest child of a node continues its branch, any other starts one */
+    int32_t *main_child = malloc(sizeof(int32_t) * n);
+    int32_t *nkids = calloc(n, sizeof(int32_t));
+    double *area = calloc(n, sizeof(double));   /* ∫ D ds of the sub-tree from node i */
+    double *leaves = calloc(n, sizeof(double)); /* leaf slots in it */
+    t->node_branch = malloc(sizeof(int32_t) * n);
+    t->branch = malloc(sizeof(damage_branch) * n);
+    if (!main_child || !nkids || !area || !leaves || !t->node_branch || !t->branch) {
+        free(main_child);
+        free(nkids);
+        free(area);
+        free(leaves);
+        damage_table_fini(t);
+        return gale_errf(err, GALE_E_NOMEM, "damage_table_build: no memory for %u nodes", n);
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        main_child[i] = -1;
+    }
+    for (uint32_t i = 1; i < n; i++) {
+        uint32_t q = (uint32_t)a->parent[i];
+        nkids[q]++;
+        if (main_child[q] < 0 || a->radius[i] > a->radius[main_child[q]]) {
+            main_child[q] = (int32_t)i;
+        }
+        double e[3];
+        sub3(&a->rest[3 * i], &a->rest[3 * q], e);
+        area[i] = (double)(a->radius[i] + a->radius[q]) * sqrt(dot3(e, e));
+    }
+    for (uint32_t l = 0; l < a->n_leaves; l++) {
+        if (a->leaf_node[l] < n) {
+            leaves[a->leaf_node[l]] += 1.0;
+        }
+    }
+    /* sub-tree sums: children come after their parent (parent[i] < i) */
+    for (uint32_t i = n - 1; i >= 1; i--) {
+        area[a->parent[i]] += area[i];
+        leaves[a->parent[i]] += leaves[i];
+    }
+    const double area_all = area[0] > 0.0 ? area[0] : 1.0;
+    const double leaves_all = leaves[0] > 0.0 ? leaves[0] : 1.0;
+    /* branches in node order, so a branch's parent branch comes first */
+    t->node_branch[0] = -1;
+    uint32_t nb = 0;
+    for (uint32_t i = 1; i < n; i++) {
+        uint32_t q = (uint32_t)a->parent[i];
+        int32_t up = t->node_branch[q];
+        /* twigs thinner than DAMAGE_MIN_BRANCH_D_M go with the leaves (stripping) */
+        if (main_child[q] == (int32_t)i || 2.0f * a->radius[i] < DAMAGE_MIN_BRANCH_D_M) {
+            t->node_branch[i] = up;
+            continue;
+        }
+        damage_branch *b = &t->branch[nb];
+        double r = a->radius[i];
+        b->node = i;
+        b->up = up;
+        b->cap_nm = (float)(p->mor_pa * PI * r * r * r / 4.0);
+        b->area_share = (float)(area[i] / area_all);
+        b->leaf_share = (float)(leaves[i] / leaves_all);
+        t->node_branch[i] = (int32_t)nb;
+        nb++;
+    }
+    t->n_branches = nb;
+    free(nkids);
+    free(area);
+    free(leaves);
+    t->branch_moment = malloc(sizeof(float) * 3 * nm * (nb ? nb : 1));
+    if (!t->branch_moment) {
+        free(main_child);
+        damage_table_fini(t);
+        return gale_errf(err, GALE_E_NOMEM, "damage_table_build: no memory for %u branches", nb);
+    }
+    float qs = INFINITY;
+    for (uint32_t b = 0; b < nb; b++) {
+        uint32_t c = t->branch[b].node, q = (uint32_t)a->parent[c];
+        float(*m)[3] = (float(*)[3])(t->branch_moment + (size_t)b * nm * 3);
+        for (uint32_t i = 0; i < nm; i++) {
+            element_moment(a, E_pa, i, q, c, m[i]);
+        }
+        t->branch[b].moment_norm = norm_modes((const float(*)[3])m, nm);
+        if (t->branch[b].moment_norm > 0.0f) {
+            float s = t->branch[b].cap_nm / t->branch[b].moment_norm;
+            qs = s < qs ? s : qs;
+        }
+    }
+    /* the stem: root to top along the thickest children */
+    const uint32_t s1 = (uint32_t)main_child[0];
+    double mass = 0.0;
+    for (int32_t i = main_child[0]; i >= 0; i = main_child[i]) {
+        uint32_t q = (uint32_t)a->parent[i];
+        double e[3], r = 0.5 * ((double)a->radius[i] + (double)a->radius[q]);
+        sub3(&a->rest[3 * i], &a->rest[3 * q], e);
+        mass += PI * r * r * sqrt(dot3(e, e));
+    }
+    free(main_child);
+    for (uint32_t i = 0; i < nm; i++) {
+        element_moment(a, E_pa, i, 0, s1, t->stem_moment[i]);
+    }
+    t->stem_norm = norm_modes((const float(*)[3])t->stem_moment, nm);
+    t->stem_d_m = 2.0 * (double)a->radius[0];
+    t->stem_mass_kg = mass * p->stem_density_kg_m3;
+    /* Gardiner et al. 2000 / Hale et al. 2012 (ForestGALES) */
+    t->m_break_nm = PI / 32.0 * p->f_knot * p->mor_pa * t->stem_d_m * t->stem_d_m * t->stem_d_m;
+    t->m_over_nm = p->c_reg_nm_kg * t->stem_mass_kg;
+    if (t->stem_norm > 0.0f) {
+        double m = t->m_break_nm < t->m_over_nm ? t->m_break_nm : t->m_over_nm;
+        float s = (float)(m / (double)t->stem_norm);
+        qs = s < qs ? s : qs;
+    }
+    t->q_screen = qs;
+    t->order = malloc(sizeof(uint32_t) * (nb ? nb : 1));
+    t->slot_rank = malloc(sizeof(uint64_t) * (a->n_leaves ? a->n_leaves : 1));
+    if (!t->order || !t->slot_rank) {
+        damage_table_fini(t);
+        return gale_errf(err, GALE_E_NOMEM, "damage_table_build: no memory for %u leaves",
+                         a->n_leaves);
+    }
+    for (uint32_t k = 0; k < a->n_leaves; k++) {
+        t->slot_rank[k] = (uint64_t)wire_damage_slot_rank(k) << 32 | k;
+    }
+    qsort(t->slot_rank, a->n_leaves, sizeof(uint64_t), cmp_u64);
+    for (uint32_t b = 0; b < nb; b++) {
+        t->order[b] = b;
+    }
+    sort_branches = t;
+    qsort(t->order, nb, sizeof(uint32_t), cmp_ratio);
+    sort_branches = NULL;
+    return GALE_OK;
+}
+
+void damage_table_fini(damage_table *t)
+{
+    if (!t) {
+        return;
+    }
+    free(t->branch);
+    free(t->branch_moment);
+    free(t->node_branch);
+    free(t->order);
+    free(t->slot_rank);
+    memset(t, 0, sizeof *t);
+}
+
+void damage_static_q(const asset *a, double u_ms, double dir_rad, float *q)
+{
+    const double vx = u_ms * cos(dir_rad), vy = u_ms * sin(dir_rad);
+    for (uint32_t i = 0; i < a->n_modes; i++) {
+        const float *pb = &a->wind_basis[3 * i];
+        double f = u_ms * (vx * (double)pb[0] + vy * (double)pb[1]);
+        double w = (double)a->omega[i];
+        q[i] = (float)(f / (w * w));
+    }
+}
+
+void damage_critical_speeds(const asset *a, const damage_table *t, double *snap_ms,
+                            double *uproot_ms, double *branch_ms)
+{
+    float q[64];
+    double worst = 0.0, bmin = INFINITY;
+    for (int k = 0; k < 16; k++) {
+        damage_static_q(a, 1.0, 2.0 * PI * k / 16.0, q);
+        double m = (double)damage_moment((const float(*)[3])t->stem_moment, q, t->n_modes, NULL);
+        worst = m > worst ? m : worst;
+        for (uint32_t b = 0; b < t->n_branches; b++) {
+            const float(*mm)[3] = (const float(*)[3])(t->branch_moment + (size_t)b * t->n_modes * 3);
+            double mb = (double)damage_moment(mm, q, t->n_modes, NULL);
+            double u = mb > 0.0 ? sqrt((double)t->branch[b].cap_nm / mb) : (double)INFINITY;
+            bmin = u < bmin ? u : bmin;
+        }
+    }
+    *snap_ms = worst > 0.0 ? sqrt(t->m_break_nm / worst) : (double)INFINITY;
+    *uproot_ms = worst > 0.0 ? sqrt(t->m_over_nm / worst) : (double)INFINITY;
+    if (branch_ms) {
+        *branch_ms = bmin;
+    }
+}
