@@ -126,14 +126,13 @@ void client_stream_on_frame(void *user, const wire_frame *f, const wire_decoder 
     if (f->types & (1u << WIRE_MSG_WIND)) {
         take_wind(c, &f->wind);
     }
-    if (f->hdr.type == WIRE_MSG_DAMAGE) {
+    if (f->types & (1u << WIRE_MSG_DAMAGE)) {
         if (c->dmg.tree && damage_view_apply(&c->dmg, f->damage_full, f->damage, f->n_damage)) {
             c->leaves_bad++; /* events for trees outside the scene */
         }
         if (c->scene_ready) {
             client_damage_draw(c);
         }
-        return;
     }
     if (!c->scene_ready) {
         return; /* the decoder keeps its state; the jitter buffer starts once assets are in */

@@ -124,7 +124,7 @@ static int read_damage(wsraw *c, wire_decoder *dec, damage_view *v, int ms)
         if (op == 2) {
             wire_frame f;
             gale_err e;
-            if (wire_decode(dec, b, n, &f, &e) == 0 && f.hdr.type == WIRE_MSG_DAMAGE) {
+            if (wire_decode(dec, b, n, &f, &e) == 0 && (f.types & (1u << WIRE_MSG_DAMAGE))) {
                 CHECK(damage_view_apply(v, f.damage_full, f.damage, f.n_damage) == 0);
                 frames++;
             }
