@@ -73,6 +73,12 @@ typedef struct client {
     bool have_wind;
     float wind_ms;
     float kiosk_speed_ms; /* kiosk dial */
+    /* the server's weather (last WEATHER frame): what the HUD names */
+    wire_weather wx;
+    bool have_wx;
+    /* the HUD text of the last frame drawn (headless runs print it) */
+    char hud_text[HUD_MAX_LINES][HUD_LINE_CHARS];
+    int hud_lines;
 
     bool got_state;
     bool live_since_welcome;  /* state taken since the last welcome */

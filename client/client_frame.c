@@ -66,9 +66,13 @@ int client_frame_draw(client *c, double now, gale_err *err)
         .delay_ms = (float)(c->a.delay_s * 1e3),
         .frames_bad = ns.frames_bad,
         .role = ctl_role_name(c->a.role),
+        .wx = c->have_wx ? &c->wx : NULL,
+        /* camera yaw is counter-clockwise from +x (east); a heading clockwise from north */
+        .view_heading_deg = 90.0f - c->cam.yaw * 57.29578f,
     };
     if (c->a.role != CTL_ROLE_WALL_TILE || (c->a.tile[0] == 0 && c->a.tile[1] == 0)) {
         hud_draw(c->hud, &hs, fb_w, fb_h);
+        c->hud_lines = hud_format(&hs, c->hud_text);
     }
     return 0;
 }

@@ -271,6 +271,11 @@ int main(int argc, char **argv)
             fprintf(stderr, "gale-client: screenshot: %s\n", err.msg);
             status = 1;
         }
+        /* what a visitor would read on the last frame, for scripts (one line each) */
+        for (int i = 0; i < c.hud_lines; i++) {
+            printf("hud: %s\n", c.hud_text[i]);
+        }
+        fflush(stdout);
         if (!c.got_state) {
             cli_net_stats ns = cli_net_get_stats(c.net);
             fprintf(stderr, "gale-client: %s: no state received in %.1f s (%s)\n",

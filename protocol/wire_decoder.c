@@ -95,6 +95,8 @@ int wire_decode(wire_decoder *d, const uint8_t *buf, size_t len, wire_frame *out
         rc = wire_decode_leaves(&r, &out->hdr, d->leaves, &out->n_leaves, err);
         out->leaves = rc ? NULL : d->leaves;
         return rc;
+    case WIRE_MSG_WEATHER:
+        return wire_decode_weather(&r, &out->hdr, &out->weather, err);
     default: /* WIRE_MSG_WIND; wire_get_header checked the type */
         return wire_decode_wind(&r, &out->hdr, d->wind, &out->wind, err);
     }

@@ -38,6 +38,9 @@ int wire_decode_leaves(wire_reader *r, const wire_header *h, wire_leaf *leaves,
 int wire_decode_wind(wire_reader *r, const wire_header *h, int8_t *v, wire_wind *out,
                      gale_err *err);
 
+int wire_decode_weather(wire_reader *r, const wire_header *h, wire_weather *out,
+                        gale_err *err);
+
 /* Short message type name for errors ("KEYFRAME", ...). */
 const char *wire_type_name(unsigned type);
 

@@ -285,15 +285,20 @@ static int load_hurricane(scenario *s, const cfg_doc *d, const cJSON *root, cons
     if ((rc = child(d, h, p, "site", cJSON_Object, true, &site, err)) < 0) {
         return rc;
     }
-    static const char *const site_keys[] = { "lat_deg", "lon_deg", "over_land", "label", NULL };
+    static const char *const site_keys[] = { "lat_deg", "lon_deg", "over_land", "label",
+                                             "utc_offset_min", NULL };
     char ref[32];
-    double pn_hpa, angle;
+    double pn_hpa, angle, utc_off;
     if ((rc = cfg_check_keys(d, site, sp, site_keys, err)) < 0 ||
         (rc = cfg_number(d, site, sp, "lat_deg", true, 0.0, -70.0, 70.0, &s->site_lat, err)) < 0 ||
         (rc = cfg_number(d, site, sp, "lon_deg", false, 0.0, -180.0, 180.0, &s->site_lon, err)) <
             0 ||
         (rc = cfg_bool(d, site, sp, "over_land", false, true, &s->over_land, err)) < 0 ||
         (rc = cfg_string(d, site, sp, "label", false, "", s->site_label, sizeof s->site_label,
+                         err)) < 0 ||
+        /* absent: the nautical zone of the longitude (15° an hour) */
+        (rc = cfg_number(d, site, sp, "utc_offset_min", false,
+                         60.0 * floor(s->site_lon / 15.0 + 0.5), -840.0, 840.0, &utc_off,
                          err)) < 0 ||
         (rc = cfg_string(d, h, p, "source", false, "", s->source, sizeof s->source, err)) < 0 ||
         (rc = cfg_string(d, h, p, "ref_utc", false, "", ref, sizeof ref, err)) < 0 ||
@@ -318,6 +323,7 @@ static int load_hurricane(scenario *s, const cfg_doc *d, const cJSON *root, cons
         }
         s->has_ref = true;
     }
+    s->utc_offset_min = (int)lround(utc_off);
     s->pn_pa = pn_hpa * 100.0;
     s->inflow_rad = angle * M_PI / 180.0;
     s->f = holland_coriolis(s->site_lat);
@@ -567,6 +573,11 @@ static void hurricane_wind(const scenario *s, double storm_s, double wind[2], sc
     }
     out->pressure_hpa = holland_pressure(&v, r) / 100.0;
     out->distance_km = r / 1000.0;
+    out->central_hpa = c.pc_pa / 100.0;
+    /* the eye seen from the scene (origin): bearing clockwise from north */
+    double b = atan2(c.x_m, c.y_m) * 180.0 / M_PI;
+    b = b < 0.0 ? b + 360.0 : b;
+    out->bearing_deg = b >= 360.0 ? 0.0 : b;
     out->storm_category = (int)saffir_classify(c.vmax_ms);
 }
 
@@ -602,8 +613,12 @@ void scenario_eval(scenario *s, double t_s, scenario_state *out)
             }
         }
         out->storm_min = storm_s / 60.0;
+        out->replay_speed = s->time_scale;
         hurricane_wind(s, storm_s, w, out);
         if (s->has_ref) {
+            out->utc_min = s->ref_min + (long long)floor(storm_s / 60.0);
+            out->utc_offset_min = s->utc_offset_min;
+            out->has_clock = true;
             int y, mo, d, h, mi;
             hurdat_civil_from_minutes(s->ref_min + (long long)floor(storm_s / 60.0), &y, &mo, &d,
                                       &h, &mi);

@@ -38,6 +38,13 @@ typedef struct scenario_state {
     int storm_category;          /* class of the storm's own Vmax on the track; -1 no storm */
     double pressure_hpa;         /* sea-level pressure at the scene (Holland p(r)) [hPa] */
     double distance_km;          /* scene to storm centre [km]; -1 when there is no storm */
+    double bearing_deg;          /* direction from the scene to the storm centre, clockwise
+                                    from north [0, 360); 0 when there is no storm */
+    double central_hpa;          /* the storm's central pressure [hPa]; 0 when no storm */
+    long long utc_min;           /* dated replay: storm time, minutes since the epoch (UTC) */
+    bool has_clock;              /* utc_min and utc_offset_min are valid */
+    int utc_offset_min;          /* the site's local time = UTC + this [min] */
+    double replay_speed;         /* replay: storm seconds per server second; 0 otherwise */
     double turbulence_intensity; /* I_u of the gust process, σ_u / U */
     bool override_active;        /* a kiosk dial holds the wind */
     bool finished;               /* a replay reached its end and holds its last state */

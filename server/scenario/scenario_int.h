@@ -42,6 +42,7 @@ struct scenario {
     char source[240];
     char site_label[96];
     double site_lat, site_lon;
+    int utc_offset_min; /* site's local time = UTC + this (site.utc_offset_min) */
     bool over_land;
     bool geo; /* track in lat/lon (else x/y km) */
     bool has_ref;

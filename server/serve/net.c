@@ -358,6 +358,7 @@ net_snap *net_snap_acquire(net_server *s)
             net_snap *p = &s->pool[i];
             p->key_len = p->delta1_len = p->delta2_len = 0;
             p->stream = 0;
+            p->extra_key_only = 0;
             for (int e = 0; e < NET_SNAP_MAX_EXTRA; e++) {
                 p->extra_len[e] = 0;
             }

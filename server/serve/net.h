@@ -26,7 +26,7 @@ enum { NET_ROLE_NONE, NET_ROLE_VIEWER, NET_ROLE_KIOSK, NET_ROLE_WALL, NET_ROLE_L
  * seq-1 and seq-2 gets delta2 (linear prediction from both), one that holds only seq-1
  * (it was a keyframe) gets delta1, any other (late joiner, after drops, after a resync
  * request) the keyframe. Extra messages (leaf seeds, coarse wind) follow the state. */
-#define NET_SNAP_MAX_EXTRA 2
+#define NET_SNAP_MAX_EXTRA 3
 typedef struct net_snap {
     atomic_int refs;        /* 0 = free in the pool */
     uint32_t seq;           /* snapshot sequence number (wire.h) */
@@ -38,6 +38,8 @@ typedef struct net_snap {
     size_t delta1_len;      /* delta against seq-1 only; 0 = none */
     size_t delta2_len;      /* delta against seq-1 and seq-2; 0 = none */
     size_t extra_len[NET_SNAP_MAX_EXTRA]; /* 0 = absent */
+    unsigned extra_key_only; /* bit e set: extra e goes only to a connection that gets this
+                                snapshot's keyframe (a joiner's first picture is complete) */
     uint8_t *key;           /* owned [cap], with LWS_PRE bytes of headroom before it */
     uint8_t *delta1;        /* owned [cap], likewise */
     uint8_t *delta2;        /* owned [cap], likewise */

@@ -50,6 +50,7 @@ typedef struct net_conn {
     sendq q;              /* net_snap*, one reference each */
     net_snap *cur;        /* snapshot being written, one reference */
     int cur_part;         /* 0 state, 1.. extras */
+    bool cur_key;         /* cur's state went out as its keyframe */
     uint32_t last_seq;    /* seq of the last state message written */
     uint32_t stream;      /* snapshot stream followed (net_peer.stream) */
     uint32_t last_stream; /* stream of the last state message written */

@@ -315,6 +315,7 @@ int net_ws_writeable(net_server *s, net_conn *c)
             rc = ws_write(s, c, p->key, p->key_len, LWS_WRITE_BINARY);
             c->chain = 1;
         }
+        c->cur_key = c->chain == 1;
         c->resync = false;
         c->last_seq = p->seq;
         c->last_stream = p->stream;
@@ -328,7 +329,8 @@ int net_ws_writeable(net_server *s, net_conn *c)
         return -1;
     }
     while (c->cur_part >= 1 && c->cur_part <= NET_SNAP_MAX_EXTRA &&
-           !p->extra_len[c->cur_part - 1]) {
+           (!p->extra_len[c->cur_part - 1] ||
+            ((p->extra_key_only >> (c->cur_part - 1)) & 1u && !c->cur_key))) {
         c->cur_part++;
     }
     if (c->cur_part > NET_SNAP_MAX_EXTRA) {

@@ -40,6 +40,9 @@ srv *srv_create(const srv_desc *d, gale_err *err)
         goto fail;
     }
     s->stride = tick_stride(s->tick);
+    weather_gust_init(&s->wx_gust);
+    s->man_inflow = (wind_inflow){ .dir_rad = sc->wind_dir_deg * 0.017453292f,
+                                   .u10_ms = sc->wind_u10_ms };
     if (s->scen) {
         const wind_ball *balls;
         int nb = scenario_balls(s->scen, &balls);

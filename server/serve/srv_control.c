@@ -188,6 +188,9 @@ int srv_on_control(void *user, net_peer *p, const char *text, size_t len, char *
                                           0.017453292f,
                                .u10_ms = w->has_speed ? w->speed_ms : sc->wind_u10_ms };
             tick_set_inflow(s->tick, &in);
+            pthread_mutex_lock(&s->scen_lock);
+            s->man_inflow = in; /* what the weather reports (srv_weather.c) */
+            pthread_mutex_unlock(&s->scen_lock);
         }
     } else if (m.type == CTL_RESYNC) {
         p->resync = true;

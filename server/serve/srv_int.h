@@ -15,6 +15,7 @@
 #include "metric.h"
 #include "srv.h"
 #include "srv_stream.h"
+#include "weather_gust.h"
 #include "wire.h"
 
 #define SRV_MAX_VIEWS 4    /* distinct client views encoded per snapshot; beyond them a
@@ -29,6 +30,8 @@
                               state without noticing recovers within it, for one keyframe
                               (about 2.3 deltas' bytes, PROTOCOL.md Figures) per 150
                               snapshots at 30/s */
+#define SRV_WEATHER_EVERY 10 /* snapshots between WEATHER frames (3 a second at 30/s; a
+                                keyframe carries one too, PROTOCOL.md "WEATHER") */
 #define SRV_OVERRUN_LOG_PER_S 5 /* overrun lines a second at most */
 #define SRV_SOLVE_LOG_S 10 /* seconds between lines about solves out of budget */
 
@@ -94,6 +97,12 @@ struct srv {
     srv_vsel vsel[SRV_MAX_VIEWS]; /* sim thread: the encoder of each slot's stream */
     float *tree_pos;             /* owned [n_trees * 3] tree bases for view_select */
     float view_margin_m;         /* a tree counts as in view within this of the region */
+    /* weather (sim thread, srv_weather.c): the last scenario state and its 3-s gust */
+    scenario_state wx_state;
+    bool wx_have;
+    weather_gust wx_gust;
+    wind_inflow man_inflow;      /* under scen_lock: the inflow when there is no scenario
+                                    (the scene's, or the last kiosk command's) */
     /* log rate limits (sim thread) */
     time_t olog_sec;             /* overruns: the second being counted */
     int olog_n;                  /*           lines in it */
@@ -111,6 +120,12 @@ void srv_on_closed(void *user, const net_peer *p);
 void srv_publish(srv *s, uint32_t tick);
 /* The publisher's rows (gale_leaves_shed_total, gale_view_*) into r. */
 int srv_publish_register(srv *s, metric_reg *r, gale_err *err);
+
+/* srv_weather.c, sim thread: a tick's scenario state (NULL: no scenario, the steady
+ * inflow) into the weather; the weather as WEATHER frame extra[2] of p; the frame's fields. */
+void srv_weather_sample(srv *s, uint32_t tick, double dt_s, const scenario_state *st);
+int srv_weather_encode(srv *s, const wire_header *h, net_snap *p, gale_err *e);
+void srv_weather_fill(const srv *s, wire_weather *w);
 
 /* srv_loop.c: the simulation thread (arg: the srv), until s->stop. */
 void *srv_loop(void *arg);

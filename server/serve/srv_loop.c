@@ -40,6 +40,9 @@ void *srv_loop(void *arg)
             scenario_eval(s->scen, tick * dt, &st);
             pthread_mutex_unlock(&s->scen_lock);
             tick_set_inflow(s->tick, &st.inflow);
+            srv_weather_sample(s, tick, dt, &st);
+        } else {
+            srv_weather_sample(s, tick, dt, NULL);
         }
         tick_stats ts;
         gale_err e;

@@ -76,6 +76,7 @@ static void publish_views(srv *s, const wire_header *h, const srv_qhist *qh, con
             q->extra_len[x] = p->extra_len[x];
             memcpy(q->extra[x], p->extra[x], p->extra_len[x]);
         }
+        q->extra_key_only = p->extra_key_only;
         if (rc) {
             fprintf(stderr, "gale-server: snapshot %u of view stream %u not sent: %s\n", p->seq,
                     vs->enc.id, e.msg);
@@ -127,6 +128,10 @@ void srv_publish(srv *s, uint32_t tick)
             h.type = WIRE_MSG_LEAVES;
             rc = wire_encode_leaves(&h, s->leaves, s->n_leaves, p->extra[0],
                                     p->extra_cap, &p->extra_len[0], &e);
+        }
+        if (!rc) {
+            h.type = WIRE_MSG_WEATHER;
+            rc = srv_weather_encode(s, &h, p, &e);
         }
         if (rc) {
             fprintf(stderr, "gale-server: tick %u: snapshot %u not sent: %s\n", tick, s->seq,
