@@ -74,5 +74,9 @@ int client_frame_draw(client *c, double now, gale_err *err)
         hud_draw(c->hud, &hs, fb_w, fb_h);
         c->hud_lines = hud_format(&hs, c->hud_text);
     }
+    if (c->got_state && hs.conn != HUD_CONN_LIVE) {
+        /* the last picture stays, dimmed, under a calm word: never a crash or a desktop */
+        hud_draw_veil(c->hud, "Reconnecting to the exhibit\xE2\x80\xA6", fb_w, fb_h);
+    }
     return 0;
 }

@@ -690,3 +690,31 @@ void hud_draw(hud *h, const hud_state *s, int fb_w, int fb_h)
     float margin = 0.8f * h->font->px;
     hud_draw_lines(h, ptrs, n, s->have_wind || s->wx ? 1 : -1, margin, margin, fb_w, fb_h);
 }
+
+void hud_draw_veil(hud *h, const char *text, int fb_w, int fb_h)
+{
+    if (fb_w <= 0 || fb_h <= 0) {
+        return;
+    }
+    const float veil[4] = { 0.02f, 0.03f, 0.05f, 0.55f };
+    h->n_verts = 0;
+    push_rect(h, 0.0f, 0.0f, (float)fb_w, (float)fb_h, -1, 0, -1, 0, veil);
+    glUseProgram(h->prog);
+    glUniform2f(h->u_size, (float)fb_w, (float)fb_h);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    glViewport(0, 0, fb_w, fb_h);
+    glBindVertexArray(h->vao);
+    glBindBuffer(GL_ARRAY_BUFFER, h->vbo);
+    glBufferSubData(GL_ARRAY_BUFFER, 0,
+                    (GLsizeiptr)((size_t)h->n_verts * VERT_FLOATS * sizeof(float)), h->verts);
+    glDrawArrays(GL_TRIANGLES, 0, (GLsizei)h->n_verts);
+    glBindVertexArray(0);
+    glUseProgram(0);
+    const float w = hud_text_width(h->font, text) + 1.2f * h->font->px;
+    const char *lines[1] = { text };
+    hud_draw_lines(h, lines, 1, 0, floorf(0.5f * ((float)fb_w - w)),
+                   floorf(0.5f * (float)fb_h - h->font->px), fb_w, fb_h);
+}

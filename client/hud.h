@@ -119,6 +119,10 @@ const hud_font *hud_get_font(const hud *h);
  * pixels, alpha-blended, depth test off. No allocation. */
 void hud_draw(hud *h, const hud_state *s, int fb_w, int fb_h);
 
+/* The calm screen of a kiosk that lost its server: the frame under it dimmed to about
+ * half and text (e.g. "Reconnecting…") in a panel at its centre. */
+void hud_draw_veil(hud *h, const char *text, int fb_w, int fb_h);
+
 /* Draws text lines in a panel at (x, y) [px from the top left]; line accent_line (or none,
  * -1) in the accent colour. */
 void hud_draw_lines(hud *h, const char *const *lines, int n, int accent_line, float x, float y,

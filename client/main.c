@@ -46,7 +46,8 @@ static void usage(FILE *f)
             "  --help                 this text\n"
             "keys: left-drag orbit, right-drag pan, wheel zoom, WASD/QE fly, F11 fullscreen,\n"
             "      F12 or P screenshot, R reset view, kiosk: + / - dial the wind, Esc quit.\n"
-            "Exit status: 0 ok, 2 bad arguments, 3 no state received (headless), 1 other.\n");
+            "Exit status: 0 ok, 2 bad arguments, 3 no state received (headless), 4 kiosk\n"
+            "token refused by the server, 1 other.\n");
 }
 
 static int parse_args(int argc, char **argv, client_args *a)
@@ -210,6 +211,16 @@ int main(int argc, char **argv)
     while (!quit_flag && !(win && glfwWindowShouldClose(win))) {
         double now = mono_s();
         cli_net_poll(c.net, now);
+        if (cli_net_get_stats(c.net).state == CLI_NET_REFUSED) {
+            /* an operator's error: say what to fix, once, and stop (no retry loop) */
+            cli_net_stats ns = cli_net_get_stats(c.net);
+            fprintf(stderr,
+                    "gale-client: %s refused this kiosk: %s. Give the server's kiosk token "
+                    "with --token (gale-server --kiosk-token-file sets it); not retrying.\n",
+                    cli_net_server_name(c.net), ns.last_error);
+            status = 4;
+            break;
+        }
         if (c.scene_pending) {
             if (client_scene_setup(&c, &err) != 0) {
                 fprintf(stderr, "gale-client: scene: %s\n", err.msg);
@@ -266,7 +277,7 @@ int main(int argc, char **argv)
             }
         }
     }
-    if (c.a.headless && status == 0) {
+    if (c.a.headless && status == 0) { /* (a refused kiosk writes no screenshot) */
         if (c.a.screenshot && render_write_png(c.r, c.a.screenshot, &err) != 0) {
             fprintf(stderr, "gale-client: screenshot: %s\n", err.msg);
             status = 1;

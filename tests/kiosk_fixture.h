@@ -29,11 +29,11 @@
 #define KIOSK_TOKEN "test-token"
 
 static char kf_dir[256]; /* this test's directory under the build tree */
-static int kf_port;
-static pid_t kf_server;
+static inline int kf_port;
+static inline pid_t kf_server;
 
 /* Starts argv with stdout and stderr into the files out and log (out NULL: into log). */
-static pid_t kf_spawn(char *const argv[], const char *log, const char *out)
+static inline pid_t kf_spawn(char *const argv[], const char *log, const char *out)
 {
     pid_t pid = fork();
     if (pid == 0) {
@@ -50,7 +50,7 @@ static pid_t kf_spawn(char *const argv[], const char *log, const char *out)
     return pid;
 }
 
-static int kf_log_count(const char *log, const char *needle)
+static inline int kf_log_count(const char *log, const char *needle)
 {
     FILE *f = fopen(log, "r");
     if (!f) {
@@ -65,7 +65,7 @@ static int kf_log_count(const char *log, const char *needle)
     return n;
 }
 
-static bool kf_wait_log(const char *log, const char *needle, int count, double timeout_s)
+static inline bool kf_wait_log(const char *log, const char *needle, int count, double timeout_s)
 {
     double until = mono_s() + timeout_s;
     while (mono_s() < until) {
@@ -79,7 +79,7 @@ static bool kf_wait_log(const char *log, const char *needle, int count, double t
 
 /* The exit status of pid (128 + signal when killed), or -1 after timeout_s (then it is
  * killed). */
-static int kf_wait_exit(pid_t pid, double timeout_s)
+static inline int kf_wait_exit(pid_t pid, double timeout_s)
 {
     double until = mono_s() + timeout_s;
     int st;
@@ -95,7 +95,7 @@ static int kf_wait_exit(pid_t pid, double timeout_s)
     return -1;
 }
 
-static void kf_dump(const char *log)
+static inline void kf_dump(const char *log)
 {
     char cmd[600];
     snprintf(cmd, sizeof cmd, "tail -n 20 '%s' >&2", log);
@@ -105,20 +105,23 @@ static void kf_dump(const char *log)
 }
 
 /* Makes kf_dir (name under the working directory, the build tree). */
-static void kf_init(const char *name)
+static inline void kf_init(const char *name)
 {
     snprintf(kf_dir, sizeof kf_dir, "%s.d", name);
     mkdir(kf_dir, 0755);
 }
 
-/* gale-server on an ephemeral port with extra arguments (NULL-terminated, may be NULL). */
-static int kf_start_server(const char *const *extra)
+/* gale-server on an ephemeral port with a scene config under tests/data (NULL:
+ * clientnet_scene.json) and extra arguments (NULL-terminated, may be NULL). */
+static inline int kf_start_server(const char *config, const char *const *extra)
 {
+    static char cfg[400];
+    snprintf(cfg, sizeof cfg, GALE_SOURCE_DIR "/tests/data/%s",
+             config ? config : "clientnet_scene.json");
     char log[300], cache[300];
     snprintf(log, sizeof log, "%s/server.log", kf_dir);
     snprintf(cache, sizeof cache, "%s/../kiosk-srvcache", kf_dir);
-    const char *argv[32] = { GALE_SERVER_EXE, "--config",
-                             GALE_SOURCE_DIR "/tests/data/clientnet_scene.json", "--port", "0",
+    const char *argv[32] = { GALE_SERVER_EXE, "--config", cfg, "--port", "0",
                              "--iface", "127.0.0.1", "--cache", cache };
     int n = 9;
     for (int i = 0; extra && extra[i] && n < 31; i++) {
@@ -146,7 +149,7 @@ static int kf_start_server(const char *const *extra)
     return kf_port > 0 ? 0 : -1;
 }
 
-static void kf_stop_server(void)
+static inline void kf_stop_server(void)
 {
     if (kf_server > 0) {
         kill(kf_server, SIGTERM);
@@ -157,7 +160,7 @@ static void kf_stop_server(void)
 
 /* A raw connection that said hello as role (with the kiosk token for "kiosk") and got
  * its welcome; 0 or -1. */
-static int kf_hello(wsraw *c, const char *role, const char *token)
+static inline int kf_hello(wsraw *c, const char *role, const char *token)
 {
     if (wsraw_open(c, kf_port, 0)) {
         return -1;
@@ -189,7 +192,7 @@ typedef struct kf_reader {
     volatile int stop;
 } kf_reader;
 
-static void *kf_reader_main(void *arg)
+static inline void *kf_reader_main(void *arg)
 {
     kf_reader *r = arg;
     while (!r->stop) {
@@ -217,7 +220,7 @@ static void *kf_reader_main(void *arg)
 }
 
 /* Opens a connection (kf_hello) and starts its reader; 0 or -1. */
-static int kf_reader_start(kf_reader *r, const char *role, const char *token)
+static inline int kf_reader_start(kf_reader *r, const char *role, const char *token)
 {
     memset(r, 0, sizeof *r);
     r->c.fd = -1;
@@ -230,7 +233,7 @@ static int kf_reader_start(kf_reader *r, const char *role, const char *token)
 }
 
 /* Waits up to timeout_s for a WEATHER satisfying done (NULL: any); *w gets the latest. */
-static bool kf_reader_wait(kf_reader *r, double timeout_s,
+static inline bool kf_reader_wait(kf_reader *r, double timeout_s,
                            bool (*done)(const wire_weather *w, double arg), double arg,
                            wire_weather *w)
 {
@@ -249,7 +252,7 @@ static bool kf_reader_wait(kf_reader *r, double timeout_s,
 }
 
 /* Stops the reader and closes the connection (the socket's end is the disconnect). */
-static void kf_reader_stop(kf_reader *r)
+static inline void kf_reader_stop(kf_reader *r)
 {
     r->stop = 1;
     if (r->th) {

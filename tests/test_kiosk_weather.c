@@ -130,7 +130,7 @@ int main(void)
         return 77;
     }
     kf_init("test_kiosk_weather");
-    if (kf_start_server(NULL) != 0) {
+    if (kf_start_server(NULL, NULL) != 0) {
         fprintf(stderr, "gale-server did not start\n");
         return 1;
     }
