@@ -29,8 +29,8 @@
 #define KIOSK_TOKEN "test-token"
 
 static char kf_dir[256]; /* this test's directory under the build tree */
-static inline int kf_port;
-static inline pid_t kf_server;
+static int kf_port;
+static pid_t kf_server;
 
 /* Starts argv with stdout and stderr into the files out and log (out NULL: into log). */
 static inline pid_t kf_spawn(char *const argv[], const char *log, const char *out)
