@@ -487,6 +487,8 @@ double scenario_duration_s(const scenario *s)
 void scenario_restart(scenario *s, double t_s)
 {
     s->t0 = t_s;
+    s->base_storm_s = s->start_s;
+    s->base_t = 0.0;
     s->have_last = false;
     s->ramping = false;
     s->last_dir = s->kind == SCENARIO_STEADY ? (270.0 - s->dir_from_deg) * M_PI / 180.0 : 0.0;
@@ -603,7 +605,7 @@ void scenario_eval(scenario *s, double t_s, scenario_state *out)
     /* scripted wind vector at the scene [m/s], x east, y north */
     double w[2];
     if (s->kind == SCENARIO_HURRICANE) {
-        double storm_s = s->start_s + (t > 0.0 ? t : 0.0) * s->time_scale;
+        double storm_s = s->base_storm_s + (t > s->base_t ? t - s->base_t : 0.0) * s->time_scale;
         if (storm_s > s->end_s) {
             if (s->loop) {
                 storm_s = s->start_s + fmod(storm_s - s->start_s, s->end_s - s->start_s);
@@ -614,6 +616,7 @@ void scenario_eval(scenario *s, double t_s, scenario_state *out)
         }
         out->storm_min = storm_s / 60.0;
         out->replay_speed = s->time_scale;
+        out->replay_pos_s = (storm_s - s->start_s) / s->time_scale;
         hurricane_wind(s, storm_s, w, out);
         if (s->has_ref) {
             out->utc_min = s->ref_min + (long long)floor(storm_s / 60.0);
@@ -696,6 +699,39 @@ void scenario_eval(scenario *s, double t_s, scenario_state *out)
     out->category_name = saffir_name(out->category);
     out->beaufort = saffir_beaufort(speed);
     out->turbulence_intensity = s->gust_on ? s->gust.d.intensity : 0.0;
+}
+
+int scenario_replay_set(scenario *s, double t_s, bool has_at, double at_min, bool has_speed,
+                        double speed, gale_err *err)
+{
+    if (s->kind != SCENARIO_HURRICANE) {
+        return gale_errf(err, GALE_E_STATE, "scenario %s: replay: not a hurricane replay",
+                         s->name);
+    }
+    if (has_speed && !(speed >= 1.0 && speed <= 10000.0)) {
+        return gale_errf(err, GALE_E_RANGE,
+                         "scenario %s: replay speed: expected [1, 10000], got %g", s->name, speed);
+    }
+    if (has_at && !isfinite(at_min)) {
+        return gale_errf(err, GALE_E_RANGE, "scenario %s: replay at: expected a minute, got %g",
+                         s->name, at_min);
+    }
+    /* where the replay is now (as scenario_eval would put it), then the new base */
+    double t = t_s - s->t0;
+    double now_s = s->base_storm_s + (t > s->base_t ? t - s->base_t : 0.0) * s->time_scale;
+    if (now_s > s->end_s) {
+        now_s = s->loop ? s->start_s + fmod(now_s - s->start_s, s->end_s - s->start_s) : s->end_s;
+    }
+    if (has_at) {
+        now_s = at_min * 60.0;
+        now_s = now_s < s->start_s ? s->start_s : now_s > s->end_s ? s->end_s : now_s;
+    }
+    if (has_speed) {
+        s->time_scale = speed;
+    }
+    s->base_storm_s = now_s;
+    s->base_t = t;
+    return GALE_OK;
 }
 
 int scenario_set_dial(scenario *s, double sustained_ms, gale_err *err)

@@ -56,6 +56,8 @@ struct scenario {
 
     /* run time */
     double t0;     /* server time of the (re)start */
+    double base_storm_s, base_t; /* replay clock: storm time base_storm_s at scenario time
+                                    base_t, advancing time_scale storm s per server s */
     double last_t; /* scenario time of the previous eval */
     bool have_last;
     double last_w[2]; /* mean wind of the previous eval [m/s] */

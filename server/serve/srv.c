@@ -19,6 +19,9 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     }
     s->d = *d;
     s->scen = d->scen;
+    if (s->d.kiosk_idle_s == 0) {
+        s->d.kiosk_idle_s = SRV_KIOSK_IDLE_S;
+    }
     pthread_mutex_init(&s->scen_lock, NULL);
     pthread_mutex_init(&s->hist_lock, NULL);
     pthread_mutex_init(&s->view_lock, NULL);

@@ -32,6 +32,10 @@
                               snapshots at 30/s */
 #define SRV_WEATHER_EVERY 10 /* snapshots between WEATHER frames (3 a second at 30/s; a
                                 keyframe carries one too, PROTOCOL.md "WEATHER") */
+#define SRV_KIOSK_IDLE_S 300.0 /* default: a kiosk's dial held this long without a command
+                                  is released (a visitor who walked away leaves no one
+                                  stuck at their setting) */
+#define SRV_DIAL_KEPT UINT32_MAX /* dial_owner of a dial no connection holds (wind.keep) */
 #define SRV_OVERRUN_LOG_PER_S 5 /* overrun lines a second at most */
 #define SRV_SOLVE_LOG_S 10 /* seconds between lines about solves out of budget */
 
@@ -103,6 +107,10 @@ struct srv {
     weather_gust wx_gust;
     wind_inflow man_inflow;      /* under scen_lock: the inflow when there is no scenario
                                     (the scene's, or the last kiosk command's) */
+    uint32_t dial_owner;         /* under scen_lock: connection whose dial holds the wind
+                                    (0 none, SRV_DIAL_KEPT a script's): released when it
+                                    leaves or idles out */
+    double dial_last_s;          /* under scen_lock: its last command [s, mono_s] */
     /* log rate limits (sim thread) */
     time_t olog_sec;             /* overruns: the second being counted */
     int olog_n;                  /*           lines in it */
@@ -126,6 +134,10 @@ int srv_publish_register(srv *s, metric_reg *r, gale_err *err);
 void srv_weather_sample(srv *s, uint32_t tick, double dt_s, const scenario_state *st);
 int srv_weather_encode(srv *s, const wire_header *h, net_snap *p, gale_err *e);
 void srv_weather_fill(const srv *s, wire_weather *w);
+
+/* srv_control.c: drops the dial that holds the wind (the scenario's override, or the
+ * manual inflow back to the scene's); s->scen_lock held. why names it in the log. */
+void srv_release_dial_locked(srv *s, const char *why);
 
 /* srv_loop.c: the simulation thread (arg: the srv), until s->stop. */
 void *srv_loop(void *arg);

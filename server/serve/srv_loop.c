@@ -37,6 +37,10 @@ void *srv_loop(void *arg)
         if (s->scen) {
             scenario_state st;
             pthread_mutex_lock(&s->scen_lock);
+            if (s->dial_owner && s->d.kiosk_idle_s > 0 &&
+                mono_s() - s->dial_last_s > s->d.kiosk_idle_s) {
+                srv_release_dial_locked(s, "idle");
+            }
             scenario_eval(s->scen, tick * dt, &st);
             pthread_mutex_unlock(&s->scen_lock);
             tick_set_inflow(s->tick, &st.inflow);

@@ -62,7 +62,7 @@ void srv_weather_fill(const srv *s, wire_weather *w)
         w->distance_km = clampf(st->distance_km, 0.0, 20000.0);
         w->bearing_deg = clampf(st->bearing_deg, 0.0, 359.99);
         w->storm_min = clampf(st->storm_min, -1e6, 1e6);
-        w->replay_pos_s = clampf(st->t_s, 0.0, 1e9);
+        w->replay_pos_s = clampf(st->replay_pos_s, 0.0, 1e9);
         w->replay_len_s = clampf(scenario_duration_s(s->scen), 0.0, 1e9);
         w->replay_speed = clampf(st->replay_speed, 0.0, 1e5);
         if (st->finished) {
