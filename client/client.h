@@ -11,6 +11,7 @@
 #include "asset.h"
 #include "asset_cache.h"
 #include "camera.h"
+#include "camera_preset.h"
 #include "cli_net.h"
 #include "ctl.h"
 #include "err.h"
@@ -39,6 +40,7 @@ typedef struct client_args {
     int tile[4];            /* wall-tile: col, row, cols, rows */
     float bezel;            /* wall-tile: hidden strip / tile width */
     const char *cache_dir;
+    int camera_preset;      /* enum camera_preset; -1 = fitted to the scene (camera_preset.h) */
 } client_args;
 
 typedef struct client_species {
@@ -89,6 +91,7 @@ typedef struct client {
     int drag; /* 0 none, 1 orbit, 2 pan */
     bool want_screenshot;
     bool fullscreen;
+    double tour_t0_s; /* --camera tour: when the tour began */
     int win_pos[2], win_size[2];
 } client;
 

@@ -43,6 +43,8 @@ static void usage(FILE *f)
             "  --tile C,R,COLS,ROWS   wall-tile: this tile of a COLS x ROWS wall (0,0 top left)\n"
             "  --bezel F              wall-tile: hidden glass between tiles / tile width (0)\n"
             "  --cache DIR            asset cache (default $XDG_CACHE_HOME/gale)\n"
+            "  --camera NAME          street (beside the palms), garden (an oak close up),\n"
+            "                         roof, aerial, or tour (each in turn, for attract mode)\n"
             "  --help                 this text\n"
             "keys: left-drag orbit, right-drag pan, wheel zoom, WASD/QE fly, F11 fullscreen,\n"
             "      F12 or P screenshot, R reset view, kiosk: + / - dial the wind, Esc quit.\n"
@@ -57,7 +59,8 @@ static int parse_args(int argc, char **argv, client_args *a)
                         .height = 720,
                         .frames = 60,
                         .delay_s = 0.1,
-                        .wait_s = 30.0 };
+                        .wait_s = 30.0,
+                        .camera_preset = -1 };
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -132,6 +135,13 @@ static int parse_args(int argc, char **argv, client_args *a)
             }
         } else if (strcmp(o, "--cache") == 0) {
             a->cache_dir = v;
+        } else if (strcmp(o, "--camera") == 0) {
+            a->camera_preset = camera_preset_find(v);
+            if (a->camera_preset < 0) {
+                fprintf(stderr, "gale-client: --camera: expected %s, got \"%s\"\n",
+                        camera_preset_names(), v);
+                return -1;
+            }
         } else {
             fprintf(stderr, "gale-client: unknown option \"%s\" (see --help)\n", o);
             return -1;
@@ -246,6 +256,10 @@ int main(int argc, char **argv)
             if (w > 0 && h > 0 && (w != fw || h != fh)) {
                 render_resize(c.r, w, h, NULL);
             }
+        }
+        if (c.a.camera_preset == CAMERA_PRESET_TOUR && c.scene_ready) {
+            camera_preset_tour(&c.cam, now - start, c.w_instances, c.w.n_instances, c.w_species,
+                               c.w.n_species);
         }
         if (client_frame_draw(&c, now, &err) != 0) {
             fprintf(stderr, "gale-client: frame: %s\n", err.msg);
