@@ -12,6 +12,7 @@
 #include "asset_cache.h"
 #include "camera.h"
 #include "camera_preset.h"
+#include "caption.h"
 #include "cli_net.h"
 #include "ctl.h"
 #include "err.h"
@@ -41,6 +42,7 @@ typedef struct client_args {
     float bezel;            /* wall-tile: hidden strip / tile width */
     const char *cache_dir;
     int camera_preset;      /* enum camera_preset; -1 = fitted to the scene (camera_preset.h) */
+    const char *captions;   /* caption table file (caption.h); NULL = built-in English */
 } client_args;
 
 typedef struct client_species {
@@ -78,6 +80,7 @@ typedef struct client {
     /* the server's weather (last WEATHER frame): what the HUD names */
     wire_weather wx;
     bool have_wx;
+    caption_table captions; /* what each class does to trees and houses */
     /* the HUD text of the last frame drawn (headless runs print it) */
     char hud_text[HUD_MAX_LINES][HUD_LINE_CHARS];
     int hud_lines;

@@ -2,6 +2,7 @@
  * clock, the camera (or a wall tile's off-axis projection), the scene through gale_render
  * and the HUD over it. */
 #include <math.h>
+#include <stdio.h>
 
 #include "client.h"
 
@@ -73,6 +74,16 @@ int client_frame_draw(client *c, double now, gale_err *err)
     if (c->a.role != CTL_ROLE_WALL_TILE || (c->a.tile[0] == 0 && c->a.tile[1] == 0)) {
         hud_draw(c->hud, &hs, fb_w, fb_h);
         c->hud_lines = hud_format(&hs, c->hud_text);
+        if (c->have_wx) {
+            /* what this wind does, in plain words, along the bottom of the screen */
+            const char *cap = caption_for(&c->captions, c->wx.ss_class, c->wx.beaufort);
+            float w = hud_text_width(hud_get_font(c->hud), cap);
+            hud_draw_lines(c->hud, &cap, 1, -1, floorf(0.5f * ((float)fb_w - w) - 10.0f),
+                           0.92f * (float)fb_h - 24.0f, fb_w, fb_h);
+            if (c->hud_lines < HUD_MAX_LINES) {
+                snprintf(c->hud_text[c->hud_lines++], HUD_LINE_CHARS, "%s", cap);
+            }
+        }
     }
     if (c->got_state && hs.conn != HUD_CONN_LIVE) {
         /* the last picture stays, dimmed, under a calm word: never a crash or a desktop */

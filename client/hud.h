@@ -14,7 +14,7 @@
 #define HUD_DEFAULT_FONT "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"
 #define HUD_MAX_GLYPHS   2048 /* glyph quads per frame: the HUD uses ~200 */
 #define HUD_MAX_LINES    12
-#define HUD_LINE_CHARS   128
+#define HUD_LINE_CHARS   208 /* a caption line (caption.h) fits */
 
 /* ---- font and layout (no GL) -------------------------------------------------------- */
 

@@ -43,6 +43,7 @@ static void usage(FILE *f)
             "  --tile C,R,COLS,ROWS   wall-tile: this tile of a COLS x ROWS wall (0,0 top left)\n"
             "  --bezel F              wall-tile: hidden glass between tiles / tile width (0)\n"
             "  --cache DIR            asset cache (default $XDG_CACHE_HOME/gale)\n"
+            "  --captions FILE        caption table of another language (configs/captions/)\n"
             "  --camera NAME          street (beside the palms), garden (an oak close up),\n"
             "                         roof, aerial, or tour (each in turn, for attract mode)\n"
             "  --help                 this text\n"
@@ -135,6 +136,8 @@ static int parse_args(int argc, char **argv, client_args *a)
             }
         } else if (strcmp(o, "--cache") == 0) {
             a->cache_dir = v;
+        } else if (strcmp(o, "--captions") == 0) {
+            a->captions = v;
         } else if (strcmp(o, "--camera") == 0) {
             a->camera_preset = camera_preset_find(v);
             if (a->camera_preset < 0) {
@@ -174,6 +177,11 @@ int main(int argc, char **argv)
 
     int status = 1;
     gale_err err = { 0 };
+    caption_table_english(&c.captions);
+    if (c.a.captions && caption_table_load(c.a.captions, &c.captions, &err) != 0) {
+        fprintf(stderr, "gale-client: --captions: %s\n", err.msg);
+        return 2;
+    }
     c.wind_v = calloc((size_t)WIRE_MAX_WIND_SIDE * WIRE_MAX_WIND_SIDE * 3, sizeof(float));
     c.cache = asset_cache_create(&(asset_cache_desc){ .dir = c.a.cache_dir }, &err);
     if (!c.cache) {

@@ -4,7 +4,7 @@
  *   refusal and the fix, makes one attempt only, and writes no screenshot;
  * - a client that stops reading (SIGSTOP) is closed by the server as too slow (4008) and,
  *   once it runs again, reconnects and takes state again (tests/data/kiosk_scene.json:
- *   3000 palms, so the stream fills the socket buffers within seconds). */
+ *   1500 palms, so the stream fills the socket buffers within seconds). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -81,7 +81,19 @@ static void test_reconnect_after_slow(void)
     }
     kill(p, SIGTERM);
     CHECK(kf_wait_exit(p, 20.0) == 0);
-    CHECK(kf_log_count(log, "connects 2") == 1 || kf_log_count(log, "connects 3") == 1);
+    /* (under a loaded machine a slow llvmpipe client may be closed as slow again after
+     * reconnecting: the count of connections is not bounded here, only that it returns) */
+    FILE *f = fopen(log, "r");
+    char line[512];
+    int connects = 0;
+    while (f && fgets(line, sizeof line, f)) {
+        const char *c = strstr(line, ", connects ");
+        connects = c ? atoi(c + 11) : connects;
+    }
+    if (f) {
+        fclose(f);
+    }
+    CHECK(connects >= 2);
 }
 
 int main(void)
