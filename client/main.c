@@ -269,7 +269,9 @@ int main(int argc, char **argv)
             camera_preset_tour(&c.cam, now - start, c.w_instances, c.w.n_instances, c.w_species,
                                c.w.n_species);
         }
-        if (client_frame_draw(&c, now, &err) != 0) {
+        /* headless: no frame before there is state to draw (llvmpipe frames are slow) */
+        bool draw = !c.a.headless || c.got_state;
+        if (draw && client_frame_draw(&c, now, &err) != 0) {
             fprintf(stderr, "gale-client: frame: %s\n", err.msg);
             status = 1;
             break;
@@ -284,7 +286,9 @@ int main(int argc, char **argv)
             }
             c.want_screenshot = false;
         }
-        render_present(c.r);
+        if (draw) {
+            render_present(c.r);
+        }
         if (c.a.headless) {
             if (c.got_state && ++frames_after_state >= c.a.frames) {
                 break;
