@@ -224,6 +224,7 @@ int main(int argc, char **argv)
     const double start = mono_s();
     c.last_frame_s = start;
     int frames_after_state = 0, fps_frames = 0;
+    double state_t0 = -1.0; /* when state first arrived */
     double fps_t0 = start;
     status = 0;
     while (!quit_flag && !(win && glfwWindowShouldClose(win))) {
@@ -269,8 +270,12 @@ int main(int argc, char **argv)
             camera_preset_tour(&c.cam, now - start, c.w_instances, c.w.n_instances, c.w_species,
                                c.w.n_species);
         }
-        /* headless: no frame before there is state to draw (llvmpipe frames are slow) */
-        bool draw = !c.a.headless || c.got_state;
+        /* headless: no frame before there is state to draw (llvmpipe frames are slow), nor
+         * before the server's weather that follows its keyframe (the HUD names it) */
+        if (c.got_state && state_t0 < 0.0) {
+            state_t0 = now;
+        }
+        bool draw = !c.a.headless || (c.got_state && (c.have_wx || now - state_t0 > 1.0));
         if (draw && client_frame_draw(&c, now, &err) != 0) {
             fprintf(stderr, "gale-client: frame: %s\n", err.msg);
             status = 1;
@@ -290,7 +295,7 @@ int main(int argc, char **argv)
             render_present(c.r);
         }
         if (c.a.headless) {
-            if (c.got_state && ++frames_after_state >= c.a.frames) {
+            if (draw && ++frames_after_state >= c.a.frames) {
                 break;
             }
             if (!c.got_state && now - start > c.a.wait_s) {

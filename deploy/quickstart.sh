@@ -77,7 +77,7 @@ trap - EXIT
 cat <<EOF
 
 gale: next, try
-  ./build/server/gale-server --kiosk-token-file $token_file --scenario configs/scenarios/andrew1992.json --start-min -40 --replay-speed 10
+  ./build/server/gale-server --port $port --kiosk-token-file $token_file --scenario configs/scenarios/andrew1992.json --start-min -40 --replay-speed 10
   ./build/client/gale-client --url $url --role kiosk --token \$(cat $token_file) --camera street
   ./build/client/gale-ctl --url $url --token-file $token_file wind --speed 50 --dir 90
   ./build/client/gale-ctl --url $url --token-file $token_file replay --at landfall --speed 10
