@@ -13,6 +13,7 @@
 #include "camera.h"
 #include "camera_preset.h"
 #include "caption.h"
+#include "attract.h"
 #include "cli_net.h"
 #include "ctl.h"
 #include "err.h"
@@ -43,6 +44,7 @@ typedef struct client_args {
     const char *cache_dir;
     int camera_preset;      /* enum camera_preset; -1 = fitted to the scene (camera_preset.h) */
     const char *captions;   /* caption table file (caption.h); NULL = built-in English */
+    double attract_s;       /* kiosk: idle seconds before attract mode; 0 = default 90 */
 } client_args;
 
 typedef struct client_species {
@@ -94,7 +96,8 @@ typedef struct client {
     int drag; /* 0 none, 1 orbit, 2 pan */
     bool want_screenshot;
     bool fullscreen;
-    double tour_t0_s; /* --camera tour: when the tour began */
+    double tour_t0_s; /* --camera tour, attract mode: when the tour began */
+    attract attract;  /* kiosk: attract mode after idle (attract.h) */
     int win_pos[2], win_size[2];
 } client;
 
@@ -140,6 +143,8 @@ void client_input_screenshot_name(char *buf, size_t cap);
 /* Kiosk role only: moves the wind dial by delta [m/s] (starting from the streamed speed,
  * kept within 0..100) and sends the command with the kiosk token; failures are logged. */
 void client_kiosk_dial(client *c, float delta_ms);
+/* Kiosk role only: releases the kiosk's dial (attract mode); failures are logged. */
+void client_kiosk_release(client *c);
 
 /* ---- client_frame.c ---- */
 

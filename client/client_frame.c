@@ -85,6 +85,12 @@ int client_frame_draw(client *c, double now, gale_err *err)
             }
         }
     }
+    if (c->attract.active) {
+        const char *line = "Touch the screen to control the wind";
+        float w = hud_text_width(hud_get_font(c->hud), line);
+        hud_draw_lines(c->hud, &line, 1, 0, floorf(0.5f * ((float)fb_w - w) - 10.0f),
+                       0.80f * (float)fb_h - 24.0f, fb_w, fb_h);
+    }
     if (c->got_state && hs.conn != HUD_CONN_LIVE) {
         /* the last picture stays, dimmed, under a calm word: never a crash or a desktop */
         hud_draw_veil(c->hud, "Reconnecting to the exhibit\xE2\x80\xA6", fb_w, fb_h);

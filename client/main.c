@@ -44,6 +44,8 @@ static void usage(FILE *f)
             "  --bezel F              wall-tile: hidden glass between tiles / tile width (0)\n"
             "  --cache DIR            asset cache (default $XDG_CACHE_HOME/gale)\n"
             "  --captions FILE        caption table of another language (configs/captions/)\n"
+            "  --attract S            kiosk: after S s without a touch (default 90) release the\n"
+            "                         dial and tour the cameras; a touch wakes it\n"
             "  --camera NAME          street (beside the palms), garden (an oak close up),\n"
             "                         roof, aerial, or tour (each in turn, for attract mode)\n"
             "  --help                 this text\n"
@@ -136,6 +138,12 @@ static int parse_args(int argc, char **argv, client_args *a)
             }
         } else if (strcmp(o, "--cache") == 0) {
             a->cache_dir = v;
+        } else if (strcmp(o, "--attract") == 0) {
+            a->attract_s = atof(v);
+            if (!(a->attract_s >= 1.0 && a->attract_s <= 86400.0)) {
+                fprintf(stderr, "gale-client: --attract: expected 1..86400 s, got \"%s\"\n", v);
+                return -1;
+            }
         } else if (strcmp(o, "--captions") == 0) {
             a->captions = v;
         } else if (strcmp(o, "--camera") == 0) {
@@ -222,6 +230,7 @@ int main(int argc, char **argv)
     }
 
     const double start = mono_s();
+    attract_init(&c.attract, c.a.attract_s, start);
     c.last_frame_s = start;
     int frames_after_state = 0, fps_frames = 0;
     double state_t0 = -1.0; /* when state first arrived */
@@ -266,7 +275,15 @@ int main(int argc, char **argv)
                 render_resize(c.r, w, h, NULL);
             }
         }
-        if (c.a.camera_preset == CAMERA_PRESET_TOUR && c.scene_ready) {
+        if (win && c.a.role == CTL_ROLE_KIOSK && attract_tick(&c.attract, now)) {
+            /* nobody at the kiosk: let the scenario's wind return, tour the cameras */
+            client_kiosk_release(&c);
+            c.tour_t0_s = now;
+        }
+        if (c.attract.active && c.scene_ready) {
+            camera_preset_tour(&c.cam, now - c.tour_t0_s, c.w_instances, c.w.n_instances,
+                               c.w_species, c.w.n_species);
+        } else if (c.a.camera_preset == CAMERA_PRESET_TOUR && c.scene_ready) {
             camera_preset_tour(&c.cam, now - start, c.w_instances, c.w.n_instances, c.w_species,
                                c.w.n_species);
         }
