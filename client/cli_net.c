@@ -56,6 +56,7 @@ struct cli_net {
 
     jitter_clock clock;
     double next_ping_s, backoff_s;
+    double attempt_s; /* when the current connection attempt began (CONNECTING, HELLO) */
     uint32_t ping_id;
     double last_log_s;
     uint64_t suppressed_logs;
@@ -119,9 +120,20 @@ static void set_lost(cli_net *n, int code, const char *why)
     n->ws = NULL;
     n->tx_count = 0;
     n->kill = false;
+    n->st.last_close = code;
+    if (code == WIRE_CLOSE_BAD_TOKEN) {
+        /* the server's error message (last_error) says which: wrong, none, or disabled */
+        n->st.state = CLI_NET_REFUSED;
+        if (strncmp(n->st.last_error, "server: ", 8) != 0) {
+            snprintf(n->st.last_error, sizeof n->st.last_error, "%s", why);
+        }
+        if (n->h.on_lost) {
+            n->h.on_lost(n->h.user, code, why);
+        }
+        return;
+    }
     n->st.state = CLI_NET_BACKOFF;
     n->st.attempt++;
-    n->st.last_close = code;
     snprintf(n->st.last_error, sizeof n->st.last_error, "%s", why);
     /* doubling backoff with ±20 % spread so many clients do not return in step */
     double spread = 0.8 + 0.4 * (double)(rand() % 1000) / 1000.0;
@@ -209,6 +221,14 @@ static void handle_binary(cli_net *n, const uint8_t *buf, size_t len, double now
 static int ws_callback(cli_net *n, struct lws *wsi, enum lws_callback_reasons reason, void *in,
                        size_t len)
 {
+    /* A socket this client gave up on (set_lost, or an attempt past its timeout) may still
+     * report its end later: it must not end the connection that replaced it. Only an
+     * attempt that connect_ws has not yet seen returned (n->ws NULL while CONNECTING) is
+     * current besides n->ws. */
+    bool current = wsi == n->ws || (!n->ws && n->st.state == CLI_NET_CONNECTING);
+    if (!current) {
+        return reason == LWS_CALLBACK_CLIENT_WRITEABLE ? -1 : 0;
+    }
     switch (reason) {
     case LWS_CALLBACK_CLIENT_CONNECTION_ERROR: {
         char why[160];
@@ -506,6 +526,7 @@ static void connect_ws(cli_net *n)
     jitter_clock_init(&n->clock);
     n->st.last_close = 0;
     n->st.state = CLI_NET_CONNECTING;
+    n->attempt_s = mono_s();
     struct lws_client_connect_info i;
     memset(&i, 0, sizeof i);
     i.context = n->ctx;
@@ -527,6 +548,19 @@ static void connect_ws(cli_net *n)
 
 void cli_net_poll(cli_net *n, double now_s)
 {
+    if ((n->st.state == CLI_NET_CONNECTING || n->st.state == CLI_NET_HELLO) &&
+        now_s - n->attempt_s > CLI_NET_CONNECT_TIMEOUT_S) {
+        /* a handshake or hello that never finishes: drop that socket, try anew */
+        struct lws *stale = n->ws;
+        char why[96];
+        snprintf(why, sizeof why, "no %s within %.0f s",
+                 n->st.state == CLI_NET_HELLO ? "welcome" : "connection",
+                 CLI_NET_CONNECT_TIMEOUT_S);
+        set_lost(n, 0, why);
+        if (stale) {
+            lws_set_timeout(stale, PENDING_TIMEOUT_CLOSE_ACK, LWS_TO_KILL_ASYNC);
+        }
+    }
     if (n->st.state == CLI_NET_IDLE ||
         (n->st.state == CLI_NET_BACKOFF && now_s >= n->st.retry_at_s)) {
         connect_ws(n);

@@ -22,7 +22,13 @@ enum cli_net_state {
     CLI_NET_HELLO,      /* hello sent, waiting for welcome */
     CLI_NET_LIVE,       /* welcome received; state frames flowing */
     CLI_NET_BACKOFF,    /* connection lost or refused; waiting to retry */
+    CLI_NET_REFUSED,    /* the server refused the kiosk token (close 4007): an operator's
+                           error that retrying cannot mend; no further attempts */
 };
+
+/* A connection that has not finished its handshake (CONNECTING) or got no welcome
+ * (HELLO) this long after it began is abandoned and retried [s]. */
+#define CLI_NET_CONNECT_TIMEOUT_S 10.0
 
 /* What the application hears, called from inside cli_net_poll / cli_net_fetch (the welcome and
  * frames are borrowed for the call). Any may be NULL. */

@@ -12,6 +12,9 @@
 #include "asset.h"
 #include "asset_cache.h"
 #include "camera.h"
+#include "camera_preset.h"
+#include "caption.h"
+#include "attract.h"
 #include "cli_net.h"
 #include "ctl.h"
 #include "damage_view.h"
@@ -50,6 +53,9 @@ typedef struct client_args {
     float rate_hz;          /* --rate: the wall group's frame rate (first tile's counts) */
     int budget_ms;          /* --budget: longest wait for the group's swap */
     const char *frame_log;  /* --frame-log FILE: "mono_us server_us_rendered frame_no" */
+    int camera_preset;      /* enum camera_preset; -1 = fitted to the scene (camera_preset.h) */
+    const char *captions;   /* caption table file (caption.h); NULL = built-in English */
+    double attract_s;       /* kiosk: idle seconds before attract mode; 0 = default 90 */
 } client_args;
 
 /* This tile's part of its wall group (client_wall_group.c, PROTOCOL.md "Wall groups"). */
@@ -112,6 +118,13 @@ typedef struct client {
     bool have_wind;
     float wind_ms;
     float kiosk_speed_ms; /* kiosk dial */
+    /* the server's weather (last WEATHER frame): what the HUD names */
+    wire_weather wx;
+    bool have_wx;
+    caption_table captions; /* what each class does to trees and houses */
+    /* the HUD text of the last frame drawn (headless runs print it) */
+    char hud_text[HUD_MAX_LINES][HUD_LINE_CHARS];
+    int hud_lines;
 
     /* storm damage of the scene (DAMAGE frames), kept from the welcome on so the whole
      * state after the first keyframe is not lost while assets load */
@@ -126,6 +139,8 @@ typedef struct client {
     int drag; /* 0 none, 1 orbit, 2 pan */
     bool want_screenshot;
     bool fullscreen;
+    double tour_t0_s; /* --camera tour, attract mode: when the tour began */
+    attract attract;  /* kiosk: attract mode after idle (attract.h) */
     int win_pos[2], win_size[2];
 } client;
 
@@ -177,6 +192,8 @@ void client_input_screenshot_name(char *buf, size_t cap);
 /* Kiosk role only: moves the wind dial by delta [m/s] (starting from the streamed speed,
  * kept within 0..100) and sends the command with the kiosk token; failures are logged. */
 void client_kiosk_dial(client *c, float delta_ms);
+/* Kiosk role only: releases the kiosk's dial (attract mode); failures are logged. */
+void client_kiosk_release(client *c);
 
 /* ---- client_wall.c ---- */
 

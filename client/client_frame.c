@@ -2,6 +2,7 @@
  * clock, the camera (or a wall tile's off-axis projection), the scene through gale_render
  * and the HUD over it. */
 #include <math.h>
+#include <stdio.h>
 
 #include "client.h"
 
@@ -68,9 +69,33 @@ int client_frame_draw(client *c, double now, gale_err *err)
         .delay_ms = (float)(c->a.delay_s * 1e3),
         .frames_bad = ns.frames_bad,
         .role = ctl_role_name(c->a.role),
+        .wx = c->have_wx ? &c->wx : NULL,
+        /* camera yaw is counter-clockwise from +x (east); a heading clockwise from north */
+        .view_heading_deg = 90.0f - c->cam.yaw * 57.29578f,
     };
     if (c->hud_on) {
         hud_draw(c->hud, &hs, fb_w, fb_h);
+        c->hud_lines = hud_format(&hs, c->hud_text);
+        if (c->have_wx) {
+            /* what this wind does, in plain words, along the bottom of the screen */
+            const char *cap = caption_for(&c->captions, c->wx.ss_class, c->wx.beaufort);
+            float w = hud_text_width(hud_get_font(c->hud), cap);
+            hud_draw_lines(c->hud, &cap, 1, -1, floorf(0.5f * ((float)fb_w - w) - 10.0f),
+                           0.92f * (float)fb_h - 24.0f, fb_w, fb_h);
+            if (c->hud_lines < HUD_MAX_LINES) {
+                snprintf(c->hud_text[c->hud_lines++], HUD_LINE_CHARS, "%s", cap);
+            }
+        }
+    }
+    if (c->attract.active) {
+        const char *line = "Touch the screen to control the wind";
+        float w = hud_text_width(hud_get_font(c->hud), line);
+        hud_draw_lines(c->hud, &line, 1, 0, floorf(0.5f * ((float)fb_w - w) - 10.0f),
+                       0.80f * (float)fb_h - 24.0f, fb_w, fb_h);
+    }
+    if (c->got_state && hs.conn != HUD_CONN_LIVE) {
+        /* the last picture stays, dimmed, under a calm word: never a crash or a desktop */
+        hud_draw_veil(c->hud, "Reconnecting to the exhibit\xE2\x80\xA6", fb_w, fb_h);
     }
     return 0;
 }

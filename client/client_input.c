@@ -7,6 +7,7 @@
 #include <time.h>
 
 #include "client.h"
+#include "mono.h"
 
 void client_input_screenshot_name(char *buf, size_t cap)
 {
@@ -34,12 +35,22 @@ static void toggle_fullscreen(client *c, GLFWwindow *win)
     c->fullscreen = !c->fullscreen;
 }
 
+/* A touch, key or wheel: true when it only woke the kiosk from attract mode. */
+static bool woke(client *c)
+{
+    if (!attract_input(&c->attract, mono_s())) {
+        return false;
+    }
+    client_scene_reset_camera(c); /* back from the tour to the kiosk's own view */
+    return true;
+}
+
 static void key_cb(GLFWwindow *win, int key, int scancode, int action, int mods)
 {
     client *c = glfwGetWindowUserPointer(win);
     (void)scancode;
     (void)mods;
-    if (action != GLFW_PRESS) {
+    if (action != GLFW_PRESS || woke(c)) {
         return;
     }
     switch (key) {
@@ -73,6 +84,9 @@ static void mouse_cb(GLFWwindow *win, int button, int action, int mods)
 {
     client *c = glfwGetWindowUserPointer(win);
     (void)mods;
+    if (action == GLFW_PRESS && woke(c)) {
+        return;
+    }
     if (action == GLFW_PRESS) {
         c->drag = button == GLFW_MOUSE_BUTTON_LEFT ? 1 : button == GLFW_MOUSE_BUTTON_RIGHT ? 2 : 0;
         glfwGetCursorPos(win, &c->cursor[0], &c->cursor[1]);
@@ -103,6 +117,9 @@ static void scroll_cb(GLFWwindow *win, double xoff, double yoff)
 {
     client *c = glfwGetWindowUserPointer(win);
     (void)xoff;
+    if (woke(c)) {
+        return;
+    }
     if (c->a.role != CTL_ROLE_WALL_TILE) {
         camera_zoom(&c->cam, (float)yoff);
     }

@@ -23,3 +23,19 @@ void client_kiosk_dial(client *c, float delta_ms)
         fprintf(stderr, "gale-client: wind dialled to %.0f m/s\n", (double)c->kiosk_speed_ms);
     }
 }
+
+void client_kiosk_release(client *c)
+{
+    if (c->a.role != CTL_ROLE_KIOSK) {
+        return;
+    }
+    ctl_wind w = { .release = true };
+    snprintf(w.token, sizeof w.token, "%s", c->a.token ? c->a.token : "");
+    gale_err err = { 0 };
+    if (cli_net_send_wind(c->net, &w, &err) != 0) {
+        fprintf(stderr, "gale-client: release: %s\n", err.msg);
+    } else {
+        fprintf(stderr, "gale-client: attract mode: dial released, touring the cameras\n");
+    }
+    c->kiosk_speed_ms = 0.0f;
+}

@@ -10,6 +10,11 @@
 
 void client_scene_reset_camera(client *c)
 {
+    if (c->a.camera_preset >= 0) {
+        camera_preset_apply(&c->cam, c->a.camera_preset, c->w_instances, c->w.n_instances,
+                            c->w_species, c->w.n_species);
+        return;
+    }
     float centre[3] = { 0, 0, 0 }, radius = 10.0f;
     uint32_t n = c->w.n_instances;
     for (uint32_t i = 0; i < n; i++) {

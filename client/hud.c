@@ -18,7 +18,8 @@
 #define ATLAS_H    512
 #define OVERSAMPLE 2
 
-static const int extra_codepoints[] = { 0x00B0, 0x00B7, 0x00B1, 0x2013, 0x2014 };
+static const int extra_codepoints[] = { 0x00B0, 0x00B7, 0x00B1, 0x2013, 0x2014, 0x2026,
+                                        0x00D7 };
 #define N_ASCII 95 /* 32..126 */
 #define N_EXTRA ((int)(sizeof extra_codepoints / sizeof extra_codepoints[0]))
 
@@ -252,10 +253,89 @@ const char *hud_beaufort_name(int force)
     return wind_scale_beaufort_title(force);
 }
 
+const char *hud_compass_point(float bearing_deg)
+{
+    static const char *const pts[16] = { "N", "NNE", "NE", "ENE", "E", "ESE", "SE", "SSE",
+                                         "S", "SSW", "SW", "WSW", "W", "WNW", "NW", "NNW" };
+    if (!isfinite(bearing_deg)) {
+        return "?";
+    }
+    double b = fmod((double)bearing_deg, 360.0);
+    b = b < 0.0 ? b + 360.0 : b;
+    return pts[(int)floor(b / 22.5 + 0.5) % 16];
+}
+
+/* "HH:MM" of minutes since the epoch (UTC) plus an offset, and its date "YYYY-MM-DD". */
+static void civil(long long min, char *date, size_t dcap, char *hm, size_t hcap)
+{
+    long long days = min >= 0 ? min / 1440 : -((-min + 1439) / 1440);
+    long long rem = min - days * 1440;
+    /* days since 1970-01-01 → civil date (Hinnant's days_from_civil inverse) */
+    long long z = days + 719468;
+    long long era = (z >= 0 ? z : z - 146096) / 146097;
+    long long doe = z - era * 146097;
+    long long yoe = (doe - doe / 1460 + doe / 36524 - doe / 146096) / 365;
+    long long y = yoe + era * 400, doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    long long mp = (5 * doy + 2) / 153, d = doy - (153 * mp + 2) / 5 + 1;
+    long long m = mp < 10 ? mp + 3 : mp - 9;
+    y += m <= 2;
+    snprintf(date, dcap, "%04lld-%02lld-%02lld", y, m, d);
+    snprintf(hm, hcap, "%02lld:%02lld", rem / 60, rem % 60);
+}
+
+/* The lines of the server's weather: wind, class, direction, and a replay's storm. */
+static int format_weather(const wire_weather *w, char lines[HUD_MAX_LINES][HUD_LINE_CHARS])
+{
+    int n = 0;
+    double v = (double)w->sustained_ms;
+    snprintf(lines[n++], HUD_LINE_CHARS,
+             "Wind %.1f m/s \xC2\xB7 %.0f km/h \xC2\xB7 %.0f mph \xC2\xB7 gusts %.0f m/s", v,
+             v * 3.6, v / 0.44704, (double)w->gust_ms);
+    int cls = (int)w->ss_class; /* the server's class (wind_scale.h numbering) */
+    if (cls >= WIND_SCALE_TS) {
+        snprintf(lines[n++], HUD_LINE_CHARS, "%s", wind_scale_ss_title(cls));
+    } else {
+        snprintf(lines[n++], HUD_LINE_CHARS, "%s \xC2\xB7 Beaufort %d",
+                 wind_scale_beaufort_title(w->beaufort), (int)w->beaufort);
+    }
+    snprintf(lines[n++], HUD_LINE_CHARS, "From the %s (%.0f\xC2\xB0)%s",
+             hud_compass_point(w->dir_from_deg), (double)w->dir_from_deg,
+             (w->flags & WIRE_WEATHER_DIAL) ? " \xC2\xB7 dialled at the kiosk" : "");
+    if (w->flags & WIRE_WEATHER_STORM) {
+        char clock[96] = "";
+        if (w->flags & WIRE_WEATHER_CLOCK) {
+            char d[32], hm[24], ld[32], lhm[24];
+            civil((long long)w->utc_min, d, sizeof d, hm, sizeof hm);
+            civil((long long)w->utc_min + w->utc_offset_min, ld, sizeof ld, lhm, sizeof lhm);
+            snprintf(clock, sizeof clock, " \xC2\xB7 %s %s UTC (%s local)", d, hm, lhm);
+        }
+        snprintf(lines[n++], HUD_LINE_CHARS, "%s%s", w->name[0] ? w->name : "Storm", clock);
+        snprintf(lines[n++], HUD_LINE_CHARS,
+                 "Eye %.0f km %s \xC2\xB7 %.0f hPa \xC2\xB7 storm %s",
+                 (double)w->distance_km, hud_compass_point(w->bearing_deg),
+                 (double)w->central_hpa,
+                 w->storm_class < WIND_SCALE_SS_COUNT ? wind_scale_ss_abbrev(w->storm_class) : "?");
+        int pos = (int)w->replay_pos_s, len = (int)w->replay_len_s;
+        if (len > 0) {
+            snprintf(lines[n++], HUD_LINE_CHARS, "Replay %d:%02d / %d:%02d \xC2\xB7 \xC3\x97%.0f%s",
+                     pos / 60, pos % 60, len / 60, len % 60, (double)w->replay_speed,
+                     (w->flags & WIRE_WEATHER_FINISHED) ? " \xC2\xB7 ended" : "");
+        } else {
+            snprintf(lines[n++], HUD_LINE_CHARS, "Replay %d:%02d \xC2\xB7 \xC3\x97%.0f (looping)",
+                     pos / 60, pos % 60, (double)w->replay_speed);
+        }
+    } else if (w->name[0]) {
+        snprintf(lines[n++], HUD_LINE_CHARS, "%s", w->name);
+    }
+    return n;
+}
+
 int hud_format(const hud_state *s, char lines[HUD_MAX_LINES][HUD_LINE_CHARS])
 {
     int n = 0;
-    if (s->have_wind) {
+    if (s->wx) {
+        n = format_weather(s->wx, lines);
+    } else if (s->have_wind) {
         float v = s->wind_ms;
         snprintf(lines[n++], HUD_LINE_CHARS, "Wind %.1f m/s \xC2\xB7 %.0f km/h \xC2\xB7 %.0f mph",
                  (double)v, (double)v * 3.6, (double)v / 0.44704);
@@ -532,8 +612,75 @@ void hud_draw_lines(hud *h, const char *const *lines, int n, int accent_line, fl
     glUseProgram(0);
 }
 
+static void push_tri(hud *h, const float p[6], const float rgba[4])
+{
+    if (h->n_verts + 3 > HUD_MAX_VERTS) {
+        return;
+    }
+    for (int i = 0; i < 3; i++) {
+        float *v = h->verts + (size_t)h->n_verts * VERT_FLOATS;
+        v[0] = p[2 * i];
+        v[1] = p[2 * i + 1];
+        v[2] = -1.0f;
+        v[3] = 0.0f;
+        memcpy(v + 4, rgba, 4 * sizeof(float));
+        h->n_verts++;
+    }
+}
+
+/* The wind arrow in the top-right corner: a disc-like panel and an arrow pointing where the
+ * wind blows (downwind), relative to the view, longer with the class. */
+static void draw_arrow(hud *h, const hud_state *s, int fb_w, int fb_h)
+{
+    const float r = 2.6f * h->font->px, margin = 0.8f * h->font->px;
+    const float cx = (float)fb_w - margin - r, cy = margin + r;
+    const float panel[4] = { 0.05f, 0.07f, 0.10f, 0.62f };
+    const float ink[4] = { 1.0f, 0.80f, 0.30f, 1.0f };
+    h->n_verts = 0;
+    /* a 16-gon panel */
+    for (int i = 0; i < 16; i++) {
+        float a0 = (float)i * 0.3926991f, a1 = (float)(i + 1) * 0.3926991f;
+        const float t[6] = { cx, cy, cx + r * cosf(a0), cy + r * sinf(a0), cx + r * cosf(a1),
+                             cy + r * sinf(a1) };
+        push_tri(h, t, panel);
+    }
+    /* downwind bearing relative to the view; screen: up = ahead, y down */
+    float rel = (s->wx->dir_from_deg + 180.0f - s->view_heading_deg) * 0.017453292f;
+    float ux = sinf(rel), uy = -cosf(rel); /* unit along the arrow on screen */
+    float px = -uy, py = ux;               /* across it */
+    float len = r * (0.55f + 0.06f * (float)s->wx->ss_class), half = 0.22f * r;
+    const float head[6] = { cx + ux * len, cy + uy * len, cx - ux * 0.1f * r + px * half,
+                            cy - uy * 0.1f * r + py * half, cx - ux * 0.1f * r - px * half,
+                            cy - uy * 0.1f * r - py * half };
+    const float w = 0.08f * r;
+    const float q0[6] = { cx + px * w, cy + py * w, cx - ux * len + px * w, cy - uy * len + py * w,
+                          cx - ux * len - px * w, cy - uy * len - py * w };
+    const float q1[6] = { cx + px * w, cy + py * w, cx - ux * len - px * w, cy - uy * len - py * w,
+                          cx - px * w, cy - py * w };
+    push_tri(h, head, ink);
+    push_tri(h, q0, ink);
+    push_tri(h, q1, ink);
+    glUseProgram(h->prog);
+    glUniform2f(h->u_size, (float)fb_w, (float)fb_h);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    glViewport(0, 0, fb_w, fb_h);
+    glBindVertexArray(h->vao);
+    glBindBuffer(GL_ARRAY_BUFFER, h->vbo);
+    glBufferSubData(GL_ARRAY_BUFFER, 0,
+                    (GLsizeiptr)((size_t)h->n_verts * VERT_FLOATS * sizeof(float)), h->verts);
+    glDrawArrays(GL_TRIANGLES, 0, (GLsizei)h->n_verts);
+    glBindVertexArray(0);
+    glUseProgram(0);
+}
+
 void hud_draw(hud *h, const hud_state *s, int fb_w, int fb_h)
 {
+    if (s->wx && fb_w > 0 && fb_h > 0) {
+        draw_arrow(h, s, fb_w, fb_h);
+    }
     char lines[HUD_MAX_LINES][HUD_LINE_CHARS];
     const char *ptrs[HUD_MAX_LINES];
     int n = hud_format(s, lines);
@@ -541,5 +688,33 @@ void hud_draw(hud *h, const hud_state *s, int fb_w, int fb_h)
         ptrs[i] = lines[i];
     }
     float margin = 0.8f * h->font->px;
-    hud_draw_lines(h, ptrs, n, s->have_wind ? 1 : -1, margin, margin, fb_w, fb_h);
+    hud_draw_lines(h, ptrs, n, s->have_wind || s->wx ? 1 : -1, margin, margin, fb_w, fb_h);
+}
+
+void hud_draw_veil(hud *h, const char *text, int fb_w, int fb_h)
+{
+    if (fb_w <= 0 || fb_h <= 0) {
+        return;
+    }
+    const float veil[4] = { 0.02f, 0.03f, 0.05f, 0.55f };
+    h->n_verts = 0;
+    push_rect(h, 0.0f, 0.0f, (float)fb_w, (float)fb_h, -1, 0, -1, 0, veil);
+    glUseProgram(h->prog);
+    glUniform2f(h->u_size, (float)fb_w, (float)fb_h);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    glViewport(0, 0, fb_w, fb_h);
+    glBindVertexArray(h->vao);
+    glBindBuffer(GL_ARRAY_BUFFER, h->vbo);
+    glBufferSubData(GL_ARRAY_BUFFER, 0,
+                    (GLsizeiptr)((size_t)h->n_verts * VERT_FLOATS * sizeof(float)), h->verts);
+    glDrawArrays(GL_TRIANGLES, 0, (GLsizei)h->n_verts);
+    glBindVertexArray(0);
+    glUseProgram(0);
+    const float w = hud_text_width(h->font, text) + 1.2f * h->font->px;
+    const char *lines[1] = { text };
+    hud_draw_lines(h, lines, 1, 0, floorf(0.5f * ((float)fb_w - w)),
+                   floorf(0.5f * (float)fb_h - h->font->px), fb_w, fb_h);
 }

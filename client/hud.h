@@ -9,17 +9,18 @@
 #include <stdint.h>
 
 #include "err.h"
+#include "wire.h"
 
 #define HUD_DEFAULT_FONT "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"
 #define HUD_MAX_GLYPHS   2048 /* glyph quads per frame: the HUD uses ~200 */
-#define HUD_MAX_LINES    8
-#define HUD_LINE_CHARS   128
+#define HUD_MAX_LINES    12
+#define HUD_LINE_CHARS   208 /* a caption line (caption.h) fits */
 
 /* ---- font and layout (no GL) -------------------------------------------------------- */
 
 typedef struct hud_font hud_font;
 
-/* Reads a TrueType file and bakes printable ASCII plus ° · – — ± at px pixels (em height)
+/* Reads a TrueType file and bakes printable ASCII plus ° · – — ± … × at px pixels (em height)
  * into a one-channel atlas. NULL with err on a missing or unreadable font. Free with
  * hud_font_unload. */
 hud_font *hud_font_load(const char *ttf_path, float px, gale_err *err);
@@ -83,7 +84,16 @@ typedef struct hud_state {
     float delay_ms;      /* playout delay */
     uint64_t frames_bad; /* frames dropped as undecodable */
     const char *role;    /* "viewer", "kiosk", "wall-tile" (borrowed) */
+    /* The server's weather (PROTOCOL.md "WEATHER"; borrowed, NULL = none yet): when set,
+     * the wind lines, class and storm lines come from it (have_wind and wind_ms are
+     * ignored) and hud_draw adds a wind arrow. */
+    const wire_weather *wx;
+    float view_heading_deg; /* the camera's heading, clockwise from north: the arrow shows
+                               the wind relative to the view (up = straight ahead) */
 } hud_state;
+
+/* Compass point of a bearing [deg]: "N", "NNE", ... "NNW" (16 points). */
+const char *hud_compass_point(float bearing_deg);
 
 /* Formats the HUD lines into lines[HUD_MAX_LINES][HUD_LINE_CHARS]; returns the count. */
 int hud_format(const hud_state *s, char lines[HUD_MAX_LINES][HUD_LINE_CHARS]);
@@ -108,6 +118,10 @@ const hud_font *hud_get_font(const hud *h);
 /* Draws the HUD panel for s in the top-left corner of the bound framebuffer of fb_w × fb_h
  * pixels, alpha-blended, depth test off. No allocation. */
 void hud_draw(hud *h, const hud_state *s, int fb_w, int fb_h);
+
+/* The calm screen of a kiosk that lost its server: the frame under it dimmed to about
+ * half and text (e.g. "Reconnecting…") in a panel at its centre. */
+void hud_draw_veil(hud *h, const char *text, int fb_w, int fb_h);
 
 /* Draws text lines in a panel at (x, y) [px from the top left]; line accent_line (or none,
  * -1) in the accent colour. */

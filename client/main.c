@@ -52,10 +52,16 @@ static void usage(FILE *f)
             "  --frame-log FILE       one line a presented frame: mono_us server_us_rendered\n"
             "                         frame_no (CLOCK_MONOTONIC at swap, the server time shown)\n"
             "  --cache DIR            asset cache (default $XDG_CACHE_HOME/gale)\n"
+            "  --captions FILE        caption table of another language (configs/captions/)\n"
+            "  --attract S            kiosk: after S s without a touch (default 90) release the\n"
+            "                         dial and tour the cameras; a touch wakes it\n"
+            "  --camera NAME          street (beside the palms), garden (an oak close up),\n"
+            "                         roof, aerial, or tour (each in turn, for attract mode)\n"
             "  --help                 this text\n"
             "keys: left-drag orbit, right-drag pan, wheel zoom, WASD/QE fly, F11 fullscreen,\n"
             "      F12 or P screenshot, R reset view, kiosk: + / - dial the wind, Esc quit.\n"
-            "Exit status: 0 ok, 2 bad arguments, 3 no state received (headless), 1 other.\n");
+            "Exit status: 0 ok, 2 bad arguments, 3 no state received (headless), 4 kiosk\n"
+            "token refused by the server, 1 other.\n");
 }
 
 /* --tile and --wall belong to wall tiles: refused with another role; --wall alone sets it. */
@@ -98,7 +104,8 @@ static int parse_args(int argc, char **argv, client_args *a)
                         .delay_s = 0.1,
                         .wait_s = 30.0,
                         .rate_hz = 60.0f,
-                        .budget_ms = 8 };
+                        .budget_ms = 8,
+                        .camera_preset = -1 };
     bool role_given = false;
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i];
@@ -201,6 +208,21 @@ static int parse_args(int argc, char **argv, client_args *a)
             }
         } else if (strcmp(o, "--cache") == 0) {
             a->cache_dir = v;
+        } else if (strcmp(o, "--attract") == 0) {
+            a->attract_s = atof(v);
+            if (!(a->attract_s >= 1.0 && a->attract_s <= 86400.0)) {
+                fprintf(stderr, "gale-client: --attract: expected 1..86400 s, got \"%s\"\n", v);
+                return -1;
+            }
+        } else if (strcmp(o, "--captions") == 0) {
+            a->captions = v;
+        } else if (strcmp(o, "--camera") == 0) {
+            a->camera_preset = camera_preset_find(v);
+            if (a->camera_preset < 0) {
+                fprintf(stderr, "gale-client: --camera: expected %s, got \"%s\"\n",
+                        camera_preset_names(), v);
+                return -1;
+            }
         } else {
             fprintf(stderr, "gale-client: unknown option \"%s\" (see --help)\n", o);
             return -1;
@@ -249,6 +271,11 @@ int main(int argc, char **argv)
 
     int status = 1;
     gale_err err = { 0 };
+    caption_table_english(&c.captions);
+    if (c.a.captions && caption_table_load(c.a.captions, &c.captions, &err) != 0) {
+        fprintf(stderr, "gale-client: --captions: %s\n", err.msg);
+        return 2;
+    }
     c.wind_v = calloc((size_t)WIRE_MAX_WIND_SIDE * WIRE_MAX_WIND_SIDE * 3, sizeof(float));
     c.cache = asset_cache_create(&(asset_cache_desc){ .dir = c.a.cache_dir }, &err);
     if (!c.cache) {
@@ -292,13 +319,25 @@ int main(int argc, char **argv)
     }
 
     const double start = mono_s();
+    attract_init(&c.attract, c.a.attract_s, start);
     c.last_frame_s = start;
     int frames_after_state = 0, fps_frames = 0;
+    double state_t0 = -1.0; /* when state first arrived */
     double fps_t0 = start;
     status = 0;
     while (!quit_flag && !(win && glfwWindowShouldClose(win))) {
         double now = mono_s();
         cli_net_poll(c.net, now);
+        if (cli_net_get_stats(c.net).state == CLI_NET_REFUSED) {
+            /* an operator's error: say what to fix, once, and stop (no retry loop) */
+            cli_net_stats ns = cli_net_get_stats(c.net);
+            fprintf(stderr,
+                    "gale-client: %s refused this kiosk: %s. Give the server's kiosk token "
+                    "with --token (gale-server --kiosk-token-file sets it); not retrying.\n",
+                    cli_net_server_name(c.net), ns.last_error);
+            status = 4;
+            break;
+        }
         if (c.scene_pending) {
             if (client_scene_setup(&c, &err) != 0) {
                 fprintf(stderr, "gale-client: scene: %s\n", err.msg);
@@ -325,8 +364,28 @@ int main(int argc, char **argv)
                 render_resize(c.r, w, h, NULL);
             }
         }
-        client_wall_group_begin(&c);
-        if (client_frame_draw(&c, now, &err) != 0) {
+        if (win && c.a.role == CTL_ROLE_KIOSK && attract_tick(&c.attract, now)) {
+            /* nobody at the kiosk: let the scenario's wind return, tour the cameras */
+            client_kiosk_release(&c);
+            c.tour_t0_s = now;
+        }
+        if (c.attract.active && c.scene_ready) {
+            camera_preset_tour(&c.cam, now - c.tour_t0_s, c.w_instances, c.w.n_instances,
+                               c.w_species, c.w.n_species);
+        } else if (c.a.camera_preset == CAMERA_PRESET_TOUR && c.scene_ready) {
+            camera_preset_tour(&c.cam, now - start, c.w_instances, c.w.n_instances, c.w_species,
+                               c.w.n_species);
+        }
+        /* headless: no frame before there is state to draw (llvmpipe frames are slow), nor
+         * before the server's weather that follows its keyframe (the HUD names it) */
+        if (c.got_state && state_t0 < 0.0) {
+            state_t0 = now;
+        }
+        bool draw = !c.a.headless || (c.got_state && (c.have_wx || now - state_t0 > 1.0));
+        if (draw) {
+            client_wall_group_begin(&c);
+        }
+        if (draw && client_frame_draw(&c, now, &err) != 0) {
             fprintf(stderr, "gale-client: frame: %s\n", err.msg);
             status = 1;
             break;
@@ -341,11 +400,13 @@ int main(int argc, char **argv)
             }
             c.want_screenshot = false;
         }
-        client_wall_group_before_present(&c);
-        render_present(c.r);
-        client_wall_group_after_present(&c);
+        if (draw) {
+            client_wall_group_before_present(&c);
+            render_present(c.r);
+            client_wall_group_after_present(&c);
+        }
         if (c.a.headless) {
-            if (c.got_state && ++frames_after_state >= c.a.frames) {
+            if (draw && ++frames_after_state >= c.a.frames) {
                 break;
             }
             if (!c.got_state && now - start > c.a.wait_s) {
@@ -359,11 +420,16 @@ int main(int argc, char **argv)
             }
         }
     }
-    if (c.a.headless && status == 0) {
+    if (c.a.headless && status == 0) { /* (a refused kiosk writes no screenshot) */
         if (c.a.screenshot && render_write_png(c.r, c.a.screenshot, &err) != 0) {
             fprintf(stderr, "gale-client: screenshot: %s\n", err.msg);
             status = 1;
         }
+        /* what a visitor would read on the last frame, for scripts (one line each) */
+        for (int i = 0; i < c.hud_lines; i++) {
+            printf("hud: %s\n", c.hud_text[i]);
+        }
+        fflush(stdout);
         if (!c.got_state) {
             cli_net_stats ns = cli_net_get_stats(c.net);
             fprintf(stderr, "gale-client: %s: no state received in %.1f s (%s)\n",

@@ -1,25 +1,40 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds, and runs the most complete thing gale does today on
-# its embedded default: bakes the default species (report + mode-shape figure), starts
-# gale-server on the embedded town-block scene, renders it with a headless gale-client,
-# puts a short gale-load run against it, and stops the server with SIGTERM.
-# Everything it writes goes to out/.
+# gale live in one command: installs what is missing and builds (progress lines here, the
+# compiler's output in out/build.log), starts gale-server on the embedded town-block scene
+# with a fresh kiosk token, then
+# - with a display: opens the kiosk window at street level (close it to stop);
+# - headless: dials a breeze, a gale, a tropical storm, Category 2 and Category 4 with
+#   gale-ctl and renders each at street level (one frame each: out/street-*.png, with
+#   the HUD text a visitor reads in out/street-*.txt);
+# and ends by printing the commands to try next. Everything it writes goes to out/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash deploy/build.sh release
 mkdir -p out
 port="${GALE_PORT:-7780}"
+url="ws://127.0.0.1:${port}"
 
-echo "== gale-bake: the default species (oak), 32 modes"
-./build/server/gale-bake --species configs/species/oak.json --modes 32 \
-    --out out/oak.gasset --report out/oak-report.json --modes-png out/oak-modes.png
+step() { printf '== %s\n' "$*"; }
 
-echo "== gale-server: embedded town-block scene on 127.0.0.1:${port}"
+step "building gale (release) … (compiler output: out/build.log)"
+if ! bash deploy/build.sh release >out/build.log 2>&1; then
+    tail -n 30 out/build.log >&2
+    echo "quickstart: the build failed; the whole log is out/build.log" >&2
+    exit 1
+fi
+step "built: build/server/gale-server, build/client/gale-client, build/client/gale-ctl"
+
+token_file=out/kiosk-token
+if [ ! -s "$token_file" ]; then
+    head -c 12 /dev/urandom | od -An -tx1 | tr -d ' \n' >"$token_file"
+    echo >>"$token_file"
+fi
+
+step "gale-server: the embedded town block on 127.0.0.1:${port} (species baked on first run)"
 ./build/server/gale-server --port "$port" --iface 127.0.0.1 --cache out/cache \
-    >out/server.log 2>&1 &
+    --kiosk-token-file "$token_file" >out/server.log 2>&1 &
 server=$!
 trap 'kill "$server" 2>/dev/null || true' EXIT
-for _ in $(seq 1 600); do
+for _ in $(seq 1 3000); do
     if grep -q "listening on port" out/server.log 2>/dev/null; then
         break
     fi
@@ -29,19 +44,43 @@ for _ in $(seq 1 600); do
     fi
     sleep 0.1
 done
-grep -v "overran" out/server.log || true
+grep -E "species|scenario|listening on 127" out/server.log || true
 
-echo "== gale-client: headless frame of the live scene -> out/gale-frame.png"
-./build/client/gale-client --url "ws://127.0.0.1:${port}" --headless --frames 90 \
-    --screenshot out/gale-frame.png
+ctl() { ./build/client/gale-ctl --url "$url" --token-file "$token_file" "$@" >/dev/null; }
 
-echo "== gale-load: 50 load clients for 10 s"
-./build/client/gale-load --url "ws://127.0.0.1:${port}" --clients 50 --seconds 10 --json \
-    | tee out/load.json
+if [ -n "${DISPLAY:-}${WAYLAND_DISPLAY:-}" ] && [ -z "${GALE_HEADLESS:-}" ]; then
+    step "gale-client: the kiosk at street level (drag to look, F11 fullscreen, Esc quits)"
+    ./build/client/gale-client --url "$url" --role kiosk --token "$(head -n1 "$token_file")" \
+        --camera street --size 1280x720 2>out/client.log || true
+else
+    step "headless: breeze → Category 4 at street level, one frame each"
+    n=0
+    for speed in 4.5 17 30 45 60; do
+        n=$((n + 1))
+        ctl wind --speed "$speed" --dir 200
+        # the dial moves the wind at 4 m/s per second (scenario dial_rate_ms2)
+        sleep "$(awk -v s="$speed" 'BEGIN { printf "%d", s / 4 + 3 }')"
+        png="out/street-${n}.png"
+        ./build/client/gale-client --url "$url" --headless --frames 1 --size 1280x720 \
+            --camera street --screenshot "$png" 2>>out/client.log | sed 's/^hud: //' \
+            >"out/street-${n}.txt"
+        printf '   %s: %s (%s)\n' "$png" "$(sed -n 2p "out/street-${n}.txt")" \
+            "$(sed -n 1p "out/street-${n}.txt")"
+    done
+    ctl release
+fi
 
-echo "== stopping the server (SIGTERM)"
+step "stopping the server"
 kill -TERM "$server"
 wait "$server" || true
 trap - EXIT
-tail -n 3 out/server.log
-echo "gale: wrote out/oak.gasset, out/oak-report.json, out/oak-modes.png, out/gale-frame.png, out/load.json"
+cat <<EOF
+
+gale: next, try
+  ./build/server/gale-server --port $port --kiosk-token-file $token_file --scenario configs/scenarios/andrew1992.json --start-min -40 --replay-speed 10
+  ./build/client/gale-client --url $url --role kiosk --token \$(cat $token_file) --camera street
+  ./build/client/gale-ctl --url $url --token-file $token_file wind --speed 50 --dir 90
+  ./build/client/gale-ctl --url $url --token-file $token_file replay --at landfall --speed 10
+  ./build/client/gale-ctl --url $url --token-file $token_file release
+  ./build/client/gale-client --url $url --headless --frames 1 --camera aerial --screenshot out/aerial.png
+EOF

@@ -71,6 +71,14 @@ typedef struct ctl_wind {
     float dir_deg;             /* direction the wind blows towards, [0, 360) from +x, ccw */
     float gust;                /* turbulence intensity, [0, 1] */
     char scenario[CTL_MAX_NAME]; /* "" = none (manual), else a scenario name from the config */
+    /* kiosk and script controls (PROTOCOL.md "wind"): release the dial, steer a replay */
+    bool release;              /* true: drop this kiosk's dial; the scripted wind resumes */
+    bool keep;                 /* true: the dial outlives this connection (a script's
+                                  command), until a release or the server's idle time */
+    bool has_replay_at, has_replay_speed;
+    float replay_at_min;       /* storm minute to jump to (0 = the track's reference,
+                                  landfall for the shipped replays), [-1e5, 1e5] */
+    float replay_speed;        /* storm seconds per server second, [1, 10000] */
 } ctl_wind;
 
 typedef struct ctl_ping {

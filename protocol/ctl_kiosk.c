@@ -7,11 +7,14 @@
 #define SPEED_MAX_MS 100.0
 #define DIR_MAX_DEG 360.0
 #define GUST_MAX 1.0
+#define REPLAY_AT_MAX_MIN 1e5
+#define REPLAY_SPEED_MAX 1e4
 
 int ctl_wind_parse(ctl_rd *c, const cJSON *o, ctl_wind *w)
 {
     static const char *const keys[] = { "type",  "token", "speed_ms", "dir_deg",
-                                        "gust",  "scenario", NULL };
+                                        "gust",  "scenario", "release", "keep",
+                                        "replay_at_min", "replay_speed", NULL };
     const json_rd *r = &c->j;
     int rc = json_check_keys(r, o, "wind", keys);
     double s = 0, d = 0, g = 0;
@@ -31,6 +34,24 @@ int ctl_wind_parse(ctl_rd *c, const cJSON *o, ctl_wind *w)
         rc = json_string(r, o, "wind", "scenario", false, NULL, w->scenario, sizeof w->scenario,
                          &w->has_scenario);
     }
+    double at = 0, sp = 0;
+    bool has_release = false;
+    if (!rc) {
+        rc = json_bool(r, o, "wind", "release", false, &w->release, &has_release);
+    }
+    if (!rc) {
+        rc = json_bool(r, o, "wind", "keep", false, &w->keep, &has_release);
+    }
+    if (!rc) {
+        rc = json_number(r, o, "wind", "replay_at_min", false, -REPLAY_AT_MAX_MIN,
+                         REPLAY_AT_MAX_MIN, &at, &w->has_replay_at);
+    }
+    if (!rc) {
+        rc = json_number(r, o, "wind", "replay_speed", false, 1, REPLAY_SPEED_MAX, &sp,
+                         &w->has_replay_speed);
+    }
+    w->replay_at_min = (float)at;
+    w->replay_speed = (float)sp;
     w->speed_ms = (float)s;
     w->dir_deg = (float)(d >= DIR_MAX_DEG ? 0 : d);
     w->gust = (float)g;
@@ -38,14 +59,19 @@ int ctl_wind_parse(ctl_rd *c, const cJSON *o, ctl_wind *w)
 }
 
 /* Checks an optional number as written (ctl_jnum) and adds it. */
-static int put_num(ctl_rd *c, cJSON *o, const char *key, float f, double hi)
+static int put_num_in(ctl_rd *c, cJSON *o, const char *key, float f, double lo, double hi)
 {
     double v = ctl_jnum(f);
-    int rc = json_check_number(&c->j, "wind", key, 0, hi, v);
+    int rc = json_check_number(&c->j, "wind", key, lo, hi, v);
     if (!rc && !ctl_add_num(o, key, v)) {
         rc = ctl_fail(c, 0, GALE_E_NOMEM, "wind: out of memory");
     }
     return rc;
+}
+
+static int put_num(ctl_rd *c, cJSON *o, const char *key, float f, double hi)
+{
+    return put_num_in(c, o, key, f, 0, hi);
 }
 
 int ctl_wind_encode(ctl_rd *c, const ctl_wind *w, cJSON *o)
@@ -71,6 +97,18 @@ int ctl_wind_encode(ctl_rd *c, const ctl_wind *w, cJSON *o)
     }
     if (w->has_scenario && !cJSON_AddStringToObject(o, "scenario", w->scenario)) {
         return ctl_fail(c, 0, GALE_E_NOMEM, "wind: out of memory");
+    }
+    if ((w->release && !cJSON_AddBoolToObject(o, "release", 1)) ||
+        (w->keep && !cJSON_AddBoolToObject(o, "keep", 1))) {
+        return ctl_fail(c, 0, GALE_E_NOMEM, "wind: out of memory");
+    }
+    if (w->has_replay_at && (rc = put_num_in(c, o, "replay_at_min", w->replay_at_min,
+                                             -REPLAY_AT_MAX_MIN, REPLAY_AT_MAX_MIN))) {
+        return rc;
+    }
+    if (w->has_replay_speed &&
+        (rc = put_num_in(c, o, "replay_speed", w->replay_speed, 1, REPLAY_SPEED_MAX))) {
+        return rc;
     }
     return 0;
 }

@@ -24,8 +24,9 @@ enum wire_msg_type {
     WIRE_MSG_DELTA = 2,    /* q relative to the previous snapshot (seq - 1) */
     WIRE_MSG_LEAVES = 3,   /* leaf seeds shed this tick */
     WIRE_MSG_WIND = 4,     /* coarse horizontal wind slice */
-    WIRE_MSG_BUNDLE = 7,   /* container: other frames of one snapshot in one message */
+    WIRE_MSG_WEATHER = 5,  /* what the exhibit shows: sustained wind, gust, class, storm */
     WIRE_MSG_DAMAGE = 6,   /* storm damage events, or the whole damage state */
+    WIRE_MSG_BUNDLE = 7,   /* container: other frames of one snapshot in one message */
 };
 
 typedef struct wire_header {
@@ -159,6 +160,49 @@ int8_t wire_wind_quantize(float v_ms, float scale_ms);
 int wire_encode_wind(const wire_header *h, const wire_wind *wind, uint8_t *buf, size_t cap,
                      size_t *len, gale_err *err);
 
+/* ---- weather (PROTOCOL.md "WEATHER") ---------------------------------------------- */
+
+#define WIRE_WEATHER_NAME_MAX 63 /* bytes of the scenario or storm name */
+
+enum wire_weather_flags {
+    WIRE_WEATHER_STORM = 1u << 0,    /* a storm is replayed: the storm fields are valid */
+    WIRE_WEATHER_DIAL = 1u << 1,     /* a kiosk dial holds the wind */
+    WIRE_WEATHER_FINISHED = 1u << 2, /* the replay reached its end and holds there */
+    WIRE_WEATHER_CLOCK = 1u << 3,    /* utc_min and utc_offset_min are valid */
+    WIRE_WEATHER_FLAGS_ALL = 0x0fu,
+};
+
+/* The weather at the scene as the server computes it (10 m above ground, scene frame x
+ * east, y north). Classes are protocol/wind_scale.h's. */
+typedef struct wire_weather {
+    float sustained_ms;   /* 1-minute sustained wind [m/s], [0, 200] */
+    float gust_ms;        /* 3-s gust: highest 3-s mean of the last 60 s [m/s], [0, 300] */
+    float dir_from_deg;   /* where the wind comes from, clockwise from north, [0, 360) */
+    uint8_t ss_class;     /* Saffir-Simpson class of sustained_ms, 0..6 */
+    uint8_t beaufort;     /* Beaufort force of sustained_ms, 0..12 */
+    uint8_t flags;        /* enum wire_weather_flags */
+    uint8_t storm_class;  /* class of the storm's own peak wind, 0..6; 255 = no storm */
+    float pressure_hpa;   /* sea-level pressure at the scene [hPa], [800, 1100] */
+    float central_hpa;    /* STORM: the eye's central pressure [hPa], [800, 1100]; else 0 */
+    float distance_km;    /* STORM: scene to eye [km], [0, 20000]; else -1 */
+    float bearing_deg;    /* STORM: direction from the scene to the eye, clockwise from
+                             north, [0, 360); else 0 */
+    uint32_t utc_min;     /* CLOCK: storm time, minutes since 1970-01-01 00:00 UTC */
+    int16_t utc_offset_min; /* CLOCK: local time = UTC + this [min], [-840, 840] */
+    float storm_min;      /* STORM: storm time from the track's reference [min] */
+    float replay_pos_s;   /* STORM: server seconds since the replay began, >= 0 */
+    float replay_len_s;   /* STORM: length of the replay [s], >= 0; 0 = endless (loops) */
+    float replay_speed;   /* STORM: storm seconds per server second, [0, 1e5] */
+    char name[WIRE_WEATHER_NAME_MAX + 1]; /* scenario name, UTF-8 without control bytes */
+} wire_weather;
+
+/* Largest WEATHER frame [bytes]. */
+#define WIRE_WEATHER_MAX_BYTES (WIRE_HEADER_BYTES + 55u + WIRE_WEATHER_NAME_MAX)
+
+/* Encodes w (fields checked against the ranges above: GALE_E_RANGE names the field).
+ * Does not allocate. */
+int wire_encode_weather(const wire_header *h, const wire_weather *w, uint8_t *buf, size_t cap,
+                        size_t *len, gale_err *err);
 /* ---- storm damage (PROTOCOL.md "DAMAGE") ------------------------------------------- */
 
 enum wire_damage_kind {
@@ -251,6 +295,7 @@ typedef struct wire_frame {
     bool damage_full;           /* DAMAGE: the events are the whole state */
     uint32_t n_damage;          /* DAMAGE */
     const wire_damage *damage;  /* DAMAGE: [n_damage] */
+    wire_weather weather;       /* WEATHER */
 } wire_frame;
 
 /* Decodes one binary frame. KEYFRAME replaces the decoder's state; DELTA applies to it.

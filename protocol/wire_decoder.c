@@ -110,6 +110,8 @@ int wire_decode_body(wire_decoder *d, wire_reader *r, const wire_header *h, wire
         rc = wire_decode_damage(r, h, d->damage, &out->n_damage, &out->damage_full, err);
         out->damage = rc ? NULL : d->damage;
         return rc;
+    case WIRE_MSG_WEATHER:
+        return wire_decode_weather(r, h, &out->weather, err);
     default: /* WIRE_MSG_WIND; wire_get_header checked the type, the callers BUNDLE */
         return wire_decode_wind(r, h, d->wind, &out->wind, err);
     }

@@ -17,6 +17,8 @@ const char *wire_type_name(unsigned type)
         return "LEAVES";
     case WIRE_MSG_WIND:
         return "WIND";
+    case WIRE_MSG_WEATHER:
+        return "WEATHER";
     case WIRE_MSG_BUNDLE:
         return "BUNDLE";
     case WIRE_MSG_DAMAGE:
@@ -60,9 +62,9 @@ int wire_get_header(wire_reader *r, wire_header *h, gale_err *err)
                          "wire: header: protocol version: expected %d, got %u",
                          WIRE_PROTOCOL_VERSION, (unsigned)h->version);
     }
-    if (h->type < WIRE_MSG_KEYFRAME || h->type > WIRE_MSG_BUNDLE || h->type == 5) {
+    if (h->type < WIRE_MSG_KEYFRAME || h->type > WIRE_MSG_BUNDLE) {
         return gale_errf(err, GALE_E_FORMAT,
-                         "wire: header: message type: expected 1..4, 6 or 7, got %u",
+                         "wire: header: message type: expected 1..7, got %u",
                          (unsigned)h->type);
     }
     if (h->flags != 0) {

@@ -49,6 +49,8 @@ int wire_decode_body(wire_decoder *d, wire_reader *r, const wire_header *h, wire
  * wire_decode_body, the state frame last. */
 int wire_decode_bundle(wire_decoder *d, wire_reader *r, const wire_header *h, wire_frame *out,
                        gale_err *err);
+int wire_decode_weather(wire_reader *r, const wire_header *h, wire_weather *out,
+                        gale_err *err);
 
 /* Short message type name for errors ("KEYFRAME", ...). */
 const char *wire_type_name(unsigned type);

@@ -285,15 +285,20 @@ static int load_hurricane(scenario *s, const cfg_doc *d, const cJSON *root, cons
     if ((rc = child(d, h, p, "site", cJSON_Object, true, &site, err)) < 0) {
         return rc;
     }
-    static const char *const site_keys[] = { "lat_deg", "lon_deg", "over_land", "label", NULL };
+    static const char *const site_keys[] = { "lat_deg", "lon_deg", "over_land", "label",
+                                             "utc_offset_min", NULL };
     char ref[32];
-    double pn_hpa, angle;
+    double pn_hpa, angle, utc_off;
     if ((rc = cfg_check_keys(d, site, sp, site_keys, err)) < 0 ||
         (rc = cfg_number(d, site, sp, "lat_deg", true, 0.0, -70.0, 70.0, &s->site_lat, err)) < 0 ||
         (rc = cfg_number(d, site, sp, "lon_deg", false, 0.0, -180.0, 180.0, &s->site_lon, err)) <
             0 ||
         (rc = cfg_bool(d, site, sp, "over_land", false, true, &s->over_land, err)) < 0 ||
         (rc = cfg_string(d, site, sp, "label", false, "", s->site_label, sizeof s->site_label,
+                         err)) < 0 ||
+        /* absent: the nautical zone of the longitude (15° an hour) */
+        (rc = cfg_number(d, site, sp, "utc_offset_min", false,
+                         60.0 * floor(s->site_lon / 15.0 + 0.5), -840.0, 840.0, &utc_off,
                          err)) < 0 ||
         (rc = cfg_string(d, h, p, "source", false, "", s->source, sizeof s->source, err)) < 0 ||
         (rc = cfg_string(d, h, p, "ref_utc", false, "", ref, sizeof ref, err)) < 0 ||
@@ -318,6 +323,7 @@ static int load_hurricane(scenario *s, const cfg_doc *d, const cJSON *root, cons
         }
         s->has_ref = true;
     }
+    s->utc_offset_min = (int)lround(utc_off);
     s->pn_pa = pn_hpa * 100.0;
     s->inflow_rad = angle * M_PI / 180.0;
     s->f = holland_coriolis(s->site_lat);
@@ -481,6 +487,8 @@ double scenario_duration_s(const scenario *s)
 void scenario_restart(scenario *s, double t_s)
 {
     s->t0 = t_s;
+    s->base_storm_s = s->start_s;
+    s->base_t = 0.0;
     s->have_last = false;
     s->ramping = false;
     s->last_dir = s->kind == SCENARIO_STEADY ? (270.0 - s->dir_from_deg) * M_PI / 180.0 : 0.0;
@@ -567,6 +575,11 @@ static void hurricane_wind(const scenario *s, double storm_s, double wind[2], sc
     }
     out->pressure_hpa = holland_pressure(&v, r) / 100.0;
     out->distance_km = r / 1000.0;
+    out->central_hpa = c.pc_pa / 100.0;
+    /* the eye seen from the scene (origin): bearing clockwise from north */
+    double b = atan2(c.x_m, c.y_m) * 180.0 / M_PI;
+    b = b < 0.0 ? b + 360.0 : b;
+    out->bearing_deg = b >= 360.0 ? 0.0 : b;
     out->storm_category = (int)saffir_classify(c.vmax_ms);
 }
 
@@ -592,7 +605,7 @@ void scenario_eval(scenario *s, double t_s, scenario_state *out)
     /* scripted wind vector at the scene [m/s], x east, y north */
     double w[2];
     if (s->kind == SCENARIO_HURRICANE) {
-        double storm_s = s->start_s + (t > 0.0 ? t : 0.0) * s->time_scale;
+        double storm_s = s->base_storm_s + (t > s->base_t ? t - s->base_t : 0.0) * s->time_scale;
         if (storm_s > s->end_s) {
             if (s->loop) {
                 storm_s = s->start_s + fmod(storm_s - s->start_s, s->end_s - s->start_s);
@@ -602,8 +615,13 @@ void scenario_eval(scenario *s, double t_s, scenario_state *out)
             }
         }
         out->storm_min = storm_s / 60.0;
+        out->replay_speed = s->time_scale;
+        out->replay_pos_s = (storm_s - s->start_s) / s->time_scale;
         hurricane_wind(s, storm_s, w, out);
         if (s->has_ref) {
+            out->utc_min = s->ref_min + (long long)floor(storm_s / 60.0);
+            out->utc_offset_min = s->utc_offset_min;
+            out->has_clock = true;
             int y, mo, d, h, mi;
             hurdat_civil_from_minutes(s->ref_min + (long long)floor(storm_s / 60.0), &y, &mo, &d,
                                       &h, &mi);
@@ -681,6 +699,39 @@ void scenario_eval(scenario *s, double t_s, scenario_state *out)
     out->category_name = saffir_name(out->category);
     out->beaufort = saffir_beaufort(speed);
     out->turbulence_intensity = s->gust_on ? s->gust.d.intensity : 0.0;
+}
+
+int scenario_replay_set(scenario *s, double t_s, bool has_at, double at_min, bool has_speed,
+                        double speed, gale_err *err)
+{
+    if (s->kind != SCENARIO_HURRICANE) {
+        return gale_errf(err, GALE_E_STATE, "scenario %s: replay: not a hurricane replay",
+                         s->name);
+    }
+    if (has_speed && !(speed >= 1.0 && speed <= 10000.0)) {
+        return gale_errf(err, GALE_E_RANGE,
+                         "scenario %s: replay speed: expected [1, 10000], got %g", s->name, speed);
+    }
+    if (has_at && !isfinite(at_min)) {
+        return gale_errf(err, GALE_E_RANGE, "scenario %s: replay at: expected a minute, got %g",
+                         s->name, at_min);
+    }
+    /* where the replay is now (as scenario_eval would put it), then the new base */
+    double t = t_s - s->t0;
+    double now_s = s->base_storm_s + (t > s->base_t ? t - s->base_t : 0.0) * s->time_scale;
+    if (now_s > s->end_s) {
+        now_s = s->loop ? s->start_s + fmod(now_s - s->start_s, s->end_s - s->start_s) : s->end_s;
+    }
+    if (has_at) {
+        now_s = at_min * 60.0;
+        now_s = now_s < s->start_s ? s->start_s : now_s > s->end_s ? s->end_s : now_s;
+    }
+    if (has_speed) {
+        s->time_scale = speed;
+    }
+    s->base_storm_s = now_s;
+    s->base_t = t;
+    return GALE_OK;
 }
 
 int scenario_set_dial(scenario *s, double sustained_ms, gale_err *err)

@@ -38,6 +38,15 @@ typedef struct scenario_state {
     int storm_category;          /* class of the storm's own Vmax on the track; -1 no storm */
     double pressure_hpa;         /* sea-level pressure at the scene (Holland p(r)) [hPa] */
     double distance_km;          /* scene to storm centre [km]; -1 when there is no storm */
+    double bearing_deg;          /* direction from the scene to the storm centre, clockwise
+                                    from north [0, 360); 0 when there is no storm */
+    double central_hpa;          /* the storm's central pressure [hPa]; 0 when no storm */
+    long long utc_min;           /* dated replay: storm time, minutes since the epoch (UTC) */
+    bool has_clock;              /* utc_min and utc_offset_min are valid */
+    int utc_offset_min;          /* the site's local time = UTC + this [min] */
+    double replay_speed;         /* replay: storm seconds per server second; 0 otherwise */
+    double replay_pos_s;         /* replay: server seconds from its window's start at the
+                                    present speed; 0 otherwise */
     double turbulence_intensity; /* I_u of the gust process, σ_u / U */
     bool override_active;        /* a kiosk dial holds the wind */
     bool finished;               /* a replay reached its end and holds its last state */
@@ -84,6 +93,12 @@ int scenario_set_category(scenario *s, saffir_class c, gale_err *err);
 int scenario_set_direction(scenario *s, double from_deg, gale_err *err);
 /* Drops the dial and direction holds; the scripted wind resumes (ramped). */
 void scenario_clear_override(scenario *s);
+/* Replay controls (a hurricane scenario; GALE_E_STATE for a steady one), from server time
+ * t_s on: with has_at, jump to storm minute at_min (clamped to the replayed window, so a
+ * replay near landfall needs no edited copy of the file); with has_speed, run at speed
+ * storm seconds per server second, in [1, 10000], from where the replay is. */
+int scenario_replay_set(scenario *s, double t_s, bool has_at, double at_min, bool has_speed,
+                        double speed, gale_err *err);
 /* Restarts the scripted timeline (a replay from its first minute) and the gust process at
  * server time t_s. Overrides are kept. */
 void scenario_restart(scenario *s, double t_s);

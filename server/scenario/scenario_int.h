@@ -42,6 +42,7 @@ struct scenario {
     char source[240];
     char site_label[96];
     double site_lat, site_lon;
+    int utc_offset_min; /* site's local time = UTC + this (site.utc_offset_min) */
     bool over_land;
     bool geo; /* track in lat/lon (else x/y km) */
     bool has_ref;
@@ -55,6 +56,8 @@ struct scenario {
 
     /* run time */
     double t0;     /* server time of the (re)start */
+    double base_storm_s, base_t; /* replay clock: storm time base_storm_s at scenario time
+                                    base_t, advancing time_scale storm s per server s */
     double last_t; /* scenario time of the previous eval */
     bool have_last;
     double last_w[2]; /* mean wind of the previous eval [m/s] */

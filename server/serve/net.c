@@ -219,8 +219,8 @@ static size_t net_bundle_cap(const net_server *s)
 }
 
 /* Sim thread, once per published snapshot (not per client): each state variant becomes a
- * BUNDLE of itself and the extras (the key extra, the whole damage state, only in the
- * keyframe's); the extras are then not sent on their own. */
+ * BUNDLE of itself and the extras (a key-only extra only in the keyframe's); the extras
+ * are then not sent on their own. */
 static void net_bundle(net_server *s, net_snap *p)
 {
     uint8_t *buf[3] = { p->key, p->delta1, p->delta2 };
@@ -229,13 +229,20 @@ static void net_bundle(net_server *s, net_snap *p)
         const uint8_t *more[NET_SNAP_MAX_EXTRA];
         size_t more_len[NET_SNAP_MAX_EXTRA];
         uint32_t n = 0;
-        /* a bundle holds one frame of each type: in the keyframe's, the key extra stands
-         * for any other extra of its type (the whole damage state includes the events) */
-        const bool key_extra = v == 0 && p->extra_len[NET_SNAP_KEY_EXTRA] > 6;
         for (int e = 0; e < NET_SNAP_MAX_EXTRA; e++) {
-            const bool shadowed = key_extra && e != NET_SNAP_KEY_EXTRA && p->extra_len[e] > 6 &&
-                                  p->extra[e][6] == p->extra[NET_SNAP_KEY_EXTRA][6];
-            if (p->extra_len[e] && (v == 0 || e != NET_SNAP_KEY_EXTRA) && !shadowed) {
+            const bool key_only = (p->extra_key_only >> e) & 1u;
+            if (!p->extra_len[e] || (key_only && v != 0)) {
+                continue;
+            }
+            /* a bundle holds one frame of each type: in the keyframe's, a key-only extra
+             * stands for any other of its type (the whole damage state holds the events) */
+            bool shadowed = false;
+            for (int k = 0; k < NET_SNAP_MAX_EXTRA && v == 0 && !key_only; k++) {
+                shadowed = shadowed || (k != e && ((p->extra_key_only >> k) & 1u) &&
+                                        p->extra_len[k] > 6 && p->extra_len[e] > 6 &&
+                                        p->extra[k][6] == p->extra[e][6]);
+            }
+            if (!shadowed) {
                 more[n] = p->extra[e];
                 more_len[n++] = p->extra_len[e];
             }
@@ -405,6 +412,7 @@ net_snap *net_snap_acquire(net_server *s)
             net_snap *p = &s->pool[i];
             p->key_len = p->delta1_len = p->delta2_len = 0;
             p->stream = 0;
+            p->extra_key_only = 0;
             for (int e = 0; e < NET_SNAP_MAX_EXTRA; e++) {
                 p->extra_len[e] = 0;
             }

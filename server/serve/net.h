@@ -25,12 +25,11 @@ enum { NET_ROLE_NONE, NET_ROLE_VIEWER, NET_ROLE_KIOSK, NET_ROLE_WALL, NET_ROLE_L
  * each encoded once and shared by every connection. A connection that holds snapshots
  * seq-1 and seq-2 gets delta2 (linear prediction from both), one that holds only seq-1
  * (it was a keyframe) gets delta1, any other (late joiner, after drops, after a resync
- * request) the keyframe. Extra messages (leaf seeds, coarse wind, damage events) follow
- * the state; extra[NET_SNAP_KEY_EXTRA] (the whole damage state) only a keyframe. Unless
+ * request) the keyframe. Extra messages (leaf seeds, coarse wind, damage, weather) follow
+ * the state; one whose bit is set in extra_key_only goes only with a keyframe. Unless
  * net_desc.separate_extras, net_publish wraps each state variant and its extras into one
  * BUNDLE and clears extra_len. */
-#define NET_SNAP_MAX_EXTRA 4
-#define NET_SNAP_KEY_EXTRA 3
+#define NET_SNAP_MAX_EXTRA 5
 typedef struct net_snap {
     atomic_int refs;        /* 0 = free in the pool */
     uint32_t seq;           /* snapshot sequence number (wire.h) */
@@ -42,6 +41,8 @@ typedef struct net_snap {
     size_t delta1_len;      /* delta against seq-1 only; 0 = none */
     size_t delta2_len;      /* delta against seq-1 and seq-2; 0 = none */
     size_t extra_len[NET_SNAP_MAX_EXTRA]; /* 0 = absent */
+    unsigned extra_key_only; /* bit e set: extra e goes only to a connection that gets this
+                                snapshot's keyframe (a joiner's first picture is complete) */
     uint8_t *key;           /* owned [cap], with LWS_PRE bytes of headroom before it */
     uint8_t *delta1;        /* owned [cap], likewise */
     uint8_t *delta2;        /* owned [cap], likewise */

@@ -348,7 +348,7 @@ int net_ws_writeable(net_server *s, net_conn *c)
     /* the key extra (the whole damage state) goes only with a keyframe */
     while (c->cur_part >= 1 && c->cur_part <= NET_SNAP_MAX_EXTRA &&
            (!p->extra_len[c->cur_part - 1] ||
-            (c->cur_part - 1 == NET_SNAP_KEY_EXTRA && !c->cur_key))) {
+            ((p->extra_key_only >> (c->cur_part - 1)) & 1u && !c->cur_key))) {
         c->cur_part++;
     }
     if (c->cur_part > NET_SNAP_MAX_EXTRA) {

@@ -34,6 +34,9 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     }
     s->d = *d;
     s->scen = d->scen;
+    if (s->d.kiosk_idle_s == 0) {
+        s->d.kiosk_idle_s = SRV_KIOSK_IDLE_S;
+    }
     pthread_mutex_init(&s->scen_lock, NULL);
     pthread_mutex_init(&s->hist_lock, NULL);
     pthread_mutex_init(&s->view_lock, NULL);
@@ -61,6 +64,9 @@ srv *srv_create(const srv_desc *d, gale_err *err)
         goto fail;
     }
     s->stride = tick_stride(s->tick);
+    weather_gust_init(&s->wx_gust);
+    s->man_inflow = (wind_inflow){ .dir_rad = sc->wind_dir_deg * 0.017453292f,
+                                   .u10_ms = sc->wind_u10_ms };
     if (s->scen) {
         const wind_ball *balls;
         int nb = scenario_balls(s->scen, &balls);

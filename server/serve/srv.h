@@ -43,6 +43,8 @@ typedef struct srv_desc {
     bool separate_extras;         /* leaves and wind as messages of their own, not inside
                                      the state's BUNDLE (net_desc.separate_extras) */
     int history;                  /* snapshots of float q kept for srv_history_q; 0 → none */
+    double kiosk_idle_s;          /* a kiosk's dial is released this long after its last
+                                     command [s]; 0 → SRV_KIOSK_IDLE_S, < 0 → never */
     double keyframe_s;            /* server time between periodic keyframes on every stream;
                                      0 → SRV_KEYFRAME_S (PROTOCOL.md "Sequence and gaps") */
 } srv_desc;

@@ -4,6 +4,7 @@
  * resync and ping, and display walls' groups (wall_group.h). */
 #include "srv_int.h"
 
+#include <ctype.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -105,6 +106,22 @@ static int kiosk_hello(srv *s, const net_peer *p, const char *token, char *why, 
     return WIRE_CLOSE_BAD_TOKEN;
 }
 
+void srv_release_dial_locked(srv *s, const char *why)
+{
+    if (s->dial_owner) {
+        fprintf(stderr, "gale-server: conn %u: kiosk dial released (%s)\n", s->dial_owner, why);
+    }
+    s->dial_owner = 0;
+    if (s->scen) {
+        scenario_clear_override(s->scen);
+    } else {
+        const scene *sc = s->d.sc;
+        s->man_inflow = (wind_inflow){ .dir_rad = sc->wind_dir_deg * 0.017453292f,
+                                       .u10_ms = sc->wind_u10_ms };
+        tick_set_inflow(s->tick, &s->man_inflow);
+    }
+}
+
 void srv_on_closed(void *user, const net_peer *p)
 {
     srv *s = user;
@@ -112,6 +129,12 @@ void srv_on_closed(void *user, const net_peer *p)
         view_join(s, p->stream, NULL);
     }
     wall_groups_leave(s->walls, p->id, mono_us());
+    pthread_mutex_lock(&s->scen_lock);
+    if (s->dial_owner && s->dial_owner == p->id) {
+        /* nobody is left at that kiosk's setting */
+        srv_release_dial_locked(s, "its kiosk disconnected");
+    }
+    pthread_mutex_unlock(&s->scen_lock);
 }
 
 void srv_wall_send(void *user, uint32_t conn, const char *text, size_t len)
@@ -151,6 +174,91 @@ static int wall_control(srv *s, const net_peer *p, const ctl_msg *m, char **repl
         snprintf(why, why_cap, "wall_sync: %s", e.msg);
         rc = WIRE_CLOSE_BAD_FIELD;
     }
+    return rc;
+}
+
+/* Letters and digits, lower case: "Andrew 1992" and "andrew1992" name one scenario. */
+static bool same_name(const char *a, const char *b)
+{
+    for (;;) {
+        while (*a && !isalnum((unsigned char)*a)) {
+            a++;
+        }
+        while (*b && !isalnum((unsigned char)*b)) {
+            b++;
+        }
+        if (!*a || !*b) {
+            return !*a && !*b;
+        }
+        if (tolower((unsigned char)*a++) != tolower((unsigned char)*b++)) {
+            return false;
+        }
+    }
+}
+
+/* A kiosk's (or gale-ctl's) wind command, token checked: dial, direction, release,
+ * scenario restart, replay seek and speed. 0 or a close code with why. */
+static int kiosk_wind(srv *s, const net_peer *p, const ctl_wind *w, char *why, size_t why_cap)
+{
+    const double t_s = atomic_load(&s->simm.current_tick) / s->d.sc->tick_hz;
+    int rc = 0;
+    pthread_mutex_lock(&s->scen_lock);
+    if (w->has_scenario && w->scenario[0] &&
+        !(s->scen && same_name(w->scenario, scenario_name(s->scen)))) {
+        snprintf(why, why_cap, "wind.scenario: \"%.63s\": this server runs \"%s\" only (start "
+                               "gale-server with --scenario FILE for another)",
+                 w->scenario, s->scen ? scenario_name(s->scen) : "no scenario");
+        rc = WIRE_CLOSE_BAD_FIELD;
+    } else if ((w->has_replay_at || w->has_replay_speed) &&
+               (!s->scen || scenario_get_kind(s->scen) != SCENARIO_HURRICANE)) {
+        snprintf(why, why_cap, "wind.replay: this server replays no storm (it runs \"%s\")",
+                 s->scen ? scenario_name(s->scen) : "no scenario");
+        rc = WIRE_CLOSE_BAD_FIELD;
+    }
+    if (rc) {
+        pthread_mutex_unlock(&s->scen_lock);
+        return rc;
+    }
+    if (w->release || (w->has_scenario && !w->scenario[0])) {
+        srv_release_dial_locked(s, "released by its kiosk");
+    }
+    if (w->has_scenario && w->scenario[0]) {
+        scenario_restart(s->scen, t_s);
+        srv_release_dial_locked(s, "scenario restarted");
+    }
+    if (w->has_replay_at || w->has_replay_speed) {
+        gale_err e;
+        if (scenario_replay_set(s->scen, t_s, w->has_replay_at, w->replay_at_min,
+                                w->has_replay_speed, w->replay_speed, &e)) {
+            snprintf(why, why_cap, "wind.replay: %s", e.msg);
+            rc = WIRE_CLOSE_BAD_FIELD;
+        }
+    }
+    if (w->has_speed || w->has_dir) {
+        /* a kept dial (a script's) is no connection's: only a release or the idle time
+         * drops it */
+        s->dial_owner = w->keep ? SRV_DIAL_KEPT : p->id;
+        s->dial_last_s = mono_s();
+    }
+    if (s->scen) {
+        if (w->has_speed) {
+            /* the scenario's dial holds a sustained wind in [0, 90] m/s */
+            scenario_set_dial(s->scen, w->speed_ms > 90.0f ? 90.0 : (double)w->speed_ms, NULL);
+        }
+        if (w->has_dir) {
+            /* ctl: toward, from +x counter-clockwise; scenario: from, clockwise from
+             * north. Coming from θ + 180° (math) is bearing 90° − (θ + 180°). */
+            double from = fmod(270.0 - (double)w->dir_deg + 720.0, 360.0);
+            scenario_set_direction(s->scen, from, NULL);
+        }
+    } else if (w->has_speed || w->has_dir) {
+        const scene *sc = s->d.sc;
+        wind_inflow in = { .dir_rad = (w->has_dir ? w->dir_deg : sc->wind_dir_deg) * 0.017453292f,
+                           .u10_ms = w->has_speed ? w->speed_ms : sc->wind_u10_ms };
+        tick_set_inflow(s->tick, &in);
+        s->man_inflow = in; /* what the weather reports (srv_weather.c) */
+    }
+    pthread_mutex_unlock(&s->scen_lock);
     return rc;
 }
 
@@ -208,28 +316,8 @@ int srv_on_control(void *user, net_peer *p, const char *text, size_t len, char *
             snprintf(why, why_cap, "wind.gust: not supported (the scenario sets the "
                                    "turbulence); send speed_ms and dir_deg only");
             rc = WIRE_CLOSE_BAD_FIELD;
-        } else if (s->scen) {
-            pthread_mutex_lock(&s->scen_lock);
-            if (w->has_speed) {
-                /* the scenario's dial holds a sustained wind in [0, 90] m/s */
-                scenario_set_dial(s->scen, w->speed_ms > 90.0f ? 90.0 : (double)w->speed_ms, NULL);
-            }
-            if (w->has_dir) {
-                /* ctl: toward, from +x counter-clockwise; scenario: from, clockwise from
-                 * north. Coming from θ + 180° (math) is bearing 90° − (θ + 180°). */
-                double from = fmod(270.0 - (double)w->dir_deg + 720.0, 360.0);
-                scenario_set_direction(s->scen, from, NULL);
-            }
-            if (w->has_scenario && !w->scenario[0]) {
-                scenario_clear_override(s->scen);
-            }
-            pthread_mutex_unlock(&s->scen_lock);
-        } else if (w->has_speed || w->has_dir) {
-            const scene *sc = s->d.sc;
-            wind_inflow in = { .dir_rad = (w->has_dir ? w->dir_deg : sc->wind_dir_deg) *
-                                          0.017453292f,
-                               .u10_ms = w->has_speed ? w->speed_ms : sc->wind_u10_ms };
-            tick_set_inflow(s->tick, &in);
+        } else {
+            rc = kiosk_wind(s, p, w, why, why_cap);
         }
     } else if (m.type >= CTL_WALL_JOIN && m.type <= CTL_WALL_CAMERA) {
         rc = wall_control(s, p, &m, reply, reply_len, why, why_cap);

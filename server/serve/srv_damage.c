@@ -39,14 +39,15 @@ int srv_damage_encode(srv *s, const wire_header *h, net_snap *p, gale_err *e)
     if (n > WIRE_MAX_DAMAGE) {
         n = WIRE_MAX_DAMAGE; /* PROTOCOL.md "Limits": the first WIRE_MAX_DAMAGE events */
     }
-    int rc = wire_encode_damage(h, true, s->dmg_state, n, p->extra[NET_SNAP_KEY_EXTRA],
-                                p->extra_cap, &p->extra_len[NET_SNAP_KEY_EXTRA], e);
+    int rc = wire_encode_damage(h, true, s->dmg_state, n, p->extra[SRV_EXTRA_DAMAGE_STATE],
+                                p->extra_cap, &p->extra_len[SRV_EXTRA_DAMAGE_STATE], e);
+    p->extra_key_only |= 1u << SRV_EXTRA_DAMAGE_STATE;
     if (!rc && s->dmg_full_due) {
-        rc = wire_encode_damage(h, true, s->dmg_state, n, p->extra[2], p->extra_cap,
-                                &p->extra_len[2], e);
+        rc = wire_encode_damage(h, true, s->dmg_state, n, p->extra[SRV_EXTRA_DAMAGE],
+                                p->extra_cap, &p->extra_len[SRV_EXTRA_DAMAGE], e);
     } else if (!rc && s->n_dmg_ev) {
-        rc = wire_encode_damage(h, false, s->dmg_ev, s->n_dmg_ev, p->extra[2], p->extra_cap,
-                                &p->extra_len[2], e);
+        rc = wire_encode_damage(h, false, s->dmg_ev, s->n_dmg_ev, p->extra[SRV_EXTRA_DAMAGE],
+                                p->extra_cap, &p->extra_len[SRV_EXTRA_DAMAGE], e);
     }
     if (!rc) {
         s->dmg_full_due = false;

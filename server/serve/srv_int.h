@@ -15,6 +15,7 @@
 #include "metric.h"
 #include "srv.h"
 #include "srv_stream.h"
+#include "weather_gust.h"
 #include "wire.h"
 #include "wall_group.h"
 
@@ -30,6 +31,12 @@
                               state without noticing recovers within it, for one keyframe
                               (about 2.3 deltas' bytes, PROTOCOL.md Figures) per 150
                               snapshots at 30/s */
+#define SRV_WEATHER_EVERY 10 /* snapshots between WEATHER frames (3 a second at 30/s; a
+                                keyframe carries one too, PROTOCOL.md "WEATHER") */
+#define SRV_KIOSK_IDLE_S 300.0 /* default: a kiosk's dial held this long without a command
+                                  is released (a visitor who walked away leaves no one
+                                  stuck at their setting) */
+#define SRV_DIAL_KEPT UINT32_MAX /* dial_owner of a dial no connection holds (wind.keep) */
 #define SRV_OVERRUN_LOG_PER_S 5 /* overrun lines a second at most */
 #define SRV_SOLVE_LOG_S 10 /* seconds between lines about solves out of budget */
 
@@ -104,6 +111,16 @@ struct srv {
     srv_vsel vsel[SRV_MAX_VIEWS]; /* sim thread: the encoder of each slot's stream */
     float *tree_pos;             /* owned [n_trees * 3] tree bases for view_select */
     float view_margin_m;         /* a tree counts as in view within this of the region */
+    /* weather (sim thread, srv_weather.c): the last scenario state and its 3-s gust */
+    scenario_state wx_state;
+    bool wx_have;
+    weather_gust wx_gust;
+    wind_inflow man_inflow;      /* under scen_lock: the inflow when there is no scenario
+                                    (the scene's, or the last kiosk command's) */
+    uint32_t dial_owner;         /* under scen_lock: connection whose dial holds the wind
+                                    (0 none, SRV_DIAL_KEPT a script's): released when it
+                                    leaves or idles out */
+    double dial_last_s;          /* under scen_lock: its last command [s, mono_s] */
     /* log rate limits (sim thread) */
     time_t olog_sec;             /* overruns: the second being counted */
     int olog_n;                  /*           lines in it */
@@ -131,12 +148,32 @@ void srv_publish(srv *s, uint32_t tick);
 /* The publisher's rows (gale_leaves_shed_total, gale_view_*) into r. */
 int srv_publish_register(srv *s, metric_reg *r, gale_err *err);
 
+/* The extra messages of a snapshot (net_snap.extra), by what they carry. */
+enum srv_extra {
+    SRV_EXTRA_LEAVES = 0,       /* LEAVES, every SRV_LEAF_EVERY snapshots */
+    SRV_EXTRA_WIND = 1,         /* WIND, every SRV_WIND_EVERY snapshots */
+    SRV_EXTRA_DAMAGE = 2,       /* DAMAGE events of the snapshot */
+    SRV_EXTRA_DAMAGE_STATE = 3, /* DAMAGE: the whole state, with keyframes only */
+    SRV_EXTRA_WEATHER = 4,      /* WEATHER: every SRV_WEATHER_EVERY snapshots and keyframes */
+};
+_Static_assert(SRV_EXTRA_WEATHER < NET_SNAP_MAX_EXTRA, "net_snap holds every extra");
+
 /* srv_damage.c, sim thread: gathers the damage events of the last tick (a heal makes the
  * next snapshot carry the whole state to everyone). */
 void srv_damage_gather(srv *s);
-/* Encodes the damage frames of this snapshot into p: extra[2] the events (or the whole
- * state after a heal), extra[NET_SNAP_KEY_EXTRA] the whole state for keyframes. */
+/* Encodes the damage frames of this snapshot into p: extra[SRV_EXTRA_DAMAGE] the events (or
+ * the whole state after a heal), extra[SRV_EXTRA_DAMAGE_STATE] the whole state, key-only. */
 int srv_damage_encode(srv *s, const wire_header *h, net_snap *p, gale_err *e);
+
+/* srv_weather.c, sim thread: a tick's scenario state (NULL: no scenario, the steady
+ * inflow) into the weather; the weather as WEATHER frame extra[SRV_EXTRA_WEATHER] of p; the frame's fields. */
+void srv_weather_sample(srv *s, uint32_t tick, double dt_s, const scenario_state *st);
+int srv_weather_encode(srv *s, const wire_header *h, net_snap *p, gale_err *e);
+void srv_weather_fill(const srv *s, wire_weather *w);
+
+/* srv_control.c: drops the dial that holds the wind (the scenario's override, or the
+ * manual inflow back to the scene's); s->scen_lock held. why names it in the log. */
+void srv_release_dial_locked(srv *s, const char *why);
 
 /* srv_loop.c: the simulation thread (arg: the srv), until s->stop. */
 void *srv_loop(void *arg);

@@ -46,9 +46,16 @@ void *srv_loop(void *arg)
         if (s->scen) {
             scenario_state st;
             pthread_mutex_lock(&s->scen_lock);
+            if (s->dial_owner && s->d.kiosk_idle_s > 0 &&
+                mono_s() - s->dial_last_s > s->d.kiosk_idle_s) {
+                srv_release_dial_locked(s, "idle");
+            }
             scenario_eval(s->scen, tick * dt, &st);
             pthread_mutex_unlock(&s->scen_lock);
             tick_set_inflow(s->tick, &st.inflow);
+            srv_weather_sample(s, tick, dt, &st);
+        } else {
+            srv_weather_sample(s, tick, dt, NULL);
         }
         tick_stats ts;
         gale_err e;

@@ -2,6 +2,8 @@
  * server (srv.h) until SIGINT/SIGTERM; teardown. After the lws minimal-ws-server main:
  * everything else lives in its module. */
 #include <errno.h>
+#include <math.h>
+#include <stdbool.h>
 #include <pthread.h>
 #include <signal.h>
 #include <stdio.h>
@@ -44,7 +46,14 @@ static void usage(FILE *f)
                "  --nats URL     also publish every snapshot once on NATS (nats://HOST:PORT,\n"
                "                 comma-separated for a cluster) for gale-relay edges, and\n"
                "                 answer their clients' control messages\n"
-               "  --check        validate the config, bake or load the species, and exit\n");
+               "  --check        validate the config, bake or load the species, and exit\n"
+               "  --scenario FILE  run this scenario file (configs/scenarios/) instead of the\n"
+               "                 config's, e.g. configs/scenarios/andrew1992.json\n"
+               "  --start-min M  a replay starts at storm minute M (0: the track's reference,\n"
+               "                 landfall for the shipped replays) instead of the file's\n"
+               "  --replay-speed X  a replay runs X storm seconds per second (1..10000)\n"
+               "  --kiosk-idle S  release a kiosk's dial S seconds after its last command\n"
+               "                 (default 300; a disconnect releases it at once)\n");
 }
 
 /* The wind grid behind tick.h's tick_wind. */
@@ -141,6 +150,10 @@ int main(int argc, char **argv)
     bool no_bundle = false;
     const char *nats_url = NULL;
     link_server *link = NULL;
+    /* the scenario and its replay start and speed, set at load time */
+    const char *scen_file = NULL;
+    double start_min = 0, replay_speed = 0, kiosk_idle_s = 0;
+    bool has_start = false;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "--config") && v) {
@@ -188,6 +201,34 @@ int main(int argc, char **argv)
             i++;
         } else if (!strcmp(a, "--no-bundle")) {
             no_bundle = true;
+        } else if (!strcmp(a, "--scenario") && v) {
+            scen_file = v;
+            i++;
+        } else if ((!strcmp(a, "--start-min") || !strcmp(a, "--replay-speed") ||
+                    !strcmp(a, "--kiosk-idle")) && v) {
+            char *end;
+            double x = strtod(v, &end);
+            bool ok = !*end && end != v && isfinite(x);
+            if (!strcmp(a, "--start-min")) {
+                ok = ok && fabs(x) <= 1e5;
+                start_min = x;
+                has_start = true;
+            } else if (!strcmp(a, "--replay-speed")) {
+                ok = ok && x >= 1 && x <= 10000;
+                replay_speed = x;
+            } else {
+                ok = ok && x >= 1 && x <= 1e6;
+                kiosk_idle_s = x;
+            }
+            if (!ok) {
+                fprintf(stderr, "gale-server: %s: expected %s, got \"%s\"\n", a,
+                        !strcmp(a, "--start-min")      ? "a storm minute within +-1e5"
+                        : !strcmp(a, "--replay-speed") ? "1..10000"
+                                                       : "seconds in [1, 1e6]",
+                        v);
+                return 2;
+            }
+            i++;
         } else if (!strcmp(a, "--check")) {
             check = 1;
         } else if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -266,12 +307,24 @@ int main(int argc, char **argv)
                                .asset_len = ent[i].len };
         snprintf(sp[i].hash, sizeof sp[i].hash, "%s", ent[i].hash);
     }
-    if (sc.scenario[0]) {
-        scen = scenario_load(sc.scenario, &err);
+    if (scen_file || sc.scenario[0]) {
+        scen = scenario_load(scen_file ? scen_file : sc.scenario, &err);
         if (!scen) {
-            fprintf(stderr, "gale-server: bad config: scenario: %s\n", err.msg);
+            fprintf(stderr, "gale-server: bad %s: %s\n", scen_file ? "--scenario" : "config: scenario",
+                    err.msg);
             goto done;
         }
+        if ((has_start || replay_speed > 0) &&
+            scenario_replay_set(scen, 0.0, has_start, start_min, replay_speed > 0, replay_speed,
+                                &err)) {
+            fprintf(stderr, "gale-server: --start-min / --replay-speed: %s\n", err.msg);
+            goto done;
+        }
+        fprintf(stderr, "gale-server: scenario %s (%s)\n", scenario_name(scen),
+                scen_file ? scen_file : sc.scenario);
+    } else if (has_start || replay_speed > 0) {
+        fprintf(stderr, "gale-server: --start-min / --replay-speed: no scenario to replay\n");
+        goto done;
     }
     tick_wind tw = { 0 };
     if (sc.grid_on) {
@@ -311,6 +364,7 @@ int main(int argc, char **argv)
                                 .wind = sc.grid_on ? &tw : NULL,
                                 .port = port ? (int)port : -1, .iface = iface,
                                 .max_clients = (int)max_conn,
+                                .kiosk_idle_s = kiosk_idle_s,
                                 .hello_timeout_ms = hello_s > 0 ? (int)(hello_s * 1000 + 0.5) : 0,
                                 .separate_extras = no_bundle,
                                 .published = link ? link_server_publish : NULL,

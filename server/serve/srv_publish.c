@@ -35,7 +35,8 @@ static int encode_wind(srv *s, wire_header *h, net_snap *p, gale_err *e)
         s->slice[i] = wire_wind_quantize(s->coarse[i], w.scale_ms);
     }
     h->type = WIRE_MSG_WIND;
-    return wire_encode_wind(h, &w, p->extra[1], p->extra_cap, &p->extra_len[1], e);
+    return wire_encode_wind(h, &w, p->extra[SRV_EXTRA_WIND], p->extra_cap,
+                            &p->extra_len[SRV_EXTRA_WIND], e);
 }
 
 /* One snapshot per view stream: the state encoded with the view's per-tree mode counts
@@ -76,6 +77,7 @@ static void publish_views(srv *s, const wire_header *h, const srv_qhist *qh, con
             q->extra_len[x] = p->extra_len[x];
             memcpy(q->extra[x], p->extra[x], p->extra_len[x]);
         }
+        q->extra_key_only = p->extra_key_only;
         if (rc) {
             fprintf(stderr, "gale-server: snapshot %u of view stream %u not sent: %s\n", p->seq,
                     vs->enc.id, e.msg);
@@ -125,11 +127,15 @@ void srv_publish(srv *s, uint32_t tick)
         }
         if (!rc && s->n_leaves && s->seq % SRV_LEAF_EVERY == 0) {
             h.type = WIRE_MSG_LEAVES;
-            rc = wire_encode_leaves(&h, s->leaves, s->n_leaves, p->extra[0],
-                                    p->extra_cap, &p->extra_len[0], &e);
+            rc = wire_encode_leaves(&h, s->leaves, s->n_leaves, p->extra[SRV_EXTRA_LEAVES],
+                                    p->extra_cap, &p->extra_len[SRV_EXTRA_LEAVES], &e);
         }
         if (!rc) {
             rc = srv_damage_encode(s, &h, p, &e);
+        }
+        if (!rc) {
+            h.type = WIRE_MSG_WEATHER;
+            rc = srv_weather_encode(s, &h, p, &e);
         }
         if (rc) {
             fprintf(stderr, "gale-server: tick %u: snapshot %u not sent: %s\n", tick, s->seq,

@@ -61,6 +61,14 @@ static void check_decode(wire_decoder *d, const uint8_t *data, size_t size)
         }
     } else if (rc == 0 && (f.types & (1u << WIRE_MSG_LEAVES)) && f.n_leaves > WIRE_MAX_LEAVES) {
         abort();
+    } else if (rc == 0 && f.hdr.type == WIRE_MSG_WEATHER) {
+        /* a decoded WEATHER re-encodes to the same bytes (every field was in range) */
+        static uint8_t again[WIRE_WEATHER_MAX_BYTES];
+        size_t n = 0;
+        if (wire_encode_weather(&f.hdr, &f.weather, again, sizeof again, &n, NULL) != 0 ||
+            n != size || memcmp(again, data, size) != 0) {
+            abort();
+        }
     } else if (rc != 0 && e.msg[0] == '\0') {
         abort(); /* every rejection says why */
     }

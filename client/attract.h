@@ -1,0 +1,24 @@
+/* Attract mode of a kiosk (issue 11): after idle_s without a touch (mouse = touch under
+ * GLFW) the kiosk lets go of its dial and the camera tours (camera_preset.h); the next
+ * touch wakes it and is not taken as a control. Time is the caller's clock [s]. */
+#ifndef GALE_ATTRACT_H
+#define GALE_ATTRACT_H
+
+#include <stdbool.h>
+
+#define ATTRACT_DEFAULT_IDLE_S 90.0
+
+typedef struct attract {
+    double idle_s;       /* > 0 */
+    double last_input_s; /* the last touch, key or wheel */
+    bool active;
+} attract;
+
+/* Awake, idle from now_s; idle_s 0 → ATTRACT_DEFAULT_IDLE_S. */
+void attract_init(attract *a, double idle_s, double now_s);
+/* True exactly once, when attract mode begins at now_s. */
+bool attract_tick(attract *a, double now_s);
+/* A touch at now_s: true when it woke the kiosk (the caller drops that touch). */
+bool attract_input(attract *a, double now_s);
+
+#endif
