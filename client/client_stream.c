@@ -134,10 +134,9 @@ void client_stream_on_frame(void *user, const wire_frame *f, const wire_decoder 
             client_damage_draw(c);
         }
     }
-    if (f->hdr.type == WIRE_MSG_WEATHER) {
+    if (f->types & (1u << WIRE_MSG_WEATHER)) {
         c->wx = f->weather; /* the HUD names the server's figures, never an average */
         c->have_wx = true;
-        return;
     }
     if (!c->scene_ready) {
         return; /* the decoder keeps its state; the jitter buffer starts once assets are in */

@@ -201,7 +201,7 @@ static inline void *kf_reader_main(void *arg)
         int op = wsraw_recv(&r->c, &m, &n, 100);
         if (op == 2) {
             wire_frame f;
-            if (wire_decode(r->d, m, n, &f, NULL) == 0 && f.hdr.type == WIRE_MSG_WEATHER) {
+            if (wire_decode(r->d, m, n, &f, NULL) == 0 && (f.types & (1u << WIRE_MSG_WEATHER))) {
                 pthread_mutex_lock(&r->lock);
                 r->w = f.weather;
                 r->n_weather++;

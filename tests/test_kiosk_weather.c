@@ -111,8 +111,9 @@ static void test_join(void)
             wire_frame f;
             if (wire_decode(d, m, n, &f, NULL) == 0) {
                 frames++;
-                key = key || f.hdr.type == WIRE_MSG_KEYFRAME;
-                weather_after_key = key && f.hdr.type == WIRE_MSG_WEATHER;
+                /* apart (--no-bundle) or inside the keyframe's BUNDLE */
+                key = key || (f.types & (1u << WIRE_MSG_KEYFRAME));
+                weather_after_key = key && (f.types & (1u << WIRE_MSG_WEATHER));
             }
         }
         free(m);
