@@ -1,4 +1,4 @@
-/* Attract mode of a kiosk (issue 11): after idle_s without a touch (mouse = touch under
+/* Attract mode of a kiosk: after idle_s without a touch (mouse = touch under
  * GLFW) the kiosk lets go of its dial and the camera tours (camera_preset.h); the next
  * touch wakes it and is not taken as a control. Time is the caller's clock [s]. */
 #ifndef GALE_ATTRACT_H

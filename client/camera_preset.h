@@ -1,4 +1,4 @@
-/* The kiosk's camera presets (issue 11: cameras that show the trees): street level beside
+/* The kiosk's camera presets (cameras that show the trees): street level beside
  * a row of palms, a garden oak close up, roof height, aerial; and a slow tour through
  * them for attract mode. Each is placed from the welcome's instances and species names,
  * so it fits any scene; a scene without palms or oaks uses the tree nearest its centre. */

@@ -1,4 +1,4 @@
-/* Plain-language captions per wind class for the kiosk (issue 11): what that wind does to
+/* Plain-language captions per wind class for the kiosk: what that wind does to
  * trees and houses, from the public Beaufort land descriptions and the NHC's Saffir-Simpson
  * descriptions (sources in configs/captions/en.txt). A language is a table file of
  * KEY = TEXT lines (bft0..bft12, cat1..cat5); English is built in. */

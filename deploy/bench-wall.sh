@@ -8,7 +8,7 @@
 # min per frame) and the spread of the swap instants (CLOCK_MONOTONIC, one machine), p50,
 # p99 and max; frames each tile did not present between the first and last common frame;
 # swap-lock budget timeouts. One JSON object per mode, with the load average before and
-# after. Goals (issue 12): skew p99 <= 1 ms (0 in swap-lock for frames all presented), swap
+# after. Goals: skew p99 <= 1 ms (0 in swap-lock for frames all presented), swap
 # spread p99 <= 2 ms in swap-lock.
 # Usage: deploy/bench-wall.sh [SECONDS] [SIZE] [RATE]   (SIZE WxH per tile, default 320x180;
 # RATE the group's frames a second, default 60)

@@ -1,4 +1,4 @@
-/* Scripting a kiosk (issue 11, item 8) on the real gale-server, read back through the
+/* Scripting a kiosk on the real gale-server, read back through the
  * WEATHER a viewer receives:
  * - gale-ctl wind holds a dial that outlives gale-ctl; gale-ctl release drops it;
  * - a kiosk's own dial is released when that kiosk disconnects, and when it idles out

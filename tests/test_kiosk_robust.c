@@ -1,4 +1,4 @@
-/* A kiosk that never shows a crash or a desktop (issue 11, item 7), with the real
+/* A kiosk that never shows a crash or a desktop, with the real
  * gale-server and headless gale-clients under Xvfb + Mesa:
  * - a kiosk with a wrong token exits at once with status 4 and a message naming the
  *   refusal and the fix, makes one attempt only, and writes no screenshot;

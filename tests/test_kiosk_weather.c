@@ -1,4 +1,4 @@
-/* The HUD names the server's class (issue 11): a kiosk dials steady 30, 45 and 60 m/s on
+/* The HUD names the server's class: a kiosk dials steady 30, 45 and 60 m/s on
  * the real gale-server; once the server's WEATHER reports the dialled sustained wind, a
  * headless gale-client (Xvfb + Mesa) draws a few frames and prints the HUD text of its
  * last one; its wind line shows the server's sustained wind and its class line is the
