@@ -26,6 +26,8 @@ static void usage(FILE *f)
     fprintf(f, "usage: gale-server [--config FILE.json] [--port N] [--iface ADDR] [--cache DIR]\n"
                "                   [--kiosk-token-file FILE] [--max-connections N]\n"
                "                   [--hello-timeout S] [--no-bundle] [--nats URL] [--check]\n"
+               "                   [--scenario FILE [--start-min M] [--replay-speed X]]\n"
+               "                   [--kiosk-idle S]\n"
                "  --config FILE  scene config (default: the embedded town block,\n"
                "                 configs/scenes/default.json)\n"
                "  --port N       listen port, 0 for any free one (default 8080)\n"
