@@ -224,6 +224,7 @@ static int kiosk_wind(srv *s, const net_peer *p, const ctl_wind *w, char *why, s
     }
     if (w->has_scenario && w->scenario[0]) {
         scenario_restart(s->scen, t_s);
+        srv_heal(s); /* a restarted storm starts on the whole forest */
         srv_release_dial_locked(s, "scenario restarted");
     }
     if (w->has_replay_at || w->has_replay_speed) {
