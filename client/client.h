@@ -56,6 +56,7 @@ typedef struct client_args {
     int camera_preset;      /* enum camera_preset; -1 = fitted to the scene (camera_preset.h) */
     const char *captions;   /* caption table file (caption.h); NULL = built-in English */
     double attract_s;       /* kiosk: idle seconds before attract mode; 0 = default 90 */
+    int storm_fx;           /* enum storm_fx_quality: --storm-fx, default low */
 } client_args;
 
 /* This tile's part of its wall group (client_wall_group.c, PROTOCOL.md "Wall groups"). */

@@ -51,6 +51,12 @@ int client_frame_draw(client *c, double now, gale_err *err)
         rc.matrices = true;
         client_wall_matrices(c, fb_w, fb_h, rc.z_near, rc.z_far, rc.view, rc.proj);
     }
+    /* the storm look follows the server's sustained wind (storm_fx.h) */
+    storm_fx fx;
+    storm_fx_from_weather(c->have_wx ? c->wx.sustained_ms : 0.0f,
+                          c->have_wx ? c->wx.dir_from_deg : 0.0f,
+                          (storm_fx_quality)c->a.storm_fx, &fx);
+    render_set_storm(c->r, &fx);
     int rc_frame = render_frame(c->r, &rc, render_t, err);
     if (rc_frame != 0) {
         return rc_frame;

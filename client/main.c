@@ -57,6 +57,8 @@ static void usage(FILE *f)
             "                         dial and tour the cameras; a touch wakes it\n"
             "  --camera NAME          street (beside the palms), garden (an oak close up),\n"
             "                         roof, aerial, or tour (each in turn, for attract mode)\n"
+            "  --storm-fx Q           storm look from the streamed weather: off, low (one layer\n"
+            "                         of rain, the default) or high\n"
             "  --help                 this text\n"
             "keys: left-drag orbit, right-drag pan, wheel zoom, WASD/QE fly, F11 fullscreen,\n"
             "      F12 or P screenshot, R reset view, kiosk: + / - dial the wind, Esc quit.\n"
@@ -105,7 +107,8 @@ static int parse_args(int argc, char **argv, client_args *a)
                         .wait_s = 30.0,
                         .rate_hz = 60.0f,
                         .budget_ms = 8,
-                        .camera_preset = -1 };
+                        .camera_preset = -1,
+                        .storm_fx = STORM_FX_LOW };
     bool role_given = false;
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i];
@@ -163,7 +166,7 @@ static int parse_args(int argc, char **argv, client_args *a)
             if (sscanf(v, "%dx%d", &a->width, &a->height) != 2 || a->width < 16 || a->height < 16 ||
                 a->width > 16384 || a->height > 16384) {
                 fprintf(stderr, "gale-client: --size: expected WxH within 16..16384, got \"%s\"\n",
-                        v);
+                        v ? v : "");
                 return -1;
             }
         } else if (strcmp(o, "--frames") == 0) {
@@ -197,7 +200,7 @@ static int parse_args(int argc, char **argv, client_args *a)
                 fprintf(stderr,
                         "gale-client: --tile: expected C,R,COLS,ROWS with C < COLS, R < ROWS, "
                         "got \"%s\"\n",
-                        v);
+                        v ? v : "");
                 return -1;
             }
         } else if (strcmp(o, "--bezel") == 0) {
@@ -223,6 +226,14 @@ static int parse_args(int argc, char **argv, client_args *a)
                         camera_preset_names(), v);
                 return -1;
             }
+        } else if (strcmp(o, "--storm-fx") == 0) {
+            storm_fx_quality q;
+            if (storm_fx_quality_parse(v, &q) != 0) {
+                fprintf(stderr, "gale-client: --storm-fx: expected off, low or high, got \"%s\"\n",
+                        v);
+                return -1;
+            }
+            a->storm_fx = (int)q;
         } else {
             fprintf(stderr, "gale-client: unknown option \"%s\" (see --help)\n", o);
             return -1;

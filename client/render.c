@@ -63,6 +63,7 @@ render *render_create(const render_desc *desc, gale_err *err)
     d->title = NULL;
     r->w = d->width;
     r->h = d->height;
+    storm_fx_calm(&r->fx);
     /* the shared falling path: a CPU simulation, done before any GPU state exists */
     if (falling_path_build(&r->path, NULL, err) < 0) {
         free(r);
@@ -82,7 +83,7 @@ render *render_create(const render_desc *desc, gale_err *err)
         const char *name;
     } progs[] = { { &r->p_skel, "skel" },  { &r->p_tree, "tree" }, { &r->p_leaf, "leaf" },
                   { &r->p_fall, "fall" },  { &r->p_sky, "sky" },   { &r->p_bill, "bill" },
-                  { &r->p_house, "house" } };
+                  { &r->p_house, "house" }, { &r->p_rain, "rain" } };
     for (size_t i = 0; i < sizeof progs / sizeof progs[0]; i++) {
         if (render_program_load(r->shader_dir, progs[i].name, progs[i].p, err) < 0) {
             goto fail;
@@ -128,7 +129,7 @@ void render_destroy(render *r)
             render_species_free(&r->sp[i]);
         }
         GLuint progs[] = { r->p_skel.id, r->p_tree.id, r->p_leaf.id, r->p_fall.id,
-                           r->p_sky.id,  r->p_bill.id, r->p_house.id };
+                           r->p_sky.id,  r->p_bill.id, r->p_house.id, r->p_rain.id };
         for (size_t i = 0; i < sizeof progs / sizeof progs[0]; i++) {
             if (progs[i]) {
                 glDeleteProgram(progs[i]);
@@ -386,6 +387,7 @@ int render_frame(render *r, const render_camera *cam, double time_s, gale_err *e
     }
     /* falling and landed leaves */
     render_fall_draw(r, t);
+    render_rain_draw(r, t);
     glBindVertexArray(0);
     /* leave the target bound for overlays */
     glDisable(GL_DEPTH_TEST);
@@ -495,6 +497,15 @@ int render_read_skeleton(render *r, uint32_t tree, float *out, gale_err *err)
         return gale_errf(err, GALE_E_STATE, "render_read_skeleton: OpenGL error 0x%x", (unsigned)e);
     }
     return 0;
+}
+
+void render_set_storm(render *r, const storm_fx *fx)
+{
+    if (fx) {
+        r->fx = *fx;
+    } else {
+        storm_fx_calm(&r->fx);
+    }
 }
 
 render_stats render_get_stats(const render *r)

@@ -10,6 +10,7 @@
 
 #include "asset.h"
 #include "err.h"
+#include "storm_fx.h"
 #include "wire_limits.h"
 
 /* World frame: z up, metres, ground plane z = 0 (as the asset's tree frame). */
@@ -141,6 +142,10 @@ int render_set_obstacles(render *r, uint32_t n, const float *min_max, gale_err *
 
 /* Sets the coarse wind (copied); drives leaf flutter and falling-leaf drift. */
 int render_set_wind(render *r, const render_wind *w, gale_err *err);
+
+/* Sets the storm look (storm_fx.h: sky, light, fog, rain) of the following frames
+ * (copied); NULL = calm, the look a new renderer starts with. */
+void render_set_storm(render *r, const storm_fx *fx);
 
 /* Starts one falling leaf from the tree's current (staged) pose. Bad tree/slot is an
  * error; a full ring reuses the oldest record. */

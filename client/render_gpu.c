@@ -75,11 +75,11 @@ void render_set_common(render *r, const render_prog *p, float time_rel, float fo
     vec3 sun = { 0.45f, -0.35f, 0.62f };
     glm_vec3_normalize(sun);
     glUniform3fv(p->u_sun_dir, 1, sun);
-    glUniform3f(p->u_sun_col, 1.05f, 0.97f, 0.86f);
-    glUniform3f(p->u_sky_zenith, 0.30f, 0.50f, 0.82f);
-    glUniform3f(p->u_sky_horizon, 0.74f, 0.82f, 0.90f);
-    glUniform3f(p->u_ground_col, 0.30f, 0.40f, 0.17f);
-    glUniform1f(p->u_fog_dist, fog_dist);
+    glUniform3fv(p->u_sun_col, 1, r->fx.sun_col);
+    glUniform3fv(p->u_sky_zenith, 1, r->fx.sky_zenith);
+    glUniform3fv(p->u_sky_horizon, 1, r->fx.sky_horizon);
+    glUniform3fv(p->u_ground_col, 1, r->fx.ground_col);
+    glUniform1f(p->u_fog_dist, fog_dist * r->fx.fog_scale);
     glUniform1f(p->u_time, time_rel);
     glUniform3fv(p->u_wind_origin, 1, r->wind_origin);
     glUniform3fv(p->u_wind_extent, 1, r->wind_extent);

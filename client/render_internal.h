@@ -1,7 +1,8 @@
 /* gale_render internals shared by its files: render.c (create, destroy, frame, readback),
  * render_gpu.c (buffers, targets, common uniforms), render_shader.c (run-time shader
  * loading), render_species.c, render_scene.c (instances, q, houses), render_wind.c (the
- * coarse wind), render_fall.c (falling leaves). Not part of the public API. */
+ * coarse wind), render_fall.c (falling leaves), render_rain.c (storm rain streaks). Not part
+ * of the public API. */
 #ifndef GALE_RENDER_INTERNAL_H
 #define GALE_RENDER_INTERNAL_H
 
@@ -14,6 +15,7 @@
 #include "falling_path.h"
 #include "gl_ctx.h"
 #include "render.h"
+#include "storm_fx.h"
 #include "wire_limits.h"
 
 /* Modes per species: the wire's limit; shaders/skel.frag declares u_ab[64] to match. */
@@ -56,6 +58,8 @@ typedef struct render_prog {
     GLint u_inv_viewproj, u_wall, u_roof, u_window, u_bsize;
     /* fall */
     GLint u_npath, u_pdt, u_ncont, u_cont, u_aspects;
+    /* rain */
+    GLint u_rain;
 } render_prog;
 
 typedef struct rs_buf {
@@ -90,7 +94,8 @@ struct render {
     int w, h;
     GLuint fbo, fbo_col, fbo_depth; /* offscreen target (headless) */
     GLuint vao_empty;
-    render_prog p_skel, p_tree, p_leaf, p_fall, p_sky, p_bill, p_house;
+    render_prog p_skel, p_tree, p_leaf, p_fall, p_sky, p_bill, p_house, p_rain;
+    storm_fx fx; /* sky, light, fog and rain of the weather (render_set_storm) */
     GLuint house_vao, house_vbo; /* houses: world-space triangles (render_house_mesh) */
     uint32_t house_verts;
 
@@ -197,5 +202,11 @@ void render_draw_leaves(render *r, const rs_species *s, uint32_t base, uint32_t 
 int render_fall_gpu_create(render *r, gale_err *err);
 /* Uploads new ring records and draws falling and landed leaves; expects the target bound. */
 void render_fall_draw(render *r, float time_rel);
+
+/* ---- render_rain.c ---- */
+
+/* Draws r->fx's rain streaks over the frame (nothing when it has none); expects the
+ * target bound. */
+void render_rain_draw(render *r, float time_rel);
 
 #endif

@@ -1,0 +1,33 @@
+/* Rain streaks of the storm look (storm_fx.h) over the frame: one full-screen pass of
+ * shaders/rain.frag, blended, after the scene. Streaks lean along the wind across the view:
+ * a drop falling at about 9 m/s (large drops' terminal speed, Gunn & Kinzer 1949) is
+ * carried sideways at the wind speed, so the slant dx/dy is wind / 9. */
+#include "render_internal.h"
+
+#define RAIN_FALL_MS 9.0f
+#define RAIN_SLANT_MAX 3.0f
+
+void render_rain_draw(render *r, float time_rel)
+{
+    if (r->fx.rain_layers <= 0 || !(r->fx.rain > 0.0f) || !r->p_rain.id) {
+        return;
+    }
+    /* the camera's right axis in world: row 0 of the view matrix (column-major) */
+    float across = r->fx.wind_to[0] * r->view[0] + r->fx.wind_to[1] * r->view[4];
+    float slant = across / RAIN_FALL_MS;
+    slant = slant > RAIN_SLANT_MAX ? RAIN_SLANT_MAX : slant < -RAIN_SLANT_MAX ? -RAIN_SLANT_MAX : slant;
+    render_set_common(r, &r->p_rain, time_rel, r->desc.fog_dist);
+    int layers = r->fx.rain_layers > 3 ? 3 : r->fx.rain_layers;
+    float px = (float)r->h / 720.0f;
+    glUniform4f(r->p_rain.u_rain, r->fx.rain, slant, (float)layers, px < 0.5f ? 0.5f : px);
+    glDisable(GL_DEPTH_TEST);
+    glDepthMask(GL_FALSE);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glBindVertexArray(r->vao_empty);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    r->stats.draw_calls++;
+    glDisable(GL_BLEND);
+    glDepthMask(GL_TRUE);
+    glEnable(GL_DEPTH_TEST);
+}
