@@ -4,7 +4,7 @@
  * carried sideways at the wind speed, so the slant dx/dy is wind / 9. */
 #include "render_internal.h"
 
-#define RAIN_FALL_MS 9.0f
+#define RAIN_FALL_MS   9.0f
 #define RAIN_SLANT_MAX 3.0f
 
 void render_rain_draw(render *r, float time_rel)
@@ -15,7 +15,9 @@ void render_rain_draw(render *r, float time_rel)
     /* the camera's right axis in world: row 0 of the view matrix (column-major) */
     float across = r->fx.wind_to[0] * r->view[0] + r->fx.wind_to[1] * r->view[4];
     float slant = across / RAIN_FALL_MS;
-    slant = slant > RAIN_SLANT_MAX ? RAIN_SLANT_MAX : slant < -RAIN_SLANT_MAX ? -RAIN_SLANT_MAX : slant;
+    slant = slant > RAIN_SLANT_MAX    ? RAIN_SLANT_MAX
+            : slant < -RAIN_SLANT_MAX ? -RAIN_SLANT_MAX
+                                      : slant;
     render_set_common(r, &r->p_rain, time_rel, r->desc.fog_dist);
     int layers = r->fx.rain_layers > 3 ? 3 : r->fx.rain_layers;
     float px = (float)r->h / 720.0f;

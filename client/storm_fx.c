@@ -40,8 +40,7 @@ static void mix3(const float a[3], const float b[3], float t, float out[3])
     }
 }
 
-void storm_fx_from_weather(float sustained_ms, float dir_from_deg, storm_fx_quality q,
-                           storm_fx *fx)
+void storm_fx_from_weather(float sustained_ms, float dir_from_deg, storm_fx_quality q, storm_fx *fx)
 {
     storm_fx_calm(fx);
     if (q == STORM_FX_OFF || !(sustained_ms > STORM_FX_DARK_FROM_MS)) {

@@ -19,13 +19,13 @@ typedef enum storm_fx_quality {
 #define STORM_FX_RAIN_FROM_MS 17.5f
 
 typedef struct storm_fx {
-    float intensity;   /* 0 calm .. 1 darkest */
-    float sun_col[3];  /* direct light colour (common.glsl u_sun_col) */
+    float intensity;  /* 0 calm .. 1 darkest */
+    float sun_col[3]; /* direct light colour (common.glsl u_sun_col) */
     float sky_zenith[3], sky_horizon[3], ground_col[3];
-    float fog_scale;   /* multiplies the renderer's fog distance; 1 = calm */
-    float rain;        /* streak density 0 (none) .. 1 */
-    int rain_layers;   /* layers of streaks drawn (0 none) */
-    float wind_to[2];  /* horizontal wind [m/s], world x east, y north: streaks slant along it */
+    float fog_scale;  /* multiplies the renderer's fog distance; 1 = calm */
+    float rain;       /* streak density 0 (none) .. 1 */
+    int rain_layers;  /* layers of streaks drawn (0 none) */
+    float wind_to[2]; /* horizontal wind [m/s], world x east, y north: streaks slant along it */
 } storm_fx;
 
 /* The calm look: the sky, light and fog the renderer draws with no storm. */
