@@ -25,6 +25,8 @@ int bench_render(int argc, char **argv)
     uint32_t trees = 64, nodes = 200, modes = 16, frames = 20, falling = 500;
     int w = 960, h = 540;
     float spacing = 9.0f;
+    float storm_ms = 0.0f; /* sustained wind of the storm look (storm_fx.h); 0 = calm */
+    storm_fx_quality storm_q = STORM_FX_LOW;
     for (int i = 1; i < argc; i++) {
         const char *v = i + 1 < argc ? argv[i + 1] : "";
         if (!strcmp(argv[i], "--trees")) {
@@ -39,6 +41,15 @@ int bench_render(int argc, char **argv)
             falling = (uint32_t)strtoul(v, NULL, 10);
         } else if (!strcmp(argv[i], "--spacing")) {
             spacing = strtof(v, NULL);
+        } else if (!strcmp(argv[i], "--storm")) {
+            storm_ms = strtof(v, NULL);
+        } else if (!strcmp(argv[i], "--storm-fx")) {
+            if (storm_fx_quality_parse(v, &storm_q) != 0) {
+                fprintf(stderr, "gale-bench-client render: --storm-fx: expected off, low or "
+                                "high, got \"%s\"\n",
+                        v);
+                return 2;
+            }
         } else if (!strcmp(argv[i], "--size")) {
             if (sscanf(v, "%dx%d", &w, &h) != 2) {
                 w = 0;
@@ -47,7 +58,8 @@ int bench_render(int argc, char **argv)
             bool help = !strcmp(argv[i], "--help") || !strcmp(argv[i], "-h");
             fprintf(help ? stdout : stderr,
                     "usage: gale-bench-client render [--trees N] [--nodes N] [--modes N] "
-                    "[--size WxH] [--frames N] [--falling N] [--spacing M]\n");
+                    "[--size WxH] [--frames N] [--falling N] [--spacing M] [--storm M/S] "
+                    "[--storm-fx off|low|high]\n");
             return help ? 0 : 2;
         }
         i++;
@@ -89,6 +101,9 @@ int bench_render(int argc, char **argv)
                                 &err);
     }
     render_set_wind(r, &(render_wind){ .uniform = { 12.0f, 3.0f, 0.0f } }, &err);
+    storm_fx fx;
+    storm_fx_from_weather(storm_ms, 250.0f, storm_q, &fx);
+    render_set_storm(r, &fx);
     float ext = spacing * sqrtf((float)trees);
     render_camera cam = { .eye = { 0.0f, -0.5f * ext - 20.0f, 12.0f },
                           .target = { 0.0f, -0.5f * ext + 30.0f, 4.0f } };
@@ -119,15 +134,25 @@ int bench_render(int argc, char **argv)
     qsort(ft, frames, sizeof *ft, cmp_d);
     qsort(cpu, frames, sizeof *cpu, cmp_d);
     const char *rend = (const char *)glGetString(GL_RENDERER);
+    double la[3] = { 0 };
+    FILE *lf = fopen("/proc/loadavg", "r");
+    if (lf) {
+        if (fscanf(lf, "%lf %lf %lf", &la[0], &la[1], &la[2]) != 3) {
+            la[0] = la[1] = la[2] = 0.0;
+        }
+        fclose(lf);
+    }
     printf("{\"bench\":\"render\",\"renderer\":\"%s\",\"trees\":%u,\"nodes\":%u,\"modes\":%u,"
            "\"size\":\"%dx%d\",\"frames\":%u,\"frame_ms_median\":%.3f,\"frame_ms_min\":%.3f,"
            "\"frame_ms_max\":%.3f,\"fps_median\":%.1f,\"cpu_submit_ms_median\":%.3f,"
            "\"trees_full\":%u,\"trees_billboard\":%u,\"culled\":%u,\"draw_calls\":%u,"
-           "\"leaves_drawn\":%llu,\"falling\":%u}\n",
+           "\"leaves_drawn\":%llu,\"falling\":%u,\"storm_ms\":%.1f,\"rain_layers\":%d,"
+           "\"loadavg\":[%.2f,%.2f,%.2f]}\n",
            rend ? rend : "?", trees, a[0].n_nodes, modes, w, h, frames, ft[frames / 2], ft[0],
            ft[frames - 1], 1e3 / ft[frames / 2], cpu[frames / 2], st.trees_full,
            st.trees_billboard, st.trees_culled, st.draw_calls,
-           (unsigned long long)st.leaves_drawn, st.falling_live);
+           (unsigned long long)st.leaves_drawn, st.falling_live, (double)storm_ms,
+           fx.rain_layers, la[0], la[1], la[2]);
     free(ft);
     free(cpu);
     free(inst);
