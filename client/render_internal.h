@@ -1,7 +1,7 @@
 /* gale_render internals shared by its files: render.c (create, destroy, frame, readback),
  * render_gpu.c (buffers, targets, common uniforms), render_shader.c (run-time shader
  * loading), render_species.c, render_scene.c (instances, q, houses), render_wind.c (the
- * coarse wind), render_fall.c (falling leaves), render_rain.c (storm rain streaks). Not part
+ * coarse wind), render_fall.c (falling leaves), render_rain.c (storm rain and spray). Not part
  * of the public API. */
 #ifndef GALE_RENDER_INTERNAL_H
 #define GALE_RENDER_INTERNAL_H
@@ -59,7 +59,7 @@ typedef struct render_prog {
     /* fall */
     GLint u_npath, u_pdt, u_ncont, u_cont, u_aspects;
     /* rain */
-    GLint u_rain;
+    GLint u_rain, u_spray;
 } render_prog;
 
 typedef struct rs_buf {
@@ -205,7 +205,7 @@ void render_fall_draw(render *r, float time_rel);
 
 /* ---- render_rain.c ---- */
 
-/* Draws r->fx's rain streaks over the frame (nothing when it has none); expects the
+/* Draws r->fx's rain streaks and spray over the frame (nothing when it has none); expects the
  * target bound. */
 void render_rain_draw(render *r, float time_rel);
 

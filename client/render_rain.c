@@ -1,8 +1,11 @@
-/* Rain streaks of the storm look (storm_fx.h) over the frame: one full-screen pass of
- * shaders/rain.frag, blended, after the scene. Streaks lean along the wind across the view:
+/* Rain streaks and spray of the storm look (storm_fx.h) over the frame: one full-screen
+ * pass of shaders/rain.frag, blended, after the scene. Streaks lean along the wind across the view:
  * a drop falling at about 9 m/s (large drops' terminal speed, Gunn & Kinzer 1949) is
  * carried sideways at the wind speed, so the slant dx/dy is wind / 9. */
 #include "render_internal.h"
+
+#include <cglm/cglm.h>
+#include <string.h>
 
 #define RAIN_FALL_MS   9.0f
 #define RAIN_SLANT_MAX 3.0f
@@ -22,6 +25,13 @@ void render_rain_draw(render *r, float time_rel)
     int layers = r->fx.rain_layers > 3 ? 3 : r->fx.rain_layers;
     float px = (float)r->h / 720.0f;
     glUniform4f(r->p_rain.u_rain, r->fx.rain, slant, (float)layers, px < 0.5f ? 0.5f : px);
+    /* spray drifts along the wind: its azimuth pattern turns at the wind across the view
+     * over a distance of about 30 m */
+    glUniform2f(r->p_rain.u_spray, r->fx.spray, -across / 30.0f);
+    mat4 vp, inv;
+    memcpy(vp, r->viewproj, sizeof vp);
+    glm_mat4_inv(vp, inv);
+    glUniformMatrix4fv(r->p_rain.u_inv_viewproj, 1, GL_FALSE, (float *)inv);
     glDisable(GL_DEPTH_TEST);
     glDepthMask(GL_FALSE);
     glEnable(GL_BLEND);

@@ -66,6 +66,10 @@ void storm_fx_from_weather(float sustained_ms, float dir_from_deg, storm_fx_qual
                                            (STORM_FX_DARK_FULL_MS - STORM_FX_RAIN_FROM_MS));
         fx->rain_layers = q == STORM_FX_HIGH ? 3 : 1;
     }
+    if (sustained_ms >= STORM_FX_SPRAY_FROM_MS) {
+        fx->spray = 0.3f + 0.7f * clamp01((sustained_ms - STORM_FX_SPRAY_FROM_MS) /
+                                          (STORM_FX_DARK_FULL_MS - STORM_FX_SPRAY_FROM_MS));
+    }
 }
 
 int storm_fx_quality_parse(const char *s, storm_fx_quality *q)

@@ -17,6 +17,9 @@ typedef enum storm_fx_quality {
 #define STORM_FX_DARK_FULL_MS 70.0f
 /* Rain streaks from tropical-storm strength (sustained >= 17.5 m/s) on. */
 #define STORM_FX_RAIN_FROM_MS 17.5f
+/* Spray blown off the ground from hurricane strength (Beaufort 12, 32.7 m/s: "air filled
+ * with foam and spray") on. */
+#define STORM_FX_SPRAY_FROM_MS 32.7f
 
 typedef struct storm_fx {
     float intensity;  /* 0 calm .. 1 darkest */
@@ -25,6 +28,7 @@ typedef struct storm_fx {
     float fog_scale;  /* multiplies the renderer's fog distance; 1 = calm */
     float rain;       /* streak density 0 (none) .. 1 */
     int rain_layers;  /* layers of streaks drawn (0 none) */
+    float spray;      /* blown spray near the horizon 0 (none) .. 1 */
     float wind_to[2]; /* horizontal wind [m/s], world x east, y north: streaks slant along it */
 } storm_fx;
 

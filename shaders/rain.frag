@@ -1,7 +1,12 @@
 // Wind-driven rain as screen-space streaks (render_rain.c): columns along the slant
 // u = x + slant y (the wind across the view over the drops' fall speed), a hashed share of
 // them carrying dashes that fall with time; each layer nearer (wider, longer, faster).
+// Spray: a mist band hugging the horizon (the view ray's height), streaked in azimuth and
+// drifting with the wind.
 uniform vec4 u_rain; // density 0..1, slant dx/dy, layers 1..3, pixels per 720 rows
+uniform vec2 u_spray; // strength 0..1, drift [rad/s]
+uniform mat4 u_inv_viewproj;
+in vec2 v_ndc;
 out vec4 o_col;
 void main()
 {
@@ -29,6 +34,16 @@ void main()
         float y = (p.y + u_time * 1100.0 * scale * (0.8 + 0.4 * r1)) / (len * 3.0) + r1 * 11.0;
         float dash = smoothstep(0.0, 0.08, fract(y)) * (1.0 - smoothstep(0.26, 0.34, fract(y)));
         a = max(a, line * dash * (0.30 + 0.08 * float(k)));
+    }
+    if (u_spray.x > 0.0) {
+        vec4 n0 = u_inv_viewproj * vec4(v_ndc, -1.0, 1.0);
+        vec4 f0 = u_inv_viewproj * vec4(v_ndc, 1.0, 1.0);
+        vec3 dir = normalize(f0.xyz / f0.w - n0.xyz / n0.w);
+        float az = atan(dir.y, dir.x) + u_time * u_spray.y;
+        float band = exp(-abs(dir.z) * 9.0);
+        float streak = 0.6 + 0.4 * sin(az * 23.0 + sin(az * 7.0) * 2.0) * sin(az * 61.0 - u_time);
+        float s = u_spray.x * 0.55 * band * streak;
+        a = 1.0 - (1.0 - a) * (1.0 - s);
     }
     if (a <= 0.004) {
         discard;

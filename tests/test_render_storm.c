@@ -1,6 +1,7 @@
 /* The storm look under Mesa llvmpipe (EGL, or Xvfb): a Cat 4 frame is measurably darker
  * than a calm one and has rain-streak pixels in the sky; a breeze and render_set_storm(NULL)
- * draw the calm frame bit for bit (the goldens of test_render stay valid). */
+ * draw the calm frame bit for bit (the goldens of test_render stay valid). The Cat 4 frame
+ * is written to GALE_TEST_DIR/render_storm_cat4.png. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -66,6 +67,8 @@ static void test_cat4_dark_and_raining(void)
     storm_fx fx;
     storm_fx_from_weather(62.0f, 90.0f, STORM_FX_LOW, &fx); /* Cat 4 */
     uint8_t *cat4 = shot(&fx, 1.0);
+    /* kept for a look: the build tree's tests/render_storm_cat4.png */
+    CHECK(render_write_png(R, GALE_TEST_DIR "/render_storm_cat4.png", &err) == 0);
     double lc = mean_luma(calm), l4 = mean_luma(cat4);
     int sc = streak_pixels(calm), s4 = streak_pixels(cat4);
     fprintf(stderr, "mean luma calm %.1f, Cat 4 %.1f; streak pixels in the sky %d, %d\n", lc, l4,

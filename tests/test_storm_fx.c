@@ -43,6 +43,7 @@ static void test_monotone(void)
         CHECK(luma(fx.sun_col) <= luma(prev.sun_col));
         CHECK(fx.fog_scale <= prev.fog_scale && fx.fog_scale > 0.0f);
         CHECK(fx.rain >= prev.rain && fx.rain <= 1.0f);
+        CHECK(fx.spray >= prev.spray && fx.spray <= 1.0f);
         prev = fx;
     }
 }
@@ -56,6 +57,7 @@ static void test_cat4_darker_than_cat1(void)
     CHECK(luma(c4.sun_col) < luma(c1.sun_col) - 0.05f);
     CHECK(c4.fog_scale < c1.fog_scale - 0.05f);
     CHECK(c4.rain > c1.rain);
+    CHECK(c1.spray > 0.0f && c4.spray > c1.spray);
 }
 
 static void test_rain_threshold_and_wind(void)
@@ -64,7 +66,7 @@ static void test_rain_threshold_and_wind(void)
     storm_fx_from_weather(17.4f, 0.0f, STORM_FX_HIGH, &fx);
     CHECK(fx.intensity > 0.0f && fx.rain == 0.0f && fx.rain_layers == 0);
     storm_fx_from_weather(STORM_FX_RAIN_FROM_MS, 0.0f, STORM_FX_HIGH, &fx);
-    CHECK(fx.rain > 0.0f && fx.rain_layers == 3);
+    CHECK(fx.rain > 0.0f && fx.rain_layers == 3 && fx.spray == 0.0f);
     storm_fx_from_weather(30.0f, 0.0f, STORM_FX_LOW, &fx);
     CHECK(fx.rain_layers == 1);
     /* from the north: it blows towards -y */
