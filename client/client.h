@@ -56,6 +56,7 @@ typedef struct client_args {
     int camera_preset;      /* enum camera_preset; -1 = fitted to the scene (camera_preset.h) */
     const char *captions;   /* caption table file (caption.h); NULL = built-in English */
     double attract_s;       /* kiosk: idle seconds before attract mode; 0 = default 90 */
+    bool fullscreen;        /* --fullscreen: open on the primary monitor (F11 toggles) */
 } client_args;
 
 /* This tile's part of its wall group (client_wall_group.c, PROTOCOL.md "Wall groups"). */
@@ -184,6 +185,8 @@ int client_assets_load(client *c, const ctl_species *s, asset *a, gale_err *err)
 void client_input_attach(client *c, struct GLFWwindow *win);
 /* WASD/QE fly for dt [s] (not for wall tiles: every tile shows one fixed camera). */
 void client_input_fly(client *c, struct GLFWwindow *win, float dt);
+/* F11: the primary monitor at its mode, or back to the window it was. */
+void client_input_toggle_fullscreen(client *c, struct GLFWwindow *win);
 /* "gale-YYYYmmdd-HHMMSS.png" of the local time into buf (cap bytes). */
 void client_input_screenshot_name(char *buf, size_t cap);
 

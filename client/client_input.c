@@ -17,7 +17,7 @@ void client_input_screenshot_name(char *buf, size_t cap)
     strftime(buf, cap, "gale-%Y%m%d-%H%M%S.png", &tm);
 }
 
-static void toggle_fullscreen(client *c, GLFWwindow *win)
+void client_input_toggle_fullscreen(client *c, GLFWwindow *win)
 {
     if (!c->fullscreen) {
         GLFWmonitor *m = glfwGetPrimaryMonitor();
@@ -58,7 +58,7 @@ static void key_cb(GLFWwindow *win, int key, int scancode, int action, int mods)
         glfwSetWindowShouldClose(win, GLFW_TRUE);
         break;
     case GLFW_KEY_F11:
-        toggle_fullscreen(c, win);
+        client_input_toggle_fullscreen(c, win);
         break;
     case GLFW_KEY_F12:
     case GLFW_KEY_P:

@@ -57,6 +57,7 @@ static void usage(FILE *f)
             "                         dial and tour the cameras; a touch wakes it\n"
             "  --camera NAME          street (beside the palms), garden (an oak close up),\n"
             "                         roof, aerial, or tour (each in turn, for attract mode)\n"
+            "  --fullscreen           open fullscreen on the primary monitor (F11 toggles)\n"
             "  --help                 this text\n"
             "keys: left-drag orbit, right-drag pan, wheel zoom, WASD/QE fly, F11 fullscreen,\n"
             "      F12 or P screenshot, R reset view, kiosk: + / - dial the wind, Esc quit.\n"
@@ -119,6 +120,9 @@ static int parse_args(int argc, char **argv, client_args *a)
             takes = false;
         } else if (strcmp(o, "--list-tiles") == 0) {
             a->list_tiles = true;
+            takes = false;
+        } else if (strcmp(o, "--fullscreen") == 0) {
+            a->fullscreen = true;
             takes = false;
         } else if (strcmp(o, "--swap-lock") == 0) {
             a->swap_lock = true;
@@ -316,6 +320,9 @@ int main(int argc, char **argv)
     GLFWwindow *win = render_window(c.r);
     if (win) {
         client_input_attach(&c, win);
+        if (c.a.fullscreen) {
+            client_input_toggle_fullscreen(&c, win);
+        }
     }
 
     const double start = mono_s();
