@@ -197,6 +197,10 @@ void client_input_screenshot_name(char *buf, size_t cap);
 void client_kiosk_dial(client *c, float delta_ms);
 /* Kiosk role only: releases the kiosk's dial (attract mode); failures are logged. */
 void client_kiosk_release(client *c);
+/* The C key or the camera button: the next camera preset (camera_button_next), applied. */
+void client_kiosk_camera_next(client *c);
+/* A kiosk's camera button over the frame (camera_button_layout), labelled with its preset. */
+void client_kiosk_draw_camera_button(client *c, int fb_w, int fb_h);
 
 /* ---- client_wall.c ---- */
 

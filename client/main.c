@@ -60,7 +60,8 @@ static void usage(FILE *f)
             "  --fullscreen           open fullscreen on the primary monitor (F11 toggles)\n"
             "  --help                 this text\n"
             "keys: left-drag orbit, right-drag pan, wheel zoom, WASD/QE fly, F11 fullscreen,\n"
-            "      F12 or P screenshot, R reset view, kiosk: + / - dial the wind, Esc quit.\n"
+            "      F12 or P screenshot, R reset view, C next camera (kiosk: also the Camera\n"
+            "      button, top right), kiosk: + / - dial the wind, Esc quit.\n"
             "Exit status: 0 ok, 2 bad arguments, 3 no state received (headless), 4 kiosk\n"
             "token refused by the server, 1 other.\n");
 }
