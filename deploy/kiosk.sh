@@ -12,6 +12,8 @@
 # libglfw3-wayland installed the client draws to cage directly; the script is the same.
 # A refused token (gale-client exit 4) or bad options (2) are the operator's to fix: the
 # script stops with the client's message instead of retrying.
+# gale-client takes the token as --token, so local users of the kiosk machine can read it in
+# the process list; the token file keeps it out of unit files and shell history.
 set -euo pipefail
 
 usage() {
