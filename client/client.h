@@ -57,6 +57,7 @@ typedef struct client_args {
     const char *captions;   /* caption table file (caption.h); NULL = built-in English */
     double attract_s;       /* kiosk: idle seconds before attract mode; 0 = default 90 */
     int storm_fx;           /* enum storm_fx_quality: --storm-fx, default low */
+    bool fullscreen;        /* --fullscreen: open on the primary monitor (F11 toggles) */
 } client_args;
 
 /* This tile's part of its wall group (client_wall_group.c, PROTOCOL.md "Wall groups"). */
@@ -185,6 +186,8 @@ int client_assets_load(client *c, const ctl_species *s, asset *a, gale_err *err)
 void client_input_attach(client *c, struct GLFWwindow *win);
 /* WASD/QE fly for dt [s] (not for wall tiles: every tile shows one fixed camera). */
 void client_input_fly(client *c, struct GLFWwindow *win, float dt);
+/* F11: the primary monitor at its mode, or back to the window it was. */
+void client_input_toggle_fullscreen(client *c, struct GLFWwindow *win);
 /* "gale-YYYYmmdd-HHMMSS.png" of the local time into buf (cap bytes). */
 void client_input_screenshot_name(char *buf, size_t cap);
 
@@ -195,6 +198,10 @@ void client_input_screenshot_name(char *buf, size_t cap);
 void client_kiosk_dial(client *c, float delta_ms);
 /* Kiosk role only: releases the kiosk's dial (attract mode); failures are logged. */
 void client_kiosk_release(client *c);
+/* The C key or the camera button: the next camera preset (camera_button_next), applied. */
+void client_kiosk_camera_next(client *c);
+/* A kiosk's camera button over the frame (camera_button_layout), labelled with its preset. */
+void client_kiosk_draw_camera_button(client *c, int fb_w, int fb_h);
 
 /* ---- client_wall.c ---- */
 

@@ -93,6 +93,9 @@ int client_frame_draw(client *c, double now, gale_err *err)
             }
         }
     }
+    if (c->hud_on) {
+        client_kiosk_draw_camera_button(c, fb_w, fb_h);
+    }
     if (c->attract.active) {
         const char *line = "Touch the screen to control the wind";
         float w = hud_text_width(hud_get_font(c->hud), line);

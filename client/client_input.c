@@ -1,11 +1,13 @@
 /* gale-client input: left-drag orbit, right-drag pan, wheel zoom, WASD/QE fly, F11
- * fullscreen, F12 or P screenshot, R reset view, + / - the kiosk's wind dial, Esc quit. */
+ * fullscreen, F12 or P screenshot, R reset view, C or the camera button the next camera
+ * preset, + / - the kiosk's wind dial, Esc quit. */
 #include <epoxy/gl.h>
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
 #include <time.h>
 
+#include "camera_button.h"
 #include "client.h"
 #include "mono.h"
 
@@ -17,7 +19,7 @@ void client_input_screenshot_name(char *buf, size_t cap)
     strftime(buf, cap, "gale-%Y%m%d-%H%M%S.png", &tm);
 }
 
-static void toggle_fullscreen(client *c, GLFWwindow *win)
+void client_input_toggle_fullscreen(client *c, GLFWwindow *win)
 {
     if (!c->fullscreen) {
         GLFWmonitor *m = glfwGetPrimaryMonitor();
@@ -58,7 +60,7 @@ static void key_cb(GLFWwindow *win, int key, int scancode, int action, int mods)
         glfwSetWindowShouldClose(win, GLFW_TRUE);
         break;
     case GLFW_KEY_F11:
-        toggle_fullscreen(c, win);
+        client_input_toggle_fullscreen(c, win);
         break;
     case GLFW_KEY_F12:
     case GLFW_KEY_P:
@@ -66,6 +68,9 @@ static void key_cb(GLFWwindow *win, int key, int scancode, int action, int mods)
         break;
     case GLFW_KEY_R:
         client_scene_reset_camera(c);
+        break;
+    case GLFW_KEY_C:
+        client_kiosk_camera_next(c);
         break;
     case GLFW_KEY_EQUAL:
     case GLFW_KEY_KP_ADD:
@@ -80,11 +85,29 @@ static void key_cb(GLFWwindow *win, int key, int scancode, int action, int mods)
     }
 }
 
+/* A kiosk's press on its camera button (a touch under GLFW is a left press). */
+static bool on_camera_button(client *c, GLFWwindow *win)
+{
+    if (c->a.role != CTL_ROLE_KIOSK || !c->hud_on) {
+        return false;
+    }
+    int fb_w, fb_h, win_w, win_h;
+    double x, y;
+    glfwGetFramebufferSize(win, &fb_w, &fb_h);
+    glfwGetWindowSize(win, &win_w, &win_h);
+    glfwGetCursorPos(win, &x, &y);
+    return camera_button_hit(fb_w, fb_h, win_w, win_h, x, y);
+}
+
 static void mouse_cb(GLFWwindow *win, int button, int action, int mods)
 {
     client *c = glfwGetWindowUserPointer(win);
     (void)mods;
     if (action == GLFW_PRESS && woke(c)) {
+        return;
+    }
+    if (action == GLFW_PRESS && button == GLFW_MOUSE_BUTTON_LEFT && on_camera_button(c, win)) {
+        client_kiosk_camera_next(c);
         return;
     }
     if (action == GLFW_PRESS) {

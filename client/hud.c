@@ -718,3 +718,61 @@ void hud_draw_veil(hud *h, const char *text, int fb_w, int fb_h)
     hud_draw_lines(h, lines, 1, 0, floorf(0.5f * ((float)fb_w - w)),
                    floorf(0.5f * (float)fb_h - h->font->px), fb_w, fb_h);
 }
+
+/* Uploads and draws the vertices pushed since n_verts was reset, over the bound framebuffer. */
+static void flush_verts(hud *h, int fb_w, int fb_h)
+{
+    glUseProgram(h->prog);
+    glUniform2f(h->u_size, (float)fb_w, (float)fb_h);
+    glUniform1i(h->u_atlas, 0);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, h->tex);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    glViewport(0, 0, fb_w, fb_h);
+    glBindVertexArray(h->vao);
+    glBindBuffer(GL_ARRAY_BUFFER, h->vbo);
+    glBufferSubData(GL_ARRAY_BUFFER, 0,
+                    (GLsizeiptr)((size_t)h->n_verts * VERT_FLOATS * sizeof(float)), h->verts);
+    glDrawArrays(GL_TRIANGLES, 0, (GLsizei)h->n_verts);
+    glBindVertexArray(0);
+    glUseProgram(0);
+}
+
+void hud_draw_button(hud *h, const char *label, float x0, float y0, float x1, float y1, int fb_w,
+                     int fb_h)
+{
+    if (fb_w <= 0 || fb_h <= 0 || !(x1 > x0 && y1 > y0)) {
+        return;
+    }
+    const float panel[4] = { 0.05f, 0.07f, 0.10f, 0.72f };
+    const float edge[4] = { 1.0f, 0.80f, 0.30f, 0.9f };
+    const float shadow[4] = { 0.0f, 0.0f, 0.0f, 0.85f };
+    const float ink[4] = { 0.97f, 0.97f, 0.93f, 1.0f };
+    const float bh = y1 - y0, t = fmaxf(2.0f, floorf(0.04f * bh));
+    h->n_verts = 0;
+    push_rect(h, x0, y0, x1, y1, -1, 0, -1, 0, panel);
+    push_rect(h, x0, y0, x1, y0 + t, -1, 0, -1, 0, edge);
+    push_rect(h, x0, y1 - t, x1, y1, -1, 0, -1, 0, edge);
+    push_rect(h, x0, y0, x0 + t, y1, -1, 0, -1, 0, edge);
+    push_rect(h, x1 - t, y0, x1, y1, -1, 0, -1, 0, edge);
+    /* the atlas's glyphs magnified so the label's em is ~40 % of the button's height, as
+     * the button itself scales with the framebuffer (camera_button.h) */
+    const float em = h->font->ascent - h->font->descent;
+    const float k = em > 0.0f ? 0.42f * bh / em : 1.0f;
+    const float tw = k * hud_text_width(h->font, label);
+    const float ox = floorf(0.5f * (x0 + x1 - tw));
+    const float oy = floorf(0.5f * (y0 + y1) + 0.5f * k * (h->font->ascent + h->font->descent));
+    uint32_t n = hud_text_quads(h->font, 0.0f, 0.0f, label, h->quads, HUD_MAX_GLYPHS, NULL);
+    for (int pass = 0; pass < 2; pass++) {
+        const float d = pass == 0 ? fmaxf(1.0f, floorf(k)) : 0.0f; /* shadow, then ink */
+        for (uint32_t i = 0; i < n; i++) {
+            const hud_quad *q = &h->quads[i];
+            push_rect(h, ox + d + k * q->x0, oy + d + k * q->y0, ox + d + k * q->x1,
+                      oy + d + k * q->y1, q->s0, q->t0, q->s1, q->t1, pass == 0 ? shadow : ink);
+        }
+    }
+    flush_verts(h, fb_w, fb_h);
+}

@@ -128,4 +128,9 @@ void hud_draw_veil(hud *h, const char *text, int fb_w, int fb_h);
 void hud_draw_lines(hud *h, const char *const *lines, int n, int accent_line, float x, float y,
                     int fb_w, int fb_h);
 
+/* A touch button: a panel filling (x0, y0)-(x1, y1) [px from the top left] with an accent
+ * edge and label centred in it, the text sized to the button's height. */
+void hud_draw_button(hud *h, const char *label, float x0, float y0, float x1, float y1, int fb_w,
+                     int fb_h);
+
 #endif

@@ -59,9 +59,11 @@ static void usage(FILE *f)
             "                         roof, aerial, or tour (each in turn, for attract mode)\n"
             "  --storm-fx Q           storm look from the streamed weather: off, low (one layer\n"
             "                         of rain, the default) or high\n"
+            "  --fullscreen           open fullscreen on the primary monitor (F11 toggles)\n"
             "  --help                 this text\n"
             "keys: left-drag orbit, right-drag pan, wheel zoom, WASD/QE fly, F11 fullscreen,\n"
-            "      F12 or P screenshot, R reset view, kiosk: + / - dial the wind, Esc quit.\n"
+            "      F12 or P screenshot, R reset view, C next camera (kiosk: also the Camera\n"
+            "      button, top right), kiosk: + / - dial the wind, Esc quit.\n"
             "Exit status: 0 ok, 2 bad arguments, 3 no state received (headless), 4 kiosk\n"
             "token refused by the server, 1 other.\n");
 }
@@ -122,6 +124,9 @@ static int parse_args(int argc, char **argv, client_args *a)
             takes = false;
         } else if (strcmp(o, "--list-tiles") == 0) {
             a->list_tiles = true;
+            takes = false;
+        } else if (strcmp(o, "--fullscreen") == 0) {
+            a->fullscreen = true;
             takes = false;
         } else if (strcmp(o, "--swap-lock") == 0) {
             a->swap_lock = true;
@@ -327,6 +332,9 @@ int main(int argc, char **argv)
     GLFWwindow *win = render_window(c.r);
     if (win) {
         client_input_attach(&c, win);
+        if (c.a.fullscreen) {
+            client_input_toggle_fullscreen(&c, win);
+        }
     }
 
     const double start = mono_s();
