@@ -58,10 +58,10 @@ static int check_scene(const wire_scene *sc, const char *what, gale_err *err)
         }
         for (uint32_t m = 0; m < sc->n_modes[s]; m++) {
             float st = sc->step[s][m];
-            if (!(st > 0.0f) || !isfinite(st)) {
+            if (!(st > 0.0f && st <= WIRE_MAX_STEP)) {
                 return gale_errf(err, GALE_E_RANGE,
-                                 "%s: scene.step[%u][%u]: expected finite > 0, got %g", what,
-                                 s, m, (double)st);
+                                 "%s: scene.step[%u][%u]: expected in (0, %g], got %g", what,
+                                 s, m, (double)WIRE_MAX_STEP, (double)st);
             }
         }
     }
@@ -499,9 +499,9 @@ int wire_decode_state(wire_decoder *d, wire_reader *r, const wire_header *h, wir
                 if (r->bad) {
                     FAIL("%s: species %u step %u at byte %zu: truncated", where, s, m, at);
                 }
-                if (!(st > 0.0f) || !isfinite(st)) {
-                    FAIL("%s: species %u step %u at byte %zu: expected finite > 0, got %g",
-                         where, s, m, at, (double)st);
+                if (!(st > 0.0f && st <= WIRE_MAX_STEP)) {
+                    FAIL("%s: species %u step %u at byte %zu: expected in (0, %g], got %g",
+                         where, s, m, at, (double)WIRE_MAX_STEP, (double)st);
                 }
                 sc->step[s][m] = st;
             }

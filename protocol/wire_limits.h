@@ -41,6 +41,10 @@
  * (one of each type) need fewer than 8; 16 leaves room for types to come. */
 #define WIRE_MAX_BUNDLE 16u
 
+/* Largest quantisation step: |Q| <= 32767 times it stays a finite float (FLT_MAX / 32768
+ * is about 1e34), so every dequantised q is finite. */
+#define WIRE_MAX_STEP 1e30f
+
 /* Largest binary frame either side accepts: a keyframe of every tree at full modes is
  * bounded by wire_state_bound(); 100 000 trees x 32 modes fit in well under 16 MiB. */
 #define WIRE_MAX_FRAME_BYTES (16u << 20)

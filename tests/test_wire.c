@@ -332,7 +332,11 @@ static void test_state_golden(void)
     bad[32] = 0xc0; /* step 0 becomes 0x7fc00000, a NaN */
     bad[33] = 0x7f;
     CHECK(wire_decode(d, bad, nk, &f, &e) == GALE_E_FORMAT);
-    CHECK_STR_HAS(e.msg, "wire: KEYFRAME tick 7: species 0 step 0 at byte 30: expected finite > 0, got nan");
+    CHECK_STR_HAS(e.msg, "wire: KEYFRAME tick 7: species 0 step 0 at byte 30: expected in (0, 1e+30], got nan");
+    memcpy(bad, key, nk);
+    memcpy(bad + 30, "\x7c\x6f\xfc\x72", 4); /* step 0 = 1e31: 32767 steps would overflow */
+    CHECK(wire_decode(d, bad, nk, &f, &e) == GALE_E_FORMAT);
+    CHECK_STR_HAS(e.msg, "wire: KEYFRAME tick 7: species 0 step 0 at byte 30: expected in (0, 1e+30], got 1e+31");
     CHECK(wire_decoder_seq(d) == 1);
 
     /* A decoder too small for the scene says so. */
