@@ -226,6 +226,16 @@ static int ws_callback(cli_net *n, struct lws *wsi, enum lws_callback_reasons re
      * attempt that connect_ws has not yet seen returned (n->ws NULL while CONNECTING) is
      * current besides n->ws. */
     bool current = wsi == n->ws || (!n->ws && n->st.state == CLI_NET_CONNECTING);
+    if (reason == LWS_CALLBACK_WSI_DESTROY && wsi == n->ws) {
+        /* lws frees a socket that fails in its handshake without CONNECTION_ERROR or
+         * CLIENT_CLOSED: n->ws must not outlive it (the connect timeout would touch it) */
+        n->ws = NULL;
+        if (!n->destroying && (n->st.state == CLI_NET_CONNECTING || n->st.state == CLI_NET_HELLO ||
+                               n->st.state == CLI_NET_LIVE)) {
+            set_lost(n, n->st.last_close, "closed during the handshake");
+        }
+        return 0;
+    }
     if (!current) {
         return reason == LWS_CALLBACK_CLIENT_WRITEABLE ? -1 : 0;
     }
