@@ -116,13 +116,30 @@ static int start_nats(proc *p)
     if (spawn(p, argv, "relay_nats.log", NULL)) {
         return -1;
     }
-    for (int i = 0; i < 200; i++) { /* until it accepts */
+    for (int i = 0; i < 750; i++) { /* until it accepts: up to 15 s on a loaded machine */
         int fd = wsraw_tcp(nats_port, 0);
         if (fd >= 0) {
             close(fd);
             return 0;
         }
+        if (waitpid(p->pid, NULL, WNOHANG) == p->pid) {
+            p->pid = 0; /* it exited: the port was taken between free_port and its bind */
+            return -1;
+        }
         usleep(20000);
+    }
+    end(p, SIGKILL);
+    return -1;
+}
+
+/* nats-server on a free port; a port another test took first gets a second try. */
+static int start_nats_fresh(proc *p)
+{
+    for (int attempt = 0; attempt < 3; attempt++) {
+        nats_port = free_port();
+        if (start_nats(p) == 0) {
+            return 0;
+        }
     }
     return -1;
 }
@@ -475,10 +492,9 @@ int main(void)
         fputs(TOKEN "\n", f);
         fclose(f);
     }
-    nats_port = free_port();
+    int nats_rc = start_nats_fresh(&nats);
     snprintf(nats_url, sizeof nats_url, "nats://127.0.0.1:%d", nats_port);
-    if (start_nats(&nats) || start_server(&server) || start_relay(&relay_a) ||
-        start_relay(&relay_b)) {
+    if (nats_rc || start_server(&server) || start_relay(&relay_a) || start_relay(&relay_b)) {
         fprintf(stderr, "test_relay: could not start nats-server, gale-server and relays\n");
         end(&relay_a, SIGKILL);
         end(&server, SIGKILL);
