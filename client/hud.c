@@ -568,6 +568,9 @@ static void push_text(hud *h, float x, float y, const char *s, const float rgba[
     }
 }
 
+
+/* Uploads and draws the pushed vertices (defined below). */
+static void flush_verts(hud *h, int fb_w, int fb_h);
 void hud_draw_lines(hud *h, const char *const *lines, int n, int accent_line, float x, float y,
                     int fb_w, int fb_h)
 {
@@ -593,23 +596,7 @@ void hud_draw_lines(hud *h, const char *const *lines, int n, int accent_line, fl
         push_text(h, bx + 1, by + 1, lines[i], shadow);
         push_text(h, bx, by, lines[i], i == accent_line ? accent : ink);
     }
-    glUseProgram(h->prog);
-    glUniform2f(h->u_size, (float)fb_w, (float)fb_h);
-    glUniform1i(h->u_atlas, 0);
-    glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, h->tex);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE);
-    glEnable(GL_BLEND);
-    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-    glViewport(0, 0, fb_w, fb_h);
-    glBindVertexArray(h->vao);
-    glBindBuffer(GL_ARRAY_BUFFER, h->vbo);
-    glBufferSubData(GL_ARRAY_BUFFER, 0,
-                    (GLsizeiptr)((size_t)h->n_verts * VERT_FLOATS * sizeof(float)), h->verts);
-    glDrawArrays(GL_TRIANGLES, 0, (GLsizei)h->n_verts);
-    glBindVertexArray(0);
-    glUseProgram(0);
+    flush_verts(h, fb_w, fb_h);
 }
 
 static void push_tri(hud *h, const float p[6], const float rgba[4])
