@@ -568,9 +568,9 @@ static void push_text(hud *h, float x, float y, const char *s, const float rgba[
     }
 }
 
-
 /* Uploads and draws the pushed vertices (defined below). */
 static void flush_verts(hud *h, int fb_w, int fb_h);
+
 void hud_draw_lines(hud *h, const char *const *lines, int n, int accent_line, float x, float y,
                     int fb_w, int fb_h)
 {
