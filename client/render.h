@@ -120,6 +120,32 @@ void render_set_damage(render *r, uint32_t t, float fall_rad, float fall_az_rad,
 /* Sends the instances' falls to the GPU. */
 void render_trees_commit(render *r);
 
+/* Branches broken off (PROTOCOL.md "DAMAGE" BRANCH): keys (tree << 32 | node), ascending
+ * (damage_view's `broken`), n of them (copied; replaces the previous set). The whole
+ * sub-tree of each node (wood and leaves) is no longer drawn on that tree; keys naming a
+ * tree or node outside the scene draw nothing. 0, or GALE_E_NOMEM / GALE_E_ARG (not
+ * ascending) with err set. */
+int render_set_broken(render *r, uint32_t n, const uint64_t *keys, gale_err *err);
+
+/* Debris pieces drawn at most at once. */
+#define RENDER_MAX_DEBRIS 64u
+
+/* A branch broken off tree `tree` at node `node`, drawn as a rigid piece: the sub-tree of
+ * that node in the rest pose of the tree's species, at the tree's scale and leaf level,
+ * placed as an instance is (a point p of the tree frame at pos + R · (scale · p), R =
+ * tipped by fall_rad (0..π) towards fall_az_rad after yaw, shaders/common.glsl
+ * tree_frame). */
+typedef struct render_debris {
+    uint32_t tree, node;
+    float pos[3];
+    float yaw, fall_rad, fall_az_rad;
+} render_debris;
+
+/* Sets the debris pieces of the following frames (copied; n <= RENDER_MAX_DEBRIS; n = 0
+ * clears). 0, or GALE_E_RANGE (too many, a tree outside the scene, a node outside its
+ * species, angles not finite) with err set. */
+int render_set_debris(render *r, uint32_t n, const render_debris *d, gale_err *err);
+
 /* Stages q for one tree (n must equal its species' n_modes, else error). Staged q goes
  * to the GPU in one upload at the next render_frame. */
 int render_set_q(render *r, uint32_t tree, const float *q, uint32_t n, gale_err *err);
@@ -177,6 +203,11 @@ int render_write_png(render *r, const char *path, gale_err *err);
  * all modes, and reads it back: out[3 n_nodes] node positions in the tree frame (before
  * the instance transform), to compare with asset_reconstruct. */
 int render_read_skeleton(render *r, uint32_t tree, float *out, gale_err *err);
+
+/* Which nodes the skeleton pass draws for tree k (k < n_trees) or debris piece
+ * k - n_trees: out[n_nodes] 1 drawn, 0 hidden (a broken-off sub-tree; on a piece, every
+ * node outside it), to compare with damage_cut_mask. */
+int render_read_attached(render *r, uint32_t k, uint8_t *out, gale_err *err);
 
 /* Counters of the last frame. */
 render_stats render_get_stats(const render *r);

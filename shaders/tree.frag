@@ -3,11 +3,12 @@ uniform vec3 u_bark;
 in vec3 v_wpos;
 in vec3 v_nrm;
 in vec3 v_local;
+in float v_kept;
 flat in float v_fade;
 out vec4 o_col;
 void main()
 {
-    if (!dither_keep(v_fade)) {
+    if (v_kept < 0.5 || !dither_keep(v_fade)) {
         discard;
     }
     vec3 n = normalize(v_nrm);
