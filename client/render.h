@@ -204,6 +204,20 @@ int render_write_png(render *r, const char *path, gale_err *err);
  * the instance transform), to compare with asset_reconstruct. */
 int render_read_skeleton(render *r, uint32_t tree, float *out, gale_err *err);
 
+/* The piece that breaks off tree `tree` at `node` (its sub-tree), in the tree frame at unit
+ * scale: centre (mean of its rest nodes), axis (from the break towards the centre; along
+ * the node's segment for a lone tip) and extent_m (centre to farthest node). 0, or
+ * GALE_E_RANGE / GALE_E_NOMEM with err set. */
+int render_piece_shape(render *r, uint32_t tree, uint32_t node, float centre[3], float axis[3],
+                       float *extent_m, gale_err *err);
+
+/* Height of tree t as drawn: its species' rest height times its scale [m]; 0 outside. */
+float render_tree_height_m(const render *r, uint32_t tree);
+
+/* The coarse wind [m/s] at world point p, as falling leaves and debris feel it (the grid
+ * of render_set_wind, else its uniform vector). */
+void render_wind_sample(const render *r, const float p[3], float out[3]);
+
 /* Which nodes the skeleton pass draws for tree k (k < n_trees) or debris piece
  * k - n_trees: out[n_nodes] 1 drawn, 0 hidden (a broken-off sub-tree; on a piece, every
  * node outside it), to compare with damage_cut_mask. */

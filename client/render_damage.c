@@ -13,6 +13,8 @@
  * nothing per node. Memory: 16 bytes per slot, 4 per broken branch. */
 #include "render_internal.h"
 
+#include "damage_cut.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -117,4 +119,61 @@ void render_damage_upload(render *r)
     free(head);
     free(nodes);
     r->cut_dirty = false;
+}
+
+int render_piece_shape(render *r, uint32_t tree, uint32_t node, float centre[3], float axis[3],
+                       float *extent_m, gale_err *err)
+{
+    if (tree >= r->n_trees || node >= r->sp[r->inst[tree].species].n_nodes) {
+        return gale_errf(err, GALE_E_RANGE, "render_piece_shape: tree %u node %u outside the scene",
+                         tree, node);
+    }
+    const rs_species *s = &r->sp[r->inst[tree].species];
+    uint8_t *m = malloc(s->n_nodes);
+    if (!m) {
+        return gale_errf(err, GALE_E_NOMEM, "render_piece_shape: out of memory");
+    }
+    damage_cut_mask(s->parent, s->n_nodes, &node, 1, true, m);
+    double c[3] = { 0, 0, 0 };
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < s->n_nodes; i++) {
+        if (m[i]) {
+            for (int k = 0; k < 3; k++) {
+                c[k] += (double)s->rest[3 * i + k];
+            }
+            n++;
+        }
+    }
+    float ext = 0.0f;
+    for (int k = 0; k < 3; k++) {
+        centre[k] = (float)(c[k] / (double)n); /* n >= 1: the node itself */
+        axis[k] = centre[k] - s->rest[3 * node + k];
+    }
+    for (uint32_t i = 0; i < s->n_nodes; i++) {
+        if (m[i]) {
+            const float *p = &s->rest[3 * i];
+            ext = fmaxf(ext, sqrtf((p[0] - centre[0]) * (p[0] - centre[0]) +
+                                   (p[1] - centre[1]) * (p[1] - centre[1]) +
+                                   (p[2] - centre[2]) * (p[2] - centre[2])));
+        }
+    }
+    if (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2] < 1e-12f) {
+        /* a single node: its own segment's direction */
+        const int32_t p = s->parent[node];
+        for (int k = 0; k < 3; k++) {
+            axis[k] = p >= 0 ? s->rest[3 * node + k] - s->rest[3 * p + k] : (k == 2);
+        }
+    }
+    *extent_m = ext;
+    free(m);
+    return 0;
+}
+
+float render_tree_height_m(const render *r, uint32_t tree)
+{
+    if (tree >= r->n_trees) {
+        return 0.0f;
+    }
+    const render_instance *in = &r->inst[tree];
+    return r->sp[in->species].height * (in->scale > 0.0f ? in->scale : 1.0f);
 }
