@@ -227,8 +227,10 @@ void client_damage_frame(client *c, double now_s)
         memcpy(x->centre[kept], ce, sizeof x->centre[kept]);
         kept++;
     }
+    if (kept > 0 || x->n_debris > 0) { /* nothing to send while no piece flies or lies */
+        render_set_debris(c->r, kept, out, NULL);
+    }
     x->n_debris = kept;
-    render_set_debris(c->r, kept, out, NULL);
 }
 
 uint32_t client_damage_debris_count(const client *c)

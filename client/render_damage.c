@@ -63,6 +63,7 @@ int render_set_debris(render *r, uint32_t n, const render_debris *d, gale_err *e
             return gale_errf(err, GALE_E_RANGE, "render_set_debris: piece %u: not finite", k);
         }
     }
+    bool same = n == r->n_debris;
     for (uint32_t k = 0; k < n; k++) {
         const render_instance *src = &r->inst[d[k].tree];
         render_instance *in = &r->inst[r->cap_trees + 1 + k];
@@ -73,11 +74,32 @@ int render_set_debris(render *r, uint32_t n, const render_debris *d, gale_err *e
                                  .fall_rad = fminf(fmaxf(d[k].fall_rad, 0.0f), 3.1415926f),
                                  .fall_az_rad = d[k].fall_az_rad,
                                  .leaf_lost = src->leaf_lost };
+        same = same && r->debris[k].tree == d[k].tree && r->debris[k].node == d[k].node;
         r->debris[k] = d[k];
     }
+    /* the cut lists change only with the set of pieces, not as they move */
+    r->cut_dirty |= !same;
     r->n_debris = n;
-    r->cut_dirty = true;
-    render_trees_upload(r);
+    if (n > 0) {
+        /* only the debris slots' transforms, the layout of render_trees_upload */
+        float t[8 * RENDER_MAX_DEBRIS];
+        for (uint32_t k = 0; k < n; k++) {
+            const render_instance *in = &r->inst[r->cap_trees + 1 + k];
+            float *e = &t[8 * k];
+            e[0] = in->pos[0];
+            e[1] = in->pos[1];
+            e[2] = in->pos[2];
+            e[3] = in->yaw;
+            e[4] = in->scale > 0.0f ? in->scale : 1.0f;
+            e[5] = (float)in->species;
+            e[6] = in->fall_rad + 4.0f * (float)in->leaf_lost;
+            e[7] = in->fall_az_rad;
+        }
+        glBindBuffer(GL_TEXTURE_BUFFER, r->trees.buf);
+        glBufferSubData(GL_TEXTURE_BUFFER, (GLintptr)((size_t)(r->cap_trees + 1) * 8 * sizeof(float)),
+                        (GLsizeiptr)((size_t)n * 8 * sizeof(float)), t);
+        glBindBuffer(GL_TEXTURE_BUFFER, 0);
+    }
     return 0;
 }
 

@@ -50,7 +50,7 @@ void render_trees_upload(render *r)
         t[8 * i + 4] = in->scale > 0.0f ? in->scale : 1.0f;
         t[8 * i + 5] = (float)in->species;
         /* slot 1 .z: the fall angle (0..π) plus 4 x the leaf levels lost (tree_fall,
-         * leaf_kept in shaders/common.glsl) */
+         * leaf_kept in shaders/common.glsl; render_set_debris writes its slots alike) */
         t[8 * i + 6] = in->fall_rad + 4.0f * (float)in->leaf_lost;
         t[8 * i + 7] = in->fall_az_rad;
     }
