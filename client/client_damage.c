@@ -3,17 +3,16 @@
  * pole) and lies; a broken branch is gone from its tree (render_set_broken) and falls as
  * tumbling debris in the streamed wind (debris_path.h), lands, lies and sinks away; a
  * stripped crown shows only the leaf slots its level keeps; a heal restores all of it.
- * Only events younger than CLIENT_DAMAGE_RECENT_S animate: a late joiner sees fallen trees
- * lying and broken branches gone, never falling. */
+ * Only events younger than DAMAGE_RECENT_S animate (damage_clock.h): a late joiner sees
+ * fallen trees lying and broken branches gone, never falling. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "client.h"
+#include "damage_clock.h"
 #include "debris_path.h"
 #include "tip_fall.h"
-
-#define CLIENT_DAMAGE_RECENT_S 3.0
 
 struct client_damage_fx {
     uint32_t n_trees;
@@ -112,24 +111,21 @@ void client_damage_take(client *c, const wire_frame *f)
         return;
     }
     client_damage_fx *x = fx_get(c);
-    const double hz = c->w.tick_hz > 0.0f ? (double)c->w.tick_hz : 60.0;
-    const double frame_s = (double)f->hdr.server_time_us * 1e-6;
     /* what is new to this picture (events are idempotent), before it is applied */
     for (uint32_t i = 0; x && i < f->n_damage; i++) {
         const wire_damage *e = &f->damage[i];
         if (e->tree >= c->dmg.n_trees) {
             continue;
         }
-        double age_s = (double)(int32_t)(f->hdr.tick - e->tick) / hz;
-        age_s = age_s > 0.0 ? age_s : 0.0;
-        const bool recent = age_s <= CLIENT_DAMAGE_RECENT_S;
+        const double t0 =
+            damage_event_start_s(f->hdr.tick, f->hdr.server_time_us, e->tick, (double)c->w.tick_hz);
         if ((e->kind == WIRE_DAMAGE_SNAP || e->kind == WIRE_DAMAGE_UPROOT) &&
             !c->dmg.tree[e->tree].fallen) {
-            x->fall_t0_s[e->tree] = recent ? frame_s - age_s : (double)NAN;
-            x->n_tipping += recent;
-        } else if (e->kind == WIRE_DAMAGE_BRANCH && recent &&
+            x->fall_t0_s[e->tree] = t0; /* NaN: an old fall, lying at once */
+            x->n_tipping += !isnan(t0);
+        } else if (e->kind == WIRE_DAMAGE_BRANCH && !isnan(t0) &&
                    !damage_view_broken(&c->dmg, e->tree, e->node)) {
-            spawn_debris(c, x, e->tree, e->node, frame_s - age_s);
+            spawn_debris(c, x, e->tree, e->node, t0);
         }
     }
     if (damage_view_apply(&c->dmg, f->damage_full, f->damage, f->n_damage)) {

@@ -2,11 +2,13 @@
  * exactly the descendants of each broken node (and a debris piece keeps exactly them), the
  * per-tree range of a sorted broken list, the tip-over closed form against a fine RK4 of
  * θ'' = (3g / 2L) sin θ, and a debris piece: deterministic per (tree, node), downwind,
- * landed, lying flat, then gone; tree_frame's angles round-trip. */
+ * landed, lying flat, then gone; tree_frame's angles round-trip; only recent events
+ * animate (a late joiner's old events give NaN: the end state at once). */
 #include <math.h>
 #include <string.h>
 
 #include "check.h"
+#include "damage_clock.h"
 #include "damage_cut.h"
 #include "debris_path.h"
 #include "tip_fall.h"
@@ -226,6 +228,22 @@ static void test_frame_angles(void)
     CHECK_NEAR(r[8], 0.0, 1e-6);
 }
 
+static void test_event_clock(void)
+{
+    /* a frame of tick 6000 encoded at 100 s, 60 Hz ticks */
+    CHECK_NEAR(damage_event_start_s(6000, 100000000u, 6000, 60.0), 100.0, 1e-9);
+    CHECK_NEAR(damage_event_start_s(6000, 100000000u, 5940, 60.0), 99.0, 1e-9);
+    CHECK_NEAR(damage_event_start_s(6000, 100000000u, 6000 - 180, 60.0), 97.0, 1e-9);
+    CHECK(isnan(damage_event_start_s(6000, 100000000u, 6000 - 181, 60.0)));
+    /* the whole state a late joiner gets: every old event shows its end state */
+    CHECK(isnan(damage_event_start_s(6000, 100000000u, 60, 60.0)));
+    /* stamped after its frame: the frame's instant; across the tick wrap: its age */
+    CHECK_NEAR(damage_event_start_s(6000, 100000000u, 6010, 60.0), 100.0, 1e-9);
+    CHECK_NEAR(damage_event_start_s(30, 100000000u, 0xFFFFFFFFu - 29, 60.0), 99.0, 1e-9);
+    /* no rate known: 60 Hz */
+    CHECK_NEAR(damage_event_start_s(6000, 100000000u, 5940, 0.0), 99.0, 1e-9);
+}
+
 int main(void)
 {
     RUN(test_mask_is_descendants);
@@ -233,5 +251,6 @@ int main(void)
     RUN(test_tip_fall);
     RUN(test_debris_path);
     RUN(test_frame_angles);
+    RUN(test_event_clock);
     return check_report();
 }
