@@ -242,9 +242,11 @@ static void build_lists(render *r)
                                          .n_lods = s->n_lods };
         render_tree_lod tl = render_cull_tree(planes, r->eye, in, &cs, &ld);
         if (k >= r->n_trees) {
-            /* a debris piece: its rest pose needs no modes, and the impostor shows a
-             * whole tree */
-            tl.n_modes = 0.0f;
+            tl.n_modes = 0.0f; /* a debris piece: its rest pose needs no modes */
+        }
+        if (k >= r->n_trees || in->fall_rad > 0.0f) {
+            /* the impostor shows a whole standing tree: a piece or a fallen tree fades
+             * out where others turn into billboards */
             tl.flags &= ~(uint32_t)RENDER_LOD_BILLBOARD;
         }
         r->tree_group[i] = tl.flags;

@@ -2,7 +2,8 @@
  * is hidden exactly as damage_cut_mask says (the skeleton pass read back), its pixels go
  * from a render of the intact tree and nothing else does, the same branch drawn as a
  * debris piece in place fills them again, and a piece placed by debris_frame_matrix lands
- * on screen where the C copy of tree_frame puts it. */
+ * on screen where the C copy of tree_frame puts it; far away a fallen tree is no standing
+ * billboard. */
 #include <cglm/cglm.h>
 #include <math.h>
 #include <stdbool.h>
@@ -229,6 +230,21 @@ static void test_piece_frame(void)
     free(mask);
 }
 
+/* far away a standing tree is a billboard, a fallen one is not (the impostor stands) */
+static void test_fallen_no_billboard(void)
+{
+    render_instance in = { .species = 0, .pos = { 0.0f, 400.0f, 0.0f }, .scale = 1.0f };
+    CHECK(render_set_instances(R, 1, &in, &err) == 0);
+    free(shot());
+    render_stats st = render_get_stats(R);
+    CHECK(st.trees_billboard == 1);
+    render_set_damage(R, 0, 1.536f, 0.0f, 0);
+    render_trees_commit(R);
+    free(shot());
+    st = render_get_stats(R);
+    CHECK(st.trees_billboard == 0 && st.trees_full == 0);
+}
+
 int main(void)
 {
     R = render_create(&(render_desc){ .width = W, .height = H, .headless = true,
@@ -245,6 +261,7 @@ int main(void)
     }
     RUN(test_branch_hidden);
     RUN(test_piece_frame);
+    RUN(test_fallen_no_billboard);
     render_destroy(R);
     render_demo_free(&A);
     return check_report();
