@@ -116,6 +116,7 @@ int bench_render(int argc, char **argv)
             }
             if (t % 20 == 0) {
                 render_set_damage(r, t, 1.536f, 0.3f * (float)t, 8);
+                render_set_uprooted(r, t, true);
             }
             const uint32_t nn = a[inst[t].species].n_nodes;
             for (uint32_t k = 0; k < 3; k++) { /* three nodes, ascending */

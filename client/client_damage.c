@@ -170,6 +170,7 @@ void client_damage_draw(client *c)
             tipping++;
         }
         render_set_damage(c->r, t, fall, fall_az(c, t), WIRE_DAMAGE_LEVELS - d->level);
+        render_set_uprooted(c->r, t, d->fallen == WIRE_DAMAGE_UPROOT);
     }
     render_trees_commit(c->r);
     if (x) {

@@ -83,7 +83,7 @@ render *render_create(const render_desc *desc, gale_err *err)
         const char *name;
     } progs[] = { { &r->p_skel, "skel" },  { &r->p_tree, "tree" }, { &r->p_leaf, "leaf" },
                   { &r->p_fall, "fall" },  { &r->p_sky, "sky" },   { &r->p_bill, "bill" },
-                  { &r->p_house, "house" }, { &r->p_rain, "rain" } };
+                  { &r->p_house, "house" }, { &r->p_rain, "rain" }, { &r->p_plate, "plate" } };
     for (size_t i = 0; i < sizeof progs / sizeof progs[0]; i++) {
         if (render_program_load(r->shader_dir, progs[i].name, progs[i].p, err) < 0) {
             goto fail;
@@ -99,6 +99,7 @@ render *render_create(const render_desc *desc, gale_err *err)
     render_buf_create(&r->list_buf, GL_RGBA32F, NULL, (size_t)r->list_cap * 4 * sizeof(float));
     render_buf_create(&r->cut, GL_RGBA32F, NULL, (size_t)render_slots(r) * 4 * sizeof(float));
     render_buf_create(&r->cutn, GL_R32F, NULL, 0);
+    render_buf_create(&r->plate_buf, GL_R32F, NULL, 0);
     r->cut_dirty = true;
     render_damage_upload(r);
     if (render_skel_ensure(r, 64, 64, err) < 0) {
@@ -132,8 +133,8 @@ void render_destroy(render *r)
         for (uint32_t i = 0; i < r->n_species; i++) {
             render_species_free(&r->sp[i]);
         }
-        GLuint progs[] = { r->p_skel.id, r->p_tree.id, r->p_leaf.id, r->p_fall.id,
-                           r->p_sky.id,  r->p_bill.id, r->p_house.id, r->p_rain.id };
+        GLuint progs[] = { r->p_skel.id, r->p_tree.id,  r->p_leaf.id, r->p_fall.id, r->p_sky.id,
+                           r->p_bill.id, r->p_house.id, r->p_rain.id, r->p_plate.id };
         for (size_t i = 0; i < sizeof progs / sizeof progs[0]; i++) {
             if (progs[i]) {
                 glDeleteProgram(progs[i]);
@@ -144,6 +145,7 @@ void render_destroy(render *r)
         render_buf_free(&r->list_buf);
         render_buf_free(&r->cut);
         render_buf_free(&r->cutn);
+        render_buf_free(&r->plate_buf);
         GLuint texs[] = { r->skel_tex, r->seg_tex, r->wind_tex, r->path_tex, r->fbo_col };
         for (size_t i = 0; i < sizeof texs / sizeof texs[0]; i++) {
             if (texs[i]) {
@@ -181,6 +183,7 @@ void render_destroy(render *r)
     free(r->wind_v);
     free(r->ring);
     free(r->broken);
+    free(r->plates);
     free(r);
 }
 
@@ -229,6 +232,7 @@ static void build_lists(render *r)
     const render_lod_desc ld = { .mode_dist_m = r->desc.lod_mode_dist,
                                  .billboard_dist_m = r->desc.lod_billboard_dist };
     memset(r->grp_n, 0, sizeof r->grp_n);
+    r->n_plates = 0;
     /* pass 1: classify and count */
     uint32_t rows = 0;
     const uint32_t n_drawn = r->n_trees + r->n_debris;
@@ -250,6 +254,10 @@ static void build_lists(render *r)
             tl.flags &= ~(uint32_t)RENDER_LOD_BILLBOARD;
         }
         r->tree_group[i] = tl.flags;
+        if ((tl.flags & RENDER_LOD_FULL) && k < r->n_trees && in->uprooted &&
+            in->fall_rad > 0.02f) {
+            r->plates[r->n_plates++] = (float)i;
+        }
         if (!tl.flags) {
             r->stats.trees_culled++;
             continue;
@@ -384,6 +392,7 @@ int render_frame(render *r, const render_camera *cam, double time_s, gale_err *e
         }
     }
     glDisable(GL_CULL_FACE);
+    render_plates_draw(r, t);
     render_set_common(r, &r->p_leaf, t, r->desc.fog_dist);
     for (uint32_t s = 0; s < r->n_species; s++) {
         render_draw_leaves(r, &r->sp[s], r->grp_base[s][G_LEAF], r->grp_n[s][G_LEAF]);

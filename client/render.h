@@ -43,6 +43,7 @@ typedef struct render_instance {
     float fall_rad;            /* tipped over its root by this angle (0 standing, π/2 lying) */
     float fall_az_rad;         /* towards this azimuth, world, from +x towards +y */
     uint32_t leaf_lost;        /* leaf levels stripped, 0 (full crown)..WIRE_DAMAGE_LEVELS */
+    bool uprooted;             /* tipped over its root plate, which it lifts with it */
 } render_instance;
 
 /* Camera. view/proj are derived from eye/target/up/fov unless `matrices` is set, in
@@ -117,6 +118,9 @@ int render_set_instances(render *r, uint32_t n, const render_instance *inst, gal
  * ignored. */
 void render_set_damage(render *r, uint32_t t, float fall_rad, float fall_az_rad,
                        uint32_t leaf_lost);
+/* Whether fallen tree t was uprooted (it lifts its root plate, drawn as it tips) rather
+ * than snapped; at the next render_trees_commit. */
+void render_set_uprooted(render *r, uint32_t t, bool uprooted);
 /* Sends the instances' falls to the GPU. */
 void render_trees_commit(render *r);
 

@@ -199,3 +199,18 @@ float render_tree_height_m(const render *r, uint32_t tree)
     const render_instance *in = &r->inst[tree];
     return r->sp[in->species].height * (in->scale > 0.0f ? in->scale : 1.0f);
 }
+
+void render_plates_draw(render *r, float time_rel)
+{
+    if (r->n_plates == 0) {
+        return;
+    }
+    render_buf_upload(&r->plate_buf, GL_R32F, r->plates, (size_t)r->n_plates * sizeof(float));
+    render_set_common(r, &r->p_plate, time_rel, r->desc.fog_dist);
+    render_bind_buf(RU_TREES, &r->trees);
+    render_bind_buf(RU_PLATE, &r->plate_buf);
+    glBindVertexArray(r->vao_empty);
+    /* shaders/plate.vert: two fans and the side band of PLATE_SEG = 24 segments */
+    glDrawArraysInstanced(GL_TRIANGLES, 0, 12 * 24, (GLsizei)r->n_plates);
+    r->stats.draw_calls++;
+}

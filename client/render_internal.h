@@ -40,6 +40,7 @@ enum {
     RU_IMP = 9,   /* billboard impostor */
     RU_CUT = 10,  /* per tree slot: first, count of its cut nodes, keep-only (buffer) */
     RU_CUTN = 11, /* cut node indices (buffer) */
+    RU_PLATE = 12, /* trees drawn with a root plate this frame (buffer) */
 };
 
 /* Groups of the per-frame draw list, per species. */
@@ -96,7 +97,7 @@ struct render {
     int w, h;
     GLuint fbo, fbo_col, fbo_depth; /* offscreen target (headless) */
     GLuint vao_empty;
-    render_prog p_skel, p_tree, p_leaf, p_fall, p_sky, p_bill, p_house, p_rain;
+    render_prog p_skel, p_tree, p_leaf, p_fall, p_sky, p_bill, p_house, p_rain, p_plate;
     storm_fx fx; /* sky, light, fog and rain of the weather (render_set_storm) */
     GLuint house_vao, house_vbo; /* houses: world-space triangles (render_house_mesh) */
     uint32_t house_verts;
@@ -125,6 +126,9 @@ struct render {
     uint32_t n_debris;
     rs_buf cut, cutn;   /* per slot: first, count, keep-only; node indices */
     bool cut_dirty;
+    float *plates;      /* [cap_trees] uprooted trees drawn in full this frame */
+    uint32_t n_plates;
+    rs_buf plate_buf;
 
     GLuint skel_tex, skel_fbo;
     GLuint seg_tex, seg_fbo; /* the skeleton pass's posed segments (shaders/skel.frag) */
@@ -204,6 +208,8 @@ void render_trees_upload(render *r);
 
 /* Uploads the per-slot cut lists (broken branches, debris pieces) when they changed. */
 void render_damage_upload(render *r);
+/* Draws the root plates of r->plates (shaders/plate.*); expects the target bound. */
+void render_plates_draw(render *r, float time_rel);
 
 /* ---- render_wind.c ---- */
 

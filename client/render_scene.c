@@ -17,6 +17,7 @@ int render_trees_alloc(render *r, uint32_t cap, gale_err *err)
     free(r->tree_row);
     free(r->tree_group);
     free(r->tree_lod);
+    free(r->plates);
     r->cap_trees = cap;
     const uint32_t slots = render_slots(r);
     r->inst = calloc(slots, sizeof *r->inst);
@@ -26,7 +27,8 @@ int render_trees_alloc(render *r, uint32_t cap, gale_err *err)
     r->tree_row = calloc(slots, sizeof(uint32_t));
     r->tree_group = calloc(slots, sizeof(uint32_t));
     r->tree_lod = calloc((size_t)slots * 4, sizeof(float));
-    if (!r->inst || !r->q_stage || !r->list || !r->tree_row || !r->tree_group || !r->tree_lod) {
+    r->plates = calloc(cap + 1, sizeof(float));
+    if (!r->plates || !r->inst || !r->q_stage || !r->list || !r->tree_row || !r->tree_group || !r->tree_lod) {
         return gale_errf(err, GALE_E_NOMEM, "render: out of memory for %u trees", cap);
     }
     /* the rest-pose slot (index cap): origin, unit scale */
@@ -183,6 +185,13 @@ void render_set_damage(render *r, uint32_t t, float fall_rad, float fall_az_rad,
         r->inst[t].fall_rad = fall_rad;
         r->inst[t].fall_az_rad = fall_az_rad;
         r->inst[t].leaf_lost = leaf_lost;
+    }
+}
+
+void render_set_uprooted(render *r, uint32_t t, bool uprooted)
+{
+    if (t < r->cap_trees) {
+        r->inst[t].uprooted = uprooted;
     }
 }
 

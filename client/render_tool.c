@@ -77,6 +77,7 @@ static int storm_damage(render *r, const asset *as, const render_instance *inst,
             t % 3 == 1 ? (float)tip_fall_angle(age_s, render_tree_height_m(r, t)) : 0.0f;
         float az = 0.8f + 0.3f * (float)t;
         render_set_damage(r, t, fall, az, 16);
+        render_set_uprooted(r, t, t % 3 == 1);
         if (t % 3 == 1) {
             continue; /* a falling tree keeps its branches here */
         }

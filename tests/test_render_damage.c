@@ -3,12 +3,14 @@
  * from a render of the intact tree and nothing else does, the same branch drawn as a
  * debris piece in place fills them again, and a piece placed by debris_frame_matrix lands
  * on screen where the C copy of tree_frame puts it; far away a fallen tree is no standing
- * billboard. */
+ * billboard, and an uprooted one shows its root plate. */
 #include <cglm/cglm.h>
 #include <math.h>
 #include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include <stb/stb_image_write.h>
 
 #include "check.h"
 #include "damage_cut.h"
@@ -245,6 +247,47 @@ static void test_fallen_no_billboard(void)
     CHECK(st.trees_billboard == 0 && st.trees_full == 0);
 }
 
+/* an uprooted tree lifts its root plate: soil-brown pixels at its base that a snapped one
+ * lying the same way does not have */
+static void test_root_plate(void)
+{
+    one_tree(0.0f);
+    render_set_damage(R, 0, 1.536f, 1.5707963f, 0); /* away from the camera */
+    render_trees_commit(R);
+    uint8_t *snapped = shot();
+    render_set_uprooted(R, 0, true);
+    render_trees_commit(R);
+    uint8_t *uprooted = shot();
+    int plate = 0, brown = 0;
+    for (int i = 0; i < W * H; i++) {
+        if (differs(uprooted, snapped, i)) {
+            plate++;
+            const uint8_t *p = &uprooted[3 * i];
+            brown += p[0] > p[2] + 10 && p[0] >= p[1]; /* soil: red over blue, not green */
+        }
+    }
+    double m[3] = { 0, 0, 0 };
+    for (int i = 0; i < W * H; i++) {
+        if (differs(uprooted, snapped, i)) {
+            for (int k = 0; k < 3; k++) {
+                m[k] += uprooted[3 * i + k] / (double)plate;
+            }
+        }
+    }
+    if (getenv("GALE_DUMP")) {
+        stbi_write_png(getenv("GALE_DUMP"), W, H, 3, uprooted, W * 3);
+    }
+    fprintf(stderr, "root plate: %d px, %d soil-coloured, mean %.0f %.0f %.0f\n", plate, brown,
+            m[0], m[1], m[2]);
+    CHECK(plate > 200);
+    CHECK(brown > plate / 3);
+    render_set_uprooted(R, 0, false);
+    render_set_damage(R, 0, 0.0f, 0.0f, 0);
+    render_trees_commit(R);
+    free(snapped);
+    free(uprooted);
+}
+
 int main(void)
 {
     R = render_create(&(render_desc){ .width = W, .height = H, .headless = true,
@@ -262,6 +305,7 @@ int main(void)
     RUN(test_branch_hidden);
     RUN(test_piece_frame);
     RUN(test_fallen_no_billboard);
+    RUN(test_root_plate);
     render_destroy(R);
     render_demo_free(&A);
     return check_report();
