@@ -254,7 +254,7 @@ static void build_lists(render *r)
             tl.flags &= ~(uint32_t)RENDER_LOD_BILLBOARD;
         }
         r->tree_group[i] = tl.flags;
-        if ((tl.flags & RENDER_LOD_FULL) && k < r->n_trees && in->uprooted &&
+        if ((tl.flags & RENDER_LOD_FULL) && k < r->n_trees && in->uprooted != 0 &&
             in->fall_rad > 0.02f) {
             r->plates[r->n_plates++] = (float)i;
         }

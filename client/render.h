@@ -43,7 +43,7 @@ typedef struct render_instance {
     float fall_rad;            /* tipped over its root by this angle (0 standing, π/2 lying) */
     float fall_az_rad;         /* towards this azimuth, world, from +x towards +y */
     uint32_t leaf_lost;        /* leaf levels stripped, 0 (full crown)..WIRE_DAMAGE_LEVELS */
-    bool uprooted;             /* tipped over its root plate, which it lifts with it */
+    uint32_t uprooted;         /* nonzero: tipped over its root plate, which it lifts */
 } render_instance;
 
 /* Camera. view/proj are derived from eye/target/up/fov unless `matrices` is set, in

@@ -191,7 +191,7 @@ void render_set_damage(render *r, uint32_t t, float fall_rad, float fall_az_rad,
 void render_set_uprooted(render *r, uint32_t t, bool uprooted)
 {
     if (t < r->cap_trees) {
-        r->inst[t].uprooted = uprooted;
+        r->inst[t].uprooted = uprooted ? 1u : 0u;
     }
 }
 
