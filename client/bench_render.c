@@ -27,6 +27,7 @@ int bench_render(int argc, char **argv)
     float spacing = 9.0f;
     float storm_ms = 0.0f; /* sustained wind of the storm look (storm_fx.h); 0 = calm */
     storm_fx_quality storm_q = STORM_FX_LOW;
+    float damage = 0.0f; /* fraction of trees with broken branches (render_set_broken) */
     for (int i = 1; i < argc; i++) {
         const char *v = i + 1 < argc ? argv[i + 1] : "";
         if (!strcmp(argv[i], "--trees")) {
@@ -50,6 +51,8 @@ int bench_render(int argc, char **argv)
                         v);
                 return 2;
             }
+        } else if (!strcmp(argv[i], "--damage")) {
+            damage = strtof(v, NULL);
         } else if (!strcmp(argv[i], "--size")) {
             if (sscanf(v, "%dx%d", &w, &h) != 2) {
                 w = 0;
@@ -59,7 +62,9 @@ int bench_render(int argc, char **argv)
             fprintf(help ? stdout : stderr,
                     "usage: gale-bench-client render [--trees N] [--nodes N] [--modes N] "
                     "[--size WxH] [--frames N] [--falling N] [--spacing M] [--storm M/S] "
-                    "[--storm-fx off|low|high]\n");
+                    "[--storm-fx off|low|high] [--damage F]\n"
+                    "  --damage F: a fraction F of the trees lose 3 branches each, every 20th lies\n"
+                    "  fallen, and 64 pieces fly as debris\n");
             return help ? 0 : 2;
         }
         i++;
@@ -101,6 +106,39 @@ int bench_render(int argc, char **argv)
                                 &err);
     }
     render_set_wind(r, &(render_wind){ .uniform = { 12.0f, 3.0f, 0.0f } }, &err);
+    uint32_t n_broken = 0, n_debris = 0;
+    if (damage > 0.0f) {
+        uint64_t *keys = calloc((size_t)trees * 3 + 1, sizeof *keys);
+        render_debris deb[RENDER_MAX_DEBRIS];
+        for (uint32_t t = 0; keys && t < trees; t++) {
+            if ((float)((t * 2654435761u) % 1000u) >= 1000.0f * damage) {
+                continue;
+            }
+            if (t % 20 == 0) {
+                render_set_damage(r, t, 1.536f, 0.3f * (float)t, 8);
+                render_set_uprooted(r, t, true);
+            }
+            const uint32_t nn = a[inst[t].species].n_nodes;
+            for (uint32_t k = 0; k < 3; k++) { /* three nodes, ascending */
+                keys[n_broken++] = (uint64_t)t << 32 | (nn / 4 + k * nn / 4);
+            }
+            if (n_debris < RENDER_MAX_DEBRIS) {
+                deb[n_debris] = (render_debris){ .tree = t, .node = nn / 4,
+                                                 .pos = { inst[t].pos[0] + 3.0f, inst[t].pos[1],
+                                                          4.0f },
+                                                 .yaw = 0.5f, .fall_rad = 1.0f,
+                                                 .fall_az_rad = 0.2f * (float)n_debris };
+                n_debris++;
+            }
+        }
+        render_trees_commit(r);
+        if (!keys || render_set_broken(r, n_broken, keys, &err) < 0 ||
+            render_set_debris(r, n_debris, deb, &err) < 0) {
+            fprintf(stderr, "gale-bench-client render: --damage: %s\n", keys ? err.msg : "no memory");
+            return 1;
+        }
+        free(keys);
+    }
     storm_fx fx;
     storm_fx_from_weather(storm_ms, 250.0f, storm_q, &fx);
     render_set_storm(r, &fx);
@@ -147,12 +185,13 @@ int bench_render(int argc, char **argv)
            "\"frame_ms_max\":%.3f,\"fps_median\":%.1f,\"cpu_submit_ms_median\":%.3f,"
            "\"trees_full\":%u,\"trees_billboard\":%u,\"culled\":%u,\"draw_calls\":%u,"
            "\"leaves_drawn\":%llu,\"falling\":%u,\"storm_ms\":%.1f,\"rain_layers\":%d,"
+           "\"broken_branches\":%u,\"debris\":%u,"
            "\"loadavg\":[%.2f,%.2f,%.2f]}\n",
            rend ? rend : "?", trees, a[0].n_nodes, modes, w, h, frames, ft[frames / 2], ft[0],
            ft[frames - 1], 1e3 / ft[frames / 2], cpu[frames / 2], st.trees_full,
            st.trees_billboard, st.trees_culled, st.draw_calls,
            (unsigned long long)st.leaves_drawn, st.falling_live, (double)storm_ms,
-           fx.rain_layers, la[0], la[1], la[2]);
+           fx.rain_layers, n_broken, n_debris, la[0], la[1], la[2]);
     free(ft);
     free(cpu);
     free(inst);

@@ -131,6 +131,7 @@ typedef struct client {
     /* storm damage of the scene (DAMAGE frames), kept from the welcome on so the whole
      * state after the first keyframe is not lost while assets load */
     damage_view dmg;
+    struct client_damage_fx *dfx; /* owned: falls and debris under way (client_damage.c) */
 
     bool got_state;
     bool live_since_welcome;  /* state taken since the last welcome */
@@ -148,9 +149,21 @@ typedef struct client {
 
 /* ---- client_damage.c: storm damage on screen ---- */
 
-/* Fallen (snapped or uprooted) trees lie on the ground, tipped over their root towards
- * the fall azimuth; pushed to the renderer when the scene is ready. */
+typedef struct client_damage_fx client_damage_fx;
+
+/* Fallen (snapped or uprooted) trees tipped over their root towards the fall azimuth (as
+ * far as their fall has come), broken branches and leaf levels; pushed to the renderer
+ * when the scene is ready. */
 void client_damage_draw(client *c);
+/* A frame's DAMAGE events: starts the falls and debris of recent ones new to the picture,
+ * then applies them to c->dmg and draws. */
+void client_damage_take(client *c, const wire_frame *f);
+/* Before drawing the frame of server time now_s: falls under way and debris move on. */
+void client_damage_frame(client *c, double now_s);
+/* Debris pieces in flight or lying. */
+uint32_t client_damage_debris_count(const client *c);
+/* Frees c->dfx (NULL is a no-op). */
+void client_damage_free(client *c);
 
 /* ---- client_stream.c: cli_net handler callbacks (user = the client) ---- */
 

@@ -57,6 +57,7 @@ int client_frame_draw(client *c, double now, gale_err *err)
                           c->have_wx ? c->wx.dir_from_deg : 0.0f,
                           (storm_fx_quality)c->a.storm_fx, &fx);
     render_set_storm(c->r, &fx);
+    client_damage_frame(c, render_t); /* falls and debris under way */
     int rc_frame = render_frame(c->r, &rc, render_t, err);
     if (rc_frame != 0) {
         return rc_frame;

@@ -36,6 +36,7 @@ void client_stream_on_welcome(void *user, const ctl_welcome *w)
     c->scene_pending = true;
     c->scene_ready = false;
     damage_view_fini(&c->dmg);
+    client_damage_free(c);
     if (damage_view_init(&c->dmg, w->n_instances ? w->n_instances : 1, NULL) != 0) {
         fprintf(stderr, "gale-client: no memory for the damage of %u trees\n", w->n_instances);
     }
@@ -127,12 +128,7 @@ void client_stream_on_frame(void *user, const wire_frame *f, const wire_decoder 
         take_wind(c, &f->wind);
     }
     if (f->types & (1u << WIRE_MSG_DAMAGE)) {
-        if (c->dmg.tree && damage_view_apply(&c->dmg, f->damage_full, f->damage, f->n_damage)) {
-            c->leaves_bad++; /* events for trees outside the scene */
-        }
-        if (c->scene_ready) {
-            client_damage_draw(c);
-        }
+        client_damage_take(c, f); /* client_damage.c */
     }
     if (f->types & (1u << WIRE_MSG_WEATHER)) {
         c->wx = f->weather; /* the HUD names the server's figures, never an average */

@@ -475,6 +475,7 @@ done:
     free(c.snap);
     free(c.wind_v);
     damage_view_fini(&c.dmg);
+    client_damage_free(&c);
     free(c.w_species);
     free(c.w_instances);
     free(c.w_boxes);

@@ -83,7 +83,7 @@ render *render_create(const render_desc *desc, gale_err *err)
         const char *name;
     } progs[] = { { &r->p_skel, "skel" },  { &r->p_tree, "tree" }, { &r->p_leaf, "leaf" },
                   { &r->p_fall, "fall" },  { &r->p_sky, "sky" },   { &r->p_bill, "bill" },
-                  { &r->p_house, "house" }, { &r->p_rain, "rain" } };
+                  { &r->p_house, "house" }, { &r->p_rain, "rain" }, { &r->p_plate, "plate" } };
     for (size_t i = 0; i < sizeof progs / sizeof progs[0]; i++) {
         if (render_program_load(r->shader_dir, progs[i].name, progs[i].p, err) < 0) {
             goto fail;
@@ -97,6 +97,11 @@ render *render_create(const render_desc *desc, gale_err *err)
     render_trees_upload(r);
     render_buf_create(&r->q, GL_R32F, NULL, 0);
     render_buf_create(&r->list_buf, GL_RGBA32F, NULL, (size_t)r->list_cap * 4 * sizeof(float));
+    render_buf_create(&r->cut, GL_RGBA32F, NULL, (size_t)render_slots(r) * 4 * sizeof(float));
+    render_buf_create(&r->cutn, GL_R32F, NULL, 0);
+    render_buf_create(&r->plate_buf, GL_R32F, NULL, 0);
+    r->cut_dirty = true;
+    render_damage_upload(r);
     if (render_skel_ensure(r, 64, 64, err) < 0) {
         goto fail;
     }
@@ -128,8 +133,8 @@ void render_destroy(render *r)
         for (uint32_t i = 0; i < r->n_species; i++) {
             render_species_free(&r->sp[i]);
         }
-        GLuint progs[] = { r->p_skel.id, r->p_tree.id, r->p_leaf.id, r->p_fall.id,
-                           r->p_sky.id,  r->p_bill.id, r->p_house.id, r->p_rain.id };
+        GLuint progs[] = { r->p_skel.id, r->p_tree.id,  r->p_leaf.id, r->p_fall.id, r->p_sky.id,
+                           r->p_bill.id, r->p_house.id, r->p_rain.id, r->p_plate.id };
         for (size_t i = 0; i < sizeof progs / sizeof progs[0]; i++) {
             if (progs[i]) {
                 glDeleteProgram(progs[i]);
@@ -138,6 +143,9 @@ void render_destroy(render *r)
         render_buf_free(&r->trees);
         render_buf_free(&r->q);
         render_buf_free(&r->list_buf);
+        render_buf_free(&r->cut);
+        render_buf_free(&r->cutn);
+        render_buf_free(&r->plate_buf);
         GLuint texs[] = { r->skel_tex, r->seg_tex, r->wind_tex, r->path_tex, r->fbo_col };
         for (size_t i = 0; i < sizeof texs / sizeof texs[0]; i++) {
             if (texs[i]) {
@@ -174,6 +182,8 @@ void render_destroy(render *r)
     free(r->tree_lod);
     free(r->wind_v);
     free(r->ring);
+    free(r->broken);
+    free(r->plates);
     free(r);
 }
 
@@ -222,9 +232,12 @@ static void build_lists(render *r)
     const render_lod_desc ld = { .mode_dist_m = r->desc.lod_mode_dist,
                                  .billboard_dist_m = r->desc.lod_billboard_dist };
     memset(r->grp_n, 0, sizeof r->grp_n);
+    r->n_plates = 0;
     /* pass 1: classify and count */
     uint32_t rows = 0;
-    for (uint32_t i = 0; i < r->n_trees; i++) {
+    const uint32_t n_drawn = r->n_trees + r->n_debris;
+    for (uint32_t k = 0; k < n_drawn; k++) {
+        const uint32_t i = render_slot_at(r, k);
         const render_instance *in = &r->inst[i];
         const rs_species *s = &r->sp[in->species];
         const render_cull_species cs = { .height_m = s->height,
@@ -232,7 +245,19 @@ static void build_lists(render *r)
                                          .n_modes = s->n_modes,
                                          .n_lods = s->n_lods };
         render_tree_lod tl = render_cull_tree(planes, r->eye, in, &cs, &ld);
+        if (k >= r->n_trees) {
+            tl.n_modes = 0.0f; /* a debris piece: its rest pose needs no modes */
+        }
+        if (k >= r->n_trees || in->fall_rad > 0.0f) {
+            /* the impostor shows a whole standing tree: a piece or a fallen tree fades
+             * out where others turn into billboards */
+            tl.flags &= ~(uint32_t)RENDER_LOD_BILLBOARD;
+        }
         r->tree_group[i] = tl.flags;
+        if ((tl.flags & RENDER_LOD_FULL) && k < r->n_trees && in->uprooted != 0 &&
+            in->fall_rad > 0.02f) {
+            r->plates[r->n_plates++] = (float)i;
+        }
         if (!tl.flags) {
             r->stats.trees_culled++;
             continue;
@@ -266,7 +291,8 @@ static void build_lists(render *r)
         }
     }
     /* pass 2: fill */
-    for (uint32_t i = 0; i < r->n_trees; i++) {
+    for (uint32_t d = 0; d < n_drawn; d++) {
+        const uint32_t i = render_slot_at(r, d);
         uint32_t fl = r->tree_group[i];
         if (!fl) {
             continue;
@@ -315,6 +341,7 @@ int render_frame(render *r, const render_camera *cam, double time_s, gale_err *e
         render_buf_upload(&r->q, GL_R32F, r->q_stage,
                           (size_t)r->n_trees * r->q_stride * sizeof(float));
     }
+    render_damage_upload(r);
     build_lists(r);
     uint32_t rows = r->tree_row[r->cap_trees];
     int maxw = 1;
@@ -365,6 +392,7 @@ int render_frame(render *r, const render_camera *cam, double time_s, gale_err *e
         }
     }
     glDisable(GL_CULL_FACE);
+    render_plates_draw(r, t);
     render_set_common(r, &r->p_leaf, t, r->desc.fog_dist);
     for (uint32_t s = 0; s < r->n_species; s++) {
         render_draw_leaves(r, &r->sp[s], r->grp_base[s][G_LEAF], r->grp_n[s][G_LEAF]);
@@ -465,6 +493,33 @@ int render_write_png(render *r, const char *path, gale_err *err)
     return rc;
 }
 
+/* Rebuilds slot `slot`'s skeleton (all modes; none for a debris piece) and reads it back:
+ * px[4 n_nodes], xyz the node position, w whether it is drawn (shaders/skel.frag). */
+static int skeleton_readback(render *r, uint32_t slot, float *px, gale_err *err)
+{
+    const rs_species *s = &r->sp[r->inst[slot].species];
+    render_buf_upload(&r->q, GL_R32F, r->q_stage,
+                      (size_t)(r->cap_trees + 1) * r->q_stride * sizeof(float));
+    render_damage_upload(r);
+    float modes = slot > r->cap_trees ? 0.0f : (float)s->n_modes;
+    float ent[4] = { (float)slot, 0.0f, modes, 1.0f };
+    render_buf_upload(&r->list_buf, GL_RGBA32F, ent, sizeof ent);
+    int rc = render_skel_ensure(r, (int)s->n_nodes, 1, err);
+    if (rc < 0) {
+        return rc;
+    }
+    render_draw_skeleton(r, s, 0, 1);
+    glBindFramebuffer(GL_FRAMEBUFFER, r->skel_fbo);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glReadPixels(0, 0, (GLsizei)s->n_nodes, 1, GL_RGBA, GL_FLOAT, px);
+    GLenum e = glGetError();
+    if (e != GL_NO_ERROR) {
+        return gale_errf(err, GALE_E_STATE, "render: skeleton readback: OpenGL error 0x%x",
+                         (unsigned)e);
+    }
+    return 0;
+}
+
 int render_read_skeleton(render *r, uint32_t tree, float *out, gale_err *err)
 {
     if (tree >= r->n_trees) {
@@ -472,31 +527,36 @@ int render_read_skeleton(render *r, uint32_t tree, float *out, gale_err *err)
                          r->n_trees);
     }
     const rs_species *s = &r->sp[r->inst[tree].species];
-    render_buf_upload(&r->q, GL_R32F, r->q_stage,
-                      (size_t)(r->cap_trees + 1) * r->q_stride * sizeof(float));
-    float ent[4] = { (float)tree, 0.0f, (float)s->n_modes, 1.0f };
-    render_buf_upload(&r->list_buf, GL_RGBA32F, ent, sizeof ent);
-    int rc = render_skel_ensure(r, (int)s->n_nodes, 1, err);
-    if (rc < 0) {
-        return rc;
-    }
-    render_draw_skeleton(r, s, 0, 1);
     float *px = malloc((size_t)s->n_nodes * 4 * sizeof(float));
     if (!px) {
         return gale_errf(err, GALE_E_NOMEM, "render_read_skeleton: out of memory");
     }
-    glBindFramebuffer(GL_FRAMEBUFFER, r->skel_fbo);
-    glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    glReadPixels(0, 0, (GLsizei)s->n_nodes, 1, GL_RGBA, GL_FLOAT, px);
-    for (uint32_t i = 0; i < s->n_nodes; i++) {
+    int rc = skeleton_readback(r, tree, px, err);
+    for (uint32_t i = 0; rc == 0 && i < s->n_nodes; i++) {
         memcpy(&out[3 * i], &px[4 * i], 3 * sizeof(float));
     }
     free(px);
-    GLenum e = glGetError();
-    if (e != GL_NO_ERROR) {
-        return gale_errf(err, GALE_E_STATE, "render_read_skeleton: OpenGL error 0x%x", (unsigned)e);
+    return rc;
+}
+
+int render_read_attached(render *r, uint32_t k, uint8_t *out, gale_err *err)
+{
+    if (k >= r->n_trees + r->n_debris) {
+        return gale_errf(err, GALE_E_RANGE, "render_read_attached: %u of %u trees + %u debris",
+                         k, r->n_trees, r->n_debris);
     }
-    return 0;
+    const uint32_t slot = render_slot_at(r, k);
+    const rs_species *s = &r->sp[r->inst[slot].species];
+    float *px = malloc((size_t)s->n_nodes * 4 * sizeof(float));
+    if (!px) {
+        return gale_errf(err, GALE_E_NOMEM, "render_read_attached: out of memory");
+    }
+    int rc = skeleton_readback(r, slot, px, err);
+    for (uint32_t i = 0; rc == 0 && i < s->n_nodes; i++) {
+        out[i] = px[4 * i + 3] > 0.5f;
+    }
+    free(px);
+    return rc;
 }
 
 void render_set_storm(render *r, const storm_fx *fx)

@@ -43,6 +43,7 @@ typedef struct render_instance {
     float fall_rad;            /* tipped over its root by this angle (0 standing, π/2 lying) */
     float fall_az_rad;         /* towards this azimuth, world, from +x towards +y */
     uint32_t leaf_lost;        /* leaf levels stripped, 0 (full crown)..WIRE_DAMAGE_LEVELS */
+    uint32_t uprooted;         /* nonzero: tipped over its root plate, which it lifts */
 } render_instance;
 
 /* Camera. view/proj are derived from eye/target/up/fov unless `matrices` is set, in
@@ -117,8 +118,37 @@ int render_set_instances(render *r, uint32_t n, const render_instance *inst, gal
  * ignored. */
 void render_set_damage(render *r, uint32_t t, float fall_rad, float fall_az_rad,
                        uint32_t leaf_lost);
+/* Whether fallen tree t was uprooted (it lifts its root plate, drawn as it tips) rather
+ * than snapped; at the next render_trees_commit. */
+void render_set_uprooted(render *r, uint32_t t, bool uprooted);
 /* Sends the instances' falls to the GPU. */
 void render_trees_commit(render *r);
+
+/* Branches broken off (PROTOCOL.md "DAMAGE" BRANCH): keys (tree << 32 | node), ascending
+ * (damage_view's `broken`), n of them (copied; replaces the previous set). The whole
+ * sub-tree of each node (wood and leaves) is no longer drawn on that tree; keys naming a
+ * tree or node outside the scene draw nothing. 0, or GALE_E_NOMEM / GALE_E_ARG (not
+ * ascending) with err set. */
+int render_set_broken(render *r, uint32_t n, const uint64_t *keys, gale_err *err);
+
+/* Debris pieces drawn at most at once. */
+#define RENDER_MAX_DEBRIS 64u
+
+/* A branch broken off tree `tree` at node `node`, drawn as a rigid piece: the sub-tree of
+ * that node in the rest pose of the tree's species, at the tree's scale and leaf level,
+ * placed as an instance is (a point p of the tree frame at pos + R · (scale · p), R =
+ * tipped by fall_rad (0..π) towards fall_az_rad after yaw, shaders/common.glsl
+ * tree_frame). */
+typedef struct render_debris {
+    uint32_t tree, node;
+    float pos[3];
+    float yaw, fall_rad, fall_az_rad;
+} render_debris;
+
+/* Sets the debris pieces of the following frames (copied; n <= RENDER_MAX_DEBRIS; n = 0
+ * clears). 0, or GALE_E_RANGE (too many, a tree outside the scene, a node outside its
+ * species, angles not finite) with err set. */
+int render_set_debris(render *r, uint32_t n, const render_debris *d, gale_err *err);
 
 /* Stages q for one tree (n must equal its species' n_modes, else error). Staged q goes
  * to the GPU in one upload at the next render_frame. */
@@ -177,6 +207,25 @@ int render_write_png(render *r, const char *path, gale_err *err);
  * all modes, and reads it back: out[3 n_nodes] node positions in the tree frame (before
  * the instance transform), to compare with asset_reconstruct. */
 int render_read_skeleton(render *r, uint32_t tree, float *out, gale_err *err);
+
+/* The piece that breaks off tree `tree` at `node` (its sub-tree), in the tree frame at unit
+ * scale: centre (mean of its rest nodes), axis (from the break towards the centre; along
+ * the node's segment for a lone tip) and extent_m (centre to farthest node). 0, or
+ * GALE_E_RANGE / GALE_E_NOMEM with err set. */
+int render_piece_shape(render *r, uint32_t tree, uint32_t node, float centre[3], float axis[3],
+                       float *extent_m, gale_err *err);
+
+/* Height of tree t as drawn: its species' rest height times its scale [m]; 0 outside. */
+float render_tree_height_m(const render *r, uint32_t tree);
+
+/* The coarse wind [m/s] at world point p, as falling leaves and debris feel it (the grid
+ * of render_set_wind, else its uniform vector). */
+void render_wind_sample(const render *r, const float p[3], float out[3]);
+
+/* Which nodes the skeleton pass draws for tree k (k < n_trees) or debris piece
+ * k - n_trees: out[n_nodes] 1 drawn, 0 hidden (a broken-off sub-tree; on a piece, every
+ * node outside it), to compare with damage_cut_mask. */
+int render_read_attached(render *r, uint32_t k, uint8_t *out, gale_err *err);
 
 /* Counters of the last frame. */
 render_stats render_get_stats(const render *r);

@@ -392,6 +392,7 @@ void render_demo_forest(render_instance *out, uint32_t n, uint32_t n_species, fl
     for (uint32_t i = 0; i < n; i++) {
         float gx = (float)(i % side) - 0.5f * (float)(side - 1);
         float gy = (float)(i / side) - 0.5f * (float)(side - 1);
+        out[i] = (render_instance){ 0 }; /* standing, whole: no damage fields left unset */
         out[i].species = n_species ? (uint32_t)(rnd(&s) * (float)n_species) % n_species : 0;
         out[i].pos[0] = spacing * (gx + 0.7f * (rnd(&s) - 0.5f));
         out[i].pos[1] = spacing * (gy + 0.7f * (rnd(&s) - 0.5f));

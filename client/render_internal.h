@@ -38,6 +38,9 @@ enum {
     RU_WIND = 7,  /* coarse wind (3D) */
     RU_PATH = 8,  /* falling-leaf path */
     RU_IMP = 9,   /* billboard impostor */
+    RU_CUT = 10,  /* per tree slot: first, count of its cut nodes, keep-only (buffer) */
+    RU_CUTN = 11, /* cut node indices (buffer) */
+    RU_PLATE = 12, /* trees drawn with a root plate this frame (buffer) */
 };
 
 /* Groups of the per-frame draw list, per species. */
@@ -94,7 +97,7 @@ struct render {
     int w, h;
     GLuint fbo, fbo_col, fbo_depth; /* offscreen target (headless) */
     GLuint vao_empty;
-    render_prog p_skel, p_tree, p_leaf, p_fall, p_sky, p_bill, p_house, p_rain;
+    render_prog p_skel, p_tree, p_leaf, p_fall, p_sky, p_bill, p_house, p_rain, p_plate;
     storm_fx fx; /* sky, light, fog and rain of the weather (render_set_storm) */
     GLuint house_vao, house_vbo; /* houses: world-space triangles (render_house_mesh) */
     uint32_t house_verts;
@@ -102,7 +105,8 @@ struct render {
     rs_species sp[RENDER_MAX_SPECIES];
     uint32_t n_species;
 
-    uint32_t n_trees, cap_trees; /* cap_trees + 1 slots: the last is a rest-pose slot */
+    uint32_t n_trees, cap_trees; /* cap_trees + 1 slots: the last is a rest-pose slot; then
+                                    RENDER_MAX_DEBRIS debris slots (render_slots) */
     render_instance *inst;
     rs_buf trees;
     float *q_stage;
@@ -114,6 +118,17 @@ struct render {
     uint32_t *tree_row, *tree_group; /* scratch per tree */
     float *tree_lod;                 /* scratch: packed modes / fades */
     uint32_t grp_base[RENDER_MAX_SPECIES][G_COUNT], grp_n[RENDER_MAX_SPECIES][G_COUNT];
+
+    /* storm damage drawn by the skeleton pass (render_damage.c, shaders/skel.frag) */
+    uint64_t *broken;   /* (tree << 32 | node), ascending: branches broken off */
+    uint32_t n_broken, cap_broken;
+    render_debris debris[RENDER_MAX_DEBRIS];
+    uint32_t n_debris;
+    rs_buf cut, cutn;   /* per slot: first, count, keep-only; node indices */
+    bool cut_dirty;
+    float *plates;      /* [cap_trees] uprooted trees drawn in full this frame */
+    uint32_t n_plates;
+    rs_buf plate_buf;
 
     GLuint skel_tex, skel_fbo;
     GLuint seg_tex, seg_fbo; /* the skeleton pass's posed segments (shaders/skel.frag) */
@@ -173,10 +188,28 @@ double render_rel_time(render *r, double t);
 
 /* ---- render_scene.c ---- */
 
+/* Instance slots: the scene's cap_trees, the rest-pose slot, the debris slots. */
+static inline uint32_t render_slots(const render *r)
+{
+    return r->cap_trees + 1 + RENDER_MAX_DEBRIS;
+}
+/* Slot of the k-th drawn tree: scene trees first, then the debris pieces. */
+static inline uint32_t render_slot_at(const render *r, uint32_t k)
+{
+    return k < r->n_trees ? k : r->cap_trees + 1 + (k - r->n_trees);
+}
+
 /* (Re)allocates the per-tree arrays for cap trees plus the rest-pose slot. GALE_E_NOMEM. */
 int render_trees_alloc(render *r, uint32_t cap, gale_err *err);
 /* Uploads every instance transform (and the rest slot) to the trees buffer. */
 void render_trees_upload(render *r);
+
+/* ---- render_damage.c ---- */
+
+/* Uploads the per-slot cut lists (broken branches, debris pieces) when they changed. */
+void render_damage_upload(render *r);
+/* Draws the root plates of r->plates (shaders/plate.*); expects the target bound. */
+void render_plates_draw(render *r, float time_rel);
 
 /* ---- render_wind.c ---- */
 

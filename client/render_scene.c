@@ -17,15 +17,18 @@ int render_trees_alloc(render *r, uint32_t cap, gale_err *err)
     free(r->tree_row);
     free(r->tree_group);
     free(r->tree_lod);
+    free(r->plates);
     r->cap_trees = cap;
-    r->inst = calloc(cap + 1, sizeof *r->inst);
-    r->q_stage = calloc((size_t)(cap + 1) * r->q_stride, sizeof(float));
-    r->list_cap = 5 * (cap + 1);
+    const uint32_t slots = render_slots(r);
+    r->inst = calloc(slots, sizeof *r->inst);
+    r->q_stage = calloc((size_t)slots * r->q_stride, sizeof(float));
+    r->list_cap = 5 * slots;
     r->list = calloc((size_t)r->list_cap * 4, sizeof(float));
-    r->tree_row = calloc(cap + 1, sizeof(uint32_t));
-    r->tree_group = calloc(cap + 1, sizeof(uint32_t));
-    r->tree_lod = calloc((size_t)(cap + 1) * 4, sizeof(float));
-    if (!r->inst || !r->q_stage || !r->list || !r->tree_row || !r->tree_group || !r->tree_lod) {
+    r->tree_row = calloc(slots, sizeof(uint32_t));
+    r->tree_group = calloc(slots, sizeof(uint32_t));
+    r->tree_lod = calloc((size_t)slots * 4, sizeof(float));
+    r->plates = calloc(cap + 1, sizeof(float));
+    if (!r->plates || !r->inst || !r->q_stage || !r->list || !r->tree_row || !r->tree_group || !r->tree_lod) {
         return gale_errf(err, GALE_E_NOMEM, "render: out of memory for %u trees", cap);
     }
     /* the rest-pose slot (index cap): origin, unit scale */
@@ -35,7 +38,7 @@ int render_trees_alloc(render *r, uint32_t cap, gale_err *err)
 
 void render_trees_upload(render *r)
 {
-    uint32_t n = r->cap_trees + 1;
+    uint32_t n = render_slots(r);
     float *t = calloc((size_t)n * 8, sizeof(float));
     if (!t) {
         return;
@@ -48,9 +51,9 @@ void render_trees_upload(render *r)
         t[8 * i + 3] = in->yaw;
         t[8 * i + 4] = in->scale > 0.0f ? in->scale : 1.0f;
         t[8 * i + 5] = (float)in->species;
-        /* slot 1 .z: the fall angle (< 2) plus 2 x the leaf levels lost (tree_frame,
-         * leaf_kept in shaders/common.glsl) */
-        t[8 * i + 6] = in->fall_rad + 2.0f * (float)in->leaf_lost;
+        /* slot 1 .z: the fall angle (0..π) plus 4 x the leaf levels lost (tree_fall,
+         * leaf_kept in shaders/common.glsl; render_set_debris writes its slots alike) */
+        t[8 * i + 6] = in->fall_rad + 4.0f * (float)in->leaf_lost;
         t[8 * i + 7] = in->fall_az_rad;
     }
     render_buf_upload(&r->trees, GL_RGBA32F, t, (size_t)n * 8 * sizeof(float));
@@ -85,8 +88,11 @@ int render_set_instances(render *r, uint32_t n, const render_instance *inst, gal
     memset(&r->inst[n], 0, (r->cap_trees - n) * sizeof *inst);
     r->inst[r->cap_trees].scale = 1.0f;
     r->n_trees = n;
+    r->n_debris = 0;
+    r->n_broken = 0;
+    r->cut_dirty = true;
     render_trees_upload(r);
-    memset(r->q_stage, 0, (size_t)(r->cap_trees + 1) * r->q_stride * sizeof(float));
+    memset(r->q_stage, 0, (size_t)render_slots(r) * r->q_stride * sizeof(float));
     render_clear_falling(r);
     return 0;
 }
@@ -179,6 +185,13 @@ void render_set_damage(render *r, uint32_t t, float fall_rad, float fall_az_rad,
         r->inst[t].fall_rad = fall_rad;
         r->inst[t].fall_az_rad = fall_az_rad;
         r->inst[t].leaf_lost = leaf_lost;
+    }
+}
+
+void render_set_uprooted(render *r, uint32_t t, bool uprooted)
+{
+    if (t < r->cap_trees) {
+        r->inst[t].uprooted = uprooted ? 1u : 0u;
     }
 }
 

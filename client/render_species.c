@@ -299,12 +299,12 @@ int render_add_species(render *r, const asset *a, gale_err *err)
     /* q stride: the most modes of any species */
     if (a->n_modes > r->q_stride) {
         uint32_t old = r->q_stride;
-        float *nq = calloc((size_t)(r->cap_trees + 1) * a->n_modes, sizeof(float));
+        float *nq = calloc((size_t)render_slots(r) * a->n_modes, sizeof(float));
         if (!nq) {
             render_species_free(s);
             return gale_errf(err, GALE_E_NOMEM, "render_add_species: out of memory for q");
         }
-        for (uint32_t t = 0; t <= r->cap_trees; t++) {
+        for (uint32_t t = 0; t < render_slots(r); t++) {
             memcpy(&nq[(size_t)t * a->n_modes], &r->q_stage[(size_t)t * old], old * sizeof(float));
         }
         free(r->q_stage);
@@ -339,6 +339,8 @@ void render_draw_skeleton(render *r, const rs_species *s, uint32_t base, uint32_
     render_bind_buf(RU_VW, &s->vw);
     render_bind_buf(RU_NODE, &s->node);
     render_bind_buf(RU_Q, &r->q);
+    render_bind_buf(RU_CUT, &r->cut);
+    render_bind_buf(RU_CUTN, &r->cutn);
     glBindVertexArray(r->vao_empty);
     /* shaders/skel.frag: posed segments into seg_tex, then their sums up to the root into
      * skel_tex (PHYSICS.md "Length-true pose") */

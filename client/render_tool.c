@@ -6,8 +6,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "damage_cut.h"
+#include "debris_path.h"
 #include "render.h"
 #include "render_demo.h"
+#include "tip_fall.h"
 
 
 static void usage(FILE *f)
@@ -18,6 +21,9 @@ static void usage(FILE *f)
             "       [--falling N] [--eye X,Y,Z] [--target X,Y,Z] [--asset FILE]...\n"
             "       [--q Q0,Q1,...]   (the same modal vector for every tree instead of --wind)\n"
             "       [--box X0,Y0,Z0,X1,Y1,Z1]...   (a house filling that box, up to 16)\n"
+            "       [--storm-age S]   (storm damage S seconds after it struck: every third\n"
+            "                          tree tipping over, branches flying off as debris in\n"
+            "                          --wind, crowns thinned to half)\n"
             "       -h, --help: this text\n");
 }
 
@@ -47,6 +53,101 @@ static int load_file(const char *path, asset *a, gale_err *err)
     return rc;
 }
 
+static void uniform_wind(void *user, const float p[3], float out[3])
+{
+    (void)p;
+    const float *w = user;
+    out[0] = w[0];
+    out[1] = w[1];
+    out[2] = w[2];
+}
+
+/* --storm-age: what gale-client draws age_s seconds after a storm struck this forest
+ * (client/client_damage.c): falls in tip_fall's closed form, branches as debris_path
+ * pieces. Which tree and branch fail is a fixed hash, not a model. */
+static int storm_damage(render *r, const asset *as, const render_instance *inst, uint32_t trees,
+                        const float wind[3], float age_s, gale_err *err)
+{
+    uint64_t keys[3 * 32];
+    render_debris deb[RENDER_MAX_DEBRIS];
+    uint32_t nk = 0, nd = 0;
+    for (uint32_t t = 0; t < trees && t < 32; t++) {
+        const asset *a = &as[inst[t].species];
+        float fall =
+            t % 3 == 1 ? (float)tip_fall_angle(age_s, render_tree_height_m(r, t)) : 0.0f;
+        float az = 0.8f + 0.3f * (float)t;
+        render_set_damage(r, t, fall, az, 16);
+        render_set_uprooted(r, t, t % 3 == 1);
+        if (t % 3 == 1) {
+            continue; /* a falling tree keeps its branches here */
+        }
+        uint8_t *m = malloc(a->n_nodes);
+        uint32_t picked = 0;
+        for (uint32_t k = 0; m && k < a->n_nodes && picked < 3; k++) {
+            uint32_t b = (uint32_t)((k * 2654435761u + t * 40503u) % a->n_nodes);
+            damage_cut_mask(a->parent, a->n_nodes, &b, 1, true, m);
+            uint32_t n = 0;
+            for (uint32_t i = 0; i < a->n_nodes; i++) {
+                n += m[i];
+            }
+            if (b == 0 || n * 33 < a->n_nodes || n * 8 > a->n_nodes) {
+                continue;
+            }
+            bool inside = false; /* not within a piece already taken */
+            for (uint32_t j = 0; j < picked; j++) {
+                uint32_t o = (uint32_t)keys[nk - 1 - j];
+                for (int32_t x = (int32_t)b; x >= 0; x = a->parent[x]) {
+                    inside |= (uint32_t)x == o;
+                }
+                for (int32_t x = (int32_t)o; x >= 0; x = a->parent[x]) {
+                    inside |= (uint32_t)x == b;
+                }
+            }
+            if (inside) {
+                continue;
+            }
+            keys[nk++] = (uint64_t)t << 32 | b;
+            picked++;
+            float centre[3], axis[3], ext, r0[9], c0[3], rot[9];
+            if (nd == RENDER_MAX_DEBRIS ||
+                render_piece_shape(r, t, b, centre, axis, &ext, err) != 0) {
+                continue;
+            }
+            debris_frame_matrix(inst[t].yaw, 0.0f, 0.0f, r0);
+            float sc = inst[t].scale > 0.0f ? inst[t].scale : 1.0f;
+            for (int i = 0; i < 3; i++) {
+                c0[i] = inst[t].pos[i] + sc * (r0[i] * centre[0] + r0[3 + i] * centre[1] +
+                                               r0[6 + i] * centre[2]);
+            }
+            debris_path p;
+            debris_path_start(&p, t, b, 0.0, c0, r0, axis, ext * sc);
+            debris_path_advance(&p, age_s, uniform_wind, (void *)wind);
+            debris_path_rotation(&p, rot);
+            render_debris *d = &deb[nd++];
+            d->tree = t;
+            d->node = b;
+            for (int i = 0; i < 3; i++) {
+                d->pos[i] = p.c[i] - sc * (rot[i] * centre[0] + rot[3 + i] * centre[1] +
+                                           rot[6 + i] * centre[2]);
+            }
+            d->pos[2] -= debris_path_sink_m(&p);
+            debris_frame_angles(rot, &d->yaw, &d->fall_rad, &d->fall_az_rad);
+        }
+        free(m);
+    }
+    render_trees_commit(r);
+    /* keys went in tree order, nodes in pick order: sort each tree's few */
+    for (uint32_t i = 1; i < nk; i++) {
+        for (uint32_t j = i; j > 0 && keys[j] < keys[j - 1]; j--) {
+            uint64_t x = keys[j];
+            keys[j] = keys[j - 1];
+            keys[j - 1] = x;
+        }
+    }
+    int rc = render_set_broken(r, nk, keys, err);
+    return rc ? rc : render_set_debris(r, nd, deb, err);
+}
+
 int main(int argc, char **argv)
 {
     const char *out = NULL, *files[8];
@@ -59,6 +160,7 @@ int main(int argc, char **argv)
     int nqfix = -1;
     float boxes[16 * 6];
     uint32_t nboxes = 0;
+    float storm_age = -1.0f;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         int bad = 0;
@@ -107,6 +209,9 @@ int main(int argc, char **argv)
         } else if (!strcmp(a, "--box") && nboxes < 16) {
             float *b = &boxes[6 * nboxes++];
             bad = sscanf(v, "%f,%f,%f,%f,%f,%f", &b[0], &b[1], &b[2], &b[3], &b[4], &b[5]) != 6;
+        } else if (!strcmp(a, "--storm-age")) {
+            storm_age = strtof(v, NULL);
+            bad = !(storm_age >= 0.0f && storm_age < 1e6f);
         } else if (!strcmp(a, "--asset") && nfiles < 8) {
             files[nfiles++] = v;
         } else {
@@ -185,6 +290,9 @@ int main(int argc, char **argv)
         render_leaf_seed ls = { .tree = t, .slot = (k * 7919u) % a->n_leaves,
                                 .spawn_time_s = (double)time_s * k / falling, .seed = k + 1 };
         rc = render_add_falling_leaf(r, &ls, &err);
+    }
+    if (rc == 0 && storm_age >= 0.0f) {
+        rc = storm_damage(r, as, inst, trees, wind, storm_age, &err);
     }
     render_camera cam = { .eye = { eye[0], eye[1], eye[2] },
                           .target = { target[0], target[1], target[2] } };

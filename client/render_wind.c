@@ -78,3 +78,8 @@ void render_wind_at(const render *r, const float p[3], float out[3])
     size_t c = ijk[0] + r->wind_n[0] * ((size_t)ijk[1] + r->wind_n[1] * ijk[2]);
     memcpy(out, &r->wind_v[4 * c], 3 * sizeof(float));
 }
+
+void render_wind_sample(const render *r, const float p[3], float out[3])
+{
+    render_wind_at(r, p, out);
+}

@@ -107,10 +107,11 @@ mat3 rot_z(float a)
     return mat3(c, s, 0.0, -s, c, 0.0, 0.0, 0.0, 1.0);
 }
 
-// Storm damage in u_trees slot 1 .z: the fall angle (< 2 rad) plus 2 x the leaf levels lost.
+// Storm damage in u_trees slot 1 .z: the fall angle (0..π: a tumbling debris piece turns
+// upside down) plus 4 x the leaf levels lost (render_trees_upload, client/render_scene.c).
 float tree_fall(float z)
 {
-    return z - 2.0 * floor(z * 0.5);
+    return z - 4.0 * floor(z * 0.25);
 }
 
 // wire_damage_leaf_kept (protocol/wire.h), the same bits: whether a leaf slot of a tree
@@ -126,7 +127,7 @@ uint damage_mix(uint h)
 }
 bool leaf_kept(uint tree, uint slot, float z)
 {
-    uint level = 32u - uint(floor(z * 0.5));
+    uint level = 32u - uint(floor(z * 0.25));
     uint r = damage_mix(slot * 0x9E3779B1u + 0x7F4A7C15u) +
              damage_mix(tree * 0x85EBCA77u + 0x165667B1u);
     return level >= 32u || r < (level << 27u);

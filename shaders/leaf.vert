@@ -27,7 +27,8 @@ void main()
     vec4 l0 = texelFetch(u_leaf, leaf * 2), l1 = texelFetch(u_leaf, leaf * 2 + 1);
     int j = int(l0.w);
     vec4 nj = texelFetch(u_node, j);
-    vec3 xj = texelFetch(u_skel, ivec2(j, row), 0).xyz;
+    vec4 sj = texelFetch(u_skel, ivec2(j, row), 0);
+    vec3 xj = sj.xyz;
     mat3 r = mat3(1.0);
     int p = int(nj.w);
     if (p >= 0) {
@@ -36,8 +37,9 @@ void main()
     }
     vec4 t0 = texelFetch(u_trees, tree * 2), t1 = texelFetch(u_trees, tree * 2 + 1);
     mat3 rz = tree_frame(t0.w, tree_fall(t1.z), t1.w);
-    if (!leaf_kept(uint(tree), uint(leaf), t1.z)) {
-        gl_Position = vec4(2.0, 2.0, 2.0, 1.0); // stripped: outside the clip volume
+    if (sj.w < 0.5 || !leaf_kept(uint(tree), uint(leaf), t1.z)) {
+        // stripped, or on a broken-off branch: outside the clip volume
+        gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
         v_wpos = vec3(0.0);
         v_nrm = vec3(0.0, 0.0, 1.0);
         v_uv = vec2(0.0);

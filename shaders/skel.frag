@@ -6,6 +6,12 @@
 // position, the sum of the posed segments from it up to the root (u_skel holds pass 0).
 // The GLSL twin of asset_corr_qt / asset_reconstruct (protocol/asset_pose.c), held to it
 // by tests/test_render.c.
+// Storm damage: .w of a pass-0 texel is 0 at a node listed in the tree's cut list (a
+// branch broken off there) and 1 elsewhere; pass 1 reads every texel up to the root anyway,
+// so the minimum along the way costs nothing: a node stays attached (.w 1) when no node
+// from it to the root is cut. A debris piece (keep-only) inverts it: only the sub-tree of
+// its listed node is drawn. The GLSL twin of damage_cut_mask (client/damage_cut.c), held
+// to it by tests/test_render_damage.c.
 uniform samplerBuffer u_vw;   // [(m n_nodes + node) 2 + {0: v, 1: w}]
 uniform samplerBuffer u_node; // rest xyz, parent
 uniform samplerBuffer u_q;    // [tree stride + m]
@@ -14,8 +20,10 @@ uniform int u_qstride;
 uniform int u_nodes;
 uniform int u_pass;
 uniform vec2 u_ab[64];        // a_i, b_i
+uniform samplerBuffer u_cutn; // cut node indices, per tree ascending
 flat in int v_tree;
 flat in float v_modes;
+flat in ivec3 v_cut;
 out vec4 o_pos;
 
 vec3 posed_segment(vec3 th, vec3 s)
@@ -42,17 +50,27 @@ void main()
     vec4 rn = texelFetch(u_node, node);
     if (u_pass == 1) {
         vec3 x = vec3(0.0);
+        float kept = 1.0;
         int j = node;
         for (int guard = 0; guard < u_nodes && j >= 0; guard++) {
-            x += texelFetch(u_skel, ivec2(j, row), 0).xyz;
+            vec4 sg = texelFetch(u_skel, ivec2(j, row), 0);
+            x += sg.xyz;
+            kept = min(kept, sg.w);
             j = int(texelFetch(u_node, j).w);
         }
-        o_pos = vec4(x, 1.0);
+        o_pos = vec4(x, v_cut.z != 0 ? 1.0 - kept : kept);
         return;
+    }
+    float whole = 1.0;
+    for (int k = 0; k < v_cut.y; k++) {
+        if (int(texelFetch(u_cutn, v_cut.x + k).x) == node) {
+            whole = 0.0;
+            break;
+        }
     }
     int p = int(rn.w);
     if (p < 0) {
-        o_pos = vec4(rn.xyz, 1.0);
+        o_pos = vec4(rn.xyz, whole);
         return;
     }
     vec3 s = rn.xyz - texelFetch(u_node, p).xyz;
@@ -67,5 +85,5 @@ void main()
         th += c * texelFetch(u_vw, t).xyz;
         s += c * texelFetch(u_vw, t + 1).xyz;
     }
-    o_pos = vec4(posed_segment(th, s), 1.0);
+    o_pos = vec4(posed_segment(th, s), whole);
 }

@@ -4,8 +4,10 @@ uniform samplerBuffer u_list; // per entry: tree, row, modes used (fractional), 
 uniform int u_base;
 uniform int u_nodes;
 uniform vec2 u_target;        // skeleton texture size [texels]
+uniform samplerBuffer u_cut;  // per tree: first, count of its cut nodes in u_cutn, keep-only
 flat out int v_tree;
 flat out float v_modes;
+flat out ivec3 v_cut;
 void main()
 {
     vec4 e = texelFetch(u_list, u_base + gl_InstanceID);
@@ -16,4 +18,5 @@ void main()
     gl_Position = vec4(p, 0.0, 1.0);
     v_tree = int(e.x);
     v_modes = e.z;
+    v_cut = ivec3(texelFetch(u_cut, v_tree).xyz);
 }

@@ -3,11 +3,12 @@ uniform vec3 u_bark;
 in vec3 v_wpos;
 in vec3 v_nrm;
 in vec3 v_local;
+in float v_kept;
 flat in float v_fade;
 out vec4 o_col;
 void main()
 {
-    if (!dither_keep(v_fade)) {
+    if (v_kept < 0.5 || !dither_keep(v_fade)) {
         discard;
     }
     vec3 n = normalize(v_nrm);
@@ -17,6 +18,9 @@ void main()
     vec3 albedo = u_bark * (0.72 + 0.22 * furrow + 0.12 * grain);
     // darker near the ground where soil and moss collect
     albedo *= mix(0.7, 1.0, clamp(v_wpos.z / 1.5, 0.0, 1.0));
+    // the last stretch before a break (v_kept falls from 1 to 0.5 across the broken
+    // segment, on the tree and on its piece): pale splintered wood
+    albedo = mix(albedo, vec3(0.78, 0.66, 0.46), smoothstep(0.85, 0.6, v_kept));
     vec3 c = light(albedo, n, v_wpos, 0.08, 16.0);
     o_col = vec4(fog_apply(c, v_wpos), 1.0);
 }

@@ -13,13 +13,17 @@ uniform int u_base;
 out vec3 v_wpos;
 out vec3 v_nrm;
 out vec3 v_local;
+out float v_kept;
 flat out float v_fade;
 
-void bone(int j, int row, out vec3 x, out vec3 rest, out mat3 r)
+// kept: 1 while the node hangs on the tree (skel.frag .w), 0 on a broken-off sub-tree
+void bone(int j, int row, out vec3 x, out vec3 rest, out mat3 r, out float kept)
 {
     vec4 nj = texelFetch(u_node, j);
     rest = nj.xyz;
-    x = texelFetch(u_skel, ivec2(j, row), 0).xyz;
+    vec4 xj = texelFetch(u_skel, ivec2(j, row), 0);
+    x = xj.xyz;
+    kept = xj.w;
     int p = int(nj.w);
     if (p < 0) {
         r = mat3(1.0);
@@ -36,8 +40,11 @@ void main()
     int tree = int(e.x), row = int(e.y);
     vec3 x0, x1, r0, r1;
     mat3 m0, m1;
-    bone(a_bone.x, row, x0, r0, m0);
-    bone(a_bone.y, row, x1, r1, m1);
+    float k0, k1;
+    bone(a_bone.x, row, x0, r0, m0, k0);
+    bone(a_bone.y, row, x1, r1, m1, k1);
+    // a tube segment across the break keeps the half at the tree: a splintered stub
+    v_kept = min(k0, k1);
     vec3 p = (1.0 - a_w) * (x0 + m0 * (a_pos - r0)) + a_w * (x1 + m1 * (a_pos - r1));
     vec3 n = (1.0 - a_w) * (m0 * a_nrm) + a_w * (m1 * a_nrm);
     vec4 t0 = texelFetch(u_trees, tree * 2), t1 = texelFetch(u_trees, tree * 2 + 1);

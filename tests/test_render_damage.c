@@ -1,0 +1,312 @@
+/* Storm damage drawn by gale_render under Mesa (EGL, or Xvfb): a broken branch's sub-tree
+ * is hidden exactly as damage_cut_mask says (the skeleton pass read back), its pixels go
+ * from a render of the intact tree and nothing else does, the same branch drawn as a
+ * debris piece in place fills them again, and a piece placed by debris_frame_matrix lands
+ * on screen where the C copy of tree_frame puts it; far away a fallen tree is no standing
+ * billboard, and an uprooted one shows its root plate. */
+#include <cglm/cglm.h>
+#include <math.h>
+#include <stdbool.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <stb/stb_image_write.h>
+
+#include "check.h"
+#include "damage_cut.h"
+#include "debris_path.h"
+#include "render.h"
+#include "render_demo.h"
+
+#define W 320
+#define H 240
+
+static render *R;
+static asset A;
+static gale_err err;
+static uint32_t BRANCH; /* the node that breaks */
+
+static const render_camera CAM = { .eye = { 0.0f, -15.0f, 4.5f }, .target = { 0.0f, 0.0f, 4.5f } };
+
+static uint8_t *shot(void)
+{
+    uint8_t *rgb = malloc(W * H * 3);
+    err = (gale_err){ 0 };
+    CHECK(render_frame(R, &CAM, 1.0, &err) == 0);
+    CHECK(render_read_rgb(R, rgb, &err) == 0);
+    if (err.code) {
+        fprintf(stderr, "render: %s\n", err.msg);
+    }
+    return rgb;
+}
+
+static int differs(const uint8_t *a, const uint8_t *b, int i)
+{
+    int d = 0;
+    for (int k = 0; k < 3; k++) {
+        d = abs(a[3 * i + k] - b[3 * i + k]) > d ? abs(a[3 * i + k] - b[3 * i + k]) : d;
+    }
+    return d > 24;
+}
+
+/* one tree, rest pose, at the origin */
+static void one_tree(float y)
+{
+    render_instance in = { .species = 0, .pos = { 0.0f, y, 0.0f }, .yaw = 0.4f, .scale = 1.0f };
+    CHECK(render_set_instances(R, 1, &in, &err) == 0);
+}
+
+/* a branch high in the crown with a fair share of the nodes: its sub-tree */
+static uint32_t pick_branch(uint8_t *mask)
+{
+    uint32_t best = 0, best_n = 0;
+    for (uint32_t b = 1; b < A.n_nodes; b++) {
+        damage_cut_mask(A.parent, A.n_nodes, &b, 1, true, mask);
+        uint32_t n = 0;
+        for (uint32_t i = 0; i < A.n_nodes; i++) {
+            n += mask[i];
+        }
+        if (n <= A.n_nodes / 4 && n > best_n && A.rest[3 * b + 2] > 2.0f) {
+            best = b;
+            best_n = n;
+        }
+    }
+    damage_cut_mask(A.parent, A.n_nodes, &best, 1, true, mask);
+    return best;
+}
+
+static void test_branch_hidden(void)
+{
+    uint8_t *want = malloc(A.n_nodes), *got = malloc(A.n_nodes);
+    BRANCH = pick_branch(want);
+    CHECK(BRANCH > 0);
+    one_tree(0.0f);
+    CHECK(render_set_instances(R, 0, NULL, &err) == 0);
+    uint8_t *bg = shot();
+    one_tree(0.0f);
+    uint8_t *intact = shot();
+    CHECK(render_read_attached(R, 0, got, &err) == 0);
+    int attached = 0;
+    for (uint32_t i = 0; i < A.n_nodes; i++) {
+        attached += got[i];
+    }
+    CHECK(attached == (int)A.n_nodes);
+    /* another tree's break and a node past the species change nothing here */
+    const uint64_t keys[3] = { (0ull << 32) | BRANCH, (0ull << 32) | 0xFFFFFFu,
+                               (5ull << 32) | 1u };
+    CHECK(render_set_broken(R, 3, keys, &err) == 0);
+    uint8_t *broken = shot();
+    CHECK(render_read_attached(R, 0, got, &err) == 0);
+    /* the GPU's flag is the C mask: exactly the descendants of the broken node go */
+    damage_cut_mask(A.parent, A.n_nodes, &BRANCH, 1, false, want);
+    CHECK(memcmp(got, want, A.n_nodes) == 0);
+    int tree_px = 0, gone = 0, to_bg = 0, appeared = 0;
+    for (int i = 0; i < W * H; i++) {
+        tree_px += differs(intact, bg, i);
+        if (differs(intact, broken, i)) {
+            gone++;
+            to_bg += !differs(broken, bg, i);
+            appeared += !differs(intact, bg, i); /* drawn where the intact tree was not */
+        }
+    }
+    fprintf(stderr, "tree %d px, branch %d px (%d now sky or ground), %d new\n", tree_px, gone,
+            to_bg, appeared);
+    CHECK(gone > 150 && gone < tree_px / 2);
+    CHECK(to_bg > gone / 2);
+    CHECK(appeared < gone / 20 + 5);
+    /* the piece in place (the tree's own frame, rest pose) draws the branch again */
+    const render_debris d = { .tree = 0, .node = BRANCH, .yaw = 0.4f };
+    CHECK(render_set_debris(R, 1, &d, &err) == 0);
+    uint8_t *both = shot();
+    CHECK(render_read_attached(R, 1, got, &err) == 0);
+    damage_cut_mask(A.parent, A.n_nodes, &BRANCH, 1, true, want);
+    CHECK(memcmp(got, want, A.n_nodes) == 0);
+    int off = 0;
+    for (int i = 0; i < W * H; i++) {
+        off += differs(both, intact, i);
+    }
+    fprintf(stderr, "piece in place: %d px off the intact tree\n", off);
+    CHECK(off < gone / 6);
+    /* bad input */
+    const uint64_t desc[2] = { 5, 3 };
+    CHECK(render_set_broken(R, 2, desc, &err) == GALE_E_ARG);
+    CHECK_STR_HAS(err.msg, "ascending");
+    const render_debris bad = { .tree = 3, .node = 1 };
+    CHECK(render_set_debris(R, 1, &bad, &err) == GALE_E_RANGE);
+    CHECK_STR_HAS(err.msg, "tree 3");
+    CHECK(render_set_debris(R, RENDER_MAX_DEBRIS + 1, &d, &err) == GALE_E_RANGE);
+    CHECK(render_set_broken(R, 0, NULL, &err) == 0);
+    CHECK(render_set_debris(R, 0, NULL, &err) == 0);
+    uint8_t *healed = shot();
+    off = 0;
+    for (int i = 0; i < W * H; i++) {
+        off += differs(healed, intact, i);
+    }
+    CHECK(off == 0);
+    free(bg);
+    free(intact);
+    free(broken);
+    free(both);
+    free(healed);
+    free(want);
+    free(got);
+}
+
+/* screen position [px, top row 0] of world point p under CAM, as render.c builds it */
+static void project(const float p[3], float px[2])
+{
+    mat4 view, proj, vp;
+    glm_lookat((vec3){ CAM.eye[0], CAM.eye[1], CAM.eye[2] },
+               (vec3){ CAM.target[0], CAM.target[1], CAM.target[2] }, (vec3){ 0, 0, 1 }, view);
+    glm_perspective(glm_rad(50.0f), (float)W / (float)H, 0.3f, 3000.0f, proj);
+    glm_mat4_mul(proj, view, vp);
+    vec4 c;
+    glm_mat4_mulv(vp, (vec4){ p[0], p[1], p[2], 1.0f }, c);
+    px[0] = (c[0] / c[3] * 0.5f + 0.5f) * W;
+    px[1] = (0.5f - c[1] / c[3] * 0.5f) * H;
+}
+
+/* where the piece's nodes go: P + R · rest, averaged, on screen */
+static void predicted(const float pos[3], float yaw, float fall, float az, const uint8_t *mask,
+                      float px[2])
+{
+    float r[9], c[3] = { 0, 0, 0 };
+    debris_frame_matrix(yaw, fall, az, r);
+    int n = 0;
+    for (uint32_t i = 0; i < A.n_nodes; i++) {
+        if (!mask[i]) {
+            continue;
+        }
+        const float *p = &A.rest[3 * i];
+        for (int k = 0; k < 3; k++) {
+            c[k] += pos[k] + r[k] * p[0] + r[3 + k] * p[1] + r[6 + k] * p[2];
+        }
+        n++;
+    }
+    for (int k = 0; k < 3; k++) {
+        c[k] /= (float)n;
+    }
+    project(c, px);
+}
+
+static void test_piece_frame(void)
+{
+    uint8_t *mask = malloc(A.n_nodes);
+    damage_cut_mask(A.parent, A.n_nodes, &BRANCH, 1, true, mask);
+    one_tree(-60.0f); /* the tree itself behind the camera */
+    uint8_t *bg = shot();
+    const float pos[3] = { 1.0f, -2.0f, 10.0f };
+    /* upside down (fall > π/2 reaches past the old 2 rad encoding), yawed, tipped to az */
+    const float yaw = 0.9f, fall = 2.5f, az = 1.1f;
+    float r[9], y2, f2, a2;
+    debris_frame_matrix(yaw, fall, az, r);
+    debris_frame_angles(r, &y2, &f2, &a2);
+    const render_debris d = { .tree = 0, .node = BRANCH, .pos = { pos[0], pos[1], pos[2] },
+                              .yaw = y2, .fall_rad = f2, .fall_az_rad = a2 };
+    CHECK(render_set_debris(R, 1, &d, &err) == 0);
+    uint8_t *img = shot();
+    double sx = 0.0, sy = 0.0;
+    int n = 0;
+    for (int i = 0; i < W * H; i++) {
+        if (differs(img, bg, i)) {
+            sx += i % W + 0.5;
+            sy += i / W + 0.5;
+            n++;
+        }
+    }
+    float want[2], other[2];
+    predicted(pos, yaw, fall, az, mask, want);
+    predicted(pos, yaw, fall, az + 1.5707963f, mask, other);
+    fprintf(stderr, "piece: %d px at (%.1f, %.1f), C frame says (%.1f, %.1f)\n", n,
+            n ? sx / n : 0.0, n ? sy / n : 0.0, (double)want[0], (double)want[1]);
+    (void)y2;
+    CHECK(n > 100);
+    if (n > 0) {
+        CHECK(hypot(sx / n - (double)want[0], sy / n - (double)want[1]) < 12.0);
+        /* and the check can tell: another azimuth is far from it */
+        CHECK(hypotf(other[0] - want[0], other[1] - want[1]) > 30.0f);
+    }
+    CHECK(render_set_debris(R, 0, NULL, &err) == 0);
+    free(bg);
+    free(img);
+    free(mask);
+}
+
+/* far away a standing tree is a billboard, a fallen one is not (the impostor stands) */
+static void test_fallen_no_billboard(void)
+{
+    render_instance in = { .species = 0, .pos = { 0.0f, 400.0f, 0.0f }, .scale = 1.0f };
+    CHECK(render_set_instances(R, 1, &in, &err) == 0);
+    free(shot());
+    render_stats st = render_get_stats(R);
+    CHECK(st.trees_billboard == 1);
+    render_set_damage(R, 0, 1.536f, 0.0f, 0);
+    render_trees_commit(R);
+    free(shot());
+    st = render_get_stats(R);
+    CHECK(st.trees_billboard == 0 && st.trees_full == 0);
+}
+
+/* an uprooted tree lifts its root plate: soil-brown pixels at its base that a snapped one
+ * lying the same way does not have */
+static void test_root_plate(void)
+{
+    one_tree(0.0f);
+    render_set_damage(R, 0, 1.536f, 1.5707963f, 0); /* away from the camera */
+    render_trees_commit(R);
+    uint8_t *snapped = shot();
+    render_set_uprooted(R, 0, true);
+    render_trees_commit(R);
+    uint8_t *uprooted = shot();
+    int plate = 0, brown = 0;
+    for (int i = 0; i < W * H; i++) {
+        if (differs(uprooted, snapped, i)) {
+            plate++;
+            const uint8_t *p = &uprooted[3 * i];
+            brown += p[0] > p[2] + 10 && p[0] >= p[1]; /* soil: red over blue, not green */
+        }
+    }
+    double m[3] = { 0, 0, 0 };
+    for (int i = 0; i < W * H; i++) {
+        if (differs(uprooted, snapped, i)) {
+            for (int k = 0; k < 3; k++) {
+                m[k] += uprooted[3 * i + k] / (double)plate;
+            }
+        }
+    }
+    if (getenv("GALE_DUMP")) {
+        stbi_write_png(getenv("GALE_DUMP"), W, H, 3, uprooted, W * 3);
+    }
+    fprintf(stderr, "root plate: %d px, %d soil-coloured, mean %.0f %.0f %.0f\n", plate, brown,
+            m[0], m[1], m[2]);
+    CHECK(plate > 200);
+    CHECK(brown > plate / 3);
+    render_set_uprooted(R, 0, false);
+    render_set_damage(R, 0, 0.0f, 0.0f, 0);
+    render_trees_commit(R);
+    free(snapped);
+    free(uprooted);
+}
+
+int main(void)
+{
+    R = render_create(&(render_desc){ .width = W, .height = H, .headless = true,
+                                      .max_trees = 4, .max_falling = 64 }, &err);
+    if (!R) {
+        fprintf(stderr, "render_create: %s\n", err.msg);
+        return 1;
+    }
+    if (render_demo_asset(&A, &(render_demo_desc){ .n_nodes = 150, .n_modes = 6, .seed = 3 },
+                          &err) < 0 ||
+        render_add_species(R, &A, &err) < 0) {
+        fprintf(stderr, "species: %s\n", err.msg);
+        return 1;
+    }
+    RUN(test_branch_hidden);
+    RUN(test_piece_frame);
+    RUN(test_fallen_no_billboard);
+    RUN(test_root_plate);
+    render_destroy(R);
+    render_demo_free(&A);
+    return check_report();
+}
