@@ -6,7 +6,7 @@
  * - a viewer's wind command is refused (4006), and so is gale-ctl with a wrong token;
  * - gale-server --scenario FILE --start-min M --replay-speed X replays from minute M at X
  *   without an edited file; gale-ctl replay --at landfall --speed X jumps and changes
- *   speed; an unknown scenario name is refused. */
+ *   speed; an unknown scenario name is refused, gale-ctl naming the server's. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -99,8 +99,10 @@ static void test_refusals(void)
     wsraw_close(&v);
     char log[300];
     snprintf(log, sizeof log, "%s/ctl.log", kf_dir);
-    CHECK(ctl(KIOSK_TOKEN, (const char *[]){ "scenario", "charley2004", NULL }) == 1);
-    CHECK(kf_log_count(log, "this server runs") == 1);
+    CHECK(ctl(KIOSK_TOKEN, (const char *[]){ "scenario", "charley2005", NULL }) == 1);
+    CHECK(kf_log_count(log, "\"charley2005\": unknown; one of: andrew1992") == 1);
+    CHECK(kf_log_count(log, "the server's scenarios: andrew1992, breeze, calm, cat1, cat2, cat3, "
+                            "cat3-synthetic, cat4, cat5, charley2004, gusty, storm") == 1);
     CHECK(ctl(KIOSK_TOKEN, (const char *[]){ "replay", "--at", "landfall", NULL }) == 1);
     CHECK(kf_log_count(log, "replays no storm") == 1);
     CHECK(ctl(KIOSK_TOKEN, (const char *[]){ "wind", "--speed", "500", NULL }) == 2);

@@ -37,6 +37,15 @@ int scen_lib_load(scen_lib *l, const char *dir, gale_err *err)
                            len - 5);
             break;
         }
+        bool odd = false;
+        for (size_t k = 0; k + 5 < len; k++) {
+            odd = odd || (unsigned char)de->d_name[k] < 0x20 || de->d_name[k] == 0x7f;
+        }
+        if (odd) {
+            rc = gale_errf(err, GALE_E_RANGE, "%s: a scenario file name with control bytes: "
+                           "expected printable names (kiosks name scenarios by them)", dir);
+            break;
+        }
         if (l->n == SCEN_LIB_MAX) {
             rc = gale_errf(err, GALE_E_RANGE, "%s: expected at most %d scenario files (what a "
                            "welcome lists), got more", dir, SCEN_LIB_MAX);
@@ -141,4 +150,29 @@ int scen_lib_playlist(const scen_lib *l, const scene *sc, scenario **out, int *n
         out[(*n)++] = l->e[k].scen;
     }
     return GALE_OK;
+}
+
+void scen_lib_names_cut(const char *list, char *out, size_t cap)
+{
+    if (cap == 0) {
+        return;
+    }
+    size_t n = strlen(list);
+    if (n < cap) {
+        memcpy(out, list, n + 1);
+        return;
+    }
+    /* the names before the last ", " that leaves room for "..." */
+    size_t keep = 0;
+    for (size_t i = 0; i + 2 < n && i + 5 < cap; i++) {
+        if (list[i] == ',' && list[i + 1] == ' ') {
+            keep = i + 2;
+        }
+    }
+    if (keep + 4 > cap) {
+        out[0] = '\0';
+        return;
+    }
+    memcpy(out, list, keep);
+    memcpy(out + keep, "...", 4);
 }

@@ -41,5 +41,8 @@ int scen_lib_playlist(const scen_lib *l, const scene *sc, scenario **out, int *n
                       gale_err *err);
 /* The stems, comma-separated, into out[cap] (cut with "..." when they do not fit). */
 void scen_lib_names(const scen_lib *l, char *out, size_t cap);
+/* A comma-separated list into out[cap]: whole when it fits, else the names that fit
+ * and "...". */
+void scen_lib_names_cut(const char *list, char *out, size_t cap);
 
 #endif

@@ -255,6 +255,7 @@ void srv_destroy(srv *s)
     free(s->dmg_state);
     free(s->wspecies);
     free(s->winst);
+    free(s->wscen);
     free(s->hist);
     free(s->hist_seq);
     free(s->coarse);

@@ -26,6 +26,8 @@ static int welcome(srv *s, const net_peer *p, int ctl_role, char **reply, size_t
     w->species = s->wspecies;
     w->n_instances = (uint32_t)s->d.sc->n_trees;
     w->instances = s->winst;
+    w->n_scenarios = s->n_wscen;
+    w->scenarios = s->wscen;
     /* The houses: every scene obstacle fits the wire. */
     _Static_assert(SCENE_MAX_OBSTACLES <= WIRE_MAX_OBSTACLES, "scene obstacles exceed the wire");
     const scene *sc = s->d.sc;
@@ -189,7 +191,7 @@ static int kiosk_wind(srv *s, const net_peer *p, const ctl_wind *w, char *why, s
         /* a pick is checked and made first: replay fields then steer the new scenario */
         rc = srv_scen_pick_locked(s, w->scenario, t_s, why, why_cap);
     }
-    if (!rc && (w->has_replay_at || w->has_replay_speed) &&
+    if (!rc && (w->has_replay_at || w->has_replay_speed || w->has_replay_paused) &&
         (!s->scen || scenario_get_kind(s->scen) != SCENARIO_HURRICANE)) {
         snprintf(why, why_cap, "wind.replay: this server replays no storm (it runs \"%s\")",
                  s->scen ? scenario_name(s->scen) : "no scenario");
@@ -214,6 +216,13 @@ static int kiosk_wind(srv *s, const net_peer *p, const ctl_wind *w, char *why, s
             rc = WIRE_CLOSE_BAD_FIELD;
         } else if (w->has_replay_at) {
             srv_weather_jumped_locked(s); /* the peak before the jump is another minute's */
+        }
+    }
+    if (!rc && w->has_replay_paused) {
+        gale_err e;
+        if (scenario_replay_pause(s->scen, t_s, w->replay_paused, &e)) {
+            snprintf(why, why_cap, "wind.replay_paused: %s", e.msg);
+            rc = WIRE_CLOSE_BAD_FIELD;
         }
     }
     if (w->has_speed || w->has_dir) {
@@ -300,6 +309,22 @@ int srv_on_control(void *user, net_peer *p, const char *text, size_t len, char *
             rc = WIRE_CLOSE_BAD_FIELD;
         } else {
             rc = kiosk_wind(s, p, w, why, why_cap);
+        }
+    } else if (m.type == CTL_RESET) {
+        /* a kiosk's reset: the forest healed, the dial dropped, the playlist's head from
+         * its configured start (SERVER.md "Scenarios"); refused to others as wind is */
+        if (p->role != NET_ROLE_KIOSK) {
+            snprintf(why, why_cap, "reset: only a kiosk may reset the exhibit (this is a %s)",
+                     ctl_role_name(p->role - 1));
+            rc = WIRE_CLOSE_FORBIDDEN;
+        } else if (!kiosk_gate_token_eq(m.u.reset.token, s->d.sc->kiosk_token)) {
+            kiosk_gate_count_failure(&s->kgate);
+            snprintf(why, why_cap, "reset.token: wrong kiosk token");
+            rc = WIRE_CLOSE_BAD_TOKEN;
+        } else {
+            pthread_mutex_lock(&s->scen_lock);
+            srv_reset_locked(s, atomic_load(&s->simm.current_tick) / s->d.sc->tick_hz);
+            pthread_mutex_unlock(&s->scen_lock);
         }
     } else if (m.type >= CTL_WALL_JOIN && m.type <= CTL_WALL_CAMERA) {
         rc = wall_control(s, p, &m, reply, reply_len, why, why_cap);

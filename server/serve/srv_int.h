@@ -109,6 +109,8 @@ struct srv {
     /* welcome template (lws thread) */
     ctl_species *wspecies;       /* owned [n_species] */
     ctl_instance *winst;         /* owned [n_trees] */
+    ctl_scenario_info *wscen;    /* owned [n_wscen]: the library, as a kiosk chooses */
+    uint32_t n_wscen;
     /* float history for tests */
     pthread_mutex_t hist_lock;
     float *hist;                 /* owned [history][n_trees * stride] */

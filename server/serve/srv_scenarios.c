@@ -9,6 +9,7 @@
 #include "srv_int.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 void srv_weather_jumped_locked(srv *s)
@@ -38,21 +39,20 @@ int srv_scen_pick_locked(srv *s, const char *name, double t_s, char *why, size_t
         to = s->scen; /* a --scenario file outside the library restarts */
     }
     if (!to) {
+        /* the reason holds what fits of the names (a close reason is short); the log and
+         * gale-ctl scenarios give them all */
         char names[1024];
         if (l && l->n > 0) {
             scen_lib_names(l, names, sizeof names);
         } else {
-            snprintf(names, sizeof names, "none: this server has no scenarios folder");
+            snprintf(names, sizeof names, "none (no scenarios folder)");
         }
-        snprintf(why, why_cap, "wind.scenario: \"%.63s\": no such scenario; expected one of: "
-                               "%s%s%s",
-                 name, names, s->scen ? " (running: " : "", s->scen ? scenario_name(s->scen) : "");
-        if (s->scen) {
-            size_t n = strlen(why);
-            if (n + 1 < why_cap) {
-                snprintf(why + n, why_cap - n, ")");
-            }
+        int at = snprintf(why, why_cap, "wind.scenario: \"%.40s\": unknown; one of: ", name);
+        if (at > 0 && (size_t)at < why_cap) {
+            scen_lib_names_cut(names, why + at, why_cap - (size_t)at);
         }
+        fprintf(stderr, "gale-server: wind.scenario \"%.63s\" refused: the scenarios are %s\n",
+                name, names);
         return WIRE_CLOSE_BAD_FIELD;
     }
     s->picked = true;
@@ -108,6 +108,35 @@ int srv_scenarios_init(srv *s, gale_err *err)
     if (!s->d.scen && scen_lib_playlist(l, s->d.sc, s->playlist, &s->n_playlist, err)) {
         return err && err->code ? err->code : GALE_E_RANGE;
     }
+    /* the welcome's list: every scenario of the library */
+    _Static_assert(SCEN_LIB_MAX <= WIRE_MAX_SCENARIOS, "the library exceeds the welcome");
+    if (l->n > 0 && !(s->wscen = calloc((size_t)l->n, sizeof *s->wscen))) {
+        return gale_errf(err, GALE_E_NOMEM, "srv_create: no memory for the scenario list");
+    }
+    for (int i = 0; i < l->n; i++) {
+        ctl_scenario_info *w = &s->wscen[i];
+        const scenario *sc = l->e[i].scen;
+        snprintf(w->name, sizeof w->name, "%s", l->e[i].name);
+        /* the title: whole when it fits, else cut at a UTF-8 character boundary;
+         * control bytes read as spaces */
+        const char *title = scenario_name(sc);
+        size_t n = strlen(title);
+        if (n >= sizeof w->title) {
+            n = sizeof w->title - 1;
+            while (n > 0 && ((unsigned char)title[n] & 0xC0u) == 0x80u) {
+                n--;
+            }
+        }
+        for (size_t k = 0; k < n; k++) {
+            unsigned char ch = (unsigned char)title[k];
+            w->title[k] = ch < 0x20 || ch == 0x7f ? ' ' : (char)ch;
+        }
+        w->kind = scenario_get_kind(sc) == SCENARIO_HURRICANE ? CTL_SCENARIO_REPLAY
+                                                              : CTL_SCENARIO_STEADY;
+        double u = scenario_steady_ms(sc);
+        w->sustained_ms = u > 100.0 ? 100.0f : (float)u;
+    }
+    s->n_wscen = (uint32_t)l->n;
     s->head = s->n_playlist > 0 ? s->playlist[0] : s->d.scen;
     s->scen = s->head;
     s->entry_t_s = 0.0;

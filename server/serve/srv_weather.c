@@ -68,6 +68,9 @@ void srv_weather_fill(const srv *s, wire_weather *w)
         if (st->finished) {
             w->flags |= WIRE_WEATHER_FINISHED;
         }
+        if (st->paused) {
+            w->flags |= WIRE_WEATHER_PAUSED;
+        }
         if (st->has_clock && st->utc_min >= 0 && st->utc_min <= (long long)UINT32_MAX) {
             w->flags |= WIRE_WEATHER_CLOCK;
             w->utc_min = (uint32_t)st->utc_min;
