@@ -34,7 +34,8 @@ static void test_shipped_files(void)
 {
     scenario *s;
     static const char *const files[] = { "calm",       "breeze",      "gusty",         "storm",
-                                         "andrew1992", "charley2004", "cat3-synthetic" };
+                                         "andrew1992", "charley2004", "cat3-synthetic", "cat1",
+                                         "cat2",       "cat3",        "cat4",           "cat5" };
     for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
         char path[512];
         snprintf(path, sizeof path, CONFIGS "%s.json", files[i]);
@@ -73,6 +74,23 @@ static void test_shipped_files(void)
     CHECK(st.category == SAFFIR_TS);
     CHECK(st.beaufort >= 10);
     scenario_destroy(s);
+    /* the kiosk's Category buttons: each mean wind inside its Saffir-Simpson band */
+    for (int c = 1; c <= 5; c++) {
+        char path[512];
+        snprintf(path, sizeof path, CONFIGS "cat%d.json", c);
+        s = scenario_load(path, NULL);
+        CHECK(s != NULL);
+        if (!s) {
+            continue;
+        }
+        scenario_eval(s, 0.0, &st);
+        CHECK(st.category == (saffir_class)(SAFFIR_CAT1 + c - 1));
+        CHECK(saffir_classify(scenario_steady_ms(s)) == (saffir_class)(SAFFIR_CAT1 + c - 1));
+        char title[32];
+        snprintf(title, sizeof title, "Category %d (steady)", c);
+        CHECK(!strcmp(scenario_name(s), title));
+        scenario_destroy(s);
+    }
 }
 
 static void test_steady(void)
