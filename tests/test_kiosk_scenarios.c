@@ -8,7 +8,8 @@
  * - a jump from Andrew's eyewall into the eye starts the 3-s gust window over;
  * - with a playlist of two short test-local replays, the next starts when one finishes
  *   and the list loops; reset heals the forest (an empty whole DAMAGE state), drops the
- *   dial and goes back to the playlist's head; a viewer's reset is refused (4006). */
+ *   dial and goes back to the playlist's head; a viewer's reset is refused (4006); a
+ *   kiosk's pick ends after the kiosk idle time (attract), back to the playlist. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -59,6 +60,12 @@ static bool wait_name(kf_reader *r, const char *name, double timeout_s, wire_wea
 {
     want_name = name;
     return kf_reader_wait(r, timeout_s, named, 0, w);
+}
+
+static bool a_short(const wire_weather *w, double arg)
+{
+    (void)arg;
+    return strncmp(w->name, "Short ", 6) == 0;
 }
 
 static bool paused(const wire_weather *w, double arg)
@@ -252,7 +259,8 @@ static void test_playlist_reset(void)
 {
     char scene_path[1024];
     CHECK(write_playlist_scene(scene_path, sizeof scene_path) == 0);
-    CHECK(kf_start_server(scene_path, NULL) == 0);
+    const char *extra[] = { "--kiosk-idle", "5", NULL };
+    CHECK(kf_start_server(scene_path, extra) == 0);
     kf_reader v;
     wire_weather w;
     CHECK(kf_reader_start(&v, "viewer", NULL) == 0);
@@ -269,11 +277,11 @@ static void test_playlist_reset(void)
     CHECK(wait_name(&v, "Gale", 5.0, &w));
     CHECK(ctl((const char *[]){ "wind", "--speed", "80", NULL }) == 0);
     CHECK(kf_reader_wait(&v, 5.0, dial_on, 0, &w));
-    usleep(3000000);
+    usleep(2500000);
     pthread_mutex_lock(&v.lock);
     int events = v.dmg_events, empty = v.dmg_empty;
     pthread_mutex_unlock(&v.lock);
-    fprintf(stderr, "  at 77-80 m/s for 3 s: %d damage events\n", events);
+    fprintf(stderr, "  at 77-80 m/s for 2.5 s: %d damage events\n", events);
     CHECK(events > 0);
     /* a viewer may not reset */
     wsraw vw = { .fd = -1 };
@@ -294,6 +302,11 @@ static void test_playlist_reset(void)
     CHECK(kf_log_count(slog, "kiosk dial released (reset)") == 1);
     /* and the playlist goes on from there */
     CHECK(wait_name(&v, "Short 2", 6.0, &w));
+    /* attract: a pick nobody follows up ends after the kiosk idle time (5 s here) */
+    CHECK(ctl((const char *[]){ "scenario", "gale", NULL }) == 0);
+    CHECK(wait_name(&v, "Gale", 5.0, &w));
+    CHECK(kf_wait_log(slog, "(the playlist)", 1, 10.0));
+    CHECK(kf_reader_wait(&v, 5.0, a_short, 0, &w));
     kf_reader_stop(&v);
     kf_stop_server();
 }
