@@ -365,9 +365,30 @@ static void test_strip_leaves(void)
     damage_table_fini(&strong);
 }
 
+/* The critical speeds under streamlining: u² (u/U_0)^B = ratio has the closed form
+ * u = U_0 (ratio / U_0²)^(1/(2+B)) above U_0; below it, and for rigid drag, sqrt(ratio);
+ * "hold" above the fit's top: u² s(fit_max) = ratio. */
+static void test_speed_for(void)
+{
+    const drag_law oak = { -0.85f, 10.0f, 25.0f, 0 };
+    const double ratios[] = { 400.0, 2500.0, 6400.0, 1e5 };
+    for (int k = 0; k < 4; k++) {
+        const double r = ratios[k];
+        const double want = 10.0 * pow(r / 100.0, 1.0 / (2.0 - 0.85));
+        CHECK_NEAR(damage_speed_for(&oak, r), want, 1e-5 * want);
+        CHECK_NEAR(damage_speed_for(NULL, r), sqrt(r), 1e-9 * sqrt(r));
+    }
+    CHECK_NEAR(damage_speed_for(&oak, 64.0), 8.0, 1e-12); /* below U_0: rigid */
+    const drag_law hold = { -0.85f, 10.0f, 25.0f, 1 };
+    const double s_top = pow(2.5, -0.85), r = 2500.0;
+    CHECK_NEAR(damage_speed_for(&hold, r), sqrt(r / s_top), 1e-5 * sqrt(r / s_top));
+    CHECK(isinf(damage_speed_for(&oak, 0.0)) && isinf(damage_speed_for(&oak, (double)INFINITY)));
+}
+
 int main(void)
 {
     RUN(test_critical_moments);
+    RUN(test_speed_for);
     RUN(test_strip_hugo);
     RUN(test_strip_leaves);
     RUN(test_steady_15);

@@ -275,7 +275,7 @@ int main(int argc, char **argv)
     if (damage_table_build(&a, sp.E_pa, &sp.damage, &dt, &err) != GALE_OK) {
         goto fail;
     }
-    damage_critical_speeds(&a, &dt, &snap_ms, &uproot_ms, &branch_ms);
+    damage_critical_speeds(&a, &dt, &sp.drag, &snap_ms, &uproot_ms, &branch_ms);
     if (report) {
         report_text = report_with_damage(bake_report_json(&a, &rep), &dt, snap_ms, uproot_ms, branch_ms);
         if (!report_text) {
@@ -302,7 +302,7 @@ int main(int argc, char **argv)
     tmp_png[0] = '\0';
     bake_report_print(stdout, &a, &rep);
     printf("damage (PHYSICS.md \"Storm damage\"): %u branches; stem d %.3f m, %.0f kg; "
-           "M_break %.3g N m, M_over %.3g N m; steady wind at the crown to snap %.1f m/s, to "
+           "M_break %.3g N m, M_over %.3g N m; steady wind at the crown (streamlined drag) to snap %.1f m/s, to "
            "uproot %.1f m/s, to break the first branch %.1f m/s\n",
            dt.n_branches, dt.stem_d_m, dt.stem_mass_kg, dt.m_break_nm, dt.m_over_nm, snap_ms,
            uproot_ms, branch_ms);

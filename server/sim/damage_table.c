@@ -282,8 +282,35 @@ void damage_static_q(const asset *a, double u_ms, double dir_rad, float *q)
     }
 }
 
-void damage_critical_speeds(const asset *a, const damage_table *t, double *snap_ms,
-                            double *uproot_ms, double *branch_ms)
+double damage_speed_for(const drag_law *d, double ratio)
+{
+    if (!(ratio > 0.0) || !isfinite(ratio)) {
+        return (double)INFINITY;
+    }
+    const double rigid = sqrt(ratio);
+    if (!d || drag_law_scale(d, (float)rigid) == 1.0f) {
+        return rigid; /* below U_0 the crown is rigid; streamlining only raises u */
+    }
+    /* u² s(u) grows monotonically (2 + B > 0), so bisect between the rigid answer and a
+     * bound that doubles until it holds */
+    double lo = rigid, hi = 2.0 * rigid;
+    while (hi * hi * (double)drag_law_scale(d, (float)hi) < ratio && hi < 1e9) {
+        lo = hi;
+        hi *= 2.0;
+    }
+    for (int it = 0; it < 100 && hi - lo > 1e-9 * hi; it++) {
+        const double mid = 0.5 * (lo + hi);
+        if (mid * mid * (double)drag_law_scale(d, (float)mid) < ratio) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    return 0.5 * (lo + hi);
+}
+
+void damage_critical_speeds(const asset *a, const damage_table *t, const drag_law *d,
+                            double *snap_ms, double *uproot_ms, double *branch_ms)
 {
     float q[64];
     double worst = 0.0, bmin = INFINITY;
@@ -294,12 +321,13 @@ void damage_critical_speeds(const asset *a, const damage_table *t, double *snap_
         for (uint32_t b = 0; b < t->n_branches; b++) {
             const float(*mm)[3] = (const float(*)[3])(t->branch_moment + (size_t)b * t->n_modes * 3);
             double mb = (double)damage_moment(mm, q, t->n_modes, NULL);
-            double u = mb > 0.0 ? sqrt((double)t->branch[b].cap_nm / mb) : (double)INFINITY;
+            double u = mb > 0.0 ? damage_speed_for(d, (double)t->branch[b].cap_nm / mb)
+                                : (double)INFINITY;
             bmin = u < bmin ? u : bmin;
         }
     }
-    *snap_ms = worst > 0.0 ? sqrt(t->m_break_nm / worst) : (double)INFINITY;
-    *uproot_ms = worst > 0.0 ? sqrt(t->m_over_nm / worst) : (double)INFINITY;
+    *snap_ms = worst > 0.0 ? damage_speed_for(d, t->m_break_nm / worst) : (double)INFINITY;
+    *uproot_ms = worst > 0.0 ? damage_speed_for(d, t->m_over_nm / worst) : (double)INFINITY;
     if (branch_ms) {
         *branch_ms = bmin;
     }

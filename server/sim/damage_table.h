@@ -12,6 +12,7 @@
 
 #include "asset.h"
 #include "damage_params.h"
+#include "drag_law.h"
 #include "err.h"
 
 /* Thinnest branch base that breaks as a branch [m]: the EF scale's "branches 2-8 cm"
@@ -65,10 +66,15 @@ float damage_moment(const float (*m)[3], const float *q, uint32_t n, float out[3
  * azimuth dir_rad: q_i = f_i / ω_i², f_i = u² (d·p_i) (Diener 2008 section 4). */
 void damage_static_q(const asset *a, double u_ms, double dir_rad, float *q);
 
-/* Steady mean wind [m/s] at which the reference tree (strength 1) snaps, at which it
- * uproots and at which its first branch breaks (branch_ms may be NULL): static moments
- * grow as u², so u = sqrt(M_crit / M(1 m/s)), the weakest azimuth of 16. */
-void damage_critical_speeds(const asset *a, const damage_table *t, double *snap_ms,
-                            double *uproot_ms, double *branch_ms);
+/* Steady crown wind [m/s] at which the reference tree (strength 1) snaps, at which it
+ * uproots and at which its first branch breaks (branch_ms may be NULL), the weakest
+ * azimuth of 16. Static moments grow as u² s(u), s the streamlining of drag_law.h (d NULL
+ * or rigid: s = 1), so u solves u² s(u) = M_crit / M(1 m/s) (damage_speed_for). */
+void damage_critical_speeds(const asset *a, const damage_table *t, const drag_law *d,
+                            double *snap_ms, double *uproot_ms, double *branch_ms);
+
+/* The speed u with u² s(u) = ratio under drag law d (NULL: rigid, u = sqrt(ratio));
+ * INFINITY for a ratio that is not finite and positive. */
+double damage_speed_for(const drag_law *d, double ratio);
 
 #endif
