@@ -173,6 +173,15 @@ static void test_bad_name(void)
                              "breeze, calm, cat1, cat2, cat3, cat3-synthetic, cat4, cat5, "
                              "charley2004, gusty, storm") == 1);
     wsraw_close(&k);
+    /* a pick of a steady scenario with a replay field is refused whole: no pick made */
+    wsraw k2 = { .fd = -1 };
+    CHECK(kf_hello(&k2, "kiosk", KIOSK_TOKEN) == 0);
+    wsraw_text(&k2, "{\"type\": \"wind\", \"token\": \"" KIOSK_TOKEN "\", \"scenario\": \"cat4\", "
+                    "\"replay_at_min\": 0}");
+    CHECK(wsraw_wait_close(&k2, 5000) == WIRE_CLOSE_BAD_FIELD);
+    CHECK_STR_HAS(k2.close_reason, "wind.replay: \"cat4\" replays no storm");
+    wsraw_close(&k2);
+    CHECK(kf_log_count(slog, "scenario Category 4 (steady) (picked by a kiosk)") == 0);
 }
 
 /* Andrew's eyewall at storm speed 1 fills the gust window with ~57 m/s; a jump into the

@@ -187,11 +187,21 @@ static int kiosk_wind(srv *s, const net_peer *p, const ctl_wind *w, char *why, s
     const double t_s = atomic_load(&s->simm.current_tick) / s->d.sc->tick_hz;
     int rc = 0;
     pthread_mutex_lock(&s->scen_lock);
-    if (w->has_scenario && w->scenario[0]) {
+    const bool replay_fields = w->has_replay_at || w->has_replay_speed || w->has_replay_paused;
+    if (w->has_scenario && w->scenario[0] && replay_fields) {
+        /* replay fields steer the picked scenario: refuse them before a pick of a steady
+         * one is made, so a refused command changes nothing */
+        const int k = s->d.lib ? scen_lib_find(s->d.lib, w->scenario) : -1;
+        if (k >= 0 && scenario_get_kind(s->d.lib->e[k].scen) != SCENARIO_HURRICANE) {
+            snprintf(why, why_cap, "wind.replay: \"%.40s\" replays no storm", w->scenario);
+            rc = WIRE_CLOSE_BAD_FIELD;
+        }
+    }
+    if (!rc && w->has_scenario && w->scenario[0]) {
         /* a pick is checked and made first: replay fields then steer the new scenario */
         rc = srv_scen_pick_locked(s, w->scenario, t_s, why, why_cap);
     }
-    if (!rc && (w->has_replay_at || w->has_replay_speed || w->has_replay_paused) &&
+    if (!rc && replay_fields &&
         (!s->scen || scenario_get_kind(s->scen) != SCENARIO_HURRICANE)) {
         snprintf(why, why_cap, "wind.replay: this server replays no storm (it runs \"%s\")",
                  s->scen ? scenario_name(s->scen) : "no scenario");
