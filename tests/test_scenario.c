@@ -548,6 +548,59 @@ static void test_pause_and_start(void)
     scenario_destroy(s);
 }
 
+/* A start from rest and a jump into a storm's core move the wind at the dial's rate
+ * (scenario_ramp_from): |Δu| ≤ rate·dt on every eval until the scripted wind is reached,
+ * then the scripted wind exactly. */
+static void test_ramps(void)
+{
+    scenario *s = parse("{\"kind\":\"steady\",\"dial_rate_ms2\":5,"
+                        "\"steady\":{\"u10_ms\":40,\"dir_from_deg\":270},"
+                        "\"gust\":{\"enabled\":false}}");
+    if (!s) {
+        CHECK(0);
+        return;
+    }
+    scenario_state st;
+    scenario_restart(s, 10.0);
+    scenario_ramp_from(s, 0.0, 0.0);
+    int ramping = 0;
+    for (int k = 0; k <= 40; k++) {
+        const double t = 0.25 * k;
+        scenario_eval(s, 10.0 + t, &st);
+        const double want = 5.0 * t < 40.0 ? 5.0 * t : 40.0;
+        CHECK_NEAR(st.sustained_ms, want, 1e-6);
+        ramping += st.ramping;
+    }
+    CHECK(ramping == 32); /* 40 m/s at 5 m/s² is 8 s: the evals before it ramp */
+    CHECK(!st.ramping);
+    double w[2];
+    scenario_last_wind(s, w);
+    CHECK_NEAR(w[0], 40.0, 1e-6);
+    CHECK_NEAR(w[1], 0.0, 1e-6);
+    scenario_destroy(s);
+
+    /* Andrew: from the eyewall, a jump into the eye falls at 4 m/s per second */
+    s = scenario_load(CONFIGS "andrew1992.json", NULL);
+    if (!s) {
+        CHECK(0);
+        return;
+    }
+    scenario_replay_set(s, 0.0, true, -18.0, true, 1.0, NULL);
+    scenario_eval(s, 0.0, &st);
+    scenario_eval(s, 0.1, &st);
+    const double eyewall = st.sustained_ms;
+    CHECK(eyewall > 45.0);
+    scenario_replay_set(s, 0.1, true, 20.0, false, 0.0, NULL);
+    double prev = eyewall;
+    for (int k = 1; k <= 200 && st.sustained_ms > 10.0; k++) {
+        scenario_eval(s, 0.1 + 0.1 * k, &st);
+        CHECK(prev - st.sustained_ms <= 0.4 + 1e-6);
+        prev = st.sustained_ms;
+    }
+    CHECK(st.sustained_ms <= 10.0); /* reached within 20 s */
+    scenario_destroy(s);
+}
+
 static void test_bad_files(void)
 {
     expect_bad("{\"steady\":{\"u10_ms\":5},\"colour\":1}", "bad.json: colour: unknown key");
@@ -650,6 +703,7 @@ int main(void)
     RUN(test_overrides);
     RUN(test_determinism);
     RUN(test_pause_and_start);
+    RUN(test_ramps);
     RUN(test_bad_files);
     return check_report();
 }

@@ -679,6 +679,7 @@ void scenario_eval(scenario *s, double t_s, scenario_state *out)
     s->last_w[1] = u[1];
     s->last_t = t;
     s->have_last = true;
+    out->ramping = s->ramping;
 
     double speed = hypot(u[0], u[1]);
     /* in a dead calm (the eye) keep the last direction rather than report a jump */
@@ -753,7 +754,25 @@ int scenario_replay_set(scenario *s, double t_s, bool has_at, double at_min, boo
     }
     s->base_storm_s = now_s;
     s->base_t = t;
+    if (has_at) {
+        s->ramping = s->have_last; /* from the wind before the jump */
+    }
     return GALE_OK;
+}
+
+void scenario_ramp_from(scenario *s, double wx, double wy)
+{
+    s->have_last = true;
+    s->last_w[0] = wx;
+    s->last_w[1] = wy;
+    s->last_t = 0.0;
+    s->ramping = true;
+}
+
+void scenario_last_wind(const scenario *s, double w[2])
+{
+    w[0] = s->have_last ? s->last_w[0] : 0.0;
+    w[1] = s->have_last ? s->last_w[1] : 0.0;
 }
 
 int scenario_set_dial(scenario *s, double sustained_ms, gale_err *err)

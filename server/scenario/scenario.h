@@ -50,6 +50,8 @@ typedef struct scenario_state {
     double turbulence_intensity; /* I_u of the gust process, σ_u / U */
     bool override_active;        /* a kiosk dial holds the wind */
     bool finished;               /* a replay reached its end and holds its last state */
+    bool ramping;                /* the wind still moves at the dial's rate toward the
+                                    scripted or dialled one (after a start, jump or dial) */
     bool paused;                 /* a replay whose storm clock a kiosk holds */
 } scenario_state;
 
@@ -109,6 +111,18 @@ int scenario_replay_pause(scenario *s, double t_s, bool paused, gale_err *err);
  * scenario_set_start gave, running, at its configured speed) and the gust process at
  * server time t_s. Overrides are kept. */
 void scenario_restart(scenario *s, double t_s);
+/* The wind a start or a jump moves from: after scenario_ramp_from, the next evals move
+ * the mean wind from (wx, wy) [m/s, x east, y north, 10 m] toward the scripted one at the
+ * dial's rate, as a kiosk change does, so trees starting at rest or a replay jumping into
+ * a storm's core see no step load (a step overshoots the static moment by up to
+ * 1 + e^(−πζ/√(1−ζ²)), ~1.9 at ζ = 0.033; PHYSICS.md "Storm damage"). A jump
+ * (scenario_replay_set with has_at) ramps from the last eval's wind by itself; a restart
+ * does not (the scenario may have run long ago): call this after it with the wind the
+ * trees feel. */
+void scenario_ramp_from(scenario *s, double wx, double wy);
+/* The mean wind vector of the last eval [m/s] into w[2]; (0, 0) before the first. */
+void scenario_last_wind(const scenario *s, double w[2]);
+
 /* The start a restart replays from (gale-server --start-min / --replay-speed): storm
  * minute at_min (clamped to the window) and speed in [1, 10000] storm seconds per server
  * second; then restarts at server time t_s. GALE_E_STATE for a steady scenario. */

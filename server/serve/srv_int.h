@@ -76,6 +76,8 @@ struct srv {
     double entry_t_s;            /* server time the running scenario (re)started [s] */
     bool wx_reset_due;           /* the weather's gust window starts over (a jump, a
                                     switch, a restart) before the next sample */
+    bool wx_reset_after_ramp;    /* under scen_lock: reset the gust window again when the
+                                    ramp after a start or jump has reached the new wind */
     scenario *sim_scen;          /* sim thread: the scenario of its last eval (weather) */
     scenario *balls_scen;        /* sim thread: whose force balls the tick holds */
     pthread_mutex_t ctl_lock;    /* serialises control handling (srv_remote.c) */

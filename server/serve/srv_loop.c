@@ -60,6 +60,11 @@ void *srv_loop(void *arg)
         scenario *scen = s->scen;
         bool wx_reset = s->wx_reset_due;
         s->wx_reset_due = false;
+        if (s->wx_reset_after_ramp && !(s->scen && st.ramping)) {
+            /* the ramp's winds are the jump's, not the new minute's */
+            wx_reset = true;
+            s->wx_reset_after_ramp = false;
+        }
         pthread_mutex_unlock(&s->scen_lock);
         if (scen != s->balls_scen) {
             /* the running scenario's force balls (a switch takes effect here) */

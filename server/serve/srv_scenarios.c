@@ -8,6 +8,7 @@
  * scen_lock; the sim thread takes the new scenario's force balls at its next tick. */
 #include "srv_int.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,14 +16,24 @@
 void srv_weather_jumped_locked(srv *s)
 {
     s->wx_reset_due = true;
+    s->wx_reset_after_ramp = true; /* and again when the ramp from the old wind ends */
 }
 
 /* Starts `to` (NULL: the scene's steady inflow) at server time t_s. */
 static void start_locked(srv *s, scenario *to, double t_s, const char *why)
 {
+    /* the new wind ramps from the one the trees feel (scenario_ramp_from) */
+    double from[2] = { 0.0, 0.0 };
+    if (s->scen) {
+        scenario_last_wind(s->scen, from);
+    } else {
+        from[0] = (double)s->man_inflow.u10_ms * cos((double)s->man_inflow.dir_rad);
+        from[1] = (double)s->man_inflow.u10_ms * sin((double)s->man_inflow.dir_rad);
+    }
     s->scen = to;
     if (to) {
         scenario_restart(to, t_s);
+        scenario_ramp_from(to, from[0], from[1]);
     }
     s->entry_t_s = t_s;
     srv_heal(s);
@@ -139,6 +150,10 @@ int srv_scenarios_init(srv *s, gale_err *err)
     s->n_wscen = (uint32_t)l->n;
     s->head = s->n_playlist > 0 ? s->playlist[0] : s->d.scen;
     s->scen = s->head;
+    if (s->scen) {
+        /* trees start at rest: the first wind ramps up from calm */
+        scenario_ramp_from(s->scen, 0.0, 0.0);
+    }
     s->entry_t_s = 0.0;
     return GALE_OK;
 }
