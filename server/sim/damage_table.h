@@ -41,6 +41,9 @@ typedef struct damage_table {
     uint64_t *slot_rank;     /* owned [n_leaves] wire_damage_slot_rank << 32 | slot, sorted */
     uint32_t *order;         /* owned [n_branches] branches by cap_nm / moment_norm, rising:
                                 the first that cannot fail at |q| ends a check */
+    float *moment_by_mode;   /* owned [n_modes][n_branches][3]: branch_moment of branch
+                                order[j] at [i][j], so a check sums the branches it needs,
+                                a prefix of the order, mode by mode in vector lanes */
     float stem_moment[64][3];/* base moment of the stem element per unit q_i [N m] */
     float stem_norm;         /* sqrt(Σ_i |stem_moment_i|²) */
     double stem_d_m;         /* stem diameter at the base [m] */
@@ -57,6 +60,11 @@ int damage_table_build(const asset *a, double E_pa, const damage_params *p, dama
                        gale_err *err);
 /* NULL or an empty table is a no-op. */
 void damage_table_fini(damage_table *t);
+
+/* The bending moments of the first n_check branches in t's order at modal state q[n]:
+ * out[3 j + k] = Σ_i q_i M_i of branch order[j], component k [N m]. */
+void damage_branch_moments(const damage_table *t, const float *q, uint32_t n, uint32_t n_check,
+                           float *out);
 
 /* The bending moment M(q) = Σ_i q_i M_i [N m] of per-mode moments m[n][3]; returns |M|. */
 float damage_moment(const float (*m)[3], const float *q, uint32_t n, float out[3]);
