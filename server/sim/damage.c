@@ -31,7 +31,7 @@ struct damage_sim {
     uint64_t *bits;             /* owned [n_trees][words] broken branches */
     uint32_t words;
     float *q;                   /* owned [64] scratch */
-    float *moments;             /* owned [3 x the most branches] scratch */
+    float *moments;             /* owned [the most branches] scratch: moment bounds */
     wire_damage *ev;            /* owned [max_events] this tick's events */
     int n_ev;
     wire_damage *log;           /* owned [DAMAGE_LOG_MAX] broken branches, in order */
@@ -103,7 +103,7 @@ damage_sim *damage_create(const damage_desc *d, gale_err *err)
     s->tree = calloc(d->n_trees, sizeof *s->tree);
     s->bits = calloc((size_t)d->n_trees * s->words, sizeof(uint64_t));
     s->q = calloc(64, sizeof(float));
-    s->moments = calloc(3 * (size_t)maxb, sizeof(float));
+    s->moments = calloc((size_t)maxb, sizeof(float));
     s->ev = calloc((size_t)s->d.max_events, sizeof *s->ev);
     s->log = calloc(DAMAGE_LOG_MAX, sizeof *s->log);
     if (!s->species || !s->cos_yaw || !s->sin_yaw || !s->tree || !s->bits || !s->q || !s->moments || !s->ev ||
@@ -310,24 +310,35 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
     }
     bool changed = false;
     /* branches by rising cap / norm: from the first that cannot fail at |q| no later one
-     * can fail either; the moments of those before it are summed all at once */
-    uint32_t n_check = 0;
-    while (n_check < tb->n_branches &&
-           !(qn * tb->branch[tb->order[n_check]].moment_norm < lo * tb->branch[tb->order[n_check]].cap_nm)) {
-        n_check++;
+     * can fail either (a few more are bounded than the exact test needs: 1e-5) */
+    const float r_max = qn / lo * 1.00001f;
+    uint32_t n_check = 0, hi = tb->n_branches;
+    while (n_check < hi) {
+        const uint32_t mid = n_check + (hi - n_check) / 2;
+        if (tb->ratio_by_order[mid] <= r_max) {
+            n_check = mid + 1;
+        } else {
+            hi = mid;
+        }
     }
-    damage_branch_moments(tb, q, n, n_check, s->moments);
-    /* the weakest branch multiplier, with 1e-3 for lo's single-precision exp against the
-     * draws' double one */
+    /* below the weakest multiplier a branch holds whatever its own strength: first on the
+     * bound (1e-4 for its rounding), then on the moment itself; the draw of its own
+     * strength (a log, a cos and an exp) only for one that might fail. 1e-3: lo's
+     * single-precision exp against the draws' double one */
     const float lo_branch = 0.999f * lo;
+    damage_branch_bounds(tb, q, n, n_check, s->moments);
     for (uint32_t j = 0; j < n_check; j++) {
+        if (s->moments[j] * 1.0001f <= lo_branch * tb->cap_by_order[j]) {
+            continue;
+        }
         const uint32_t b = tb->order[j];
         const damage_branch *br = &tb->branch[b];
-        const float *mj = &s->moments[3 * j];
-        const float mbr = sqrtf(mj[0] * mj[0] + mj[1] * mj[1] + mj[2] * mj[2]);
-        /* below the weakest multiplier a branch holds whatever its own strength: the draw
-         * (a log, a cos and an exp) only for one that might fail */
-        if (mbr <= lo_branch * br->cap_nm || gone(s, tb, t, (int32_t)b)) {
+        if (gone(s, tb, t, (int32_t)b)) {
+            continue;
+        }
+        const float(*mm)[3] = (const float(*)[3])(tb->branch_moment + (size_t)b * tb->n_modes * 3);
+        const float mbr = damage_moment(mm, q, n, NULL);
+        if (mbr <= lo_branch * br->cap_nm) {
             continue;
         }
         /* each branch its own strength about the tree's: exp(±sd) at most */

@@ -66,22 +66,25 @@ static void element_moment(const asset *a, double E_pa, uint32_t i, uint32_t p, 
     }
 }
 
-/* Mode by mode over a contiguous run of 3 n_check sums: each sum adds its modes in the
- * order damage_moment does, the lanes are independent (omp simd: -O2 alone leaves the
- * loop scalar), so the clones vectorise it and round alike (-std=c11: no contraction). */
+/* Group by group over a contiguous run of n_check bounds: the lanes are independent
+ * (omp simd: -O2 alone leaves the loop scalar), so the clones vectorise it and round
+ * alike (-std=c11: no contraction). */
 __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-void damage_branch_moments(const damage_table *t, const float *q, uint32_t n, uint32_t n_check,
-                           float *out)
+void damage_branch_bounds(const damage_table *t, const float *q, uint32_t n, uint32_t n_check,
+                          float *out)
 {
-    const size_t len = 3 * (size_t)n_check, row = 3 * (size_t)t->n_branches;
-    memset(out, 0, sizeof(float) * len);
-    for (uint32_t i = 0; i < n; i++) {
-        const float qi = q[i];
-        const float *restrict m = t->moment_by_mode + (size_t)i * row;
+    memset(out, 0, sizeof(float) * n_check);
+    for (uint32_t g = 0; g * DAMAGE_GROUP_MODES < n && g < t->n_groups; g++) {
+        float qg2 = 0.0f;
+        for (uint32_t i = g * DAMAGE_GROUP_MODES; i < n && i < (g + 1) * DAMAGE_GROUP_MODES; i++) {
+            qg2 += q[i] * q[i];
+        }
+        const float qg = sqrtf(qg2);
+        const float *restrict m = t->group_norm + (size_t)g * t->n_branches;
         float *restrict o = out;
 #pragma omp simd
-        for (size_t k = 0; k < len; k++) {
-            o[k] += qi * m[k];
+        for (uint32_t j = 0; j < n_check; j++) {
+            o[j] += qg * m[j];
         }
     }
 }
@@ -275,15 +278,23 @@ int damage_table_build(const asset *a, double E_pa, const damage_params *p, dama
     sort_branches = t;
     qsort(t->order, nb, sizeof(uint32_t), cmp_ratio);
     sort_branches = NULL;
-    t->moment_by_mode = malloc(sizeof(float) * 3 * nm * (nb ? nb : 1));
-    if (!t->moment_by_mode) {
+    t->n_groups = (nm + DAMAGE_GROUP_MODES - 1) / DAMAGE_GROUP_MODES;
+    t->ratio_by_order = malloc(sizeof(float) * (nb ? nb : 1));
+    t->cap_by_order = malloc(sizeof(float) * (nb ? nb : 1));
+    t->group_norm = malloc(sizeof(float) * t->n_groups * (nb ? nb : 1));
+    if (!t->ratio_by_order || !t->cap_by_order || !t->group_norm) {
         damage_table_fini(t);
         return gale_errf(err, GALE_E_NOMEM, "damage_table_build: no memory for %u branches", nb);
     }
-    for (uint32_t i = 0; i < nm; i++) {
-        for (uint32_t j = 0; j < nb; j++) {
-            const float *m = t->branch_moment + ((size_t)t->order[j] * nm + i) * 3;
-            memcpy(t->moment_by_mode + ((size_t)i * nb + j) * 3, m, sizeof(float) * 3);
+    for (uint32_t j = 0; j < nb; j++) {
+        const damage_branch *b = &t->branch[t->order[j]];
+        t->ratio_by_order[j] = b->moment_norm > 0.0f ? b->cap_nm / b->moment_norm : INFINITY;
+        t->cap_by_order[j] = b->cap_nm;
+        const float(*m)[3] = (const float(*)[3])(t->branch_moment + (size_t)t->order[j] * nm * 3);
+        for (uint32_t g = 0; g < t->n_groups; g++) {
+            const uint32_t i0 = g * DAMAGE_GROUP_MODES;
+            const uint32_t k = nm - i0 < DAMAGE_GROUP_MODES ? nm - i0 : DAMAGE_GROUP_MODES;
+            t->group_norm[(size_t)g * nb + j] = norm_modes(m + i0, k);
         }
     }
     return GALE_OK;
@@ -298,7 +309,9 @@ void damage_table_fini(damage_table *t)
     free(t->branch_moment);
     free(t->node_branch);
     free(t->order);
-    free(t->moment_by_mode);
+    free(t->ratio_by_order);
+    free(t->cap_by_order);
+    free(t->group_norm);
     free(t->slot_rank);
     memset(t, 0, sizeof *t);
 }
