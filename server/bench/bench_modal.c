@@ -587,7 +587,10 @@ int bench_modal(int argc, char **argv)
         double med_t = median_of(v->t_total, ticks, scratch);
         double p95_t = (memcpy(scratch, v->t_total, sizeof(double) * (size_t)ticks),
                         pct(scratch, ticks, 0.95));
-        double max_t = v->t_total[ticks - 1];
+        double max_t = 0.0;
+        for (int k = 0; k < ticks; k++) {
+            max_t = v->t_total[k] > max_t ? v->t_total[k] : max_t;
+        }
         double med_s = median_of(v->t_sample, ticks, scratch);
         double med_m = median_of(v->t_modal, ticks, scratch);
         double med_cpu = median_of(v->t_cpu, ticks, scratch);
