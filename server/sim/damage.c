@@ -106,8 +106,8 @@ damage_sim *damage_create(const damage_desc *d, gale_err *err)
     s->moments = calloc((size_t)maxb, sizeof(float));
     s->ev = calloc((size_t)s->d.max_events, sizeof *s->ev);
     s->log = calloc(DAMAGE_LOG_MAX, sizeof *s->log);
-    if (!s->species || !s->cos_yaw || !s->sin_yaw || !s->tree || !s->bits || !s->q || !s->moments || !s->ev ||
-        !s->log) {
+    if (!s->species || !s->cos_yaw || !s->sin_yaw || !s->tree || !s->bits || !s->q ||
+        !s->moments || !s->ev || !s->log) {
         goto nomem;
     }
     for (uint32_t t = 0; t < d->n_trees; t++) {

@@ -20,10 +20,9 @@
 #define DAMAGE_MIN_BRANCH_D_M 0.02f
 
 /* Modes per group of a branch's screening bound: |M_b(q)| <= Σ_g |q_g| |M_b,g| (the
- * triangle inequality over groups, Cauchy-Schwarz within one), 2 products per group
- * instead of 3 per mode for the exact moment. */
+ * triangle inequality over groups, Cauchy-Schwarz within one), one product per group
+ * and branch instead of three per mode for the exact moment. */
 #define DAMAGE_GROUP_MODES 4u
-#define DAMAGE_MAX_GROUPS (64u / DAMAGE_GROUP_MODES)
 
 typedef struct damage_branch {
     uint32_t node;       /* first node of the branch: the end of its base element */
