@@ -7,7 +7,9 @@
  * (wire_encode_delta): all timed as the tick. Prints JSON; medians over the ticks, with
  * the tick's byte model, the memory floor it implies and the machine's triad bandwidth
  * measured in the same run (bench_triad.c). The wind step itself is timed apart (and in
- * gale-bench wind). */
+ * gale-bench wind). --damage both runs the tick twice on each tick's wind, without and
+ * with storm damage (damage.h) on separate states, alternating which goes first, and
+ * prints both and their ratio (SERVER.md "Storm damage on the tick"). */
 #include <math.h>
 #include <stdbool.h>
 #include <stdio.h>
