@@ -1,7 +1,11 @@
 /* gale-bench-client client: client CPU time per display frame for a stream of T trees × M
  * modes (the client frame of gale-client): receive (copy of the frame bytes as the socket
- * layer reassembles them), decode, dequantise into a snapshot, jitter insert, Hermite
- * interpolation into the q staging array, and the GL upload when a context can be made. */
+ * layer reassembles them), decode (each snapshot a BUNDLE with the server's WEATHER every
+ * tenth, as srv_publish.c sends it), dequantise into a snapshot, jitter insert, Hermite
+ * interpolation into the q staging array, and when a context can be made the GL upload
+ * and the HUD (hud.h: its lines from the weather, the wind arrow) drawn over a 1280 x 720
+ * framebuffer: hud_draw (layout, vertices, upload, draw calls) and the glFinish after it
+ * (llvmpipe's fill of the panel) timed apart. */
 #include <epoxy/gl.h>
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -12,15 +16,18 @@
 #include <string.h>
 
 #include "mono.h"
+#include "hud.h"
 #include "jitter.h"
 #include "wire.h"
 
 int bench_client(int argc, char **argv);
 int bench_client_live(const char *url, uint32_t frames);
 
-#define N_STAGES 6
+#define N_STAGES 8
 static const char *stage_name[N_STAGES] = { "receive",       "decode",      "dequantize",
-                                            "jitter_insert", "interpolate", "gl_upload" };
+                                            "jitter_insert", "interpolate", "gl_upload",
+                                            "hud",           "hud_finish" };
+enum { HUD_W = 1280, HUD_H = 720, WEATHER_EVERY = 10 /* SRV_WEATHER_EVERY */ };
 
 static int cmp_double(const void *a, const void *b)
 {
@@ -89,7 +96,9 @@ int bench_client(int argc, char **argv)
     }
     uint8_t *species = calloc(trees, 1), *nm = malloc(trees);
     int16_t *qs[3];
-    size_t bound = wire_state_bound(trees, modes, 1);
+    /* room for the bundle around the state: its header, the index, one WEATHER */
+    size_t bound = wire_state_bound(trees, modes, 1) + WIRE_HEADER_BYTES + 64 +
+                   WIRE_WEATHER_MAX_BYTES;
     uint8_t **enc = calloc(n_pre + 1, sizeof *enc);
     size_t *enc_len = calloc(n_pre + 1, sizeof *enc_len);
     uint8_t *rx = malloc(bound);
@@ -132,6 +141,24 @@ int bench_client(int argc, char **argv)
                                                  &err)
                           : wire_encode_delta(&h, k + 1, &scene, &sc, &sp, k >= 2 ? &sp2 : NULL,
                                               enc[k], bound, &enc_len[k], &err);
+        if (rc == 0 && k % WEATHER_EVERY == 1) {
+            /* a Category 4 replay's weather, name and eye included (the HUD's longest) */
+            wire_weather wx = { .sustained_ms = 62.0f, .gust_ms = 78.0f, .dir_from_deg = 120.0f,
+                                .ss_class = 5, .beaufort = 12,
+                                .flags = WIRE_WEATHER_STORM | WIRE_WEATHER_CLOCK,
+                                .storm_class = 5, .pressure_hpa = 960.0f,
+                                .central_hpa = 922.0f, .distance_km = 28.0f,
+                                .bearing_deg = 95.0f, .utc_min = 11864160u,
+                                .utc_offset_min = -240, .storm_min = 30.0f,
+                                .replay_pos_s = 60.0f, .replay_len_s = 900.0f,
+                                .replay_speed = 10.0f, .name = "Andrew 1992" };
+            uint8_t wbuf[WIRE_WEATHER_MAX_BYTES];
+            size_t wlen = 0;
+            h.type = WIRE_MSG_WEATHER;
+            const uint8_t *more[1] = { wbuf };
+            rc = wire_encode_weather(&h, &wx, wbuf, sizeof wbuf, &wlen, &err);
+            rc = rc ? rc : wire_bundle_wrap(enc[k], bound, &enc_len[k], more, &wlen, 1, &err);
+        }
         if (rc != 0) {
             fprintf(stderr, "gale-bench-client client: encode: %s\n", err.msg);
             goto done;
@@ -144,15 +171,22 @@ int bench_client(int argc, char **argv)
     /* optional GL context for the upload stage */
     GLFWwindow *win = NULL;
     GLuint buf = 0;
+    hud *hd = NULL;
+    wire_weather wx_last;
+    bool have_wx = false;
     if (want_gl && getenv("DISPLAY") && glfwInit()) {
         glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
         glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
         glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
         glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
         glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-        win = glfwCreateWindow(64, 64, "bench", NULL, NULL);
+        win = glfwCreateWindow(HUD_W, HUD_H, "bench", NULL, NULL);
         if (win) {
             glfwMakeContextCurrent(win);
+            hd = hud_create(&(hud_desc){ 0 }, &err);
+            if (!hd) {
+                fprintf(stderr, "gale-bench-client client: hud: %s (timed without it)\n", err.msg);
+            }
             glGenBuffers(1, &buf);
             glBindBuffer(GL_ARRAY_BUFFER, buf);
             glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)((size_t)trees * modes * sizeof(float)), NULL,
@@ -178,12 +212,15 @@ int bench_client(int argc, char **argv)
                 &(wire_decoder_desc){ .max_trees = trees, .max_modes = modes }, &err);
             wire_decode(dec, enc[0], enc_len[0], &f, &err);
         }
-        double t[N_STAGES + 1];
+        double t[N_STAGES + 1] = { 0 };
         t[0] = mono_s();
         memcpy(rx, enc[k], enc_len[k]);
         t[1] = mono_s();
         if (wire_decode(dec, rx, enc_len[k], &f, &err) != 0) {
             decode_errors++;
+        } else if (f.types & (1u << WIRE_MSG_WEATHER)) {
+            wx_last = f.weather; /* what the client keeps of it (client_stream.c) */
+            have_wx = true;
         }
         t[2] = mono_s();
         for (uint32_t tr = 0; tr < trees; tr++) {
@@ -202,16 +239,30 @@ int bench_client(int argc, char **argv)
             glFinish();
         }
         t[6] = mono_s();
+        if (hd) {
+            hud_state hs = { .conn = HUD_CONN_LIVE, .server = "127.0.0.1:8080", .fps = 60.0f,
+                             .latency_ms = 2.0f, .delay_ms = 100.0f, .role = "kiosk",
+                             .wx = have_wx ? &wx_last : NULL, .view_heading_deg = 30.0f };
+            glBindFramebuffer(GL_FRAMEBUFFER, 0);
+            hud_draw(hd, &hs, HUD_W, HUD_H);
+            t[7] = mono_s();
+            glFinish(); /* llvmpipe rasterises the panel here */
+        } else {
+            t[7] = mono_s();
+        }
+        t[8] = mono_s();
         for (int s = 0; s < N_STAGES; s++) {
             t_stage[s][i] = (t[s + 1] - t[s]) * 1e3;
         }
-        t_total[i] = (t[6] - t[0]) * 1e3;
+        t_total[i] = (t[8] - t[0]) * 1e3;
     }
     printf("{\"bench\": \"client\", \"trees\": %u, \"modes\": %u, \"frames\": %u,\n", trees, modes,
            frames);
     printf(" \"delta_bytes_mean\": %.0f, \"keyframe_bytes\": %zu, \"decode_errors\": %llu,\n",
            bytes_sum / n_pre, enc_len[0], (unsigned long long)decode_errors);
-    printf(" \"gl_upload\": %s,\n \"stages_ms\": {", win ? "true" : "false");
+    printf(" \"gl_upload\": %s, \"hud\": %s, \"weather_every\": %d,\n \"stages_ms\": {",
+           win ? "true" : "false", hd ? "\"drawn at 1280x720\"" : "false",
+           WEATHER_EVERY);
     for (int s = 0; s < N_STAGES; s++) {
         double med = quantile(t_stage[s], (int)frames, 0.5);
         double p95 = quantile(t_stage[s], (int)frames, 0.95);
@@ -234,6 +285,7 @@ int bench_client(int argc, char **argv)
            med, p95, med <= 1.0 ? "true" : "false", load[0], load[1], load[2]);
     status = 0;
     if (win) {
+        hud_destroy(hd);
         glDeleteBuffers(1, &buf);
         glfwDestroyWindow(win);
         glfwTerminate();

@@ -28,6 +28,7 @@ int bench_render(int argc, char **argv)
     float storm_ms = 0.0f; /* sustained wind of the storm look (storm_fx.h); 0 = calm */
     storm_fx_quality storm_q = STORM_FX_LOW;
     float damage = 0.0f; /* fraction of trees with broken branches (render_set_broken) */
+    bool all_fx = false; /* --storm-fx all: off, low, high in turn, frame by frame */
     for (int i = 1; i < argc; i++) {
         const char *v = i + 1 < argc ? argv[i + 1] : "";
         if (!strcmp(argv[i], "--trees")) {
@@ -45,9 +46,10 @@ int bench_render(int argc, char **argv)
         } else if (!strcmp(argv[i], "--storm")) {
             storm_ms = strtof(v, NULL);
         } else if (!strcmp(argv[i], "--storm-fx")) {
-            if (storm_fx_quality_parse(v, &storm_q) != 0) {
-                fprintf(stderr, "gale-bench-client render: --storm-fx: expected off, low or "
-                                "high, got \"%s\"\n",
+            all_fx = !strcmp(v, "all");
+            if (!all_fx && storm_fx_quality_parse(v, &storm_q) != 0) {
+                fprintf(stderr, "gale-bench-client render: --storm-fx: expected off, low, "
+                                "high or all, got \"%s\"\n",
                         v);
                 return 2;
             }
@@ -62,7 +64,9 @@ int bench_render(int argc, char **argv)
             fprintf(help ? stdout : stderr,
                     "usage: gale-bench-client render [--trees N] [--nodes N] [--modes N] "
                     "[--size WxH] [--frames N] [--falling N] [--spacing M] [--storm M/S] "
-                    "[--storm-fx off|low|high] [--damage F]\n"
+                    "[--storm-fx off|low|high|all] [--damage F]\n"
+                    "  --storm-fx all: the three levels in turn, frame by frame, each level's "
+                    "figures\n  in \"storm_fx_levels\" (the top-level ones: low)\n"
                     "  --damage F: a fraction F of the trees lose 3 branches each, every 20th lies\n"
                     "  fallen, and 64 pieces fly as debris\n");
             return help ? 0 : 2;
@@ -139,18 +143,32 @@ int bench_render(int argc, char **argv)
         }
         free(keys);
     }
-    storm_fx fx;
+    storm_fx fx, fx_lv[3];
+    for (int l = 0; l < 3; l++) {
+        storm_fx_from_weather(storm_ms, 250.0f, (storm_fx_quality)l, &fx_lv[l]);
+    }
     storm_fx_from_weather(storm_ms, 250.0f, storm_q, &fx);
     render_set_storm(r, &fx);
+    const uint32_t n_lv = all_fx ? 3 : 1;
     float ext = spacing * sqrtf((float)trees);
     render_camera cam = { .eye = { 0.0f, -0.5f * ext - 20.0f, 12.0f },
                           .target = { 0.0f, -0.5f * ext + 30.0f, 4.0f } };
     double *ft = calloc(frames, sizeof *ft), *cpu = calloc(frames, sizeof *cpu);
+    double *ft_lv[3], *cpu_lv[3];
+    for (int l = 0; l < 3; l++) {
+        ft_lv[l] = calloc(frames, sizeof(double));
+        cpu_lv[l] = calloc(frames, sizeof(double));
+    }
     uint32_t stride;
     float *q = render_q_staging(r, &stride);
     render_stats st = { 0 };
-    for (uint32_t f = 0; f < frames + 2; f++) {
-        double t = 5.0 + f / 60.0;
+    /* with all levels: frame f at level f % 3, two warm-up frames of each */
+    for (uint32_t f = 0; f < n_lv * (frames + 2); f++) {
+        const uint32_t lv = f % n_lv, k = f / n_lv;
+        if (all_fx) {
+            render_set_storm(r, &fx_lv[lv]);
+        }
+        double t = 5.0 + k / 60.0;
         for (uint32_t i = 0; i < trees; i++) {
             const float wl[3] = { 12.0f, 3.0f, 0.0f };
             render_demo_pose(&a[inst[i].species], wl, (float)t, i, &q[(size_t)i * stride]);
@@ -163,14 +181,22 @@ int bench_render(int argc, char **argv)
         double t1 = mono_s();
         glFinish();
         double t2 = mono_s();
-        if (f >= 2) {
-            cpu[f - 2] = 1e3 * (t1 - t0);
-            ft[f - 2] = 1e3 * (t2 - t0);
+        if (k >= 2) {
+            cpu_lv[lv][k - 2] = 1e3 * (t1 - t0);
+            ft_lv[lv][k - 2] = 1e3 * (t2 - t0);
         }
         st = render_get_stats(r);
     }
-    qsort(ft, frames, sizeof *ft, cmp_d);
-    qsort(cpu, frames, sizeof *cpu, cmp_d);
+    for (uint32_t l = 0; l < n_lv; l++) {
+        qsort(ft_lv[l], frames, sizeof(double), cmp_d);
+        qsort(cpu_lv[l], frames, sizeof(double), cmp_d);
+    }
+    const uint32_t top = all_fx ? (uint32_t)STORM_FX_LOW : 0;
+    memcpy(ft, ft_lv[top], sizeof(double) * frames);
+    memcpy(cpu, cpu_lv[top], sizeof(double) * frames);
+    if (all_fx) {
+        fx = fx_lv[STORM_FX_LOW];
+    }
     const char *rend = (const char *)glGetString(GL_RENDERER);
     double la[3] = { 0 };
     FILE *lf = fopen("/proc/loadavg", "r");
@@ -186,12 +212,31 @@ int bench_render(int argc, char **argv)
            "\"trees_full\":%u,\"trees_billboard\":%u,\"culled\":%u,\"draw_calls\":%u,"
            "\"leaves_drawn\":%llu,\"falling\":%u,\"storm_ms\":%.1f,\"rain_layers\":%d,"
            "\"broken_branches\":%u,\"debris\":%u,"
-           "\"loadavg\":[%.2f,%.2f,%.2f]}\n",
+           "\"loadavg\":[%.2f,%.2f,%.2f]",
            rend ? rend : "?", trees, a[0].n_nodes, modes, w, h, frames, ft[frames / 2], ft[0],
            ft[frames - 1], 1e3 / ft[frames / 2], cpu[frames / 2], st.trees_full,
            st.trees_billboard, st.trees_culled, st.draw_calls,
            (unsigned long long)st.leaves_drawn, st.falling_live, (double)storm_ms,
            fx.rain_layers, n_broken, n_debris, la[0], la[1], la[2]);
+    if (all_fx) {
+        static const char *const lv_name[3] = { "off", "low", "high" };
+        printf(",\"storm_fx_levels\":{");
+        for (int l = 0; l < 3; l++) {
+            const double med = ft_lv[l][frames / 2];
+            printf("%s\"%s\":{\"frame_ms_median\":%.3f,\"frame_ms_p95\":%.3f,"
+                   "\"fps_median\":%.2f,\"cpu_submit_ms_median\":%.3f,\"rain_layers\":%d,"
+                   "\"of_off\":%.3f}",
+                   l ? "," : "", lv_name[l], med, ft_lv[l][(frames * 95) / 100], 1e3 / med,
+                   cpu_lv[l][frames / 2], fx_lv[l].rain_layers,
+                   ft_lv[0][frames / 2] > 0.0 ? med / ft_lv[0][frames / 2] : 0.0);
+        }
+        printf("}");
+    }
+    printf("}\n");
+    for (int l = 0; l < 3; l++) {
+        free(ft_lv[l]);
+        free(cpu_lv[l]);
+    }
     free(ft);
     free(cpu);
     free(inst);

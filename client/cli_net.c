@@ -51,6 +51,7 @@ struct cli_net {
 
     cli_net_tx tx[CLI_NET_TX_SLOTS]; /* ring of queued control messages */
     uint32_t tx_head, tx_count;
+    uint64_t tx_sent; /* messages written */
     bool kill; /* close the WebSocket at the next writeable */
     bool destroying;
 
@@ -309,6 +310,7 @@ static int ws_callback(cli_net *n, struct lws *wsi, enum lws_callback_reasons re
             }
             n->tx_head = (n->tx_head + 1) % CLI_NET_TX_SLOTS;
             n->tx_count--;
+            n->tx_sent++;
             if (n->tx_count > 0) {
                 lws_callback_on_writable(wsi);
             }
@@ -585,11 +587,16 @@ void cli_net_poll(cli_net *n, double now_s)
     }
     /* -1: do what is pending, never wait. One call handles one batch of socket events;
      * a frame that took long to draw (llvmpipe) leaves several snapshots waiting, so drain
-     * until a pass brings nothing new, bounded so a flood cannot stall drawing. */
+     * until a pass brings nothing new, bounded so a flood cannot stall drawing. A pass
+     * that opened the connection or wrote a message counts as new: the hello queued on
+     * ESTABLISHED goes out on the next pass's WRITEABLE, in this poll, not a frame later
+     * (a slow frame would let the server's hello timeout close the socket, 4009). */
     for (int pass = 0; pass < 64; pass++) {
-        uint64_t before = n->st.frames_ok + n->st.frames_bad + n->st.ctl_bad;
+        uint64_t before = n->st.frames_ok + n->st.frames_bad + n->st.ctl_bad + n->tx_sent +
+                          n->st.connects;
         lws_service(n->ctx, -1);
-        if (n->st.frames_ok + n->st.frames_bad + n->st.ctl_bad == before) {
+        if (n->st.frames_ok + n->st.frames_bad + n->st.ctl_bad + n->tx_sent + n->st.connects ==
+            before) {
             break;
         }
     }

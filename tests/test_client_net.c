@@ -471,6 +471,43 @@ static void test_session(void)
     cli_net_destroy(n);
 }
 
+/* A client whose frames take long (ASan, llvmpipe on a loaded machine) polls once a
+ * frame: its hello must leave in the poll that sees the connection open, not wait a
+ * frame, or the server's hello timeout (4009) closes it before the next. */
+static void test_hello_slow_frames(void)
+{
+    seen s = { 0 };
+    gale_err err = { 0 };
+    char url[64];
+    snprintf(url, sizeof url, "ws://127.0.0.1:%d", P.port);
+    pthread_mutex_lock(&P.lock);
+    const int hellos0 = P.hellos;
+    pthread_mutex_unlock(&P.lock);
+    cli_net *n = cli_net_create(&(cli_net_desc){ .url = url, .role = CTL_ROLE_VIEWER },
+                                &(cli_net_handler){ &s, on_welcome, on_frame, on_lost, NULL },
+                                &err);
+    CHECK(n != NULL);
+    if (!n) {
+        return;
+    }
+    /* polled until the connection opens (the poll that sees ESTABLISHED) */
+#define OPENING(st) ((st) == CLI_NET_IDLE || (st) == CLI_NET_CONNECTING)
+    for (int i = 0; i < 200 && OPENING(cli_net_get_stats(n).state); i++) {
+        cli_net_poll(n, mono_s());
+        if (OPENING(cli_net_get_stats(n).state)) {
+            usleep(20000);
+        }
+    }
+    CHECK(!OPENING(cli_net_get_stats(n).state));
+#undef OPENING
+    /* the frame the client draws now: no poll for 0.5 s */
+    usleep(500000);
+    pthread_mutex_lock(&P.lock);
+    CHECK(P.hellos == hellos0 + 1);
+    pthread_mutex_unlock(&P.lock);
+    cli_net_destroy(n);
+}
+
 static void test_bad_url(void)
 {
     gale_err err = { 0 };
@@ -496,6 +533,7 @@ int main(void)
     }
     RUN(test_bad_url);
     RUN(test_session);
+    RUN(test_hello_slow_frames);
     if (P.ctx) {
         peer_stop(&P);
     }

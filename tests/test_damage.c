@@ -1,5 +1,6 @@
 /* Storm damage (server/sim/damage*.c, PHYSICS.md "Storm damage"): the critical moments of
- * a hand-computed tree against the ForestGALES formulas, the Hugo stripping law, and the
+ * a hand-computed tree against the ForestGALES formulas, its branch broken just above its
+ * capacity and kept just below, the Hugo stripping law, and the
  * shipped species in a steady 15 m/s wind (nothing breaks) and in the Charley 2004 replay,
  * a Category 4 (some trees fall, not all, pines before oaks before palms), with the damage a watching
  * client builds from the event frames equal to what a late joiner gets from the whole
@@ -87,6 +88,67 @@ static void test_critical_moments(void)
     CHECK_NEAR(damage_moment((const float(*)[3])t.stem_moment, &q, 1, out),
                3 * 2 * E * I0 * th, 1e-4 * 6 * E * I0 * th);
     damage_table_fini(&t);
+}
+
+/* The hand tree loaded at its branch alone (node 3 turns, the stem stays straight), with
+ * no strength spread: damage_step breaks the branch just above its capacity and keeps it
+ * just below, whichever screens the check passes on the way (damage.c check_tree). */
+static uint64_t branch_breaks_at(double load)
+{
+    asset a;
+    hand_asset(&a, 0.0f);
+    float *rot = (float *)a.phi_rot;
+    rot[3 * 3 + 1] = 1e-3f;
+    damage_params p = damage_params_default();
+    p.mor_pa = 50e6;
+    p.strength_sd = 0.0;
+    damage_table t;
+    gale_err err;
+    CHECK(damage_table_build(&a, 1e10, &p, &t, &err) == GALE_OK);
+    CHECK(t.n_branches == 1);
+    CHECK(t.stem_norm == 0.0f);
+    const float gamma[1] = { 0.0f }, qstep[1] = { 1e-3f };
+    const uint8_t sp[1] = { 0 };
+    modal *m = modal_create(&(modal_desc){ .n_trees = 1, .n_species = 1,
+                                           .species = &(modal_species){ 1, a.omega, gamma,
+                                                                        a.wind_basis, qstep },
+                                           .tree_species = sp, .n_threads = 1 },
+                            &err);
+    const damage_table *tables[1] = { &t };
+    damage_sim *d = damage_create(&(damage_desc){ .n_trees = 1, .n_species = 1, .table = tables,
+                                                  .tree_species = sp, .seed = 3,
+                                                  .dt_s = 1.0 / 60 },
+                                  &err);
+    uint64_t broken = 0;
+    CHECK(m && d);
+    if (m && d) {
+        /* q with |M(q)| = load · capacity after one still tick (cos(ω dt) ≈ 1 - 1.4e-4) */
+        const float q[1] = { (float)(load * (double)t.branch[0].cap_nm / (double)t.branch[0].moment_norm /
+                                     cos(2.0 / 60.0)) },
+                    qd[1] = { 0.0f }, still[3] = { 0, 0, 0 };
+        modal_set(m, 0, q, qd);
+        modal_tick(m, still, NULL);
+        leaf_seed leaves[8];
+        int nl = 0;
+        damage_step(d, m, still, 0, leaves, 8, &nl);
+        broken = atomic_load(&damage_get_counts(d)->branches);
+        const wire_damage *ev;
+        if (broken) {
+            CHECK(damage_events(d, &ev) == 1 && ev[0].kind == WIRE_DAMAGE_BRANCH &&
+                  ev[0].node == 3);
+        }
+        CHECK(damage_tree(d, 0, NULL, NULL) == 0); /* the stem carries nothing */
+    }
+    damage_destroy(d);
+    modal_destroy(m);
+    damage_table_fini(&t);
+    return broken;
+}
+
+static void test_branch_breaks(void)
+{
+    CHECK(branch_breaks_at(0.99) == 0);
+    CHECK(branch_breaks_at(1.01) == 1);
 }
 
 static void test_strip_hugo(void)
@@ -389,6 +451,7 @@ int main(void)
 {
     RUN(test_critical_moments);
     RUN(test_speed_for);
+    RUN(test_branch_breaks);
     RUN(test_strip_hugo);
     RUN(test_strip_leaves);
     RUN(test_steady_15);

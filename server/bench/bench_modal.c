@@ -7,7 +7,9 @@
  * (wire_encode_delta): all timed as the tick. Prints JSON; medians over the ticks, with
  * the tick's byte model, the memory floor it implies and the machine's triad bandwidth
  * measured in the same run (bench_triad.c). The wind step itself is timed apart (and in
- * gale-bench wind). */
+ * gale-bench wind). --damage both runs the tick twice on each tick's wind, without and
+ * with storm damage (damage.h) on separate states, alternating which goes first, and
+ * prints both and their ratio (SERVER.md "Storm damage on the tick"). */
 #include <math.h>
 #include <stdbool.h>
 #include <stdio.h>
@@ -22,6 +24,8 @@
 #include "leaf.h"
 #include "lsystem.h"
 #include "modal.h"
+#include "quant_steps.h"
+#include "species.h"
 #include "wind.h"
 #include "wire.h"
 
@@ -86,59 +90,227 @@ static double pct(double *v, int n, double p)
     return v[i];
 }
 
-/* What --damage adds: the shipped oak baked at the bench's mode count, its damage
- * table for every species, the damage state of every tree. */
-typedef struct damage_bench {
+/* The oak as --damage drives it: baked at the bench's mode count, its quantisation steps,
+ * streamlining and damage table, for every species, so the wind loads the trees as the
+ * server's would and a Cat 4 breaks branches and trees. */
+typedef struct damage_oak {
     asset a;
+    float qstep[WIRE_MAX_MODES];
+    drag_law drag;
     damage_table t;
-    damage_sim *sim;
-    leaf_seed leaves[4096];
-} damage_bench;
+} damage_oak;
 
-static int damage_bench_init(damage_bench *b, modal *m, int n_trees, int n_modes,
-                             int n_species, const uint8_t *ts, const float *yaw, gale_err *err)
+static int damage_oak_init(damage_oak *o, int n_modes, gale_err *err)
 {
-    (void)m;
-    memset(b, 0, sizeof *b);
+    memset(o, 0, sizeof *o);
     species sp;
     skeleton sk;
     memset(&sk, 0, sizeof sk);
     int rc = species_load(GALE_SOURCE_DIR "/configs/species/oak.json", &sp, err);
     rc = rc ? rc : lsystem_generate(&sp.gen, &sk, err);
-    rc = rc ? rc : bake_run(&sk, &sp, &(bake_desc){ .n_modes = n_modes }, &b->a, NULL, err);
-    rc = rc ? rc : damage_table_build(&b->a, sp.E_pa, &sp.damage, &b->t, err);
+    rc = rc ? rc : bake_run(&sk, &sp, &(bake_desc){ .n_modes = n_modes }, &o->a, NULL, err);
+    rc = rc ? rc : quant_steps_derive(&o->a, 0, o->qstep, err);
+    rc = rc ? rc : damage_table_build(&o->a, sp.E_pa, &sp.damage, &o->t, err);
+    o->drag = sp.drag;
     skeleton_fini(&sk);
-    if (rc) {
-        return rc;
-    }
-    const damage_table *tables[WIRE_MAX_SPECIES];
-    for (int k = 0; k < n_species; k++) {
-        tables[k] = &b->t;
-    }
-    b->sim = damage_create(&(damage_desc){ .n_trees = (uint32_t)n_trees,
-                                           .n_species = (uint32_t)n_species,
-                                           .table = tables,
-                                           .tree_species = ts,
-                                           .tree_yaw_rad = yaw,
-                                           .seed = 1,
-                                           .dt_s = 1.0 / 60 },
-                           err);
-    return b->sim ? 0 : GALE_E_NOMEM;
+    return rc;
 }
 
-static void damage_bench_fini(damage_bench *b)
+static void damage_oak_fini(damage_oak *o)
 {
-    damage_destroy(b->sim);
-    damage_table_fini(&b->t);
-    asset_fini(&b->a);
+    damage_table_fini(&o->t);
+    asset_fini(&o->a);
 }
 
+/* One simulation the bench times: A (no damage) or B (damage after each update), each
+ * with its own state, snapshot buffers and encoder output, driven by the same wind. */
+typedef struct variant {
+    bool damage;
+    modal *m;
+    damage_sim *sim;
+    int16_t *snap, *prev;
+    uint8_t *enc;
+    leaf_seed *leaves;
+    double *t_total, *t_cpu, *t_sample, *t_modal, *t_damage, *t_leaf, *t_enc, *t_nosnap;
+    long n_shed, enc_bytes;
+} variant;
+
+enum { LEAF_CAP = 65536, DAMAGE_LEAF_CAP = 4096 };
+
+static int variant_init(variant *v, bool damage, const modal_desc *md, int n_modes, int ticks,
+                        size_t enc_cap, const damage_oak *oak, gale_err *err)
+{
+    memset(v, 0, sizeof *v);
+    v->damage = damage;
+    const size_t n = md->n_trees, nt = (size_t)ticks;
+    v->m = modal_create(md, err);
+    if (!v->m) {
+        return GALE_E_NOMEM;
+    }
+    if (damage) {
+        const damage_table *tables[WIRE_MAX_SPECIES];
+        for (uint32_t k = 0; k < md->n_species; k++) {
+            tables[k] = &oak->t;
+        }
+        v->sim = damage_create(&(damage_desc){ .n_trees = md->n_trees,
+                                               .n_species = md->n_species,
+                                               .table = tables,
+                                               .tree_species = md->tree_species,
+                                               .tree_yaw_rad = md->tree_yaw_rad,
+                                               .seed = 1,
+                                               .dt_s = 1.0 / 60 },
+                               err);
+        if (!v->sim) {
+            return GALE_E_NOMEM;
+        }
+    }
+    v->snap = calloc(n * (size_t)n_modes, sizeof(int16_t));
+    v->prev = calloc(n * (size_t)n_modes, sizeof(int16_t));
+    v->enc = malloc(enc_cap);
+    v->leaves = malloc(LEAF_CAP * sizeof *v->leaves);
+    double **t[] = { &v->t_total, &v->t_cpu, &v->t_sample, &v->t_modal,
+                     &v->t_damage, &v->t_leaf, &v->t_enc, &v->t_nosnap };
+    bool ok = v->snap && v->prev && v->enc && v->leaves;
+    for (size_t i = 0; i < sizeof t / sizeof t[0]; i++) {
+        *t[i] = calloc(nt, sizeof(double));
+        ok = ok && *t[i];
+    }
+    if (!ok) {
+        gale_errf(err, GALE_E_NOMEM, "no memory for %zu trees", n);
+        return GALE_E_NOMEM;
+    }
+    return 0;
+}
+
+static void variant_fini(variant *v)
+{
+    damage_destroy(v->sim);
+    modal_destroy(v->m);
+    free(v->snap);
+    free(v->prev);
+    free(v->enc);
+    free(v->leaves);
+    double *t[] = { v->t_total, v->t_cpu, v->t_sample, v->t_modal,
+                    v->t_damage, v->t_leaf, v->t_enc, v->t_nosnap };
+    for (size_t i = 0; i < sizeof t / sizeof t[0]; i++) {
+        free(t[i]);
+    }
+}
+
+/* What one tick of a variant needs from the run. */
+typedef struct tick_in {
+    wind_grid *wg;
+    int n_trees;
+    const float *pos;
+    float *wind;
+    const wire_scene *wsc;
+    const uint8_t *nm;
+    int n_modes;
+    size_t enc_cap;
+    const leaf_desc *ld;
+    uint32_t slots;
+} tick_in;
+
+/* Tick k (k < 0: warm-up, not recorded) of v: sampling, update (and damage), leaf
+ * shedding, DELTA encoding, timed as the tick; then an update without quantisation. */
+static int variant_tick(variant *v, const tick_in *in, int k, gale_err *err)
+{
+    const size_t n = (size_t)in->n_trees;
+    memcpy(v->prev, v->snap, sizeof(int16_t) * n * (size_t)in->n_modes);
+    double c0 = cpu_ms();
+    double t0 = mono_ms();
+    wind_sample_many(in->wg, in->n_trees, in->pos, in->wind);
+    double t1 = mono_ms();
+    modal_tick(v->m, in->wind, v->snap);
+    double t1d = mono_ms();
+    if (v->sim) {
+        int nd = 0;
+        damage_step(v->sim, v->m, in->wind, (uint32_t)(k + 20), v->leaves, DAMAGE_LEAF_CAP, &nd);
+    }
+    double t2 = mono_ms();
+    int nl = 0;
+    for (size_t t = 0; t < n; t++) {
+        const float *w = &in->wind[3 * t];
+        double sp_ms = sqrt((double)(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]));
+        leaf_shed(in->ld, (uint32_t)t, in->slots, sp_ms, (uint32_t)(k + 20), 1.0 / 60,
+                  v->leaves, LEAF_CAP, &nl);
+    }
+    double t2l = mono_ms();
+    size_t len = 0;
+    wire_header hdr = { .tick = (uint32_t)(k + 20) };
+    const wire_state cur_st = { (uint32_t)n, (uint32_t)in->n_modes, in->nm, v->snap };
+    const wire_state prev_st = { (uint32_t)n, (uint32_t)in->n_modes, in->nm, v->prev };
+    if (wire_encode_delta(&hdr, (uint32_t)(k + 21), in->wsc, &cur_st, &prev_st, NULL, v->enc,
+                          in->enc_cap, &len, err) != 0) {
+        return GALE_E_RANGE;
+    }
+    double t2e = mono_ms();
+    double c1 = cpu_ms();
+    /* A tick between snapshots: the same update without quantisation. */
+    double t3s = mono_ms();
+    modal_tick(v->m, in->wind, NULL);
+    double t3 = mono_ms();
+    if (k >= 0) {
+        v->t_sample[k] = t1 - t0;
+        v->t_modal[k] = t2 - t1;
+        v->t_damage[k] = t2 - t1d;
+        v->t_leaf[k] = t2l - t2;
+        v->t_enc[k] = t2e - t2l;
+        v->n_shed += nl;
+        v->enc_bytes += (long)len;
+        v->t_total[k] = t2e - t0;
+        v->t_cpu[k] = c1 - c0;
+        v->t_nosnap[k] = t3 - t3s;
+    }
+    return 0;
+}
+
+/* Median of v[n] without reordering it. */
+static double median_of(const double *v, int n, double *scratch)
+{
+    memcpy(scratch, v, sizeof(double) * (size_t)n);
+    return pct(scratch, n, 0.5);
+}
+
+/* Prints the figures of variant v as JSON members (no braces). */
+static void print_variant(const variant *v, int ticks, int n_trees, int n_modes,
+                          const modal_bytes *tb, double gbs, double *scratch)
+{
+    double med_t = median_of(v->t_total, ticks, scratch);
+    double p95_t = (memcpy(scratch, v->t_total, sizeof(double) * (size_t)ticks),
+                    pct(scratch, ticks, 0.95));
+    double enc_per_tick = (double)v->enc_bytes / ticks;
+    double tick_bytes = (tb->read + tb->written + 2.0 * n_modes) * n_trees + enc_per_tick;
+    double tick_gbs = med_t > 0.0 ? tick_bytes / (med_t * 1e-3) / 1e9 : 0.0;
+    printf("\"damage\":%s,\"tick_ms_median\":%.3f,\"tick_ms_p95\":%.3f,"
+           "\"cpu_ms_per_tick_median\":%.3f,\"sample_ms_median\":%.3f,"
+           "\"update_quantise_ms_median\":%.3f,\"damage_ms_median\":%.3f,"
+           "\"leaf_shed_ms_median\":%.3f,\"encode_ms_median\":%.3f,"
+           "\"update_only_ms_median\":%.3f,\"ns_per_tree_mode\":%.3f,"
+           "\"bandwidth_fraction\":%.3f,\"leaves_shed_per_tick\":%.1f",
+           v->damage ? "true" : "false", med_t, p95_t, median_of(v->t_cpu, ticks, scratch),
+           median_of(v->t_sample, ticks, scratch), median_of(v->t_modal, ticks, scratch),
+           median_of(v->t_damage, ticks, scratch), median_of(v->t_leaf, ticks, scratch),
+           median_of(v->t_enc, ticks, scratch), median_of(v->t_nosnap, ticks, scratch),
+           med_t * 1e6 / ((double)n_trees * n_modes), gbs > 0.0 ? tick_gbs / gbs : 0.0,
+           (double)v->n_shed / ticks);
+    if (v->sim) {
+        damage_counts *c = damage_get_counts(v->sim);
+        printf(",\"branches_broken\":%llu,\"trees_snapped\":%llu,\"trees_uprooted\":%llu,"
+               "\"leaf_area_left\":%.3f",
+               (unsigned long long)atomic_load(&c->branches),
+               (unsigned long long)atomic_load(&c->snapped),
+               (unsigned long long)atomic_load(&c->uprooted), atomic_load(&c->leaf_area));
+    }
+}
 
 int bench_modal(int argc, char **argv)
 {
     int n_trees = 100000, n_modes = 32, ticks = 300, n_species = 3, threads = 2, every = 4;
-    float cell_m = 2.0f;
-    bool json = false, damage = false;
+    float cell_m = 2.0f, u10_ms = 25.0f;
+    bool json = false;
+    /* --damage: off (A only), on (B only), both (A and B alternating, tick by tick) */
+    enum { DMG_OFF, DMG_ON, DMG_BOTH } dmg = DMG_OFF;
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--trees") == 0 && i + 1 < argc) {
             n_trees = atoi(argv[++i]);
@@ -154,22 +326,39 @@ int bench_modal(int argc, char **argv)
             cell_m = (float)atof(argv[++i]);
         } else if (strcmp(argv[i], "--wind-every") == 0 && i + 1 < argc) {
             every = atoi(argv[++i]);
+        } else if (strcmp(argv[i], "--u10") == 0 && i + 1 < argc) {
+            u10_ms = (float)atof(argv[++i]);
         } else if (strcmp(argv[i], "--json") == 0) {
             json = true;
         } else if (strcmp(argv[i], "--damage") == 0) {
-            damage = true;
+            const char *w = i + 1 < argc ? argv[i + 1] : "";
+            if (strcmp(w, "off") == 0 || strcmp(w, "on") == 0 || strcmp(w, "both") == 0) {
+                i++;
+                dmg = w[1] == 'f' ? DMG_OFF : w[1] == 'n' ? DMG_ON : DMG_BOTH;
+            } else {
+                dmg = DMG_ON;
+            }
         } else {
             return bench_usage(argv[i], "usage: gale-bench modal [--trees N] [--modes M] [--species S] "
                                         "[--ticks K] [--threads T] [--cell-m 2] [--wind-every 4] "
-                                        "[--damage] [--json]\n");
+                                        "[--u10 25] [--damage [off|on|both]] [--json]\n"
+                                        "  --u10 MS       mean inflow at 10 m [m/s] (Cat 4: 62)\n"
+                                        "  --damage       storm damage after each update, every "
+                                        "species the shipped oak\n"
+                                        "                 (its modes, drag and damage table); both: "
+                                        "the tick with and\n"
+                                        "                 without it on the same wind, alternating, "
+                                        "and their ratio\n");
         }
     }
     if (n_trees < 1 || n_trees > (int)WIRE_MAX_TREES || n_modes < 1 ||
         n_modes > (int)WIRE_MAX_MODES || ticks < 10 || n_species < 1 ||
         n_species > (int)WIRE_MAX_SPECIES || threads < 1 || threads > 64 ||
-        !(cell_m >= 1.0f && cell_m <= 64.0f) || every < 1 || every > 1000) {
+        !(cell_m >= 1.0f && cell_m <= 64.0f) || every < 1 || every > 1000 ||
+        !(u10_ms >= 0.0f && u10_ms <= 100.0f)) {
         fprintf(stderr, "gale-bench modal: --trees 1..%u, --modes 1..%u, --species 1..%u, "
-                        "--ticks >= 10, --threads 1..64, --cell-m 1..64, --wind-every 1..1000\n",
+                        "--ticks >= 10, --threads 1..64, --cell-m 1..64, --wind-every 1..1000, "
+                        "--u10 0..100\n",
                 WIRE_MAX_TREES, WIRE_MAX_MODES, WIRE_MAX_SPECIES);
         return 2;
     }
@@ -180,30 +369,27 @@ int bench_modal(int argc, char **argv)
     float *p = malloc(sizeof(float) * 3 * (size_t)n_species * (size_t)n_modes);
     float *step = malloc(sizeof(float) * (size_t)n_species * (size_t)n_modes);
     modal_species *sp = calloc((size_t)n_species, sizeof *sp);
+    drag_law *sp_drag = calloc((size_t)n_species, sizeof *sp_drag);
     uint8_t *ts = malloc((size_t)n_trees);
     float *yaw = malloc(sizeof(float) * (size_t)n_trees);
     float *pos = malloc(sizeof(float) * 3 * (size_t)n_trees);
     float *wind = malloc(sizeof(float) * 3 * (size_t)n_trees);
-    int16_t *snap = malloc(sizeof(int16_t) * (size_t)n_trees * (size_t)n_modes);
-    double *t_sample = malloc(sizeof(double) * (size_t)ticks);
-    double *t_modal = malloc(sizeof(double) * (size_t)ticks);
-    double *t_total = malloc(sizeof(double) * (size_t)ticks);
-    double *t_cpu = malloc(sizeof(double) * (size_t)ticks);
-    double *t_nosnap = malloc(sizeof(double) * (size_t)ticks);
-    double *t_leaf = malloc(sizeof(double) * (size_t)ticks);
-    double *t_enc = malloc(sizeof(double) * (size_t)ticks);
-    double *t_wind = malloc(sizeof(double) * (size_t)ticks);
-    int16_t *prev = calloc((size_t)n_trees * (size_t)n_modes, sizeof(int16_t));
+    double *t_wind = calloc((size_t)ticks, sizeof(double));
+    double *scratch = malloc(sizeof(double) * (size_t)ticks);
+    double *ratio = malloc(sizeof(double) * (size_t)ticks);
     uint8_t *nm = malloc((size_t)n_trees);
     const size_t enc_cap = wire_state_bound((uint32_t)n_trees, (uint32_t)n_modes,
                                             (uint32_t)n_species);
-    uint8_t *enc = malloc(enc_cap);
-    enum { LEAF_CAP = 65536 };
-    leaf_seed *leaves = malloc(LEAF_CAP * sizeof *leaves);
-    if (!omega || !gamma || !p || !step || !sp || !ts || !yaw || !pos || !wind ||
-        !snap || !t_sample || !t_modal || !t_total || !t_cpu || !t_nosnap || !t_leaf ||
-        !t_enc || !t_wind || !prev || !nm || !enc || !leaves) {
+    if (!omega || !gamma || !p || !step || !sp || !sp_drag || !ts || !yaw || !pos || !wind ||
+        !t_wind || !scratch || !ratio || !nm) {
         fprintf(stderr, "gale-bench modal: out of memory\n");
+        return 1;
+    }
+    gale_err err;
+    damage_oak oak;
+    const bool with_oak = dmg != DMG_OFF;
+    if (with_oak && damage_oak_init(&oak, n_modes, &err)) {
+        fprintf(stderr, "gale-bench modal: --damage: oak: %s\n", err.msg);
         return 1;
     }
     for (int k = 0; k < n_species; k++) {
@@ -219,6 +405,11 @@ int bench_modal(int argc, char **argv)
         }
         sp[k] = (modal_species){ (uint32_t)n_modes, omega + k * n_modes, gamma + k * n_modes,
                                  p + 3 * k * n_modes, step + k * n_modes };
+        if (with_oak) {
+            sp[k] = (modal_species){ (uint32_t)n_modes, oak.a.omega, oak.a.gamma,
+                                     oak.a.wind_basis, oak.qstep };
+            sp_drag[k] = oak.drag;
+        }
     }
     const float side = 2000.0f;
     for (int t = 0; t < n_trees; t++) {
@@ -232,15 +423,23 @@ int bench_modal(int argc, char **argv)
      * (rows of y, then x), as a scene loader would keep them, so consecutive samples
      * read neighbouring grid lines instead of missing the cache at random. */
     qsort(pos, (size_t)n_trees, 3 * sizeof(float), cmp_cell);
-    gale_err err;
-    modal *m = modal_create(&(modal_desc){ .n_trees = (uint32_t)n_trees,
-                                           .n_species = (uint32_t)n_species, .species = sp,
-                                           .tree_species = ts, .tree_yaw_rad = yaw,
-                                           .dt_s = 1.0 / 60, .n_threads = threads },
-                            &err);
-    if (!m) {
-        fprintf(stderr, "gale-bench modal: %s\n", err.msg);
-        return 1;
+    const modal_desc md = { .n_trees = (uint32_t)n_trees, .n_species = (uint32_t)n_species,
+                            .species = sp, .tree_species = ts, .tree_yaw_rad = yaw,
+                            .species_drag = with_oak ? sp_drag : NULL,
+                            .dt_s = 1.0 / 60, .n_threads = threads };
+    variant var[2];
+    int n_var = 0;
+    if (dmg != DMG_ON) {
+        if (variant_init(&var[n_var++], false, &md, n_modes, ticks, enc_cap, &oak, &err)) {
+            fprintf(stderr, "gale-bench modal: %s\n", err.msg);
+            return 1;
+        }
+    }
+    if (dmg != DMG_OFF) {
+        if (variant_init(&var[n_var++], true, &md, n_modes, ticks, enc_cap, &oak, &err)) {
+            fprintf(stderr, "gale-bench modal: --damage: %s\n", err.msg);
+            return 1;
+        }
     }
     /* cells of cell_m over the 2 km square the trees stand in, 8 cells deep (at 2 m the
        16 m the crowns reach; the grid is capped at the scene's 2^24 cells) */
@@ -258,11 +457,14 @@ int bench_modal(int argc, char **argv)
         fprintf(stderr, "gale-bench modal: wind: %s\n", err.msg);
         return 1;
     }
-    wind_set_inflow(wg, &(wind_inflow){ .dir_rad = 0.3f, .u10_ms = 25.0f });
+    /* gusts of ±10 % of the mean (±2.5 m/s at the default 25 m/s) */
+    const float gust_ms = 0.2f * u10_ms;
+    wind_set_inflow(wg, &(wind_inflow){ .dir_rad = 0.3f, .u10_ms = u10_ms });
     wind_fill_inflow(wg);
     for (int k = 0; k < 3; k++) {
-        wind_set_inflow(wg, &(wind_inflow){ .dir_rad = 0.3f, .u10_ms = 25.0f,
-                                            .gust = { 5.0f * (RND() - 0.5f), 5.0f * (RND() - 0.5f), 0 } });
+        wind_set_inflow(wg, &(wind_inflow){ .dir_rad = 0.3f, .u10_ms = u10_ms,
+                                            .gust = { gust_ms * (RND() - 0.5f),
+                                                      gust_ms * (RND() - 0.5f), 0 } });
         if (wind_step(wg, 1.0f / 60, NULL) != 0) {
             fprintf(stderr, "gale-bench modal: wind step failed\n");
             return 1;
@@ -274,30 +476,43 @@ int bench_modal(int argc, char **argv)
     for (int k = 0; k < n_species; k++) {
         wsc.n_modes[k] = (uint8_t)n_modes;
         for (int i = 0; i < n_modes; i++) {
-            wsc.step[k][i] = 1e-4f;
+            wsc.step[k][i] = with_oak ? oak.qstep[i] : 1e-4f;
         }
     }
     memset(nm, n_modes, (size_t)n_trees);
-    const wire_state cur_st = { (uint32_t)n_trees, (uint32_t)n_modes, nm, snap };
-    const wire_state prev_st = { (uint32_t)n_trees, (uint32_t)n_modes, nm, prev };
     const leaf_desc ld = { .rate_hz = 0.002f, .calm_ms = 3.0f, .ref_ms = 20.0f, .seed = 11 };
-    const uint32_t slots = 1500; /* leaf slots per tree: the shipped species' 1500-5300 */
-    long n_shed = 0, enc_bytes = 0;
-    /* --damage: storm damage after each update (damage.h), every species with the damage
-     * table of the shipped oak */
-    damage_bench db;
-    if (damage && damage_bench_init(&db, m, n_trees, n_modes, n_species, ts, yaw, &err)) {
-        fprintf(stderr, "gale-bench modal: --damage: %s\n", err.msg);
-        return 1;
+    const tick_in in = { .wg = wg, .n_trees = n_trees, .pos = pos, .wind = wind, .wsc = &wsc,
+                         .nm = nm, .n_modes = n_modes, .enc_cap = enc_cap, .ld = &ld,
+                         .slots = 1500 /* leaf slots per tree: the shipped species' 1500-5300 */ };
+    /* With the oak, every tree starts at its static pose under the wind at its crown
+     * (damage_static_q, streamlined as modal_tick drives it), so the ticks time a stand
+     * swaying about its mean, not the overshoot of a load switched on at once (which
+     * would throw the whole stand over in the first second of a Cat 4). */
+    if (with_oak) {
+        float q0[WIRE_MAX_MODES] = { 0 }, qd0[WIRE_MAX_MODES] = { 0 };
+        wind_sample_many(wg, n_trees, pos, wind);
+        for (int t = 0; t < n_trees; t++) {
+            const float *w = &wind[3 * t];
+            double u = sqrt((double)(w[0] * w[0] + w[1] * w[1]));
+            double az = atan2((double)w[1], (double)w[0]) - (double)yaw[t];
+            damage_static_q(&oak.a, u, az, q0);
+            const float k = drag_law_scale(&oak.drag, (float)u);
+            for (int i = 0; i < n_modes; i++) {
+                q0[i] *= k;
+            }
+            for (int j = 0; j < n_var; j++) {
+                modal_set(var[j].m, (uint32_t)t, q0, qd0);
+            }
+        }
     }
     /* measured here, between the set-up and the ticks, on the threads the ticks use */
     double gbs = bench_triad_gb_s(threads);
     for (int k = -20; k < ticks; k++) { /* 20 warm-up ticks */
         double tw = 0.0;
         if ((k + 20) % every == 0) { /* the field evolves as the scene's grid would */
-            wind_set_inflow(wg, &(wind_inflow){ .dir_rad = 0.3f, .u10_ms = 25.0f,
-                                                .gust = { 5.0f * (RND() - 0.5f),
-                                                          5.0f * (RND() - 0.5f), 0 } });
+            wind_set_inflow(wg, &(wind_inflow){ .dir_rad = 0.3f, .u10_ms = u10_ms,
+                                                .gust = { gust_ms * (RND() - 0.5f),
+                                                          gust_ms * (RND() - 0.5f), 0 } });
             double w0 = mono_ms();
             if (wind_step(wg, (float)every / 60.0f, NULL) != 0) {
                 fprintf(stderr, "gale-bench modal: wind step failed\n");
@@ -305,60 +520,19 @@ int bench_modal(int argc, char **argv)
             }
             tw = mono_ms() - w0;
         }
-        memcpy(prev, snap, sizeof(int16_t) * (size_t)n_trees * (size_t)n_modes);
-        double c0 = cpu_ms();
-        double t0 = mono_ms();
-        wind_sample_many(wg, n_trees, pos, wind);
-        double t1 = mono_ms();
-        modal_tick(m, wind, snap);
-        if (damage) {
-            int nd = 0;
-            damage_step(db.sim, m, wind, (uint32_t)(k + 20), db.leaves, 4096, &nd);
+        /* A then B on even ticks, B then A on odd: neither always runs on warm caches or
+         * in the same share of another program's turn */
+        for (int j = 0; j < n_var; j++) {
+            variant *v = &var[(k & 1) && n_var == 2 ? 1 - j : j];
+            if (variant_tick(v, &in, k, &err)) {
+                fprintf(stderr, "gale-bench modal: encode: %s\n", err.msg);
+                return 1;
+            }
         }
-        double t2 = mono_ms();
-        int nl = 0;
-        for (int t = 0; t < n_trees; t++) {
-            const float *v = &wind[3 * t];
-            double sp_ms = sqrt((double)(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
-            leaf_shed(&ld, (uint32_t)t, slots, sp_ms, (uint32_t)(k + 20), 1.0 / 60, leaves,
-                      LEAF_CAP, &nl);
-        }
-        double t2l = mono_ms();
-        size_t len = 0;
-        wire_header hdr = { .tick = (uint32_t)(k + 20) };
-        if (wire_encode_delta(&hdr, (uint32_t)(k + 21), &wsc, &cur_st, &prev_st, NULL, enc,
-                              enc_cap, &len, &err) != 0) {
-            fprintf(stderr, "gale-bench modal: encode: %s\n", err.msg);
-            return 1;
-        }
-        double t2e = mono_ms();
-        double c1 = cpu_ms();
-        /* A tick between snapshots: the same update without quantisation. */
-        double t3s = mono_ms();
-        modal_tick(m, wind, NULL);
-        double t3 = mono_ms();
         if (k >= 0) {
-            t_sample[k] = t1 - t0;
-            t_modal[k] = t2 - t1;
-            t_leaf[k] = t2l - t2;
-            t_enc[k] = t2e - t2l;
             t_wind[k] = tw;
-            n_shed += nl;
-            enc_bytes += (long)len;
-            t_total[k] = t2e - t0;
-            t_cpu[k] = c1 - c0;
-            t_nosnap[k] = t3 - t3s;
         }
     }
-    long check = 0;
-    for (int i = 0; i < n_trees * n_modes; i += 97) {
-        check += snap[i];
-    }
-    double med_s = pct(t_sample, ticks, 0.5), med_m = pct(t_modal, ticks, 0.5);
-    double med_t = pct(t_total, ticks, 0.5), p95_t = pct(t_total, ticks, 0.95);
-    double max_t = t_total[ticks - 1];
-    double med_cpu = pct(t_cpu, ticks, 0.5), med_ns = pct(t_nosnap, ticks, 0.5);
-    double med_l = pct(t_leaf, ticks, 0.5), med_e = pct(t_enc, ticks, 0.5);
     double wind_sum = 0.0;
     for (int k = 0; k < ticks; k++) {
         wind_sum += t_wind[k];
@@ -374,70 +548,123 @@ int bench_modal(int argc, char **argv)
     /* the tick (sampling, update, quantisation) and the update between snapshots */
     const modal_bytes tb = modal_tree_bytes(n_modes, true, true);
     const modal_bytes ub = modal_tree_bytes(n_modes, false, false);
-    /* the DELTA written and the previous snapshot read by the encoder come on top */
-    const double enc_per_tick = (double)enc_bytes / ticks;
-    const double tick_bytes = (tb.read + tb.written + 2.0 * n_modes) * n_trees + enc_per_tick;
-    const double upd_bytes = (ub.read + ub.written) * n_trees;
-    const double tick_gbs = med_t > 0.0 ? tick_bytes / (med_t * 1e-3) / 1e9 : 0.0;
-    const double upd_gbs = med_ns > 0.0 ? upd_bytes / (med_ns * 1e-3) / 1e9 : 0.0;
-    const double frac = gbs > 0.0 ? tick_gbs / gbs : 0.0;
-    const double upd_frac = gbs > 0.0 ? upd_gbs / gbs : 0.0;
-    if (json) {
-        printf("{\"bench\":\"modal\",\"trees\":%d,\"modes\":%d,\"species\":%d,\"threads\":%d,"
-               "\"ticks\":%d,\"damage\":%s,\"sample_ms_median\":%.3f,\"update_quantise_ms_median\":%.3f,"
-               "\"tick_ms_median\":%.3f,\"tick_ms_p95\":%.3f,\"tick_ms_max\":%.3f,"
-               "\"ns_per_tree_mode\":%.3f,\"cpu_ms_per_tick_median\":%.3f,"
-               "\"update_only_ms_median\":%.3f,\"loadavg_1min\":%.2f,\"target_ms\":3.0,"
-               "\"machine_gb_per_s\":%.2f,\"bytes_per_tree_read\":%.0f,"
-               "\"bytes_per_tree_written\":%.0f,\"bytes_per_tick_model\":%.0f,"
-               "\"tick_effective_gb_per_s\":%.2f,\"bandwidth_fraction\":%.3f,"
-               "\"update_only_bytes_per_tree\":%.0f,\"update_only_effective_gb_per_s\":%.2f,"
-               "\"update_only_bandwidth_fraction\":%.3f,\"checksum\":%ld,"
-               "\"inputs\":{\"cell_m\":%.1f,\"grid\":[%d,%d,%d],\"wind_every_ticks\":%d,"
-               "\"leaf_slots_per_tree\":%u,\"side_m\":%.0f},\"leaf_shed_ms_median\":%.3f,"
-               "\"encode_ms_median\":%.3f,\"encoded_bytes_per_tick\":%.0f,"
-               "\"leaves_shed_per_tick\":%.1f,\"wind_step_ms_mean\":%.1f,"
-               "\"memory_floor_ms\":%.3f,\"loadavg\":[%.2f,%.2f,%.2f]}\n",
-               n_trees, n_modes, n_species, threads, ticks, damage ? "true" : "false", med_s,
-               med_m, med_t, p95_t, max_t, med_t * 1e6 / ((double)n_trees * n_modes), med_cpu, med_ns, load[0], gbs,
-               tb.read, tb.written, tick_bytes, tick_gbs, frac, ub.read + ub.written, upd_gbs,
-               upd_frac, check, (double)cell_m, gxy, gxy, gz, every, slots, (double)side, med_l,
-               med_e, enc_per_tick, (double)n_shed / ticks, wind_sum / ((ticks + every - 1) / every),
-               gbs > 0.0 ? tick_bytes / (gbs * 1e9) * 1e3 : 0.0, load[0], load[1], load[2]);
+    if (n_var == 2) {
+        /* B over A tick by tick (the same wind, run back to back), and of the medians */
+        for (int k = 0; k < ticks; k++) {
+            ratio[k] = var[0].t_total[k] > 0.0 ? var[1].t_total[k] / var[0].t_total[k] : 0.0;
+        }
+        double crit_snap = 0.0, crit_up = 0.0, crit_b = 0.0;
+        damage_critical_speeds(&oak.a, &oak.t, &oak.drag, &crit_snap, &crit_up, &crit_b);
+        double r_med = pct(ratio, ticks, 0.5), r_p95 = pct(ratio, ticks, 0.95);
+        double a_med = median_of(var[0].t_total, ticks, scratch);
+        double b_med = median_of(var[1].t_total, ticks, scratch);
+        double a_cpu = median_of(var[0].t_cpu, ticks, scratch);
+        double b_cpu = median_of(var[1].t_cpu, ticks, scratch);
+        if (json) {
+            printf("{\"bench\":\"modal\",\"damage\":\"both\",\"trees\":%d,\"modes\":%d,"
+                   "\"species\":%d,\"threads\":%d,\"ticks\":%d,\"u10_ms\":%.1f,"
+                   "\"modal_species\":\"configs/species/oak.json baked\","
+                   "\"oak_branches\":%u,\"oak_critical_mean_ms\":{\"first_branch\":%.1f,\"snap\":%.1f,"
+                   "\"uproot\":%.1f},\"machine_gb_per_s\":%.2f,\"off\":{",
+                   n_trees, n_modes, n_species, threads, ticks, (double)u10_ms, oak.t.n_branches, crit_b,
+                   crit_snap, crit_up, gbs);
+            print_variant(&var[0], ticks, n_trees, n_modes, &tb, gbs, scratch);
+            printf("},\"on\":{");
+            print_variant(&var[1], ticks, n_trees, n_modes, &tb, gbs, scratch);
+            printf("},\"on_over_off_tick_ms_median\":%.3f,\"on_over_off_per_tick_median\":%.3f,"
+                   "\"on_over_off_per_tick_p95\":%.3f,\"on_over_off_cpu_ms_median\":%.3f,"
+                   "\"target_ratio\":1.10,\"wind_step_ms_mean\":%.1f,"
+                   "\"loadavg\":[%.2f,%.2f,%.2f]}\n",
+                   a_med > 0.0 ? b_med / a_med : 0.0, r_med, r_p95,
+                   a_cpu > 0.0 ? b_cpu / a_cpu : 0.0,
+                   wind_sum / ((ticks + every - 1) / every), load[0], load[1], load[2]);
+        } else {
+            printf("modal: %d trees x %d modes at %.0f m/s: tick median %.3f ms without damage, "
+                   "%.3f with (ratio %.3f, per tick %.3f, p95 %.3f), load %.2f\n",
+                   n_trees, n_modes, (double)u10_ms, a_med, b_med,
+                   a_med > 0.0 ? b_med / a_med : 0.0, r_med, r_p95, load[0]);
+        }
     } else {
-        printf("modal: %d trees x %d modes, %d threads: tick median %.3f ms (sample %.3f, "
-               "update+quantise %.3f), p95 %.3f, max %.3f\n"
-               "modal: %.0f + %.0f bytes per tree read + written: %.2f GB/s, %.3f of the "
-               "machine's triad %.2f GB/s (update alone %.3f)\n",
-               n_trees, n_modes, threads, med_t, med_s, med_m, p95_t, max_t, tb.read,
-               tb.written, tick_gbs, frac, gbs, upd_frac);
+        const variant *v = &var[0];
+        double med_t = median_of(v->t_total, ticks, scratch);
+        double p95_t = (memcpy(scratch, v->t_total, sizeof(double) * (size_t)ticks),
+                        pct(scratch, ticks, 0.95));
+        double max_t = 0.0;
+        for (int k = 0; k < ticks; k++) {
+            max_t = v->t_total[k] > max_t ? v->t_total[k] : max_t;
+        }
+        double med_s = median_of(v->t_sample, ticks, scratch);
+        double med_m = median_of(v->t_modal, ticks, scratch);
+        double med_cpu = median_of(v->t_cpu, ticks, scratch);
+        double med_ns = median_of(v->t_nosnap, ticks, scratch);
+        double med_l = median_of(v->t_leaf, ticks, scratch);
+        double med_e = median_of(v->t_enc, ticks, scratch);
+        long check = 0;
+        for (int i = 0; i < n_trees * n_modes; i += 97) {
+            check += v->snap[i];
+        }
+        /* the DELTA written and the previous snapshot read by the encoder come on top */
+        const double enc_per_tick = (double)v->enc_bytes / ticks;
+        const double tick_bytes = (tb.read + tb.written + 2.0 * n_modes) * n_trees + enc_per_tick;
+        const double upd_bytes = (ub.read + ub.written) * n_trees;
+        const double tick_gbs = med_t > 0.0 ? tick_bytes / (med_t * 1e-3) / 1e9 : 0.0;
+        const double upd_gbs = med_ns > 0.0 ? upd_bytes / (med_ns * 1e-3) / 1e9 : 0.0;
+        const double frac = gbs > 0.0 ? tick_gbs / gbs : 0.0;
+        const double upd_frac = gbs > 0.0 ? upd_gbs / gbs : 0.0;
+        if (json) {
+            printf("{\"bench\":\"modal\",\"trees\":%d,\"modes\":%d,\"species\":%d,\"threads\":%d,"
+                   "\"ticks\":%d,\"damage\":%s,\"u10_ms\":%.1f,\"sample_ms_median\":%.3f,"
+                   "\"update_quantise_ms_median\":%.3f,"
+                   "\"tick_ms_median\":%.3f,\"tick_ms_p95\":%.3f,\"tick_ms_max\":%.3f,"
+                   "\"ns_per_tree_mode\":%.3f,\"cpu_ms_per_tick_median\":%.3f,"
+                   "\"update_only_ms_median\":%.3f,\"loadavg_1min\":%.2f,\"target_ms\":3.0,"
+                   "\"machine_gb_per_s\":%.2f,\"bytes_per_tree_read\":%.0f,"
+                   "\"bytes_per_tree_written\":%.0f,\"bytes_per_tick_model\":%.0f,"
+                   "\"tick_effective_gb_per_s\":%.2f,\"bandwidth_fraction\":%.3f,"
+                   "\"update_only_bytes_per_tree\":%.0f,\"update_only_effective_gb_per_s\":%.2f,"
+                   "\"update_only_bandwidth_fraction\":%.3f,\"checksum\":%ld,"
+                   "\"inputs\":{\"cell_m\":%.1f,\"grid\":[%d,%d,%d],\"wind_every_ticks\":%d,"
+                   "\"leaf_slots_per_tree\":%u,\"side_m\":%.0f},\"leaf_shed_ms_median\":%.3f,"
+                   "\"encode_ms_median\":%.3f,\"encoded_bytes_per_tick\":%.0f,"
+                   "\"leaves_shed_per_tick\":%.1f,\"wind_step_ms_mean\":%.1f,"
+                   "\"memory_floor_ms\":%.3f,\"loadavg\":[%.2f,%.2f,%.2f]}\n",
+                   n_trees, n_modes, n_species, threads, ticks, v->damage ? "true" : "false",
+                   (double)u10_ms, med_s, med_m, med_t, p95_t, max_t,
+                   med_t * 1e6 / ((double)n_trees * n_modes), med_cpu, med_ns, load[0], gbs,
+                   tb.read, tb.written, tick_bytes, tick_gbs, frac, ub.read + ub.written,
+                   upd_gbs, upd_frac, check, (double)cell_m, gxy, gxy, gz, every, in.slots,
+                   (double)side, med_l, med_e, enc_per_tick, (double)v->n_shed / ticks,
+                   wind_sum / ((ticks + every - 1) / every),
+                   gbs > 0.0 ? tick_bytes / (gbs * 1e9) * 1e3 : 0.0, load[0], load[1], load[2]);
+        } else {
+            printf("modal: %d trees x %d modes, %d threads: tick median %.3f ms (sample %.3f, "
+                   "update+quantise %.3f), p95 %.3f, max %.3f\n"
+                   "modal: %.0f + %.0f bytes per tree read + written: %.2f GB/s, %.3f of the "
+                   "machine's triad %.2f GB/s (update alone %.3f)\n",
+                   n_trees, n_modes, threads, med_t, med_s, med_m, p95_t, max_t, tb.read,
+                   tb.written, tick_gbs, frac, gbs, upd_frac);
+        }
     }
-    if (damage) {
-        damage_bench_fini(&db);
+    for (int j = 0; j < n_var; j++) {
+        variant_fini(&var[j]);
     }
-    modal_destroy(m);
+    if (with_oak) {
+        damage_oak_fini(&oak);
+    }
     free(omega);
     free(gamma);
     free(p);
     free(step);
     free(sp);
+    free(sp_drag);
     free(ts);
     free(yaw);
     free(pos);
     free(wind);
     wind_destroy(wg);
-    free(snap);
-    free(t_sample);
-    free(t_modal);
-    free(t_total);
-    free(t_cpu);
-    free(t_nosnap);
-    free(t_leaf);
-    free(t_enc);
     free(t_wind);
-    free(prev);
+    free(scratch);
+    free(ratio);
     free(nm);
-    free(enc);
-    free(leaves);
     return 0;
 }

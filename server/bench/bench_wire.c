@@ -240,6 +240,13 @@ int bench_wire(int argc, char **argv)
     uint8_t *nm = malloc((size_t)n_trees);
     size_t cap = wire_state_bound((uint32_t)n_trees, (uint32_t)n_modes, NS);
     uint8_t *frame = malloc(cap);
+    /* the extras of a snapshot (wind, leaves, weather, damage state) and the BUNDLE the
+       server wraps them in with the state (server/serve/net.c, PROTOCOL.md "BUNDLE") */
+    enum { X_WIND, X_LEAVES, X_WEATHER, X_DAMAGE, N_X };
+    const size_t xcap = 65536;
+    uint8_t *xbuf = malloc(N_X * xcap), *bundle = malloc(cap + N_X * xcap + 256);
+    size_t xlen[N_X] = { 0 };
+    uint64_t bundle_bytes = 0, bundle_key_bytes = 0, x_bytes[N_X] = { 0 };
     uint32_t max_nodes = 0;
     for (int s = 0; s < NS; s++) {
         max_nodes = sp[s].n_nodes > max_nodes ? sp[s].n_nodes : max_nodes;
@@ -268,7 +275,7 @@ int bench_wire(int argc, char **argv)
              text_frames = 0, n_shown = 0;
     double shown_max = 0.0;
     if (!tree_sp || !yaw || !wind || !gu || !snap[0] || !snap[1] || !snap[2] || !nm ||
-        !frame || !pa || !pb || !qf || !qd || !hist || !hist_shown || !ring || !csnap ||
+        !frame || !xbuf || !bundle || !pa || !pb || !qf || !qd || !hist || !hist_shown || !ring || !csnap ||
         !shown || !jit || !shed || !wl) {
         fprintf(stderr, "gale-bench wire: out of memory\n");
         return 1;
@@ -405,10 +412,12 @@ int bench_wire(int argc, char **argv)
                              .ny = WNY, .v = slice };
             size_t wlen = 0;
             h.type = WIRE_MSG_WIND;
-            if (wire_encode_wind(&h, &ww, frame, cap, &wlen, &err) == 0) {
-                type_bytes[frame[WIRE_TYPE_BYTE]] += wlen;
-                type_frames[frame[WIRE_TYPE_BYTE]]++;
+            uint8_t *xw = xbuf + X_WIND * xcap;
+            if (wire_encode_wind(&h, &ww, xw, xcap, &wlen, &err) == 0) {
+                type_bytes[xw[WIRE_TYPE_BYTE]] += wlen;
+                type_frames[xw[WIRE_TYPE_BYTE]]++;
                 ws_bytes += ws_header_bytes(wlen);
+                xlen[X_WIND] = wlen;
             }
         }
         if (n_shed && seq % 3 == 0) { /* SRV_LEAF_EVERY */
@@ -419,12 +428,55 @@ int bench_wire(int argc, char **argv)
             }
             size_t llen = 0;
             h.type = WIRE_MSG_LEAVES;
-            if (wire_encode_leaves(&h, wl, nl, frame, cap, &llen, &err) == 0) {
-                type_bytes[frame[WIRE_TYPE_BYTE]] += llen;
-                type_frames[frame[WIRE_TYPE_BYTE]]++;
+            uint8_t *xl = xbuf + X_LEAVES * xcap;
+            if (wire_encode_leaves(&h, wl, nl, xl, xcap, &llen, &err) == 0) {
+                type_bytes[xl[WIRE_TYPE_BYTE]] += llen;
+                type_frames[xl[WIRE_TYPE_BYTE]]++;
                 ws_bytes += ws_header_bytes(llen);
+                xlen[X_LEAVES] = llen;
             }
             n_shed = 0;
+        }
+        /* WEATHER: in every keyframe's bundle and every SRV_WEATHER_EVERY-th delta's; the
+           whole damage state (no damage in a calm: no events) in every keyframe's */
+        {
+            wire_weather wx = { .sustained_ms = (float)mean_ms, .gust_ms = (float)(mean_ms * 1.4),
+                                .dir_from_deg = 270.0f, .ss_class = 0, .beaufort = 3,
+                                .storm_class = 255, .pressure_hpa = 1013.0f,
+                                .distance_km = -1.0f, .name = "calm" };
+            const bool key = since_key == 0;
+            h.type = WIRE_MSG_WEATHER;
+            if ((key || seq % 10 == 1) &&
+                wire_encode_weather(&h, &wx, xbuf + X_WEATHER * xcap, xcap, &xlen[X_WEATHER],
+                                    &err) != 0) {
+                fprintf(stderr, "gale-bench wire: weather: %s\n", err.msg);
+                return 1;
+            }
+            if (key && wire_encode_damage(&h, true, NULL, 0, xbuf + X_DAMAGE * xcap, xcap,
+                                          &xlen[X_DAMAGE], &err) != 0) {
+                fprintf(stderr, "gale-bench wire: damage: %s\n", err.msg);
+                return 1;
+            }
+            const uint8_t *more[N_X];
+            size_t more_len[N_X];
+            uint32_t nx = 0;
+            for (int x = 0; x < N_X; x++) {
+                if (xlen[x]) {
+                    more[nx] = xbuf + x * xcap;
+                    more_len[nx++] = xlen[x];
+                    x_bytes[x] += xlen[x];
+                }
+                xlen[x] = 0;
+            }
+            size_t blen = len;
+            memcpy(bundle, frame, len);
+            if (nx && wire_bundle_wrap(bundle, cap + N_X * xcap + 256, &blen, more, more_len, nx,
+                                       &err) != 0) {
+                fprintf(stderr, "gale-bench wire: bundle: %s\n", err.msg);
+                return 1;
+            }
+            bundle_bytes += blen;
+            bundle_key_bytes += key ? blen : 0;
         }
         if (seq % 15 == 0) { /* a pong for each ping (cli_net: every 0.5 s) */
             char pong[256];
@@ -512,6 +564,17 @@ int bench_wire(int argc, char **argv)
                (unsigned long long)n_key, per_tree, per_tree_delta, per_tree_key, kbps, p50, p99,
                err_max, (unsigned long long)n_err, sp_disp[0], sp_disp[1], sp_disp[2], decode_errors, mismatches,
                enc_s / (double)snaps / n_trees * 1e6, dec_s / (double)snaps / n_trees * 1e6);
+        printf("\"bundled\":{\"bytes_per_tree_per_snapshot\":%.2f,"
+               "\"bytes_per_tree_keyframe\":%.2f,\"extras_bytes_per_tree_per_snapshot\":"
+               "{\"wind\":%.3f,\"leaves\":%.3f,\"weather\":%.3f,\"damage_state\":%.3f},"
+               "\"of_state_alone\":%.3f},",
+               (double)bundle_bytes / (double)snaps / n_trees,
+               n_key ? (double)bundle_key_bytes / (double)n_key / n_trees : 0.0,
+               (double)x_bytes[X_WIND] / (double)snaps / n_trees,
+               (double)x_bytes[X_LEAVES] / (double)snaps / n_trees,
+               (double)x_bytes[X_WEATHER] / (double)snaps / n_trees,
+               (double)x_bytes[X_DAMAGE] / (double)snaps / n_trees,
+               per_tree > 0.0 ? (double)bundle_bytes / (double)snaps / n_trees / per_tree : 0.0);
         printf("\"bytes_per_client_s_by_frame_type\":{");
         for (int t = 0, first = 1; t < 256; t++) {
             if (type_frames[t]) {
@@ -562,6 +625,8 @@ int bench_wire(int argc, char **argv)
     free(gu);
     free(nm);
     free(frame);
+    free(xbuf);
+    free(bundle);
     free(pa);
     free(pb);
     free(qf);

@@ -31,6 +31,7 @@ struct damage_sim {
     uint64_t *bits;             /* owned [n_trees][words] broken branches */
     uint32_t words;
     float *q;                   /* owned [64] scratch */
+    float *moments;             /* owned [the most branches] scratch: moment bounds */
     wire_damage *ev;            /* owned [max_events] this tick's events */
     int n_ev;
     wire_damage *log;           /* owned [DAMAGE_LOG_MAX] broken branches, in order */
@@ -102,10 +103,11 @@ damage_sim *damage_create(const damage_desc *d, gale_err *err)
     s->tree = calloc(d->n_trees, sizeof *s->tree);
     s->bits = calloc((size_t)d->n_trees * s->words, sizeof(uint64_t));
     s->q = calloc(64, sizeof(float));
+    s->moments = calloc((size_t)maxb, sizeof(float));
     s->ev = calloc((size_t)s->d.max_events, sizeof *s->ev);
     s->log = calloc(DAMAGE_LOG_MAX, sizeof *s->log);
-    if (!s->species || !s->cos_yaw || !s->sin_yaw || !s->tree || !s->bits || !s->q || !s->ev ||
-        !s->log) {
+    if (!s->species || !s->cos_yaw || !s->sin_yaw || !s->tree || !s->bits || !s->q ||
+        !s->moments || !s->ev || !s->log) {
         goto nomem;
     }
     for (uint32_t t = 0; t < d->n_trees; t++) {
@@ -141,6 +143,7 @@ void damage_destroy(damage_sim *s)
     free(s->tree);
     free(s->bits);
     free(s->q);
+    free(s->moments);
     free(s->ev);
     free(s->log);
     free(s);
@@ -306,17 +309,38 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
         return;
     }
     bool changed = false;
-    for (uint32_t j = 0; j < tb->n_branches; j++) {
+    /* branches by rising cap / norm: from the first that cannot fail at |q| no later one
+     * can fail either (a few more are bounded than the exact test needs: 1e-5) */
+    const float r_max = qn / lo * 1.00001f;
+    uint32_t n_check = 0, hi = tb->n_branches;
+    while (n_check < hi) {
+        const uint32_t mid = n_check + (hi - n_check) / 2;
+        if (tb->ratio_by_order[mid] <= r_max) {
+            n_check = mid + 1;
+        } else {
+            hi = mid;
+        }
+    }
+    /* below the weakest multiplier a branch holds whatever its own strength: first on the
+     * bound (1e-4 for its rounding), then on the moment itself; the draw of its own
+     * strength (a log, a cos and an exp) only for one that might fail. 1e-3: lo's
+     * single-precision exp against the draws' double one */
+    const float lo_branch = 0.999f * lo;
+    damage_branch_bounds(tb, q, n, n_check, s->moments);
+    for (uint32_t j = 0; j < n_check; j++) {
+        if (s->moments[j] * 1.0001f <= lo_branch * tb->cap_by_order[j]) {
+            continue;
+        }
         const uint32_t b = tb->order[j];
         const damage_branch *br = &tb->branch[b];
-        if (qn * br->moment_norm < lo * br->cap_nm) {
-            break; /* branches by rising cap / norm: no later one can fail either */
-        }
         if (gone(s, tb, t, (int32_t)b)) {
             continue;
         }
         const float(*mm)[3] = (const float(*)[3])(tb->branch_moment + (size_t)b * tb->n_modes * 3);
-        float mbr = damage_moment(mm, q, n, NULL);
+        const float mbr = damage_moment(mm, q, n, NULL);
+        if (mbr <= lo_branch * br->cap_nm) {
+            continue;
+        }
         /* each branch its own strength about the tree's: exp(±sd) at most */
         float mult = ts->strength *
                      (float)exp(0.5 * tb->p.strength_sd * normal3(s->d.seed, t, (uint64_t)b + 1));

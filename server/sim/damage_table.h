@@ -20,6 +20,11 @@
  * twigs with the leaves; thinner twigs stay part of their branch. */
 #define DAMAGE_MIN_BRANCH_D_M 0.02f
 
+/* Modes per group of a branch's screening bound: |M_b(q)| <= Σ_g |q_g| |M_b,g| (the
+ * triangle inequality over groups, Cauchy-Schwarz within one), one product per group
+ * and branch instead of three per mode for the exact moment. */
+#define DAMAGE_GROUP_MODES 4u
+
 typedef struct damage_branch {
     uint32_t node;       /* first node of the branch: the end of its base element */
     int32_t up;          /* index of the branch it grows from; -1: from the stem */
@@ -42,6 +47,13 @@ typedef struct damage_table {
     uint64_t *slot_rank;     /* owned [n_leaves] wire_damage_slot_rank << 32 | slot, sorted */
     uint32_t *order;         /* owned [n_branches] branches by cap_nm / moment_norm, rising:
                                 the first that cannot fail at |q| ends a check */
+    float *ratio_by_order;   /* owned [n_branches] cap_nm / moment_norm of order[j], rising
+                                (+inf for a branch no mode loads) */
+    float *cap_by_order;     /* owned [n_branches] cap_nm of order[j] */
+    float *group_norm;       /* owned [n_groups][n_branches] |M_b,g| of order[j] at [g][j]:
+                                a check bounds the branches it needs, a prefix of the order,
+                                group by group in vector lanes */
+    uint32_t n_groups;       /* ceil(n_modes / DAMAGE_GROUP_MODES) */
     float stem_moment[64][3];/* base moment of the stem element per unit q_i [N m] */
     float stem_norm;         /* sqrt(Σ_i |stem_moment_i|²) */
     double stem_d_m;         /* stem diameter at the base [m] */
@@ -58,6 +70,11 @@ int damage_table_build(const asset *a, double E_pa, const damage_params *p, dama
                        gale_err *err);
 /* NULL or an empty table is a no-op. */
 void damage_table_fini(damage_table *t);
+
+/* Upper bounds of the bending moments of the first n_check branches in t's order at modal
+ * state q[n]: out[j] >= |M(q)| of branch order[j] [N m] (DAMAGE_GROUP_MODES). */
+void damage_branch_bounds(const damage_table *t, const float *q, uint32_t n, uint32_t n_check,
+                          float *out);
 
 /* The bending moment M(q) = Σ_i q_i M_i [N m] of per-mode moments m[n][3]; returns |M|. */
 float damage_moment(const float (*m)[3], const float *q, uint32_t n, float out[3]);
