@@ -14,6 +14,8 @@
 
 #include "wind_scale.h"
 
+/* atlas side for an em of up to 40 px; each doubling of the em doubles both sides, so a
+ * HUD sized for a 4K screen (about 44 px) fits */
 #define ATLAS_W    1024
 #define ATLAS_H    512
 #define OVERSAMPLE 2
@@ -25,7 +27,8 @@ static const int extra_codepoints[] = { 0x00B0, 0x00B7, 0x00B1, 0x2013, 0x2014, 
 
 struct hud_font {
     uint8_t *ttf;   /* owned: the font file */
-    uint8_t *atlas; /* owned: ATLAS_W × ATLAS_H coverage */
+    uint8_t *atlas; /* owned: aw × ah coverage */
+    int aw, ah;     /* atlas size [px] */
     stbtt_fontinfo info;
     stbtt_packedchar ascii[N_ASCII];
     stbtt_packedchar extra[N_EXTRA];
@@ -60,7 +63,13 @@ hud_font *hud_font_load(const char *ttf_path, float px, gale_err *err)
         goto fail;
     }
     f->ttf = malloc((size_t)n);
-    f->atlas = calloc(ATLAS_W * ATLAS_H, 1);
+    f->aw = ATLAS_W;
+    f->ah = ATLAS_H;
+    for (float em = 40.0f; em < px; em *= 2.0f) {
+        f->aw *= 2;
+        f->ah *= 2;
+    }
+    f->atlas = calloc((size_t)f->aw * (size_t)f->ah, 1);
     if (!f->ttf || !f->atlas) {
         goto nomem;
     }
@@ -84,7 +93,7 @@ hud_font *hud_font_load(const char *ttf_path, float px, gale_err *err)
     f->line_gap = (float)gap * f->scale;
 
     stbtt_pack_context pc;
-    if (!stbtt_PackBegin(&pc, f->atlas, ATLAS_W, ATLAS_H, 0, 1, NULL)) {
+    if (!stbtt_PackBegin(&pc, f->atlas, f->aw, f->ah, 0, 1, NULL)) {
         goto nomem;
     }
     stbtt_PackSetOversampling(&pc, OVERSAMPLE, OVERSAMPLE);
@@ -104,7 +113,7 @@ hud_font *hud_font_load(const char *ttf_path, float px, gale_err *err)
     stbtt_PackEnd(&pc);
     if (!ok) {
         gale_errf(err, GALE_E_RANGE, "%s: glyphs at %g px do not fit a %dx%d atlas", ttf_path,
-                  (double)px, ATLAS_W, ATLAS_H);
+                  (double)px, f->aw, f->ah);
         goto fail;
     }
     return f;
@@ -137,8 +146,8 @@ void hud_font_metrics(const hud_font *f, float *ascent, float *descent, float *l
 
 const uint8_t *hud_font_atlas(const hud_font *f, int *w, int *h)
 {
-    *w = ATLAS_W;
-    *h = ATLAS_H;
+    *w = f->aw;
+    *h = f->ah;
     return f->atlas;
 }
 
@@ -208,10 +217,10 @@ uint32_t hud_text_quads(const hud_font *f, float x, float y, const char *utf8, h
             q[n].y0 = y + g->yoff;
             q[n].x1 = x + g->xoff2;
             q[n].y1 = y + g->yoff2;
-            q[n].s0 = (float)g->x0 / ATLAS_W;
-            q[n].t0 = (float)g->y0 / ATLAS_H;
-            q[n].s1 = (float)g->x1 / ATLAS_W;
-            q[n].t1 = (float)g->y1 / ATLAS_H;
+            q[n].s0 = (float)g->x0 / (float)f->aw;
+            q[n].t0 = (float)g->y0 / (float)f->ah;
+            q[n].s1 = (float)g->x1 / (float)f->aw;
+            q[n].t1 = (float)g->y1 / (float)f->ah;
             n++;
         }
         x += g->xadvance;
@@ -398,6 +407,7 @@ struct hud {
     float verts[HUD_MAX_VERTS * VERT_FLOATS];
     uint32_t n_verts;
     hud_quad quads[HUD_MAX_GLYPHS];
+    int batch_w, batch_h; /* framebuffer of the batch (hud_batch_begin) */
 };
 
 static const char *hud_vs =
@@ -762,4 +772,58 @@ void hud_draw_button(hud *h, const char *label, float x0, float y0, float x1, fl
         }
     }
     flush_verts(h, fb_w, fb_h);
+}
+
+/* ---- batches for other panels --------------------------------------------------------- */
+
+void hud_batch_begin(hud *h, int fb_w, int fb_h)
+{
+    h->n_verts = 0;
+    h->batch_w = fb_w;
+    h->batch_h = fb_h;
+}
+
+void hud_batch_flush(hud *h)
+{
+    if (h->n_verts > 0 && h->batch_w > 0 && h->batch_h > 0) {
+        flush_verts(h, h->batch_w, h->batch_h);
+    }
+    h->n_verts = 0;
+}
+
+/* Room for n more vertices, drawing what the batch holds when it lacks it. */
+static void batch_room(hud *h, uint32_t n)
+{
+    if (h->n_verts + n > HUD_MAX_VERTS) {
+        hud_batch_flush(h);
+    }
+}
+
+void hud_batch_rect(hud *h, float x0, float y0, float x1, float y1, const float rgba[4])
+{
+    batch_room(h, 6);
+    push_rect(h, x0, y0, x1, y1, -1, 0, -1, 0, rgba);
+}
+
+void hud_batch_tri(hud *h, const float xy[6], const float rgba[4])
+{
+    batch_room(h, 3);
+    push_tri(h, xy, rgba);
+}
+
+void hud_batch_text(hud *h, float x, float y, float px, const char *utf8, const float rgba[4])
+{
+    const float k = px / h->font->px;
+    uint32_t n = hud_text_quads(h->font, 0.0f, 0.0f, utf8, h->quads, HUD_MAX_GLYPHS, NULL);
+    batch_room(h, 6 * n);
+    for (uint32_t i = 0; i < n; i++) {
+        const hud_quad *q = &h->quads[i];
+        push_rect(h, x + k * q->x0, y + k * q->y0, x + k * q->x1, y + k * q->y1, q->s0, q->t0,
+                  q->s1, q->t1, rgba);
+    }
+}
+
+float hud_batch_text_width(const hud *h, const char *utf8, float px)
+{
+    return hud_text_width(h->font, utf8) * px / h->font->px;
 }
