@@ -21,6 +21,7 @@
 #define DIAL_BELOW 0.108f /* centre to the panel's bottom margin */
 #define COMP_R     0.085f
 #define HEAD_H     0.045f /* the button block's heading line */
+#define HEAD2_H    0.032f /* the replay row's headings */
 #define TAB_W      0.22f
 #define TAB_H      0.045f
 #define SCEN_MIN_W 0.14f
@@ -211,7 +212,7 @@ void kiosk_ui_layout(kiosk_ui *ui, int fb_w, int fb_h)
     float sw = fminf((bw_all - (float)(cols - 1) * g) / (float)cols, SCEN_MAX_W * H);
     int scen_rows = (ui->n_scen + cols - 1) / cols;
     int rows = scen_rows + 1; /* and the replay / reset row */
-    float block_h = HEAD_H * H + (float)rows * bh + (float)(rows - 1) * g;
+    float block_h = HEAD_H * H + HEAD2_H * H + (float)rows * bh + (float)(rows - 1) * g;
     float dial_h = KIOSK_UI_PANEL_H_FRAC * H;
     float panel_h = above ? dial_h + block_h + m : fmaxf(dial_h, block_h + 2.0f * m);
     ui->panel_y0 = H - panel_h;
@@ -229,7 +230,7 @@ void kiosk_ui_layout(kiosk_ui *ui, int fb_w, int fb_h)
         add(ui, KIOSK_UI_SCENARIO, i, x, yy, x + sw, yy + bh);
     }
     /* the last row: play/pause, landfall, ×1 ×10 ×50 (during a replay), reset at the end */
-    float yr = y + (float)scen_rows * (bh + g);
+    float yr = y + (float)scen_rows * (bh + g) + HEAD2_H * H;
     const float wa = 0.17f * H, ws = 0.085f * H, wr = 0.14f * H;
     float need = 2.0f * wa + 3.0f * ws + wr; /* and 5 gaps */
     float k = need + 5.0f * g > bw_all ? (bw_all - 5.0f * g) / need : 1.0f;
@@ -430,7 +431,7 @@ void kiosk_ui_label(const kiosk_ui *ui, const kiosk_ui_control *k, char *buf, un
         snprintf(buf, cap, "%s", ui->paused ? "Play" : "Pause");
         break;
     case KIOSK_UI_LANDFALL:
-        snprintf(buf, cap, "Landfall");
+        snprintf(buf, cap, "Go to landfall");
         break;
     case KIOSK_UI_SPEED:
         snprintf(buf, cap, "\xC3\x97%.0f", (double)kiosk_ui_speed_x(k->index));

@@ -245,7 +245,15 @@ void kiosk_ui_draw(hud *h, const kiosk_ui *ui)
             }
             draw_button(h, ui, k, pressed, k->index == ui->running);
             break;
+        case KIOSK_UI_PLAY:
+            text(h, k->r.x0, k->r.y0 - 0.01f * H, 0.021f * H, "Storm replay", ink, -1);
+            draw_button(h, ui, k, pressed, false);
+            break;
         case KIOSK_UI_SPEED:
+            if (k->index == 0) {
+                text(h, k->r.x0, k->r.y0 - 0.01f * H, 0.021f * H,
+                     "Replay speed (\xC3\x97" "1 = real time)", ink, -1);
+            }
             draw_button(h, ui, k, pressed,
                         fabsf(ui->replay_speed - kiosk_ui_speed_x(k->index)) < 0.5f);
             break;
