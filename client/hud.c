@@ -408,6 +408,11 @@ struct hud {
     uint32_t n_verts;
     hud_quad quads[HUD_MAX_GLYPHS];
     int batch_w, batch_h; /* framebuffer of the batch (hud_batch_begin) */
+    bool batch_spilled;   /* the batch was drawn in parts (too many vertices to keep) */
+    GLuint keep_vao, keep_vbo; /* the kept batch (hud_batch_flush_keep) */
+    uint64_t keep_key;         /* its key; 0 none */
+    uint32_t keep_n;
+    int keep_w, keep_h;
 };
 
 static const char *hud_vs =
@@ -537,6 +542,12 @@ void hud_destroy(hud *h)
     }
     if (h->vao) {
         glDeleteVertexArrays(1, &h->vao);
+    }
+    if (h->keep_vbo) {
+        glDeleteBuffers(1, &h->keep_vbo);
+    }
+    if (h->keep_vao) {
+        glDeleteVertexArrays(1, &h->keep_vao);
     }
     if (h->tex) {
         glDeleteTextures(1, &h->tex);
@@ -781,6 +792,7 @@ void hud_batch_begin(hud *h, int fb_w, int fb_h)
     h->n_verts = 0;
     h->batch_w = fb_w;
     h->batch_h = fb_h;
+    h->batch_spilled = false;
 }
 
 void hud_batch_flush(hud *h)
@@ -796,7 +808,74 @@ static void batch_room(hud *h, uint32_t n)
 {
     if (h->n_verts + n > HUD_MAX_VERTS) {
         hud_batch_flush(h);
+        h->batch_spilled = true;
     }
+}
+
+/* The HUD program and blending over the bound framebuffer, as flush_verts sets them. */
+static void batch_state(hud *h, int fb_w, int fb_h)
+{
+    glUseProgram(h->prog);
+    glUniform2f(h->u_size, (float)fb_w, (float)fb_h);
+    glUniform1i(h->u_atlas, 0);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, h->tex);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    glViewport(0, 0, fb_w, fb_h);
+}
+
+static void draw_kept(hud *h)
+{
+    batch_state(h, h->keep_w, h->keep_h);
+    glBindVertexArray(h->keep_vao);
+    glDrawArrays(GL_TRIANGLES, 0, (GLsizei)h->keep_n);
+    glBindVertexArray(0);
+    glUseProgram(0);
+}
+
+void hud_batch_flush_keep(hud *h, uint64_t key)
+{
+    if (h->batch_spilled || key == 0 || h->batch_w <= 0 || h->batch_h <= 0) {
+        h->keep_key = 0;
+        hud_batch_flush(h);
+        return;
+    }
+    if (!h->keep_vao) {
+        const GLsizei stride = VERT_FLOATS * sizeof(float);
+        glGenVertexArrays(1, &h->keep_vao);
+        glGenBuffers(1, &h->keep_vbo);
+        glBindVertexArray(h->keep_vao);
+        glBindBuffer(GL_ARRAY_BUFFER, h->keep_vbo);
+        glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)sizeof h->verts, NULL, GL_DYNAMIC_DRAW);
+        glEnableVertexAttribArray(0);
+        glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, stride, (void *)0);
+        glEnableVertexAttribArray(1);
+        glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, stride, (void *)(2 * sizeof(float)));
+        glEnableVertexAttribArray(2);
+        glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, stride, (void *)(4 * sizeof(float)));
+        glBindVertexArray(0);
+    }
+    glBindBuffer(GL_ARRAY_BUFFER, h->keep_vbo);
+    glBufferSubData(GL_ARRAY_BUFFER, 0,
+                    (GLsizeiptr)((size_t)h->n_verts * VERT_FLOATS * sizeof(float)), h->verts);
+    h->keep_key = key;
+    h->keep_n = h->n_verts;
+    h->keep_w = h->batch_w;
+    h->keep_h = h->batch_h;
+    h->n_verts = 0;
+    draw_kept(h);
+}
+
+bool hud_batch_replay(hud *h, uint64_t key, int fb_w, int fb_h)
+{
+    if (key == 0 || key != h->keep_key || fb_w != h->keep_w || fb_h != h->keep_h) {
+        return false;
+    }
+    draw_kept(h);
+    return true;
 }
 
 void hud_batch_rect(hud *h, float x0, float y0, float x1, float y1, const float rgba[4])
@@ -811,16 +890,25 @@ void hud_batch_tri(hud *h, const float xy[6], const float rgba[4])
     push_tri(h, xy, rgba);
 }
 
-void hud_batch_text(hud *h, float x, float y, float px, const char *utf8, const float rgba[4])
+float hud_batch_text(hud *h, float x, float y, float px, const char *utf8, const float rgba[4],
+                     float align, const float *shadow_rgba)
 {
     const float k = px / h->font->px;
-    uint32_t n = hud_text_quads(h->font, 0.0f, 0.0f, utf8, h->quads, HUD_MAX_GLYPHS, NULL);
-    batch_room(h, 6 * n);
-    for (uint32_t i = 0; i < n; i++) {
-        const hud_quad *q = &h->quads[i];
-        push_rect(h, x + k * q->x0, y + k * q->y0, x + k * q->x1, y + k * q->y1, q->s0, q->t0,
-                  q->s1, q->t1, rgba);
+    float end = 0.0f;
+    uint32_t n = hud_text_quads(h->font, 0.0f, 0.0f, utf8, h->quads, HUD_MAX_GLYPHS, &end);
+    x = floorf(x - align * k * end);
+    y = floorf(y);
+    batch_room(h, (shadow_rgba ? 12 : 6) * n);
+    for (int pass = shadow_rgba ? 0 : 1; pass < 2; pass++) {
+        const float d = pass == 0 ? fmaxf(1.0f, floorf(px / 18.0f)) : 0.0f;
+        for (uint32_t i = 0; i < n; i++) {
+            const hud_quad *q = &h->quads[i];
+            push_rect(h, x + d + k * q->x0, y + d + k * q->y0, x + d + k * q->x1,
+                      y + d + k * q->y1, q->s0, q->t0, q->s1, q->t1,
+                      pass == 0 ? shadow_rgba : rgba);
+        }
     }
+    return k * end;
 }
 
 float hud_batch_text_width(const hud *h, const char *utf8, float px)

@@ -57,6 +57,7 @@ void kiosk_ui_set_scenario_count(kiosk_ui *ui, int n)
 {
     ui->n_scen = n < 0 ? 0 : n > KIOSK_UI_MAX_SCENARIOS ? KIOSK_UI_MAX_SCENARIOS : n;
     ui->running = -1;
+    ui->scen_gen++;
 }
 
 /* Letters and digits only, lower case: how the server matches scenario names (PROTOCOL.md

@@ -86,6 +86,7 @@ typedef struct kiosk_ui {
     /* what the server said (kiosk_ui_set_scenarios, kiosk_ui_set_weather) */
     kiosk_ui_scenario scen[KIOSK_UI_MAX_SCENARIOS];
     int n_scen;
+    unsigned scen_gen; /* counts changes of the list (what the drawing keeps depends on it) */
     bool have_wx;
     float wind_ms;      /* sustained wind [m/s] of the last WEATHER */
     float dir_from_deg; /* where it comes from [deg, clockwise from north] */

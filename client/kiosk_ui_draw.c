@@ -4,6 +4,7 @@
 #include "kiosk_ui_draw.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 
 static const float band_rgb[KIOSK_UI_BANDS][3] = {
@@ -20,33 +21,27 @@ static const float band_rgb[KIOSK_UI_BANDS][3] = {
 
 static const float ink[4] = { 0.97f, 0.97f, 0.93f, 1.0f };
 static const float dim_ink[4] = { 0.80f, 0.82f, 0.84f, 1.0f };
-static const float shadow[4] = { 0.0f, 0.0f, 0.0f, 0.85f };
 static const float accent[4] = { 1.0f, 0.80f, 0.30f, 1.0f };
 static const float dark_ink[4] = { 0.08f, 0.08f, 0.10f, 1.0f };
 static const float panel_rgba[4] = { 0.04f, 0.06f, 0.09f, 0.62f };
 static const float button_rgba[4] = { 0.10f, 0.13f, 0.18f, 0.88f };
 static const float pressed_rgba[4] = { 0.35f, 0.42f, 0.52f, 0.95f };
 
-/* Text with a drop shadow; align -1 left, 0 centre, 1 right of x. */
+/* Text; align -1 left, 0 centre, 1 right of x. No shadow: the panel under it is dark
+ * (and every glyph less keeps the panel cheap on a software rasteriser). */
 static void text(hud *h, float x, float y, float px, const char *s, const float rgba[4],
                  int align)
 {
-    float w = hud_batch_text_width(h, s, px);
-    float x0 = align < 0 ? x : align == 0 ? x - 0.5f * w : x - w;
-    float d = fmaxf(1.0f, floorf(px / 18.0f));
-    x0 = floorf(x0);
-    y = floorf(y);
-    if (rgba != dark_ink) {
-        hud_batch_text(h, x0 + d, y + d, px, s, shadow);
-    }
-    hud_batch_text(h, x0, y, px, s, rgba);
+    hud_batch_text(h, x, y, px, s, rgba, 0.5f * (float)(align + 1), NULL);
 }
 
-/* A ring sector from angle a0 to a1 [rad, clockwise from up] between radii r0 and r1. */
+/* A ring sector from angle a0 to a1 [rad, clockwise from up] between radii r0 and r1 (a
+ * pie slice when r0 is 0), in chords within a pixel of the true arc. */
 static void sector(hud *h, float cx, float cy, float r0, float r1, float a0, float a1,
                    const float rgba[4])
 {
-    int n = (int)ceilf(fabsf(a1 - a0) / 0.08f);
+    const float step = fmaxf(0.1f, 2.5f / sqrtf(fmaxf(r1, 1.0f)));
+    int n = (int)ceilf(fabsf(a1 - a0) / step);
     n = n < 1 ? 1 : n;
     for (int i = 0; i < n; i++) {
         float b0 = a0 + (a1 - a0) * (float)i / (float)n;
@@ -54,10 +49,12 @@ static void sector(hud *h, float cx, float cy, float r0, float r1, float a0, flo
         float s0 = sinf(b0), c0 = cosf(b0), s1 = sinf(b1), c1 = cosf(b1);
         const float t0[6] = { cx + r0 * s0, cy - r0 * c0, cx + r1 * s0, cy - r1 * c0,
                               cx + r1 * s1, cy - r1 * c1 };
-        const float t1[6] = { cx + r0 * s0, cy - r0 * c0, cx + r1 * s1, cy - r1 * c1,
-                              cx + r0 * s1, cy - r0 * c1 };
         hud_batch_tri(h, t0, rgba);
-        hud_batch_tri(h, t1, rgba);
+        if (r0 > 0.0f) {
+            const float t1[6] = { cx + r0 * s0, cy - r0 * c0, cx + r1 * s1, cy - r1 * c1,
+                                  cx + r0 * s1, cy - r0 * c1 };
+            hud_batch_tri(h, t1, rgba);
+        }
     }
 }
 
@@ -215,10 +212,42 @@ static void draw_button(hud *h, const kiosk_ui *ui, const kiosk_ui_control *k, b
     text(h, x, base, px, label, col, -1);
 }
 
+/* Everything the panel's picture depends on, to the resolution it is drawn at (the wind to
+ * 0.1 m/s, directions to the degree), hashed (FNV-1a): the same key, the same picture. */
+static uint64_t picture_key(const kiosk_ui *ui)
+{
+    const int32_t v[] = { ui->fb_w,
+                          ui->fb_h,
+                          ui->collapsed,
+                          ui->pressed,
+                          ui->n,
+                          (int32_t)ui->scen_gen,
+                          ui->running,
+                          ui->replay,
+                          ui->paused,
+                          (int32_t)lroundf(ui->replay_speed * 10.0f),
+                          ui->have_wx,
+                          ui->dial_held,
+                          (int32_t)lroundf(ui->wind_ms * 10.0f),
+                          (int32_t)lroundf(ui->dir_from_deg),
+                          (int32_t)lroundf(ui->drag_ms * 10.0f),
+                          (int32_t)lroundf(ui->drag_from_deg) };
+    uint64_t k = 14695981039346656037ull;
+    const unsigned char *p = (const unsigned char *)v;
+    for (size_t i = 0; i < sizeof v; i++) {
+        k = (k ^ p[i]) * 1099511628211ull;
+    }
+    return k | 1u; /* never 0, which keeps nothing */
+}
+
 void kiosk_ui_draw(hud *h, const kiosk_ui *ui)
 {
     if (ui->fb_w <= 0 || ui->fb_h <= 0) {
         return;
+    }
+    const uint64_t key = picture_key(ui);
+    if (hud_batch_replay(h, key, ui->fb_w, ui->fb_h)) {
+        return; /* nothing on the panel changed: its vertices are on the GPU already */
     }
     const float H = (float)ui->fb_h, W = (float)ui->fb_w;
     hud_batch_begin(h, ui->fb_w, ui->fb_h);
@@ -262,5 +291,5 @@ void kiosk_ui_draw(hud *h, const kiosk_ui *ui)
             break;
         }
     }
-    hud_batch_flush(h);
+    hud_batch_flush_keep(h, key);
 }
