@@ -139,20 +139,14 @@ static void draw_compass(hud *h, const kiosk_ui *ui, bool dragging)
     const float ring[4] = { 0.20f, 0.26f, 0.34f, 0.9f };
     disc(h, cx, cy, r, panel_rgba);
     sector(h, cx, cy, 0.74f * r, r, 0.0f, 6.2831853f, ring);
-    static const char *const pts[4] = { "N", "E", "S", "W" };
-    for (int i = 0; i < 4; i++) {
-        float a = (float)i * 1.5707963f;
-        text(h, cx + 0.87f * r * sinf(a), cy - 0.87f * r * cosf(a) + 0.35f * 0.024f * H,
-             0.024f * H, pts[i], ink, 0);
-    }
     float from = dragging ? ui->drag_from_deg : ui->dir_from_deg;
+    float a = from * 0.017453292f, s = sinf(a), c = cosf(a);
+    const float *col = dragging ? accent : ink;
     if (ui->have_wx || dragging) {
-        /* an arrow across the disc, pointing where the wind blows, its tail (the knob you
-         * drag) on the side it comes from */
-        float a = from * 0.017453292f, s = sinf(a), c = cosf(a);
+        /* an arrow across the disc, pointing where the wind blows; its tail, the ring you
+         * drag, sits on the side the wind comes from */
         float tx = cx + 0.6f * r * s, ty = cy - 0.6f * r * c;
         float hx = cx - 0.6f * r * s, hy = cy + 0.6f * r * c;
-        const float *col = dragging ? accent : ink;
         line(h, tx, ty, hx + 0.15f * r * s, hy - 0.15f * r * c, 0.018f * H, col);
         float px = c, py = s; /* across the arrow */
         const float head[6] = { hx - 0.12f * r * s, hy + 0.12f * r * c,
@@ -160,8 +154,14 @@ static void draw_compass(hud *h, const kiosk_ui *ui, bool dragging)
                                 hx + 0.2f * r * s - 0.22f * r * px, hy - 0.2f * r * c - 0.22f * r * py };
         hud_batch_tri(h, head, col);
         float kx = cx + 0.87f * r * s, ky = cy - 0.87f * r * c;
-        disc(h, kx, ky, 0.14f * r + 0.004f * H, dark_ink);
-        disc(h, kx, ky, 0.14f * r, col);
+        sector(h, kx, ky, 0.12f * r, 0.17f * r, 0.0f, 6.2831853f, accent);
+    }
+    /* the compass points over it, so the ring round one leaves it readable */
+    static const char *const pts[4] = { "N", "E", "S", "W" };
+    for (int i = 0; i < 4; i++) {
+        float b = (float)i * 1.5707963f;
+        text(h, cx + 0.87f * r * sinf(b), cy - 0.87f * r * cosf(b) + 0.35f * 0.024f * H,
+             0.024f * H, pts[i], ink, 0);
     }
     char title[48];
     static const char *const pts16[16] = { "N", "NNE", "NE", "ENE", "E", "ESE", "SE", "SSE",
