@@ -2,7 +2,9 @@
  * 1280x720, 1920x1080 and 3840x2160, read back: the running scenario's button is lit in the
  * accent, a pressed button is lighter than the others, the dial's band of the streamed
  * wind carries its colour, the band labels and button faces have ink, and the sky above
- * the panel is untouched. Writes kiosk_ui_<H>.png (the 4K one halved) to look at. */
+ * the panel is untouched; drawn again unchanged (from the batch kept on the GPU) it is the
+ * same picture, and a new wind redraws it. Writes kiosk_ui_<H>.png (the 4K one halved) to
+ * look at. */
 #include <epoxy/gl.h>
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -126,6 +128,25 @@ static void draw_at(int W, int H)
     /* the sky above the panel and its tab is untouched */
     const uint8_t *ps = px_at(img, W, 0.5f * (float)W, ui.panel_y0 - 0.1f * (float)H);
     CHECK(abs(ps[0] - 115) <= 2 && abs(ps[1] - 158) <= 2 && abs(ps[2] - 217) <= 2);
+    /* again, nothing changed: the kept batch, the same picture */
+    glClear(GL_COLOR_BUFFER_BIT);
+    kiosk_ui_draw(h, &ui);
+    glReadPixels(0, 0, W, H, GL_RGB, GL_UNSIGNED_BYTE, rgb);
+    size_t differ = 0;
+    for (int y = 0; y < H; y++) {
+        differ += memcmp(rgb + (size_t)(H - 1 - y) * W * 3, img + (size_t)y * W * 3,
+                         (size_t)W * 3) != 0;
+    }
+    CHECK(differ == 0);
+    /* a calmer wind: the needle and the figures move */
+    w.sustained_ms = 20.0f;
+    kiosk_ui_set_weather(&ui, &w);
+    glClear(GL_COLOR_BUFFER_BIT);
+    kiosk_ui_draw(h, &ui);
+    glReadPixels(0, 0, W, H, GL_RGB, GL_UNSIGNED_BYTE, rgb);
+    kiosk_ui_dial_point(&ui, 52.0f, &bx, &by);
+    pb = rgb + ((size_t)(H - 1 - (int)by) * (size_t)W + (size_t)(int)bx) * 3;
+    CHECK(pb[0] < 200); /* Cat 3 is no longer the lit band */
     free(rgb);
     free(img);
     hud_destroy(h);
