@@ -208,7 +208,8 @@ void client_input_screenshot_name(char *buf, size_t cap);
 /* ---- client_kiosk.c ---- */
 
 /* Kiosk role only: moves the wind dial by delta [m/s] (starting from the streamed speed,
- * kept within 0..100) and sends the command with the kiosk token; failures are logged. */
+ * kept within 0..KIOSK_UI_DIAL_MAX_MS) and sends the panel dial's command with the kiosk
+ * token; failures are logged. */
 void client_kiosk_dial(client *c, float delta_ms);
 /* Kiosk role only: releases the kiosk's dial (attract mode); failures are logged. */
 void client_kiosk_release(client *c);

@@ -12,23 +12,37 @@
 #include "kiosk_ui_draw.h"
 #include "mono.h"
 
+/* Sends the message of a panel action (kiosk_ui_message) and logs it as sent. */
+static void send_action(client *c, const kiosk_ui_action *a)
+{
+    ctl_msg m;
+    if (kiosk_ui_message(&c->kiosk, a, c->a.token, &m) != 0) {
+        return;
+    }
+    char text[CTL_MAX_CLIENT_BYTES];
+    gale_err err = { 0 };
+    if (cli_net_send_ctl(c->net, &m, text, sizeof text, &err) != 0) {
+        fprintf(stderr, "gale-client: kiosk: %s\n", err.msg);
+    } else {
+        fprintf(stderr, "gale-client: kiosk sent %s\n", text);
+    }
+}
+
 void client_kiosk_dial(client *c, float delta_ms)
 {
     if (c->a.role != CTL_ROLE_KIOSK) {
         return;
     }
-    if (c->kiosk_speed_ms == 0.0f && c->have_wind) {
+    if (c->kiosk_speed_ms == 0.0f && c->have_wx) {
+        c->kiosk_speed_ms = c->wx.sustained_ms;
+    } else if (c->kiosk_speed_ms == 0.0f && c->have_wind) {
         c->kiosk_speed_ms = c->wind_ms;
     }
-    c->kiosk_speed_ms = fminf(fmaxf(c->kiosk_speed_ms + delta_ms, 0.0f), 100.0f);
-    ctl_wind w = { .has_speed = true, .speed_ms = c->kiosk_speed_ms };
-    snprintf(w.token, sizeof w.token, "%s", c->a.token ? c->a.token : "");
-    gale_err err = { 0 };
-    if (cli_net_send_wind(c->net, &w, &err) != 0) {
-        fprintf(stderr, "gale-client: wind: %s\n", err.msg);
-    } else {
-        fprintf(stderr, "gale-client: wind dialled to %.0f m/s\n", (double)c->kiosk_speed_ms);
-    }
+    c->kiosk_speed_ms =
+        fminf(fmaxf(c->kiosk_speed_ms + delta_ms, 0.0f), KIOSK_UI_DIAL_MAX_MS);
+    /* the same message as the panel's dial (it keeps a chosen direction) */
+    kiosk_ui_action a = { .act = KIOSK_UI_ACT_SPEED, .value = c->kiosk_speed_ms };
+    send_action(c, &a);
 }
 
 void client_kiosk_release(client *c)
@@ -105,10 +119,6 @@ bool client_kiosk_touch(client *c, int phase, float x, float y)
     if (a.dragging && now - c->kiosk_drag_sent_s < CLIENT_KIOSK_DRAG_S) {
         return took; /* a drag sends a few values a second, and the last on release */
     }
-    ctl_msg m;
-    if (kiosk_ui_message(&c->kiosk, &a, c->a.token, &m) != 0) {
-        return took;
-    }
     if (a.dragging) {
         c->kiosk_drag_sent_s = now;
     }
@@ -117,13 +127,7 @@ bool client_kiosk_touch(client *c, int phase, float x, float y)
     } else if (a.act == KIOSK_UI_ACT_SCENARIO || a.act == KIOSK_UI_ACT_RESET) {
         c->kiosk_speed_ms = 0.0f;
     }
-    char text[CTL_MAX_CLIENT_BYTES];
-    gale_err err = { 0 };
-    if (cli_net_send_ctl(c->net, &m, text, sizeof text, &err) != 0) {
-        fprintf(stderr, "gale-client: kiosk: %s\n", err.msg);
-    } else {
-        fprintf(stderr, "gale-client: kiosk sent %s\n", text);
-    }
+    send_action(c, &a);
     return took;
 }
 

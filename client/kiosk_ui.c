@@ -34,7 +34,6 @@ void kiosk_ui_init(kiosk_ui *ui)
     memset(ui, 0, sizeof *ui);
     ui->pressed = -1;
     ui->running = -1;
-    ui->last_kind = -1;
     ui->replay_speed = 0.0f;
 }
 
@@ -384,8 +383,11 @@ bool kiosk_ui_touch(kiosk_ui *ui, int phase, float x, float y, kiosk_ui_action *
         }
     }
     if (a->act != KIOSK_UI_ACT_NONE) {
-        ui->last_kind = k.kind;
-        ui->last_index = k.index;
+        kiosk_ui_label(ui, &k, ui->last, sizeof ui->last); /* as it read when touched */
+        if (k.kind == KIOSK_UI_COLLAPSE) {
+            snprintf(ui->last, sizeof ui->last, "%s", ui->collapsed ? "Hide controls"
+                                                                    : "Show controls");
+        }
     }
     return a->act != KIOSK_UI_ACT_NONE;
 }
@@ -477,11 +479,8 @@ void kiosk_ui_describe(const kiosk_ui *ui, char *buf, unsigned cap)
         snprintf(rep, sizeof rep, " \xC2\xB7 replay \xC3\x97%.0f %s", (double)ui->replay_speed,
                  ui->paused ? "paused" : "playing");
     }
-    if (ui->last_kind >= 0) {
-        kiosk_ui_control k = { .kind = ui->last_kind, .index = ui->last_index };
-        char l[KIOSK_UI_NAME_CHARS];
-        kiosk_ui_label(ui, &k, l, sizeof l);
-        snprintf(last, sizeof last, " \xC2\xB7 last touch %s", l);
+    if (ui->last[0]) {
+        snprintf(last, sizeof last, " \xC2\xB7 last touch %s", ui->last);
     }
     snprintf(buf, cap, "Panel: %s%s%s%s%s", ui->collapsed ? "hidden \xC2\xB7 " : "", wind, run,
              rep, last);

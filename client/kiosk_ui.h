@@ -100,7 +100,7 @@ typedef struct kiosk_ui {
     int pressed;        /* control under the finger, -1 none (drawn pressed) */
     float drag_ms;      /* the dial's value while dragged */
     float drag_from_deg;
-    int last_kind, last_index; /* the last control that acted (-1 none), for the HUD text */
+    char last[KIOSK_UI_NAME_CHARS]; /* face of the last control that acted ("" none) */
     /* what this kiosk dialled (kiosk_ui_message), so a speed keeps the chosen direction
      * and a direction the dialled speed; forgotten on release, scenario and reset */
     bool set_speed, set_dir;
