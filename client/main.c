@@ -302,6 +302,10 @@ int main(int argc, char **argv)
     if (parse_args(argc, argv, &c.a) != 0) {
         return 2;
     }
+    kiosk_ui_init(&c.kiosk);
+    if (c.a.touch && client_kiosk_touch_script(&c, c.a.touch) != 0) {
+        return 2;
+    }
     int ws = client_wall_setup(&c);
     if (ws != 0) {
         free(c.wall);
@@ -353,11 +357,6 @@ int main(int argc, char **argv)
                         &err);
     if (!c.r) {
         fprintf(stderr, "gale-client: render: %s\n", err.msg);
-        goto done;
-    }
-    kiosk_ui_init(&c.kiosk);
-    if (c.a.touch && client_kiosk_touch_script(&c, c.a.touch) != 0) {
-        status = 2;
         goto done;
     }
     float hud_px = client_wall_hud_px(&c, client_hud_px(c.a.height));
