@@ -1,7 +1,7 @@
 /* JSON control messages of the gale wire (PROTOCOL.md "Control messages"): the
  * dispatcher. ctl_decode bounds, parses (line:col on bad JSON), reads "type" and hands the
  * object to that message's parser (ctl_hello.c, ctl_view.c, ctl_kiosk.c, ctl_link.c,
- * ctl_welcome.c); ctl_encode hands the struct to its encoder, which checks what it writes
+ * ctl_welcome.c, ctl_scenarios.c, ctl_wall.c); ctl_encode hands the struct to its encoder, which checks what it writes
  * against the parser's own limits, so no output is parsed again on send. */
 #include "ctl.h"
 
@@ -46,7 +46,7 @@ static int read_type(ctl_rd *c, const cJSON *root, int *type)
         }
     }
     return ctl_fail(c, WIRE_CLOSE_UNKNOWN_TYPE, GALE_E_PARSE,
-                    "type: expected one of hello|view|wind|resync|ping|welcome|pong|error|wall_*, "
+                    "type: expected one of hello|view|wind|resync|ping|welcome|pong|error|wall_*|reset, "
                     "got \"%.40s\"",
                     ty->valuestring);
 }
@@ -66,6 +66,7 @@ static int parse_body(ctl_rd *c, const cJSON *root, ctl_msg *m)
     case CTL_WALL_CAMERA:
     case CTL_WALL_SYNC:
     case CTL_WALL_SWAP: return ctl_wall_parse(c, root, m->type, m);
+    case CTL_RESET: return ctl_reset_parse(c, root, &m->u.reset);
     default: return ctl_error_parse(c, root, &m->u.error); /* CTL_ERROR */
     }
 }
@@ -128,6 +129,7 @@ void ctl_msg_fini(ctl_msg *m)
         free(m->u.welcome.species);
         free(m->u.welcome.instances);
         free(m->u.welcome.obstacles);
+        free(m->u.welcome.scenarios);
     }
     memset(m, 0, sizeof *m);
 }
@@ -149,6 +151,7 @@ static int encode_body(ctl_rd *c, const ctl_msg *m, cJSON *o)
     case CTL_WALL_CAMERA:
     case CTL_WALL_SYNC:
     case CTL_WALL_SWAP: return ctl_wall_encode(c, m, o);
+    case CTL_RESET: return ctl_reset_encode(c, &m->u.reset, o);
     default: return ctl_error_encode(c, &m->u.error, o); /* CTL_ERROR */
     }
 }

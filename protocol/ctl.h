@@ -30,6 +30,8 @@ enum ctl_type {
     CTL_WALL_CAMERA, /* client (kiosk) sets the wall's camera; server: applies at frame N */
     CTL_WALL_SYNC,   /* server: the group's frame clock (reply to wall_join) */
     CTL_WALL_SWAP,   /* server: swap frame N now */
+    /* kiosk */
+    CTL_RESET,       /* client (kiosk): heal the forest, drop the dial, back to the playlist */
 };
 
 enum ctl_role {
@@ -79,7 +81,14 @@ typedef struct ctl_wind {
     float replay_at_min;       /* storm minute to jump to (0 = the track's reference,
                                   landfall for the shipped replays), [-1e5, 1e5] */
     float replay_speed;        /* storm seconds per server second, [1, 10000] */
+    bool has_replay_paused;
+    bool replay_paused;        /* true: the replay's storm clock holds; false: it runs */
 } ctl_wind;
+
+/* reset from a kiosk (PROTOCOL.md "Control messages"). */
+typedef struct ctl_reset {
+    char token[CTL_MAX_TOKEN]; /* required */
+} ctl_reset;
 
 typedef struct ctl_ping {
     uint32_t id;           /* echoed */
@@ -113,6 +122,19 @@ typedef struct ctl_obstacle {
     float max[3];
 } ctl_obstacle;
 
+enum ctl_scenario_kind {
+    CTL_SCENARIO_STEADY = 0, /* a steady or gusty wind */
+    CTL_SCENARIO_REPLAY,     /* a storm replayed along its track */
+};
+
+/* One scenario a kiosk may choose (welcome.scenarios). */
+typedef struct ctl_scenario_info {
+    char name[CTL_MAX_NAME];  /* what wind.scenario names it by, e.g. "andrew1992" */
+    char title[CTL_MAX_NAME]; /* what a visitor reads, e.g. "Andrew 1992" */
+    int kind;                 /* enum ctl_scenario_kind */
+    float sustained_ms;       /* steady: its mean 10 m wind, [0, 100]; replay: 0 */
+} ctl_scenario_info;
+
 typedef struct ctl_welcome {
     int protocol;
     uint32_t client_id;
@@ -127,6 +149,8 @@ typedef struct ctl_welcome {
     ctl_instance *instances;    /* [n_instances]; owned by the message when decoded */
     uint32_t n_obstacles;       /* <= WIRE_MAX_OBSTACLES; "obstacles" absent on the wire: 0 */
     ctl_obstacle *obstacles;    /* [n_obstacles]; owned by the message when decoded */
+    uint32_t n_scenarios;       /* <= WIRE_MAX_SCENARIOS; "scenarios" absent on the wire: 0 */
+    ctl_scenario_info *scenarios; /* [n_scenarios]; owned by the message when decoded */
 } ctl_welcome;
 
 typedef struct ctl_error {
@@ -190,6 +214,7 @@ typedef struct ctl_msg {
         ctl_wall_sync wall_sync;
         ctl_wall_frame wall_frame; /* CTL_WALL_DRAWN, CTL_WALL_SWAP */
         ctl_wall_camera wall_camera;
+        ctl_reset reset;
     } u;
 } ctl_msg;
 
@@ -217,7 +242,7 @@ int ctl_encode(const ctl_msg *m, char **out, size_t *len, gale_err *err);
 int ctl_encode_into(const ctl_msg *m, char *buf, size_t cap, size_t *len, gale_err *err);
 
 /* True for the types a client may send (hello, view, wind, resync, ping, wall_join,
- * wall_drawn, wall_camera). */
+ * wall_drawn, wall_camera, reset). */
 bool ctl_from_client(int type);
 
 /* Role and type names as on the wire ("viewer", "wall-tile", "hello", ...); NULL for an

@@ -16,7 +16,9 @@ static const char *const type_names[] = { NULL,      "hello",   "view", "wind", 
                                           "ping",    "welcome", "pong", "error",
                                           /* display walls */
                                           "wall_join", "wall_drawn", "wall_camera",
-                                          "wall_sync", "wall_swap" };
+                                          "wall_sync", "wall_swap",
+                                          /* kiosk */
+                                          "reset" };
 
 #define N_TYPES (int)(sizeof type_names / sizeof type_names[0])
 
@@ -33,7 +35,7 @@ const char *ctl_type_name(int type)
 bool ctl_from_client(int type)
 {
     return (type >= CTL_HELLO && type <= CTL_PING) ||
-           (type >= CTL_WALL_JOIN && type <= CTL_WALL_CAMERA);
+           (type >= CTL_WALL_JOIN && type <= CTL_WALL_CAMERA) || type == CTL_RESET;
 }
 
 int ctl_fail(ctl_rd *c, int close, int code, const char *fmt, ...)

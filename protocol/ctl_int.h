@@ -68,6 +68,12 @@ int ctl_error_parse(ctl_rd *c, const cJSON *o, ctl_error *e);
 int ctl_error_encode(ctl_rd *c, const ctl_error *e, cJSON *o);
 int ctl_welcome_parse(ctl_rd *c, const cJSON *o, ctl_welcome *w);
 int ctl_welcome_encode(ctl_rd *c, const ctl_welcome *w, cJSON *o);
+/* welcome.scenarios (optional): ctl_scenarios.c */
+int ctl_scenarios_parse(ctl_rd *c, const cJSON *o, ctl_welcome *w);
+int ctl_scenarios_encode(ctl_rd *c, const ctl_welcome *w, cJSON *o);
+/* reset: ctl_kiosk.c */
+int ctl_reset_parse(ctl_rd *c, const cJSON *o, ctl_reset *m);
+int ctl_reset_encode(ctl_rd *c, const ctl_reset *m, cJSON *o);
 /* display walls: ctl_wall.c */
 int ctl_wall_parse(ctl_rd *c, const cJSON *o, int type, ctl_msg *m);
 int ctl_wall_encode(ctl_rd *c, const ctl_msg *m, cJSON *o);

@@ -1,6 +1,7 @@
 /* wind (PROTOCOL.md "Control messages"): a kiosk's command, with its token and any of
- * speed, direction, gust intensity and scenario. Each field is optional and flagged by
- * has_*; only the given ones are written. */
+ * speed, direction, gust intensity, scenario and the replay's position, speed and pause.
+ * Each field is optional and flagged by has_*; only the given ones are written. And reset:
+ * a kiosk's token alone. */
 #include "ctl_int.h"
 
 /* Limits of the command's fields, shared by both directions. */
@@ -14,7 +15,8 @@ int ctl_wind_parse(ctl_rd *c, const cJSON *o, ctl_wind *w)
 {
     static const char *const keys[] = { "type",  "token", "speed_ms", "dir_deg",
                                         "gust",  "scenario", "release", "keep",
-                                        "replay_at_min", "replay_speed", NULL };
+                                        "replay_at_min", "replay_speed", "replay_paused",
+                                        NULL };
     const json_rd *r = &c->j;
     int rc = json_check_keys(r, o, "wind", keys);
     double s = 0, d = 0, g = 0;
@@ -49,6 +51,10 @@ int ctl_wind_parse(ctl_rd *c, const cJSON *o, ctl_wind *w)
     if (!rc) {
         rc = json_number(r, o, "wind", "replay_speed", false, 1, REPLAY_SPEED_MAX, &sp,
                          &w->has_replay_speed);
+    }
+    if (!rc) {
+        rc = json_bool(r, o, "wind", "replay_paused", false, &w->replay_paused,
+                       &w->has_replay_paused);
     }
     w->replay_at_min = (float)at;
     w->replay_speed = (float)sp;
@@ -110,5 +116,29 @@ int ctl_wind_encode(ctl_rd *c, const ctl_wind *w, cJSON *o)
         (rc = put_num_in(c, o, "replay_speed", w->replay_speed, 1, REPLAY_SPEED_MAX))) {
         return rc;
     }
+    if (w->has_replay_paused && !cJSON_AddBoolToObject(o, "replay_paused", w->replay_paused)) {
+        return ctl_fail(c, 0, GALE_E_NOMEM, "wind: out of memory");
+    }
     return 0;
+}
+
+int ctl_reset_parse(ctl_rd *c, const cJSON *o, ctl_reset *m)
+{
+    static const char *const keys[] = { "type", "token", NULL };
+    int rc = json_check_keys(&c->j, o, "reset", keys);
+    if (!rc) {
+        rc = json_string(&c->j, o, "reset", "token", true, NULL, m->token, sizeof m->token, NULL);
+    }
+    return rc;
+}
+
+int ctl_reset_encode(ctl_rd *c, const ctl_reset *m, cJSON *o)
+{
+    int rc = json_check_string(&c->j, "reset", "token", m->token, sizeof m->token);
+    if (rc) {
+        return rc;
+    }
+    return cJSON_AddStringToObject(o, "token", m->token)
+               ? 0
+               : ctl_fail(c, 0, GALE_E_NOMEM, "reset: out of memory");
 }

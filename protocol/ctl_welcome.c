@@ -1,8 +1,8 @@
 /* welcome (PROTOCOL.md "Control messages"): the scene a client is let into: protocol,
  * its id and granted role, rates, the server clock, the species with their asset URLs
  * and hashes, every instance as a row [species, x, y, z, yaw_rad, scale] and every
- * obstacle as a row [min_x, min_y, min_z, max_x, max_y, max_z]. A decoded welcome owns
- * its three arrays. */
+ * obstacle as a row [min_x, min_y, min_z, max_x, max_y, max_z], and the scenarios a kiosk
+ * may choose (ctl_scenarios.c). A decoded welcome owns its four arrays. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -198,7 +198,8 @@ int ctl_welcome_parse(ctl_rd *c, const cJSON *o, ctl_welcome *w)
 {
     static const char *const keys[] = { "type",     "protocol",  "client_id", "role",
                                         "tick_hz",  "snapshot_hz", "server_us", "tick",
-                                        "species",  "instances", "obstacles", NULL };
+                                        "species",  "instances", "obstacles", "scenarios",
+                                        NULL };
     const json_rd *r = &c->j;
     int rc = json_check_keys(r, o, "welcome", keys);
     long long proto = 0, id = 0, su = 0, tick = 0;
@@ -258,10 +259,10 @@ int ctl_welcome_parse(ctl_rd *c, const cJSON *o, ctl_welcome *w)
             return rc;
         }
     }
-    if ((rc = instances_parse(c, o, w))) {
+    if ((rc = instances_parse(c, o, w)) || (rc = obstacles_parse(c, o, w))) {
         return rc;
     }
-    return obstacles_parse(c, o, w);
+    return ctl_scenarios_parse(c, o, w);
 }
 
 /* ---- encoding ------------------------------------------------------------------------ */
@@ -408,5 +409,8 @@ int ctl_welcome_encode(ctl_rd *c, const ctl_welcome *w, cJSON *o)
             return rc;
         }
     }
-    return rows_encode(c, w, o);
+    if ((rc = rows_encode(c, w, o))) {
+        return rc;
+    }
+    return ctl_scenarios_encode(c, w, o);
 }

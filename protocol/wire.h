@@ -169,7 +169,8 @@ enum wire_weather_flags {
     WIRE_WEATHER_DIAL = 1u << 1,     /* a kiosk dial holds the wind */
     WIRE_WEATHER_FINISHED = 1u << 2, /* the replay reached its end and holds there */
     WIRE_WEATHER_CLOCK = 1u << 3,    /* utc_min and utc_offset_min are valid */
-    WIRE_WEATHER_FLAGS_ALL = 0x0fu,
+    WIRE_WEATHER_PAUSED = 1u << 4,   /* the replay is paused: its storm clock holds */
+    WIRE_WEATHER_FLAGS_ALL = 0x1fu,
 };
 
 /* The weather at the scene as the server computes it (10 m above ground, scene frame x

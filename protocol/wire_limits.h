@@ -22,6 +22,7 @@
  * block in the wind grid and a drawn house on every client; a village scene has tens,
  * 1024 leaves room and keeps the welcome row list (about 40 bytes each) under 64 KiB. */
 #define WIRE_MAX_OBSTACLES 1024u
+#define WIRE_MAX_SCENARIOS 32u   /* welcome.scenarios: the choices a kiosk shows */
 
 /* Leaf seeds in one LEAVES frame. Shedding peaks at a few hundred per tick in a
  * hurricane scene; more are dropped by the server (leaves are decoration). */

@@ -80,6 +80,19 @@ static void test_golden(void)
     golden(&m, "{\"type\":\"wind\",\"token\":\"s3cret\",\"speed_ms\":42.5,\"dir_deg\":270,"
                "\"scenario\":\"andrew-1992\"}");
 
+    /* kiosk controls: a pause, and reset with its token alone */
+    m = (ctl_msg){ .type = CTL_WIND };
+    strcpy(m.u.wind.token, "s3cret");
+    m.u.wind.has_replay_paused = true;
+    m.u.wind.replay_paused = false;
+    golden(&m, "{\"type\":\"wind\",\"token\":\"s3cret\",\"replay_paused\":false}");
+    m.u.wind.replay_paused = true;
+    golden(&m, "{\"type\":\"wind\",\"token\":\"s3cret\",\"replay_paused\":true}");
+    m = (ctl_msg){ .type = CTL_RESET };
+    strcpy(m.u.reset.token, "s3cret");
+    golden(&m, "{\"type\":\"reset\",\"token\":\"s3cret\"}");
+    CHECK(ctl_from_client(CTL_RESET));
+
     m = (ctl_msg){ .type = CTL_RESYNC, .u.resync_seq = 41 };
     golden(&m, "{\"type\":\"resync\",\"seq\":41}");
 
@@ -159,6 +172,46 @@ static void test_golden(void)
            "\"0123456789abcdef\",\"n_modes\":32},{\"name\":\"palm\",\"url\":"
            "\"/assets/palm-fedcba9876543210.gasset\",\"hash\":\"fedcba9876543210\",\"n_modes\":16}],"
            "\"instances\":[[0,1.5,2,0,0.25,1],[1,-30,12.75,0.5,3,1.25]]}");
+    /* The scenarios a kiosk may choose follow the rows. */
+    ctl_scenario_info sc[2] = { { "gusty", "Gusty afternoon", CTL_SCENARIO_STEADY, 9.5f },
+                                { "andrew1992", "Andrew 1992", CTL_SCENARIO_REPLAY, 0.0f } };
+    m.u.welcome.n_scenarios = 2;
+    m.u.welcome.scenarios = sc;
+    const char *wsc =
+        "{\"type\":\"welcome\",\"protocol\":1,\"client_id\":9,\"role\":\"wall-tile\","
+        "\"tick_hz\":60,\"snapshot_hz\":30,\"server_us\":123456,\"tick\":88,\"species\":["
+        "{\"name\":\"oak\",\"url\":\"/assets/oak-0123456789abcdef.gasset\",\"hash\":"
+        "\"0123456789abcdef\",\"n_modes\":32},{\"name\":\"palm\",\"url\":"
+        "\"/assets/palm-fedcba9876543210.gasset\",\"hash\":\"fedcba9876543210\",\"n_modes\":16}],"
+        "\"instances\":[[0,1.5,2,0,0.25,1],[1,-30,12.75,0.5,3,1.25]],"
+        "\"scenarios\":[{\"name\":\"gusty\",\"title\":\"Gusty afternoon\",\"kind\":\"steady\","
+        "\"sustained_ms\":9.5},{\"name\":\"andrew1992\",\"title\":\"Andrew 1992\","
+        "\"kind\":\"replay\",\"sustained_ms\":0}]}";
+    golden(&m, wsc);
+    CHECK(ctl_decode(wsc, strlen(wsc), CTL_MAX_SERVER_BYTES, &back, NULL, &e) == 0);
+    CHECK(back.u.welcome.n_scenarios == 2);
+    CHECK(strcmp(back.u.welcome.scenarios[0].title, "Gusty afternoon") == 0);
+    CHECK(back.u.welcome.scenarios[0].sustained_ms == 9.5f);
+    CHECK(back.u.welcome.scenarios[1].kind == CTL_SCENARIO_REPLAY);
+    CHECK(strcmp(back.u.welcome.scenarios[1].name, "andrew1992") == 0);
+    ctl_msg_fini(&back);
+    {
+        char *t = NULL;
+        size_t tl = 0;
+        sc[1].kind = 2;
+        CHECK(ctl_encode(&m, &t, &tl, &e) == GALE_E_ARG && t == NULL);
+        CHECK_STR_HAS(e.msg, "welcome.scenarios[1].kind: expected a ctl_scenario_kind, got 2");
+        sc[1].kind = CTL_SCENARIO_REPLAY;
+        strcpy(sc[0].title, "Gusty\nafternoon");
+        CHECK(ctl_encode(&m, &t, &tl, &e) == GALE_E_RANGE && t == NULL);
+        CHECK_STR_HAS(e.msg, "welcome.scenarios[0].title: expected printable text, got byte 0x0a");
+        strcpy(sc[0].title, "Gusty afternoon");
+        sc[0].sustained_ms = 101.0f;
+        CHECK(ctl_encode(&m, &t, &tl, &e) == GALE_E_RANGE && t == NULL);
+        CHECK_STR_HAS(e.msg, "welcome.scenarios[0].sustained_ms");
+    }
+    m.u.welcome.n_scenarios = 0;
+    m.u.welcome.scenarios = NULL;
     /* The encoder refuses a box the decoder would reject. */
     ctl_obstacle flat = { { 0.0f, 0.0f, 5.0f }, { 1.0f, 1.0f, 3.0f } };
     m.u.welcome.n_obstacles = 1;
@@ -228,7 +281,7 @@ static void test_errors(void)
     BAD("{\"type\":3}", WIRE_CLOSE_UNKNOWN_TYPE,
         "ctl: type: wrong type: expected a string, got a number");
     BAD("{\"type\":\"launch\"}", WIRE_CLOSE_UNKNOWN_TYPE,
-        "ctl: type: expected one of hello|view|wind|resync|ping|welcome|pong|error|wall_*, got \"launch\"");
+        "ctl: type: expected one of hello|view|wind|resync|ping|welcome|pong|error|wall_*|reset, got \"launch\"");
     BAD("{\"type\":\"hello\",\"protocol\":2,\"role\":\"viewer\"}", WIRE_CLOSE_VERSION,
         "ctl: hello.protocol: expected 1, got 2");
     BAD("{\"type\":\"hello\",\"protocol\":\"1\",\"role\":\"viewer\"}", WIRE_CLOSE_BAD_FIELD,
@@ -251,6 +304,11 @@ static void test_errors(void)
         "\"fov_deg\":60,\"far_m\":10}}",
         WIRE_CLOSE_BAD_FIELD, "ctl: view.view.dir: expected a nonzero vector, got [0, 0, 0]");
     BAD("{\"type\":\"view\"}", WIRE_CLOSE_BAD_FIELD, "ctl: view.view: missing: expected an object");
+    BAD("{\"type\":\"reset\"}", WIRE_CLOSE_BAD_FIELD, "ctl: reset.token: missing: expected a string");
+    BAD("{\"type\":\"reset\",\"token\":\"t\",\"hard\":true}", WIRE_CLOSE_BAD_FIELD,
+        "ctl: reset: unknown key \"hard\"");
+    BAD("{\"type\":\"wind\",\"token\":\"t\",\"replay_paused\":1}", WIRE_CLOSE_BAD_FIELD,
+        "ctl: wind.replay_paused: ");
     BAD("{\"type\":\"wind\",\"speed_ms\":10}", WIRE_CLOSE_BAD_FIELD,
         "ctl: wind.token: missing: expected a string");
     BAD("{\"type\":\"wind\",\"token\":\"t\",\"speed_ms\":1e999}", WIRE_CLOSE_BAD_FIELD,
@@ -288,6 +346,23 @@ static void test_errors(void)
         "ctl: welcome.obstacles[0][5]: expected |value| <= 1e6, got 2000000");
     BAD(WEL_HEAD ",\"obstacles\":[[0,0,0,1,1,1],[3,0,0,2,1,1]]}", WIRE_CLOSE_BAD_FIELD,
         "ctl: welcome.obstacles[1]: expected min <= max on axis x, got 3 > 2");
+    /* Scenarios: wrong type, a bad kind, an empty name, a control byte, a wind too strong. */
+    BAD(WEL_HEAD ",\"scenarios\":{}}", WIRE_CLOSE_BAD_FIELD,
+        "ctl: welcome.scenarios: wrong type: expected an array, got an object");
+    BAD(WEL_HEAD ",\"scenarios\":[{\"name\":\"a\",\"title\":\"A\",\"kind\":\"loop\","
+        "\"sustained_ms\":0}]}", WIRE_CLOSE_BAD_FIELD,
+        "ctl: welcome.scenarios[0].kind: expected one of steady|replay, got \"loop\"");
+    BAD(WEL_HEAD ",\"scenarios\":[{\"name\":\"\",\"title\":\"A\",\"kind\":\"steady\","
+        "\"sustained_ms\":0}]}", WIRE_CLOSE_BAD_FIELD,
+        "ctl: welcome.scenarios[0].name: expected a non-empty string, got \"\"");
+    BAD(WEL_HEAD ",\"scenarios\":[{\"name\":\"a\",\"title\":\"A\\u0007\",\"kind\":\"steady\","
+        "\"sustained_ms\":0}]}", WIRE_CLOSE_BAD_FIELD,
+        "ctl: welcome.scenarios[0].title: expected printable text, got byte 0x07");
+    BAD(WEL_HEAD ",\"scenarios\":[{\"name\":\"a\",\"title\":\"A\",\"kind\":\"steady\","
+        "\"sustained_ms\":120}]}", WIRE_CLOSE_BAD_FIELD,
+        "ctl: welcome.scenarios[0].sustained_ms: expected a number in [0, 100], got 120");
+    BAD(WEL_HEAD ",\"scenarios\":[{\"name\":\"a\",\"title\":\"A\",\"kind\":\"steady\"}]}",
+        WIRE_CLOSE_BAD_FIELD, "ctl: welcome.scenarios[0].sustained_ms: missing");
     {
         /* WIRE_MAX_OBSTACLES + 1 boxes. */
         size_t cap = sizeof WEL_HEAD + 32 + (WIRE_MAX_OBSTACLES + 1) * 16;
@@ -396,10 +471,14 @@ static void fill_view(ctl_view *v)
 
 /* A random message of a random type, often with a value a decoder rejects. Arrays point
  * into the caller's storage. */
-static void fill_msg(ctl_msg *m, ctl_species *sp, ctl_instance *in, ctl_obstacle *ob)
+static void fill_msg(ctl_msg *m, ctl_species *sp, ctl_instance *in, ctl_obstacle *ob,
+                     ctl_scenario_info *sc)
 {
     memset(m, 0, sizeof *m);
-    m->type = 1 + (int)rnd(8);
+    m->type = 1 + (int)rnd(9);
+    if (m->type == 9) {
+        m->type = CTL_RESET;
+    }
     static const uint64_t us[] = { 0, 1, 9007199254740992ull, 9007199254740993ull,
                                    9007199254740994ull, UINT64_MAX, 123456789 };
     switch (m->type) {
@@ -422,6 +501,11 @@ static void fill_msg(ctl_msg *m, ctl_species *sp, ctl_instance *in, ctl_obstacle
         m->u.wind.gust = rnd(2) ? (float)rnd(100) / 80.0f : edge_float();
         m->u.wind.has_scenario = rnd(2);
         fill_str(m->u.wind.scenario, sizeof m->u.wind.scenario);
+        m->u.wind.has_replay_paused = rnd(2);
+        m->u.wind.replay_paused = rnd(2);
+        break;
+    case CTL_RESET:
+        fill_str(m->u.reset.token, sizeof m->u.reset.token);
         break;
     case CTL_RESYNC:
         m->u.resync_seq = rnd(2) ? UINT32_MAX : rnd(1000);
@@ -468,6 +552,14 @@ static void fill_msg(ctl_msg *m, ctl_species *sp, ctl_instance *in, ctl_obstacle
                 ob[i].max[k] = rnd(2) ? ob[i].min[k] + (float)rnd(10) : edge_float();
             }
         }
+        w->n_scenarios = rnd(3);
+        w->scenarios = sc;
+        for (uint32_t i = 0; i < 2; i++) {
+            fill_str(sc[i].name, sizeof sc[i].name);
+            fill_str(sc[i].title, sizeof sc[i].title);
+            sc[i].kind = (int)rnd(3);
+            sc[i].sustained_ms = rnd(2) ? (float)rnd(100) : edge_float();
+        }
         break;
     }
     }
@@ -484,8 +576,9 @@ static void test_encode_self_check(void)
         ctl_species sp[3];
         ctl_instance in[3];
         ctl_obstacle ob[2];
+        ctl_scenario_info sc[2];
         ctl_msg m;
-        fill_msg(&m, sp, in, ob);
+        fill_msg(&m, sp, in, ob, sc);
         char *s = NULL;
         size_t n = 0;
         gale_err e = { 0 };

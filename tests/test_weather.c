@@ -112,7 +112,7 @@ static void test_ranges(void)
         { "dir_from_deg", 8, { 0x00, 0x00, 0xb4, 0x43 }, 4 }, /* 360 */
         { "ss_class", 12, { 7 }, 1 },
         { "beaufort", 13, { 13 }, 1 },
-        { "flags", 14, { 0x19 }, 1 },
+        { "flags", 14, { 0x29 }, 1 },
         { "storm_class", 15, { 9 }, 1 },
         { "pressure_hpa", 16, { 0, 0, 0, 0 }, 4 },
         { "central_hpa", 20, { 0, 0, 0, 0 }, 4 },

@@ -26,6 +26,7 @@ static bool same_msg(const ctl_msg *a, const ctl_msg *b)
     case CTL_PING:
     case CTL_PONG:
     case CTL_ERROR:
+    case CTL_RESET:
         return memcmp(a, b, sizeof *a) == 0;
     case CTL_WELCOME: {
         const ctl_welcome *x = &a->u.welcome, *y = &b->u.welcome;
@@ -39,7 +40,10 @@ static bool same_msg(const ctl_msg *a, const ctl_msg *b)
                (!x->n_instances ||
                 !memcmp(x->instances, y->instances, x->n_instances * sizeof *x->instances)) &&
                (!x->n_obstacles ||
-                !memcmp(x->obstacles, y->obstacles, x->n_obstacles * sizeof *x->obstacles));
+                !memcmp(x->obstacles, y->obstacles, x->n_obstacles * sizeof *x->obstacles)) &&
+               x->n_scenarios == y->n_scenarios &&
+               (!x->n_scenarios ||
+                !memcmp(x->scenarios, y->scenarios, x->n_scenarios * sizeof *x->scenarios));
     }
     default:
         return true; /* other types: the byte comparison of their encodings below */
