@@ -87,16 +87,11 @@ void client_kiosk_draw_camera_button(client *c, int fb_w, int fb_h)
 
 void client_kiosk_on_welcome(client *c, const ctl_welcome *w)
 {
-#ifdef TMP_PROTO
     int n = (int)w->n_scenarios;
     for (int i = 0; i < n && i < KIOSK_UI_MAX_SCENARIOS; i++) {
         const ctl_scenario_info *s = &w->scenarios[i];
         kiosk_ui_set_scenario(&c->kiosk, i, s->name, s->title, s->kind == CTL_SCENARIO_REPLAY);
     }
-#else
-    (void)w;
-    int n = 0;
-#endif
     kiosk_ui_set_scenario_count(&c->kiosk, n);
     if (c->have_wx) {
         kiosk_ui_set_weather(&c->kiosk, &c->wx);

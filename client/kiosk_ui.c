@@ -8,10 +8,6 @@
 
 #include "wind_scale.h"
 
-#ifndef WIRE_WEATHER_PAUSED
-#define WIRE_WEATHER_PAUSED 0x10 /* PROTOCOL.md "WEATHER" flags bit 4 */
-#endif
-
 /* Layout [fraction of the framebuffer height] */
 #define MARGIN     0.02f
 #define GAP        0.012f

@@ -13,7 +13,7 @@
 
 #include "wire.h"
 
-#define KIOSK_UI_MAX_SCENARIOS 32 /* WIRE_MAX_SCENARIOS: a welcome lists at most this many */
+#define KIOSK_UI_MAX_SCENARIOS ((int)WIRE_MAX_SCENARIOS) /* a welcome lists at most these */
 #define KIOSK_UI_NAME_CHARS    64
 #define KIOSK_UI_MAX_CONTROLS  (KIOSK_UI_MAX_SCENARIOS + 12)
 

@@ -60,10 +60,8 @@ int kiosk_ui_message(kiosk_ui *ui, const kiosk_ui_action *a, const char *token, 
         snprintf(w->scenario, sizeof w->scenario, "%s", ui->scen[a->index].name);
         return 0;
     case KIOSK_UI_ACT_PAUSE:
-#ifdef TMP_PROTO
         w->has_replay_paused = true;
         w->replay_paused = a->value != 0.0f;
-#endif
         return 0;
     case KIOSK_UI_ACT_SEEK:
         w->has_replay_at = true;
@@ -75,11 +73,9 @@ int kiosk_ui_message(kiosk_ui *ui, const kiosk_ui_action *a, const char *token, 
         return 0;
     case KIOSK_UI_ACT_RESET:
         kiosk_ui_forget_dial(ui);
-#ifdef TMP_PROTO
         memset(m, 0, sizeof *m);
         m->type = CTL_RESET;
         snprintf(m->u.reset.token, sizeof m->u.reset.token, "%s", token ? token : "");
-#endif
         return 0;
     default:
         return 1;

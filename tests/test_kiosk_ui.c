@@ -293,9 +293,14 @@ static void test_buttons(void)
     centre(&ui, KIOSK_UI_PLAY, 0, &x, &y);
     tap(&ui, x, y, &a);
     CHECK(a.act == KIOSK_UI_ACT_PAUSE && a.value == 1.0f); /* playing: the button pauses */
+    m = sent(&ui, &a);
+    CHECK(m.type == CTL_WIND && m.u.wind.has_replay_paused && m.u.wind.replay_paused);
+    CHECK(!m.u.wind.has_replay_at && !m.u.wind.has_replay_speed && !m.u.wind.has_speed);
     centre(&ui, KIOSK_UI_RESET, 0, &x, &y);
     tap(&ui, x, y, &a);
     CHECK(a.act == KIOSK_UI_ACT_RESET);
+    m = sent(&ui, &a);
+    CHECK(m.type == CTL_RESET && strcmp(m.u.reset.token, "tok") == 0);
     /* pressed state: lit while down; let go elsewhere, nothing happens */
     CHECK(!kiosk_ui_touch(&ui, KIOSK_UI_DOWN, x, y, &a));
     CHECK(ui.pressed == kiosk_ui_find(&ui, KIOSK_UI_RESET, 0));
@@ -303,7 +308,7 @@ static void test_buttons(void)
     CHECK(ui.pressed == -1);
     /* what the HUD text says */
     wire_weather w = { .sustained_ms = 57.0f, .dir_from_deg = 270.0f, .replay_speed = 10.0f,
-                       .flags = WIRE_WEATHER_STORM | 0x10 };
+                       .flags = WIRE_WEATHER_STORM | WIRE_WEATHER_PAUSED };
     snprintf(w.name, sizeof w.name, "Andrew 1992");
     kiosk_ui_set_weather(&ui, &w);
     CHECK(ui.paused);
@@ -317,6 +322,8 @@ static void test_buttons(void)
     centre(&ui, KIOSK_UI_PLAY, 0, &x, &y);
     tap(&ui, x, y, &a);
     CHECK(a.act == KIOSK_UI_ACT_PAUSE && a.value == 0.0f);
+    m = sent(&ui, &a);
+    CHECK(m.u.wind.has_replay_paused && !m.u.wind.replay_paused);
     /* without a replay: no replay controls, reset stays */
     w.flags = 0;
     kiosk_ui_set_weather(&ui, &w);

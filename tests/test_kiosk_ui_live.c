@@ -7,8 +7,10 @@
  * - the compass (wind from the east) and a drag on the dial set the direction and the
  *   dialled speed; the panel's HUD line names them;
  * - during a replay, ×10 and "Go to landfall" change the replay's speed and position;
- *   pause sends replay_paused and reset a reset message (PROTOCOL.md "wind", "reset");
- * - a scenario button, when the welcome lists scenarios, restarts that scenario. */
+ * - pause sends replay_paused and reset a reset message (PROTOCOL.md "wind", "reset"); a
+ *   server whose welcome lists scenarios holds the storm clock and goes back to the
+ *   scene's first scenario from its start;
+ * - a scenario button, when the welcome lists scenarios, switches to that scenario. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -45,13 +47,11 @@ static int panel(kiosk_ui *ui)
     if (rc != 0 || w.type != CTL_WELCOME) {
         return -1;
     }
-#ifdef TMP_PROTO
     for (uint32_t i = 0; i < w.u.welcome.n_scenarios && i < KIOSK_UI_MAX_SCENARIOS; i++) {
         const ctl_scenario_info *s = &w.u.welcome.scenarios[i];
         kiosk_ui_set_scenario(ui, (int)i, s->name, s->title, s->kind == CTL_SCENARIO_REPLAY);
     }
     kiosk_ui_set_scenario_count(ui, (int)w.u.welcome.n_scenarios);
-#endif
     ctl_msg_fini(&w);
     wire_weather x;
     if (!kf_reader_wait(&viewer, 10.0, NULL, 0, &x)) {
@@ -265,6 +265,110 @@ static void test_replay_controls(void)
     CHECK_STR_HAS(line, "last touch Go to landfall");
 }
 
+/* Waits for the kiosk to have logged n messages as sent; how many it did. */
+static int wait_sent(const kiosk_run *k, ctl_msg *m, int max, int n, double timeout_s)
+{
+    int got = 0;
+    double until = mono_s() + timeout_s;
+    while ((got = sent(k, m, max)) < n && mono_s() < until) {
+        usleep(100000);
+    }
+    return got;
+}
+
+static bool paused(const wire_weather *w, double unused)
+{
+    (void)unused;
+    return (w->flags & WIRE_WEATHER_PAUSED) != 0;
+}
+
+static bool restarted(const wire_weather *w, double unused)
+{
+    (void)unused;
+    return (w->flags & WIRE_WEATHER_STORM) && !(w->flags & WIRE_WEATHER_PAUSED) &&
+           w->storm_min < -40.0f;
+}
+
+/* Pause, then (another visitor) reset: the messages, and where the server knows them
+ * (its welcome lists the scenarios it can switch to) what it did with them. */
+static void test_pause_and_reset(void)
+{
+    kiosk_ui ui;
+    CHECK(panel(&ui) == 0);
+    const bool server_knows = ui.n_scen > 0;
+    char spec[512] = "";
+    add_wait(spec, sizeof spec, 2);
+    tap_control(spec, sizeof spec, &ui, KIOSK_UI_PLAY, 0);
+    kiosk_run k;
+    CHECK(start_kiosk(&k, "pause", spec) == 0);
+    ctl_msg m[4];
+    CHECK(wait_sent(&k, m, 4, 1, 120.0) == 1);
+    CHECK(m[0].type == CTL_WIND && m[0].u.wind.has_replay_paused && m[0].u.wind.replay_paused);
+    wire_weather w, w2;
+    if (server_knows) {
+        CHECK(kf_reader_wait(&viewer, 20.0, paused, 0, &w));
+        usleep(1000000);
+        CHECK(kf_reader_wait(&viewer, 1.0, paused, 0, &w2));
+        CHECK_NEAR(w2.storm_min, w.storm_min, 0.01); /* the storm's clock holds */
+        usleep(1000000); /* the kiosk's panel reads it */
+    }
+    char line[512];
+    stop_kiosk(&k, line, sizeof line);
+    CHECK_STR_HAS(line, "last touch Pause");
+    if (server_knows) {
+        CHECK_STR_HAS(line, "paused");
+    }
+    /* the storm is past landfall now (test_replay_controls jumped there) */
+    spec[0] = '\0';
+    add_wait(spec, sizeof spec, 2);
+    tap_control(spec, sizeof spec, &ui, KIOSK_UI_RESET, 0);
+    CHECK(start_kiosk(&k, "reset", spec) == 0);
+    CHECK(wait_sent(&k, m, 4, 1, 120.0) == 1);
+    CHECK(m[0].type == CTL_RESET && strcmp(m[0].u.reset.token, KIOSK_TOKEN) == 0);
+    if (server_knows) {
+        /* back to the scene's first scenario from its start (minute -60), running */
+        CHECK(kf_reader_wait(&viewer, 20.0, restarted, 0, &w));
+    }
+    stop_kiosk(&k, line, sizeof line);
+    CHECK_STR_HAS(line, "last touch Reset");
+}
+
+static bool named(const wire_weather *w, double unused)
+{
+    (void)unused;
+    return strcmp(w->name, "Charley 2004") == 0;
+}
+
+/* A scenario button (when the welcome lists them): the server switches to it. */
+static void test_scenario_button(void)
+{
+    kiosk_ui ui;
+    CHECK(panel(&ui) == 0);
+    int charley = -1;
+    for (int i = 0; i < ui.n_scen; i++) {
+        charley = strcmp(ui.scen[i].name, "charley2004") == 0 ? i : charley;
+    }
+    if (charley < 0) {
+        fprintf(stderr, "  the server lists no scenario charley2004 (%d listed): skipped\n",
+                ui.n_scen);
+        return;
+    }
+    char spec[256] = "";
+    add_wait(spec, sizeof spec, 2);
+    tap_control(spec, sizeof spec, &ui, KIOSK_UI_SCENARIO, charley);
+    kiosk_run k;
+    CHECK(start_kiosk(&k, "scenario", spec) == 0);
+    ctl_msg m[4];
+    CHECK(wait_sent(&k, m, 4, 1, 120.0) == 1);
+    CHECK(m[0].u.wind.has_scenario && strcmp(m[0].u.wind.scenario, "charley2004") == 0);
+    wire_weather w;
+    CHECK(kf_reader_wait(&viewer, 30.0, named, 0, &w));
+    usleep(1500000);
+    char line[512];
+    stop_kiosk(&k, line, sizeof line);
+    CHECK_STR_HAS(line, "running Charley 2004");
+}
+
 int main(void)
 {
     if (!getenv("DISPLAY")) {
@@ -287,6 +391,8 @@ int main(void)
         return 1;
     }
     RUN(test_replay_controls);
+    RUN(test_pause_and_reset);
+    RUN(test_scenario_button);
     kf_reader_stop(&viewer);
     kf_stop_server();
     return check_report();
