@@ -20,7 +20,7 @@
 #define HEAD2_H    0.032f /* the replay row's headings */
 #define TAB_W      0.22f
 #define TAB_H      0.045f
-#define SCEN_MIN_W 0.14f
+#define SCEN_MIN_W 0.13f /* two lines of "Category 1 (steady)" fit */
 #define SCEN_MAX_W 0.30f
 
 static const float speed_x[KIOSK_UI_SPEEDS] = { 1.0f, 10.0f, 50.0f };

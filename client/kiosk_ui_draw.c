@@ -6,6 +6,8 @@
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 static const float band_rgb[KIOSK_UI_BANDS][3] = {
     { 0.62f, 0.82f, 0.95f }, /* calm */
@@ -192,15 +194,38 @@ static void draw_button(hud *h, const kiosk_ui *ui, const kiosk_ui_control *k, b
     if (k->kind == KIOSK_UI_PLAY) {
         icon = 0.42f * bh;
     }
+    const float room = bw - 0.25f * bh - icon;
     float px = 0.40f * bh, w1 = hud_batch_text_width(h, label, 1.0f);
-    if (w1 > 0.0f && px * w1 > bw - 0.25f * bh - icon) {
-        px = (bw - 0.25f * bh - icon) / w1; /* a long title shrinks to fit its button */
-    }
-    float tw = px * w1, x = 0.5f * (r->x0 + r->x1 + icon - tw) + d;
-    float base = 0.5f * (r->y0 + r->y1) + 0.35f * px + d;
     const float *col = selected && !pressed ? dark_ink : ink;
+    const float cx = 0.5f * (r->x0 + r->x1 + icon) + d, cy = 0.5f * (r->y0 + r->y1) + d;
+    char *cut = NULL;
+    if (w1 > 0.0f && px * w1 > room) {
+        px = room / w1; /* a long title shrinks to fit its button */
+        /* much smaller than the rest: two lines, split at the space nearest the middle */
+        size_t len = strlen(label);
+        for (char *p = label; *p; p++) {
+            if (*p == ' ' && (!cut || labs((long)(p - label) * 2 - (long)len) <
+                                          labs((long)(cut - label) * 2 - (long)len))) {
+                cut = p;
+            }
+        }
+        if (px >= 0.30f * bh) {
+            cut = NULL;
+        }
+    }
+    if (cut) {
+        *cut = '\0';
+        const char *l2 = cut + 1;
+        float w2 = fmaxf(hud_batch_text_width(h, label, 1.0f), hud_batch_text_width(h, l2, 1.0f));
+        float p2 = fminf(0.32f * bh, w2 > 0.0f ? room / w2 : 0.32f * bh);
+        text(h, cx, cy - 0.12f * p2, p2, label, col, 0);
+        text(h, cx, cy + 0.95f * p2, p2, l2, col, 0);
+        return;
+    }
+    float tw = px * w1, x = cx - 0.5f * tw;
+    float base = cy + 0.35f * px;
     if (k->kind == KIOSK_UI_PLAY) {
-        float ix = x - icon, iy = 0.5f * (r->y0 + r->y1) + d, s = 0.16f * bh;
+        float ix = x - icon, iy = cy, s = 0.16f * bh;
         if (ui->paused) {
             const float tri[6] = { ix, iy - s, ix, iy + s, ix + 1.6f * s, iy };
             hud_batch_tri(h, tri, col);

@@ -99,15 +99,14 @@ static void draw_at(int W, int H)
         stbi_write_png(path, W, H, 3, img, W * 3);
     }
 
-    /* a button's fill, just inside its left edge, away from its text */
+    /* a button's fill, just under its top edge, above its text */
     const kiosk_ui_rect *run = &ui.c[kiosk_ui_find(&ui, KIOSK_UI_SCENARIO, 8)].r;
     const kiosk_ui_rect *other = &ui.c[kiosk_ui_find(&ui, KIOSK_UI_SCENARIO, 1)].r;
     const kiosk_ui_rect *pressed = &ui.c[kiosk_ui_find(&ui, KIOSK_UI_SCENARIO, 0)].r;
-    float fx = 0.08f * (run->x1 - run->x0), fy = 0.5f * (run->y1 - run->y0);
+    float fx = 0.5f * (run->x1 - run->x0), fy = 0.12f * (run->y1 - run->y0);
     const uint8_t *pr = px_at(img, W, run->x0 + fx, run->y0 + fy);
     const uint8_t *po = px_at(img, W, other->x0 + fx, other->y0 + fy);
-    const uint8_t *pp = px_at(img, W, pressed->x0 + fx + 0.05f * H * 0.062f,
-                              pressed->y0 + fy);
+    const uint8_t *pp = px_at(img, W, pressed->x0 + fx, pressed->y0 + fy + 0.003f * H);
     CHECK(pr[0] > 220 && pr[1] > 160 && pr[2] < 120); /* the running one: accent */
     CHECK(po[0] < 70 && po[1] < 70 && po[2] < 90);    /* the others: dark */
     CHECK(pp[0] > po[0] + 30 && pp[2] > po[2] + 30);  /* pressed: lighter */
