@@ -300,7 +300,14 @@ static void drag(kiosk_ui *ui, const kiosk_ui_control *k, float x, float y, kios
 {
     float d;
     if (k->kind == KIOSK_UI_DIAL) {
-        ui->drag_ms = kiosk_ui_dial_speed(polar(ui->dial_cx, ui->dial_cy, x, y, &d));
+        float ang = polar(ui->dial_cx, ui->dial_cy, x, y, &d);
+        if (fabsf(ang) > 0.5f * KIOSK_UI_DIAL_SWEEP_RAD && a->dragging) {
+            /* in the gap below the dial: stay at the end the finger came from, so crossing
+             * the bottom does not flip calm and Category 5 */
+            ang = ui->drag_ms > 0.5f * KIOSK_UI_DIAL_MAX_MS ? KIOSK_UI_DIAL_SWEEP_RAD
+                                                             : -KIOSK_UI_DIAL_SWEEP_RAD;
+        }
+        ui->drag_ms = kiosk_ui_dial_speed(ang);
         a->act = KIOSK_UI_ACT_SPEED;
         a->value = ui->drag_ms;
     } else {
@@ -336,8 +343,8 @@ bool kiosk_ui_touch(kiosk_ui *ui, int phase, float x, float y, kiosk_ui_action *
     bool dragged = k.kind == KIOSK_UI_DIAL || k.kind == KIOSK_UI_COMPASS;
     if (phase == KIOSK_UI_MOVE) {
         if (dragged) {
-            drag(ui, &k, x, y, a);
             a->dragging = true;
+            drag(ui, &k, x, y, a);
             return true;
         }
         return false;
@@ -345,7 +352,9 @@ bool kiosk_ui_touch(kiosk_ui *ui, int phase, float x, float y, kiosk_ui_action *
     /* KIOSK_UI_UP */
     ui->pressed = -1;
     if (dragged) {
+        a->dragging = true; /* (for the gap below the dial) */
         drag(ui, &k, x, y, a);
+        a->dragging = false;
     } else if (in_rect(&k.r, x, y)) { /* a button acts when let go on it */
         switch (k.kind) {
         case KIOSK_UI_SCENARIO:

@@ -229,6 +229,15 @@ static void test_dial_touch(void)
     CHECK(kiosk_ui_touch(&ui, KIOSK_UI_UP, x + 300.0f, y, &a) && !a.dragging);
     CHECK(a.act == KIOSK_UI_ACT_SPEED && a.value > 62.0f);
     CHECK(!kiosk_ui_busy(&ui));
+    /* crossing the gap under the dial keeps the end the finger came from */
+    kiosk_ui_dial_point(&ui, 80.0f, &x, &y);
+    kiosk_ui_touch(&ui, KIOSK_UI_DOWN, x, y, &a);
+    kiosk_ui_touch(&ui, KIOSK_UI_MOVE, ui.dial_cx + 5.0f, ui.dial_cy + 150.0f, &a);
+    CHECK_NEAR(a.value, KIOSK_UI_DIAL_MAX_MS, 1e-3);
+    kiosk_ui_touch(&ui, KIOSK_UI_MOVE, ui.dial_cx - 5.0f, ui.dial_cy + 150.0f, &a);
+    CHECK_NEAR(a.value, KIOSK_UI_DIAL_MAX_MS, 1e-3);
+    kiosk_ui_touch(&ui, KIOSK_UI_UP, ui.dial_cx - 5.0f, ui.dial_cy + 150.0f, &a);
+    CHECK_NEAR(a.value, KIOSK_UI_DIAL_MAX_MS, 1e-3);
     /* the centre of the dial and a miss are not the dial */
     CHECK(!kiosk_ui_touch(&ui, KIOSK_UI_DOWN, ui.dial_cx, ui.dial_cy, &a));
     kiosk_ui_touch(&ui, KIOSK_UI_UP, ui.dial_cx, ui.dial_cy, &a);
