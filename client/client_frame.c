@@ -81,7 +81,8 @@ int client_frame_draw(client *c, double now, gale_err *err)
     };
     /* a kiosk's panel along the bottom edge: captions go above it */
     float cap_y = 0.92f * (float)fb_h - 24.0f;
-    if (c->hud_on && c->a.role == CTL_ROLE_KIOSK) {
+    if (c->hud_on && c->a.role == CTL_ROLE_KIOSK && !c->attract.active) {
+        /* (attract mode tours the trees with the whole screen; a touch brings it back) */
         client_kiosk_draw_panel(c, fb_w, fb_h);
         /* over the panel's tab (kiosk_ui.c: 0.05 of the height) with a line to spare */
         cap_y = fminf(cap_y, c->kiosk.panel_y0 - 0.055f * (float)fb_h - 2.4f * c->hud_px);
