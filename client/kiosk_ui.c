@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "hud.h"
 #include "wind_scale.h"
 
 /* Layout [fraction of the framebuffer height] */
@@ -462,21 +463,13 @@ void kiosk_ui_label(const kiosk_ui *ui, const kiosk_ui_control *k, char *buf, un
     }
 }
 
-static const char *compass16(float deg)
-{
-    static const char *const pts[16] = { "N", "NNE", "NE", "ENE", "E", "ESE", "SE", "SSE",
-                                         "S", "SSW", "SW", "WSW", "W", "WNW", "NW", "NNW" };
-    float b = fmodf(fmodf(deg, 360.0f) + 360.0f, 360.0f);
-    return pts[(int)floorf(b / 22.5f + 0.5f) % 16];
-}
-
 void kiosk_ui_describe(const kiosk_ui *ui, char *buf, unsigned cap)
 {
     char wind[96], run[96] = "", rep[64] = "", last[80] = "";
     bool dial = ui->pressed >= 0 && ui->c[ui->pressed].kind == KIOSK_UI_DIAL;
     float v = dial ? ui->drag_ms : ui->wind_ms;
     snprintf(wind, sizeof wind, "%s %.0f m/s (%s) from %s", dial ? "dialling" : "wind",
-             (double)v, kiosk_ui_band_label(kiosk_ui_band(v)), compass16(ui->dir_from_deg));
+             (double)v, kiosk_ui_band_label(kiosk_ui_band(v)), hud_compass_point(ui->dir_from_deg));
     if (ui->running >= 0) {
         snprintf(run, sizeof run, " \xC2\xB7 running %s", ui->scen[ui->running].title);
     }

@@ -166,10 +166,7 @@ static void draw_compass(hud *h, const kiosk_ui *ui, bool dragging)
              0.024f * H, pts[i], ink, 0);
     }
     char title[48];
-    static const char *const pts16[16] = { "N", "NNE", "NE", "ENE", "E", "ESE", "SE", "SSE",
-                                           "S", "SSW", "SW", "WSW", "W", "WNW", "NW", "NNW" };
-    float b = fmodf(fmodf(from, 360.0f) + 360.0f, 360.0f);
-    snprintf(title, sizeof title, "Wind from %s", pts16[(int)floorf(b / 22.5f + 0.5f) % 16]);
+    snprintf(title, sizeof title, "Wind from %s", hud_compass_point(from));
     text(h, cx, cy - r - 0.018f * H, 0.023f * H, title, dragging ? accent : ink, 0);
 }
 
