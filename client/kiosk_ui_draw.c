@@ -26,8 +26,8 @@ static const float dim_ink[4] = { 0.80f, 0.82f, 0.84f, 1.0f };
 static const float accent[4] = { 1.0f, 0.80f, 0.30f, 1.0f };
 static const float dark_ink[4] = { 0.08f, 0.08f, 0.10f, 1.0f };
 static const float panel_rgba[4] = { 0.04f, 0.06f, 0.09f, 0.62f };
-static const float button_rgba[4] = { 0.10f, 0.13f, 0.18f, 0.88f };
-static const float pressed_rgba[4] = { 0.35f, 0.42f, 0.52f, 0.95f };
+static const float button_rgba[4] = { 0.10f, 0.13f, 0.18f, 1.0f };
+static const float pressed_rgba[4] = { 0.35f, 0.42f, 0.52f, 1.0f };
 
 /* Text; align -1 left, 0 centre, 1 right of x. No shadow: the panel under it is dark
  * (and every glyph less keeps the panel cheap on a software rasteriser). */
@@ -177,14 +177,13 @@ static void draw_button(hud *h, const kiosk_ui *ui, const kiosk_ui_control *k, b
 {
     const kiosk_ui_rect *r = &k->r;
     const float bh = r->y1 - r->y0, bw = r->x1 - r->x0, t = fmaxf(2.0f, floorf(0.045f * bh));
-    const float edge[4] = { 1.0f, 0.80f, 0.30f, selected ? 1.0f : 0.55f };
+    const float edge[4] = { selected ? 1.0f : 0.62f, selected ? 0.80f : 0.52f,
+                            selected ? 0.30f : 0.25f, 1.0f };
     float d = pressed ? fmaxf(1.0f, floorf(0.04f * bh)) : 0.0f; /* pressed: sinks a little */
-    hud_batch_rect(h, r->x0 + d, r->y0 + d, r->x1 + d, r->y1 + d,
+    /* the edge, and the face inside it (opaque, so two rectangles draw both) */
+    hud_batch_rect(h, r->x0 + d, r->y0 + d, r->x1 + d, r->y1 + d, edge);
+    hud_batch_rect(h, r->x0 + d + t, r->y0 + d + t, r->x1 + d - t, r->y1 + d - t,
                    pressed ? pressed_rgba : selected ? accent : button_rgba);
-    hud_batch_rect(h, r->x0 + d, r->y0 + d, r->x1 + d, r->y0 + d + t, edge);
-    hud_batch_rect(h, r->x0 + d, r->y1 + d - t, r->x1 + d, r->y1 + d, edge);
-    hud_batch_rect(h, r->x0 + d, r->y0 + d, r->x0 + d + t, r->y1 + d, edge);
-    hud_batch_rect(h, r->x1 + d - t, r->y0 + d, r->x1 + d, r->y1 + d, edge);
     char label[KIOSK_UI_NAME_CHARS];
     kiosk_ui_label(ui, k, label, sizeof label);
     float icon = 0.0f; /* room for the play / pause sign */
