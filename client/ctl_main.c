@@ -1,6 +1,7 @@
 /* gale-ctl: one kiosk command from a script (exhibit scripts, tests): connects to
- * gale-server as a kiosk with the token, sends one wind command (PROTOCOL.md "wind":
- * dial, release, scenario, replay) and reports whether the server took it. */
+ * gale-server as a kiosk with the token, sends one command (PROTOCOL.md "wind": dial,
+ * release, scenario, replay; "reset") and reports whether the server took it; or prints
+ * the scenarios the server offers (its welcome's list). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -19,11 +20,18 @@ static void usage(FILE *f)
             "                                   and/or the direction it comes FROM\n"
             "                                   (degrees clockwise from north)\n"
             "  release                          drop the dial: the scenario's wind resumes\n"
-            "  scenario NAME                    restart the server's scenario (NAME as it is\n"
-            "                                   called, e.g. andrew1992; \"\" = release)\n"
-            "  replay [--at landfall|MIN] [--speed X]\n"
+            "  scenario NAME                    run the server's scenario NAME from its start\n"
+            "                                   (one of `gale-ctl scenarios`, e.g. andrew1992;\n"
+            "                                   \"\" = back to the scene's playlist)\n"
+            "  replay [--at landfall|MIN] [--speed X] [--pause | --play]\n"
             "                                   jump a storm replay to landfall (storm minute\n"
-            "                                   0) or minute MIN, and/or run it X times real time\n"
+            "                                   0) or minute MIN, run it X times real time,\n"
+            "                                   hold its storm clock or run it again\n"
+            "  reset                            heal the forest, drop the dial, back to the\n"
+            "                                   playlist's first scenario from its start\n"
+            "  scenarios                        print the scenarios the server offers, one a\n"
+            "                                   line: name, kind, mean wind [m/s], title\n"
+            "                                   (needs no token)\n"
             "options:\n"
             "  --url ws://HOST:PORT  the server (required)\n"
             "  --token-file F        the kiosk token: the file's first line\n"
@@ -66,17 +74,26 @@ static int number(const char *opt, const char *v, double lo, double hi, float *o
     return 0;
 }
 
-/* The command words after the options into *w; 0 or -1 with a message. */
-static int parse_command(int argc, char **argv, int i, ctl_wind *w)
+enum ctl_cmd { CMD_WIND, CMD_RESET, CMD_SCENARIOS };
+
+/* The command words after the options into *w (wind commands) and *cmd; 0 or -1 with a
+ * message. */
+static int parse_command(int argc, char **argv, int i, ctl_wind *w, int *cmd)
 {
     if (i >= argc) {
-        fprintf(stderr, "gale-ctl: expected a command: wind, release, scenario or replay\n");
+        fprintf(stderr, "gale-ctl: expected a command: wind, release, scenario, replay, reset "
+                        "or scenarios\n");
         return -1;
     }
-    const char *cmd = argv[i++];
-    if (!strcmp(cmd, "release")) {
+    const char *cmd_word = argv[i++];
+    *cmd = CMD_WIND;
+    if (!strcmp(cmd_word, "release")) {
         w->release = true;
-    } else if (!strcmp(cmd, "scenario")) {
+    } else if (!strcmp(cmd_word, "reset")) {
+        *cmd = CMD_RESET;
+    } else if (!strcmp(cmd_word, "scenarios")) {
+        *cmd = CMD_SCENARIOS;
+    } else if (!strcmp(cmd_word, "scenario")) {
         if (i >= argc || strlen(argv[i]) >= sizeof w->scenario) {
             fprintf(stderr, "gale-ctl: scenario: expected a NAME under %zu bytes\n",
                     sizeof w->scenario);
@@ -84,11 +101,12 @@ static int parse_command(int argc, char **argv, int i, ctl_wind *w)
         }
         w->has_scenario = true;
         snprintf(w->scenario, sizeof w->scenario, "%s", argv[i++]);
-    } else if (!strcmp(cmd, "wind") || !strcmp(cmd, "replay")) {
-        bool wind = !strcmp(cmd, "wind");
-        for (; i < argc; i += 2) {
+    } else if (!strcmp(cmd_word, "wind") || !strcmp(cmd_word, "replay")) {
+        bool wind = !strcmp(cmd_word, "wind");
+        while (i < argc) {
             const char *o = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
             float x;
+            i += 2; /* an option and its value; the flags below take one word back */
             if (wind && !strcmp(o, "--speed")) {
                 if (number(o, v, 0, 90, &w->speed_ms)) {
                     return -1;
@@ -113,18 +131,28 @@ static int parse_command(int argc, char **argv, int i, ctl_wind *w)
                     return -1;
                 }
                 w->has_replay_speed = true;
+            } else if (!wind && (!strcmp(o, "--pause") || !strcmp(o, "--play"))) {
+                if (w->has_replay_paused) {
+                    fprintf(stderr, "gale-ctl: replay: expected one of --pause and --play\n");
+                    return -1;
+                }
+                w->has_replay_paused = true;
+                w->replay_paused = !strcmp(o, "--pause");
+                i--;
             } else {
-                fprintf(stderr, "gale-ctl: %s: unknown option \"%s\" (see --help)\n", cmd, o);
+                fprintf(stderr, "gale-ctl: %s: unknown option \"%s\" (see --help)\n", cmd_word,
+                        o);
                 return -1;
             }
         }
-        if (wind ? !w->has_speed && !w->has_dir : !w->has_replay_at && !w->has_replay_speed) {
-            fprintf(stderr, "gale-ctl: %s: expected %s\n", cmd,
-                    wind ? "--speed and/or --dir" : "--at and/or --speed");
+        if (wind ? !w->has_speed && !w->has_dir
+                 : !w->has_replay_at && !w->has_replay_speed && !w->has_replay_paused) {
+            fprintf(stderr, "gale-ctl: %s: expected %s\n", cmd_word,
+                    wind ? "--speed and/or --dir" : "--at, --speed, --pause or --play");
             return -1;
         }
     } else {
-        fprintf(stderr, "gale-ctl: unknown command \"%s\" (see --help)\n", cmd);
+        fprintf(stderr, "gale-ctl: unknown command \"%s\" (see --help)\n", cmd_word);
         return -1;
     }
     if (i < argc) {
@@ -132,6 +160,38 @@ static int parse_command(int argc, char **argv, int i, ctl_wind *w)
         return -1;
     }
     return 0;
+}
+
+/* What gale-ctl keeps of the welcome (cli_net's on_welcome): the scenario list, printed
+ * for `scenarios`, and its names for a refused `scenario NAME`. */
+typedef struct ctl_seen {
+    bool print;      /* print the list (the scenarios command) */
+    bool welcomed;
+    char names[2300]; /* comma-separated: at most 32 names of 63 bytes */
+} ctl_seen;
+
+static void on_welcome(void *user, const ctl_welcome *w)
+{
+    ctl_seen *seen = user;
+    if (seen->welcomed) {
+        return;
+    }
+    seen->welcomed = true;
+    size_t at = 0;
+    for (uint32_t k = 0; k < w->n_scenarios; k++) {
+        const ctl_scenario_info *c = &w->scenarios[k];
+        if (seen->print) {
+            printf("%s\t%s\t%.1f\t%s\n", c->name,
+                   c->kind == CTL_SCENARIO_REPLAY ? "replay" : "steady", (double)c->sustained_ms,
+                   c->title);
+        }
+        int n = snprintf(seen->names + at, sizeof seen->names - at, "%s%s", k ? ", " : "",
+                         c->name);
+        if (n > 0 && (size_t)n < sizeof seen->names - at) {
+            at += (size_t)n;
+        }
+    }
+    fflush(stdout);
 }
 
 int main(int argc, char **argv)
@@ -172,23 +232,32 @@ int main(int argc, char **argv)
     }
     ctl_wind w;
     memset(&w, 0, sizeof w);
+    int cmd = CMD_WIND;
     if (!url) {
         fprintf(stderr, "gale-ctl: --url ws://HOST:PORT is required (see --help)\n");
         return 2;
     }
-    if (!token || !token[0]) {
+    if (parse_command(argc, argv, i, &w, &cmd)) {
+        return 2;
+    }
+    /* the list is in every welcome: without a token it is read as a viewer */
+    const bool kiosk = cmd != CMD_SCENARIOS || (token && token[0]);
+    if (kiosk && (!token || !token[0])) {
         fprintf(stderr, "gale-ctl: a kiosk token is required (--token-file F, --token T or "
                         "$GALE_KIOSK_TOKEN)\n");
         return 2;
     }
-    if (parse_command(argc, argv, i, &w)) {
-        return 2;
+    if (kiosk) {
+        snprintf(w.token, sizeof w.token, "%s", token);
     }
-    snprintf(w.token, sizeof w.token, "%s", token);
     w.keep = w.has_speed || w.has_dir; /* the dial stays after gale-ctl hangs up */
     gale_err err = { 0 };
-    cli_net *n = cli_net_create(&(cli_net_desc){ .url = url, .role = CTL_ROLE_KIOSK, .token = token },
-                                NULL, &err);
+    ctl_seen seen = { .print = cmd == CMD_SCENARIOS };
+    cli_net_handler h = { .user = &seen, .on_welcome = on_welcome };
+    cli_net *n = cli_net_create(&(cli_net_desc){ .url = url,
+                                                 .role = kiosk ? CTL_ROLE_KIOSK : CTL_ROLE_VIEWER,
+                                                 .token = kiosk ? token : NULL },
+                                &h, &err);
     if (!n) {
         fprintf(stderr, "gale-ctl: %s\n", err.msg);
         return err.code == GALE_E_ARG ? 2 : 1;
@@ -206,7 +275,14 @@ int main(int argc, char **argv)
                 st.last_error[0] ? st.last_error : "no welcome in time");
         goto done;
     }
-    if (cli_net_send_wind(n, &w, &err)) {
+    if (cmd == CMD_SCENARIOS) {
+        status = seen.welcomed ? 0 : 1;
+        goto done;
+    }
+    ctl_msg reset = { .type = CTL_RESET };
+    snprintf(reset.u.reset.token, sizeof reset.u.reset.token, "%s", token);
+    /* cli_net_send_wall queues any control message once live */
+    if (cmd == CMD_RESET ? cli_net_send_wall(n, &reset, &err) : cli_net_send_wind(n, &w, &err)) {
         fprintf(stderr, "gale-ctl: %s\n", err.msg);
         goto done;
     }
@@ -224,6 +300,9 @@ int main(int argc, char **argv)
     if (st.state != CLI_NET_LIVE) {
         fprintf(stderr, "gale-ctl: %s refused the command: %s\n", cli_net_server_name(n),
                 st.last_error[0] ? st.last_error : "connection closed");
+        if (w.has_scenario && w.scenario[0] && seen.names[0]) {
+            fprintf(stderr, "gale-ctl: the server's scenarios: %s\n", seen.names);
+        }
         goto done;
     }
     printf("gale-ctl: %s took the command\n", cli_net_server_name(n));

@@ -20,7 +20,9 @@ if [ ! -x "$server" ] || [ ! -x "$load" ] || ! command -v python3 >/dev/null; th
 fi
 mkdir -p out
 log="out/bench-soak-server.log"
-"$server" --port 0 --iface 127.0.0.1 --cache out/cache >out/bench-soak-server.out 2>"$log" &
+# the gusty wind throughout: the default scene's playlist would bring Andrew after 2 min
+"$server" --port 0 --iface 127.0.0.1 --cache out/cache --scenario configs/scenarios/gusty.json \
+    >out/bench-soak-server.out 2>"$log" &
 pid=$!
 hpid=""
 trap 'kill -TERM $pid 2>/dev/null || true; [ -n "$hpid" ] && kill $hpid 2>/dev/null || true' EXIT

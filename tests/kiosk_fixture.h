@@ -112,12 +112,16 @@ static inline void kf_init(const char *name)
 }
 
 /* gale-server on an ephemeral port with a scene config under tests/data (NULL:
- * clientnet_scene.json) and extra arguments (NULL-terminated, may be NULL). */
+ * clientnet_scene.json; an absolute path: that file) and extra arguments (NULL-terminated, may be NULL). */
 static inline int kf_start_server(const char *config, const char *const *extra)
 {
     static char cfg[400];
-    snprintf(cfg, sizeof cfg, GALE_SOURCE_DIR "/tests/data/%s",
-             config ? config : "clientnet_scene.json");
+    if (config && config[0] == '/') {
+        snprintf(cfg, sizeof cfg, "%s", config); /* a scene the test wrote */
+    } else {
+        snprintf(cfg, sizeof cfg, GALE_SOURCE_DIR "/tests/data/%s",
+                 config ? config : "clientnet_scene.json");
+    }
     char log[300], cache[300];
     snprintf(log, sizeof log, "%s/server.log", kf_dir);
     snprintf(cache, sizeof cache, "%s/../kiosk-srvcache", kf_dir);
@@ -189,6 +193,8 @@ typedef struct kf_reader {
     wire_weather w; /* under lock */
     int n_weather;  /* under lock: WEATHER frames read */
     int close_code; /* under lock: 0 while open */
+    int dmg_events; /* under lock: DAMAGE events read (frames that are not the whole state) */
+    int dmg_empty;  /* under lock: DAMAGE frames of the whole state, empty (a healed forest) */
     volatile int stop;
 } kf_reader;
 
@@ -201,10 +207,17 @@ static inline void *kf_reader_main(void *arg)
         int op = wsraw_recv(&r->c, &m, &n, 100);
         if (op == 2) {
             wire_frame f;
-            if (wire_decode(r->d, m, n, &f, NULL) == 0 && (f.types & (1u << WIRE_MSG_WEATHER))) {
+            bool ok = wire_decode(r->d, m, n, &f, NULL) == 0;
+            if (ok && (f.types & (1u << WIRE_MSG_WEATHER))) {
                 pthread_mutex_lock(&r->lock);
                 r->w = f.weather;
                 r->n_weather++;
+                pthread_mutex_unlock(&r->lock);
+            }
+            if (ok && (f.types & (1u << WIRE_MSG_DAMAGE))) {
+                pthread_mutex_lock(&r->lock);
+                r->dmg_events += f.damage_full ? 0 : (int)f.n_damage;
+                r->dmg_empty += f.damage_full && f.n_damage == 0;
                 pthread_mutex_unlock(&r->lock);
             }
         } else if (op == 8) {

@@ -1,9 +1,21 @@
 /* HURDAT2 reader: the shipped Andrew and Charley rows, landfall values from PHYSICS.md,
- * calendar arithmetic, and bad input with exact messages naming the line. */
+ * calendar arithmetic, and bad input with exact messages naming the line. gale-hurdat:
+ * configs/scenarios/README.md's commands rebuild the shipped replays byte for byte, the
+ * site's local time (--utc-offset-min) included, and the scenario reads it. */
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "check.h"
 #include "hurdat.h"
+#include "scenario.h"
+
+#ifndef GALE_HURDAT_EXE
+#error "GALE_HURDAT_EXE (path of gale-hurdat) must be defined by the build"
+#endif
 
 static void test_shipped_rows(void)
 {
@@ -129,8 +141,77 @@ static void test_errors(void)
                  "or -999, got '0'");
 }
 
+/* The whole file at path into a malloc'd string (NULL when unreadable). */
+static char *slurp(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        return NULL;
+    }
+    char *b = calloc(1, 1 << 20);
+    size_t n = b ? fread(b, 1, (1 << 20) - 1, f) : 0;
+    (void)n;
+    fclose(f);
+    return b;
+}
+
+/* gale-hurdat with Andrew's arguments from configs/scenarios/README.md and `extra`, into
+ * out; its exit status. */
+static int andrew(const char *extra, const char *out)
+{
+    /* from the source tree, as the README runs it: the file's "source" names that path */
+    char cwd[512], cmd[2200];
+    if (!getcwd(cwd, sizeof cwd)) {
+        return -1;
+    }
+    snprintf(cmd, sizeof cmd,
+             "cd '" GALE_SOURCE_DIR "' && '%s' --in tests/data/hurdat2-andrew1992-charley2004.txt "
+             "--storm ANDREW --name Andrew --ref 1992-08-24T09:05Z --from 1992-08-24T06:00Z "
+             "--to 1992-08-24T12:00Z --site-lat 25.52 --site-lon -80.40 --site-label "
+             "\"south Miami-Dade County, Florida, in the eye's path\" --time-scale 50 "
+             "--start-min -160 --end-min 175 --seed 1992 %s --out '%s/%s' 2>'%s/test_hurdat.d/log'",
+             GALE_HURDAT_EXE, extra, cwd, out, cwd);
+    int st = system(cmd);
+    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+static int offset_of(const char *path)
+{
+    scenario *s = scenario_load(path, NULL);
+    scenario_state st = { 0 };
+    if (s) {
+        scenario_eval(s, 1.0, &st);
+    }
+    scenario_destroy(s);
+    return s && st.has_clock ? st.utc_offset_min : 99999;
+}
+
+static void test_tool_offset(void)
+{
+    mkdir("test_hurdat.d", 0755);
+    CHECK(andrew("--utc-offset-min -240", "test_hurdat.d/andrew.json") == 0);
+    char *made = slurp("test_hurdat.d/andrew.json");
+    char *shipped = slurp(GALE_SOURCE_DIR "/configs/scenarios/andrew1992.json");
+    CHECK(made && shipped && strcmp(made, shipped) == 0);
+    CHECK(made && strstr(made, "\"utc_offset_min\": -240 }"));
+    free(made);
+    free(shipped);
+    CHECK(offset_of("test_hurdat.d/andrew.json") == -240); /* EDT, as the kiosk shows it */
+    /* without it: the longitude's 15-degree zone, -80.4 deg -> UTC-5 */
+    CHECK(andrew("", "test_hurdat.d/andrew-zone.json") == 0);
+    made = slurp("test_hurdat.d/andrew-zone.json");
+    CHECK(made && !strstr(made, "utc_offset_min"));
+    free(made);
+    CHECK(offset_of("test_hurdat.d/andrew-zone.json") == -300);
+    CHECK(andrew("--utc-offset-min 900", "test_hurdat.d/bad.json") == 2);
+    char *log = slurp("test_hurdat.d/log");
+    CHECK_STR_HAS(log ? log : "", "--utc-offset-min: expected whole minutes in [-840, 840], got 900");
+    free(log);
+}
+
 int main(void)
 {
+    RUN(test_tool_offset);
     RUN(test_shipped_rows);
     RUN(test_calendar);
     RUN(test_errors);

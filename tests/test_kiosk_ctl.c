@@ -6,7 +6,8 @@
  * - a viewer's wind command is refused (4006), and so is gale-ctl with a wrong token;
  * - gale-server --scenario FILE --start-min M --replay-speed X replays from minute M at X
  *   without an edited file; gale-ctl replay --at landfall --speed X jumps and changes
- *   speed; an unknown scenario name is refused. */
+ *   speed, gale-ctl reset goes back to that start; an unknown scenario name is refused,
+ *   gale-ctl naming the server's. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -99,8 +100,10 @@ static void test_refusals(void)
     wsraw_close(&v);
     char log[300];
     snprintf(log, sizeof log, "%s/ctl.log", kf_dir);
-    CHECK(ctl(KIOSK_TOKEN, (const char *[]){ "scenario", "charley2004", NULL }) == 1);
-    CHECK(kf_log_count(log, "this server runs") == 1);
+    CHECK(ctl(KIOSK_TOKEN, (const char *[]){ "scenario", "charley2005", NULL }) == 1);
+    CHECK(kf_log_count(log, "\"charley2005\": unknown; one of: andrew1992") == 1);
+    CHECK(kf_log_count(log, "the server's scenarios: andrew1992, breeze, calm, cat1, cat2, cat3, "
+                            "cat3-synthetic, cat4, cat5, charley2004, gusty, storm") == 1);
     CHECK(ctl(KIOSK_TOKEN, (const char *[]){ "replay", "--at", "landfall", NULL }) == 1);
     CHECK(kf_log_count(log, "replays no storm") == 1);
     CHECK(ctl(KIOSK_TOKEN, (const char *[]){ "wind", "--speed", "500", NULL }) == 2);
@@ -139,6 +142,10 @@ static void test_replay_and_idle(void)
     char slog[300];
     snprintf(slog, sizeof slog, "%s/server.log", kf_dir);
     CHECK(kf_log_count(slog, "kiosk dial released (idle)") == 1);
+    /* reset: back to the configured start (--start-min -30, x10), not the file's */
+    CHECK(ctl(KIOSK_TOKEN, (const char *[]){ "reset", NULL }) == 0);
+    CHECK(kf_reader_wait(&v, 10.0, storm_near, -30.0, &w));
+    CHECK_NEAR(w.replay_speed, 10.0, 1e-3);
     kf_reader_stop(&k);
     kf_reader_stop(&v);
     kf_stop_server();

@@ -34,7 +34,8 @@ static void test_shipped_files(void)
 {
     scenario *s;
     static const char *const files[] = { "calm",       "breeze",      "gusty",         "storm",
-                                         "andrew1992", "charley2004", "cat3-synthetic" };
+                                         "andrew1992", "charley2004", "cat3-synthetic", "cat1",
+                                         "cat2",       "cat3",        "cat4",           "cat5" };
     for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
         char path[512];
         snprintf(path, sizeof path, CONFIGS "%s.json", files[i]);
@@ -73,6 +74,23 @@ static void test_shipped_files(void)
     CHECK(st.category == SAFFIR_TS);
     CHECK(st.beaufort >= 10);
     scenario_destroy(s);
+    /* the kiosk's Category buttons: each mean wind inside its Saffir-Simpson band */
+    for (int c = 1; c <= 5; c++) {
+        char path[512];
+        snprintf(path, sizeof path, CONFIGS "cat%d.json", c);
+        s = scenario_load(path, NULL);
+        CHECK(s != NULL);
+        if (!s) {
+            continue;
+        }
+        scenario_eval(s, 0.0, &st);
+        CHECK(st.category == (saffir_class)(SAFFIR_CAT1 + c - 1));
+        CHECK(saffir_classify(scenario_steady_ms(s)) == (saffir_class)(SAFFIR_CAT1 + c - 1));
+        char title[32];
+        snprintf(title, sizeof title, "Category %d (steady)", c);
+        CHECK(!strcmp(scenario_name(s), title));
+        scenario_destroy(s);
+    }
 }
 
 static void test_steady(void)
@@ -484,6 +502,52 @@ static void expect_bad(const char *json, const char *msg)
     "{\"t_min\":" #t ",\"x_km\":0,\"y_km\":0,\"p_hpa\":" #p ",\"rmax_km\":20,\"vmax_ms\":50}"
 #define HUR(body) "{\"kind\":\"hurricane\",\"hurricane\":{\"site\":{\"lat_deg\":25}," body "}}"
 
+/* A replay's pause holds its storm clock, play runs it from there; a jump while paused
+ * moves the held minute; the start set at load time (gale-server --start-min,
+ * --replay-speed) is where a restart goes, at that speed. */
+static void test_pause_and_start(void)
+{
+    scenario *s = scenario_load(CONFIGS "andrew1992.json", NULL);
+    CHECK(s != NULL);
+    if (!s) {
+        return;
+    }
+    scenario_state st;
+    scenario_eval(s, 10.0, &st);
+    const double at10 = st.storm_min; /* -160 + 10 s x 50 / 60 */
+    CHECK_NEAR(at10, -160.0 + 500.0 / 60.0, 1e-9);
+    CHECK(!st.paused);
+    CHECK(scenario_replay_pause(s, 10.0, true, NULL) == 0);
+    scenario_eval(s, 20.0, &st);
+    CHECK(st.paused && st.storm_min == at10);
+    CHECK(scenario_replay_set(s, 20.0, true, -100.0, false, 0.0, NULL) == 0);
+    scenario_eval(s, 25.0, &st);
+    CHECK(st.paused && st.storm_min == -100.0);
+    CHECK(scenario_replay_pause(s, 25.0, false, NULL) == 0);
+    scenario_eval(s, 31.0, &st);
+    CHECK(!st.paused);
+    CHECK_NEAR(st.storm_min, -100.0 + 6.0 * 50.0 / 60.0, 1e-9);
+    /* the configured start: minute -30 at x10; a kiosk's speed does not outlive a restart */
+    CHECK(scenario_set_start(s, 40.0, true, -30.0, true, 10.0, NULL) == 0);
+    scenario_eval(s, 46.0, &st);
+    CHECK_NEAR(st.storm_min, -30.0 + 1.0, 1e-9);
+    CHECK(scenario_replay_set(s, 46.0, false, 0.0, true, 100.0, NULL) == 0);
+    CHECK(scenario_replay_pause(s, 46.0, true, NULL) == 0);
+    scenario_restart(s, 50.0);
+    scenario_eval(s, 56.0, &st);
+    CHECK(!st.paused);
+    CHECK_NEAR(st.replay_speed, 10.0, 0.0);
+    CHECK_NEAR(st.storm_min, -30.0 + 1.0, 1e-9);
+    scenario_destroy(s);
+    /* a steady scenario has no clock to hold */
+    s = scenario_load(CONFIGS "gusty.json", NULL);
+    gale_err e = { 0 };
+    CHECK(s && scenario_replay_pause(s, 0.0, true, &e) == GALE_E_STATE);
+    CHECK_STR_HAS(e.msg, "not a hurricane replay");
+    CHECK(s && scenario_set_start(s, 0.0, true, 0.0, false, 0.0, NULL) == GALE_E_STATE);
+    scenario_destroy(s);
+}
+
 static void test_bad_files(void)
 {
     expect_bad("{\"steady\":{\"u10_ms\":5},\"colour\":1}", "bad.json: colour: unknown key");
@@ -585,6 +649,7 @@ int main(void)
     RUN(test_time_compression);
     RUN(test_overrides);
     RUN(test_determinism);
+    RUN(test_pause_and_start);
     RUN(test_bad_files);
     return check_report();
 }

@@ -99,6 +99,14 @@ static void test_errors(void)
     check_err("{\"species\": [{\"name\": \"a\", \"file\": \"f\", \"modes\": 65}]}",
               "species[0].modes: expected an integer in [1, 64], got 65");
     check_err("{" SP ",\n \"trees\": [", "t.json:2:");
+    /* a playlist: names, 1..32 of them, and not beside a scenario */
+    check_err("{" SP ", \"playlist\": [], \"trees\": [{\"species\": \"oak\", \"pos\": [0,0]}]}",
+              "t.json: playlist: expected 1..32 scenario names, got 0");
+    check_err("{" SP ", \"playlist\": [\"calm\", 3], \"trees\": [{\"species\": \"oak\", \"pos\": [0,0]}]}",
+              "t.json: playlist[1]: expected a scenario name of 1..63 bytes");
+    check_err("{" SP ", \"playlist\": [\"calm\"], \"scenario\": \"x.json\", \"trees\": [{\"species\": "
+              "\"oak\", \"pos\": [0,0]}]}",
+              "t.json: scenario: not used with a playlist");
     /* NULL err: still fails cleanly */
     scene s;
     CHECK(scene_parse(&s, "t", "{\"wind\": 1}", 11, NULL, NULL) < 0);
@@ -169,7 +177,11 @@ static void check_same_scene(const scene *a, const scene *b)
     CHECK(a->leaf_rate_hz == b->leaf_rate_hz && a->leaf_calm_ms == b->leaf_calm_ms &&
           a->leaf_ref_ms == b->leaf_ref_ms && a->leaf_seed == b->leaf_seed);
     const char *sa = strrchr(a->scenario, '/'), *sb = strrchr(b->scenario, '/');
-    CHECK(sa && sb && !strcmp(sa, sb));
+    CHECK(a->scenario[0] ? sa && sb && !strcmp(sa, sb) : !b->scenario[0]);
+    CHECK(a->n_playlist == b->n_playlist);
+    for (int i = 0; i < a->n_playlist && i < b->n_playlist; i++) {
+        CHECK(!strcmp(a->playlist[i], b->playlist[i]));
+    }
     CHECK(a->n_species == b->n_species);
     for (int i = 0; i < a->n_species && i < b->n_species; i++) {
         CHECK(!strcmp(a->species[i].name, b->species[i].name));
@@ -204,7 +216,10 @@ static void test_default_scene(void)
     CHECK_NEAR(s.origin[0], -60, 0);
     CHECK_NEAR(s.origin[1], -60, 0);
     CHECK(s.wind_every == 4);
-    CHECK(strstr(s.scenario, "gusty.json") != NULL);
+    /* the kiosk's attract loop: the gusty afternoon, then Andrew and Charley */
+    CHECK(s.scenario[0] == 0 && s.n_playlist == 3);
+    CHECK(!strcmp(s.playlist[0], "gusty") && !strcmp(s.playlist[1], "andrew1992") &&
+          !strcmp(s.playlist[2], "charley2004"));
     CHECK(s.n_species == 3 && !strcmp(s.species[0].name, "oak") &&
           !strcmp(s.species[1].name, "palm") && !strcmp(s.species[2].name, "pine"));
     CHECK(s.species[0].modes == 32 && s.species[1].modes == 24 && s.species[2].modes == 32);

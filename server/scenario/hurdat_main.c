@@ -20,11 +20,14 @@ static void usage(FILE *o)
     fprintf(o, "usage: gale-hurdat --in HURDAT2.txt --storm ID|NAME --ref YYYY-MM-DDTHH:MMZ\n"
                "         --from YYYY-MM-DDTHH:MMZ --to YYYY-MM-DDTHH:MMZ\n"
                "         --site-lat DEG --site-lon DEG [--site-label TEXT] [--over-water]\n"
+               "         [--utc-offset-min M]\n"
                "         [--time-scale K] [--start-min M] [--end-min M] [--ambient-hpa P]\n"
                "         [--rmax-km R] [--seed N] [--name TEXT] [--out FILE]\n"
                "Writes a hurricane scenario (JSON) with the storm's rows in [from, to]; rows\n"
                "without a radius of maximum wind take the nearest row's that has one (or\n"
-               "--rmax-km). The file is validated by loading it back.\n");
+               "--rmax-km). --utc-offset-min: the site's local time is UTC + M minutes\n"
+               "(-840..840, e.g. -240 for EDT; the kiosk shows it); without it the scenario\n"
+               "takes the longitude's 15-degree zone. The file is validated by loading it back.\n");
 }
 
 static int parse_utc(const char *s, long long *out)
@@ -63,7 +66,7 @@ int main(int argc, char **argv)
     const char *in = NULL, *storm = NULL, *ref = NULL, *from = NULL, *to = NULL;
     const char *label = "", *name = NULL, *out_path = NULL;
     double site_lat = NAN, site_lon = NAN, time_scale = 1.0, start_min = NAN, end_min = NAN;
-    double ambient = 1013.0, rmax_km = NAN, seed = 1.0;
+    double ambient = 1013.0, rmax_km = NAN, seed = 1.0, utc_offset_min = NAN;
     int over_land = 1;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -108,6 +111,8 @@ int main(int argc, char **argv)
             dst = &rmax_km;
         } else if (strcmp(a, "--seed") == 0) {
             dst = &seed;
+        } else if (strcmp(a, "--utc-offset-min") == 0) {
+            dst = &utc_offset_min;
         } else {
             fprintf(stderr, "gale-hurdat: unknown argument '%s'\n", a);
             usage(stderr);
@@ -122,6 +127,13 @@ int main(int argc, char **argv)
             return 2;
         }
         i++;
+    }
+    if (!isnan(utc_offset_min) && !(utc_offset_min >= -840 && utc_offset_min <= 840 &&
+                                     utc_offset_min == floor(utc_offset_min))) {
+        fprintf(stderr, "gale-hurdat: --utc-offset-min: expected whole minutes in [-840, 840], "
+                        "got %g\n",
+                utc_offset_min);
+        return 2;
     }
     long long ref_m, from_m, to_m;
     if (!in || !storm || isnan(site_lat) || isnan(site_lon)) {
@@ -183,6 +195,9 @@ int main(int argc, char **argv)
             "\"label\": ",
             site_lat, site_lon, over_land ? "true" : "false");
     put_string(o, label);
+    if (!isnan(utc_offset_min)) {
+        fprintf(o, ", \"utc_offset_min\": %d", (int)utc_offset_min);
+    }
     fprintf(o, " },\n    \"ref_utc\": \"%s\",\n    \"ambient_hpa\": %g,\n", ref, ambient);
     fprintf(o, "    \"time_scale\": %g,\n", time_scale);
     if (!isnan(start_min)) {

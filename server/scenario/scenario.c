@@ -421,6 +421,8 @@ scenario *scenario_create(const cfg_doc *doc, const cJSON *obj, const char *path
     s->gd.seed = s->seed;
     s->gd.z0_m = s->z0_m;
     s->gd = gust_desc_resolve(&s->gd);
+    s->first_storm_s = s->start_s;
+    s->first_scale = s->time_scale;
     scenario_restart(s, 0.0);
     return s;
 fail:
@@ -476,6 +478,11 @@ scenario_kind scenario_get_kind(const scenario *s)
     return s->kind;
 }
 
+double scenario_steady_ms(const scenario *s)
+{
+    return s->kind == SCENARIO_STEADY ? s->u10_ms : 0.0;
+}
+
 double scenario_duration_s(const scenario *s)
 {
     if (s->kind != SCENARIO_HURRICANE || s->loop) {
@@ -487,8 +494,12 @@ double scenario_duration_s(const scenario *s)
 void scenario_restart(scenario *s, double t_s)
 {
     s->t0 = t_s;
-    s->base_storm_s = s->start_s;
+    s->base_storm_s = s->first_storm_s;
     s->base_t = 0.0;
+    s->paused = false;
+    if (s->kind == SCENARIO_HURRICANE) {
+        s->time_scale = s->first_scale;
+    }
     s->have_last = false;
     s->ramping = false;
     s->last_dir = s->kind == SCENARIO_STEADY ? (270.0 - s->dir_from_deg) * M_PI / 180.0 : 0.0;
@@ -605,7 +616,9 @@ void scenario_eval(scenario *s, double t_s, scenario_state *out)
     /* scripted wind vector at the scene [m/s], x east, y north */
     double w[2];
     if (s->kind == SCENARIO_HURRICANE) {
-        double storm_s = s->base_storm_s + (t > s->base_t ? t - s->base_t : 0.0) * s->time_scale;
+        double run_s = s->paused || t <= s->base_t ? 0.0 : t - s->base_t;
+        double storm_s = s->base_storm_s + run_s * s->time_scale;
+        out->paused = s->paused;
         if (storm_s > s->end_s) {
             if (s->loop) {
                 storm_s = s->start_s + fmod(storm_s - s->start_s, s->end_s - s->start_s);
@@ -701,6 +714,18 @@ void scenario_eval(scenario *s, double t_s, scenario_state *out)
     out->turbulence_intensity = s->gust_on ? s->gust.d.intensity : 0.0;
 }
 
+/* The replay's storm time [s] at scenario time t, as scenario_eval puts it (wrapped when
+ * it loops, held at the end otherwise). */
+static double replay_now_s(const scenario *s, double t)
+{
+    double run_s = s->paused || t <= s->base_t ? 0.0 : t - s->base_t;
+    double now_s = s->base_storm_s + run_s * s->time_scale;
+    if (now_s > s->end_s) {
+        now_s = s->loop ? s->start_s + fmod(now_s - s->start_s, s->end_s - s->start_s) : s->end_s;
+    }
+    return now_s;
+}
+
 int scenario_replay_set(scenario *s, double t_s, bool has_at, double at_min, bool has_speed,
                         double speed, gale_err *err)
 {
@@ -718,10 +743,7 @@ int scenario_replay_set(scenario *s, double t_s, bool has_at, double at_min, boo
     }
     /* where the replay is now (as scenario_eval would put it), then the new base */
     double t = t_s - s->t0;
-    double now_s = s->base_storm_s + (t > s->base_t ? t - s->base_t : 0.0) * s->time_scale;
-    if (now_s > s->end_s) {
-        now_s = s->loop ? s->start_s + fmod(now_s - s->start_s, s->end_s - s->start_s) : s->end_s;
-    }
+    double now_s = replay_now_s(s, t);
     if (has_at) {
         now_s = at_min * 60.0;
         now_s = now_s < s->start_s ? s->start_s : now_s > s->end_s ? s->end_s : now_s;
@@ -777,4 +799,36 @@ void scenario_clear_override(scenario *s)
     }
     s->dial_on = false;
     s->dir_on = false;
+}
+
+int scenario_replay_pause(scenario *s, double t_s, bool paused, gale_err *err)
+{
+    if (s->kind != SCENARIO_HURRICANE) {
+        return gale_errf(err, GALE_E_STATE, "scenario %s: replay: not a hurricane replay",
+                         s->name);
+    }
+    /* the clock's new base is where it stands now, so neither edge jumps */
+    double t = t_s - s->t0;
+    s->base_storm_s = replay_now_s(s, t);
+    s->base_t = t;
+    s->paused = paused;
+    return GALE_OK;
+}
+
+int scenario_set_start(scenario *s, double t_s, bool has_at, double at_min, bool has_speed,
+                       double speed, gale_err *err)
+{
+    int rc = scenario_replay_set(s, t_s, has_at, at_min, has_speed, speed, err);
+    if (rc) {
+        return rc;
+    }
+    if (has_at) {
+        double at_s = at_min * 60.0;
+        s->first_storm_s = at_s < s->start_s ? s->start_s : at_s > s->end_s ? s->end_s : at_s;
+    }
+    if (has_speed) {
+        s->first_scale = speed;
+    }
+    scenario_restart(s, t_s);
+    return GALE_OK;
 }

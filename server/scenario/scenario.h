@@ -50,6 +50,7 @@ typedef struct scenario_state {
     double turbulence_intensity; /* I_u of the gust process, σ_u / U */
     bool override_active;        /* a kiosk dial holds the wind */
     bool finished;               /* a replay reached its end and holds its last state */
+    bool paused;                 /* a replay whose storm clock a kiosk holds */
 } scenario_state;
 
 /* Builds a scenario from a validated JSON object: obj (NULL → doc->root) at key path
@@ -67,6 +68,8 @@ void scenario_destroy(scenario *s);
 /* The scenario's "name" (static for its lifetime). */
 const char *scenario_name(const scenario *s);
 scenario_kind scenario_get_kind(const scenario *s);
+/* A steady scenario's mean 1-minute sustained wind at 10 m [m/s]; 0 for a replay. */
+double scenario_steady_ms(const scenario *s);
 /* Length of a replay in server seconds (storm span / time_scale); 0 = endless. */
 double scenario_duration_s(const scenario *s);
 
@@ -99,8 +102,17 @@ void scenario_clear_override(scenario *s);
  * storm seconds per server second, in [1, 10000], from where the replay is. */
 int scenario_replay_set(scenario *s, double t_s, bool has_at, double at_min, bool has_speed,
                         double speed, gale_err *err);
-/* Restarts the scripted timeline (a replay from its first minute) and the gust process at
+/* Holds (paused true) or resumes a replay's storm clock from server time t_s on; a jump
+ * while held moves the held minute. GALE_E_STATE for a steady scenario. */
+int scenario_replay_pause(scenario *s, double t_s, bool paused, gale_err *err);
+/* Restarts the scripted timeline (a replay from its first minute, or the start
+ * scenario_set_start gave, running, at its configured speed) and the gust process at
  * server time t_s. Overrides are kept. */
 void scenario_restart(scenario *s, double t_s);
+/* The start a restart replays from (gale-server --start-min / --replay-speed): storm
+ * minute at_min (clamped to the window) and speed in [1, 10000] storm seconds per server
+ * second; then restarts at server time t_s. GALE_E_STATE for a steady scenario. */
+int scenario_set_start(scenario *s, double t_s, bool has_at, double at_min, bool has_speed,
+                       double speed, gale_err *err);
 
 #endif

@@ -56,6 +56,10 @@ struct scenario {
 
     /* run time */
     double t0;     /* server time of the (re)start */
+    double first_storm_s, first_scale; /* where and how fast a restart replays from: the
+                                          window's start and time_scale, or what
+                                          scenario_set_start gave */
+    bool paused;   /* the replay clock holds at base_storm_s */
     double base_storm_s, base_t; /* replay clock: storm time base_storm_s at scenario time
                                     base_t, advancing time_scale storm s per server s */
     double last_t; /* scenario time of the previous eval */

@@ -33,7 +33,6 @@ srv *srv_create(const srv_desc *d, gale_err *err)
         return NULL;
     }
     s->d = *d;
-    s->scen = d->scen;
     if (s->d.kiosk_idle_s == 0) {
         s->d.kiosk_idle_s = SRV_KIOSK_IDLE_S;
     }
@@ -67,10 +66,8 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     weather_gust_init(&s->wx_gust);
     s->man_inflow = (wind_inflow){ .dir_rad = sc->wind_dir_deg * 0.017453292f,
                                    .u10_ms = sc->wind_u10_ms };
-    if (s->scen) {
-        const wind_ball *balls;
-        int nb = scenario_balls(s->scen, &balls);
-        tick_set_balls(s->tick, balls, nb);
+    if (srv_scenarios_init(s, err)) {
+        goto fail;
     }
     s->ticks_per_snap = (int)lround(sc->tick_hz / sc->snapshot_hz);
     if (s->ticks_per_snap < 1) {
@@ -258,6 +255,7 @@ void srv_destroy(srv *s)
     free(s->dmg_state);
     free(s->wspecies);
     free(s->winst);
+    free(s->wscen);
     free(s->hist);
     free(s->hist_seq);
     free(s->coarse);

@@ -11,6 +11,7 @@
 
 #include "err.h"
 #include "net.h"
+#include "scen_lib.h"
 #include "scenario.h"
 #include "scene.h"
 #include "sim_metrics.h"
@@ -28,7 +29,10 @@ typedef struct srv_species {
 typedef struct srv_desc {
     const scene *sc;              /* borrowed for the server's life */
     const srv_species *species;   /* [sc->n_species], borrowed likewise */
-    scenario *scen;               /* borrowed; NULL → the scene's steady inflow */
+    scenario *scen;               /* borrowed; NULL → the playlist's first (sc->playlist),
+                                     else the scene's steady inflow */
+    scen_lib *lib;                /* borrowed: the scenarios a kiosk may switch to and the
+                                     playlist's (SERVER.md "Scenarios"); NULL → none */
     const tick_wind *wind;        /* borrowed; NULL → log-law profile, no grid */
     int port;                     /* 0 → 8080, -1 → ephemeral */
     const char *iface;            /* NULL → all interfaces */

@@ -26,6 +26,8 @@ static int welcome(srv *s, const net_peer *p, int ctl_role, char **reply, size_t
     w->species = s->wspecies;
     w->n_instances = (uint32_t)s->d.sc->n_trees;
     w->instances = s->winst;
+    w->n_scenarios = s->n_wscen;
+    w->scenarios = s->wscen;
     /* The houses: every scene obstacle fits the wire. */
     _Static_assert(SCENE_MAX_OBSTACLES <= WIRE_MAX_OBSTACLES, "scene obstacles exceed the wire");
     const scene *sc = s->d.sc;
@@ -177,40 +179,20 @@ static int wall_control(srv *s, const net_peer *p, const ctl_msg *m, char **repl
     return rc;
 }
 
-/* Letters and digits, lower case: "Andrew 1992" and "andrew1992" name one scenario. */
-static bool same_name(const char *a, const char *b)
-{
-    for (;;) {
-        while (*a && !isalnum((unsigned char)*a)) {
-            a++;
-        }
-        while (*b && !isalnum((unsigned char)*b)) {
-            b++;
-        }
-        if (!*a || !*b) {
-            return !*a && !*b;
-        }
-        if (tolower((unsigned char)*a++) != tolower((unsigned char)*b++)) {
-            return false;
-        }
-    }
-}
-
 /* A kiosk's (or gale-ctl's) wind command, token checked: dial, direction, release,
- * scenario restart, replay seek and speed. 0 or a close code with why. */
+ * scenario pick (any of the library, "" back to the playlist), replay seek and speed.
+ * 0 or a close code with why. */
 static int kiosk_wind(srv *s, const net_peer *p, const ctl_wind *w, char *why, size_t why_cap)
 {
     const double t_s = atomic_load(&s->simm.current_tick) / s->d.sc->tick_hz;
     int rc = 0;
     pthread_mutex_lock(&s->scen_lock);
-    if (w->has_scenario && w->scenario[0] &&
-        !(s->scen && same_name(w->scenario, scenario_name(s->scen)))) {
-        snprintf(why, why_cap, "wind.scenario: \"%.63s\": this server runs \"%s\" only (start "
-                               "gale-server with --scenario FILE for another)",
-                 w->scenario, s->scen ? scenario_name(s->scen) : "no scenario");
-        rc = WIRE_CLOSE_BAD_FIELD;
-    } else if ((w->has_replay_at || w->has_replay_speed) &&
-               (!s->scen || scenario_get_kind(s->scen) != SCENARIO_HURRICANE)) {
+    if (w->has_scenario && w->scenario[0]) {
+        /* a pick is checked and made first: replay fields then steer the new scenario */
+        rc = srv_scen_pick_locked(s, w->scenario, t_s, why, why_cap);
+    }
+    if (!rc && (w->has_replay_at || w->has_replay_speed || w->has_replay_paused) &&
+        (!s->scen || scenario_get_kind(s->scen) != SCENARIO_HURRICANE)) {
         snprintf(why, why_cap, "wind.replay: this server replays no storm (it runs \"%s\")",
                  s->scen ? scenario_name(s->scen) : "no scenario");
         rc = WIRE_CLOSE_BAD_FIELD;
@@ -219,19 +201,27 @@ static int kiosk_wind(srv *s, const net_peer *p, const ctl_wind *w, char *why, s
         pthread_mutex_unlock(&s->scen_lock);
         return rc;
     }
+    s->dial_last_s = mono_s(); /* any command: the kiosk is in use (attract waits) */
     if (w->release || (w->has_scenario && !w->scenario[0])) {
         srv_release_dial_locked(s, "released by its kiosk");
     }
-    if (w->has_scenario && w->scenario[0]) {
-        scenario_restart(s->scen, t_s);
-        srv_heal(s); /* a restarted storm starts on the whole forest */
-        srv_release_dial_locked(s, "scenario restarted");
+    if (w->has_scenario && !w->scenario[0]) {
+        srv_playlist_resume_locked(s, t_s);
     }
     if (w->has_replay_at || w->has_replay_speed) {
         gale_err e;
         if (scenario_replay_set(s->scen, t_s, w->has_replay_at, w->replay_at_min,
                                 w->has_replay_speed, w->replay_speed, &e)) {
             snprintf(why, why_cap, "wind.replay: %s", e.msg);
+            rc = WIRE_CLOSE_BAD_FIELD;
+        } else if (w->has_replay_at) {
+            srv_weather_jumped_locked(s); /* the peak before the jump is another minute's */
+        }
+    }
+    if (!rc && w->has_replay_paused) {
+        gale_err e;
+        if (scenario_replay_pause(s->scen, t_s, w->replay_paused, &e)) {
+            snprintf(why, why_cap, "wind.replay_paused: %s", e.msg);
             rc = WIRE_CLOSE_BAD_FIELD;
         }
     }
@@ -319,6 +309,22 @@ int srv_on_control(void *user, net_peer *p, const char *text, size_t len, char *
             rc = WIRE_CLOSE_BAD_FIELD;
         } else {
             rc = kiosk_wind(s, p, w, why, why_cap);
+        }
+    } else if (m.type == CTL_RESET) {
+        /* a kiosk's reset: the forest healed, the dial dropped, the playlist's head from
+         * its configured start (SERVER.md "Scenarios"); refused to others as wind is */
+        if (p->role != NET_ROLE_KIOSK) {
+            snprintf(why, why_cap, "reset: only a kiosk may reset the exhibit (this is a %s)",
+                     ctl_role_name(p->role - 1));
+            rc = WIRE_CLOSE_FORBIDDEN;
+        } else if (!kiosk_gate_token_eq(m.u.reset.token, s->d.sc->kiosk_token)) {
+            kiosk_gate_count_failure(&s->kgate);
+            snprintf(why, why_cap, "reset.token: wrong kiosk token");
+            rc = WIRE_CLOSE_BAD_TOKEN;
+        } else {
+            pthread_mutex_lock(&s->scen_lock);
+            srv_reset_locked(s, atomic_load(&s->simm.current_tick) / s->d.sc->tick_hz);
+            pthread_mutex_unlock(&s->scen_lock);
         }
     } else if (m.type >= CTL_WALL_JOIN && m.type <= CTL_WALL_CAMERA) {
         rc = wall_control(s, p, &m, reply, reply_len, why, why_cap);

@@ -14,6 +14,7 @@
 #include "kiosk_gate.h"
 #include "metric.h"
 #include "srv.h"
+#include "scen_lib.h"
 #include "srv_stream.h"
 #include "weather_gust.h"
 #include "wire.h"
@@ -36,6 +37,8 @@
 #define SRV_KIOSK_IDLE_S 300.0 /* default: a kiosk's dial held this long without a command
                                   is released (a visitor who walked away leaves no one
                                   stuck at their setting) */
+#define SRV_PLAYLIST_STEADY_S 120.0 /* a steady playlist entry plays this long before the
+                                       next (a replay plays until it finishes) */
 #define SRV_DIAL_KEPT UINT32_MAX /* dial_owner of a dial no connection holds (wind.keep) */
 #define SRV_OVERRUN_LOG_PER_S 5 /* overrun lines a second at most */
 #define SRV_SOLVE_LOG_S 10 /* seconds between lines about solves out of budget */
@@ -62,7 +65,19 @@ struct srv {
     pthread_t thread;
     atomic_int stop;
     pthread_mutex_t scen_lock;   /* scenario: evaluated by the sim thread, dialled by kiosks */
-    scenario *scen;
+    scenario *scen;              /* under scen_lock: the running one (the library's, or
+                                    desc.scen); NULL: the steady inflow */
+    /* scenarios (srv_scenarios.c), under scen_lock: the playlist and what a kiosk picked */
+    scenario *playlist[SCENE_MAX_PLAYLIST]; /* the scene's playlist, resolved in the library */
+    int n_playlist;              /* 0: no playlist (the head alone) */
+    int pl_at;                   /* the playlist entry playing (or resumed) */
+    scenario *head;              /* what a reset starts: playlist[0], else desc.scen */
+    bool picked;                 /* a kiosk picked s->scen: the playlist waits */
+    double entry_t_s;            /* server time the running scenario (re)started [s] */
+    bool wx_reset_due;           /* the weather's gust window starts over (a jump, a
+                                    switch, a restart) before the next sample */
+    scenario *sim_scen;          /* sim thread: the scenario of its last eval (weather) */
+    scenario *balls_scen;        /* sim thread: whose force balls the tick holds */
     pthread_mutex_t ctl_lock;    /* serialises control handling (srv_remote.c) */
     size_t snap_cap, extra_cap;  /* net_desc's, for a broker bridge */
     kiosk_gate kgate;            /* kiosk token checks and their per-address delays (lws
@@ -94,6 +109,8 @@ struct srv {
     /* welcome template (lws thread) */
     ctl_species *wspecies;       /* owned [n_species] */
     ctl_instance *winst;         /* owned [n_trees] */
+    ctl_scenario_info *wscen;    /* owned [n_wscen]: the library, as a kiosk chooses */
+    uint32_t n_wscen;
     /* float history for tests */
     pthread_mutex_t hist_lock;
     float *hist;                 /* owned [history][n_trees * stride] */
@@ -174,6 +191,24 @@ void srv_weather_fill(const srv *s, wire_weather *w);
 /* srv_control.c: drops the dial that holds the wind (the scenario's override, or the
  * manual inflow back to the scene's); s->scen_lock held. why names it in the log. */
 void srv_release_dial_locked(srv *s, const char *why);
+
+/* srv_scenarios.c, s->scen_lock held (t_s: server time [s]). The library's entry or the
+ * running scenario named `name`, restarted from its start (forest healed, dial dropped,
+ * the playlist waiting); 0, or WIRE_CLOSE_BAD_FIELD with the valid names in why. */
+int srv_scen_pick_locked(srv *s, const char *name, double t_s, char *why, size_t why_cap);
+/* Back to the playlist (a kiosk's "" or its idle time): the entry that was playing,
+ * restarted; nothing when no kiosk picked a scenario. */
+void srv_playlist_resume_locked(srv *s, double t_s);
+/* A reset: the forest healed, the dial dropped, the head from its configured start. */
+void srv_reset_locked(srv *s, double t_s);
+/* Sim thread, after scenario_eval gave st: the next playlist entry when this one is done
+ * (a replay finished, a steady entry played SRV_PLAYLIST_STEADY_S); true when it switched
+ * (evaluate again). */
+bool srv_playlist_poll_locked(srv *s, double t_s, const scenario_state *st);
+/* The running scenario jumped (a seek): the weather's 3-s gust window starts over. */
+void srv_weather_jumped_locked(srv *s);
+/* srv_create: the playlist's names in desc.lib and the head; 0 or an error naming them. */
+int srv_scenarios_init(srv *s, gale_err *err);
 
 /* srv_loop.c: the simulation thread (arg: the srv), until s->stop. */
 void *srv_loop(void *arg);

@@ -43,15 +43,36 @@ void *srv_loop(void *arg)
             wd_next_us = mono_us() + wd_us;
         }
         uint32_t tick = tick_now(s->tick);
+        scenario_state st;
+        pthread_mutex_lock(&s->scen_lock);
+        if ((s->dial_owner || s->picked) && s->d.kiosk_idle_s > 0 &&
+            mono_s() - s->dial_last_s > s->d.kiosk_idle_s) {
+            /* attract: nobody touched the kiosk for its idle time */
+            srv_release_dial_locked(s, "idle");
+            srv_playlist_resume_locked(s, tick * dt);
+        }
         if (s->scen) {
-            scenario_state st;
-            pthread_mutex_lock(&s->scen_lock);
-            if (s->dial_owner && s->d.kiosk_idle_s > 0 &&
-                mono_s() - s->dial_last_s > s->d.kiosk_idle_s) {
-                srv_release_dial_locked(s, "idle");
-            }
             scenario_eval(s->scen, tick * dt, &st);
-            pthread_mutex_unlock(&s->scen_lock);
+            if (srv_playlist_poll_locked(s, tick * dt, &st) && s->scen) {
+                scenario_eval(s->scen, tick * dt, &st);
+            }
+        }
+        scenario *scen = s->scen;
+        bool wx_reset = s->wx_reset_due;
+        s->wx_reset_due = false;
+        pthread_mutex_unlock(&s->scen_lock);
+        if (scen != s->balls_scen) {
+            /* the running scenario's force balls (a switch takes effect here) */
+            const wind_ball *balls = NULL;
+            int nb = scen ? scenario_balls(scen, &balls) : 0;
+            tick_set_balls(s->tick, balls, nb);
+            s->balls_scen = scen;
+        }
+        if (wx_reset) {
+            weather_gust_init(&s->wx_gust);
+        }
+        s->sim_scen = scen;
+        if (scen) {
             tick_set_inflow(s->tick, &st.inflow);
             srv_weather_sample(s, tick, dt, &st);
         } else {

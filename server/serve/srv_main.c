@@ -13,6 +13,7 @@
 
 #include <sys/resource.h>
 
+#include "scen_lib.h"
 #include "scenario.h"
 #include "scene.h"
 #include "link_server.h"
@@ -50,7 +51,9 @@ static void usage(FILE *f)
                "                 answer their clients' control messages\n"
                "  --check        validate the config, bake or load the species, and exit\n"
                "  --scenario FILE  run this scenario file (configs/scenarios/) instead of the\n"
-               "                 config's, e.g. configs/scenarios/andrew1992.json\n"
+               "                 config's scenario or playlist, e.g.\n"
+               "                 configs/scenarios/andrew1992.json (kiosks may still pick\n"
+               "                 any file of the scenarios folder)\n"
                "  --start-min M  a replay starts at storm minute M (0: the track's reference,\n"
                "                 landfall for the shipped replays) instead of the file's\n"
                "  --replay-speed X  a replay runs X storm seconds per second (1..10000)\n"
@@ -281,6 +284,8 @@ int main(int argc, char **argv)
     srv_species sp[SCENE_MAX_SPECIES];
     memset(ent, 0, sizeof ent);
     scenario *scen = NULL;
+    scen_lib lib;
+    memset(&lib, 0, sizeof lib);
     wind_grid *grid = NULL;
     srv *s = NULL;
     for (int i = 0; i < sc.n_species; i++) {
@@ -309,6 +314,23 @@ int main(int argc, char **argv)
                                .asset_len = ent[i].len };
         snprintf(sp[i].hash, sizeof sp[i].hash, "%s", ent[i].hash);
     }
+    /* every scenario of the scenarios folder, for kiosks' picks and the playlist */
+    char scen_dir[SCENE_PATH_MAX + 32];
+    scene_scenarios_dir(&sc, getenv("GALE_SHARE"), scen_dir, sizeof scen_dir);
+    if (scen_lib_load(&lib, scen_dir, &err)) {
+        fprintf(stderr, "gale-server: bad scenario: %s\n", err.msg);
+        goto done;
+    }
+    fprintf(stderr, "gale-server: %d scenarios in %s\n", lib.n, lib.dir[0] ? lib.dir : scen_dir);
+    scenario *pl[SCENE_MAX_PLAYLIST];
+    int n_pl = 0;
+    if (!scen_file && scen_lib_playlist(&lib, &sc, pl, &n_pl, &err)) {
+        fprintf(stderr, "gale-server: bad config: %s\n", err.msg);
+        goto done;
+    }
+    if (n_pl > 0) {
+        fprintf(stderr, "gale-server: playlist of %d, from %s\n", n_pl, scenario_name(pl[0]));
+    }
     if (scen_file || sc.scenario[0]) {
         scen = scenario_load(scen_file ? scen_file : sc.scenario, &err);
         if (!scen) {
@@ -317,7 +339,7 @@ int main(int argc, char **argv)
             goto done;
         }
         if ((has_start || replay_speed > 0) &&
-            scenario_replay_set(scen, 0.0, has_start, start_min, replay_speed > 0, replay_speed,
+            scenario_set_start(scen, 0.0, has_start, start_min, replay_speed > 0, replay_speed,
                                 &err)) {
             fprintf(stderr, "gale-server: --start-min / --replay-speed: %s\n", err.msg);
             goto done;
@@ -362,7 +384,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "gale-server: %s\n", err.msg);
         goto done;
     }
-    s = srv_create(&(srv_desc){ .sc = &sc, .species = sp, .scen = scen,
+    s = srv_create(&(srv_desc){ .sc = &sc, .species = sp, .scen = scen, .lib = &lib,
                                 .wind = sc.grid_on ? &tw : NULL,
                                 .port = port ? (int)port : -1, .iface = iface,
                                 .max_clients = (int)max_conn,
@@ -436,6 +458,7 @@ done:
     srv_destroy(s);
     wind_destroy(grid);
     scenario_destroy(scen);
+    scen_lib_fini(&lib);
     for (int i = 0; i < sc.n_species; i++) {
         species_entry_fini(&ent[i]);
     }

@@ -55,7 +55,7 @@ void srv_weather_fill(const srv *s, wire_weather *w)
     if (st->override_active) {
         w->flags |= WIRE_WEATHER_DIAL;
     }
-    if (s->scen && scenario_get_kind(s->scen) == SCENARIO_HURRICANE && st->distance_km >= 0.0) {
+    if (s->sim_scen && scenario_get_kind(s->sim_scen) == SCENARIO_HURRICANE && st->distance_km >= 0.0) {
         w->flags |= WIRE_WEATHER_STORM;
         w->storm_class = (uint8_t)(st->storm_category >= 0 ? st->storm_category : 0);
         w->central_hpa = clampf(st->central_hpa, 800.0, 1100.0);
@@ -63,10 +63,13 @@ void srv_weather_fill(const srv *s, wire_weather *w)
         w->bearing_deg = clampf(st->bearing_deg, 0.0, 359.99);
         w->storm_min = clampf(st->storm_min, -1e6, 1e6);
         w->replay_pos_s = clampf(st->replay_pos_s, 0.0, 1e9);
-        w->replay_len_s = clampf(scenario_duration_s(s->scen), 0.0, 1e9);
+        w->replay_len_s = clampf(scenario_duration_s(s->sim_scen), 0.0, 1e9);
         w->replay_speed = clampf(st->replay_speed, 0.0, 1e5);
         if (st->finished) {
             w->flags |= WIRE_WEATHER_FINISHED;
+        }
+        if (st->paused) {
+            w->flags |= WIRE_WEATHER_PAUSED;
         }
         if (st->has_clock && st->utc_min >= 0 && st->utc_min <= (long long)UINT32_MAX) {
             w->flags |= WIRE_WEATHER_CLOCK;
@@ -74,7 +77,7 @@ void srv_weather_fill(const srv *s, wire_weather *w)
             w->utc_offset_min = (int16_t)st->utc_offset_min;
         }
     }
-    const char *name = s->scen ? scenario_name(s->scen) : s->d.sc->name;
+    const char *name = s->sim_scen ? scenario_name(s->sim_scen) : s->d.sc->name;
     /* a whole name that fits, else cut at a UTF-8 character boundary */
     size_t n = strlen(name ? name : "");
     if (n > WIRE_WEATHER_NAME_MAX) {

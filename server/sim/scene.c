@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "cfg.h"
 #include "wire.h"
@@ -395,6 +396,35 @@ static int check_frame_size(const scene *s, const cfg_doc *d, long long n_trees,
     return GALE_OK;
 }
 
+/* playlist: scenario names (file stems of the scenarios folder, checked against it when
+ * the server loads that folder), 1..SCENE_MAX_PLAYLIST. */
+static int parse_playlist(scene *s, const cfg_doc *d, const cJSON *root, gale_err *err)
+{
+    bool have = false;
+    const cJSON *a = cfg_child(d, root, "", "playlist", cJSON_Array, false, &have, err);
+    if (!have) {
+        return err->code;
+    }
+    int n = cJSON_GetArraySize(a);
+    if (n < 1 || n > SCENE_MAX_PLAYLIST) {
+        return gale_errf(err, GALE_E_RANGE, "%s: playlist: expected 1..%d scenario names, got %d",
+                         d->name, SCENE_MAX_PLAYLIST, n);
+    }
+    for (int i = 0; i < n; i++) {
+        const cJSON *e = cJSON_GetArrayItem(a, i);
+        size_t len = cJSON_IsString(e) ? strlen(e->valuestring) : 0;
+        if (!cJSON_IsString(e) || len == 0 || len >= SCENE_NAME_MAX) {
+            return gale_errf(err, GALE_E_PARSE,
+                             "%s: playlist[%d]: expected a scenario name of 1..%d bytes (a file "
+                             "stem of the scenarios folder)",
+                             d->name, i, SCENE_NAME_MAX - 1);
+        }
+        snprintf(s->playlist[i], sizeof s->playlist[i], "%s", e->valuestring);
+    }
+    s->n_playlist = n;
+    return GALE_OK;
+}
+
 static int parse_trees(scene *s, const cfg_doc *d, const cJSON *root, gale_err *err)
 {
     static const char *const tkeys[] = { "species", "pos", "yaw_deg", "scale", NULL };
@@ -596,7 +626,8 @@ int scene_parse(scene *s, const char *name, const char *text, size_t len, const 
     gale_err le = { 0 }, *err = &le;
     static const char *const keys[] = { "name",     "tick_hz", "snapshot_hz", "kiosk_token",
                                         "scenario", "wind",    "leaves",      "species",
-                                        "obstacles", "trees",  "forest",      NULL };
+                                        "obstacles", "trees",  "forest",      "playlist",
+                                        NULL };
     memset(s, 0, sizeof *s);
     gale_err_clear(err_out);
     cfg_doc d;
@@ -620,9 +651,16 @@ int scene_parse(scene *s, const char *name, const char *text, size_t len, const 
         (rc = cfg_string(&d, r, "", "scenario", false, "", scen, sizeof scen, err)) ||
         (rc = parse_wind(s, &d, r, err)) || (rc = parse_leaves(s, &d, r, err)) ||
         (rc = parse_species(s, &d, r, base_dir, err)) ||
-        (rc = parse_obstacles(s, &d, r, err)) || (rc = parse_trees(s, &d, r, err))) {
+        (rc = parse_obstacles(s, &d, r, err)) || (rc = parse_trees(s, &d, r, err)) ||
+        (rc = parse_playlist(s, &d, r, err))) {
         goto fail;
     }
+    if (s->n_playlist > 0 && scen[0]) {
+        rc = gale_errf(err, GALE_E_PARSE, "%s: scenario: not used with a playlist (the "
+                       "playlist's first entry starts): expected one of the two", d.name);
+        goto fail;
+    }
+    snprintf(s->base_dir, sizeof s->base_dir, "%s", base_dir ? base_dir : ".");
     if (s->snapshot_hz > s->tick_hz) {
         rc = gale_errf(err, GALE_E_RANGE, "%s: snapshot_hz: expected <= tick_hz (%g), got %g",
                        d.name, s->tick_hz, s->snapshot_hz);
@@ -675,6 +713,15 @@ int scene_load_default(scene *s, const char *share_dir, gale_err *err)
     snprintf(base, sizeof base, "%s/configs/scenes", share_dir ? share_dir : GALE_SOURCE_DIR);
     return scene_parse(s, "<embedded default.json>", (const char *)scene_default_json,
                        scene_default_json_len, base, err);
+}
+
+void scene_scenarios_dir(const scene *s, const char *share_dir, char *out, size_t cap)
+{
+    struct stat st;
+    snprintf(out, cap, "%s/../scenarios", s->base_dir[0] ? s->base_dir : ".");
+    if (stat(out, &st) != 0 || !S_ISDIR(st.st_mode)) {
+        snprintf(out, cap, "%s/configs/scenarios", share_dir ? share_dir : GALE_SOURCE_DIR);
+    }
 }
 
 void scene_fini(scene *s)

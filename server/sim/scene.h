@@ -19,6 +19,8 @@
 #define SCENE_MAX_OBSTACLES 1024  /* boxes voxelised into the wind grid at start */
 #define SCENE_MAX_FORESTS 64      /* generated blocks */
 #define SCENE_PATH_MAX 512
+#define SCENE_MAX_PLAYLIST 32     /* playlist entries (the wire lists at most 32 scenarios) */
+#define SCENE_NAME_MAX 64         /* a playlist entry: a scenario file's stem */
 #define SCENE_KIOSK_TOKEN_MAX ((int)CTL_MAX_TOKEN - 1) /* bytes: what a kiosk's hello may
                                                           carry (PROTOCOL.md "hello") */
 #define SCENE_KIOSK_TOKEN_ENV "GALE_KIOSK_TOKEN" /* the operator's token from the environment */
@@ -50,6 +52,10 @@ typedef struct scene {
     char kiosk_token[SCENE_KIOSK_TOKEN_MAX + 1]; /* a kiosk's hello must carry it; "" =
                                                     kiosks refused (scene_kiosk_token_resolve) */
     char scenario[SCENE_PATH_MAX];/* wind scenario file, "" = steady inflow only */
+    int n_playlist;               /* scenarios played in turn, looping (SERVER.md
+                                     "Scenarios"); 0: the scenario above alone */
+    char playlist[SCENE_MAX_PLAYLIST][SCENE_NAME_MAX]; /* scenario names (file stems) */
+    char base_dir[SCENE_PATH_MAX];/* the folder relative paths resolve against */
 
     /* wind grid (wind.h); grid_on false: the inflow profile alone, no solver */
     bool grid_on;
@@ -95,6 +101,10 @@ int scene_load_default(scene *s, const char *share_dir, gale_err *err);
  * bytes; err names the file or the variable. */
 int scene_kiosk_token_resolve(scene *s, const char *token_file, const char *env_token,
                               char *source, size_t source_cap, gale_err *err);
+/* The scenarios folder of a scene (SERVER.md "Scenarios"): the config folder's
+ * ../scenarios when it is a folder, else share_dir's configs/scenarios (NULL: the source
+ * tree's, as scene_load_default finds its files). */
+void scene_scenarios_dir(const scene *s, const char *share_dir, char *out, size_t cap);
 /* Frees the arrays; NULL or an empty scene is a no-op. */
 void scene_fini(scene *s);
 
