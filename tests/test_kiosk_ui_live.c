@@ -256,6 +256,7 @@ static void test_replay_controls(void)
         CHECK(m[0].u.wind.has_replay_speed && m[0].u.wind.replay_speed == 10.0f);
         CHECK(m[1].u.wind.has_replay_at && m[1].u.wind.replay_at_min == 0.0f);
     }
+    usleep(3000000); /* the kiosk's panel reads it */
     char line[512];
     stop_kiosk(&k, line, sizeof line);
     if (ui.n_scen > 0) { /* the running scenario is lit when the welcome lists them */
