@@ -3,8 +3,10 @@
  * libwebsockets frame parsing and reassembly, the control messages, the wire decode),
  * dequantisation of each state frame into a snapshot, jitter insert, Hermite
  * interpolation into the staging array and the upload into a GL buffer (a hidden window:
- * run under Xvfb, deploy/bench-client.sh). Display frames at 60 Hz; CPU time counted per
- * frame (this thread), wall time beside it. Prints JSON with the load average. */
+ * run under Xvfb, deploy/bench-client.sh), and with it the kiosk's touch panel (kiosk_ui.h)
+ * laid out for 1920x1080 and drawn. Display frames at 60 Hz; CPU time counted per frame
+ * (this thread), the panel's share and wall time beside it. Prints JSON with the load
+ * average. */
 #include <epoxy/gl.h>
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -17,7 +19,9 @@
 #include <unistd.h>
 
 #include "cli_net.h"
+#include "hud.h"
 #include "jitter.h"
+#include "kiosk_ui_draw.h"
 #include "mono.h"
 #include "wire.h"
 
@@ -132,9 +136,20 @@ int bench_client_live(const char *url, uint32_t frames)
     }
     float *staging = calloc(l.n_values ? l.n_values : 1, sizeof(float));
     double *cpu = calloc(frames, sizeof(double)), *wall = calloc(frames, sizeof(double));
-    if (!staging || !cpu || !wall) {
+    double *panel_cpu = calloc(frames, sizeof(double));
+    if (!staging || !cpu || !wall || !panel_cpu) {
         return 1;
     }
+    /* a kiosk's panel: ten scenario buttons, a replay running */
+    hud *panel_hud = win ? hud_create(&(hud_desc){ .px = 22.0f }, NULL) : NULL;
+    kiosk_ui panel;
+    kiosk_ui_init(&panel);
+    for (int k = 0; k < 10; k++) {
+        kiosk_ui_set_scenario(&panel, k, "scenario", "Gusty afternoon", k >= 8);
+    }
+    kiosk_ui_set_scenario_count(&panel, 10);
+    const wire_weather panel_wx = { .sustained_ms = 57.0f, .dir_from_deg = 120.0f,
+                                    .replay_speed = 50.0f, .flags = WIRE_WEATHER_STORM };
     cli_net_stats s0 = cli_net_get_stats(n);
     uint64_t sf0 = l.state_frames;
     double t_start = mono_s(), next = t_start;
@@ -143,6 +158,14 @@ int bench_client_live(const char *url, uint32_t frames)
         cli_net_poll(n, w0);
         /* the newest snapshot's server time less the playout delay (0.1 s) */
         jitter_sample(l.jit, jitter_newest_time(l.jit) - 0.1, staging, NULL);
+        double p0 = thread_cpu_ms();
+        if (panel_hud) {
+            kiosk_ui_set_weather(&panel, &panel_wx);
+            kiosk_ui_layout(&panel, 1920, 1080);
+            kiosk_ui_draw(panel_hud, &panel);
+            glBindBuffer(GL_ARRAY_BUFFER, buf); /* the upload's buffer again */
+        }
+        panel_cpu[i] = thread_cpu_ms() - p0;
         if (win) {
             glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)(l.n_values * sizeof(float)),
                             staging);
@@ -168,10 +191,13 @@ int bench_client_live(const char *url, uint32_t frames)
     }
     double cmed = quantile(cpu, (int)frames, 0.5), cp95 = quantile(cpu, (int)frames, 0.95);
     double wmed = quantile(wall, (int)frames, 0.5), wp95 = quantile(wall, (int)frames, 0.95);
+    double pmed = quantile(panel_cpu, (int)frames, 0.5);
+    double pp95 = quantile(panel_cpu, (int)frames, 0.95);
     printf("{\"bench\": \"client_live\", \"url\": \"%s\", \"trees\": %u, \"modes_max\": %u, "
            "\"frames\": %u, \"seconds\": %.1f, \"state_frames\": %llu, "
            "\"socket_bytes\": %llu, \"socket_bytes_per_s\": %.0f, \"frames_bad\": %llu, "
            "\"gl_upload\": %s, \"cpu_ms_per_frame\": {\"median\": %.4f, \"p95\": %.4f}, "
+           "\"kiosk_panel_cpu_ms\": {\"median\": %.4f, \"p95\": %.4f}, "
            "\"wall_ms_per_frame\": {\"median\": %.4f, \"p95\": %.4f}, \"target_ms\": 1.0, "
            "\"loadavg\": [%.2f, %.2f, %.2f]}\n",
            url, l.n_trees, l.stride_modes, frames, elapsed,
@@ -179,13 +205,15 @@ int bench_client_live(const char *url, uint32_t frames)
            (unsigned long long)(s1.bytes_rx - s0.bytes_rx),
            (double)(s1.bytes_rx - s0.bytes_rx) / elapsed,
            (unsigned long long)(s1.frames_bad - s0.frames_bad), win ? "true" : "false", cmed,
-           cp95, wmed, wp95, load[0], load[1], load[2]);
+           cp95, pmed, pp95, wmed, wp95, load[0], load[1], load[2]);
+    hud_destroy(panel_hud);
     if (win) {
         glDeleteBuffers(1, &buf);
         glfwDestroyWindow(win);
         glfwTerminate();
     }
     free(staging);
+    free(panel_cpu);
     free(cpu);
     free(wall);
     cli_net_destroy(n);

@@ -621,6 +621,22 @@ int cli_net_send_wind(cli_net *n, const ctl_wind *w, gale_err *err)
     return queue_ctl(n, &m, err);
 }
 
+int cli_net_send_ctl(cli_net *n, const ctl_msg *m, char *text, size_t cap, gale_err *err)
+{
+    if (n->st.state != CLI_NET_LIVE) {
+        return gale_errf(err, GALE_E_STATE, "%s: %s: not connected", n->server_name,
+                         ctl_type_name(m->type) ? ctl_type_name(m->type) : "control message");
+    }
+    int rc = queue_ctl(n, m, err);
+    if (rc == 0 && text && cap > 0) {
+        const cli_net_tx *t = &n->tx[(n->tx_head + n->tx_count - 1) % CLI_NET_TX_SLOTS];
+        size_t k = t->len < cap - 1 ? t->len : cap - 1;
+        memcpy(text, t->buf + LWS_PRE, k);
+        text[k] = '\0';
+    }
+    return rc;
+}
+
 int cli_net_fetch(cli_net *n, const char *path, size_t max_len, double timeout_s, uint8_t **out,
               size_t *len, gale_err *err)
 {

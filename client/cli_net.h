@@ -92,6 +92,9 @@ const char *cli_net_server_name(const cli_net *n);
 int cli_net_send_wall(cli_net *n, const ctl_msg *m, gale_err *err);
 /* Queues a kiosk wind command (GALE_E_STATE when not live, GALE_E_RANGE when invalid). */
 int cli_net_send_wind(cli_net *n, const ctl_wind *w, gale_err *err);
+/* Queues any client control message (a kiosk's wind or reset); the same errors. When
+ * text is not NULL it gets the JSON sent (cap bytes, cut to fit), for the kiosk's log. */
+int cli_net_send_ctl(cli_net *n, const ctl_msg *m, char *text, size_t cap, gale_err *err);
 
 /* Downloads path from the server over HTTP into *out (malloc'd, caller frees) of *len
  * bytes, servicing the WebSocket meanwhile (callbacks may fire). Blocks at most

@@ -21,6 +21,7 @@
 #include "err.h"
 #include "hud.h"
 #include "jitter.h"
+#include "kiosk_ui.h"
 #include "render.h"
 
 struct GLFWwindow;
@@ -58,7 +59,15 @@ typedef struct client_args {
     double attract_s;       /* kiosk: idle seconds before attract mode; 0 = default 90 */
     int storm_fx;           /* enum storm_fx_quality: --storm-fx, default low */
     bool fullscreen;        /* --fullscreen: open on the primary monitor (F11 toggles) */
+    const char *touch;      /* --touch SPEC: headless kiosk touches (client_kiosk.c) */
 } client_args;
+
+/* One scripted touch of --touch (headless kiosk tests and screenshots). */
+typedef struct client_touch {
+    int phase; /* enum kiosk_ui_phase; -1 = wait one frame */
+    float x, y; /* framebuffer pixels */
+} client_touch;
+#define CLIENT_MAX_TOUCHES 64
 
 /* This tile's part of its wall group (client_wall_group.c, PROTOCOL.md "Wall groups"). */
 typedef struct client_wall_group {
@@ -100,6 +109,7 @@ typedef struct client {
     struct wall *wall; /* owned: the wall file of --wall, NULL without */
     int wall_tile;     /* this tile's index in it */
     bool hud_on;       /* this client draws the HUD (client_wall_hud_px) */
+    float hud_px;      /* the HUD font's em [px] */
     client_wall_group wg;
     bool camera_set; /* the camera was fitted to a scene (once per run; R refits it) */
 
@@ -144,6 +154,10 @@ typedef struct client {
     bool fullscreen;
     double tour_t0_s; /* --camera tour, attract mode: when the tour began */
     attract attract;  /* kiosk: attract mode after idle (attract.h) */
+    kiosk_ui kiosk;   /* kiosk: the touch panel (kiosk_ui.h) */
+    double kiosk_drag_sent_s; /* when a dragged dial last sent its value */
+    client_touch touches[CLIENT_MAX_TOUCHES]; /* --touch, played one a frame */
+    int n_touches, next_touch;
     int win_pos[2], win_size[2];
 } client;
 
@@ -207,7 +221,8 @@ void client_input_screenshot_name(char *buf, size_t cap);
 /* ---- client_kiosk.c ---- */
 
 /* Kiosk role only: moves the wind dial by delta [m/s] (starting from the streamed speed,
- * kept within 0..100) and sends the command with the kiosk token; failures are logged. */
+ * kept within 0..KIOSK_UI_DIAL_MAX_MS) and sends the panel dial's command with the kiosk
+ * token; failures are logged. */
 void client_kiosk_dial(client *c, float delta_ms);
 /* Kiosk role only: releases the kiosk's dial (attract mode); failures are logged. */
 void client_kiosk_release(client *c);
@@ -215,6 +230,22 @@ void client_kiosk_release(client *c);
 void client_kiosk_camera_next(client *c);
 /* A kiosk's camera button over the frame (camera_button_layout), labelled with its preset. */
 void client_kiosk_draw_camera_button(client *c, int fb_w, int fb_h);
+/* The welcome's scenarios become the panel's buttons (copied: w may go). */
+void client_kiosk_on_welcome(client *c, const ctl_welcome *w);
+/* A touch on the panel at framebuffer pixel (x, y) (kiosk role only): sends what it asks
+ * for (a dragged dial at most every CLIENT_KIOSK_DRAG_S, and on release), logging each
+ * message sent as "gale-client: kiosk sent {json}". True when the panel took the touch. */
+bool client_kiosk_touch(client *c, int phase, float x, float y);
+#define CLIENT_KIOSK_DRAG_S 0.25
+/* Lays out and draws the panel for fb_w × fb_h (kiosk role with a HUD). */
+void client_kiosk_draw_panel(client *c, int fb_w, int fb_h);
+/* Parses --touch SPEC: events separated by ';', "down X,Y", "move X,Y", "up X,Y",
+ * "tap X,Y" (down and up) or "wait" (one frame), X,Y in framebuffer pixels. 0, or -1 with
+ * the reason on stderr. */
+int client_kiosk_touch_script(client *c, const char *spec);
+/* Headless: plays the next scripted touch (after a frame is drawn, so the panel is laid
+ * out). */
+void client_kiosk_touch_step(client *c);
 
 /* ---- client_wall.c ---- */
 

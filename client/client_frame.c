@@ -80,6 +80,14 @@ int client_frame_draw(client *c, double now, gale_err *err)
         /* camera yaw is counter-clockwise from +x (east); a heading clockwise from north */
         .view_heading_deg = 90.0f - c->cam.yaw * 57.29578f,
     };
+    /* a kiosk's panel along the bottom edge: captions go above it */
+    float cap_y = 0.92f * (float)fb_h - 24.0f;
+    if (c->hud_on && c->a.role == CTL_ROLE_KIOSK && !c->attract.active) {
+        /* (attract mode tours the trees with the whole screen; a touch brings it back) */
+        client_kiosk_draw_panel(c, fb_w, fb_h);
+        /* over the panel's tab (kiosk_ui.c: 0.05 of the height) with a line to spare */
+        cap_y = fminf(cap_y, c->kiosk.panel_y0 - 0.055f * (float)fb_h - 2.4f * c->hud_px);
+    }
     if (c->hud_on) {
         hud_draw(c->hud, &hs, fb_w, fb_h);
         c->hud_lines = hud_format(&hs, c->hud_text);
@@ -88,7 +96,7 @@ int client_frame_draw(client *c, double now, gale_err *err)
             const char *cap = caption_for(&c->captions, c->wx.ss_class, c->wx.beaufort);
             float w = hud_text_width(hud_get_font(c->hud), cap);
             hud_draw_lines(c->hud, &cap, 1, -1, floorf(0.5f * ((float)fb_w - w) - 10.0f),
-                           0.92f * (float)fb_h - 24.0f, fb_w, fb_h);
+                           cap_y, fb_w, fb_h);
             if (c->hud_lines < HUD_MAX_LINES) {
                 snprintf(c->hud_text[c->hud_lines++], HUD_LINE_CHARS, "%s", cap);
             }
@@ -97,11 +105,15 @@ int client_frame_draw(client *c, double now, gale_err *err)
     if (c->hud_on) {
         client_kiosk_draw_camera_button(c, fb_w, fb_h);
     }
+    if (c->hud_on && c->a.role == CTL_ROLE_KIOSK && c->hud_lines < HUD_MAX_LINES) {
+        /* the panel's state, for scripts reading the headless HUD text */
+        kiosk_ui_describe(&c->kiosk, c->hud_text[c->hud_lines++], HUD_LINE_CHARS);
+    }
     if (c->attract.active) {
         const char *line = "Touch the screen to control the wind";
         float w = hud_text_width(hud_get_font(c->hud), line);
         hud_draw_lines(c->hud, &line, 1, 0, floorf(0.5f * ((float)fb_w - w) - 10.0f),
-                       0.80f * (float)fb_h - 24.0f, fb_w, fb_h);
+                       cap_y - 0.12f * (float)fb_h, fb_w, fb_h);
     }
     if (c->got_state && hs.conn != HUD_CONN_LIVE) {
         /* the last picture stays, dimmed, under a calm word: never a crash or a desktop */

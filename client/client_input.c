@@ -1,6 +1,7 @@
 /* gale-client input: left-drag orbit, right-drag pan, wheel zoom, WASD/QE fly, F11
  * fullscreen, F12 or P screenshot, R reset view, C or the camera button the next camera
- * preset, + / - the kiosk's wind dial, Esc quit. */
+ * preset, + / - the kiosk's wind dial, a kiosk's touches on its panel (kiosk_ui.h), Esc
+ * quit. */
 #include <epoxy/gl.h>
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -99,6 +100,29 @@ static bool on_camera_button(client *c, GLFWwindow *win)
     return camera_button_hit(fb_w, fb_h, win_w, win_h, x, y);
 }
 
+/* The cursor in framebuffer pixels (a HiDPI framebuffer is larger than the window). */
+static void cursor_fb(GLFWwindow *win, double x, double y, float *fx, float *fy)
+{
+    int fb_w, fb_h, win_w, win_h;
+    glfwGetFramebufferSize(win, &fb_w, &fb_h);
+    glfwGetWindowSize(win, &win_w, &win_h);
+    *fx = win_w > 0 ? (float)(x * fb_w / win_w) : (float)x;
+    *fy = win_h > 0 ? (float)(y * fb_h / win_h) : (float)y;
+}
+
+/* A kiosk's touch (the left button) on its panel: true when the panel took it. */
+static bool panel_touch(client *c, GLFWwindow *win, int phase)
+{
+    if (c->a.role != CTL_ROLE_KIOSK) {
+        return false;
+    }
+    double x, y;
+    float fx, fy;
+    glfwGetCursorPos(win, &x, &y);
+    cursor_fb(win, x, y, &fx, &fy);
+    return client_kiosk_touch(c, phase, fx, fy);
+}
+
 static void mouse_cb(GLFWwindow *win, int button, int action, int mods)
 {
     client *c = glfwGetWindowUserPointer(win);
@@ -108,6 +132,11 @@ static void mouse_cb(GLFWwindow *win, int button, int action, int mods)
     }
     if (action == GLFW_PRESS && button == GLFW_MOUSE_BUTTON_LEFT && on_camera_button(c, win)) {
         client_kiosk_camera_next(c);
+        return;
+    }
+    if (button == GLFW_MOUSE_BUTTON_LEFT &&
+        panel_touch(c, win, action == GLFW_PRESS ? KIOSK_UI_DOWN : KIOSK_UI_UP)) {
+        c->drag = 0;
         return;
     }
     if (action == GLFW_PRESS) {
@@ -123,6 +152,14 @@ static void cursor_cb(GLFWwindow *win, double x, double y)
     client *c = glfwGetWindowUserPointer(win);
     if (c->a.role == CTL_ROLE_WALL_TILE) {
         return; /* every tile shows one fixed camera */
+    }
+    if (kiosk_ui_busy(&c->kiosk)) {
+        float fx, fy;
+        cursor_fb(win, x, y, &fx, &fy);
+        client_kiosk_touch(c, KIOSK_UI_MOVE, fx, fy);
+        c->cursor[0] = x;
+        c->cursor[1] = y;
+        return;
     }
     float dx = (float)(x - c->cursor[0]), dy = (float)(y - c->cursor[1]);
     c->cursor[0] = x;

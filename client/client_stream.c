@@ -16,6 +16,9 @@ void client_stream_on_welcome(void *user, const ctl_welcome *w)
     free(c->w_boxes);
     c->w = *w;
     c->w.obstacles = NULL; /* kept as c->w_boxes */
+    c->w.scenarios = NULL; /* kept as the kiosk panel's buttons */
+    c->w.n_scenarios = 0;
+    client_kiosk_on_welcome(c, w);
     c->w_species = malloc((w->n_species ? w->n_species : 1) * sizeof *c->w_species);
     c->w_instances = malloc((w->n_instances ? w->n_instances : 1) * sizeof *c->w_instances);
     c->w_boxes = malloc((w->n_obstacles ? w->n_obstacles : 1) * 6 * sizeof *c->w_boxes);

@@ -14,6 +14,8 @@
 
 #include "wind_scale.h"
 
+/* atlas side for an em of up to 40 px; each doubling of the em doubles both sides, so a
+ * HUD sized for a 4K screen (about 44 px) fits */
 #define ATLAS_W    1024
 #define ATLAS_H    512
 #define OVERSAMPLE 2
@@ -25,7 +27,8 @@ static const int extra_codepoints[] = { 0x00B0, 0x00B7, 0x00B1, 0x2013, 0x2014, 
 
 struct hud_font {
     uint8_t *ttf;   /* owned: the font file */
-    uint8_t *atlas; /* owned: ATLAS_W × ATLAS_H coverage */
+    uint8_t *atlas; /* owned: aw × ah coverage */
+    int aw, ah;     /* atlas size [px] */
     stbtt_fontinfo info;
     stbtt_packedchar ascii[N_ASCII];
     stbtt_packedchar extra[N_EXTRA];
@@ -60,7 +63,13 @@ hud_font *hud_font_load(const char *ttf_path, float px, gale_err *err)
         goto fail;
     }
     f->ttf = malloc((size_t)n);
-    f->atlas = calloc(ATLAS_W * ATLAS_H, 1);
+    f->aw = ATLAS_W;
+    f->ah = ATLAS_H;
+    for (float em = 40.0f; em < px; em *= 2.0f) {
+        f->aw *= 2;
+        f->ah *= 2;
+    }
+    f->atlas = calloc((size_t)f->aw * (size_t)f->ah, 1);
     if (!f->ttf || !f->atlas) {
         goto nomem;
     }
@@ -84,7 +93,7 @@ hud_font *hud_font_load(const char *ttf_path, float px, gale_err *err)
     f->line_gap = (float)gap * f->scale;
 
     stbtt_pack_context pc;
-    if (!stbtt_PackBegin(&pc, f->atlas, ATLAS_W, ATLAS_H, 0, 1, NULL)) {
+    if (!stbtt_PackBegin(&pc, f->atlas, f->aw, f->ah, 0, 1, NULL)) {
         goto nomem;
     }
     stbtt_PackSetOversampling(&pc, OVERSAMPLE, OVERSAMPLE);
@@ -104,7 +113,7 @@ hud_font *hud_font_load(const char *ttf_path, float px, gale_err *err)
     stbtt_PackEnd(&pc);
     if (!ok) {
         gale_errf(err, GALE_E_RANGE, "%s: glyphs at %g px do not fit a %dx%d atlas", ttf_path,
-                  (double)px, ATLAS_W, ATLAS_H);
+                  (double)px, f->aw, f->ah);
         goto fail;
     }
     return f;
@@ -137,8 +146,8 @@ void hud_font_metrics(const hud_font *f, float *ascent, float *descent, float *l
 
 const uint8_t *hud_font_atlas(const hud_font *f, int *w, int *h)
 {
-    *w = ATLAS_W;
-    *h = ATLAS_H;
+    *w = f->aw;
+    *h = f->ah;
     return f->atlas;
 }
 
@@ -208,10 +217,10 @@ uint32_t hud_text_quads(const hud_font *f, float x, float y, const char *utf8, h
             q[n].y0 = y + g->yoff;
             q[n].x1 = x + g->xoff2;
             q[n].y1 = y + g->yoff2;
-            q[n].s0 = (float)g->x0 / ATLAS_W;
-            q[n].t0 = (float)g->y0 / ATLAS_H;
-            q[n].s1 = (float)g->x1 / ATLAS_W;
-            q[n].t1 = (float)g->y1 / ATLAS_H;
+            q[n].s0 = (float)g->x0 / (float)f->aw;
+            q[n].t0 = (float)g->y0 / (float)f->ah;
+            q[n].s1 = (float)g->x1 / (float)f->aw;
+            q[n].t1 = (float)g->y1 / (float)f->ah;
             n++;
         }
         x += g->xadvance;
@@ -398,6 +407,12 @@ struct hud {
     float verts[HUD_MAX_VERTS * VERT_FLOATS];
     uint32_t n_verts;
     hud_quad quads[HUD_MAX_GLYPHS];
+    int batch_w, batch_h; /* framebuffer of the batch (hud_batch_begin) */
+    bool batch_spilled;   /* the batch was drawn in parts (too many vertices to keep) */
+    GLuint keep_vao, keep_vbo; /* the kept batch (hud_batch_flush_keep) */
+    uint64_t keep_key;         /* its key; 0 none */
+    uint32_t keep_n;
+    int keep_w, keep_h;
 };
 
 static const char *hud_vs =
@@ -527,6 +542,12 @@ void hud_destroy(hud *h)
     }
     if (h->vao) {
         glDeleteVertexArrays(1, &h->vao);
+    }
+    if (h->keep_vbo) {
+        glDeleteBuffers(1, &h->keep_vbo);
+    }
+    if (h->keep_vao) {
+        glDeleteVertexArrays(1, &h->keep_vao);
     }
     if (h->tex) {
         glDeleteTextures(1, &h->tex);
@@ -762,4 +783,135 @@ void hud_draw_button(hud *h, const char *label, float x0, float y0, float x1, fl
         }
     }
     flush_verts(h, fb_w, fb_h);
+}
+
+/* ---- batches for other panels --------------------------------------------------------- */
+
+void hud_batch_begin(hud *h, int fb_w, int fb_h)
+{
+    h->n_verts = 0;
+    h->batch_w = fb_w;
+    h->batch_h = fb_h;
+    h->batch_spilled = false;
+}
+
+void hud_batch_flush(hud *h)
+{
+    if (h->n_verts > 0 && h->batch_w > 0 && h->batch_h > 0) {
+        flush_verts(h, h->batch_w, h->batch_h);
+    }
+    h->n_verts = 0;
+}
+
+/* Room for n more vertices, drawing what the batch holds when it lacks it. */
+static void batch_room(hud *h, uint32_t n)
+{
+    if (h->n_verts + n > HUD_MAX_VERTS) {
+        hud_batch_flush(h);
+        h->batch_spilled = true;
+    }
+}
+
+/* The HUD program and blending over the bound framebuffer, as flush_verts sets them. */
+static void batch_state(hud *h, int fb_w, int fb_h)
+{
+    glUseProgram(h->prog);
+    glUniform2f(h->u_size, (float)fb_w, (float)fb_h);
+    glUniform1i(h->u_atlas, 0);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, h->tex);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    glViewport(0, 0, fb_w, fb_h);
+}
+
+static void draw_kept(hud *h)
+{
+    batch_state(h, h->keep_w, h->keep_h);
+    glBindVertexArray(h->keep_vao);
+    glDrawArrays(GL_TRIANGLES, 0, (GLsizei)h->keep_n);
+    glBindVertexArray(0);
+    glUseProgram(0);
+}
+
+void hud_batch_flush_keep(hud *h, uint64_t key)
+{
+    if (h->batch_spilled || key == 0 || h->batch_w <= 0 || h->batch_h <= 0) {
+        h->keep_key = 0;
+        hud_batch_flush(h);
+        return;
+    }
+    if (!h->keep_vao) {
+        const GLsizei stride = VERT_FLOATS * sizeof(float);
+        glGenVertexArrays(1, &h->keep_vao);
+        glGenBuffers(1, &h->keep_vbo);
+        glBindVertexArray(h->keep_vao);
+        glBindBuffer(GL_ARRAY_BUFFER, h->keep_vbo);
+        glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)sizeof h->verts, NULL, GL_DYNAMIC_DRAW);
+        glEnableVertexAttribArray(0);
+        glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, stride, (void *)0);
+        glEnableVertexAttribArray(1);
+        glVertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, stride, (void *)(2 * sizeof(float)));
+        glEnableVertexAttribArray(2);
+        glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, stride, (void *)(4 * sizeof(float)));
+        glBindVertexArray(0);
+    }
+    glBindBuffer(GL_ARRAY_BUFFER, h->keep_vbo);
+    glBufferSubData(GL_ARRAY_BUFFER, 0,
+                    (GLsizeiptr)((size_t)h->n_verts * VERT_FLOATS * sizeof(float)), h->verts);
+    h->keep_key = key;
+    h->keep_n = h->n_verts;
+    h->keep_w = h->batch_w;
+    h->keep_h = h->batch_h;
+    h->n_verts = 0;
+    draw_kept(h);
+}
+
+bool hud_batch_replay(hud *h, uint64_t key, int fb_w, int fb_h)
+{
+    if (key == 0 || key != h->keep_key || fb_w != h->keep_w || fb_h != h->keep_h) {
+        return false;
+    }
+    draw_kept(h);
+    return true;
+}
+
+void hud_batch_rect(hud *h, float x0, float y0, float x1, float y1, const float rgba[4])
+{
+    batch_room(h, 6);
+    push_rect(h, x0, y0, x1, y1, -1, 0, -1, 0, rgba);
+}
+
+void hud_batch_tri(hud *h, const float xy[6], const float rgba[4])
+{
+    batch_room(h, 3);
+    push_tri(h, xy, rgba);
+}
+
+float hud_batch_text(hud *h, float x, float y, float px, const char *utf8, const float rgba[4],
+                     float align, const float *shadow_rgba)
+{
+    const float k = px / h->font->px;
+    float end = 0.0f;
+    uint32_t n = hud_text_quads(h->font, 0.0f, 0.0f, utf8, h->quads, HUD_MAX_GLYPHS, &end);
+    x = floorf(x - align * k * end);
+    y = floorf(y);
+    batch_room(h, (shadow_rgba ? 12 : 6) * n);
+    for (int pass = shadow_rgba ? 0 : 1; pass < 2; pass++) {
+        const float d = pass == 0 ? fmaxf(1.0f, floorf(px / 18.0f)) : 0.0f;
+        for (uint32_t i = 0; i < n; i++) {
+            const hud_quad *q = &h->quads[i];
+            push_rect(h, x + d + k * q->x0, y + d + k * q->y0, x + d + k * q->x1,
+                      y + d + k * q->y1, q->s0, q->t0, q->s1, q->t1,
+                      pass == 0 ? shadow_rgba : rgba);
+        }
+    }
+    return k * end;
+}
+
+float hud_batch_text_width(const hud *h, const char *utf8, float px)
+{
+    return hud_text_width(h->font, utf8) * px / h->font->px;
 }

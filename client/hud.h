@@ -133,4 +133,28 @@ void hud_draw_lines(hud *h, const char *const *lines, int n, int accent_line, fl
 void hud_draw_button(hud *h, const char *label, float x0, float y0, float x1, float y1, int fb_w,
                      int fb_h);
 
+/* ---- shapes and text for other panels (the kiosk's, kiosk_ui_draw.c) ---------------- */
+
+/* A batch of solid shapes and text over a fb_w × fb_h framebuffer: begin, push, flush
+ * (which draws them, alpha-blended, depth test off). A push that finds the batch full
+ * draws what it holds first. No allocation. */
+void hud_batch_begin(hud *h, int fb_w, int fb_h);
+void hud_batch_rect(hud *h, float x0, float y0, float x1, float y1, const float rgba[4]);
+void hud_batch_tri(hud *h, const float xy[6], const float rgba[4]);
+/* Text with its em drawn px pixels high (the atlas scaled), its pen starting at (x, baseline
+ * y) less align × its advance (0 left, 0.5 centred, 1 right aligned), under a drop shadow
+ * of shadow_rgba (NULL: none). Returns the advance [px]. */
+float hud_batch_text(hud *h, float x, float y, float px, const char *utf8, const float rgba[4],
+                     float align, const float *shadow_rgba);
+/* Advance of utf8 with its em px pixels high. */
+float hud_batch_text_width(const hud *h, const char *utf8, float px);
+void hud_batch_flush(hud *h);
+/* Draws the batch and keeps it on the GPU under key (not 0), so that while nothing it shows
+ * changes the caller draws it again with hud_batch_replay instead of building it (a batch
+ * drawn in parts is not kept). */
+void hud_batch_flush_keep(hud *h, uint64_t key);
+/* Draws the batch kept under key over a fb_w × fb_h framebuffer: false (nothing drawn)
+ * when the kept one has another key or size. */
+bool hud_batch_replay(hud *h, uint64_t key, int fb_w, int fb_h);
+
 #endif

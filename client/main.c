@@ -60,10 +60,13 @@ static void usage(FILE *f)
             "  --storm-fx Q           storm look from the streamed weather: off, low (one layer\n"
             "                         of rain, the default) or high\n"
             "  --fullscreen           open fullscreen on the primary monitor (F11 toggles)\n"
+            "  --touch SPEC           headless kiosk: touches on its panel, one a frame:\n"
+            "                         \"tap X,Y; down X,Y; move X,Y; up X,Y; wait\" (pixels)\n"
             "  --help                 this text\n"
             "keys: left-drag orbit, right-drag pan, wheel zoom, WASD/QE fly, F11 fullscreen,\n"
             "      F12 or P screenshot, R reset view, C next camera (kiosk: also the Camera\n"
-            "      button, top right), kiosk: + / - dial the wind, Esc quit.\n"
+            "      button, top right), kiosk: + / - dial the wind, touch the panel (wind dial,\n"
+            "      direction, scenarios, replay, reset; the cursor is hidden), Esc quit.\n"
             "Exit status: 0 ok, 2 bad arguments, 3 no state received (headless), 4 kiosk\n"
             "token refused by the server, 1 other.\n");
 }
@@ -97,6 +100,36 @@ static int client_args_wall_check(client_args *a, bool role_given)
         return -1;
     }
     return 0;
+}
+
+/* HUD text size [px] for a framebuffer h pixels high: 22 px at 1080p, in proportion
+ * above, 18 px at least. */
+static float client_hud_px(int h)
+{
+    return fmaxf(18.0f, 22.0f * (float)h / 1080.0f);
+}
+
+/* After a resize (F11 onto a larger monitor): the HUD's font at the new size, when it
+ * differs by more than a sixth. */
+static void client_hud_rescale(client *c, int fb_h)
+{
+    if (!c->hud_on || c->wall) {
+        return;
+    }
+    float px = client_hud_px(fb_h), cur = c->hud_px;
+    if (fabsf(px - cur) <= cur / 6.0f) {
+        return;
+    }
+    gale_err err = { 0 };
+    hud *h = hud_create(&(hud_desc){ .px = px }, &err);
+    if (!h) {
+        fprintf(stderr, "gale-client: hud at %.0f px: %s (keeping %.0f px)\n", (double)px, err.msg,
+                (double)cur);
+        return;
+    }
+    hud_destroy(c->hud);
+    c->hud = h;
+    c->hud_px = px;
 }
 
 static int parse_args(int argc, char **argv, client_args *a)
@@ -222,6 +255,8 @@ static int parse_args(int argc, char **argv, client_args *a)
                 fprintf(stderr, "gale-client: --attract: expected 1..86400 s, got \"%s\"\n", v);
                 return -1;
             }
+        } else if (strcmp(o, "--touch") == 0) {
+            a->touch = v;
         } else if (strcmp(o, "--captions") == 0) {
             a->captions = v;
         } else if (strcmp(o, "--camera") == 0) {
@@ -265,6 +300,10 @@ int main(int argc, char **argv)
     client c;
     memset(&c, 0, sizeof c);
     if (parse_args(argc, argv, &c.a) != 0) {
+        return 2;
+    }
+    kiosk_ui_init(&c.kiosk);
+    if (c.a.touch && client_kiosk_touch_script(&c, c.a.touch) != 0) {
         return 2;
     }
     int ws = client_wall_setup(&c);
@@ -320,9 +359,10 @@ int main(int argc, char **argv)
         fprintf(stderr, "gale-client: render: %s\n", err.msg);
         goto done;
     }
-    float hud_px = client_wall_hud_px(&c, c.a.height >= 1000 ? 22.0f : 18.0f);
+    float hud_px = client_wall_hud_px(&c, client_hud_px(c.a.height));
     c.hud_on = hud_px > 0.0f;
-    c.hud = hud_create(&(hud_desc){ .px = c.hud_on ? hud_px : 18.0f }, &err);
+    c.hud_px = c.hud_on ? hud_px : 18.0f;
+    c.hud = hud_create(&(hud_desc){ .px = c.hud_px }, &err);
     if (!c.hud) {
         fprintf(stderr, "gale-client: hud: %s\n", err.msg);
         goto done;
@@ -334,6 +374,10 @@ int main(int argc, char **argv)
         client_input_attach(&c, win);
         if (c.a.fullscreen) {
             client_input_toggle_fullscreen(&c, win);
+        }
+        if (c.a.role == CTL_ROLE_KIOSK) {
+            /* a kiosk shows no pointer; touches (clicks) still arrive */
+            glfwSetInputMode(win, GLFW_CURSOR, GLFW_CURSOR_HIDDEN);
         }
     }
 
@@ -381,6 +425,7 @@ int main(int argc, char **argv)
             render_size(c.r, &fw, &fh);
             if (w > 0 && h > 0 && (w != fw || h != fh)) {
                 render_resize(c.r, w, h, NULL);
+                client_hud_rescale(&c, h);
             }
         }
         if (win && c.a.role == CTL_ROLE_KIOSK && attract_tick(&c.attract, now)) {
@@ -423,6 +468,7 @@ int main(int argc, char **argv)
             client_wall_group_before_present(&c);
             render_present(c.r);
             client_wall_group_after_present(&c);
+            client_kiosk_touch_step(&c); /* --touch: the panel is laid out now */
         }
         if (c.a.headless) {
             if (draw && ++frames_after_state >= c.a.frames) {

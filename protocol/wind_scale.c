@@ -109,6 +109,14 @@ int wind_scale_beaufort(double ms)
     return BFT_FORCES - 1;
 }
 
+double wind_scale_beaufort_lower_ms(int b)
+{
+    if (b < 0 || b >= BFT_FORCES) {
+        return -1.0;
+    }
+    return b == 0 ? 0.0 : (bft_table[b - 1].upper_dms + 0.5) * 0.1;
+}
+
 const char *wind_scale_beaufort_name(int b)
 {
     return b >= 0 && b < BFT_FORCES ? bft_table[b].name : "?";

@@ -39,6 +39,9 @@ const char *wind_scale_ss_abbrev(int c);
  * whose WMO upper limit (0.2, 1.5, 3.3, 5.4, 7.9, 10.7, 13.8, 17.1, 20.7, 24.4, 28.4,
  * 32.6 m/s for forces 0..11) it does not exceed, 12 above. Negative or NaN: 0. */
 int wind_scale_beaufort(double ms);
+/* Lowest 10 m mean wind [m/s] of force b: half a tenth above force b - 1's upper limit
+ * (the rounding to 0.1 m/s above; 0 for force 0); -1 for b outside 0..12. */
+double wind_scale_beaufort_lower_ms(int b);
 /* Names of force b, "?" outside 0..12; static strings. name: running text ("strong
  * breeze"); title: a line of its own ("Strong breeze"). */
 const char *wind_scale_beaufort_name(int b);
