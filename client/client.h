@@ -158,6 +158,7 @@ typedef struct client {
     double kiosk_drag_sent_s; /* when a dragged dial last sent its value */
     client_touch touches[CLIENT_MAX_TOUCHES]; /* --touch, played one a frame */
     int n_touches, next_touch;
+    bool touch_woke; /* the scripted touch down that woke the kiosk: its lift is no control */
     int win_pos[2], win_size[2];
 } client;
 
@@ -246,6 +247,9 @@ int client_kiosk_touch_script(client *c, const char *spec);
 /* Headless: plays the next scripted touch (after a frame is drawn, so the panel is laid
  * out). */
 void client_kiosk_touch_step(client *c);
+/* A touch, key or wheel at now: true when it only woke the kiosk from attract mode (then
+ * it is no control) and the camera is back at the kiosk's own view. */
+bool client_input_woke(client *c);
 
 /* ---- client_wall.c ---- */
 

@@ -38,13 +38,13 @@ void client_input_toggle_fullscreen(client *c, GLFWwindow *win)
     c->fullscreen = !c->fullscreen;
 }
 
-/* A touch, key or wheel: true when it only woke the kiosk from attract mode. */
-static bool woke(client *c)
+bool client_input_woke(client *c)
 {
     if (!attract_input(&c->attract, mono_s())) {
         return false;
     }
     client_scene_reset_camera(c); /* back from the tour to the kiosk's own view */
+    fprintf(stderr, "gale-client: attract mode: woken by a touch\n");
     return true;
 }
 
@@ -53,7 +53,7 @@ static void key_cb(GLFWwindow *win, int key, int scancode, int action, int mods)
     client *c = glfwGetWindowUserPointer(win);
     (void)scancode;
     (void)mods;
-    if (action != GLFW_PRESS || woke(c)) {
+    if (action != GLFW_PRESS || client_input_woke(c)) {
         return;
     }
     switch (key) {
@@ -127,7 +127,7 @@ static void mouse_cb(GLFWwindow *win, int button, int action, int mods)
 {
     client *c = glfwGetWindowUserPointer(win);
     (void)mods;
-    if (action == GLFW_PRESS && woke(c)) {
+    if (action == GLFW_PRESS && client_input_woke(c)) {
         return;
     }
     if (action == GLFW_PRESS && button == GLFW_MOUSE_BUTTON_LEFT && on_camera_button(c, win)) {
@@ -177,7 +177,7 @@ static void scroll_cb(GLFWwindow *win, double xoff, double yoff)
 {
     client *c = glfwGetWindowUserPointer(win);
     (void)xoff;
-    if (woke(c)) {
+    if (client_input_woke(c)) {
         return;
     }
     if (c->a.role != CTL_ROLE_WALL_TILE) {

@@ -50,13 +50,20 @@ void client_kiosk_release(client *c)
     if (c->a.role != CTL_ROLE_KIOSK) {
         return;
     }
-    ctl_wind w = { .release = true };
-    snprintf(w.token, sizeof w.token, "%s", c->a.token ? c->a.token : "");
+    /* the dial dropped and the scene's own scenario or playlist back (scenario ""): a
+     * visitor's pick ends with the visitor, not at the server's idle time */
+    ctl_msg m = { .type = CTL_WIND };
+    m.u.wind.release = true;
+    m.u.wind.has_scenario = true;
+    snprintf(m.u.wind.token, sizeof m.u.wind.token, "%s", c->a.token ? c->a.token : "");
+    char text[CTL_MAX_CLIENT_BYTES];
     gale_err err = { 0 };
-    if (cli_net_send_wind(c->net, &w, &err) != 0) {
+    if (cli_net_send_ctl(c->net, &m, text, sizeof text, &err) != 0) {
         fprintf(stderr, "gale-client: release: %s\n", err.msg);
     } else {
-        fprintf(stderr, "gale-client: attract mode: dial released, touring the cameras\n");
+        fprintf(stderr, "gale-client: kiosk sent %s\n", text);
+        fprintf(stderr, "gale-client: attract mode: dial released, back to the scene's "
+                        "scenarios, touring the cameras\n");
     }
     c->kiosk_speed_ms = 0.0f;
     kiosk_ui_forget_dial(&c->kiosk);
@@ -215,6 +222,15 @@ void client_kiosk_touch_step(client *c)
         return;
     }
     const client_touch *t = &c->touches[c->next_touch++];
+    /* as a window's touch: one that wakes the kiosk is no control */
+    if (t->phase == KIOSK_UI_DOWN && client_input_woke(c)) {
+        c->touch_woke = true;
+        return;
+    }
+    if (t->phase == KIOSK_UI_UP && c->touch_woke) {
+        c->touch_woke = false; /* the lift of the waking touch */
+        return;
+    }
     if (t->phase >= 0) {
         client_kiosk_touch(c, t->phase, t->x, t->y);
     }

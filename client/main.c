@@ -428,7 +428,8 @@ int main(int argc, char **argv)
                 client_hud_rescale(&c, h);
             }
         }
-        if (win && c.a.role == CTL_ROLE_KIOSK && attract_tick(&c.attract, now)) {
+        /* a window's kiosk, or a headless one a --touch script plays the visitor of */
+        if ((win || c.a.touch) && c.a.role == CTL_ROLE_KIOSK && attract_tick(&c.attract, now)) {
             /* nobody at the kiosk: let the scenario's wind return, tour the cameras */
             client_kiosk_release(&c);
             c.tour_t0_s = now;

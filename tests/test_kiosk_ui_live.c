@@ -91,7 +91,16 @@ typedef struct kiosk_run {
     char log[300], out[300];
 } kiosk_run;
 
+static int start_kiosk_args(kiosk_run *k, const char *name, const char *touch,
+                            const char *attract_s);
+
 static int start_kiosk(kiosk_run *k, const char *name, const char *touch)
+{
+    return start_kiosk_args(k, name, touch, NULL);
+}
+
+static int start_kiosk_args(kiosk_run *k, const char *name, const char *touch,
+                            const char *attract_s)
 {
     char url[64], cache[300], size[32];
     snprintf(k->log, sizeof k->log, "%s/%s.log", kf_dir, name);
@@ -101,7 +110,8 @@ static int start_kiosk(kiosk_run *k, const char *name, const char *touch)
     snprintf(size, sizeof size, "%dx%d", FB_W, FB_H);
     char *argv[] = { GALE_CLIENT_EXE, "--url", url, "--role", "kiosk", "--token", KIOSK_TOKEN,
                      "--headless", "--frames", "100000", "--size", size, "--wait", "120",
-                     "--cache", cache, "--touch", (char *)touch, NULL };
+                     "--cache", cache, "--touch", (char *)touch,
+                     attract_s ? "--attract" : NULL, (char *)attract_s, NULL };
     unlink(k->log);
     k->pid = kf_spawn(argv, k->log, k->out);
     return k->pid > 0 ? 0 : -1;
@@ -370,6 +380,41 @@ static void test_scenario_button(void)
     CHECK_STR_HAS(line, "running Charley 2004");
 }
 
+/* Attract mode: a kiosk nobody touches for its idle time (1 s here) drops its dial and
+ * asks for the scene's own scenarios back (scenario ""), and the next touch only wakes it:
+ * no control is sent for it. */
+static void test_attract_wake(void)
+{
+    kiosk_ui ui;
+    CHECK(panel(&ui) == 0);
+    char spec[1024] = "";
+    add_wait(spec, sizeof spec, 30);
+    float x, y;
+    kiosk_ui_dial_point(&ui, 40.0f, &x, &y);
+    add(spec, sizeof spec, "tap", x, y);
+    add_wait(spec, sizeof spec, 10);
+    kiosk_run k;
+    CHECK(start_kiosk_args(&k, "attract", spec, "1") == 0);
+    double until = mono_s() + 60.0;
+    while (mono_s() < until && kf_log_count(k.log, "attract mode: woken by a touch") < 1) {
+        usleep(100000);
+    }
+    char line[512];
+    stop_kiosk(&k, line, sizeof line);
+    CHECK(kf_log_count(k.log, "attract mode: dial released, back to the scene's scenarios") == 1);
+    CHECK(kf_log_count(k.log, "attract mode: woken by a touch") == 1);
+    ctl_msg m[8];
+    int n = sent(&k, m, 8);
+    CHECK(n == 1);
+    if (n >= 1) {
+        CHECK(m[0].type == CTL_WIND && m[0].u.wind.release && m[0].u.wind.has_scenario &&
+              m[0].u.wind.scenario[0] == '\0' && !m[0].u.wind.has_speed);
+    }
+    if (n != 1) {
+        kf_dump(k.log);
+    }
+}
+
 int main(void)
 {
     if (!getenv("DISPLAY")) {
@@ -382,6 +427,7 @@ int main(void)
         return 1;
     }
     RUN(test_dial_and_compass);
+    RUN(test_attract_wake);
     kf_reader_stop(&viewer);
     kf_stop_server();
     /* a replay of Andrew an hour before landfall */
