@@ -164,6 +164,13 @@ static void test_gust(void)
         weather_gust_add(&g, t, t >= 10.0 && t < 13.0 ? 30.0f : 20.0f);
     }
     CHECK_NEAR(weather_gust_ms(&g, 20.0f), 30.0, 1e-4);
+    /* a shorter window (a replay's 60 storm seconds): the newest mean closed second 28;
+       the burst's seconds 10..12 make the whole mean of second 12 (17th newest) and part
+       of those of 13 (16th, 26.7) and 14 (15th); the last 14 hold none of it */
+    CHECK_NEAR(weather_gust_ms_last(&g, 20.0f, 17), 30.0, 1e-4);
+    CHECK_NEAR(weather_gust_ms_last(&g, 20.0f, 16), 80.0 / 3.0, 1e-4);
+    CHECK_NEAR(weather_gust_ms_last(&g, 20.0f, 14), 20.0, 1e-4);
+    CHECK_NEAR(weather_gust_ms_last(&g, 20.0f, 1000), 30.0, 1e-4); /* clamped to 60 */
     /* a 1-s burst counts a third */
     weather_gust_init(&g);
     for (int k = 0; k < 60 * 30; k++) {

@@ -45,7 +45,14 @@ void srv_weather_fill(const srv *s, wire_weather *w)
     const scenario_state *st = &s->wx_state;
     memset(w, 0, sizeof *w);
     w->sustained_ms = clampf(st->sustained_ms, 0.0, 200.0);
-    w->gust_ms = clampf(weather_gust_ms(&s->wx_gust, w->sustained_ms), 0.0, 300.0);
+    /* a replay's 60 s of gust are storm seconds: 60/speed server seconds, at least the
+       3 s the mean spans (an eyewall's peak of storm minutes ago is not the eye's gust) */
+    int window_s = WEATHER_GUST_WINDOW_S;
+    if (st->replay_speed > 1.0) {
+        double span = (double)WEATHER_GUST_WINDOW_S / st->replay_speed;
+        window_s = span < 3.0 ? 3 : (int)ceil(span);
+    }
+    w->gust_ms = clampf(weather_gust_ms_last(&s->wx_gust, w->sustained_ms, window_s), 0.0, 300.0);
     w->dir_from_deg = clampf(st->dir_from_deg, 0.0, 359.99);
     w->ss_class = (uint8_t)wind_scale_ss_class(w->sustained_ms);
     w->beaufort = (uint8_t)wind_scale_beaufort(w->sustained_ms);

@@ -54,9 +54,18 @@ void weather_gust_add(weather_gust *g, double t_s, float speed_ms)
 
 float weather_gust_ms(const weather_gust *g, float floor_ms)
 {
+    return weather_gust_ms_last(g, floor_ms, WEATHER_GUST_WINDOW_S);
+}
+
+float weather_gust_ms_last(const weather_gust *g, float floor_ms, int window_s)
+{
+    int w = window_s < 1 ? 1 : window_s > WEATHER_GUST_WINDOW_S ? WEATHER_GUST_WINDOW_S : window_s;
+    int n = w < g->n_mean3 ? w : g->n_mean3;
     float m = floor_ms;
-    for (int i = 0; i < g->n_mean3; i++) {
-        m = g->mean3[i] > m ? g->mean3[i] : m;
+    for (int i = 0; i < n; i++) {
+        /* the newest mean is the one before head */
+        int k = (g->head - 1 - i + 2 * WEATHER_GUST_WINDOW_S) % WEATHER_GUST_WINDOW_S;
+        m = g->mean3[k] > m ? g->mean3[k] : m;
     }
     return m;
 }

@@ -23,5 +23,8 @@ void weather_gust_add(weather_gust *g, double t_s, float speed_ms);
 /* The gust [m/s]: the highest 3-s mean of the window, at least floor_ms (the sustained
  * wind, which a gust never undercuts); floor_ms alone before three seconds have passed. */
 float weather_gust_ms(const weather_gust *g, float floor_ms);
+/* The same over the last window_s 3-s means only (clamped to [1, WEATHER_GUST_WINDOW_S]):
+ * a replay at N storm seconds per second spans the gust's 60 storm seconds in 60/N. */
+float weather_gust_ms_last(const weather_gust *g, float floor_ms, int window_s);
 
 #endif
