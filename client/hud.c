@@ -590,7 +590,33 @@ static void push_text(hud *h, float x, float y, const char *s, const float rgba[
 }
 
 /* Uploads and draws the pushed vertices (defined below). */
-static void flush_verts(hud *h, int fb_w, int fb_h);
+/* The HUD program, atlas and blending over the bound framebuffer. */
+static void batch_state(hud *h, int fb_w, int fb_h)
+{
+    glUseProgram(h->prog);
+    glUniform2f(h->u_size, (float)fb_w, (float)fb_h);
+    glUniform1i(h->u_atlas, 0);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, h->tex);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    glViewport(0, 0, fb_w, fb_h);
+}
+
+/* Uploads and draws the vertices pushed since n_verts was reset, over the bound framebuffer. */
+static void flush_verts(hud *h, int fb_w, int fb_h)
+{
+    batch_state(h, fb_w, fb_h);
+    glBindVertexArray(h->vao);
+    glBindBuffer(GL_ARRAY_BUFFER, h->vbo);
+    glBufferSubData(GL_ARRAY_BUFFER, 0,
+                    (GLsizeiptr)((size_t)h->n_verts * VERT_FLOATS * sizeof(float)), h->verts);
+    glDrawArrays(GL_TRIANGLES, 0, (GLsizei)h->n_verts);
+    glBindVertexArray(0);
+    glUseProgram(0);
+}
 
 void hud_draw_lines(hud *h, const char *const *lines, int n, int accent_line, float x, float y,
                     int fb_w, int fb_h)
@@ -668,20 +694,7 @@ static void draw_arrow(hud *h, const hud_state *s, int fb_w, int fb_h)
     push_tri(h, head, ink);
     push_tri(h, q0, ink);
     push_tri(h, q1, ink);
-    glUseProgram(h->prog);
-    glUniform2f(h->u_size, (float)fb_w, (float)fb_h);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE);
-    glEnable(GL_BLEND);
-    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-    glViewport(0, 0, fb_w, fb_h);
-    glBindVertexArray(h->vao);
-    glBindBuffer(GL_ARRAY_BUFFER, h->vbo);
-    glBufferSubData(GL_ARRAY_BUFFER, 0,
-                    (GLsizeiptr)((size_t)h->n_verts * VERT_FLOATS * sizeof(float)), h->verts);
-    glDrawArrays(GL_TRIANGLES, 0, (GLsizei)h->n_verts);
-    glBindVertexArray(0);
-    glUseProgram(0);
+    flush_verts(h, fb_w, fb_h);
 }
 
 void hud_draw(hud *h, const hud_state *s, int fb_w, int fb_h)
@@ -707,47 +720,13 @@ void hud_draw_veil(hud *h, const char *text, int fb_w, int fb_h)
     const float veil[4] = { 0.02f, 0.03f, 0.05f, 0.55f };
     h->n_verts = 0;
     push_rect(h, 0.0f, 0.0f, (float)fb_w, (float)fb_h, -1, 0, -1, 0, veil);
-    glUseProgram(h->prog);
-    glUniform2f(h->u_size, (float)fb_w, (float)fb_h);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE);
-    glEnable(GL_BLEND);
-    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-    glViewport(0, 0, fb_w, fb_h);
-    glBindVertexArray(h->vao);
-    glBindBuffer(GL_ARRAY_BUFFER, h->vbo);
-    glBufferSubData(GL_ARRAY_BUFFER, 0,
-                    (GLsizeiptr)((size_t)h->n_verts * VERT_FLOATS * sizeof(float)), h->verts);
-    glDrawArrays(GL_TRIANGLES, 0, (GLsizei)h->n_verts);
-    glBindVertexArray(0);
-    glUseProgram(0);
+    flush_verts(h, fb_w, fb_h);
     const float w = hud_text_width(h->font, text) + 1.2f * h->font->px;
     const char *lines[1] = { text };
     hud_draw_lines(h, lines, 1, 0, floorf(0.5f * ((float)fb_w - w)),
                    floorf(0.5f * (float)fb_h - h->font->px), fb_w, fb_h);
 }
 
-/* Uploads and draws the vertices pushed since n_verts was reset, over the bound framebuffer. */
-static void flush_verts(hud *h, int fb_w, int fb_h)
-{
-    glUseProgram(h->prog);
-    glUniform2f(h->u_size, (float)fb_w, (float)fb_h);
-    glUniform1i(h->u_atlas, 0);
-    glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, h->tex);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE);
-    glEnable(GL_BLEND);
-    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-    glViewport(0, 0, fb_w, fb_h);
-    glBindVertexArray(h->vao);
-    glBindBuffer(GL_ARRAY_BUFFER, h->vbo);
-    glBufferSubData(GL_ARRAY_BUFFER, 0,
-                    (GLsizeiptr)((size_t)h->n_verts * VERT_FLOATS * sizeof(float)), h->verts);
-    glDrawArrays(GL_TRIANGLES, 0, (GLsizei)h->n_verts);
-    glBindVertexArray(0);
-    glUseProgram(0);
-}
 
 void hud_draw_button(hud *h, const char *label, float x0, float y0, float x1, float y1, int fb_w,
                      int fb_h)
@@ -812,20 +791,6 @@ static void batch_room(hud *h, uint32_t n)
     }
 }
 
-/* The HUD program and blending over the bound framebuffer, as flush_verts sets them. */
-static void batch_state(hud *h, int fb_w, int fb_h)
-{
-    glUseProgram(h->prog);
-    glUniform2f(h->u_size, (float)fb_w, (float)fb_h);
-    glUniform1i(h->u_atlas, 0);
-    glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, h->tex);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE);
-    glEnable(GL_BLEND);
-    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-    glViewport(0, 0, fb_w, fb_h);
-}
 
 static void draw_kept(hud *h)
 {
