@@ -59,7 +59,15 @@ void client_damage_free(client *c)
     }
 }
 
-/* The stem's angle from upright at server time now_s. */
+/* Where a fallen tree pivots [m up the stem, tree frame at unit scale]: a snapped stem at
+ * its break above the stump, an uprooted one at its base (shaders/common.glsl
+ * tree_pivot_m). */
+static float fall_pivot_m(const client *c, uint32_t t)
+{
+    return c->dmg.tree[t].fallen == WIRE_DAMAGE_SNAP ? tip_fall_break_m(t) : 0.0f;
+}
+
+/* The stem's angle from upright at server time now_s: the pole is the stem above the pivot. */
 static float fall_angle(const client *c, const client_damage_fx *x, uint32_t t, double now_s)
 {
     if (!c->dmg.tree[t].fallen) {
@@ -69,7 +77,9 @@ static float fall_angle(const client *c, const client_damage_fx *x, uint32_t t, 
     if (isnan(t0) || isnan(now_s)) {
         return (float)TIP_FALL_LYING_RAD;
     }
-    return (float)tip_fall_angle(now_s - t0, render_tree_height_m(c->r, t));
+    const float sc = t < c->w.n_instances ? c->w_instances[t].scale : 1.0f;
+    return (float)tip_fall_angle(now_s - t0,
+                                 render_tree_height_m(c->r, t) - sc * fall_pivot_m(c, t));
 }
 
 static float fall_az(const client *c, uint32_t t)
@@ -97,9 +107,11 @@ static void spawn_debris(client *c, client_damage_fx *x, uint32_t t, uint32_t no
     const ctl_instance *in = &c->w_instances[t];
     float r0[9], c0[3];
     debris_frame_matrix(in->yaw_rad, fall_angle(c, x, t, t0_s), fall_az(c, t), r0);
+    /* where the tree draws the piece's centre: turned about the fall's pivot */
+    const float piv = fall_pivot_m(c, t), d[3] = { centre[0], centre[1], centre[2] - piv };
     for (int i = 0; i < 3; i++) {
-        c0[i] = in->pos[i] + in->scale * (r0[i] * centre[0] + r0[3 + i] * centre[1] +
-                                          r0[6 + i] * centre[2]);
+        c0[i] = in->pos[i] + in->scale * (r0[i] * d[0] + r0[3 + i] * d[1] + r0[6 + i] * d[2] +
+                                          (i == 2 ? piv : 0.0f));
     }
     debris_path_start(&x->debris[k], t, node, t0_s, c0, r0, axis, ext * in->scale);
     memcpy(x->centre[k], centre, sizeof centre);

@@ -83,7 +83,8 @@ render *render_create(const render_desc *desc, gale_err *err)
         const char *name;
     } progs[] = { { &r->p_skel, "skel" },  { &r->p_tree, "tree" }, { &r->p_leaf, "leaf" },
                   { &r->p_fall, "fall" },  { &r->p_sky, "sky" },   { &r->p_bill, "bill" },
-                  { &r->p_house, "house" }, { &r->p_rain, "rain" }, { &r->p_plate, "plate" } };
+                  { &r->p_house, "house" }, { &r->p_rain, "rain" }, { &r->p_plate, "plate" },
+                  { &r->p_stump, "stump" } };
     for (size_t i = 0; i < sizeof progs / sizeof progs[0]; i++) {
         if (render_program_load(r->shader_dir, progs[i].name, progs[i].p, err) < 0) {
             goto fail;
@@ -100,6 +101,7 @@ render *render_create(const render_desc *desc, gale_err *err)
     render_buf_create(&r->cut, GL_RGBA32F, NULL, (size_t)render_slots(r) * 4 * sizeof(float));
     render_buf_create(&r->cutn, GL_R32F, NULL, 0);
     render_buf_create(&r->plate_buf, GL_R32F, NULL, 0);
+    render_buf_create(&r->stump_buf, GL_RGBA32F, NULL, 0);
     r->cut_dirty = true;
     render_damage_upload(r);
     if (render_skel_ensure(r, 64, 64, err) < 0) {
@@ -134,7 +136,8 @@ void render_destroy(render *r)
             render_species_free(&r->sp[i]);
         }
         GLuint progs[] = { r->p_skel.id, r->p_tree.id,  r->p_leaf.id, r->p_fall.id, r->p_sky.id,
-                           r->p_bill.id, r->p_house.id, r->p_rain.id, r->p_plate.id };
+                           r->p_bill.id, r->p_house.id, r->p_rain.id, r->p_plate.id,
+                           r->p_stump.id };
         for (size_t i = 0; i < sizeof progs / sizeof progs[0]; i++) {
             if (progs[i]) {
                 glDeleteProgram(progs[i]);
@@ -146,6 +149,7 @@ void render_destroy(render *r)
         render_buf_free(&r->cut);
         render_buf_free(&r->cutn);
         render_buf_free(&r->plate_buf);
+        render_buf_free(&r->stump_buf);
         GLuint texs[] = { r->skel_tex, r->seg_tex, r->wind_tex, r->path_tex, r->fbo_col };
         for (size_t i = 0; i < sizeof texs / sizeof texs[0]; i++) {
             if (texs[i]) {
@@ -184,6 +188,7 @@ void render_destroy(render *r)
     free(r->ring);
     free(r->broken);
     free(r->plates);
+    free(r->stumps);
     free(r);
 }
 
@@ -233,6 +238,7 @@ static void build_lists(render *r)
                                  .billboard_dist_m = r->desc.lod_billboard_dist };
     memset(r->grp_n, 0, sizeof r->grp_n);
     r->n_plates = 0;
+    r->n_stumps = 0;
     /* pass 1: classify and count */
     uint32_t rows = 0;
     const uint32_t n_drawn = r->n_trees + r->n_debris;
@@ -257,6 +263,15 @@ static void build_lists(render *r)
         if ((tl.flags & RENDER_LOD_FULL) && k < r->n_trees && in->uprooted != 0 &&
             in->fall_rad > 0.02f) {
             r->plates[r->n_plates++] = (float)i;
+        }
+        if ((tl.flags & RENDER_LOD_FULL) && k < r->n_trees && render_slot_snapped(r, i)) {
+            float *e = &r->stumps[8 * r->n_stumps++];
+            e[0] = (float)i;
+            e[1] = s->stem_r_m;
+            e[2] = s->stem_taper;
+            e[3] = 0.0f;
+            memcpy(&e[4], s->bark, sizeof s->bark);
+            e[7] = 0.0f;
         }
         if (!tl.flags) {
             r->stats.trees_culled++;
@@ -393,6 +408,7 @@ int render_frame(render *r, const render_camera *cam, double time_s, gale_err *e
     }
     glDisable(GL_CULL_FACE);
     render_plates_draw(r, t);
+    render_stumps_draw(r, t);
     render_set_common(r, &r->p_leaf, t, r->desc.fog_dist);
     for (uint32_t s = 0; s < r->n_species; s++) {
         render_draw_leaves(r, &r->sp[s], r->grp_base[s][G_LEAF], r->grp_n[s][G_LEAF]);

@@ -84,6 +84,7 @@ typedef struct render_stats {
     uint32_t draw_calls;
     uint32_t falling_live;     /* leaf records in the ring */
     uint64_t leaves_drawn;     /* attached leaves drawn */
+    uint32_t stumps;           /* stumps of snapped trees drawn */
 } render_stats;
 
 /* Creates the GL context (window or offscreen) and all GPU state. NULL on failure with

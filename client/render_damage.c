@@ -10,7 +10,8 @@
  * node from it to the root is cut. Tube vertices and leaves read that flag from the texel
  * they read their position from. Cost: one texel fetch per skeleton row in skel.vert, and
  * count fetches per node only on a tree with count broken branches; an intact forest pays
- * nothing per node. Memory: 16 bytes per slot, 4 per broken branch. */
+ * nothing per node. Memory: 16 bytes per slot, 4 per broken branch. Also the root plates of
+ * uprooted trees and the stumps of snapped ones (shaders/plate.*, shaders/stump.*). */
 #include "render_internal.h"
 
 #include "damage_cut.h"
@@ -212,5 +213,22 @@ void render_plates_draw(render *r, float time_rel)
     glBindVertexArray(r->vao_empty);
     /* shaders/plate.vert: two fans and the side band of PLATE_SEG = 24 segments */
     glDrawArraysInstanced(GL_TRIANGLES, 0, 12 * 24, (GLsizei)r->n_plates);
+    r->stats.draw_calls++;
+}
+
+void render_stumps_draw(render *r, float time_rel)
+{
+    r->stats.stumps = r->n_stumps;
+    if (r->n_stumps == 0) {
+        return;
+    }
+    render_buf_upload(&r->stump_buf, GL_RGBA32F, r->stumps,
+                      (size_t)r->n_stumps * 8 * sizeof(float));
+    render_set_common(r, &r->p_stump, time_rel, r->desc.fog_dist);
+    render_bind_buf(RU_TREES, &r->trees);
+    render_bind_buf(RU_STUMP, &r->stump_buf);
+    glBindVertexArray(r->vao_empty);
+    /* shaders/stump.vert: 21 vertices per segment, STUMP_SEG = 12 segments */
+    glDrawArraysInstanced(GL_TRIANGLES, 0, 21 * 12, (GLsizei)r->n_stumps);
     r->stats.draw_calls++;
 }

@@ -41,6 +41,7 @@ enum {
     RU_CUT = 10,  /* per tree slot: first, count of its cut nodes, keep-only (buffer) */
     RU_CUTN = 11, /* cut node indices (buffer) */
     RU_PLATE = 12, /* trees drawn with a root plate this frame (buffer) */
+    RU_STUMP = 13, /* stumps of snapped trees drawn this frame (buffer) */
 };
 
 /* Groups of the per-frame draw list, per species. */
@@ -78,6 +79,7 @@ typedef struct rs_species {
     GLuint vao, vbo, ibo, imp_tex;
     rs_buf vw, node, leaf;
     float bill[3]; /* half width, height, bottom [m] */
+    float stem_r_m, stem_taper; /* stem radius at the base [m] and its change per metre up */
     /* CPU copies for releasing falling leaves (one node per leaf, never per frame) */
     float *rest, *corr_v, *corr_w, *leaf_offset, *leaf_normal, *leaf_size;
     float corr_a[RENDER_MAX_MODES], corr_b[RENDER_MAX_MODES];
@@ -98,6 +100,7 @@ struct render {
     GLuint fbo, fbo_col, fbo_depth; /* offscreen target (headless) */
     GLuint vao_empty;
     render_prog p_skel, p_tree, p_leaf, p_fall, p_sky, p_bill, p_house, p_rain, p_plate;
+    render_prog p_stump;
     storm_fx fx; /* sky, light, fog and rain of the weather (render_set_storm) */
     GLuint house_vao, house_vbo; /* houses: world-space triangles (render_house_mesh) */
     uint32_t house_verts;
@@ -129,6 +132,10 @@ struct render {
     float *plates;      /* [cap_trees] uprooted trees drawn in full this frame */
     uint32_t n_plates;
     rs_buf plate_buf;
+    float *stumps;      /* [8 cap_trees] snapped trees drawn in full this frame: tree, stem
+                           radius, taper, 0; bark rgb, 0 (shaders/stump.vert) */
+    uint32_t n_stumps;
+    rs_buf stump_buf;
 
     GLuint skel_tex, skel_fbo;
     GLuint seg_tex, seg_fbo; /* the skeleton pass's posed segments (shaders/skel.frag) */
@@ -199,6 +206,21 @@ static inline uint32_t render_slot_at(const render *r, uint32_t k)
     return k < r->n_trees ? k : r->cap_trees + 1 + (k - r->n_trees);
 }
 
+/* Whether slot i holds a snapped tree: a scene tree fallen and not uprooted (PROTOCOL.md
+ * "DAMAGE": SNAP and UPROOT are the fallen kinds); it tips about its break and leaves a
+ * stump (tip_fall_break_m). Debris slots never: a piece turns about its own frame. */
+static inline bool render_slot_snapped(const render *r, uint32_t i)
+{
+    return i < r->cap_trees && r->inst[i].fall_rad > 0.0f && r->inst[i].uprooted == 0;
+}
+/* u_trees slot 1 .z of slot i (shaders/common.glsl tree_fall, tree_snapped, leaf_kept): the
+ * fall angle (0..π) plus 4 x the leaf levels lost, plus 256 on a snapped tree. */
+static inline float render_tree_code(const render *r, uint32_t i)
+{
+    const render_instance *in = &r->inst[i];
+    return in->fall_rad + 4.0f * (float)in->leaf_lost + (render_slot_snapped(r, i) ? 256.0f : 0.0f);
+}
+
 /* (Re)allocates the per-tree arrays for cap trees plus the rest-pose slot. GALE_E_NOMEM. */
 int render_trees_alloc(render *r, uint32_t cap, gale_err *err);
 /* Uploads every instance transform (and the rest slot) to the trees buffer. */
@@ -210,6 +232,8 @@ void render_trees_upload(render *r);
 void render_damage_upload(render *r);
 /* Draws the root plates of r->plates (shaders/plate.*); expects the target bound. */
 void render_plates_draw(render *r, float time_rel);
+/* Draws the stumps of r->stumps (shaders/stump.*); expects the target bound. */
+void render_stumps_draw(render *r, float time_rel);
 
 /* ---- render_wind.c ---- */
 

@@ -18,6 +18,7 @@ int render_trees_alloc(render *r, uint32_t cap, gale_err *err)
     free(r->tree_group);
     free(r->tree_lod);
     free(r->plates);
+    free(r->stumps);
     r->cap_trees = cap;
     const uint32_t slots = render_slots(r);
     r->inst = calloc(slots, sizeof *r->inst);
@@ -28,7 +29,8 @@ int render_trees_alloc(render *r, uint32_t cap, gale_err *err)
     r->tree_group = calloc(slots, sizeof(uint32_t));
     r->tree_lod = calloc((size_t)slots * 4, sizeof(float));
     r->plates = calloc(cap + 1, sizeof(float));
-    if (!r->plates || !r->inst || !r->q_stage || !r->list || !r->tree_row || !r->tree_group || !r->tree_lod) {
+    r->stumps = calloc((size_t)(cap + 1) * 8, sizeof(float));
+    if (!r->plates || !r->stumps || !r->inst || !r->q_stage || !r->list || !r->tree_row || !r->tree_group || !r->tree_lod) {
         return gale_errf(err, GALE_E_NOMEM, "render: out of memory for %u trees", cap);
     }
     /* the rest-pose slot (index cap): origin, unit scale */
@@ -51,9 +53,8 @@ void render_trees_upload(render *r)
         t[8 * i + 3] = in->yaw;
         t[8 * i + 4] = in->scale > 0.0f ? in->scale : 1.0f;
         t[8 * i + 5] = (float)in->species;
-        /* slot 1 .z: the fall angle (0..π) plus 4 x the leaf levels lost (tree_fall,
-         * leaf_kept in shaders/common.glsl; render_set_debris writes its slots alike) */
-        t[8 * i + 6] = in->fall_rad + 4.0f * (float)in->leaf_lost;
+        /* slot 1 .z: render_tree_code (render_set_debris writes its slots alike) */
+        t[8 * i + 6] = render_tree_code(r, i);
         t[8 * i + 7] = in->fall_az_rad;
     }
     render_buf_upload(&r->trees, GL_RGBA32F, t, (size_t)n * 8 * sizeof(float));

@@ -223,6 +223,17 @@ int render_add_species(render *r, const asset *a, gale_err *err)
     }
     s->height = h;
     s->crown_r = cr;
+    /* the stem at the base, for a snapped tree's stump: the root's radius, tapering as
+       towards its thickest child */
+    s->stem_r_m = a->radius[0];
+    s->stem_taper = 0.0f;
+    for (size_t i = 1, best = 0; i < nn; i++) {
+        float dz = a->rest[3 * i + 2] - a->rest[2];
+        if (a->parent[i] == 0 && dz > 0.05f && (best == 0 || a->radius[i] > a->radius[best])) {
+            best = i;
+            s->stem_taper = fminf((a->radius[i] - a->radius[0]) / dz, 0.0f);
+        }
+    }
 
     for (size_t m = 0; m < nm; m++) {
         for (size_t i = 0; i < nn; i++) {

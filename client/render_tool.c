@@ -22,7 +22,8 @@ static void usage(FILE *f)
             "       [--q Q0,Q1,...]   (the same modal vector for every tree instead of --wind)\n"
             "       [--box X0,Y0,Z0,X1,Y1,Z1]...   (a house filling that box, up to 16)\n"
             "       [--storm-age S]   (storm damage S seconds after it struck: every third\n"
-            "                          tree tipping over, branches flying off as debris in\n"
+            "                          tree tipping over (half uprooted, half snapped above\n"
+            "                          a stump), branches flying off as debris in\n"
             "                          --wind, crowns thinned to half)\n"
             "       -h, --help: this text\n");
 }
@@ -73,11 +74,15 @@ static int storm_damage(render *r, const asset *as, const render_instance *inst,
     uint32_t nk = 0, nd = 0;
     for (uint32_t t = 0; t < trees && t < 32; t++) {
         const asset *a = &as[inst[t].species];
-        float fall =
-            t % 3 == 1 ? (float)tip_fall_angle(age_s, render_tree_height_m(r, t)) : 0.0f;
+        /* every third tree falls: half of those snap (the stem above the stump tips),
+           half uproot (the whole stem tips) */
+        const bool falls = t % 3 == 1, snaps = t % 6 == 4;
+        const float sc = inst[t].scale > 0.0f ? inst[t].scale : 1.0f;
+        const float pole_m = render_tree_height_m(r, t) - (snaps ? sc * tip_fall_break_m(t) : 0.0f);
+        float fall = falls ? (float)tip_fall_angle(age_s, pole_m) : 0.0f;
         float az = 0.8f + 0.3f * (float)t;
         render_set_damage(r, t, fall, az, 16);
-        render_set_uprooted(r, t, t % 3 == 1);
+        render_set_uprooted(r, t, falls && !snaps);
         if (t % 3 == 1) {
             continue; /* a falling tree keeps its branches here */
         }
@@ -114,7 +119,6 @@ static int storm_damage(render *r, const asset *as, const render_instance *inst,
                 continue;
             }
             debris_frame_matrix(inst[t].yaw, 0.0f, 0.0f, r0);
-            float sc = inst[t].scale > 0.0f ? inst[t].scale : 1.0f;
             for (int i = 0; i < 3; i++) {
                 c0[i] = inst[t].pos[i] + sc * (r0[i] * centre[0] + r0[3 + i] * centre[1] +
                                                r0[6 + i] * centre[2]);

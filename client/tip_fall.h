@@ -8,6 +8,8 @@
 #ifndef GALE_TIP_FALL_H
 #define GALE_TIP_FALL_H
 
+#include <stdint.h>
+
 #define TIP_FALL_G_MS2 9.81
 #define TIP_FALL_LEAN0_RAD 0.05    /* the lean the storm gave it when the stem gave way */
 #define TIP_FALL_LYING_RAD 1.536   /* 88°: the crown resting on the ground */
@@ -18,5 +20,16 @@ double tip_fall_angle(double t_s, double height_m);
 
 /* Seconds from giving way to lying. */
 double tip_fall_duration_s(double height_m);
+
+/* Where a snapped stem breaks: a hashed height per tree between these [m, tree frame at
+ * unit scale], low on the stem where the base moment is largest (PHYSICS.md "Storm damage"
+ * → "On screen": the stump stands, the part above tips about the break). */
+#define TIP_FALL_BREAK_MIN_M 0.5f
+#define TIP_FALL_BREAK_SPAN_M 1.0f
+
+/* The break height [m, tree frame at unit scale] of tree `tree` when it snaps; an
+ * uprooted tree pivots at 0. shaders/common.glsl stump_break_m is the same bits
+ * (tests/test_render_damage.c holds the GPU to it). */
+float tip_fall_break_m(uint32_t tree);
 
 #endif

@@ -108,10 +108,37 @@ mat3 rot_z(float a)
 }
 
 // Storm damage in u_trees slot 1 .z: the fall angle (0..π: a tumbling debris piece turns
-// upside down) plus 4 x the leaf levels lost (render_trees_upload, client/render_scene.c).
+// upside down) plus 4 x the leaf levels lost, plus 256 on a snapped tree
+// (render_tree_code, client/render_internal.h).
 float tree_fall(float z)
 {
     return z - 4.0 * floor(z * 0.25);
+}
+bool tree_snapped(float z)
+{
+    return z >= 256.0;
+}
+
+// tip_fall_break_m (client/tip_fall.c), the same bits: the height [m, tree frame] where a
+// snapped stem breaks; the stump stands below it (stump.vert), the rest tips about it.
+const float STUMP_MIN_M = 0.5;
+const float STUMP_SPAN_M = 1.0;
+float stump_break_m(int tree)
+{
+    return STUMP_MIN_M + STUMP_SPAN_M * hash01(uint(tree) * 2246822519u + 374761393u);
+}
+// The ragged edge of the break: height above or below stump_break_m [m] in segment k of
+// STUMP_SEG around the stem; the stump's top and the fallen butt share it, so they fit.
+const int STUMP_SEG = 12;
+float stump_jag_m(int tree, int k)
+{
+    float u = hash01(uint(tree) * 977u + uint(k % STUMP_SEG) * 131u + 11u);
+    return (k % 2 == 0 ? 0.10 : -0.06) + 0.14 * (u - 0.5);
+}
+// The fall's pivot [m up the stem]: the break on a snapped tree, else the base.
+float tree_pivot_m(int tree, float z)
+{
+    return tree_snapped(z) ? stump_break_m(tree) : 0.0;
 }
 
 // wire_damage_leaf_kept (protocol/wire.h), the same bits: whether a leaf slot of a tree
@@ -127,7 +154,7 @@ uint damage_mix(uint h)
 }
 bool leaf_kept(uint tree, uint slot, float z)
 {
-    uint level = 32u - uint(floor(z * 0.25));
+    uint level = 32u - uint(floor(mod(z, 256.0) * 0.25));
     uint r = damage_mix(slot * 0x9E3779B1u + 0x7F4A7C15u) +
              damage_mix(tree * 0x85EBCA77u + 0x165667B1u);
     return level >= 32u || r < (level << 27u);
@@ -141,4 +168,13 @@ mat3 tree_frame(float yaw, float fall, float az)
     float c = cos(fall), s = sin(fall);
     mat3 kx = mat3(0.0, k.z, -k.y, -k.z, 0.0, k.x, k.y, -k.x, 0.0);
     return (mat3(1.0) + s * kx + (1.0 - c) * kx * kx) * rot_z(yaw);
+}
+
+// A point p of the tree frame [m, unit scale] in the world: turned by rz (tree_frame)
+// about the pivot piv_m up the stem (tree_pivot_m; rz's yaw keeps the stem axis), scaled
+// by `scale`, placed at `pos`.
+vec3 tree_point(vec3 p, mat3 rz, float piv_m, vec3 pos, float scale)
+{
+    vec3 k = vec3(0.0, 0.0, piv_m);
+    return pos + scale * (k + rz * (p - k));
 }

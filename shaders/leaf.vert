@@ -58,7 +58,7 @@ void main()
     }
     a = rz * (r * normalize(a));
     n = rz * (r * n);
-    vec3 anchor = t0.xyz + rz * ((xj + r * l0.xyz) * t1.x);
+    vec3 anchor = tree_point(xj + r * l0.xyz, rz, tree_pivot_m(tree, t1.z), t0.xyz, t1.x);
 
     vec3 w = wind_at(anchor);
     float ws = length(w);

@@ -14,7 +14,9 @@ out vec3 v_wpos;
 out vec3 v_nrm;
 out vec3 v_local;
 out float v_kept;
+out float v_cut;
 flat out float v_fade;
+flat out int v_tree;
 
 // kept: 1 while the node hangs on the tree (skel.frag .w), 0 on a broken-off sub-tree
 void bone(int j, int row, out vec3 x, out vec3 rest, out mat3 r, out float kept)
@@ -49,7 +51,11 @@ void main()
     vec3 n = (1.0 - a_w) * (m0 * a_nrm) + a_w * (m1 * a_nrm);
     vec4 t0 = texelFetch(u_trees, tree * 2), t1 = texelFetch(u_trees, tree * 2 + 1);
     mat3 rz = tree_frame(t0.w, tree_fall(t1.z), t1.w);
-    v_wpos = t0.xyz + rz * (p * t1.x);
+    // a snapped tree tips about its break; the wood below it is the stump's (stump.vert)
+    float piv = tree_pivot_m(tree, t1.z);
+    v_wpos = tree_point(p, rz, piv, t0.xyz, t1.x);
+    v_cut = piv > 0.0 ? p.z - piv : 1e3;
+    v_tree = tree;
     v_nrm = rz * n;
     v_local = a_pos;
     v_fade = e.w;

@@ -3,7 +3,7 @@
  * from a render of the intact tree and nothing else does, the same branch drawn as a
  * debris piece in place fills them again, and a piece placed by debris_frame_matrix lands
  * on screen where the C copy of tree_frame puts it; far away a fallen tree is no standing
- * billboard, and an uprooted one shows its root plate. */
+ * billboard, an uprooted one shows its root plate, and a snapped one stands on a stump. */
 #include <cglm/cglm.h>
 #include <math.h>
 #include <stdbool.h>
@@ -17,6 +17,7 @@
 #include "debris_path.h"
 #include "render.h"
 #include "render_demo.h"
+#include "tip_fall.h"
 
 #define W 320
 #define H 240
@@ -28,16 +29,21 @@ static uint32_t BRANCH; /* the node that breaks */
 
 static const render_camera CAM = { .eye = { 0.0f, -15.0f, 4.5f }, .target = { 0.0f, 0.0f, 4.5f } };
 
-static uint8_t *shot(void)
+static uint8_t *shot_cam(const render_camera *cam)
 {
     uint8_t *rgb = malloc(W * H * 3);
     err = (gale_err){ 0 };
-    CHECK(render_frame(R, &CAM, 1.0, &err) == 0);
+    CHECK(render_frame(R, cam, 1.0, &err) == 0);
     CHECK(render_read_rgb(R, rgb, &err) == 0);
     if (err.code) {
         fprintf(stderr, "render: %s\n", err.msg);
     }
     return rgb;
+}
+
+static uint8_t *shot(void)
+{
+    return shot_cam(&CAM);
 }
 
 static int differs(const uint8_t *a, const uint8_t *b, int i)
@@ -152,18 +158,23 @@ static void test_branch_hidden(void)
     free(got);
 }
 
-/* screen position [px, top row 0] of world point p under CAM, as render.c builds it */
-static void project(const float p[3], float px[2])
+/* screen position [px, top row 0] of world point p under cam, as render.c builds it */
+static void project_cam(const render_camera *cam, const float p[3], float px[2])
 {
     mat4 view, proj, vp;
-    glm_lookat((vec3){ CAM.eye[0], CAM.eye[1], CAM.eye[2] },
-               (vec3){ CAM.target[0], CAM.target[1], CAM.target[2] }, (vec3){ 0, 0, 1 }, view);
+    glm_lookat((vec3){ cam->eye[0], cam->eye[1], cam->eye[2] },
+               (vec3){ cam->target[0], cam->target[1], cam->target[2] }, (vec3){ 0, 0, 1 }, view);
     glm_perspective(glm_rad(50.0f), (float)W / (float)H, 0.3f, 3000.0f, proj);
     glm_mat4_mul(proj, view, vp);
     vec4 c;
     glm_mat4_mulv(vp, (vec4){ p[0], p[1], p[2], 1.0f }, c);
     px[0] = (c[0] / c[3] * 0.5f + 0.5f) * W;
     px[1] = (0.5f - c[1] / c[3] * 0.5f) * H;
+}
+
+static void project(const float p[3], float px[2])
+{
+    project_cam(&CAM, p, px);
 }
 
 /* where the piece's nodes go: P + R · rest, averaged, on screen */
@@ -288,6 +299,84 @@ static void test_root_plate(void)
     free(uprooted);
 }
 
+/* A snapped tree leaves a stump up to its break (tip_fall_break_m, the C copy of the
+ * shaders' stump_break_m) and its fallen part lies on the stump's top; an uprooted tree
+ * has none. Tree 1 of two, so the hash is not only checked at 0. */
+static void test_stump(void)
+{
+    const render_camera cam = { .eye = { 0.0f, -3.5f, 1.6f }, .target = { 0.0f, 0.0f, 0.9f } };
+    render_instance in[2] = { { .species = 0, .pos = { 0.0f, -60.0f, 0.0f }, .scale = 1.0f },
+                              { .species = 0, .pos = { 0.0f, -60.0f, 0.0f }, .yaw = 0.4f,
+                                .scale = 1.0f } };
+    CHECK(render_set_instances(R, 2, in, &err) == 0);
+    uint8_t *bg = shot_cam(&cam);
+    in[1].pos[1] = 0.0f;
+    CHECK(render_set_instances(R, 2, in, &err) == 0);
+    free(shot_cam(&cam));
+    CHECK(render_get_stats(R).stumps == 0); /* standing */
+    render_set_damage(R, 1, 1.536f, 0.0f, 0); /* lying towards +x, across the view */
+    render_trees_commit(R);
+    uint8_t *img = shot_cam(&cam);
+    CHECK(render_get_stats(R).stumps == 1);
+    if (getenv("GALE_DUMP_STUMP")) {
+        stbi_write_png(getenv("GALE_DUMP_STUMP"), W, H, 3, img, W * 3);
+    }
+    const float h = tip_fall_break_m(1), r = A.radius[0];
+    /* the stump's left half (the fallen butt starts at x ≈ 0): its top edge and its fill */
+    float a[2], b[2], lo[2], hi[2], g[2];
+    project_cam(&cam, (float[3]){ -0.85f * r, -r, 0.5f * h }, a);
+    project_cam(&cam, (float[3]){ -0.45f * r, -r, 0.5f * h }, b);
+    project_cam(&cam, (float[3]){ -0.65f * r, 0.0f, h - 0.2f }, lo);
+    project_cam(&cam, (float[3]){ -0.65f * r, 0.0f, h + 0.25f }, hi);
+    project_cam(&cam, (float[3]){ -0.65f * r, -r, 0.15f }, g);
+    int tops = 0, good = 0, fill = 0, area = 0;
+    for (int x = (int)ceilf(a[0]); x < (int)b[0]; x++) {
+        int top = -1;
+        for (int y = (int)hi[1] - 12; y < (int)g[1]; y++) {
+            if (differs(img, bg, y * W + x)) {
+                top = top < 0 ? y : top;
+                if (y > (int)lo[1] + 3) {
+                    fill++;
+                }
+            }
+            area += y > (int)lo[1] + 3;
+        }
+        tops++;
+        good += top >= (int)hi[1] - 1 && top <= (int)lo[1] + 1;
+    }
+    fprintf(stderr, "stump: h %.2f m, r %.2f m, %d columns, %d with their top at the break, "
+                    "%d of %d px filled below it\n",
+            (double)h, (double)r, tops, good, fill, area);
+    CHECK(tops >= 4);
+    CHECK(good >= tops - 1);
+    CHECK(fill > area * 8 / 10);
+    /* the fallen part lies on the stump: 1.2 m out, its stem is at the break's height */
+    float e[2], want[2];
+    project_cam(&cam, (float[3]){ 1.2f, 0.0f, h + 1.2f * cosf(1.536f) }, want);
+    project_cam(&cam, (float[3]){ 1.2f, 0.0f, -0.5f }, e);
+    double sy = 0.0;
+    int n = 0;
+    for (int y = (int)want[1] - 40; y < (int)e[1]; y++) {
+        if (y >= 0 && y < H && differs(img, bg, y * W + (int)want[0])) {
+            sy += y;
+            n++;
+        }
+    }
+    fprintf(stderr, "fallen stem 1.2 m out: %d px about row %.1f, the break's height is row %.1f\n",
+            n, n ? sy / n : 0.0, (double)want[1]);
+    CHECK(n >= 3);
+    CHECK(n > 0 && fabs(sy / n - (double)want[1]) < 5.0);
+    render_set_uprooted(R, 1, true);
+    render_trees_commit(R);
+    free(shot_cam(&cam));
+    CHECK(render_get_stats(R).stumps == 0);
+    render_set_uprooted(R, 1, false);
+    render_set_damage(R, 1, 0.0f, 0.0f, 0);
+    render_trees_commit(R);
+    free(bg);
+    free(img);
+}
+
 int main(void)
 {
     R = render_create(&(render_desc){ .width = W, .height = H, .headless = true,
@@ -306,6 +395,7 @@ int main(void)
     RUN(test_piece_frame);
     RUN(test_fallen_no_billboard);
     RUN(test_root_plate);
+    RUN(test_stump);
     render_destroy(R);
     render_demo_free(&A);
     return check_report();
