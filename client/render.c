@@ -16,6 +16,7 @@
 #include <stb/stb_image_write.h>
 
 #include "render_cull.h"
+#include "wire.h"
 
 render *render_create(const render_desc *desc, gale_err *err)
 {
@@ -189,6 +190,7 @@ void render_destroy(render *r)
     free(r->broken);
     free(r->plates);
     free(r->stumps);
+    free(r->leaf_attached);
     free(r);
 }
 
@@ -338,7 +340,11 @@ static void build_lists(render *r)
             }
         }
         if (fl & RENDER_LOD_BILLBOARD) {
-            PUT(G_BILL, (float)i, 0.0f, 0.0f, (fl & RENDER_LOD_FULL) ? -tb : 1.0f);
+            /* the share of the crown's leaves left: stripped levels and broken branches */
+            const render_instance *in = &r->inst[i];
+            float leaf = (1.0f - (float)in->leaf_lost / (float)WIRE_DAMAGE_LEVELS) *
+                         (i < r->cap_trees ? r->leaf_attached[i] : 1.0f);
+            PUT(G_BILL, (float)i, leaf, 0.0f, (fl & RENDER_LOD_FULL) ? -tb : 1.0f);
         }
 #undef PUT
     }
@@ -425,6 +431,7 @@ int render_frame(render *r, const render_camera *cam, double time_s, gale_err *e
         glUniform1i(r->p_bill.u_base, (GLint)r->grp_base[s][G_BILL]);
         glUniform3fv(r->p_bill.u_bsize, 1, r->sp[s].bill);
         render_bind_tex(RU_IMP, GL_TEXTURE_2D, r->sp[s].imp_tex);
+        render_bind_tex(RU_IMP_WOOD, GL_TEXTURE_2D, r->sp[s].imp_wood_tex);
         glBindVertexArray(r->vao_empty);
         glDrawArraysInstanced(GL_TRIANGLES, 0, 6, (GLsizei)n);
         r->stats.draw_calls++;

@@ -104,6 +104,39 @@ int render_set_debris(render *r, uint32_t n, const render_debris *d, gale_err *e
     return 0;
 }
 
+/* r->leaf_attached from the cut lists just built (head: first, count per slot; nodes): the
+ * share of each tree's leaf slots whose node no broken branch takes, for the billboard
+ * (shaders/bill.frag). Only trees with broken branches cost anything. */
+static void leaf_attached_update(render *r, const float *head, const float *nodes)
+{
+    uint32_t cap = 0;
+    for (uint32_t s = 0; s < r->n_species; s++) {
+        cap = r->sp[s].n_nodes > cap ? r->sp[s].n_nodes : cap;
+    }
+    uint8_t *m = malloc(cap + 1);
+    uint32_t *cut = malloc(((size_t)cap + 1) * sizeof *cut);
+    for (uint32_t t = 0; t < r->cap_trees; t++) {
+        r->leaf_attached[t] = 1.0f;
+        const uint32_t n = (uint32_t)head[4 * t + 1], first = (uint32_t)head[4 * t];
+        const rs_species *s = &r->sp[r->inst[t].species];
+        if (n == 0 || t >= r->n_trees || !m || !cut || s->n_leaves == 0) {
+            continue;
+        }
+        uint32_t nc = 0;
+        for (uint32_t k = 0; k < n && nc < cap; k++) {
+            cut[nc++] = (uint32_t)nodes[first + k];
+        }
+        damage_cut_mask(s->parent, s->n_nodes, cut, nc, false, m);
+        uint32_t kept = 0;
+        for (uint32_t l = 0; l < s->n_leaves; l++) {
+            kept += m[s->leaf_node[l]];
+        }
+        r->leaf_attached[t] = (float)kept / (float)s->n_leaves;
+    }
+    free(m);
+    free(cut);
+}
+
 void render_damage_upload(render *r)
 {
     if (!r->cut_dirty) {
@@ -137,6 +170,7 @@ void render_damage_upload(render *r)
         h[2] = 1.0f; /* keep only the sub-tree of the node */
         nodes[nn++] = (float)r->debris[k].node;
     }
+    leaf_attached_update(r, head, nodes);
     render_buf_upload(&r->cut, GL_RGBA32F, head, (size_t)slots * 4 * sizeof(float));
     render_buf_upload(&r->cutn, GL_R32F, nodes, (size_t)(nn ? nn : 1) * sizeof(float));
     free(head);

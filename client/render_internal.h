@@ -42,6 +42,7 @@ enum {
     RU_CUTN = 11, /* cut node indices (buffer) */
     RU_PLATE = 12, /* trees drawn with a root plate this frame (buffer) */
     RU_STUMP = 13, /* stumps of snapped trees drawn this frame (buffer) */
+    RU_IMP_WOOD = 14, /* billboard impostor of the wood alone */
 };
 
 /* Groups of the per-frame draw list, per species. */
@@ -76,7 +77,7 @@ typedef struct rs_species {
     uint32_t lod_first[ASSET_MAX_LODS], lod_count[ASSET_MAX_LODS];
     float height, crown_r, bark[3], leaf_rgb[3];
     float ab[2 * RENDER_MAX_MODES]; /* a_i, b_i interleaved, the layout of skel.frag's u_ab */
-    GLuint vao, vbo, ibo, imp_tex;
+    GLuint vao, vbo, ibo, imp_tex, imp_wood_tex; /* impostors: whole tree, wood alone */
     rs_buf vw, node, leaf;
     float bill[3]; /* half width, height, bottom [m] */
     float stem_r_m, stem_taper; /* stem radius at the base [m] and its change per metre up */
@@ -136,6 +137,7 @@ struct render {
                            radius, taper, 0; bark rgb, 0 (shaders/stump.vert) */
     uint32_t n_stumps;
     rs_buf stump_buf;
+    float *leaf_attached; /* [cap_trees] share of a tree's leaf slots on no broken branch */
 
     GLuint skel_tex, skel_fbo;
     GLuint seg_tex, seg_fbo; /* the skeleton pass's posed segments (shaders/skel.frag) */

@@ -19,6 +19,7 @@ int render_trees_alloc(render *r, uint32_t cap, gale_err *err)
     free(r->tree_lod);
     free(r->plates);
     free(r->stumps);
+    free(r->leaf_attached);
     r->cap_trees = cap;
     const uint32_t slots = render_slots(r);
     r->inst = calloc(slots, sizeof *r->inst);
@@ -30,7 +31,11 @@ int render_trees_alloc(render *r, uint32_t cap, gale_err *err)
     r->tree_lod = calloc((size_t)slots * 4, sizeof(float));
     r->plates = calloc(cap + 1, sizeof(float));
     r->stumps = calloc((size_t)(cap + 1) * 8, sizeof(float));
-    if (!r->plates || !r->stumps || !r->inst || !r->q_stage || !r->list || !r->tree_row || !r->tree_group || !r->tree_lod) {
+    r->leaf_attached = malloc((size_t)(cap + 1) * sizeof(float));
+    for (uint32_t i = 0; r->leaf_attached && i <= cap; i++) {
+        r->leaf_attached[i] = 1.0f;
+    }
+    if (!r->plates || !r->stumps || !r->leaf_attached || !r->inst || !r->q_stage || !r->list || !r->tree_row || !r->tree_group || !r->tree_lod) {
         return gale_errf(err, GALE_E_NOMEM, "render: out of memory for %u trees", cap);
     }
     /* the rest-pose slot (index cap): origin, unit scale */

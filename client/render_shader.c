@@ -83,7 +83,8 @@ static const struct {
                      { "u_trees", RU_TREES }, { "u_vw", RU_VW },     { "u_q", RU_Q },
                      { "u_leaf", RU_LEAF },   { "u_wind", RU_WIND }, { "u_path", RU_PATH },
                      { "u_imp", RU_IMP },     { "u_cut", RU_CUT },   { "u_cutn", RU_CUTN },
-                     { "u_plates", RU_PLATE }, { "u_stumps", RU_STUMP } };
+                     { "u_plates", RU_PLATE }, { "u_stumps", RU_STUMP },
+                     { "u_imp_wood", RU_IMP_WOOD } };
 
 /* Every uniform location of render_prog and its name in the shaders. */
 #define PROG_U(f)                    \

@@ -21,6 +21,9 @@ void render_species_free(rs_species *s)
     if (s->imp_tex) {
         glDeleteTextures(1, &s->imp_tex);
     }
+    if (s->imp_wood_tex) {
+        glDeleteTextures(1, &s->imp_wood_tex);
+    }
     render_buf_free(&s->vw);
     render_buf_free(&s->node);
     render_buf_free(&s->leaf);
@@ -113,8 +116,48 @@ static float *dup_f(const float *s, size_t n)
     return d;
 }
 
+/* One impostor texture of s at rest under the view r->viewproj: wood, and the leaves too
+ * when with_leaves. The skeleton texture holds s's rest pose in row 0. */
+static GLuint impostor_draw(render *r, const rs_species *s, bool with_leaves)
+{
+    GLuint tex, fbo, depth;
+    glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, RENDER_IMP_W, RENDER_IMP_H, 0, GL_RGBA,
+                 GL_UNSIGNED_BYTE, NULL);
+    glGenRenderbuffers(1, &depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, RENDER_IMP_W, RENDER_IMP_H);
+    glGenFramebuffers(1, &fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex, 0);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+    glViewport(0, 0, RENDER_IMP_W, RENDER_IMP_H);
+    glClearColor(0, 0, 0, 0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    render_set_common(r, &r->p_tree, 0.0f, 1e9f);
+    render_draw_tree(r, s, 0, 0, 1);
+    if (with_leaves) {
+        render_set_common(r, &r->p_leaf, 0.0f, 1e9f);
+        render_draw_leaves(r, s, 0, 1);
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDeleteFramebuffers(1, &fbo);
+    glDeleteRenderbuffers(1, &depth);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glGenerateMipmap(GL_TEXTURE_2D);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return tex;
+}
+
 /* The impostor: the species at rest seen from the side, orthographic, on a clear
- * transparent background; far trees show it as a billboard. */
+ * transparent background; far trees show it as a billboard. A second one of the wood
+ * alone shows where a stripped or broken crown has lost leaves (shaders/bill.frag). */
 static int species_impostor(render *r, rs_species *s, uint32_t sid, gale_err *err)
 {
     float hw = s->crown_r * 1.05f + 0.2f, bottom = -0.05f * s->height;
@@ -137,21 +180,6 @@ static int species_impostor(render *r, rs_species *s, uint32_t sid, gale_err *er
     }
     render_draw_skeleton(r, s, 0, 1);
 
-    GLuint tex, fbo, depth;
-    glGenTextures(1, &tex);
-    glBindTexture(GL_TEXTURE_2D, tex);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, RENDER_IMP_W, RENDER_IMP_H, 0, GL_RGBA,
-                 GL_UNSIGNED_BYTE, NULL);
-    glGenRenderbuffers(1, &depth);
-    glBindRenderbuffer(GL_RENDERBUFFER, depth);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, RENDER_IMP_W, RENDER_IMP_H);
-    glGenFramebuffers(1, &fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex, 0);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
-    glViewport(0, 0, RENDER_IMP_W, RENDER_IMP_H);
-    glClearColor(0, 0, 0, 0);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     mat4 view, proj, vp;
     float dist = 4.0f * (s->height + s->crown_r) + 10.0f;
     glm_lookat((vec3){ 0.0f, -dist, 0.5f * s->height }, (vec3){ 0.0f, 0.0f, 0.5f * s->height },
@@ -162,22 +190,8 @@ static int species_impostor(render *r, rs_species *s, uint32_t sid, gale_err *er
     r->eye[0] = 0.0f;
     r->eye[1] = -dist;
     r->eye[2] = 0.5f * s->height;
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    render_set_common(r, &r->p_tree, 0.0f, 1e9f);
-    render_draw_tree(r, s, 0, 0, 1);
-    render_set_common(r, &r->p_leaf, 0.0f, 1e9f);
-    render_draw_leaves(r, s, 0, 1);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    glDeleteFramebuffers(1, &fbo);
-    glDeleteRenderbuffers(1, &depth);
-    glBindTexture(GL_TEXTURE_2D, tex);
-    glGenerateMipmap(GL_TEXTURE_2D);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    s->imp_tex = tex;
+    s->imp_tex = impostor_draw(r, s, true);
+    s->imp_wood_tex = impostor_draw(r, s, false);
     return 0;
 }
 

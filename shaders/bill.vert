@@ -1,12 +1,14 @@
 // Far trees as billboards (Singh section 2, Oliapuram LOD): a quad turned about the
 // vertical toward the camera, textured with the species' impostor rendered at rest.
-uniform samplerBuffer u_list;
+uniform samplerBuffer u_list;  // per billboard: tree, share of its leaves left, 0, fade
 uniform samplerBuffer u_trees;
 uniform int u_base;
 uniform vec3 u_bsize;         // half width, height, bottom of the impostor [m, tree frame]
 out vec2 v_uv;
 out vec3 v_wpos;
 flat out float v_fade;
+flat out float v_leaf;
+flat out int v_tree;
 void main()
 {
     vec4 e = texelFetch(u_list, u_base + gl_InstanceID);
@@ -22,5 +24,7 @@ void main()
                               vec3(0.0, 0.0, u_bsize.z + t * u_bsize.y));
     v_uv = vec2(s, t);
     v_fade = e.w;
+    v_leaf = e.y;
+    v_tree = tree;
     gl_Position = u_viewproj * vec4(v_wpos, 1.0);
 }

@@ -3,7 +3,8 @@
  * from a render of the intact tree and nothing else does, the same branch drawn as a
  * debris piece in place fills them again, and a piece placed by debris_frame_matrix lands
  * on screen where the C copy of tree_frame puts it; far away a fallen tree is no standing
- * billboard, an uprooted one shows its root plate, and a snapped one stands on a stump. */
+ * billboard, an uprooted one shows its root plate, a snapped one stands on a stump, and a
+ * far tree's billboard thins by the leaves its crown lost. */
 #include <cglm/cglm.h>
 #include <math.h>
 #include <stdbool.h>
@@ -18,6 +19,7 @@
 #include "render.h"
 #include "render_demo.h"
 #include "tip_fall.h"
+#include "wire.h"
 
 #define W 320
 #define H 240
@@ -299,6 +301,70 @@ static void test_root_plate(void)
     free(uprooted);
 }
 
+/* pixels of a far tree's billboard (a narrow lens on a tree 400 m off) that the background
+ * lacks */
+static int bill_px(const render_camera *cam, const uint8_t *bg)
+{
+    uint8_t *img = shot_cam(cam);
+    CHECK(render_get_stats(R).trees_billboard == 1 && render_get_stats(R).trees_full == 0);
+    if (getenv("GALE_DUMP_BILL")) {
+        static int k;
+        char path[512];
+        snprintf(path, sizeof path, "%s%d.png", getenv("GALE_DUMP_BILL"), k++);
+        stbi_write_png(path, W, H, 3, img, W * 3);
+    }
+    int n = 0;
+    for (int i = 0; i < W * H; i++) {
+        n += differs(img, bg, i);
+    }
+    free(img);
+    return n;
+}
+
+/* A far tree's billboard keeps the share of its leaves the crown kept: stripped levels and
+ * broken branches thin it by leaf slots left (damage_cut_mask), the wood stays. */
+static void test_billboard_thins(void)
+{
+    const render_camera cam = { .eye = { 0.0f, 0.0f, 4.5f }, .target = { 0.0f, 400.0f, 4.5f },
+                                .fov_y_deg = 2.5f };
+    render_instance in = { .species = 0, .pos = { 0.0f, -60.0f, 0.0f }, .scale = 1.0f };
+    CHECK(render_set_instances(R, 1, &in, &err) == 0);
+    uint8_t *bg = shot_cam(&cam);
+    in.pos[1] = 400.0f;
+    CHECK(render_set_instances(R, 1, &in, &err) == 0);
+    const int full = bill_px(&cam, bg);
+    render_set_damage(R, 0, 0.0f, 0.0f, WIRE_DAMAGE_LEVELS);
+    render_trees_commit(R);
+    const int wood = bill_px(&cam, bg);
+    render_set_damage(R, 0, 0.0f, 0.0f, WIRE_DAMAGE_LEVELS / 2);
+    render_trees_commit(R);
+    const int half = bill_px(&cam, bg);
+    render_set_damage(R, 0, 0.0f, 0.0f, 0);
+    render_trees_commit(R);
+    /* a broken branch: the share of leaf slots on what stays */
+    uint8_t *mask = malloc(A.n_nodes);
+    damage_cut_mask(A.parent, A.n_nodes, &BRANCH, 1, false, mask);
+    uint32_t kept = 0;
+    for (uint32_t l = 0; l < A.n_leaves; l++) {
+        kept += mask[A.leaf_node[l]];
+    }
+    const double share = (double)kept / A.n_leaves;
+    const uint64_t key = BRANCH;
+    CHECK(render_set_broken(R, 1, &key, &err) == 0);
+    const int broken = bill_px(&cam, bg);
+    CHECK(render_set_broken(R, 0, NULL, &err) == 0);
+    const double leaf_px = full - wood;
+    fprintf(stderr, "billboard: %d px whole, %d wood alone, %d at half the leaf levels (%.2f of "
+                    "the leaves), %d with a branch off (%.2f, the slots left %.2f)\n",
+            full, wood, half, (half - wood) / leaf_px, broken, (broken - wood) / leaf_px, share);
+    CHECK(full > 400 && wood > 20 && leaf_px > full / 4);
+    CHECK(fabs((half - wood) / leaf_px - 0.5) < 0.1);
+    CHECK(fabs((broken - wood) / leaf_px - share) < 0.1);
+    CHECK(share < 0.9);
+    free(mask);
+    free(bg);
+}
+
 /* A snapped tree leaves a stump up to its break (tip_fall_break_m, the C copy of the
  * shaders' stump_break_m) and its fallen part lies on the stump's top; an uprooted tree
  * has none. Tree 1 of two, so the hash is not only checked at 0. */
@@ -396,6 +462,7 @@ int main(void)
     RUN(test_fallen_no_billboard);
     RUN(test_root_plate);
     RUN(test_stump);
+    RUN(test_billboard_thins);
     render_destroy(R);
     render_demo_free(&A);
     return check_report();
