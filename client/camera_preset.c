@@ -133,3 +133,54 @@ void camera_preset_tour(camera *c, double t_s, const ctl_instance *inst, uint32_
     c->yaw += (float)(fmod(t, CAMERA_TOUR_STOP_S) * 0.017453292519943295);
     camera_eye(c, c->eye);
 }
+
+/* Trees of inst[] (other than `skip`) standing within 4 m of the sight line from eye to
+ * target, in the plane: crowns in the way. */
+static uint32_t trees_in_view(const ctl_instance *inst, uint32_t n_inst, uint32_t skip,
+                              const float eye[3], const float target[3])
+{
+    const float dx = target[0] - eye[0], dy = target[1] - eye[1];
+    const float len2 = dx * dx + dy * dy;
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < n_inst && len2 > 0.0f; i++) {
+        const float px = inst[i].pos[0] - eye[0], py = inst[i].pos[1] - eye[1];
+        const float u = (px * dx + py * dy) / len2;
+        if (i == skip || u < 0.0f || u > 0.85f) {
+            continue; /* behind the eye, or at the tree itself */
+        }
+        const float ex = px - u * dx, ey = py - u * dy;
+        n += ex * ex + ey * ey < 16.0f;
+    }
+    return n;
+}
+
+void camera_preset_fall(camera *c, const ctl_instance *inst, uint32_t n_inst, uint32_t tree,
+                        float height_m, float fall_az_rad)
+{
+    if (tree >= n_inst) {
+        return;
+    }
+    const float *p = inst[tree].pos, h = height_m > 1.0f ? height_m : 1.0f;
+    const float dir[2] = { cosf(fall_az_rad), sinf(fall_az_rad) };
+    /* the middle of the arc the stem sweeps, a little above the ground */
+    const float target[3] = { p[0] + 0.45f * h * dir[0], p[1] + 0.45f * h * dir[1],
+                              p[2] + 0.3f * h };
+    /* far enough that the standing tree and the fallen one both fit a 50° view */
+    const float dist = 0.9f * h + 4.0f, pitch = -0.12f;
+    float best_yaw = 0.0f;
+    uint32_t best = UINT32_MAX;
+    for (int side = 0; side < 2; side++) {
+        const float yaw = fall_az_rad + (side ? -1.5707963f : 1.5707963f);
+        const float f[3] = { cosf(pitch) * cosf(yaw), cosf(pitch) * sinf(yaw), sinf(pitch) };
+        const float eye[3] = { target[0] - dist * f[0], target[1] - dist * f[1],
+                               target[2] - dist * f[2] };
+        const uint32_t n = trees_in_view(inst, n_inst, tree, eye, target);
+        if (n < best) {
+            best = n;
+            best_yaw = yaw;
+        }
+    }
+    camera_init(c, target, dist);
+    c->pitch = pitch;
+    c->yaw = best_yaw;
+}

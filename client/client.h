@@ -60,6 +60,10 @@ typedef struct client_args {
     int storm_fx;           /* enum storm_fx_quality: --storm-fx, default low */
     bool fullscreen;        /* --fullscreen: open on the primary monitor (F11 toggles) */
     const char *touch;      /* --touch SPEC: headless kiosk touches (client_kiosk.c) */
+    /* --fall-shots T,T,...: headless pictures T s after a fall caught live
+       (client_fall_shots.c), ascending */
+    double fall_shot_s[8];
+    int n_fall_shots;
 } client_args;
 
 /* One scripted touch of --touch (headless kiosk tests and screenshots). */
@@ -157,6 +161,8 @@ typedef struct client {
     kiosk_ui kiosk;   /* kiosk: the touch panel (kiosk_ui.h) */
     double kiosk_drag_sent_s; /* when a dragged dial last sent its value */
     client_touch touches[CLIENT_MAX_TOUCHES]; /* --touch, played one a frame */
+    int fall_shot_next;  /* --fall-shots: the next one to write */
+    bool fall_framed;    /* --fall-shots: the camera looks at the fall */
     int n_touches, next_touch;
     bool touch_woke; /* the scripted touch down that woke the kiosk: its lift is no control */
     int win_pos[2], win_size[2];
@@ -177,6 +183,18 @@ void client_damage_take(client *c, const wire_frame *f);
 void client_damage_frame(client *c, double now_s);
 /* Debris pieces in flight or lying. */
 uint32_t client_damage_debris_count(const client *c);
+/* The first fall this client saw begin (not one older than DAMAGE_RECENT_S at its arrival):
+ * its tree, when its stem gave way and the instant last drawn (server clock [s]), the
+ * heading its top falls to [rad]. false while none. */
+bool client_damage_live_fall(const client *c, uint32_t *tree, double *t0_s, double *now_s,
+                             float *az_rad);
+/* --fall-shots (client_fall_shots.c): "T,T,..." seconds after a live fall, ascending,
+ * 1..8 of them, into a. 0, or -1 after printing what is wrong. */
+int client_fall_shots_parse(const char *spec, client_args *a);
+/* After a headless frame is drawn: frames the first live fall once it is seen, then writes
+ * PREFIX-fall-S.Ss.png (PREFIX: --screenshot without ".png", else "gale") at each time.
+ * 1 once the last is written, else 0. */
+int client_fall_shots_step(client *c);
 /* Frees c->dfx (NULL is a no-op). */
 void client_damage_free(client *c);
 

@@ -62,6 +62,9 @@ static void usage(FILE *f)
             "  --fullscreen           open fullscreen on the primary monitor (F11 toggles)\n"
             "  --touch SPEC           headless kiosk: touches on its panel, one a frame:\n"
             "                         \"tap X,Y; down X,Y; move X,Y; up X,Y; wait\" (pixels)\n"
+            "  --fall-shots T,T,...   headless: frame the first fall seen begin live and write\n"
+            "                         PREFIX-fall-S.Ss.png T s after its stem gave way (PREFIX:\n"
+            "                         --screenshot without .png, else gale); ends after the last\n"
             "  --help                 this text\n"
             "keys: left-drag orbit, right-drag pan, wheel zoom, WASD/QE fly, F11 fullscreen,\n"
             "      F12 or P screenshot, R reset view, C next camera (kiosk: also the Camera\n"
@@ -211,6 +214,10 @@ static int parse_args(int argc, char **argv, client_args *a)
             a->frames = atoi(v);
             if (a->frames < 1) {
                 fprintf(stderr, "gale-client: --frames: expected >= 1, got \"%s\"\n", v);
+                return -1;
+            }
+        } else if (strcmp(o, "--fall-shots") == 0) {
+            if (client_fall_shots_parse(v, a) != 0) {
                 return -1;
             }
         } else if (strcmp(o, "--screenshot") == 0) {
@@ -464,6 +471,9 @@ int main(int argc, char **argv)
                 fprintf(stderr, "gale-client: screenshot: %s\n", err.msg);
             }
             c.want_screenshot = false;
+        }
+        if (draw && c.a.headless && client_fall_shots_step(&c) == 1) {
+            break; /* --fall-shots: the last is written */
         }
         if (draw) {
             client_wall_group_before_present(&c);

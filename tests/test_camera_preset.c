@@ -1,7 +1,8 @@
 /* Camera presets (client/camera_preset.c): names, and where each puts the eye over a small
  * scene of palms (south) and oaks (north): street level 1.7 m up outside the planting
  * looking north at a palm, the garden view looking south at an oak, roof height about
- * 12 m, aerial high above; the tour moves to the next stop every CAMERA_TOUR_STOP_S. */
+ * 12 m, aerial high above; the tour moves to the next stop every CAMERA_TOUR_STOP_S; the
+ * fall view looks across a fall from the side without trees in the way. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -74,11 +75,45 @@ static void test_tour(void)
     CHECK_NEAR(a.target[1], b.target[1], 1e-5);
 }
 
+/* the fall view: across the fall, at the middle of the stem's arc, from the side without
+ * trees in the way */
+static void test_fall(void)
+{
+    /* tree 0 falls east (+x); a row of trees just north of it, none to the south */
+    ctl_instance f[5] = { { .pos = { 0, 0, 0 }, .scale = 1 } };
+    for (int i = 1; i < 5; i++) {
+        f[i] = (ctl_instance){ .pos = { 2.0f + 3.0f * (float)i, 8.0f, 0 }, .scale = 1 };
+    }
+    camera c;
+    camera_preset_fall(&c, f, 5, 0, 20.0f, 0.0f);
+    float fw[3], eye[3];
+    camera_forward(&c, fw);
+    camera_eye(&c, eye);
+    fprintf(stderr, "fall view: eye %.1f %.1f %.1f, target %.1f %.1f %.1f\n", (double)eye[0],
+            (double)eye[1], (double)eye[2], (double)c.target[0], (double)c.target[1],
+            (double)c.target[2]);
+    CHECK(fabsf(fw[0]) < 0.05f);                 /* across the fall */
+    CHECK(eye[1] < -10.0f);                      /* from the south, the clear side */
+    CHECK(fabsf(c.target[0] - 9.0f) < 0.5f && fabsf(c.target[2] - 6.0f) < 0.5f);
+    /* the same trees to the south: the view turns to the north */
+    for (int i = 1; i < 5; i++) {
+        f[i].pos[1] = -8.0f;
+    }
+    camera_preset_fall(&c, f, 5, 0, 20.0f, 0.0f);
+    camera_eye(&c, eye);
+    CHECK(eye[1] > 10.0f);
+    /* a tree outside the scene leaves the camera as it was */
+    camera before = c;
+    camera_preset_fall(&c, f, 5, 7, 20.0f, 0.0f);
+    CHECK(memcmp(&before, &c, sizeof c) == 0);
+}
+
 int main(void)
 {
     scene();
     RUN(test_names);
     RUN(test_places);
     RUN(test_tour);
+    RUN(test_fall);
     return check_report();
 }

@@ -1,0 +1,82 @@
+/* --fall-shots: pictures of a fall caught live by a headless gale-client (README.md
+ * "Pictures of a fall, live"). Which tree falls is the server's: the first fall this client
+ * sees begin is framed from the side (camera_preset_fall) and shot at the chosen times after
+ * its stem gave way, on the server clock the frames are drawn at. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "camera_preset.h"
+#include "client.h"
+
+int client_fall_shots_parse(const char *spec, client_args *a)
+{
+    const int cap = (int)(sizeof a->fall_shot_s / sizeof a->fall_shot_s[0]);
+    a->n_fall_shots = 0;
+    const char *p = spec ? spec : "";
+    while (*p) {
+        char *end;
+        double t = strtod(p, &end);
+        if (end == p || !(t >= 0.0 && t <= 600.0) || (*end && *end != ',') ||
+            a->n_fall_shots == cap ||
+            (a->n_fall_shots > 0 && t <= a->fall_shot_s[a->n_fall_shots - 1])) {
+            fprintf(stderr,
+                    "gale-client: --fall-shots: expected 1..%d ascending seconds 0..600, "
+                    "comma-separated, got \"%s\"\n",
+                    cap, spec ? spec : "");
+            return -1;
+        }
+        a->fall_shot_s[a->n_fall_shots++] = t;
+        p = *end ? end + 1 : end;
+    }
+    if (a->n_fall_shots == 0) {
+        fprintf(stderr, "gale-client: --fall-shots: expected seconds, got \"\"\n");
+        return -1;
+    }
+    return 0;
+}
+
+int client_fall_shots_step(client *c)
+{
+    uint32_t t;
+    double t0, now;
+    float az;
+    if (c->a.n_fall_shots == 0 || !c->scene_ready ||
+        !client_damage_live_fall(c, &t, &t0, &now, &az)) {
+        return 0;
+    }
+    if (!c->fall_framed) {
+        /* the camera moves for the next frame; this one still shows the old view */
+        camera_preset_fall(&c->cam, c->w_instances, c->w.n_instances, t,
+                           render_tree_height_m(c->r, t), az);
+        c->fall_framed = true;
+        fprintf(stderr, "gale-client: fall caught live: tree %u (%s) towards %.0f deg\n", t,
+                c->dmg.tree[t].fallen == WIRE_DAMAGE_UPROOT ? "uprooted" : "snapped",
+                (double)az * 57.29578);
+        return 0;
+    }
+    const double age = now - t0;
+    if (c->fall_shot_next >= c->a.n_fall_shots || age < c->a.fall_shot_s[c->fall_shot_next]) {
+        return c->fall_shot_next >= c->a.n_fall_shots;
+    }
+    /* one picture for every time this frame has passed: its own age in the name */
+    while (c->fall_shot_next < c->a.n_fall_shots && age >= c->a.fall_shot_s[c->fall_shot_next]) {
+        c->fall_shot_next++;
+    }
+    char prefix[400], name[448];
+    snprintf(prefix, sizeof prefix, "%s", c->a.screenshot ? c->a.screenshot : "gale");
+    size_t n = strlen(prefix);
+    if (n > 4 && strcmp(prefix + n - 4, ".png") == 0) {
+        prefix[n - 4] = '\0';
+    }
+    snprintf(name, sizeof name, "%s-fall-%04.1fs.png", prefix, age);
+    gale_err err = { 0 };
+    if (render_write_png(c->r, name, &err) == 0) {
+        fprintf(stderr, "gale-client: fall shot %s (%.2f s after the stem gave way)\n", name,
+                age);
+    } else {
+        fprintf(stderr, "gale-client: fall shot: %s\n", err.msg);
+    }
+    return c->fall_shot_next >= c->a.n_fall_shots;
+}
