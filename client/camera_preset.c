@@ -154,11 +154,11 @@ static uint32_t trees_in_view(const ctl_instance *inst, uint32_t n_inst, uint32_
     return n;
 }
 
-void camera_preset_fall(camera *c, const ctl_instance *inst, uint32_t n_inst, uint32_t tree,
-                        float height_m, float fall_az_rad)
+uint32_t camera_preset_fall(camera *c, const ctl_instance *inst, uint32_t n_inst,
+                            uint32_t tree, float height_m, float fall_az_rad)
 {
     if (tree >= n_inst) {
-        return;
+        return UINT32_MAX;
     }
     const float *p = inst[tree].pos, h = height_m > 1.0f ? height_m : 1.0f;
     const float dir[2] = { cosf(fall_az_rad), sinf(fall_az_rad) };
@@ -166,7 +166,7 @@ void camera_preset_fall(camera *c, const ctl_instance *inst, uint32_t n_inst, ui
     const float target[3] = { p[0] + 0.45f * h * dir[0], p[1] + 0.45f * h * dir[1],
                               p[2] + 0.3f * h };
     /* far enough that the standing tree and the fallen one both fit a 50° view */
-    const float dist = 0.9f * h + 4.0f, pitch = -0.12f;
+    const float dist = 1.1f * h + 5.0f, pitch = -0.2f;
     float best_yaw = 0.0f;
     uint32_t best = UINT32_MAX;
     for (int side = 0; side < 2; side++) {
@@ -183,4 +183,5 @@ void camera_preset_fall(camera *c, const ctl_instance *inst, uint32_t n_inst, ui
     camera_init(c, target, dist);
     c->pitch = pitch;
     c->yaw = best_yaw;
+    return best;
 }

@@ -38,8 +38,9 @@ void camera_preset_tour(camera *c, double t_s, const ctl_instance *inst, uint32_
 /* A side view of tree `tree` of inst[] falling towards fall_az_rad (its top's heading,
  * PROTOCOL.md "DAMAGE"): looking across the fall at the middle of the arc its stem sweeps,
  * from whichever side has fewer trees in the way, near enough that a tree of height_m fills
- * the view standing and lying. Out of range: c unchanged. */
-void camera_preset_fall(camera *c, const ctl_instance *inst, uint32_t n_inst, uint32_t tree,
-                        float height_m, float fall_az_rad);
+ * the view standing and lying. Returns how many trees stand in the way (within 4 m of the
+ * sight line); out of range: c unchanged, UINT32_MAX. */
+uint32_t camera_preset_fall(camera *c, const ctl_instance *inst, uint32_t n_inst,
+                            uint32_t tree, float height_m, float fall_az_rad);
 
 #endif

@@ -162,7 +162,8 @@ typedef struct client {
     double kiosk_drag_sent_s; /* when a dragged dial last sent its value */
     client_touch touches[CLIENT_MAX_TOUCHES]; /* --touch, played one a frame */
     int fall_shot_next;  /* --fall-shots: the next one to write */
-    bool fall_framed;    /* --fall-shots: the camera looks at the fall */
+    bool fall_framed;    /* --fall-shots: the camera looks at the fall of fall_tree */
+    uint32_t fall_tree;
     int n_touches, next_touch;
     bool touch_woke; /* the scripted touch down that woke the kiosk: its lift is no control */
     int win_pos[2], win_size[2];
@@ -183,15 +184,16 @@ void client_damage_take(client *c, const wire_frame *f);
 void client_damage_frame(client *c, double now_s);
 /* Debris pieces in flight or lying. */
 uint32_t client_damage_debris_count(const client *c);
-/* The first fall this client saw begin (not one older than DAMAGE_RECENT_S at its arrival):
- * its tree, when its stem gave way and the instant last drawn (server clock [s]), the
- * heading its top falls to [rad]. false while none. */
-bool client_damage_live_fall(const client *c, uint32_t *tree, double *t0_s, double *now_s,
+/* Whether this client saw tree t's fall begin (not one older than DAMAGE_RECENT_S at its
+ * arrival); then when its stem gave way and the instant last drawn (server clock [s]), and
+ * the heading its top falls to [rad]. */
+bool client_damage_live_fall(const client *c, uint32_t t, double *t0_s, double *now_s,
                              float *az_rad);
 /* --fall-shots (client_fall_shots.c): "T,T,..." seconds after a live fall, ascending,
  * 1..8 of them, into a. 0, or -1 after printing what is wrong. */
 int client_fall_shots_parse(const char *spec, client_args *a);
-/* After a headless frame is drawn: frames the first live fall once it is seen, then writes
+/* After a headless frame is drawn: frames the first live fall once it is seen (of falls
+ * beginning together, the one with the fewest trees in the way), then writes
  * PREFIX-fall-S.Ss.png (PREFIX: --screenshot without ".png", else "gale") at each time.
  * 1 once the last is written, else 0. */
 int client_fall_shots_step(client *c);

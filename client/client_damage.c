@@ -25,7 +25,6 @@ struct client_damage_fx {
     uint32_t generation; /* of the damage view last given to render_set_broken */
     bool have_broken;
     double now_s;        /* the instant of the last frame drawn (server clock [s]) */
-    uint32_t live_tree;  /* the first fall seen begin; UINT32_MAX: none yet */
 };
 
 static client_damage_fx *fx_get(client *c)
@@ -47,7 +46,6 @@ static client_damage_fx *fx_get(client *c)
     x->n_trees = c->dmg.n_trees;
     x->fall_t0_s = t0;
     x->now_s = (double)NAN;
-    x->live_tree = UINT32_MAX;
     c->dfx = x;
     return x;
 }
@@ -137,9 +135,6 @@ void client_damage_take(client *c, const wire_frame *f)
             !c->dmg.tree[e->tree].fallen) {
             x->fall_t0_s[e->tree] = t0; /* NaN: an old fall, lying at once */
             x->n_tipping += !isnan(t0);
-            if (!isnan(t0) && x->live_tree == UINT32_MAX) {
-                x->live_tree = e->tree;
-            }
         } else if (e->kind == WIRE_DAMAGE_BRANCH && !isnan(t0) &&
                    !damage_view_broken(&c->dmg, e->tree, e->node)) {
             spawn_debris(c, x, e->tree, e->node, t0);
@@ -252,17 +247,16 @@ uint32_t client_damage_debris_count(const client *c)
     return c->dfx ? c->dfx->n_debris : 0;
 }
 
-bool client_damage_live_fall(const client *c, uint32_t *tree, double *t0_s, double *now_s,
+bool client_damage_live_fall(const client *c, uint32_t t, double *t0_s, double *now_s,
                              float *az_rad)
 {
     const client_damage_fx *x = c->dfx;
-    if (!x || x->live_tree >= x->n_trees || !c->dmg.tree[x->live_tree].fallen ||
-        isnan(x->fall_t0_s[x->live_tree]) || isnan(x->now_s)) {
-        return false; /* none yet, or healed since */
+    if (!x || t >= x->n_trees || !c->dmg.tree[t].fallen || isnan(x->fall_t0_s[t]) ||
+        isnan(x->now_s)) {
+        return false; /* standing, an old fall, or healed since */
     }
-    *tree = x->live_tree;
-    *t0_s = x->fall_t0_s[x->live_tree];
+    *t0_s = x->fall_t0_s[t];
     *now_s = x->now_s;
-    *az_rad = fall_az(c, x->live_tree);
+    *az_rad = fall_az(c, t);
     return true;
 }

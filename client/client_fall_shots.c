@@ -1,7 +1,8 @@
 /* --fall-shots: pictures of a fall caught live by a headless gale-client (README.md
  * "Pictures of a fall, live"). Which tree falls is the server's: the first fall this client
- * sees begin is framed from the side (camera_preset_fall) and shot at the chosen times after
- * its stem gave way, on the server clock the frames are drawn at. */
+ * sees begin (of those starting together, the one with the clearest view) is framed from
+ * the side (camera_preset_fall) and shot at the chosen times after its stem gave way, on the
+ * server clock the frames are drawn at. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -37,24 +38,54 @@ int client_fall_shots_parse(const char *spec, client_args *a)
     return 0;
 }
 
+/* Among the falls seen begin under a second ago, the one with the fewest trees in the way
+ * of its side view; the camera is placed for it. UINT32_MAX: none. */
+static uint32_t pick_fall(client *c)
+{
+    uint32_t best = UINT32_MAX, best_in_way = UINT32_MAX;
+    for (uint32_t t = 0; t < c->w.n_instances; t++) {
+        double t0, now;
+        float az;
+        if (!client_damage_live_fall(c, t, &t0, &now, &az) || now - t0 > 1.0) {
+            continue;
+        }
+        camera cam = c->cam;
+        uint32_t n = camera_preset_fall(&cam, c->w_instances, c->w.n_instances, t,
+                                        render_tree_height_m(c->r, t), az);
+        if (n < best_in_way) {
+            best = t;
+            best_in_way = n;
+        }
+    }
+    if (best != UINT32_MAX) {
+        double t0, now;
+        float az;
+        client_damage_live_fall(c, best, &t0, &now, &az);
+        camera_preset_fall(&c->cam, c->w_instances, c->w.n_instances, best,
+                           render_tree_height_m(c->r, best), az);
+        fprintf(stderr, "gale-client: fall caught live: tree %u (%s) towards %.0f deg, %u trees "
+                        "in the way\n",
+                best, c->dmg.tree[best].fallen == WIRE_DAMAGE_UPROOT ? "uprooted" : "snapped",
+                (double)az * 57.29578, best_in_way);
+    }
+    return best;
+}
+
 int client_fall_shots_step(client *c)
 {
-    uint32_t t;
-    double t0, now;
-    float az;
-    if (c->a.n_fall_shots == 0 || !c->scene_ready ||
-        !client_damage_live_fall(c, &t, &t0, &now, &az)) {
+    if (c->a.n_fall_shots == 0 || !c->scene_ready) {
         return 0;
     }
     if (!c->fall_framed) {
         /* the camera moves for the next frame; this one still shows the old view */
-        camera_preset_fall(&c->cam, c->w_instances, c->w.n_instances, t,
-                           render_tree_height_m(c->r, t), az);
-        c->fall_framed = true;
-        fprintf(stderr, "gale-client: fall caught live: tree %u (%s) towards %.0f deg\n", t,
-                c->dmg.tree[t].fallen == WIRE_DAMAGE_UPROOT ? "uprooted" : "snapped",
-                (double)az * 57.29578);
+        c->fall_tree = pick_fall(c);
+        c->fall_framed = c->fall_tree != UINT32_MAX;
         return 0;
+    }
+    double t0, now;
+    float az;
+    if (!client_damage_live_fall(c, c->fall_tree, &t0, &now, &az)) {
+        return 0; /* healed: a reset; wait for it to fall again */
     }
     const double age = now - t0;
     if (c->fall_shot_next >= c->a.n_fall_shots || age < c->a.fall_shot_s[c->fall_shot_next]) {

@@ -85,7 +85,7 @@ static void test_fall(void)
         f[i] = (ctl_instance){ .pos = { 2.0f + 3.0f * (float)i, 8.0f, 0 }, .scale = 1 };
     }
     camera c;
-    camera_preset_fall(&c, f, 5, 0, 20.0f, 0.0f);
+    CHECK(camera_preset_fall(&c, f, 5, 0, 20.0f, 0.0f) == 0);
     float fw[3], eye[3];
     camera_forward(&c, fw);
     camera_eye(&c, eye);
@@ -104,7 +104,7 @@ static void test_fall(void)
     CHECK(eye[1] > 10.0f);
     /* a tree outside the scene leaves the camera as it was */
     camera before = c;
-    camera_preset_fall(&c, f, 5, 7, 20.0f, 0.0f);
+    CHECK(camera_preset_fall(&c, f, 5, 7, 20.0f, 0.0f) == UINT32_MAX);
     CHECK(memcmp(&before, &c, sizeof c) == 0);
 }
 
