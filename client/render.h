@@ -113,14 +113,15 @@ int render_add_species(render *r, const asset *a, gale_err *err);
 /* Sets the scene's trees (copied). Instance index = tree index for q and leaf seeds.
  * Resets q to zero and clears falling leaves. 0 or negative GALE_E_*. */
 int render_set_instances(render *r, uint32_t n, const render_instance *inst, gale_err *err);
-/* Storm damage of tree t, applied at the next render_trees_commit: tipped over its root
- * (a snapped or uprooted tree lying on the ground) and its crown thinned to the leaf slots
- * wire_damage_leaf_kept keeps at WIRE_DAMAGE_LEVELS - leaf_lost. Trees out of range are
- * ignored. */
+/* Storm damage of tree t, applied at the next render_trees_commit: tipped by fall_rad (a
+ * snapped or uprooted tree lying on the ground) and its crown thinned to the leaf slots
+ * wire_damage_leaf_kept keeps at WIRE_DAMAGE_LEVELS - leaf_lost (far away, its billboard by
+ * the same share). Trees out of range are ignored. */
 void render_set_damage(render *r, uint32_t t, float fall_rad, float fall_az_rad,
                        uint32_t leaf_lost);
-/* Whether fallen tree t was uprooted (it lifts its root plate, drawn as it tips) rather
- * than snapped; at the next render_trees_commit. */
+/* Whether fallen tree t was uprooted (it tips about its base and lifts its root plate)
+ * rather than snapped (it tips about its break, tip_fall_break_m, above a stump that
+ * stays); at the next render_trees_commit. */
 void render_set_uprooted(render *r, uint32_t t, bool uprooted);
 /* Sends the instances' falls to the GPU. */
 void render_trees_commit(render *r);
