@@ -15,7 +15,10 @@ void main()
     }
     float ang = atan(v_local.y, v_local.x);
     // a snapped stem's fallen part ends at the ragged break the stump's top shares
-    float cut = v_cut - stump_jag_m(v_tree, int(floor((ang / 6.2831853 + 0.5) * float(STUMP_SEG))));
+    float cut = v_cut;
+    if (cut < 100.0) { // only a snapped tree pays for the hash
+        cut -= stump_jag_m(v_tree, int(floor((ang / 6.2831853 + 0.5) * float(STUMP_SEG))));
+    }
     if (cut < 0.0) {
         discard;
     }
