@@ -9,7 +9,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ $# -lt 1 ] || [ "$1" = --help ] || [ "$1" = -h ]; then
-    sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//'
+    echo "usage: deploy/live-fall.sh OUT [SPEED] [SCENE] [TIMES]"
+    sed -n '2,7p' "$0" | sed 's/^# \{0,1\}//'
     [ $# -ge 1 ] && exit 0 || exit 2
 fi
 out="$1"
