@@ -221,6 +221,79 @@ static void test_bad_font(void)
 
 /* GL pass over a cleared frame: the panel darkens its rectangle, text is bright inside
  * it, and nothing outside the panel changes. */
+/* hud_draw over a cleared W x H frame, read back (rows bottom up) into rgb. */
+static void draw_read(hud *h, const hud_state *s, int W, int H, uint8_t *rgb)
+{
+    glClear(GL_COLOR_BUFFER_BIT);
+    hud_draw(h, s, W, H);
+    glReadPixels(0, 0, W, H, GL_RGB, GL_UNSIGNED_BYTE, rgb);
+}
+
+/* The lines' panel is kept as a picture between changes: after a weather change the picture
+ * and the lines it reports are the new ones (the same as a fresh HUD draws), an unchanged
+ * state draws the same picture again, and the kept picture matches the lines drawn
+ * straight (premultiplied compositing, to 8-bit rounding). */
+static void test_kept_lines(hud *h, const hud_state *calm, int W, int H)
+{
+    const size_t n_px = (size_t)W * (size_t)H * 3;
+    uint8_t *a = malloc(n_px), *b = malloc(n_px), *c = malloc(n_px);
+    CHECK(a && b && c);
+    if (!a || !b || !c) {
+        free(a);
+        free(b);
+        free(c);
+        return;
+    }
+    wire_weather wx = { .sustained_ms = 45.0f, .gust_ms = 58.0f, .dir_from_deg = 200.0f,
+                        .ss_class = 3, .beaufort = 12 };
+    hud_state storm = *calm;
+    storm.wx = &wx;
+    draw_read(h, calm, W, H, a);
+    draw_read(h, &storm, W, H, b);
+    char want[HUD_MAX_LINES][HUD_LINE_CHARS], got[HUD_MAX_LINES][HUD_LINE_CHARS];
+    int n_want = hud_format(&storm, want), n_got = hud_drawn_lines(h, got);
+    CHECK(n_got == n_want);
+    for (int i = 0; i < n_got && i < n_want; i++) {
+        CHECK(strcmp(got[i], want[i]) == 0);
+    }
+    CHECK(memcmp(a, b, n_px) != 0);
+    /* a weather change within the same class and wording: only the figures move */
+    wx.sustained_ms = 46.0f;
+    draw_read(h, &storm, W, H, b);
+    gale_err err = { 0 };
+    hud *fresh = hud_create(&(hud_desc){ .px = 20.0f }, &err);
+    CHECK(fresh != NULL);
+    if (fresh) {
+        draw_read(fresh, &storm, W, H, c);
+        CHECK(memcmp(b, c, n_px) == 0);
+        hud_destroy(fresh);
+    }
+    n_want = hud_format(&storm, want);
+    n_got = hud_drawn_lines(h, got);
+    CHECK(n_got == n_want && strcmp(got[0], want[0]) == 0);
+    draw_read(h, &storm, W, H, c); /* unchanged: the kept picture */
+    CHECK(memcmp(b, c, n_px) == 0);
+    /* kept against straight: the calm state has no arrow, only the lines */
+    draw_read(h, calm, W, H, a);
+    n_want = hud_format(calm, want);
+    const char *ptrs[HUD_MAX_LINES];
+    for (int i = 0; i < n_want; i++) {
+        ptrs[i] = want[i];
+    }
+    glClear(GL_COLOR_BUFFER_BIT);
+    hud_draw_lines(h, ptrs, n_want, 1, 16.0f, 16.0f, W, H);
+    glReadPixels(0, 0, W, H, GL_RGB, GL_UNSIGNED_BYTE, c);
+    int worst = 0;
+    for (size_t i = 0; i < n_px; i++) {
+        int d = abs((int)a[i] - (int)c[i]);
+        worst = d > worst ? d : worst;
+    }
+    CHECK(worst <= 2);
+    free(a);
+    free(b);
+    free(c);
+}
+
 static void test_gl_pass(void)
 {
     if (!getenv("DISPLAY") || !glfwInit()) {
@@ -308,6 +381,7 @@ static void test_gl_pass(void)
     CHECK(bright > 300);                         /* text ink */
     CHECK(dark > 10000);                         /* the panel */
     CHECK(flipped[(20 * W + 20) * 3 + 2] < 120); /* panel corner darkened */
+    test_kept_lines(h, &s, W, H);
     hud_destroy(h);
     glDeleteFramebuffers(1, &fbo);
     glDeleteRenderbuffers(1, &rb);
