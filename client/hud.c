@@ -401,19 +401,25 @@ int hud_format(const hud_state *s, char lines[HUD_MAX_LINES][HUD_LINE_CHARS])
 #define HUD_MAX_VERTS (6 * (HUD_MAX_GLYPHS + 16))
 #define HUD_LAYERS    2 /* kept pictures: the HUD's lines and a kiosk's panel (one hud draws both) */
 
-/* A kept batch (hud_batch_flush_keep): its picture rendered once into an offscreen buffer
- * the size of its bounding box, copied into a texture, then drawn each frame as one quad. On
- * a software rasteriser (llvmpipe) a draw's vertex shading, setup and binning run on the
+/* A kept batch (hud_batch_flush_keep): its picture rendered into an offscreen buffer the
+ * size of its bounding box, copied into a texture, then drawn each frame as one quad. On a
+ * software rasteriser (llvmpipe) a draw's vertex shading, setup and binning run on the
  * caller's thread, about 0.1 us a vertex, so one quad instead of the ~3,000 vertices of a
- * kiosk panel keeps that off the frame. The texture is a copy through memory rather than the
- * render target itself because llvmpipe makes a draw that samples a texture ever rendered to
- * wait until everything drawn before it is rasterised (0.5-1 ms measured with the HUD and the
- * panel); the copy is made when the picture changes, not each frame. The texture holds
- * premultiplied colour (the batch blended over transparent black, alpha by ONE,
- * ONE_MINUS_SRC_ALPHA), so drawing it with ONE, ONE_MINUS_SRC_ALPHA gives the batch drawn
- * straight onto the frame, to 8-bit rounding. */
+ * kiosk panel keeps that off the frame.
+ * - The texture is a copy through memory rather than the render target itself: llvmpipe
+ *   makes a draw that samples a texture ever rendered to wait until everything drawn before
+ *   it is rasterised (0.5-1 ms measured with the HUD and the panel).
+ * - The copy waits for the offscreen picture to be rasterised, so it is made a frame later:
+ *   a picture built for the first time is drawn straight; built again with the same key (it
+ *   held still for a frame) it is also rendered offscreen; the next replay copies it and
+ *   from then on draws the quad. A picture that changes every frame (a finger on the dial)
+ *   is drawn straight every frame, as without keeping.
+ * The texture holds premultiplied colour (the batch blended over transparent black, alpha by
+ * ONE, ONE_MINUS_SRC_ALPHA), so drawing it with ONE, ONE_MINUS_SRC_ALPHA gives the batch
+ * drawn straight onto the frame, to 8-bit rounding. */
 typedef struct hud_layer {
     uint64_t key;     /* 0: none */
+    bool ready;       /* the texture holds the picture (else only the offscreen buffer) */
     uint32_t used;    /* stamp of its last draw: a new picture replaces the older layer */
     int fb_w, fb_h;   /* framebuffer it was built for */
     int x0, y0, w, h; /* its box on that framebuffer [px, y down]; w or h 0: empty */
@@ -421,7 +427,7 @@ typedef struct hud_layer {
     GLuint fbo, rb;   /* where the batch is rendered */
     GLuint tex;       /* the picture drawn (never a render target) */
     GLuint vao, vbo;  /* its quad */
-    uint8_t *pixels;  /* owned: cap_w x cap_h RGBA, the copy on its way */
+    uint8_t *pixels;  /* owned: cap_w x cap_h RGBA, the copy through memory (layer_copy) */
 } hud_layer;
 
 struct hud {
@@ -434,7 +440,10 @@ struct hud {
     int batch_w, batch_h; /* framebuffer of the batch (hud_batch_begin) */
     bool batch_spilled;   /* the batch was drawn in parts (too many vertices to keep) */
     hud_layer layer[HUD_LAYERS];
-    uint32_t stamp; /* layer draws so far */
+    uint32_t stamp;              /* layer draws so far */
+    uint64_t built[HUD_LAYERS];  /* keys of the last batches built (hud_batch_flush_keep) */
+    bool copy_image;             /* glCopyImageSubData is there (GL 4.3, ARB_copy_image) */
+    uint32_t built_next;         /* the entry of built the next new key replaces */
     /* the lines of the HUD picture hud_draw drew last (hud_drawn_lines) */
     char drawn[HUD_MAX_LINES][HUD_LINE_CHARS];
     int n_drawn;
@@ -545,6 +554,7 @@ hud *hud_create(const hud_desc *d, gale_err *err)
     h->u_size = glGetUniformLocation(h->prog, "u_size");
     h->u_atlas = glGetUniformLocation(h->prog, "u_atlas");
     h->u_origin = glGetUniformLocation(h->prog, "u_origin");
+    h->copy_image = epoxy_gl_version() >= 43 || epoxy_has_gl_extension("GL_ARB_copy_image");
     h->u_layer = glGetUniformLocation(h->prog, "u_layer");
 
     int aw, ah;
@@ -969,8 +979,9 @@ static bool layer_room(hud_layer *L)
     return ok;
 }
 
-/* Renders the batch into L (its box clipped to the framebuffer) and empties the batch. */
-static bool layer_build(hud *h, hud_layer *L)
+/* Renders the batch into L's offscreen buffer (its box clipped to the framebuffer); the
+ * batch is left as it is. */
+static bool layer_render(hud *h, hud_layer *L)
 {
     float bx0 = (float)h->batch_w, by0 = (float)h->batch_h, bx1 = 0.0f, by1 = 0.0f;
     for (uint32_t i = 0; i < h->n_verts; i++) {
@@ -990,7 +1001,6 @@ static bool layer_build(hud *h, hud_layer *L)
     L->w = x1 > x0 ? x1 - x0 : 0;
     L->h = y1 > y0 ? y1 - y0 : 0;
     if (L->w == 0 || L->h == 0) {
-        h->n_verts = 0;
         return true;
     }
     if (!layer_room(L)) {
@@ -1015,14 +1025,6 @@ static bool layer_build(hud *h, hud_layer *L)
     if (scissor) {
         glEnable(GL_SCISSOR_TEST);
     }
-    /* the copy into the texture (RGBA rows are whole words: any alignment reads them) */
-    GLint prev_read = 0;
-    glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &prev_read);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, L->fbo);
-    glReadPixels(0, 0, L->w, L->h, GL_RGBA, GL_UNSIGNED_BYTE, L->pixels);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)prev_read);
-    glBindTexture(GL_TEXTURE_2D, L->tex);
-    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, L->w, L->h, GL_RGBA, GL_UNSIGNED_BYTE, L->pixels);
     /* the quad: the texture's row 0 is the box's bottom */
     const float fx0 = (float)x0, fy0 = (float)y0, fx1 = (float)x1, fy1 = (float)y1;
     const float s1 = (float)L->w / (float)L->cap_w, t1 = (float)L->h / (float)L->cap_h;
@@ -1034,8 +1036,28 @@ static bool layer_build(hud *h, hud_layer *L)
     }
     glBindBuffer(GL_ARRAY_BUFFER, L->vbo);
     glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)sizeof v, v);
-    h->n_verts = 0;
     return true;
+}
+
+/* Copies L's offscreen picture into its texture: within the driver where GL 4.3's image copy
+ * is there (llvmpipe: a memory copy, 0.05-0.4 ms for the HUD and the panel), else through
+ * memory (RGBA rows are whole words: any alignment reads them). */
+static void layer_copy(const hud *h, hud_layer *L)
+{
+    if (L->w > 0 && L->h > 0 && h->copy_image) {
+        glCopyImageSubData(L->rb, GL_RENDERBUFFER, 0, 0, 0, 0, L->tex, GL_TEXTURE_2D, 0, 0, 0,
+                           0, L->w, L->h, 1);
+    } else if (L->w > 0 && L->h > 0) {
+        GLint prev_read = 0;
+        glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &prev_read);
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, L->fbo);
+        glReadPixels(0, 0, L->w, L->h, GL_RGBA, GL_UNSIGNED_BYTE, L->pixels);
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)prev_read);
+        glBindTexture(GL_TEXTURE_2D, L->tex);
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, L->w, L->h, GL_RGBA, GL_UNSIGNED_BYTE,
+                        L->pixels);
+    }
+    L->ready = true;
 }
 
 void hud_batch_flush_keep(hud *h, uint64_t key)
@@ -1044,24 +1066,34 @@ void hud_batch_flush_keep(hud *h, uint64_t key)
         hud_batch_flush(h);
         return;
     }
-    /* the layer under this key, else the one drawn longest ago */
-    hud_layer *L = &h->layer[0];
+    bool again = false;
     for (int i = 0; i < HUD_LAYERS; i++) {
-        if (h->layer[i].key == key) {
-            L = &h->layer[i];
-            break;
+        again |= h->built[i] == key;
+    }
+    if (!again) {
+        h->built[h->built_next] = key;
+        h->built_next = (h->built_next + 1) % HUD_LAYERS;
+    } else {
+        /* held still for a frame: into the layer under this key, else the one drawn longest
+         * ago */
+        hud_layer *L = &h->layer[0];
+        for (int i = 0; i < HUD_LAYERS; i++) {
+            if (h->layer[i].key == key) {
+                L = &h->layer[i];
+                break;
+            }
+            if (h->layer[i].used < L->used) {
+                L = &h->layer[i];
+            }
         }
-        if (h->layer[i].used < L->used) {
-            L = &h->layer[i];
+        L->key = 0;
+        L->ready = false;
+        L->used = ++h->stamp;
+        if (layer_render(h, L)) {
+            L->key = key;
         }
     }
-    L->key = 0;
-    if (!layer_build(h, L)) {
-        hud_batch_flush(h); /* no texture to keep it in: drawn as it is */
-        return;
-    }
-    L->key = key;
-    draw_layer(h, L);
+    hud_batch_flush(h); /* this frame: drawn straight */
 }
 
 bool hud_batch_replay(hud *h, uint64_t key, int fb_w, int fb_h)
@@ -1069,6 +1101,9 @@ bool hud_batch_replay(hud *h, uint64_t key, int fb_w, int fb_h)
     for (int i = 0; key != 0 && i < HUD_LAYERS; i++) {
         hud_layer *L = &h->layer[i];
         if (L->key == key && L->fb_w == fb_w && L->fb_h == fb_h) {
+            if (!L->ready) {
+                layer_copy(h, L);
+            }
             draw_layer(h, L);
             return true;
         }
