@@ -406,7 +406,7 @@ int hud_format(const hud_state *s, char lines[HUD_MAX_LINES][HUD_LINE_CHARS])
  * software rasteriser (llvmpipe) a draw's vertex shading, setup and binning run on the
  * caller's thread, about 0.1 us a vertex, so one quad instead of the ~3,000 vertices of a
  * kiosk panel keeps that off the frame.
- * - The texture is a copy through memory rather than the render target itself: llvmpipe
+ * - The texture is a copy (layer_copy) rather than the render target itself: llvmpipe
  *   makes a draw that samples a texture ever rendered to wait until everything drawn before
  *   it is rasterised (0.5-1 ms measured with the HUD and the panel).
  * - The copy waits for the offscreen picture to be rasterised, so it is made a frame later:
@@ -554,8 +554,8 @@ hud *hud_create(const hud_desc *d, gale_err *err)
     h->u_size = glGetUniformLocation(h->prog, "u_size");
     h->u_atlas = glGetUniformLocation(h->prog, "u_atlas");
     h->u_origin = glGetUniformLocation(h->prog, "u_origin");
-    h->copy_image = epoxy_gl_version() >= 43 || epoxy_has_gl_extension("GL_ARB_copy_image");
     h->u_layer = glGetUniformLocation(h->prog, "u_layer");
+    h->copy_image = epoxy_gl_version() >= 43 || epoxy_has_gl_extension("GL_ARB_copy_image");
 
     int aw, ah;
     const uint8_t *atlas = hud_font_atlas(h->font, &aw, &ah);
