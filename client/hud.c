@@ -24,6 +24,7 @@ static const int extra_codepoints[] = { 0x00B0, 0x00B7, 0x00B1, 0x2013, 0x2014, 
                                         0x00D7 };
 #define N_ASCII 95 /* 32..126 */
 #define N_EXTRA ((int)(sizeof extra_codepoints / sizeof extra_codepoints[0]))
+#define N_GLYPHS (N_ASCII + N_EXTRA)
 
 struct hud_font {
     uint8_t *ttf;   /* owned: the font file */
@@ -32,6 +33,9 @@ struct hud_font {
     stbtt_fontinfo info;
     stbtt_packedchar ascii[N_ASCII];
     stbtt_packedchar extra[N_EXTRA];
+    /* kerning of every pair of baked glyphs [px] (glyph_index order), looked up once at
+     * load: stb_truetype's look-up searches the font's tables each time */
+    float kern[N_GLYPHS][N_GLYPHS];
     float px, scale; /* em height [px], font units → px */
     float ascent, descent, line_gap;
 };
@@ -116,6 +120,16 @@ hud_font *hud_font_load(const char *ttf_path, float px, gale_err *err)
                   (double)px, f->aw, f->ah);
         goto fail;
     }
+    int gi[N_GLYPHS];
+    for (int i = 0; i < N_GLYPHS; i++) {
+        const int cp = i < N_ASCII ? 32 + i : extra_codepoints[i - N_ASCII];
+        gi[i] = stbtt_FindGlyphIndex(&f->info, cp);
+    }
+    for (int a = 0; a < N_GLYPHS; a++) {
+        for (int b = 0; b < N_GLYPHS; b++) {
+            f->kern[a][b] = f->scale * (float)stbtt_GetGlyphKernAdvance(&f->info, gi[a], gi[b]);
+        }
+    }
     return f;
 nomem:
     gale_errf(err, GALE_E_NOMEM, "%s: no memory for the font", ttf_path);
@@ -183,19 +197,19 @@ static int utf8_next(const unsigned char **s)
     return cp;
 }
 
-/* Packed glyph of a code point and the code point actually drawn ('?' when absent). */
-static const stbtt_packedchar *glyph(const hud_font *f, int *cp)
+/* Index of a code point among the baked glyphs (printable ASCII, then the extra ones), that
+ * of '?' (the glyph drawn) when it is not baked. */
+static int glyph_index(int cp)
 {
-    if (*cp >= 32 && *cp < 32 + N_ASCII) {
-        return &f->ascii[*cp - 32];
+    if (cp >= 32 && cp < 32 + N_ASCII) {
+        return cp - 32;
     }
     for (int i = 0; i < N_EXTRA; i++) {
-        if (extra_codepoints[i] == *cp) {
-            return &f->extra[i];
+        if (extra_codepoints[i] == cp) {
+            return N_ASCII + i;
         }
     }
-    *cp = '?';
-    return &f->ascii['?' - 32];
+    return '?' - 32;
 }
 
 uint32_t hud_text_quads(const hud_font *f, float x, float y, const char *utf8, hud_quad *q,
@@ -203,14 +217,14 @@ uint32_t hud_text_quads(const hud_font *f, float x, float y, const char *utf8, h
 {
     const unsigned char *s = (const unsigned char *)utf8;
     uint32_t n = 0;
-    int prev = 0;
+    int prev = -1;
     while (*s) {
-        int cp = utf8_next(&s);
-        const stbtt_packedchar *g = glyph(f, &cp);
-        if (prev) {
-            x += f->scale * (float)stbtt_GetCodepointKernAdvance(&f->info, prev, cp);
+        const int gi = glyph_index(utf8_next(&s));
+        const stbtt_packedchar *g = gi < N_ASCII ? &f->ascii[gi] : &f->extra[gi - N_ASCII];
+        if (prev >= 0) {
+            x += f->kern[prev][gi];
         }
-        if (cp != ' ' && n < max && q) {
+        if (gi != ' ' - 32 && n < max && q) {
             /* packed glyph box relative to the pen, in atlas pixels scaled back by the
              * oversampling (stbtt_GetPackedQuad without integer alignment) */
             q[n].x0 = x + g->xoff;
@@ -224,7 +238,7 @@ uint32_t hud_text_quads(const hud_font *f, float x, float y, const char *utf8, h
             n++;
         }
         x += g->xadvance;
-        prev = cp;
+        prev = gi;
     }
     if (pen_x) {
         *pen_x = x;
@@ -399,7 +413,7 @@ int hud_format(const hud_state *s, char lines[HUD_MAX_LINES][HUD_LINE_CHARS])
 
 #define VERT_FLOATS   8 /* x y s t r g b a; s < 0: solid colour */
 #define HUD_MAX_VERTS (6 * (HUD_MAX_GLYPHS + 16))
-#define HUD_LAYERS    2 /* kept pictures: the HUD's lines and a kiosk's panel (one hud draws both) */
+#define HUD_LAYERS    2 /* kept pictures: the HUD's lines and a kiosk panel (one hud draws both) */
 
 /* A kept batch (hud_batch_flush_keep): its picture rendered into an offscreen buffer the
  * size of its bounding box, copied into a texture, then drawn each frame as one quad. On a
