@@ -261,7 +261,8 @@ int bench_client(int argc, char **argv)
         const float change = changes ? (float)((i / changes) % 7) : 0.0f;
         if (hd) {
             hud_state hs = { .conn = HUD_CONN_LIVE, .server = "127.0.0.1:8080",
-                             .fps = 60.0f + change, .latency_ms = 2.0f, .delay_ms = 100.0f, .role = "kiosk",
+                             .fps = 60.0f + change, .latency_ms = 2.0f, .delay_ms = 100.0f,
+                             .role = "kiosk",
                              .wx = have_wx ? &wx_last : NULL, .view_heading_deg = 30.0f };
             glBindFramebuffer(GL_FRAMEBUFFER, 0);
             hud_draw(hd, &hs, HUD_W, HUD_H);
