@@ -53,7 +53,7 @@ static float sway(uint32_t t, uint32_t m, uint32_t k)
 
 int bench_client(int argc, char **argv)
 {
-    uint32_t trees = 4000, modes = 32, frames = 600;
+    uint32_t trees = 4000, modes = 32, frames = 600, changes = 0;
     bool want_gl = true;
     const char *url = NULL;
     for (int i = 1; i < argc; i++) {
@@ -63,6 +63,8 @@ int bench_client(int argc, char **argv)
             modes = (uint32_t)atoi(argv[++i]);
         } else if (!strcmp(argv[i], "--frames") && i + 1 < argc) {
             frames = (uint32_t)atoi(argv[++i]);
+        } else if (!strcmp(argv[i], "--hud-changes") && i + 1 < argc) {
+            changes = (uint32_t)atoi(argv[++i]); /* 0: the HUD and the panel hold still */
         } else if (!strcmp(argv[i], "--url") && i + 1 < argc) {
             url = argv[++i]; /* live: bench_client_live.c */
         } else if (!strcmp(argv[i], "--no-gl")) {
@@ -73,8 +75,10 @@ int bench_client(int argc, char **argv)
             bool help = !strcmp(argv[i], "--help") || !strcmp(argv[i], "-h");
             fprintf(help ? stdout : stderr,
                     "usage: gale-bench-client client [--trees N] [--modes M] [--frames F] "
-                    "[--no-gl] [--url ws://HOST:PORT] [--json]\n  per-frame client CPU: receive, "
-                    "decode, dequantize, jitter insert, interpolate, GL upload (target <= 1 ms);\n"
+                    "[--no-gl] [--hud-changes N] [--url ws://HOST:PORT] [--json]\n  per-frame client "
+                    "CPU: receive, decode, dequantize, jitter insert, interpolate, GL upload, HUD, "
+                    "kiosk panel (target <= 1 ms);\n  --hud-changes N: the HUD's fps figure and "
+                    "the panel's wind change every N frames (default: they hold still)\n"
                     "  --url: from a live server's socket bytes (WebSocket parsing included)\n");
             return help ? 0 : 2;
         }
@@ -252,15 +256,20 @@ int bench_client(int argc, char **argv)
             glFinish();
         }
         t[6] = mono_s();
+        /* what the HUD and the panel show changes every `changes` frames, as a replay's
+           WEATHER and the fps counter change it (kept pictures are built again) */
+        const float change = changes ? (float)((i / changes) % 7) : 0.0f;
         if (hd) {
-            hud_state hs = { .conn = HUD_CONN_LIVE, .server = "127.0.0.1:8080", .fps = 60.0f,
-                             .latency_ms = 2.0f, .delay_ms = 100.0f, .role = "kiosk",
+            hud_state hs = { .conn = HUD_CONN_LIVE, .server = "127.0.0.1:8080",
+                             .fps = 60.0f + change, .latency_ms = 2.0f, .delay_ms = 100.0f,
+                             .role = "kiosk",
                              .wx = have_wx ? &wx_last : NULL, .view_heading_deg = 30.0f };
             glBindFramebuffer(GL_FRAMEBUFFER, 0);
             hud_draw(hd, &hs, HUD_W, HUD_H);
         }
         t[7] = mono_s();
         if (panel_hud) {
+            panel_wx.sustained_ms = 57.0f + 0.2f * change;
             kiosk_ui_set_weather(&panel, &panel_wx);
             kiosk_ui_layout(&panel, 1920, 1080);
             kiosk_ui_draw(panel_hud, &panel);
@@ -281,9 +290,10 @@ int bench_client(int argc, char **argv)
            frames);
     printf(" \"delta_bytes_mean\": %.0f, \"keyframe_bytes\": %zu, \"decode_errors\": %llu,\n",
            bytes_sum / n_pre, enc_len[0], (unsigned long long)decode_errors);
-    printf(" \"gl_upload\": %s, \"hud\": %s, \"weather_every\": %d,\n \"stages_ms\": {",
-           win ? "true" : "false", hd ? "\"drawn at 1280x720\"" : "false",
-           WEATHER_EVERY);
+    printf(" \"gl_upload\": %s, \"hud\": %s, \"weather_every\": %d, \"hud_changes_every\": %u,\n"
+           " \"stages_ms\": {",
+           win ? "true" : "false", hd ? "\"drawn at 1280x720\"" : "false", WEATHER_EVERY,
+           changes);
     for (int s = 0; s < N_STAGES; s++) {
         double med = quantile(t_stage[s], (int)frames, 0.5);
         double p95 = quantile(t_stage[s], (int)frames, 0.95);

@@ -90,7 +90,7 @@ int client_frame_draw(client *c, double now, gale_err *err)
     }
     if (c->hud_on) {
         hud_draw(c->hud, &hs, fb_w, fb_h);
-        c->hud_lines = hud_format(&hs, c->hud_text);
+        c->hud_lines = hud_drawn_lines(c->hud, c->hud_text); /* what the visitor reads */
         if (c->have_wx) {
             /* what this wind does, in plain words, along the bottom of the screen */
             const char *cap = caption_for(&c->captions, c->wx.ss_class, c->wx.beaufort);

@@ -116,8 +116,14 @@ void hud_destroy(hud *h); /* NULL is a no-op; the context must still be current 
 const hud_font *hud_get_font(const hud *h);
 
 /* Draws the HUD panel for s in the top-left corner of the bound framebuffer of fb_w × fb_h
- * pixels, alpha-blended, depth test off. No allocation. */
+ * pixels, alpha-blended, depth test off. The lines' panel is kept on the GPU as a picture
+ * (hud_batch_flush_keep) and built again only when its text or the framebuffer changes.
+ * No allocation. */
 void hud_draw(hud *h, const hud_state *s, int fb_w, int fb_h);
+
+/* The lines of the picture the last hud_draw drew (what a visitor reads) into
+ * lines[HUD_MAX_LINES][HUD_LINE_CHARS]; returns their count. */
+int hud_drawn_lines(const hud *h, char lines[HUD_MAX_LINES][HUD_LINE_CHARS]);
 
 /* The calm screen of a kiosk that lost its server: the frame under it dimmed to about
  * half and text (e.g. "Reconnecting…") in a panel at its centre. */
@@ -151,7 +157,8 @@ float hud_batch_text_width(const hud *h, const char *utf8, float px);
 void hud_batch_flush(hud *h);
 /* Draws the batch and keeps it on the GPU under key (not 0), so that while nothing it shows
  * changes the caller draws it again with hud_batch_replay instead of building it (a batch
- * drawn in parts is not kept). */
+ * drawn in parts is not kept). It is kept as a picture (a texture of its bounding box, drawn
+ * as one quad); a hud keeps two, the older replaced by a new one. */
 void hud_batch_flush_keep(hud *h, uint64_t key);
 /* Draws the batch kept under key over a fb_w × fb_h framebuffer: false (nothing drawn)
  * when the kept one has another key or size. */

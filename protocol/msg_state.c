@@ -118,20 +118,45 @@ static void put_bits(wire_writer *w, const uint32_t *z, uint32_t k, unsigned wid
     }
 }
 
+/* 8 bytes at p as a little-endian number. */
+static inline uint64_t load_le64(const uint8_t *p)
+{
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+    uint64_t v;
+    memcpy(&v, p, sizeof v);
+    return v;
+#else
+    uint64_t v = 0;
+    for (unsigned i = 0; i < 8; i++) {
+        v |= (uint64_t)p[i] << (8 * i);
+    }
+    return v;
+#endif
+}
+
+/* Reads k values of width w bits, LSB first: the group's ceil(k w / 8) bytes are checked
+ * to be there once, then read without a check per byte. */
 static void get_bits(wire_reader *r, uint32_t *z, uint32_t k, unsigned width)
 {
+    const size_t n_bytes = ((size_t)k * width + 7u) / 8u;
+    if (r->bad || wire_reader_left(r) < n_bytes) {
+        r->bad = true;
+        return;
+    }
+    const uint8_t *p = r->p;
+    const uint32_t mask = width ? (uint32_t)((1u << width) - 1u) : 0u;
     uint64_t acc = 0;
     unsigned nacc = 0;
-    const uint32_t mask = width ? (uint32_t)((1u << width) - 1u) : 0u;
     for (uint32_t i = 0; i < k; i++) {
         while (nacc < width) {
-            acc |= (uint64_t)wire_get_u8(r) << nacc;
+            acc |= (uint64_t)*p++ << nacc;
             nacc += 8;
         }
         z[i] = (uint32_t)(acc & mask);
         acc >>= width;
         nacc -= width;
     }
+    r->p = p;
     /* Padding bits of the last byte must be zero (one encoding per value). */
     if (acc != 0) {
         r->bad = true;
@@ -403,6 +428,67 @@ static int get_set(wire_reader *r, const uint8_t *start, const char *where,
     return 0;
 }
 
+/* A full group of width w (exactly w bytes, no padding) with 8 more bytes readable at p:
+ * value i starts at bit i w and the 8 bytes from its first byte hold it (w + 7 <= 64), so
+ * each is read, predicted and range-checked on its own, one loop per predictor. Writes v
+ * and q as predict (below) does; true when a value is out of range. */
+static inline bool group_full(const uint8_t *p, unsigned width, int pred, const int16_t *a,
+                              const int16_t *b, int32_t *v, int16_t *q)
+{
+    const uint32_t mask = width ? (uint32_t)((1u << width) - 1u) : 0u;
+    uint32_t out = 0;
+#define GROUP_VALUE(i) ((uint32_t)(load_le64(p + ((i) * width >> 3)) >> ((i) * width & 7u)) & mask)
+    if (pred == PRED_ZERO) {
+#pragma GCC unroll 8
+        for (uint32_t i = 0; i < GROUP; i++) {
+            v[i] = wire_unzigzag(GROUP_VALUE(i));
+        }
+    } else if (pred == PRED_PREV) {
+#pragma GCC unroll 8
+        for (uint32_t i = 0; i < GROUP; i++) {
+            v[i] = a[i] + wire_unzigzag(GROUP_VALUE(i));
+        }
+    } else {
+#pragma GCC unroll 8
+        for (uint32_t i = 0; i < GROUP; i++) {
+            v[i] = 2 * a[i] - b[i] + wire_unzigzag(GROUP_VALUE(i));
+        }
+    }
+#undef GROUP_VALUE
+    for (uint32_t i = 0; i < GROUP; i++) {
+        out |= (uint32_t)(v[i] + WIRE_QMAX) > 2u * WIRE_QMAX; /* v outside -QMAX..QMAX */
+        q[i] = (int16_t)v[i];
+    }
+    return out != 0;
+}
+
+/* Values v = prediction + residual of k modes into v and q, one loop per predictor (a and b
+ * the previous two snapshots' values); true when one is out of range (q then holds it
+ * truncated, for the caller to reject the frame). */
+static inline bool predict(const uint32_t *z, uint32_t k, int pred, const int16_t *a,
+                           const int16_t *b, int32_t *v, int16_t *q)
+{
+    if (pred == PRED_ZERO) {
+        for (uint32_t i = 0; i < k; i++) {
+            v[i] = wire_unzigzag(z[i]);
+        }
+    } else if (pred == PRED_PREV) {
+        for (uint32_t i = 0; i < k; i++) {
+            v[i] = a[i] + wire_unzigzag(z[i]);
+        }
+    } else {
+        for (uint32_t i = 0; i < k; i++) {
+            v[i] = 2 * a[i] - b[i] + wire_unzigzag(z[i]);
+        }
+    }
+    bool out = false;
+    for (uint32_t i = 0; i < k; i++) {
+        out |= v[i] < -WIRE_QMAX || v[i] > WIRE_QMAX;
+        q[i] = (int16_t)v[i];
+    }
+    return out;
+}
+
 static int get_values(wire_reader *r, const uint8_t *start, const char *where, uint32_t n_trees,
                       uint32_t stride, const uint8_t *n_modes, const int16_t *prev,
                       const int16_t *prev2, int hist, int16_t *q, gale_err *err)
@@ -425,22 +511,25 @@ static int get_values(wire_reader *r, const uint8_t *start, const char *where, u
                 FAIL("%s: tree %u group %u at byte %zu: expected width <= %u and predictor <= %d, got %u, %d",
                      where, t, g0 / GROUP, at, MAX_WIDTH, hist, width, pred);
             }
-            get_bits(r, z, k, width);
-            if (r->bad) {
-                FAIL("%s: tree %u group %u at byte %zu: truncated or nonzero padding", where, t,
-                     g0 / GROUP, at);
-            }
-            for (uint32_t i = 0; i < k; i++) {
-                size_t ix = (size_t)t * stride + g0 + i;
-                int32_t a = pred >= PRED_PREV ? prev[ix] : 0;
-                int32_t b = pred == PRED_LINEAR ? prev2[ix] : 0;
-                int32_t p = pred == PRED_LINEAR ? 2 * a - b : a;
-                int32_t v = p + wire_unzigzag(z[i]);
-                if (v < -WIRE_QMAX || v > WIRE_QMAX) {
-                    FAIL("%s: tree %u mode %u at byte %zu: expected |q| <= %d, got %d", where,
-                         t, g0 + i, at, WIRE_QMAX, v);
+            const size_t ix = (size_t)t * stride + g0;
+            int32_t v[GROUP];
+            bool out;
+            if (k == GROUP && wire_reader_left(r) >= (size_t)width + 8u) {
+                out = group_full(r->p, width, pred, prev + ix, prev2 + ix, v, qt + g0);
+                r->p += width;
+            } else {
+                get_bits(r, z, k, width);
+                if (r->bad) {
+                    FAIL("%s: tree %u group %u at byte %zu: truncated or nonzero padding", where,
+                         t, g0 / GROUP, at);
                 }
-                qt[g0 + i] = (int16_t)v;
+                out = predict(z, k, pred, prev + ix, prev2 + ix, v, qt + g0);
+            }
+            for (uint32_t i = 0; out && i < k; i++) {
+                if (v[i] < -WIRE_QMAX || v[i] > WIRE_QMAX) {
+                    FAIL("%s: tree %u mode %u at byte %zu: expected |q| <= %d, got %d", where,
+                         t, g0 + i, at, WIRE_QMAX, v[i]);
+                }
             }
         }
     }

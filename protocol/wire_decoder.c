@@ -146,19 +146,23 @@ wire_state wire_decoder_state(const wire_decoder *d)
 
 uint32_t wire_decoder_q(const wire_decoder *d, uint32_t t, float *q, uint32_t max_modes)
 {
-    for (uint32_t m = 0; m < max_modes; m++) {
-        q[m] = 0.0f;
-    }
     const wire_scene *sc = &d->scene[d->scene_cur];
     if (!d->synced || t >= sc->n_trees) {
+        for (uint32_t m = 0; m < max_modes; m++) {
+            q[m] = 0.0f;
+        }
         return 0;
     }
     const wire_slot *s = &d->slot[d->last];
-    uint32_t n = s->n_modes[t];
+    const uint32_t n = s->n_modes[t], lim = n < max_modes ? n : max_modes;
     const float *step = sc->step[sc->species[t]];
     const int16_t *qi = s->q + (size_t)t * d->max_modes;
-    for (uint32_t m = 0; m < n && m < max_modes; m++) {
+    uint32_t m = 0;
+    for (; m < lim; m++) {
         q[m] = wire_dequantize(qi[m], step[m]);
+    }
+    for (; m < max_modes; m++) {
+        q[m] = 0.0f;
     }
     return n;
 }

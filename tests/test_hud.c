@@ -221,6 +221,82 @@ static void test_bad_font(void)
 
 /* GL pass over a cleared frame: the panel darkens its rectangle, text is bright inside
  * it, and nothing outside the panel changes. */
+/* hud_draw over a cleared W x H frame, read back (rows bottom up) into rgb. */
+static void draw_read(hud *h, const hud_state *s, int W, int H, uint8_t *rgb)
+{
+    glClear(GL_COLOR_BUFFER_BIT);
+    hud_draw(h, s, W, H);
+    glReadPixels(0, 0, W, H, GL_RGB, GL_UNSIGNED_BYTE, rgb);
+}
+
+/* Largest difference of two pictures in any channel. */
+static int worst_diff(const uint8_t *a, const uint8_t *b, size_t n)
+{
+    int worst = 0;
+    for (size_t i = 0; i < n; i++) {
+        int d = abs((int)a[i] - (int)b[i]);
+        worst = d > worst ? d : worst;
+    }
+    return worst;
+}
+
+/* s drawn by h three times (the third from the kept picture: hud_batch_flush_keep) into b,
+ * and once by a fresh HUD (drawn straight) into c: the same to 8-bit rounding, and h says
+ * it drew the lines s formats. */
+static void check_kept(hud *h, const hud_state *s, int W, int H, uint8_t *b, uint8_t *c)
+{
+    for (int i = 0; i < 3; i++) {
+        draw_read(h, s, W, H, b);
+    }
+    char want[HUD_MAX_LINES][HUD_LINE_CHARS], got[HUD_MAX_LINES][HUD_LINE_CHARS];
+    int n_want = hud_format(s, want), n_got = hud_drawn_lines(h, got);
+    CHECK(n_got == n_want);
+    for (int i = 0; i < n_got && i < n_want; i++) {
+        CHECK(strcmp(got[i], want[i]) == 0);
+    }
+    gale_err err = { 0 };
+    hud *fresh = hud_create(&(hud_desc){ .px = 20.0f }, &err);
+    CHECK(fresh != NULL);
+    if (fresh) {
+        draw_read(fresh, s, W, H, c);
+        CHECK(worst_diff(b, c, (size_t)W * H * 3) <= 2);
+        hud_destroy(fresh);
+    }
+}
+
+/* The lines' panel is kept as a picture while it holds still: the kept picture is the lines
+ * drawn straight (premultiplied compositing, to 8-bit rounding) and stays the same frame to
+ * frame; after a weather change the picture and the lines it reports are the new ones. */
+static void test_kept_lines(hud *h, const hud_state *calm, int W, int H)
+{
+    const size_t n_px = (size_t)W * (size_t)H * 3;
+    uint8_t *a = malloc(n_px), *b = malloc(n_px), *c = malloc(n_px);
+    CHECK(a && b && c);
+    if (!a || !b || !c) {
+        free(a);
+        free(b);
+        free(c);
+        return;
+    }
+    wire_weather wx = { .sustained_ms = 45.0f, .gust_ms = 58.0f, .dir_from_deg = 200.0f,
+                        .ss_class = 3, .beaufort = 12 };
+    hud_state storm = *calm;
+    storm.wx = &wx;
+    check_kept(h, calm, W, H, a, c);
+    draw_read(h, calm, W, H, b); /* unchanged: the kept picture again */
+    CHECK(memcmp(a, b, n_px) == 0);
+    check_kept(h, &storm, W, H, b, c);
+    CHECK(memcmp(a, b, n_px) != 0);
+    /* a weather change within the same class and wording: only the figures move */
+    wx.sustained_ms = 46.0f;
+    memcpy(a, b, n_px);
+    check_kept(h, &storm, W, H, b, c);
+    CHECK(memcmp(a, b, n_px) != 0);
+    free(a);
+    free(b);
+    free(c);
+}
+
 static void test_gl_pass(void)
 {
     if (!getenv("DISPLAY") || !glfwInit()) {
@@ -308,6 +384,7 @@ static void test_gl_pass(void)
     CHECK(bright > 300);                         /* text ink */
     CHECK(dark > 10000);                         /* the panel */
     CHECK(flipped[(20 * W + 20) * 3 + 2] < 120); /* panel corner darkened */
+    test_kept_lines(h, &s, W, H);
     hud_destroy(h);
     glDeleteFramebuffers(1, &fbo);
     glDeleteRenderbuffers(1, &rb);

@@ -472,6 +472,48 @@ static void test_chain(void)
     wire_decoder_destroy(k);
 }
 
+/* A value out of range in a full group of 8 modes is rejected with its tree and mode, both
+ * where the group is read with whole-word loads (bytes enough after it) and where it is read
+ * byte by byte (the frame's last group). */
+static void test_full_group_range(void)
+{
+    static uint8_t species[2] = { 0, 0 };
+    wire_scene sc = { .n_trees = 2, .n_species = 1, .species = species };
+    sc.n_modes[0] = 8;
+    for (uint32_t m = 0; m < 8; m++) {
+        sc.step[0][m] = 1.0f;
+    }
+    uint8_t nm[2] = { 8, 8 };
+    int16_t q[16] = { -32767, 1, 2, 3, 4, 5, 6, 7, 1, 2, 3, 4, 5, 6, 7, -32767 };
+    wire_state st = { .n_trees = 2, .stride = 8, .n_modes = nm, .q = q };
+    wire_header h = { .tick = 9 };
+    size_t n = 0;
+    gale_err e;
+    CHECK(wire_encode_keyframe(&h, 1, &sc, &st, buf, sizeof buf, &n, &e) == 0);
+    wire_decoder *d = wire_decoder_create(&(wire_decoder_desc){ .max_trees = 2, .max_modes = 8 }, &e);
+    CHECK(d != NULL);
+    CHECK(wire_decode(d, buf, n, &(wire_frame){ 0 }, &e) == 0);
+    /* each group: header 0x10 (zero predictor, width 16), then 16 bytes; -32767 is zigzag
+     * 0xfffd, and 0xffff would be -32768 */
+    size_t g0 = n - 34, g1 = n - 17;
+    CHECK(buf[g0] == 0x10 && buf[g0 + 1] == 0xfd && buf[g0 + 2] == 0xff);
+    CHECK(buf[g1] == 0x10 && buf[n - 2] == 0xfd && buf[n - 1] == 0xff);
+    memcpy(buf2, buf, n);
+    buf2[g0 + 1] = 0xff;
+    CHECK(wire_decode(d, buf2, n, &(wire_frame){ 0 }, &e) == GALE_E_FORMAT);
+    char want[160];
+    snprintf(want, sizeof want, "wire: KEYFRAME tick 9: tree 0 mode 0 at byte %zu: expected |q| <= 32767, got -32768", g0);
+    CHECK_STR_HAS(e.msg, want);
+    memcpy(buf2, buf, n);
+    buf2[n - 2] = 0xff;
+    CHECK(wire_decode(d, buf2, n, &(wire_frame){ 0 }, &e) == GALE_E_FORMAT);
+    snprintf(want, sizeof want, "wire: KEYFRAME tick 9: tree 1 mode 7 at byte %zu: expected |q| <= 32767, got -32768", g1);
+    CHECK_STR_HAS(e.msg, want);
+    float v[8];
+    CHECK(wire_decoder_q(d, 0, v, 8) == 8 && v[0] == -32767.0f && v[7] == 7.0f);
+    wire_decoder_destroy(d);
+}
+
 /* Random bytes and bit flips never crash the decoder and never leave it half-updated. */
 static void test_corruption(void)
 {
@@ -603,6 +645,7 @@ int main(void)
     RUN(test_wind_golden);
     RUN(test_state_golden);
     RUN(test_chain);
+    RUN(test_full_group_range);
     RUN(test_spec_vectors);
     RUN(test_corruption);
     return check_report();
