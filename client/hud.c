@@ -347,7 +347,8 @@ static int format_weather(const wire_weather *w, char lines[HUD_MAX_LINES][HUD_L
             snprintf(lines[n++], HUD_LINE_CHARS, "Replay %d:%02d \xC2\xB7 \xC3\x97%.0f (looping)",
                      pos / 60, pos % 60, (double)w->replay_speed);
         }
-    } else if (w->name[0]) {
+    } else if (w->name[0] && !(w->flags & WIRE_WEATHER_DIAL)) {
+        /* a dial overrides a steady scenario: its title would contradict the wind above */
         snprintf(lines[n++], HUD_LINE_CHARS, "%s", w->name);
     }
     return n;

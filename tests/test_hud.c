@@ -207,6 +207,32 @@ static void test_format(void)
     CHECK_STR_HAS(lines[3], "2 bad frames dropped");
 }
 
+/* A steady scenario's title is shown until a kiosk dials: then the dial's wind is what
+ * blows, and "Calm" under "Category 2 hurricane" would contradict it. */
+static void test_format_dialled(void)
+{
+    char lines[HUD_MAX_LINES][HUD_LINE_CHARS];
+    wire_weather wx = { .sustained_ms = 45.0f, .gust_ms = 45.0f, .dir_from_deg = 270.0f,
+                        .ss_class = 4, .beaufort = 12 };
+    snprintf(wx.name, sizeof wx.name, "Calm");
+    hud_state s = { .wx = &wx, .conn = HUD_CONN_LIVE, .server = "127.0.0.1:9000",
+                    .role = "viewer" };
+    int n = hud_format(&s, lines);
+    int named = 0;
+    for (int i = 0; i < n; i++) {
+        named += strcmp(lines[i], "Calm") == 0;
+    }
+    CHECK(named == 1);
+    wx.flags |= WIRE_WEATHER_DIAL;
+    n = hud_format(&s, lines);
+    named = 0;
+    for (int i = 0; i < n; i++) {
+        named += strcmp(lines[i], "Calm") == 0;
+    }
+    CHECK(named == 0);
+    CHECK_STR_HAS(lines[2], "dialled at the kiosk");
+}
+
 static void test_bad_font(void)
 {
     gale_err err = { 0 };
@@ -407,6 +433,7 @@ int main(void)
     RUN(test_saffir_simpson);
     RUN(test_beaufort);
     RUN(test_format);
+    RUN(test_format_dialled);
     RUN(test_bad_font);
     RUN(test_gl_pass);
     ref_width("", 36.0f);
