@@ -27,6 +27,7 @@ struct damage_sim {
     const damage_table **table; /* owned array of borrowed tables [n_species] */
     uint8_t *species;           /* owned [n_trees] */
     float *cos_yaw, *sin_yaw;   /* owned [n_trees] */
+    drag_law *drag;             /* owned [n_species] */
     damage_tree_st *tree;       /* owned [n_trees] */
     uint64_t *bits;             /* owned [n_trees][words] broken branches */
     uint32_t words;
@@ -102,14 +103,19 @@ damage_sim *damage_create(const damage_desc *d, gale_err *err)
     s->sin_yaw = malloc(sizeof(float) * d->n_trees);
     s->tree = calloc(d->n_trees, sizeof *s->tree);
     s->bits = calloc((size_t)d->n_trees * s->words, sizeof(uint64_t));
-    s->q = calloc(64, sizeof(float));
+    s->q = calloc(64 + DAMAGE_RES_COLS, sizeof(float));
+    s->drag = calloc(d->n_species, sizeof *s->drag);
     s->moments = calloc((size_t)maxb, sizeof(float));
     s->ev = calloc((size_t)s->d.max_events, sizeof *s->ev);
     s->log = calloc(DAMAGE_LOG_MAX, sizeof *s->log);
     if (!s->species || !s->cos_yaw || !s->sin_yaw || !s->tree || !s->bits || !s->q ||
-        !s->moments || !s->ev || !s->log) {
+        !s->drag || !s->moments || !s->ev || !s->log) {
         goto nomem;
     }
+    for (uint32_t k = 0; d->species_drag && k < d->n_species; k++) {
+        s->drag[k] = d->species_drag[k];
+    }
+    s->d.species_drag = NULL; /* borrowed for the call only */
     for (uint32_t t = 0; t < d->n_trees; t++) {
         if (d->tree_species[t] >= d->n_species) {
             gale_errf(err, GALE_E_RANGE, "damage_create: tree_species[%u]: expected < %u, got %u",
@@ -140,6 +146,7 @@ void damage_destroy(damage_sim *s)
     free(s->species);
     free(s->cos_yaw);
     free(s->sin_yaw);
+    free(s->drag);
     free(s->tree);
     free(s->bits);
     free(s->q);
@@ -268,25 +275,55 @@ static uint8_t azimuth(const float *v)
     return (uint8_t)((int)(a * 256.0 + 0.5) & 255);
 }
 
+/* The force vector of tree t this tick, w = s(U) k_t |v| v in the tree frame, as
+ * modal_tick forms it (modal.c range_tick, the same guard on absurd samples); returns
+ * |w|². */
+static float force_vector(const damage_sim *s, const modal *m, uint32_t t, const float *v,
+                          float w[3])
+{
+    float wx = v[0], wy = v[1], wz = v[2];
+    if (!(wx * wx + wy * wy + wz * wz <= 1.0e6f)) {
+        wx = wy = wz = 0.0f;
+    }
+    const float cy = s->cos_yaw[t], sy = s->sin_yaw[t];
+    const float u = sqrtf(wx * wx + wy * wy + wz * wz);
+    const float sv = u * drag_law_scale(&s->drag[s->species[t]], u) * modal_drag_mult(m, t);
+    w[0] = sv * (cy * wx + sy * wy);
+    w[1] = sv * (-sy * wx + cy * wy);
+    w[2] = sv * wz;
+    return w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+}
+
 /* The stresses of standing tree t from its modal state: the stem first (a tree that
- * falls breaks nothing more), then every branch still on it. */
+ * falls breaks nothing more), then every branch still on it. Each moment is
+ * Σ_i q_i M_i + R w: the modes and the static residual of those left out, over
+ * x = (q, w) (damage_table.h). */
 static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t t,
                        const float *v, uint32_t tick)
 {
     damage_tree_st *ts = &s->tree[t];
-    /* |q| as the modal update left it (modal_qnorm2): the state itself is read only
-     * for a tree that might fail */
-    const float qn = sqrtf(modal_qnorm2(m, t));
+    float w[3];
+    const float w2 = force_vector(s, m, t, v, w);
+    /* |x| from |q| as the modal update left it (modal_qnorm2): the state itself is read
+     * only for a tree that might fail */
+    const float qn = sqrtf(modal_qnorm2(m, t) + w2);
     /* the weakest branch multiplier is exp(-sd) (normal3 is clamped to ±2, halved) */
     const float lo = ts->strength * expf(-(float)tb->p.strength_sd);
     if (!(qn >= lo * tb->q_screen)) {
         return;
     }
     float *q = s->q;
-    uint32_t n = modal_get(m, t, q, NULL);
-    if (n > tb->n_modes) {
-        n = tb->n_modes;
+    uint32_t nq = modal_get(m, t, q, NULL);
+    if (nq > tb->n_modes) {
+        nq = tb->n_modes;
     }
+    for (uint32_t i = nq; i < tb->n_modes; i++) {
+        q[i] = 0.0f;
+    }
+    for (uint32_t k = 0; k < DAMAGE_RES_COLS; k++) {
+        q[tb->n_modes + k] = w[k];
+    }
+    const uint32_t n = tb->n_cols;
     float mb = damage_moment((const float(*)[3])tb->stem_moment, q, n, NULL);
     uint8_t fall = 0;
     if (mb > ts->strength * (float)tb->m_over_nm && tb->m_over_nm <= tb->m_break_nm) {
@@ -303,7 +340,7 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
         emit(s, t, WIRE_DAMAGE_WHOLE, fall, ts->fall_az, tick);
         atomic_fetch_add(fall == WIRE_DAMAGE_SNAP ? &s->counts.snapped : &s->counts.uprooted, 1);
         /* a fallen tree lies still: no force, no motion */
-        memset(q, 0, sizeof(float) * n);
+        memset(q, 0, sizeof(float) * nq);
         modal_set(m, t, q, q);
         modal_set_drag_mult(m, t, 0.0f);
         return;
@@ -336,7 +373,7 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
         if (gone(s, tb, t, (int32_t)b)) {
             continue;
         }
-        const float(*mm)[3] = (const float(*)[3])(tb->branch_moment + (size_t)b * tb->n_modes * 3);
+        const float(*mm)[3] = (const float(*)[3])(tb->branch_moment + (size_t)b * n * 3);
         const float mbr = damage_moment(mm, q, n, NULL);
         if (mbr <= lo_branch * br->cap_nm) {
             continue;

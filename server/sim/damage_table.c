@@ -1,6 +1,7 @@
 /* The storm-damage table of one species: see damage_table.h. Moments come from the
  * linear modes of the asset: the end moment of an Euler-Bernoulli element from its end
- * displacements and rotations (PHYSICS.md "Storm damage"). */
+ * displacements and rotations, plus the static residual of the modes left out, from the
+ * statics of the tree (PHYSICS.md "Storm damage"). */
 #include "damage_table.h"
 
 #include <math.h>
@@ -91,6 +92,7 @@ void damage_branch_bounds(const damage_table *t, const float *q, uint32_t n, uin
 
 float damage_moment(const float (*m)[3], const float *q, uint32_t n, float out[3])
 {
+    /* q: the x = (q, w) of damage_table.h */
     float x = 0.0f, y = 0.0f, z = 0.0f;
     for (uint32_t i = 0; i < n; i++) {
         x += q[i] * m[i][0];
@@ -136,8 +138,73 @@ static int cmp_ratio(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-int damage_table_build(const asset *a, double E_pa, const damage_params *p, damage_table *t,
-                       gale_err *err)
+void damage_static_moment(const asset *a, double drag_c, uint32_t c, const double w[3],
+                          double out[3])
+{
+    out[0] = out[1] = out[2] = 0.0;
+    if (c == 0 || c >= a->n_nodes) {
+        return;
+    }
+    const float *rp = &a->rest[3 * (uint32_t)a->parent[c]];
+    /* Σ_e D_e L_e (mid_e - r_p) over the elements whose end node lies in the sub-tree
+     * of c: parent[i] < i, so a node is in it when its parent is (or it is c) */
+    const uint32_t n = a->n_nodes;
+    uint8_t *in = calloc(n, 1);
+    if (!in) {
+        return;
+    }
+    double arm[3] = { 0, 0, 0 };
+    in[c] = 1;
+    for (uint32_t i = c; i < n; i++) {
+        if (i > c && !in[a->parent[i]]) {
+            continue;
+        }
+        in[i] = 1;
+        const uint32_t q = (uint32_t)a->parent[i];
+        double e[3];
+        sub3(&a->rest[3 * i], &a->rest[3 * q], e);
+        const double dl = ((double)a->radius[i] + (double)a->radius[q]) * sqrt(dot3(e, e));
+        for (int k = 0; k < 3; k++) {
+            arm[k] += dl * (0.5 * ((double)a->rest[3 * i + k] + (double)a->rest[3 * q + k]) -
+                            (double)rp[k]);
+        }
+    }
+    free(in);
+    /* the modal moments' sign: element_moment gives minus the load's moment about r_p */
+    out[0] = -drag_c * (arm[1] * w[2] - arm[2] * w[1]);
+    out[1] = -drag_c * (arm[2] * w[0] - arm[0] * w[2]);
+    out[2] = -drag_c * (arm[0] * w[1] - arm[1] * w[0]);
+}
+
+/* The static residual of element parent(c) -> c into m[n_modes .. n_cols): column k the
+ * exact static moment of a unit w_k less the modes' static share Σ_i M_i p_i,k / ω_i²
+ * (mode-acceleration correction; the modes' static response is q_i = w·p_i / ω_i²). */
+static void residual(const asset *a, double drag_c, uint32_t c, float (*m)[3])
+{
+    const uint32_t nm = a->n_modes;
+    for (uint32_t k = 0; k < DAMAGE_RES_COLS; k++) {
+        double w[3] = { 0, 0, 0 }, ex[3];
+        w[k] = 1.0;
+        if (!(drag_c > 0.0)) {
+            m[nm + k][0] = m[nm + k][1] = m[nm + k][2] = 0.0f;
+            continue;
+        }
+        damage_static_moment(a, drag_c, c, w, ex);
+        for (uint32_t i = 0; i < nm; i++) {
+            const double w2 = (double)a->omega[i] * (double)a->omega[i];
+            const double f = (double)a->wind_basis[3 * i + k] / w2;
+            for (int j = 0; j < 3; j++) {
+                ex[j] -= (double)m[i][j] * f;
+            }
+        }
+        for (int j = 0; j < 3; j++) {
+            m[nm + k][j] = (float)ex[j];
+        }
+    }
+}
+
+int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_params *p,
+                       damage_table *t, gale_err *err)
 {
     memset(t, 0, sizeof *t);
     const uint32_t n = a->n_nodes, nm = a->n_modes;
@@ -149,6 +216,7 @@ int damage_table_build(const asset *a, double E_pa, const damage_params *p, dama
     }
     t->p = *p;
     t->n_modes = nm;
+    t->n_cols = nm + DAMAGE_RES_COLS;
     t->n_nodes = n;
     t->n_leaves = a->n_leaves;
     t->leaf_node = a->leaf_node;
@@ -217,7 +285,8 @@ int damage_table_build(const asset *a, double E_pa, const damage_params *p, dama
     free(nkids);
     free(area);
     free(leaves);
-    t->branch_moment = malloc(sizeof(float) * 3 * nm * (nb ? nb : 1));
+    const uint32_t nc = t->n_cols;
+    t->branch_moment = malloc(sizeof(float) * 3 * nc * (nb ? nb : 1));
     if (!t->branch_moment) {
         free(main_child);
         damage_table_fini(t);
@@ -226,11 +295,12 @@ int damage_table_build(const asset *a, double E_pa, const damage_params *p, dama
     float qs = INFINITY;
     for (uint32_t b = 0; b < nb; b++) {
         uint32_t c = t->branch[b].node, q = (uint32_t)a->parent[c];
-        float(*m)[3] = (float(*)[3])(t->branch_moment + (size_t)b * nm * 3);
+        float(*m)[3] = (float(*)[3])(t->branch_moment + (size_t)b * nc * 3);
         for (uint32_t i = 0; i < nm; i++) {
             element_moment(a, E_pa, i, q, c, m[i]);
         }
-        t->branch[b].moment_norm = norm_modes((const float(*)[3])m, nm);
+        residual(a, drag_c, c, m);
+        t->branch[b].moment_norm = norm_modes((const float(*)[3])m, nc);
         if (t->branch[b].moment_norm > 0.0f) {
             float s = t->branch[b].cap_nm / t->branch[b].moment_norm;
             qs = s < qs ? s : qs;
@@ -249,7 +319,8 @@ int damage_table_build(const asset *a, double E_pa, const damage_params *p, dama
     for (uint32_t i = 0; i < nm; i++) {
         element_moment(a, E_pa, i, 0, s1, t->stem_moment[i]);
     }
-    t->stem_norm = norm_modes((const float(*)[3])t->stem_moment, nm);
+    residual(a, drag_c, s1, t->stem_moment);
+    t->stem_norm = norm_modes((const float(*)[3])t->stem_moment, nc);
     t->stem_d_m = 2.0 * (double)a->radius[0];
     t->stem_mass_kg = mass * p->stem_density_kg_m3;
     /* Gardiner et al. 2000 / Hale et al. 2012 (ForestGALES) */
@@ -278,7 +349,7 @@ int damage_table_build(const asset *a, double E_pa, const damage_params *p, dama
     sort_branches = t;
     qsort(t->order, nb, sizeof(uint32_t), cmp_ratio);
     sort_branches = NULL;
-    t->n_groups = (nm + DAMAGE_GROUP_MODES - 1) / DAMAGE_GROUP_MODES;
+    t->n_groups = (nc + DAMAGE_GROUP_MODES - 1) / DAMAGE_GROUP_MODES;
     t->ratio_by_order = malloc(sizeof(float) * (nb ? nb : 1));
     t->cap_by_order = malloc(sizeof(float) * (nb ? nb : 1));
     t->group_norm = malloc(sizeof(float) * t->n_groups * (nb ? nb : 1));
@@ -290,10 +361,10 @@ int damage_table_build(const asset *a, double E_pa, const damage_params *p, dama
         const damage_branch *b = &t->branch[t->order[j]];
         t->ratio_by_order[j] = b->moment_norm > 0.0f ? b->cap_nm / b->moment_norm : INFINITY;
         t->cap_by_order[j] = b->cap_nm;
-        const float(*m)[3] = (const float(*)[3])(t->branch_moment + (size_t)t->order[j] * nm * 3);
+        const float(*m)[3] = (const float(*)[3])(t->branch_moment + (size_t)t->order[j] * nc * 3);
         for (uint32_t g = 0; g < t->n_groups; g++) {
             const uint32_t i0 = g * DAMAGE_GROUP_MODES;
-            const uint32_t k = nm - i0 < DAMAGE_GROUP_MODES ? nm - i0 : DAMAGE_GROUP_MODES;
+            const uint32_t k = nc - i0 < DAMAGE_GROUP_MODES ? nc - i0 : DAMAGE_GROUP_MODES;
             t->group_norm[(size_t)g * nb + j] = norm_modes(m + i0, k);
         }
     }
@@ -325,6 +396,9 @@ void damage_static_q(const asset *a, double u_ms, double dir_rad, float *q)
         double w = (double)a->omega[i];
         q[i] = (float)(f / (w * w));
     }
+    q[a->n_modes] = (float)(u_ms * vx);
+    q[a->n_modes + 1] = (float)(u_ms * vy);
+    q[a->n_modes + 2] = 0.0f;
 }
 
 double damage_speed_for(const drag_law *d, double ratio)
@@ -357,15 +431,15 @@ double damage_speed_for(const drag_law *d, double ratio)
 void damage_critical_speeds(const asset *a, const damage_table *t, const drag_law *d,
                             double *snap_ms, double *uproot_ms, double *branch_ms)
 {
-    float q[64];
+    float q[64 + DAMAGE_RES_COLS];
     double worst = 0.0, bmin = INFINITY;
     for (int k = 0; k < 16; k++) {
         damage_static_q(a, 1.0, 2.0 * PI * k / 16.0, q);
-        double m = (double)damage_moment((const float(*)[3])t->stem_moment, q, t->n_modes, NULL);
+        double m = (double)damage_moment((const float(*)[3])t->stem_moment, q, t->n_cols, NULL);
         worst = m > worst ? m : worst;
         for (uint32_t b = 0; b < t->n_branches; b++) {
-            const float(*mm)[3] = (const float(*)[3])(t->branch_moment + (size_t)b * t->n_modes * 3);
-            double mb = (double)damage_moment(mm, q, t->n_modes, NULL);
+            const float(*mm)[3] = (const float(*)[3])(t->branch_moment + (size_t)b * t->n_cols * 3);
+            double mb = (double)damage_moment(mm, q, t->n_cols, NULL);
             double u = mb > 0.0 ? damage_speed_for(d, (double)t->branch[b].cap_nm / mb)
                                 : (double)INFINITY;
             bmin = u < bmin ? u : bmin;

@@ -25,11 +25,17 @@
  * and branch instead of three per mode for the exact moment. */
 #define DAMAGE_GROUP_MODES 4u
 
+/* Columns after the modes in every moment table: the static residual of the truncated
+ * modes (PHYSICS.md "Storm damage"), the moment per unit of the tick's force vector
+ * w = s(U) k_t |v| v (tree frame, [m²/s²]); a check appends w to q. */
+#define DAMAGE_RES_COLS 3u
+
 typedef struct damage_branch {
     uint32_t node;       /* first node of the branch: the end of its base element */
     int32_t up;          /* index of the branch it grows from; -1: from the stem */
     float cap_nm;        /* MOR · S, S = π r³ / 4 at the base node [N m] */
-    float moment_norm;   /* sqrt(Σ_i |M_i|²): |M(q)| <= |q| · moment_norm */
+    float moment_norm;   /* sqrt(Σ_c |M_c|²) over the n_cols columns: |M(x)| <= |x| ·
+                            moment_norm, x = (q, w) */
     float area_share;    /* its sub-tree's share of the tree's ∫ D ds, 0..1 */
     float leaf_share;    /* its sub-tree's share of the leaf slots, 0..1 */
 } damage_branch;
@@ -37,10 +43,12 @@ typedef struct damage_branch {
 typedef struct damage_table {
     damage_params p;
     uint32_t n_modes, n_nodes;
+    uint32_t n_cols;         /* n_modes + DAMAGE_RES_COLS: the length of x = (q, w) */
     uint32_t n_branches;
     damage_branch *branch;   /* owned [n_branches], parents before children */
-    float *branch_moment;    /* owned [n_branches][n_modes][3] bending moment per unit q at
-                                the base element's start [N m], tree frame */
+    float *branch_moment;    /* owned [n_branches][n_cols][3] bending moment at the base
+                                element's start per unit q_i (columns < n_modes) and per
+                                unit w_k (the static residual) [N m], tree frame */
     int32_t *node_branch;    /* owned [n_nodes] branch a node belongs to; -1: the stem */
     uint32_t n_leaves;
     const uint32_t *leaf_node; /* [n_leaves] borrowed from the asset: the node of each slot */
@@ -50,12 +58,14 @@ typedef struct damage_table {
     float *ratio_by_order;   /* owned [n_branches] cap_nm / moment_norm of order[j], rising
                                 (+inf for a branch no mode loads) */
     float *cap_by_order;     /* owned [n_branches] cap_nm of order[j] */
-    float *group_norm;       /* owned [n_groups][n_branches] |M_b,g| of order[j] at [g][j]:
+    float *group_norm;       /* owned [n_groups][n_branches] |M_b,g| of order[j] at [g][j]
+                                (groups of DAMAGE_GROUP_MODES columns of x):
                                 a check bounds the branches it needs, a prefix of the order,
                                 group by group in vector lanes */
-    uint32_t n_groups;       /* ceil(n_modes / DAMAGE_GROUP_MODES) */
-    float stem_moment[64][3];/* base moment of the stem element per unit q_i [N m] */
-    float stem_norm;         /* sqrt(Σ_i |stem_moment_i|²) */
+    uint32_t n_groups;       /* ceil(n_cols / DAMAGE_GROUP_MODES) */
+    float stem_moment[64 + DAMAGE_RES_COLS][3]; /* base moment of the stem element per
+                                unit x_c, as branch_moment [N m] */
+    float stem_norm;         /* sqrt(Σ_c |stem_moment_c|²) */
     double stem_d_m;         /* stem diameter at the base [m] */
     double stem_mass_kg;     /* stem volume (root to top along the thickest children) x density */
     double m_break_nm;       /* (π/32) f_knot MOR d³ */
@@ -64,23 +74,33 @@ typedef struct damage_table {
 } damage_table;
 
 /* Builds *t (caller-owned, arrays owned by it: damage_table_fini) for asset a whose wood
- * has Young's modulus E_pa, with the species' damage constants p. Fails on an asset
- * without linear modes (phi, phi_rot) or with more than 64 modes, or out of memory. */
-int damage_table_build(const asset *a, double E_pa, const damage_params *p, damage_table *t,
-                       gale_err *err);
+ * has Young's modulus E_pa, baked with the drag constant drag_c (C = ½ ρ_air C_D of the
+ * wind basis, basis.h [kg/m³]; 0: no static residual, the truncated modes alone), with the
+ * species' damage constants p. Fails on an asset without linear modes (phi, phi_rot) or
+ * with more than 64 modes, or out of memory. */
+int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_params *p,
+                       damage_table *t, gale_err *err);
 /* NULL or an empty table is a no-op. */
 void damage_table_fini(damage_table *t);
 
-/* Upper bounds of the bending moments of the first n_check branches in t's order at modal
- * state q[n]: out[j] >= |M(q)| of branch order[j] [N m] (DAMAGE_GROUP_MODES). */
+/* Upper bounds of the bending moments of the first n_check branches in t's order at
+ * x[n] = (q, w): out[j] >= |M(x)| of branch order[j] [N m] (DAMAGE_GROUP_MODES). */
 void damage_branch_bounds(const damage_table *t, const float *q, uint32_t n, uint32_t n_check,
                           float *out);
 
-/* The bending moment M(q) = Σ_i q_i M_i [N m] of per-mode moments m[n][3]; returns |M|. */
-float damage_moment(const float (*m)[3], const float *q, uint32_t n, float out[3]);
+/* The bending moment M(x) = Σ_c x_c M_c [N m] of per-column moments m[n][3]; returns |M|. */
+float damage_moment(const float (*m)[3], const float *x, uint32_t n, float out[3]);
 
-/* Static response of the reference tree to a steady wind u_ms along the tree frame's
- * azimuth dir_rad: q_i = f_i / ω_i², f_i = u² (d·p_i) (Diener 2008 section 4). */
+/* Exact quasi-static moment at the start of the element parent(c) -> c under the uniform
+ * load C D w per length on the sub-tree from c (that element included), in the sign of
+ * the modal moments: M = -C Σ_e D_e L_e (mid_e - r_p) × w (statics of the tree, which is
+ * determinate; D_e = 2 r_e, r_e the element's mean radius, as basis.c loads it). */
+void damage_static_moment(const asset *a, double drag_c, uint32_t c, const double w[3],
+                          double out[3]);
+
+/* Static response of the reference tree to a steady rigid-drag wind u_ms along the tree
+ * frame's azimuth dir_rad: q_i = f_i / ω_i², f_i = u² (d·p_i) (Diener 2008 section 4),
+ * then w = u² d in q[n_modes .. n_modes + DAMAGE_RES_COLS): x for damage_moment. */
 void damage_static_q(const asset *a, double u_ms, double dir_rad, float *q);
 
 /* Steady crown wind [m/s] at which the reference tree (strength 1) snaps, at which it
