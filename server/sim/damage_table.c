@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "crown_load.h"
 #include "wire.h"
 
 #define PI 3.14159265358979323846
@@ -138,21 +139,28 @@ static int cmp_ratio(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-void damage_static_moment(const asset *a, double drag_c, uint32_t c, const double w[3],
-                          double out[3])
+void damage_static_moment(const asset *a, double drag_c, double leaf_share, uint32_t c,
+                          const double w[3], double out[3])
 {
     out[0] = out[1] = out[2] = 0.0;
     if (c == 0 || c >= a->n_nodes) {
         return;
     }
     const float *rp = &a->rest[3 * (uint32_t)a->parent[c]];
-    /* Σ_e D_e L_e (mid_e - r_p) over the elements whose end node lies in the sub-tree
-     * of c: parent[i] < i, so a node is in it when its parent is (or it is c) */
     const uint32_t n = a->n_nodes;
-    uint8_t *in = calloc(n, 1);
-    if (!in) {
+    /* the load as the bake's basis spreads it (bake.c: the leaves' share at the tips) */
+    const crown_load cl = crown_load_split(n, a->parent, a->rest, a->radius,
+                                           a->n_leaves ? leaf_share : 0.0);
+    /* Σ_e wood D_e L_e (mid_e - r_p) + Σ_tips tip_m2 (r_tip - r_p) over the elements whose
+     * end node lies in the sub-tree of c: parent[i] < i, so a node is in it when its
+     * parent is (or it is c) */
+    uint8_t *in = calloc(n, 1), *tip = malloc(n);
+    if (!in || !tip) {
+        free(in);
+        free(tip);
         return;
     }
+    crown_load_tips(n, a->parent, tip);
     double arm[3] = { 0, 0, 0 };
     in[c] = 1;
     for (uint32_t i = c; i < n; i++) {
@@ -163,13 +171,17 @@ void damage_static_moment(const asset *a, double drag_c, uint32_t c, const doubl
         const uint32_t q = (uint32_t)a->parent[i];
         double e[3];
         sub3(&a->rest[3 * i], &a->rest[3 * q], e);
-        const double dl = ((double)a->radius[i] + (double)a->radius[q]) * sqrt(dot3(e, e));
+        const double dl = cl.wood * ((double)a->radius[i] + (double)a->radius[q]) *
+                          sqrt(dot3(e, e));
+        const double pt = tip[i] ? cl.tip_m2 : 0.0;
         for (int k = 0; k < 3; k++) {
             arm[k] += dl * (0.5 * ((double)a->rest[3 * i + k] + (double)a->rest[3 * q + k]) -
-                            (double)rp[k]);
+                            (double)rp[k]) +
+                      pt * ((double)a->rest[3 * i + k] - (double)rp[k]);
         }
     }
     free(in);
+    free(tip);
     /* the modal moments' sign: element_moment gives minus the load's moment about r_p */
     out[0] = -drag_c * (arm[1] * w[2] - arm[2] * w[1]);
     out[1] = -drag_c * (arm[2] * w[0] - arm[0] * w[2]);
@@ -179,7 +191,8 @@ void damage_static_moment(const asset *a, double drag_c, uint32_t c, const doubl
 /* The static residual of element parent(c) -> c into m[n_modes .. n_cols): column k the
  * exact static moment of a unit w_k less the modes' static share Σ_i M_i p_i,k / ω_i²
  * (mode-acceleration correction; the modes' static response is q_i = w·p_i / ω_i²). */
-static void residual(const asset *a, double drag_c, uint32_t c, float (*m)[3])
+static void residual(const asset *a, double drag_c, double leaf_share, uint32_t c,
+                     float (*m)[3])
 {
     const uint32_t nm = a->n_modes;
     for (uint32_t k = 0; k < DAMAGE_RES_COLS; k++) {
@@ -189,7 +202,7 @@ static void residual(const asset *a, double drag_c, uint32_t c, float (*m)[3])
             m[nm + k][0] = m[nm + k][1] = m[nm + k][2] = 0.0f;
             continue;
         }
-        damage_static_moment(a, drag_c, c, w, ex);
+        damage_static_moment(a, drag_c, leaf_share, c, w, ex);
         for (uint32_t i = 0; i < nm; i++) {
             const double w2 = (double)a->omega[i] * (double)a->omega[i];
             const double f = (double)a->wind_basis[3 * i + k] / w2;
@@ -299,7 +312,7 @@ int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_
         for (uint32_t i = 0; i < nm; i++) {
             element_moment(a, E_pa, i, q, c, m[i]);
         }
-        residual(a, drag_c, c, m);
+        residual(a, drag_c, p->leaf_drag_share, c, m);
         t->branch[b].moment_norm = norm_modes((const float(*)[3])m, nc);
         if (t->branch[b].moment_norm > 0.0f) {
             float s = t->branch[b].cap_nm / t->branch[b].moment_norm;
@@ -319,7 +332,7 @@ int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_
     for (uint32_t i = 0; i < nm; i++) {
         element_moment(a, E_pa, i, 0, s1, t->stem_moment[i]);
     }
-    residual(a, drag_c, s1, t->stem_moment);
+    residual(a, drag_c, p->leaf_drag_share, s1, t->stem_moment);
     t->stem_norm = norm_modes((const float(*)[3])t->stem_moment, nc);
     t->stem_d_m = 2.0 * (double)a->radius[0];
     t->stem_mass_kg = mass * p->stem_density_kg_m3;

@@ -91,12 +91,14 @@ void damage_branch_bounds(const damage_table *t, const float *q, uint32_t n, uin
 /* The bending moment M(x) = Σ_c x_c M_c [N m] of per-column moments m[n][3]; returns |M|. */
 float damage_moment(const float (*m)[3], const float *x, uint32_t n, float out[3]);
 
-/* Exact quasi-static moment at the start of the element parent(c) -> c under the uniform
- * load C D w per length on the sub-tree from c (that element included), in the sign of
- * the modal moments: M = -C Σ_e D_e L_e (mid_e - r_p) × w (statics of the tree, which is
- * determinate; D_e = 2 r_e, r_e the element's mean radius, as basis.c loads it). */
-void damage_static_moment(const asset *a, double drag_c, uint32_t c, const double w[3],
-                          double out[3]);
+/* Exact quasi-static moment at the start of the element parent(c) -> c under the load
+ * the bake's basis applies (crown_load.h with the leaves' share leaf_share, 0 when the
+ * asset has no leaves: C wood D w per length, C tip_m2 w at each tip) on the sub-tree from
+ * c (that element included), in the sign of the modal moments:
+ * M = -C (Σ_e wood D_e L_e (mid_e - r_p) + Σ_tips tip_m2 (r_tip - r_p)) × w (statics of
+ * the tree, which is determinate; D_e = 2 r_e, r_e the element's mean radius). */
+void damage_static_moment(const asset *a, double drag_c, double leaf_share, uint32_t c,
+                          const double w[3], double out[3]);
 
 /* Static response of the reference tree to a steady rigid-drag wind u_ms along the tree
  * frame's azimuth dir_rad: q_i = f_i / ω_i², f_i = u² (d·p_i) (Diener 2008 section 4),
