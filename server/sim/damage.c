@@ -296,20 +296,25 @@ static float force_vector(const damage_sim *s, const modal *m, uint32_t t, const
 
 /* The stresses of standing tree t from its modal state: the stem first (a tree that
  * falls breaks nothing more), then every branch still on it. Each moment is
- * Σ_i q_i M_i + R w: the modes and the static residual of those left out, over
- * x = (q, w) (damage_table.h). */
+ * Σ_i q_i M_i + R κ w: the modes and the static residual of those left out, over
+ * x = (q, κ w) (damage_table.h). */
 static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t t,
                        const float *v, uint32_t tick)
 {
     damage_tree_st *ts = &s->tree[t];
     float w[3];
-    const float w2 = force_vector(s, m, t, v, w);
+    const float kw = tb->w_scale;
+    const float w2 = force_vector(s, m, t, v, w) * kw * kw;
     /* |x| from |q| as the modal update left it (modal_qnorm2): the state itself is read
      * only for a tree that might fail */
-    const float qn = sqrtf(modal_qnorm2(m, t) + w2);
-    /* the weakest branch multiplier is exp(-sd) (normal3 is clamped to ±2, halved) */
+    const float qm2 = modal_qnorm2(m, t), qm = sqrtf(qm2), wn = sqrtf(w2);
+    const float qn = sqrtf(qm2 + w2);
+    /* the weakest branch multiplier is exp(-sd) (normal3 is clamped to ±2, halved); two
+     * bounds of every moment of the tree, either below its weakest capacity ends the
+     * check (1e-4 for their rounding) */
     const float lo = ts->strength * expf(-(float)tb->p.strength_sd);
-    if (!(qn >= lo * tb->q_screen)) {
+    if (!(qn >= lo * tb->q_screen) ||
+        !((qm * tb->screen_q + wn * tb->screen_w) * 1.0001f >= lo)) {
         return;
     }
     float *q = s->q;
@@ -321,10 +326,26 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
         q[i] = 0.0f;
     }
     for (uint32_t k = 0; k < DAMAGE_RES_COLS; k++) {
-        q[tb->n_modes + k] = w[k];
+        q[tb->n_modes + k] = kw * w[k];
     }
     const uint32_t n = tb->n_cols;
-    float mb = damage_moment((const float(*)[3])tb->stem_moment, q, n, NULL);
+    /* |x_g| per group: Σ_g |x_g| |M_g| bounds a moment (triangle inequality over groups,
+     * Cauchy-Schwarz within one) */
+    float xg[DAMAGE_MAX_GROUPS], sb = 0.0f, bb = 0.0f;
+    for (uint32_t g = 0; g < tb->n_groups; g++) {
+        float x2 = 0.0f;
+        for (uint32_t i = g * DAMAGE_GROUP_MODES; i < n && i < (g + 1) * DAMAGE_GROUP_MODES; i++) {
+            x2 += q[i] * q[i];
+        }
+        xg[g] = sqrtf(x2);
+        sb += xg[g] * tb->stem_group[g];
+        bb += xg[g] * tb->group_screen[g];
+    }
+    const float m_crit = (float)(tb->m_over_nm < tb->m_break_nm ? tb->m_over_nm : tb->m_break_nm);
+    /* the stem's moment only where its bound reaches the lower critical moment */
+    float mb = sb * 1.0001f >= ts->strength * m_crit
+                   ? damage_moment((const float(*)[3])tb->stem_moment, q, n, NULL)
+                   : 0.0f;
     uint8_t fall = 0;
     if (mb > ts->strength * (float)tb->m_over_nm && tb->m_over_nm <= tb->m_break_nm) {
         fall = WIRE_DAMAGE_UPROOT;
@@ -346,6 +367,10 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
         return;
     }
     bool changed = false;
+    /* no branch can fail below its weakest multiplier (see lo_branch below) */
+    if (!(bb * 1.0001f > 0.999f * lo)) {
+        return;
+    }
     /* branches by rising cap / norm: from the first that cannot fail at |q| no later one
      * can fail either (a few more are bounded than the exact test needs: 1e-5) */
     const float r_max = qn / lo * 1.00001f;
@@ -359,11 +384,11 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
         }
     }
     /* below the weakest multiplier a branch holds whatever its own strength: first on the
-     * bound (1e-4 for its rounding), then on the moment itself; the draw of its own
-     * strength (a log, a cos and an exp) only for one that might fail. 1e-3: lo's
-     * single-precision exp against the draws' double one */
+     * bound (Σ_g |x_g| |M_b,g| in vector lanes, 1e-4 for its rounding), then on the moment
+     * itself; the draw of its own strength (a log, a cos and an exp) only for one that
+     * might fail. 1e-3: lo's single-precision exp against the draws' double one */
     const float lo_branch = 0.999f * lo;
-    damage_branch_bounds(tb, q, n, n_check, s->moments);
+    damage_branch_bounds(tb, xg, n_check, s->moments);
     for (uint32_t j = 0; j < n_check; j++) {
         if (s->moments[j] * 1.0001f <= lo_branch * tb->cap_by_order[j]) {
             continue;

@@ -68,25 +68,21 @@ static void element_moment(const asset *a, double E_pa, uint32_t i, uint32_t p, 
     }
 }
 
-/* Group by group over a contiguous run of n_check bounds: the lanes are independent
- * (omp simd: -O2 alone leaves the loop scalar), so the clones vectorise it and round
- * alike (-std=c11: no contraction). */
+/* Over a contiguous run of n_check bounds: the lanes are independent (omp simd: -O2
+ * alone leaves the loop scalar), so the clones vectorise it and round alike (-std=c11:
+ * no contraction). */
 __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-void damage_branch_bounds(const damage_table *t, const float *q, uint32_t n, uint32_t n_check,
+void damage_branch_bounds(const damage_table *t, const float *xg, uint32_t n_check,
                           float *out)
 {
     memset(out, 0, sizeof(float) * n_check);
-    for (uint32_t g = 0; g * DAMAGE_GROUP_MODES < n && g < t->n_groups; g++) {
-        float qg2 = 0.0f;
-        for (uint32_t i = g * DAMAGE_GROUP_MODES; i < n && i < (g + 1) * DAMAGE_GROUP_MODES; i++) {
-            qg2 += q[i] * q[i];
-        }
-        const float qg = sqrtf(qg2);
+    for (uint32_t g = 0; g < t->n_groups; g++) {
+        const float x = xg[g];
         const float *restrict m = t->group_norm + (size_t)g * t->n_branches;
         float *restrict o = out;
 #pragma omp simd
         for (uint32_t j = 0; j < n_check; j++) {
-            o[j] += qg * m[j];
+            o[j] += x * m[j];
         }
     }
 }
@@ -116,6 +112,18 @@ static float norm_modes(const float (*m)[3], uint32_t n)
         s += x * x + y * y + z * z;
     }
     return (float)sqrt(s);
+}
+
+/* Raises t's screen_q, screen_w by a moment table m[n_cols] against its capacity. */
+static void screen(damage_table *t, const float (*m)[3], float cap_nm)
+{
+    if (!(cap_nm > 0.0f)) {
+        return;
+    }
+    const float a = norm_modes(m, t->n_modes) / cap_nm;
+    const float r = norm_modes(m + t->n_modes, DAMAGE_RES_COLS) / cap_nm;
+    t->screen_q = a > t->screen_q ? a : t->screen_q;
+    t->screen_w = r > t->screen_w ? r : t->screen_w;
 }
 
 static int cmp_u64(const void *a, const void *b)
@@ -188,13 +196,28 @@ void damage_static_moment(const asset *a, double drag_c, double leaf_share, uint
     out[2] = -drag_c * (arm[0] * w[1] - arm[1] * w[0]);
 }
 
+float damage_w_scale(const asset *a)
+{
+    double s = 0.0;
+    for (uint32_t i = 0; i < a->n_modes; i++) {
+        const double w2 = (double)a->omega[i] * (double)a->omega[i];
+        for (int k = 0; k < 3; k++) {
+            const double g = (double)a->wind_basis[3 * i + k] / w2;
+            s += g * g;
+        }
+    }
+    return s > 0.0 ? (float)sqrt(s) : 1.0f;
+}
+
 /* The static residual of element parent(c) -> c into m[n_modes .. n_cols): column k the
  * exact static moment of a unit w_k less the modes' static share Σ_i M_i p_i,k / ω_i²
- * (mode-acceleration correction; the modes' static response is q_i = w·p_i / ω_i²). */
+ * (mode-acceleration correction; the modes' static response is q_i = w·p_i / ω_i²), per
+ * unit κ w_k. */
 static void residual(const asset *a, double drag_c, double leaf_share, uint32_t c,
                      float (*m)[3])
 {
     const uint32_t nm = a->n_modes;
+    const double kappa = (double)damage_w_scale(a);
     for (uint32_t k = 0; k < DAMAGE_RES_COLS; k++) {
         double w[3] = { 0, 0, 0 }, ex[3];
         w[k] = 1.0;
@@ -211,7 +234,7 @@ static void residual(const asset *a, double drag_c, double leaf_share, uint32_t 
             }
         }
         for (int j = 0; j < 3; j++) {
-            m[nm + k][j] = (float)ex[j];
+            m[nm + k][j] = (float)(ex[j] / kappa);
         }
     }
 }
@@ -230,6 +253,7 @@ int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_
     t->p = *p;
     t->n_modes = nm;
     t->n_cols = nm + DAMAGE_RES_COLS;
+    t->w_scale = damage_w_scale(a);
     t->n_nodes = n;
     t->n_leaves = a->n_leaves;
     t->leaf_node = a->leaf_node;
@@ -318,6 +342,7 @@ int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_
             float s = t->branch[b].cap_nm / t->branch[b].moment_norm;
             qs = s < qs ? s : qs;
         }
+        screen(t, (const float(*)[3])m, t->branch[b].cap_nm);
     }
     /* the stem: root to top along the thickest children */
     const uint32_t s1 = (uint32_t)main_child[0];
@@ -343,6 +368,7 @@ int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_
         double m = t->m_break_nm < t->m_over_nm ? t->m_break_nm : t->m_over_nm;
         float s = (float)(m / (double)t->stem_norm);
         qs = s < qs ? s : qs;
+        screen(t, (const float(*)[3])t->stem_moment, (float)m);
     }
     t->q_screen = qs;
     t->order = malloc(sizeof(uint32_t) * (nb ? nb : 1));
@@ -363,6 +389,11 @@ int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_
     qsort(t->order, nb, sizeof(uint32_t), cmp_ratio);
     sort_branches = NULL;
     t->n_groups = (nc + DAMAGE_GROUP_MODES - 1) / DAMAGE_GROUP_MODES;
+    for (uint32_t g = 0; g < t->n_groups; g++) {
+        const uint32_t i0 = g * DAMAGE_GROUP_MODES;
+        const uint32_t k = nc - i0 < DAMAGE_GROUP_MODES ? nc - i0 : DAMAGE_GROUP_MODES;
+        t->stem_group[g] = norm_modes((const float(*)[3])t->stem_moment + i0, k);
+    }
     t->ratio_by_order = malloc(sizeof(float) * (nb ? nb : 1));
     t->cap_by_order = malloc(sizeof(float) * (nb ? nb : 1));
     t->group_norm = malloc(sizeof(float) * t->n_groups * (nb ? nb : 1));
@@ -378,7 +409,11 @@ int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_
         for (uint32_t g = 0; g < t->n_groups; g++) {
             const uint32_t i0 = g * DAMAGE_GROUP_MODES;
             const uint32_t k = nc - i0 < DAMAGE_GROUP_MODES ? nc - i0 : DAMAGE_GROUP_MODES;
-            t->group_norm[(size_t)g * nb + j] = norm_modes(m + i0, k);
+            const float gn = norm_modes(m + i0, k);
+            t->group_norm[(size_t)g * nb + j] = gn;
+            if (b->cap_nm > 0.0f && gn / b->cap_nm > t->group_screen[g]) {
+                t->group_screen[g] = gn / b->cap_nm;
+            }
         }
     }
     return GALE_OK;
@@ -409,8 +444,9 @@ void damage_static_q(const asset *a, double u_ms, double dir_rad, float *q)
         double w = (double)a->omega[i];
         q[i] = (float)(f / (w * w));
     }
-    q[a->n_modes] = (float)(u_ms * vx);
-    q[a->n_modes + 1] = (float)(u_ms * vy);
+    const double kappa = (double)damage_w_scale(a);
+    q[a->n_modes] = (float)(kappa * u_ms * vx);
+    q[a->n_modes + 1] = (float)(kappa * u_ms * vy);
     q[a->n_modes + 2] = 0.0f;
 }
 

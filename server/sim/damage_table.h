@@ -26,16 +26,21 @@
 #define DAMAGE_GROUP_MODES 4u
 
 /* Columns after the modes in every moment table: the static residual of the truncated
- * modes (PHYSICS.md "Storm damage"), the moment per unit of the tick's force vector
- * w = s(U) k_t |v| v (tree frame, [m²/s²]); a check appends w to q. */
+ * modes (PHYSICS.md "Storm damage"), the moment per unit of κ w, w = s(U) k_t |v| v the
+ * tick's force vector (tree frame, [m²/s²]) and κ = w_scale; a check appends κ w to q.
+ * κ = |G|, G_ik = p_i,k / ω_i² the static response of q to w, puts κ |w| on the scale of
+ * |q| in a steady wind, so that |x| |M| bounds both parts alike. */
 #define DAMAGE_RES_COLS 3u
+
+/* Groups of x at most: 64 modes and the residual. */
+#define DAMAGE_MAX_GROUPS ((64u + DAMAGE_RES_COLS + DAMAGE_GROUP_MODES - 1u) / DAMAGE_GROUP_MODES)
 
 typedef struct damage_branch {
     uint32_t node;       /* first node of the branch: the end of its base element */
     int32_t up;          /* index of the branch it grows from; -1: from the stem */
     float cap_nm;        /* MOR · S, S = π r³ / 4 at the base node [N m] */
     float moment_norm;   /* sqrt(Σ_c |M_c|²) over the n_cols columns: |M(x)| <= |x| ·
-                            moment_norm, x = (q, w) */
+                            moment_norm, x = (q, κ w) */
     float area_share;    /* its sub-tree's share of the tree's ∫ D ds, 0..1 */
     float leaf_share;    /* its sub-tree's share of the leaf slots, 0..1 */
 } damage_branch;
@@ -43,12 +48,13 @@ typedef struct damage_branch {
 typedef struct damage_table {
     damage_params p;
     uint32_t n_modes, n_nodes;
-    uint32_t n_cols;         /* n_modes + DAMAGE_RES_COLS: the length of x = (q, w) */
+    uint32_t n_cols;         /* n_modes + DAMAGE_RES_COLS: the length of x = (q, κ w) */
+    float w_scale;           /* κ (damage_w_scale) */
     uint32_t n_branches;
     damage_branch *branch;   /* owned [n_branches], parents before children */
     float *branch_moment;    /* owned [n_branches][n_cols][3] bending moment at the base
                                 element's start per unit q_i (columns < n_modes) and per
-                                unit w_k (the static residual) [N m], tree frame */
+                                unit κ w_k (the static residual) [N m], tree frame */
     int32_t *node_branch;    /* owned [n_nodes] branch a node belongs to; -1: the stem */
     uint32_t n_leaves;
     const uint32_t *leaf_node; /* [n_leaves] borrowed from the asset: the node of each slot */
@@ -59,10 +65,14 @@ typedef struct damage_table {
                                 (+inf for a branch no mode loads) */
     float *cap_by_order;     /* owned [n_branches] cap_nm of order[j] */
     float *group_norm;       /* owned [n_groups][n_branches] |M_b,g| of order[j] at [g][j]
-                                (groups of DAMAGE_GROUP_MODES columns of x):
-                                a check bounds the branches it needs, a prefix of the order,
+                                (groups of DAMAGE_GROUP_MODES columns of x): a check
+                                bounds the branches it needs, a prefix of the order,
                                 group by group in vector lanes */
     uint32_t n_groups;       /* ceil(n_cols / DAMAGE_GROUP_MODES) */
+    float group_screen[DAMAGE_MAX_GROUPS]; /* max over branches of |M_b,g| / cap_b: no
+                                branch fails at strength 1 while Σ_g |x_g| group_screen[g]
+                                < 1 */
+    float stem_group[DAMAGE_MAX_GROUPS];   /* |stem_moment over group g| */
     float stem_moment[64 + DAMAGE_RES_COLS][3]; /* base moment of the stem element per
                                 unit x_c, as branch_moment [N m] */
     float stem_norm;         /* sqrt(Σ_c |stem_moment_c|²) */
@@ -70,7 +80,10 @@ typedef struct damage_table {
     double stem_mass_kg;     /* stem volume (root to top along the thickest children) x density */
     double m_break_nm;       /* (π/32) f_knot MOR d³ */
     double m_over_nm;        /* C_reg · stem mass */
-    float q_screen;          /* smallest |q| at which anything can fail at strength 1 */
+    float q_screen;          /* smallest |x| at which anything can fail at strength 1 */
+    float screen_q, screen_w;/* max over branches and stem of |M| over the modes' columns
+                                and over the residual's, each over the capacity: nothing
+                                fails at strength 1 while |q| screen_q + κ|w| screen_w < 1 */
 } damage_table;
 
 /* Builds *t (caller-owned, arrays owned by it: damage_table_fini) for asset a whose wood
@@ -83,10 +96,14 @@ int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_
 /* NULL or an empty table is a no-op. */
 void damage_table_fini(damage_table *t);
 
-/* Upper bounds of the bending moments of the first n_check branches in t's order at
- * x[n] = (q, w): out[j] >= |M(x)| of branch order[j] [N m] (DAMAGE_GROUP_MODES). */
-void damage_branch_bounds(const damage_table *t, const float *q, uint32_t n, uint32_t n_check,
+/* Upper bounds of the bending moments of the first n_check branches in t's order from
+ * |x_g| of each group (xg[n_groups], x = (q, κ w)): out[j] = Σ_g xg[g] |M_b,g| >= |M(x)|
+ * of branch order[j] [N m]. */
+void damage_branch_bounds(const damage_table *t, const float *xg, uint32_t n_check,
                           float *out);
+
+/* κ of DAMAGE_RES_COLS for asset a: sqrt(Σ_i |p_i|² / ω_i⁴), 1 when that is 0 [1/(m/s)²]. */
+float damage_w_scale(const asset *a);
 
 /* The bending moment M(x) = Σ_c x_c M_c [N m] of per-column moments m[n][3]; returns |M|. */
 float damage_moment(const float (*m)[3], const float *x, uint32_t n, float out[3]);
@@ -102,7 +119,7 @@ void damage_static_moment(const asset *a, double drag_c, double leaf_share, uint
 
 /* Static response of the reference tree to a steady rigid-drag wind u_ms along the tree
  * frame's azimuth dir_rad: q_i = f_i / ω_i², f_i = u² (d·p_i) (Diener 2008 section 4),
- * then w = u² d in q[n_modes .. n_modes + DAMAGE_RES_COLS): x for damage_moment. */
+ * then κ w = κ u² d in q[n_modes .. n_modes + DAMAGE_RES_COLS): x for damage_moment. */
 void damage_static_q(const asset *a, double u_ms, double dir_rad, float *q);
 
 /* Steady crown wind [m/s] at which the reference tree (strength 1) snaps, at which it
