@@ -199,7 +199,7 @@ void damage_static_moment(const asset *a, double drag_c, double leaf_share, uint
 float damage_w_scale(const asset *a)
 {
     double s = 0.0;
-    for (uint32_t i = 0; i < a->n_modes; i++) {
+    for (uint32_t i = 0; a->omega && a->wind_basis && i < a->n_modes; i++) {
         const double w2 = (double)a->omega[i] * (double)a->omega[i];
         for (int k = 0; k < 3; k++) {
             const double g = (double)a->wind_basis[3 * i + k] / w2;
@@ -221,7 +221,7 @@ static void residual(const asset *a, double drag_c, double leaf_share, uint32_t 
     for (uint32_t k = 0; k < DAMAGE_RES_COLS; k++) {
         double w[3] = { 0, 0, 0 }, ex[3];
         w[k] = 1.0;
-        if (!(drag_c > 0.0)) {
+        if (!(drag_c > 0.0) || !a->omega || !a->wind_basis) {
             m[nm + k][0] = m[nm + k][1] = m[nm + k][2] = 0.0f;
             continue;
         }

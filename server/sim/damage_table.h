@@ -88,7 +88,8 @@ typedef struct damage_table {
 
 /* Builds *t (caller-owned, arrays owned by it: damage_table_fini) for asset a whose wood
  * has Young's modulus E_pa, baked with the drag constant drag_c (C = ½ ρ_air C_D of the
- * wind basis, basis.h [kg/m³]; 0: no static residual, the truncated modes alone), with the
+ * wind basis, basis.h [kg/m³]; 0, or an asset without omega or wind_basis: no static
+ * residual, the truncated modes alone), with the
  * species' damage constants p. Fails on an asset without linear modes (phi, phi_rot) or
  * with more than 64 modes, or out of memory. */
 int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_params *p,
@@ -102,7 +103,8 @@ void damage_table_fini(damage_table *t);
 void damage_branch_bounds(const damage_table *t, const float *xg, uint32_t n_check,
                           float *out);
 
-/* κ of DAMAGE_RES_COLS for asset a: sqrt(Σ_i |p_i|² / ω_i⁴), 1 when that is 0 [1/(m/s)²]. */
+/* κ of DAMAGE_RES_COLS for asset a: sqrt(Σ_i |p_i|² / ω_i⁴), 1 when that is 0 or the asset
+ * has no omega or wind_basis [1/(m/s)²]. */
 float damage_w_scale(const asset *a);
 
 /* The bending moment M(x) = Σ_c x_c M_c [N m] of per-column moments m[n][3]; returns |M|. */
