@@ -89,7 +89,7 @@ static void test_species_files(void)
         gale_err e;
         CHECK(species_load(path, &sp, &e) == GALE_OK);
         CHECK(sp.drag.vogel_b == want[k]);
-        CHECK(sp.drag.u0_ms == 10.0f && sp.drag.fit_max_ms == 25.0f && !sp.drag.hold_above_fit);
+        CHECK(sp.drag.u0_ms == 10.0f && sp.drag.fit_max_ms == 25.0f && sp.drag.hold_above_fit);
     }
     static const char bad_mode[] =
         "{\"name\": \"t\", \"drag\": {\"vogel_b\": -0.5, \"above_fit\": \"stop\"}}";

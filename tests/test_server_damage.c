@@ -66,7 +66,7 @@ static int start_server(void)
     damage_params p = damage_params_default();
     p.c_reg_nm_kg = 200;
     p.strength_sd = 0.5;
-    if (damage_table_build(&a, 1e10, &p, &TB, &e)) {
+    if (damage_table_build(&a, 1e10, 0.0, &p, &TB, &e)) {
         fprintf(stderr, "%s\n", e.msg);
         return -1;
     }

@@ -89,7 +89,11 @@ int bake_run(const skeleton *s, const species *sp, const bake_desc *d, asset *a,
         goto fail;
     }
     fem_split_modes(&f, er.phi, nm, tr, rot);
-    basis_compute(&f, er.phi, nm, sp->drag_c, p);
+    /* the leaves' share of the drag at the tips, where the mesh puts the leaves */
+    const crown_load cl = crown_load_split((uint32_t)n, s->parent, s->pos, s->radius,
+                                           sp->leaves_per_tip > 0 ? sp->damage.leaf_drag_share
+                                                                  : 0.0);
+    basis_compute(&f, er.phi, nm, sp->drag_c, &cl, p);
     const double t3 = mono_s();
     for (int i = 0; i < 3 * n; i++) {
         rest[i] = (double)s->pos[i];

@@ -272,7 +272,7 @@ int main(int argc, char **argv)
         }
     }
     double snap_ms = 0.0, uproot_ms = 0.0, branch_ms = 0.0;
-    if (damage_table_build(&a, sp.E_pa, &sp.damage, &dt, &err) != GALE_OK) {
+    if (damage_table_build(&a, sp.E_pa, sp.drag_c, &sp.damage, &dt, &err) != GALE_OK) {
         goto fail;
     }
     damage_critical_speeds(&a, &dt, &sp.drag, &snap_ms, &uproot_ms, &branch_ms);

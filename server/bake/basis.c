@@ -3,10 +3,17 @@
 #include "basis.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
-void basis_compute(const fem_model *f, const double *phi, int n_modes, double drag_c, double *p)
+void basis_compute(const fem_model *f, const double *phi, int n_modes, double drag_c,
+                   const crown_load *cl, double *p)
 {
+    const double wood = cl ? cl->wood : 1.0, tip_m2 = cl ? cl->tip_m2 : 0.0;
+    uint8_t *tip = tip_m2 > 0.0 ? malloc((size_t)f->n_nodes) : NULL;
+    if (tip) {
+        crown_load_tips((uint32_t)f->n_nodes, f->parent, tip);
+    }
     /* 3-point Gauss-Legendre on [0, 1] */
     const double gx[3] = { 0.5 - 0.5 * sqrt(0.6), 0.5, 0.5 + 0.5 * sqrt(0.6) };
     const double gw[3] = { 5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0 };
@@ -50,8 +57,18 @@ void basis_compute(const fem_model *f, const double *phi, int n_modes, double dr
                 acc[k] += s * (R[k] * loc[0] + R[3 + k] * loc[1] + R[6 + k] * loc[2]);
             }
         }
+        /* the leaves' point loads: the translation of each tip */
+        double at[3] = { 0, 0, 0 };
+        for (int i = 1; tip && i < f->n_nodes; i++) {
+            if (tip[i]) {
+                for (int k = 0; k < 3; k++) {
+                    at[k] += x[FEM_DOF(i) + k];
+                }
+            }
+        }
         for (int k = 0; k < 3; k++) {
-            p[3 * m + k] = drag_c * acc[k];
+            p[3 * m + k] = drag_c * (wood * acc[k] + tip_m2 * at[k]);
         }
     }
+    free(tip);
 }

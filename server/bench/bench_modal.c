@@ -110,7 +110,7 @@ static int damage_oak_init(damage_oak *o, int n_modes, gale_err *err)
     rc = rc ? rc : lsystem_generate(&sp.gen, &sk, err);
     rc = rc ? rc : bake_run(&sk, &sp, &(bake_desc){ .n_modes = n_modes }, &o->a, NULL, err);
     rc = rc ? rc : quant_steps_derive(&o->a, 0, o->qstep, err);
-    rc = rc ? rc : damage_table_build(&o->a, sp.E_pa, &sp.damage, &o->t, err);
+    rc = rc ? rc : damage_table_build(&o->a, sp.E_pa, sp.drag_c, &sp.damage, &o->t, err);
     o->drag = sp.drag;
     skeleton_fini(&sk);
     return rc;
@@ -157,6 +157,7 @@ static int variant_init(variant *v, bool damage, const modal_desc *md, int n_mod
                                                .table = tables,
                                                .tree_species = md->tree_species,
                                                .tree_yaw_rad = md->tree_yaw_rad,
+                                               .species_drag = md->species_drag,
                                                .seed = 1,
                                                .dt_s = 1.0 / 60 },
                                err);
@@ -489,7 +490,7 @@ int bench_modal(int argc, char **argv)
      * swaying about its mean, not the overshoot of a load switched on at once (which
      * would throw the whole stand over in the first second of a Cat 4). */
     if (with_oak) {
-        float q0[WIRE_MAX_MODES] = { 0 }, qd0[WIRE_MAX_MODES] = { 0 };
+        float q0[WIRE_MAX_MODES + DAMAGE_RES_COLS] = { 0 }, qd0[WIRE_MAX_MODES] = { 0 };
         wind_sample_many(wg, n_trees, pos, wind);
         for (int t = 0; t < n_trees; t++) {
             const float *w = &wind[3 * t];

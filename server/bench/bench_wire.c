@@ -76,7 +76,7 @@ static int bake_species(int n_nodes, uint64_t seed, int n_modes, double alpha, d
     }
     fem_split_modes(&fm, er.phi, n_modes, trans, rot);
     /* C = 1/2 rho_air C_D with rho_air = 1.2 kg/m^3, C_D = 1 for a cylinder. */
-    basis_compute(&fm, er.phi, n_modes, 0.6, p);
+    basis_compute(&fm, er.phi, n_modes, 0.6, NULL, p);
     for (size_t i = 0; i < 3 * nn; i++) {
         rest[i] = sk.pos[i];
     }

@@ -22,11 +22,11 @@ void species_default(species *sp)
     /* ½ ρ_air C_D with ρ_air = 1.2 kg/m^3 and C_D = 1 for a cylinder in cross flow */
     sp->drag_c = 0.6;
     /* rigid drag unless the file says otherwise; the fits start near 10 m/s and end
-     * near 25 m/s (PHYSICS.md "Streamlining") */
+     * near 25 m/s, above which C_d holds (PHYSICS.md "Streamlining") */
     sp->drag.vogel_b = 0.0f;
     sp->drag.u0_ms = 10.0f;
     sp->drag.fit_max_ms = 25.0f;
-    sp->drag.hold_above_fit = 0;
+    sp->drag.hold_above_fit = 1;
     sp->damage = damage_params_default();
     sp->gen = lsystem_params_default();
     sp->bark_rgb[0] = 0.36f;

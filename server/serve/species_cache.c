@@ -131,7 +131,7 @@ int species_cache_get(const char *species_file, int n_modes, const char *cache_d
     e->baked = true;
 done:
     if ((rc = quant_steps_derive(&e->a, 0, e->qstep, err)) ||
-        (rc = damage_table_build(&e->a, sp.E_pa, &sp.damage, &e->damage, err))) {
+        (rc = damage_table_build(&e->a, sp.E_pa, sp.drag_c, &sp.damage, &e->damage, err))) {
         goto fail;
     }
     snprintf(e->hash, sizeof e->hash, "%016llx", (unsigned long long)hash64(e->bytes, e->len));

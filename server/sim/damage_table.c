@@ -1,12 +1,14 @@
 /* The storm-damage table of one species: see damage_table.h. Moments come from the
  * linear modes of the asset: the end moment of an Euler-Bernoulli element from its end
- * displacements and rotations (PHYSICS.md "Storm damage"). */
+ * displacements and rotations, plus the static residual of the modes left out, from the
+ * statics of the tree (PHYSICS.md "Storm damage"). */
 #include "damage_table.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "crown_load.h"
 #include "wire.h"
 
 #define PI 3.14159265358979323846
@@ -66,31 +68,28 @@ static void element_moment(const asset *a, double E_pa, uint32_t i, uint32_t p, 
     }
 }
 
-/* Group by group over a contiguous run of n_check bounds: the lanes are independent
- * (omp simd: -O2 alone leaves the loop scalar), so the clones vectorise it and round
- * alike (-std=c11: no contraction). */
+/* Over a contiguous run of n_check bounds: the lanes are independent (omp simd: -O2
+ * alone leaves the loop scalar), so the clones vectorise it and round alike (-std=c11:
+ * no contraction). */
 __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-void damage_branch_bounds(const damage_table *t, const float *q, uint32_t n, uint32_t n_check,
+void damage_branch_bounds(const damage_table *t, const float *xg, uint32_t n_check,
                           float *out)
 {
     memset(out, 0, sizeof(float) * n_check);
-    for (uint32_t g = 0; g * DAMAGE_GROUP_MODES < n && g < t->n_groups; g++) {
-        float qg2 = 0.0f;
-        for (uint32_t i = g * DAMAGE_GROUP_MODES; i < n && i < (g + 1) * DAMAGE_GROUP_MODES; i++) {
-            qg2 += q[i] * q[i];
-        }
-        const float qg = sqrtf(qg2);
+    for (uint32_t g = 0; g < t->n_groups; g++) {
+        const float x = xg[g];
         const float *restrict m = t->group_norm + (size_t)g * t->n_branches;
         float *restrict o = out;
 #pragma omp simd
         for (uint32_t j = 0; j < n_check; j++) {
-            o[j] += qg * m[j];
+            o[j] += x * m[j];
         }
     }
 }
 
 float damage_moment(const float (*m)[3], const float *q, uint32_t n, float out[3])
 {
+    /* q: the x = (q, w) of damage_table.h */
     float x = 0.0f, y = 0.0f, z = 0.0f;
     for (uint32_t i = 0; i < n; i++) {
         x += q[i] * m[i][0];
@@ -115,6 +114,18 @@ static float norm_modes(const float (*m)[3], uint32_t n)
     return (float)sqrt(s);
 }
 
+/* Raises t's screen_q, screen_w by a moment table m[n_cols] against its capacity. */
+static void screen(damage_table *t, const float (*m)[3], float cap_nm)
+{
+    if (!(cap_nm > 0.0f)) {
+        return;
+    }
+    const float a = norm_modes(m, t->n_modes) / cap_nm;
+    const float r = norm_modes(m + t->n_modes, DAMAGE_RES_COLS) / cap_nm;
+    t->screen_q = a > t->screen_q ? a : t->screen_q;
+    t->screen_w = r > t->screen_w ? r : t->screen_w;
+}
+
 static int cmp_u64(const void *a, const void *b)
 {
     uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
@@ -136,8 +147,100 @@ static int cmp_ratio(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-int damage_table_build(const asset *a, double E_pa, const damage_params *p, damage_table *t,
-                       gale_err *err)
+void damage_static_moment(const asset *a, double drag_c, double leaf_share, uint32_t c,
+                          const double w[3], double out[3])
+{
+    out[0] = out[1] = out[2] = 0.0;
+    if (c == 0 || c >= a->n_nodes) {
+        return;
+    }
+    const float *rp = &a->rest[3 * (uint32_t)a->parent[c]];
+    const uint32_t n = a->n_nodes;
+    /* the load as the bake's basis spreads it (bake.c: the leaves' share at the tips) */
+    const crown_load cl = crown_load_split(n, a->parent, a->rest, a->radius,
+                                           a->n_leaves ? leaf_share : 0.0);
+    /* Σ_e wood D_e L_e (mid_e - r_p) + Σ_tips tip_m2 (r_tip - r_p) over the elements whose
+     * end node lies in the sub-tree of c: parent[i] < i, so a node is in it when its
+     * parent is (or it is c) */
+    uint8_t *in = calloc(n, 1), *tip = malloc(n);
+    if (!in || !tip) {
+        free(in);
+        free(tip);
+        return;
+    }
+    crown_load_tips(n, a->parent, tip);
+    double arm[3] = { 0, 0, 0 };
+    in[c] = 1;
+    for (uint32_t i = c; i < n; i++) {
+        if (i > c && !in[a->parent[i]]) {
+            continue;
+        }
+        in[i] = 1;
+        const uint32_t q = (uint32_t)a->parent[i];
+        double e[3];
+        sub3(&a->rest[3 * i], &a->rest[3 * q], e);
+        const double dl = cl.wood * ((double)a->radius[i] + (double)a->radius[q]) *
+                          sqrt(dot3(e, e));
+        const double pt = tip[i] ? cl.tip_m2 : 0.0;
+        for (int k = 0; k < 3; k++) {
+            arm[k] += dl * (0.5 * ((double)a->rest[3 * i + k] + (double)a->rest[3 * q + k]) -
+                            (double)rp[k]) +
+                      pt * ((double)a->rest[3 * i + k] - (double)rp[k]);
+        }
+    }
+    free(in);
+    free(tip);
+    /* the modal moments' sign: element_moment gives minus the load's moment about r_p */
+    out[0] = -drag_c * (arm[1] * w[2] - arm[2] * w[1]);
+    out[1] = -drag_c * (arm[2] * w[0] - arm[0] * w[2]);
+    out[2] = -drag_c * (arm[0] * w[1] - arm[1] * w[0]);
+}
+
+float damage_w_scale(const asset *a)
+{
+    double s = 0.0;
+    for (uint32_t i = 0; a->omega && a->wind_basis && i < a->n_modes; i++) {
+        const double w2 = (double)a->omega[i] * (double)a->omega[i];
+        for (int k = 0; k < 3; k++) {
+            const double g = (double)a->wind_basis[3 * i + k] / w2;
+            s += g * g;
+        }
+    }
+    return s > 0.0 ? (float)sqrt(s) : 1.0f;
+}
+
+/* The static residual of element parent(c) -> c into m[n_modes .. n_cols): column k the
+ * exact static moment of a unit w_k less the modes' static share Σ_i M_i p_i,k / ω_i²
+ * (mode-acceleration correction; the modes' static response is q_i = w·p_i / ω_i²), per
+ * unit κ w_k. */
+static void residual(const asset *a, double drag_c, double leaf_share, uint32_t c,
+                     float (*m)[3])
+{
+    const uint32_t nm = a->n_modes;
+    const double kappa = (double)damage_w_scale(a);
+    for (uint32_t k = 0; k < DAMAGE_RES_COLS; k++) {
+        double w[3] = { 0, 0, 0 }, ex[3];
+        w[k] = 1.0;
+        if (!(drag_c > 0.0) || !a->omega || !a->wind_basis) {
+            m[nm + k][0] = m[nm + k][1] = m[nm + k][2] = 0.0f;
+            continue;
+        }
+        damage_static_moment(a, drag_c, leaf_share, c, w, ex);
+        for (uint32_t i = 0; i < nm; i++) {
+            const double w2 = (double)a->omega[i] * (double)a->omega[i];
+            const double f = (double)a->wind_basis[3 * i + k] / w2;
+            for (int j = 0; j < 3; j++) {
+                ex[j] -= (double)m[i][j] * f;
+            }
+        }
+        for (int j = 0; j < 3; j++) {
+            m[nm + k][j] = (float)(ex[j] / kappa);
+        }
+    }
+}
+
+int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_params *p,
+                       damage_table *t, gale_err *err)
 {
     memset(t, 0, sizeof *t);
     const uint32_t n = a->n_nodes, nm = a->n_modes;
@@ -149,6 +252,8 @@ int damage_table_build(const asset *a, double E_pa, const damage_params *p, dama
     }
     t->p = *p;
     t->n_modes = nm;
+    t->n_cols = nm + DAMAGE_RES_COLS;
+    t->w_scale = damage_w_scale(a);
     t->n_nodes = n;
     t->n_leaves = a->n_leaves;
     t->leaf_node = a->leaf_node;
@@ -217,7 +322,8 @@ int damage_table_build(const asset *a, double E_pa, const damage_params *p, dama
     free(nkids);
     free(area);
     free(leaves);
-    t->branch_moment = malloc(sizeof(float) * 3 * nm * (nb ? nb : 1));
+    const uint32_t nc = t->n_cols;
+    t->branch_moment = malloc(sizeof(float) * 3 * nc * (nb ? nb : 1));
     if (!t->branch_moment) {
         free(main_child);
         damage_table_fini(t);
@@ -226,15 +332,17 @@ int damage_table_build(const asset *a, double E_pa, const damage_params *p, dama
     float qs = INFINITY;
     for (uint32_t b = 0; b < nb; b++) {
         uint32_t c = t->branch[b].node, q = (uint32_t)a->parent[c];
-        float(*m)[3] = (float(*)[3])(t->branch_moment + (size_t)b * nm * 3);
+        float(*m)[3] = (float(*)[3])(t->branch_moment + (size_t)b * nc * 3);
         for (uint32_t i = 0; i < nm; i++) {
             element_moment(a, E_pa, i, q, c, m[i]);
         }
-        t->branch[b].moment_norm = norm_modes((const float(*)[3])m, nm);
+        residual(a, drag_c, p->leaf_drag_share, c, m);
+        t->branch[b].moment_norm = norm_modes((const float(*)[3])m, nc);
         if (t->branch[b].moment_norm > 0.0f) {
             float s = t->branch[b].cap_nm / t->branch[b].moment_norm;
             qs = s < qs ? s : qs;
         }
+        screen(t, (const float(*)[3])m, t->branch[b].cap_nm);
     }
     /* the stem: root to top along the thickest children */
     const uint32_t s1 = (uint32_t)main_child[0];
@@ -249,7 +357,8 @@ int damage_table_build(const asset *a, double E_pa, const damage_params *p, dama
     for (uint32_t i = 0; i < nm; i++) {
         element_moment(a, E_pa, i, 0, s1, t->stem_moment[i]);
     }
-    t->stem_norm = norm_modes((const float(*)[3])t->stem_moment, nm);
+    residual(a, drag_c, p->leaf_drag_share, s1, t->stem_moment);
+    t->stem_norm = norm_modes((const float(*)[3])t->stem_moment, nc);
     t->stem_d_m = 2.0 * (double)a->radius[0];
     t->stem_mass_kg = mass * p->stem_density_kg_m3;
     /* Gardiner et al. 2000 / Hale et al. 2012 (ForestGALES) */
@@ -259,6 +368,7 @@ int damage_table_build(const asset *a, double E_pa, const damage_params *p, dama
         double m = t->m_break_nm < t->m_over_nm ? t->m_break_nm : t->m_over_nm;
         float s = (float)(m / (double)t->stem_norm);
         qs = s < qs ? s : qs;
+        screen(t, (const float(*)[3])t->stem_moment, (float)m);
     }
     t->q_screen = qs;
     t->order = malloc(sizeof(uint32_t) * (nb ? nb : 1));
@@ -278,7 +388,12 @@ int damage_table_build(const asset *a, double E_pa, const damage_params *p, dama
     sort_branches = t;
     qsort(t->order, nb, sizeof(uint32_t), cmp_ratio);
     sort_branches = NULL;
-    t->n_groups = (nm + DAMAGE_GROUP_MODES - 1) / DAMAGE_GROUP_MODES;
+    t->n_groups = (nc + DAMAGE_GROUP_MODES - 1) / DAMAGE_GROUP_MODES;
+    for (uint32_t g = 0; g < t->n_groups; g++) {
+        const uint32_t i0 = g * DAMAGE_GROUP_MODES;
+        const uint32_t k = nc - i0 < DAMAGE_GROUP_MODES ? nc - i0 : DAMAGE_GROUP_MODES;
+        t->stem_group[g] = norm_modes((const float(*)[3])t->stem_moment + i0, k);
+    }
     t->ratio_by_order = malloc(sizeof(float) * (nb ? nb : 1));
     t->cap_by_order = malloc(sizeof(float) * (nb ? nb : 1));
     t->group_norm = malloc(sizeof(float) * t->n_groups * (nb ? nb : 1));
@@ -290,11 +405,15 @@ int damage_table_build(const asset *a, double E_pa, const damage_params *p, dama
         const damage_branch *b = &t->branch[t->order[j]];
         t->ratio_by_order[j] = b->moment_norm > 0.0f ? b->cap_nm / b->moment_norm : INFINITY;
         t->cap_by_order[j] = b->cap_nm;
-        const float(*m)[3] = (const float(*)[3])(t->branch_moment + (size_t)t->order[j] * nm * 3);
+        const float(*m)[3] = (const float(*)[3])(t->branch_moment + (size_t)t->order[j] * nc * 3);
         for (uint32_t g = 0; g < t->n_groups; g++) {
             const uint32_t i0 = g * DAMAGE_GROUP_MODES;
-            const uint32_t k = nm - i0 < DAMAGE_GROUP_MODES ? nm - i0 : DAMAGE_GROUP_MODES;
-            t->group_norm[(size_t)g * nb + j] = norm_modes(m + i0, k);
+            const uint32_t k = nc - i0 < DAMAGE_GROUP_MODES ? nc - i0 : DAMAGE_GROUP_MODES;
+            const float gn = norm_modes(m + i0, k);
+            t->group_norm[(size_t)g * nb + j] = gn;
+            if (b->cap_nm > 0.0f && gn / b->cap_nm > t->group_screen[g]) {
+                t->group_screen[g] = gn / b->cap_nm;
+            }
         }
     }
     return GALE_OK;
@@ -325,6 +444,10 @@ void damage_static_q(const asset *a, double u_ms, double dir_rad, float *q)
         double w = (double)a->omega[i];
         q[i] = (float)(f / (w * w));
     }
+    const double kappa = (double)damage_w_scale(a);
+    q[a->n_modes] = (float)(kappa * u_ms * vx);
+    q[a->n_modes + 1] = (float)(kappa * u_ms * vy);
+    q[a->n_modes + 2] = 0.0f;
 }
 
 double damage_speed_for(const drag_law *d, double ratio)
@@ -357,15 +480,15 @@ double damage_speed_for(const drag_law *d, double ratio)
 void damage_critical_speeds(const asset *a, const damage_table *t, const drag_law *d,
                             double *snap_ms, double *uproot_ms, double *branch_ms)
 {
-    float q[64];
+    float q[64 + DAMAGE_RES_COLS];
     double worst = 0.0, bmin = INFINITY;
     for (int k = 0; k < 16; k++) {
         damage_static_q(a, 1.0, 2.0 * PI * k / 16.0, q);
-        double m = (double)damage_moment((const float(*)[3])t->stem_moment, q, t->n_modes, NULL);
+        double m = (double)damage_moment((const float(*)[3])t->stem_moment, q, t->n_cols, NULL);
         worst = m > worst ? m : worst;
         for (uint32_t b = 0; b < t->n_branches; b++) {
-            const float(*mm)[3] = (const float(*)[3])(t->branch_moment + (size_t)b * t->n_modes * 3);
-            double mb = (double)damage_moment(mm, q, t->n_modes, NULL);
+            const float(*mm)[3] = (const float(*)[3])(t->branch_moment + (size_t)b * t->n_cols * 3);
+            double mb = (double)damage_moment(mm, q, t->n_cols, NULL);
             double u = mb > 0.0 ? damage_speed_for(d, (double)t->branch[b].cap_nm / mb)
                                 : (double)INFINITY;
             bmin = u < bmin ? u : bmin;

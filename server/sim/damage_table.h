@@ -25,11 +25,22 @@
  * and branch instead of three per mode for the exact moment. */
 #define DAMAGE_GROUP_MODES 4u
 
+/* Columns after the modes in every moment table: the static residual of the truncated
+ * modes (PHYSICS.md "Storm damage"), the moment per unit of κ w, w = s(U) k_t |v| v the
+ * tick's force vector (tree frame, [m²/s²]) and κ = w_scale; a check appends κ w to q.
+ * κ = |G|, G_ik = p_i,k / ω_i² the static response of q to w, puts κ |w| on the scale of
+ * |q| in a steady wind, so that |x| |M| bounds both parts alike. */
+#define DAMAGE_RES_COLS 3u
+
+/* Groups of x at most: 64 modes and the residual. */
+#define DAMAGE_MAX_GROUPS ((64u + DAMAGE_RES_COLS + DAMAGE_GROUP_MODES - 1u) / DAMAGE_GROUP_MODES)
+
 typedef struct damage_branch {
     uint32_t node;       /* first node of the branch: the end of its base element */
     int32_t up;          /* index of the branch it grows from; -1: from the stem */
     float cap_nm;        /* MOR · S, S = π r³ / 4 at the base node [N m] */
-    float moment_norm;   /* sqrt(Σ_i |M_i|²): |M(q)| <= |q| · moment_norm */
+    float moment_norm;   /* sqrt(Σ_c |M_c|²) over the n_cols columns: |M(x)| <= |x| ·
+                            moment_norm, x = (q, κ w) */
     float area_share;    /* its sub-tree's share of the tree's ∫ D ds, 0..1 */
     float leaf_share;    /* its sub-tree's share of the leaf slots, 0..1 */
 } damage_branch;
@@ -37,10 +48,13 @@ typedef struct damage_branch {
 typedef struct damage_table {
     damage_params p;
     uint32_t n_modes, n_nodes;
+    uint32_t n_cols;         /* n_modes + DAMAGE_RES_COLS: the length of x = (q, κ w) */
+    float w_scale;           /* κ (damage_w_scale) */
     uint32_t n_branches;
     damage_branch *branch;   /* owned [n_branches], parents before children */
-    float *branch_moment;    /* owned [n_branches][n_modes][3] bending moment per unit q at
-                                the base element's start [N m], tree frame */
+    float *branch_moment;    /* owned [n_branches][n_cols][3] bending moment at the base
+                                element's start per unit q_i (columns < n_modes) and per
+                                unit κ w_k (the static residual) [N m], tree frame */
     int32_t *node_branch;    /* owned [n_nodes] branch a node belongs to; -1: the stem */
     uint32_t n_leaves;
     const uint32_t *leaf_node; /* [n_leaves] borrowed from the asset: the node of each slot */
@@ -50,37 +64,64 @@ typedef struct damage_table {
     float *ratio_by_order;   /* owned [n_branches] cap_nm / moment_norm of order[j], rising
                                 (+inf for a branch no mode loads) */
     float *cap_by_order;     /* owned [n_branches] cap_nm of order[j] */
-    float *group_norm;       /* owned [n_groups][n_branches] |M_b,g| of order[j] at [g][j]:
-                                a check bounds the branches it needs, a prefix of the order,
+    float *group_norm;       /* owned [n_groups][n_branches] |M_b,g| of order[j] at [g][j]
+                                (groups of DAMAGE_GROUP_MODES columns of x): a check
+                                bounds the branches it needs, a prefix of the order,
                                 group by group in vector lanes */
-    uint32_t n_groups;       /* ceil(n_modes / DAMAGE_GROUP_MODES) */
-    float stem_moment[64][3];/* base moment of the stem element per unit q_i [N m] */
-    float stem_norm;         /* sqrt(Σ_i |stem_moment_i|²) */
+    uint32_t n_groups;       /* ceil(n_cols / DAMAGE_GROUP_MODES) */
+    float group_screen[DAMAGE_MAX_GROUPS]; /* max over branches of |M_b,g| / cap_b: no
+                                branch fails at strength 1 while Σ_g |x_g| group_screen[g]
+                                < 1 */
+    float stem_group[DAMAGE_MAX_GROUPS];   /* |stem_moment over group g| */
+    float stem_moment[64 + DAMAGE_RES_COLS][3]; /* base moment of the stem element per
+                                unit x_c, as branch_moment [N m] */
+    float stem_norm;         /* sqrt(Σ_c |stem_moment_c|²) */
     double stem_d_m;         /* stem diameter at the base [m] */
     double stem_mass_kg;     /* stem volume (root to top along the thickest children) x density */
     double m_break_nm;       /* (π/32) f_knot MOR d³ */
     double m_over_nm;        /* C_reg · stem mass */
-    float q_screen;          /* smallest |q| at which anything can fail at strength 1 */
+    float q_screen;          /* smallest |x| at which anything can fail at strength 1 */
+    float screen_q, screen_w;/* max over branches and stem of |M| over the modes' columns
+                                and over the residual's, each over the capacity: nothing
+                                fails at strength 1 while |q| screen_q + κ|w| screen_w < 1 */
 } damage_table;
 
 /* Builds *t (caller-owned, arrays owned by it: damage_table_fini) for asset a whose wood
- * has Young's modulus E_pa, with the species' damage constants p. Fails on an asset
- * without linear modes (phi, phi_rot) or with more than 64 modes, or out of memory. */
-int damage_table_build(const asset *a, double E_pa, const damage_params *p, damage_table *t,
-                       gale_err *err);
+ * has Young's modulus E_pa, baked with the drag constant drag_c (C = ½ ρ_air C_D of the
+ * wind basis, basis.h [kg/m³]; 0, or an asset without omega or wind_basis: no static
+ * residual, the truncated modes alone), with the
+ * species' damage constants p. Fails on an asset without linear modes (phi, phi_rot) or
+ * with more than 64 modes, or out of memory. */
+int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_params *p,
+                       damage_table *t, gale_err *err);
 /* NULL or an empty table is a no-op. */
 void damage_table_fini(damage_table *t);
 
-/* Upper bounds of the bending moments of the first n_check branches in t's order at modal
- * state q[n]: out[j] >= |M(q)| of branch order[j] [N m] (DAMAGE_GROUP_MODES). */
-void damage_branch_bounds(const damage_table *t, const float *q, uint32_t n, uint32_t n_check,
+/* Upper bounds of the bending moments of the first n_check branches in t's order from
+ * |x_g| of each group (xg[n_groups], x = (q, κ w)): out[j] = Σ_g xg[g] |M_b,g| >= |M(x)|
+ * of branch order[j] [N m]. */
+void damage_branch_bounds(const damage_table *t, const float *xg, uint32_t n_check,
                           float *out);
 
-/* The bending moment M(q) = Σ_i q_i M_i [N m] of per-mode moments m[n][3]; returns |M|. */
-float damage_moment(const float (*m)[3], const float *q, uint32_t n, float out[3]);
+/* κ of DAMAGE_RES_COLS for asset a: sqrt(Σ_i |p_i|² / ω_i⁴), 1 when that is 0 or the asset
+ * has no omega or wind_basis [1/(m/s)²]. */
+float damage_w_scale(const asset *a);
 
-/* Static response of the reference tree to a steady wind u_ms along the tree frame's
- * azimuth dir_rad: q_i = f_i / ω_i², f_i = u² (d·p_i) (Diener 2008 section 4). */
+/* The bending moment M(x) = Σ_c x_c M_c [N m] of per-column moments m[n][3]; returns |M|. */
+float damage_moment(const float (*m)[3], const float *x, uint32_t n, float out[3]);
+
+/* Exact quasi-static moment at the start of the element parent(c) -> c under the load
+ * the bake's basis applies (crown_load.h with the leaves' share leaf_share, 0 when the
+ * asset has no leaves: C wood D w per length, C tip_m2 w at each tip) on the sub-tree from
+ * c (that element included), in the sign of the modal moments:
+ * M = -C (Σ_e wood D_e L_e (mid_e - r_p) + Σ_tips tip_m2 (r_tip - r_p)) × w (statics of
+ * the tree, which is determinate; D_e = 2 r_e, r_e the element's mean radius). */
+void damage_static_moment(const asset *a, double drag_c, double leaf_share, uint32_t c,
+                          const double w[3], double out[3]);
+
+/* Static response of the reference tree to a steady rigid-drag wind u_ms along the tree
+ * frame's azimuth dir_rad: q_i = f_i / ω_i², f_i = u² (d·p_i) (Diener 2008 section 4),
+ * then κ w = κ u² d in q[n_modes .. n_modes + DAMAGE_RES_COLS): x for damage_moment. */
 void damage_static_q(const asset *a, double u_ms, double dir_rad, float *q);
 
 /* Steady crown wind [m/s] at which the reference tree (strength 1) snaps, at which it
