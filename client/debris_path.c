@@ -4,19 +4,12 @@
 #include <math.h>
 #include <string.h>
 
-static uint32_t mix32(uint32_t h)
-{
-    h ^= h >> 16;
-    h *= 0x7FEB352Du;
-    h ^= h >> 15;
-    h *= 0x846CA68Bu;
-    h ^= h >> 16;
-    return h;
-}
+#include "hash.h"
+
 
 static float hash01(uint32_t tree, uint32_t node, uint32_t k)
 {
-    uint32_t h = mix32(mix32(tree * 0x9E3779B1u + k) ^ (node * 0x85EBCA77u + 0x165667B1u));
+    uint32_t h = hash_mix32(hash_mix32(tree * 0x9E3779B1u + k) ^ (node * 0x85EBCA77u + 0x165667B1u));
     return (float)(h >> 8) * (1.0f / 16777216.0f);
 }
 

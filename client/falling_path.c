@@ -7,22 +7,14 @@
 #include <math.h>
 #include <string.h>
 
+#include "hash.h"
+
 #define RHO_AIR 1.2f
 #define GRAV    9.81f
 
-uint32_t falling_hash(uint32_t x)
-{
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
-}
-
 static float hash01(uint32_t x)
 {
-    return (float)(falling_hash(x) >> 8) * (1.0f / 16777216.0f);
+    return (float)(hash_mix32(x) >> 8) * (1.0f / 16777216.0f);
 }
 
 static void cross3(const float a[3], const float b[3], float o[3])
@@ -244,7 +236,7 @@ int falling_path_build(falling_path *p, const falling_path_desc *desc, gale_err 
 
 void falling_var_from_seed(const falling_path *p, uint32_t seed, falling_var *v)
 {
-    uint32_t h = falling_hash(seed ^ 0x9e3779b9u);
+    uint32_t h = hash_mix32(seed ^ 0x9e3779b9u);
     v->start = p->start[h % p->n_start];
     v->yaw = 6.2831853f * hash01(h + 1u);
     v->sx = 1.0f + 2.0f * hash01(h + 2u);
@@ -259,7 +251,7 @@ void falling_path_eval(const falling_path *p, const falling_var *v, float tau, f
     float off[3] = { -p->pos[v->start][0], -p->pos[v->start][1], -p->pos[v->start][2] };
     const float last = (float)(p->n - 1);
     for (uint32_t j = 0; f >= last && j < FALL_MAX_JUMPS; j++) {
-        uint32_t c = p->cont[falling_hash(v->seed + j) % p->n_cont];
+        uint32_t c = p->cont[hash_mix32(v->seed + j) % p->n_cont];
         for (int k = 0; k < 3; k++) {
             off[k] += p->pos[p->n - 1][k] - p->pos[c - 1][k];
         }

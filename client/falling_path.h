@@ -55,7 +55,4 @@ void falling_path_eval(const falling_path *p, const falling_var *v, float tau, f
 float falling_path_land_time(const falling_path *p, const falling_var *v, float h0,
                              float max_s);
 
-/* The hash the shader uses too (lowbias32). */
-uint32_t falling_hash(uint32_t x);
-
 #endif

@@ -8,19 +8,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-static uint32_t demo_hash(uint32_t x)
-{
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
-}
+#include "hash.h"
+
 
 static float rnd(uint32_t *s)
 {
-    *s = demo_hash(*s + 0x9e3779b9u);
+    *s = hash_mix32(*s + 0x9e3779b9u);
     return (float)(*s >> 8) / 16777216.0f;
 }
 
@@ -376,7 +369,7 @@ void render_demo_pose(const asset *a, const float wind[3], float t, uint32_t tre
         const float *p = &a->wind_basis[3 * m];
         float f = sp * (wind[0] * p[0] + wind[1] * p[1] + wind[2] * p[2]);
         float w2 = a->omega[m] * a->omega[m];
-        uint32_t h = demo_hash(tree * 131u + m * 7u + 1u);
+        uint32_t h = hash_mix32(tree * 131u + m * 7u + 1u);
         float ph = 6.2831853f * (float)(h >> 8) / 16777216.0f;
         /* static deflection plus a gust-driven oscillation at the mode's frequency */
         q[m] = f / w2 * (1.0f + 0.25f * sinf(a->omega[m] * t + ph)) +

@@ -7,6 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "hash.h"
+
 /* The path as a 2-row texture image: positions (w unused), then orientations.
  * out has 8 n floats. */
 static void fall_path_texels(const falling_path *p, float *out)
@@ -113,7 +115,7 @@ int render_add_falling_leaf(render *r, const render_leaf_seed *ls, gale_err *err
                     in->pos[2] + lp[2] };
     float size = s->leaf_size[ls->slot] * sc;
 
-    uint32_t seed = falling_hash(ls->seed ^ (ls->tree * 2654435761u) ^ (ls->slot * 40503u));
+    uint32_t seed = hash_mix32(ls->seed ^ (ls->tree * 2654435761u) ^ (ls->slot * 40503u));
     falling_var v;
     falling_var_from_seed(&r->path, seed, &v);
     float t_land = falling_path_land_time(&r->path, &v, wp[2], 600.0f);
@@ -155,7 +157,7 @@ int render_add_falling_leaf(render *r, const render_leaf_seed *ls, gale_err *err
                     nz[0] * ax[1] - nz[1] * ax[0] };
     quat_from_basis(ax, ay, nz, f->q0);
     /* torn leaves: the species colour, some turned yellow-brown */
-    float yel = 0.35f * (float)(falling_hash(seed + 5u) >> 8) / 16777216.0f;
+    float yel = 0.35f * (float)(hash_mix32(seed + 5u) >> 8) / 16777216.0f;
     const float brown[3] = { 0.62f, 0.48f, 0.16f };
     for (int k = 0; k < 3; k++) {
         f->look[k] = s->leaf_rgb[k] * (1.0f - yel) + brown[k] * yel;

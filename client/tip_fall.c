@@ -3,6 +3,8 @@
 
 #include <math.h>
 
+#include "hash.h"
+
 static double omega(double height_m)
 {
     return sqrt(1.5 * TIP_FALL_G_MS2 / (height_m > 0.5 ? height_m : 0.5));
@@ -27,19 +29,9 @@ double tip_fall_duration_s(double height_m)
     return log(tan(0.25 * TIP_FALL_LYING_RAD) / tan(0.25 * TIP_FALL_LEAN0_RAD)) / omega(height_m);
 }
 
-/* hash_u and hash01 of shaders/common.glsl */
-static uint32_t hash_u(uint32_t x)
-{
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
-}
 
 float tip_fall_break_m(uint32_t tree)
 {
-    const float u = (float)(hash_u(tree * 2246822519u + 374761393u) >> 8) * (1.0f / 16777216.0f);
+    const float u = (float)(hash_mix32(tree * 2246822519u + 374761393u) >> 8) * (1.0f / 16777216.0f);
     return TIP_FALL_BREAK_MIN_M + TIP_FALL_BREAK_SPAN_M * u;
 }

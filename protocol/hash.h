@@ -20,6 +20,19 @@ uint64_t hash64(const void *data, size_t len);
  * machine: the one generator behind gale's seeded forests, leaves, gusts and jitter. */
 uint64_t hash64_splitmix(uint64_t *state);
 
+/* A 32-bit avalanche (lowbias32, C. Wellons' hash prospector): the hash behind gale's
+ * per-tree and per-leaf draws that the GPU repeats, so shaders/common.glsl's hash_u is the
+ * same function bit for bit. */
+static inline uint32_t hash_mix32(uint32_t x)
+{
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
+}
+
 /* CRC-32 of len bytes continuing from crc (0 to start): crc32("123456789") = 0xcbf43926. */
 uint32_t hash_crc32_update(uint32_t crc, const void *data, size_t len);
 /* One-shot CRC-32. */

@@ -11,6 +11,7 @@
 #include <stdint.h>
 
 #include "err.h"
+#include "hash.h"
 #include "wire_cursor.h"
 #include "wire_limits.h"
 
@@ -233,22 +234,13 @@ int wire_encode_damage(const wire_header *h, bool full, const wire_damage *ev, u
 /* The rank of a leaf slot and of a tree in [0, 2^32): a slot's rank on tree t is
  * wire_damage_slot_rank(slot) + wire_damage_tree_rank(t) mod 2^32, so the server can find
  * the slots of a band of ranks in a species' slots sorted once. */
-static inline uint32_t wire_damage_mix(uint32_t h)
-{
-    h ^= h >> 16;
-    h *= 0x7FEB352Du;
-    h ^= h >> 15;
-    h *= 0x846CA68Bu;
-    h ^= h >> 16;
-    return h;
-}
 static inline uint32_t wire_damage_slot_rank(uint32_t slot)
 {
-    return wire_damage_mix(slot * 0x9E3779B1u + 0x7F4A7C15u);
+    return hash_mix32(slot * 0x9E3779B1u + 0x7F4A7C15u);
 }
 static inline uint32_t wire_damage_tree_rank(uint32_t tree)
 {
-    return wire_damage_mix(tree * 0x85EBCA77u + 0x165667B1u);
+    return hash_mix32(tree * 0x85EBCA77u + 0x165667B1u);
 }
 
 /* Whether leaf slot `slot` of tree `tree` is still on a crown with `level` of

@@ -60,6 +60,7 @@ vec3 wind_at(vec3 wpos)
     return texture(u_wind, t).xyz;
 }
 
+// hash_mix32 of protocol/hash.h, bit for bit (the C side draws the same per-tree values)
 uint hash_u(uint x)
 {
     x ^= x >> 16;
@@ -143,20 +144,11 @@ float tree_pivot_m(int tree, float z)
 
 // wire_damage_leaf_kept (protocol/wire.h), the same bits: whether a leaf slot of a tree
 // stays on a crown with `level` of 32 left.
-uint damage_mix(uint h)
-{
-    h ^= h >> 16u;
-    h *= 0x7FEB352Du;
-    h ^= h >> 15u;
-    h *= 0x846CA68Bu;
-    h ^= h >> 16u;
-    return h;
-}
 bool leaf_kept(uint tree, uint slot, float z)
 {
     uint level = 32u - uint(floor(mod(z, 256.0) * 0.25));
-    uint r = damage_mix(slot * 0x9E3779B1u + 0x7F4A7C15u) +
-             damage_mix(tree * 0x85EBCA77u + 0x165667B1u);
+    uint r = hash_u(slot * 0x9E3779B1u + 0x7F4A7C15u) +
+             hash_u(tree * 0x85EBCA77u + 0x165667B1u);
     return level >= 32u || r < (level << 27u);
 }
 
