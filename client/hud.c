@@ -689,10 +689,10 @@ static void batch_state(hud *h, int fb_w, int fb_h)
     batch_state_at(h, fb_w, fb_h, 0, 0);
 }
 
-/* Uploads and draws the vertices pushed since n_verts was reset, over the bound framebuffer. */
-static void flush_verts(hud *h, int fb_w, int fb_h)
+/* Uploads and draws the vertices pushed since n_verts was reset, in the state batch_state
+ * or batch_state_at set. */
+static void draw_verts(hud *h)
 {
-    batch_state(h, fb_w, fb_h);
     glBindVertexArray(h->vao);
     glBindBuffer(GL_ARRAY_BUFFER, h->vbo);
     glBufferSubData(GL_ARRAY_BUFFER, 0,
@@ -700,6 +700,13 @@ static void flush_verts(hud *h, int fb_w, int fb_h)
     glDrawArrays(GL_TRIANGLES, 0, (GLsizei)h->n_verts);
     glBindVertexArray(0);
     glUseProgram(0);
+}
+
+/* Uploads and draws the vertices pushed since n_verts was reset, over the bound framebuffer. */
+static void flush_verts(hud *h, int fb_w, int fb_h)
+{
+    batch_state(h, fb_w, fb_h);
+    draw_verts(h);
 }
 
 /* Pushes the panel of hud_draw_lines (below) onto the batch. */
@@ -1029,13 +1036,7 @@ static bool layer_render(hud *h, hud_layer *L)
     const GLfloat clear[4] = { 0.0f, 0.0f, 0.0f, 0.0f };
     glClearBufferfv(GL_COLOR, 0, clear);
     batch_state_at(h, L->w, L->h, x0, y0);
-    glBindVertexArray(h->vao);
-    glBindBuffer(GL_ARRAY_BUFFER, h->vbo);
-    glBufferSubData(GL_ARRAY_BUFFER, 0,
-                    (GLsizeiptr)((size_t)h->n_verts * VERT_FLOATS * sizeof(float)), h->verts);
-    glDrawArrays(GL_TRIANGLES, 0, (GLsizei)h->n_verts);
-    glBindVertexArray(0);
-    glUseProgram(0);
+    draw_verts(h);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)prev);
     if (scissor) {
         glEnable(GL_SCISSOR_TEST);
