@@ -334,13 +334,12 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
     const uint32_t n = tb->n_cols;
     /* |x_g| per group: Σ_g |x_g| |M_g| bounds a moment (triangle inequality over groups,
      * Cauchy-Schwarz within one) */
-    float xg[DAMAGE_MAX_GROUPS], sb = 0.0f, bb = 0.0f;
+    float xg[DAMAGE_MAX_GROUPS] = { 0 }, sb = 0.0f, bb = 0.0f;
+    for (uint32_t i = 0; i < n; i++) {
+        xg[i / DAMAGE_GROUP_MODES] += q[i] * q[i];
+    }
     for (uint32_t g = 0; g < tb->n_groups; g++) {
-        float x2 = 0.0f;
-        for (uint32_t i = g * DAMAGE_GROUP_MODES; i < n && i < (g + 1) * DAMAGE_GROUP_MODES; i++) {
-            x2 += q[i] * q[i];
-        }
-        xg[g] = sqrtf(x2);
+        xg[g] = sqrtf(xg[g]);
         sb += xg[g] * tb->stem_group[g];
         bb += xg[g] * tb->group_screen[g];
     }
@@ -377,25 +376,28 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
     /* branches by rising cap / norm: from the first that cannot fail at |q| no later one
      * can fail either (a few more are bounded than the exact test needs: 1e-5) */
     const float r_max = qn / lo * 1.00001f;
-    uint32_t n_check = 0, hi = tb->n_branches;
-    while (n_check < hi) {
-        const uint32_t mid = n_check + (hi - n_check) / 2;
-        if (tb->ratio_by_order[mid] <= r_max) {
-            n_check = mid + 1;
-        } else {
-            hi = mid;
-        }
+    /* how many ratios are at or below r_max: a search whose steps select, not branch (the
+     * ratio a check stops at is as good as random to a branch predictor); everything
+     * before base is at or below r_max, the count lies within [base, base + len] */
+    const float *base = tb->ratio_by_order;
+    uint32_t len = tb->n_branches;
+    while (len > 1) {
+        const uint32_t half = len / 2;
+        base = base[half - 1] <= r_max ? base + half : base;
+        len -= half;
     }
+    const uint32_t n_check =
+        (uint32_t)(base - tb->ratio_by_order) + (len == 1 && base[0] <= r_max);
     /* below the weakest multiplier a branch holds whatever its own strength: first on the
      * bound (Σ_g |x_g| |M_b,g| in vector lanes, 1e-4 for its rounding), then on the moment
      * itself; the draw of its own strength (a log, a cos and an exp) only for one that
      * might fail. 1e-3: lo's single-precision exp against the draws' double one */
     const float lo_branch = 0.999f * lo;
     const bool res_alone = tb->n_modes % DAMAGE_GROUP_MODES == 0;
-    damage_branch_bounds(tb, xg, n_check, s->moments);
-    /* the few the bound passes, gathered without a branch per entry */
+    /* the few the bound passes, gathered without a branch per entry, up to the last */
+    const uint32_t hits = damage_branch_bounds(tb, xg, n_check, lo_branch, s->moments);
     uint32_t n_cand = 0;
-    for (uint32_t j = 0; j < n_check; j++) {
+    for (uint32_t j = 0; n_cand < hits && j < n_check; j++) {
         s->cand[n_cand] = j;
         n_cand += s->moments[j] * 1.0001f > lo_branch * tb->cap_by_order[j];
     }

@@ -70,21 +70,49 @@ static void element_moment(const asset *a, double E_pa, uint32_t i, uint32_t p, 
 
 /* Over a contiguous run of n_check bounds: the lanes are independent (omp simd: -O2
  * alone leaves the loop scalar), so the clones vectorise it and round alike (-std=c11:
- * no contraction). */
+ * no contraction). The first group sets the bounds and the last compares them, so the
+ * check reads and writes its n_check bounds once per group and needs no pass of its own
+ * to find that none of them reaches its capacity (the common case). */
 __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-void damage_branch_bounds(const damage_table *t, const float *xg, uint32_t n_check,
-                          float *out)
+uint32_t damage_branch_bounds(const damage_table *t, const float *xg, uint32_t n_check,
+                              float cap_mult, float *out)
 {
-    memset(out, 0, sizeof(float) * n_check);
-    for (uint32_t g = 0; g < t->n_groups; g++) {
+    const uint32_t last = t->n_groups - 1;
+    float *restrict o = out;
+    {
+        const float x = xg[0];
+        const float *restrict m = t->group_norm;
+#pragma omp simd
+        for (uint32_t j = 0; j < n_check; j++) {
+            o[j] = x * m[j];
+        }
+    }
+    for (uint32_t g = 1; g < last; g++) {
         const float x = xg[g];
         const float *restrict m = t->group_norm + (size_t)g * t->n_branches;
-        float *restrict o = out;
 #pragma omp simd
         for (uint32_t j = 0; j < n_check; j++) {
             o[j] += x * m[j];
         }
     }
+    uint32_t hits = 0;
+    if (last > 0) {
+        const float x = xg[last];
+        const float *restrict m = t->group_norm + (size_t)last * t->n_branches;
+        const float *restrict cap = t->cap_by_order;
+#pragma omp simd reduction(+ : hits)
+        for (uint32_t j = 0; j < n_check; j++) {
+            o[j] += x * m[j];
+            hits += o[j] * 1.0001f > cap_mult * cap[j];
+        }
+    } else {
+        const float *restrict cap = t->cap_by_order;
+#pragma omp simd reduction(+ : hits)
+        for (uint32_t j = 0; j < n_check; j++) {
+            hits += o[j] * 1.0001f > cap_mult * cap[j];
+        }
+    }
+    return hits;
 }
 
 float damage_moment(const float (*m)[3], const float *q, uint32_t n, float out[3])

@@ -99,9 +99,11 @@ void damage_table_fini(damage_table *t);
 
 /* Upper bounds of the bending moments of the first n_check branches in t's order from
  * |x_g| of each group (xg[n_groups], x = (q, κ w)): out[j] = Σ_g xg[g] |M_b,g| >= |M(x)|
- * of branch order[j] [N m]. */
-void damage_branch_bounds(const damage_table *t, const float *xg, uint32_t n_check,
-                          float *out);
+ * of branch order[j] [N m]. Returns how many of them have out[j] · 1.0001 above
+ * cap_mult · cap_by_order[j] (1e-4 for the bound's rounding): 0, and none can fail at
+ * strength cap_mult. */
+uint32_t damage_branch_bounds(const damage_table *t, const float *xg, uint32_t n_check,
+                              float cap_mult, float *out);
 
 /* κ of DAMAGE_RES_COLS for asset a: sqrt(Σ_i |p_i|² / ω_i⁴), 1 when that is 0 or the asset
  * has no omega or wind_basis [1/(m/s)²]. */
