@@ -32,7 +32,8 @@ struct damage_sim {
     uint64_t *bits;             /* owned [n_trees][words] broken branches */
     uint32_t words;
     float *q;                   /* owned [64] scratch */
-    float *moments;             /* owned [the most branches] scratch: moment bounds */
+    float *moments;             /* owned [damage_bound_lanes(the most branches)] scratch:
+                                   moment bounds */
     uint32_t *cand;             /* owned [the most branches] scratch: branches a bound passes */
     wire_damage *ev;            /* owned [max_events] this tick's events */
     int n_ev;
@@ -106,7 +107,7 @@ damage_sim *damage_create(const damage_desc *d, gale_err *err)
     s->bits = calloc((size_t)d->n_trees * s->words, sizeof(uint64_t));
     s->q = calloc(64 + DAMAGE_RES_COLS, sizeof(float));
     s->drag = calloc(d->n_species, sizeof *s->drag);
-    s->moments = calloc((size_t)maxb, sizeof(float));
+    s->moments = calloc(damage_bound_lanes(maxb), sizeof(float));
     s->cand = calloc((size_t)maxb, sizeof(uint32_t));
     s->ev = calloc((size_t)s->d.max_events, sizeof *s->ev);
     s->log = calloc(DAMAGE_LOG_MAX, sizeof *s->log);
@@ -297,6 +298,25 @@ static float force_vector(const damage_sim *s, const modal *m, uint32_t t, const
     return w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
 }
 
+/* A bound of |M(x)| for a moment table mm[n_cols] whose residual is a group of its own
+ * (n_modes a multiple of DAMAGE_GROUP_MODES): the first group's and the residual's part
+ * summed, the groups between them bounded by |x_g| |M_g| (gn[g * stride]), by the
+ * triangle inequality. The first group holds the lowest modes, which carry most of a
+ * moment, so this bound is close to |M(x)| where the group bound alone is not. */
+static float lead_bound(const damage_table *tb, const float (*mm)[3], const float *q,
+                        const float *xg, const float *gn, size_t stride)
+{
+    float a[3], r[3];
+    damage_moment(mm, q, DAMAGE_GROUP_MODES, a);
+    damage_moment(mm + tb->n_modes, q + tb->n_modes, DAMAGE_RES_COLS, r);
+    float rest = 0.0f;
+    for (uint32_t g = 1; g + 1 < tb->n_groups; g++) {
+        rest += xg[g] * gn[g * stride];
+    }
+    const float x = a[0] + r[0], y = a[1] + r[1], z = a[2] + r[2];
+    return sqrtf(x * x + y * y + z * z) + rest;
+}
+
 /* The stresses of standing tree t from its modal state: the stem first (a tree that
  * falls breaks nothing more), then every branch still on it. Each moment is
  * Σ_i q_i M_i + R κ w: the modes and the static residual of those left out, over
@@ -344,9 +364,15 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
         bb += xg[g] * tb->group_screen[g];
     }
     const float m_crit = (float)(tb->m_over_nm < tb->m_break_nm ? tb->m_over_nm : tb->m_break_nm);
-    /* the stem's moment only where its bound reaches the lower critical moment */
-    float mb = sb * 1.0001f >= ts->strength * m_crit
-                   ? damage_moment((const float(*)[3])tb->stem_moment, q, n, NULL)
+    /* the stem's moment only where its bounds reach the lower critical moment: below it
+     * the tree stands, whatever the moment */
+    const bool res_alone = tb->n_modes % DAMAGE_GROUP_MODES == 0;
+    const float(*sm)[3] = (const float(*)[3])tb->stem_moment;
+    float mb = sb * 1.0001f >= ts->strength * m_crit &&
+                       (!res_alone ||
+                        lead_bound(tb, sm, q, xg, tb->stem_group, 1) * 1.0001f >=
+                            ts->strength * m_crit)
+                   ? damage_moment(sm, q, n, NULL)
                    : 0.0f;
     uint8_t fall = 0;
     if (mb > ts->strength * (float)tb->m_over_nm && tb->m_over_nm <= tb->m_break_nm) {
@@ -393,7 +419,6 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
      * itself; the draw of its own strength (a log, a cos and an exp) only for one that
      * might fail. 1e-3: lo's single-precision exp against the draws' double one */
     const float lo_branch = 0.999f * lo;
-    const bool res_alone = tb->n_modes % DAMAGE_GROUP_MODES == 0;
     /* the few the bound passes, gathered without a branch per entry, up to the last */
     const uint32_t hits = damage_branch_bounds(tb, xg, n_check, lo_branch, s->moments);
     uint32_t n_cand = 0;
@@ -406,15 +431,13 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
         const uint32_t b = tb->order[j];
         const damage_branch *br = &tb->branch[b];
         const float(*mm)[3] = (const float(*)[3])(tb->branch_moment + (size_t)b * n * 3);
-        /* with the residual a group of its own, its part summed (3 columns) and the modes'
-         * part bounded by their groups: tighter, at a tenth of the full sum's cost */
-        if (res_alone) {
-            const float rm = damage_moment(mm + tb->n_modes, q + tb->n_modes, DAMAGE_RES_COLS, NULL);
-            const float gl = xg[tb->n_groups - 1] *
-                             tb->group_norm[(size_t)(tb->n_groups - 1) * tb->n_branches + j];
-            if ((s->moments[j] - gl + rm) * 1.0001f <= lo_branch * br->cap_nm) {
-                continue;
-            }
+        /* with the residual a group of its own, the first group and the residual summed
+         * (7 columns) and the other modes bounded by their groups: tighter, at a fifth of
+         * the full sum's cost */
+        if (res_alone &&
+            lead_bound(tb, mm, q, xg, tb->group_norm + j, tb->group_stride) * 1.0001f <=
+                lo_branch * br->cap_nm) {
+            continue;
         }
         const float mbr = damage_moment(mm, q, n, NULL);
         if (mbr <= lo_branch * br->cap_nm) {
