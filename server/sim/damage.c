@@ -366,7 +366,7 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
     const float m_crit = (float)(tb->m_over_nm < tb->m_break_nm ? tb->m_over_nm : tb->m_break_nm);
     /* the stem's moment only where its bounds reach the lower critical moment: below it
      * the tree stands, whatever the moment */
-    const bool res_alone = tb->n_modes % DAMAGE_GROUP_MODES == 0;
+    const bool res_alone = tb->n_modes > 0 && tb->n_modes % DAMAGE_GROUP_MODES == 0;
     const float(*sm)[3] = (const float(*)[3])tb->stem_moment;
     float mb = sb * 1.0001f >= ts->strength * m_crit &&
                        (!res_alone ||
