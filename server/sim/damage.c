@@ -32,7 +32,8 @@ struct damage_sim {
     uint64_t *bits;             /* owned [n_trees][words] broken branches */
     uint32_t words;
     float *q;                   /* owned [64] scratch */
-    float *moments;             /* owned [the most branches] scratch: moment bounds */
+    float *moments;             /* owned [damage_bound_lanes(the most branches)] scratch:
+                                   moment bounds */
     uint32_t *cand;             /* owned [the most branches] scratch: branches a bound passes */
     wire_damage *ev;            /* owned [max_events] this tick's events */
     int n_ev;
@@ -106,7 +107,7 @@ damage_sim *damage_create(const damage_desc *d, gale_err *err)
     s->bits = calloc((size_t)d->n_trees * s->words, sizeof(uint64_t));
     s->q = calloc(64 + DAMAGE_RES_COLS, sizeof(float));
     s->drag = calloc(d->n_species, sizeof *s->drag);
-    s->moments = calloc((size_t)maxb, sizeof(float));
+    s->moments = calloc(damage_bound_lanes(maxb), sizeof(float));
     s->cand = calloc((size_t)maxb, sizeof(uint32_t));
     s->ev = calloc((size_t)s->d.max_events, sizeof *s->ev);
     s->log = calloc(DAMAGE_LOG_MAX, sizeof *s->log);
@@ -297,6 +298,25 @@ static float force_vector(const damage_sim *s, const modal *m, uint32_t t, const
     return w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
 }
 
+/* A bound of |M(x)| for a moment table mm[n_cols] whose residual is a group of its own
+ * (n_modes a multiple of DAMAGE_GROUP_MODES): the first group's and the residual's part
+ * summed, the groups between them bounded by |x_g| |M_g| (gn[g * stride]), by the
+ * triangle inequality. The first group holds the lowest modes, which carry most of a
+ * moment, so this bound is close to |M(x)| where the group bound alone is not. */
+static float lead_bound(const damage_table *tb, const float (*mm)[3], const float *q,
+                        const float *xg, const float *gn, size_t stride)
+{
+    float a[3], r[3];
+    damage_moment(mm, q, DAMAGE_GROUP_MODES, a);
+    damage_moment(mm + tb->n_modes, q + tb->n_modes, DAMAGE_RES_COLS, r);
+    float rest = 0.0f;
+    for (uint32_t g = 1; g + 1 < tb->n_groups; g++) {
+        rest += xg[g] * gn[g * stride];
+    }
+    const float x = a[0] + r[0], y = a[1] + r[1], z = a[2] + r[2];
+    return sqrtf(x * x + y * y + z * z) + rest;
+}
+
 /* The stresses of standing tree t from its modal state: the stem first (a tree that
  * falls breaks nothing more), then every branch still on it. Each moment is
  * Σ_i q_i M_i + R κ w: the modes and the static residual of those left out, over
@@ -334,20 +354,25 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
     const uint32_t n = tb->n_cols;
     /* |x_g| per group: Σ_g |x_g| |M_g| bounds a moment (triangle inequality over groups,
      * Cauchy-Schwarz within one) */
-    float xg[DAMAGE_MAX_GROUPS], sb = 0.0f, bb = 0.0f;
+    float xg[DAMAGE_MAX_GROUPS] = { 0 }, sb = 0.0f, bb = 0.0f;
+    for (uint32_t i = 0; i < n; i++) {
+        xg[i / DAMAGE_GROUP_MODES] += q[i] * q[i];
+    }
     for (uint32_t g = 0; g < tb->n_groups; g++) {
-        float x2 = 0.0f;
-        for (uint32_t i = g * DAMAGE_GROUP_MODES; i < n && i < (g + 1) * DAMAGE_GROUP_MODES; i++) {
-            x2 += q[i] * q[i];
-        }
-        xg[g] = sqrtf(x2);
+        xg[g] = sqrtf(xg[g]);
         sb += xg[g] * tb->stem_group[g];
         bb += xg[g] * tb->group_screen[g];
     }
     const float m_crit = (float)(tb->m_over_nm < tb->m_break_nm ? tb->m_over_nm : tb->m_break_nm);
-    /* the stem's moment only where its bound reaches the lower critical moment */
-    float mb = sb * 1.0001f >= ts->strength * m_crit
-                   ? damage_moment((const float(*)[3])tb->stem_moment, q, n, NULL)
+    /* the stem's moment only where its bounds reach the lower critical moment: below it
+     * the tree stands, whatever the moment */
+    const bool res_alone = tb->n_modes > 0 && tb->n_modes % DAMAGE_GROUP_MODES == 0;
+    const float(*sm)[3] = (const float(*)[3])tb->stem_moment;
+    float mb = sb * 1.0001f >= ts->strength * m_crit &&
+                       (!res_alone ||
+                        lead_bound(tb, sm, q, xg, tb->stem_group, 1) * 1.0001f >=
+                            ts->strength * m_crit)
+                   ? damage_moment(sm, q, n, NULL)
                    : 0.0f;
     uint8_t fall = 0;
     if (mb > ts->strength * (float)tb->m_over_nm && tb->m_over_nm <= tb->m_break_nm) {
@@ -377,25 +402,27 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
     /* branches by rising cap / norm: from the first that cannot fail at |q| no later one
      * can fail either (a few more are bounded than the exact test needs: 1e-5) */
     const float r_max = qn / lo * 1.00001f;
-    uint32_t n_check = 0, hi = tb->n_branches;
-    while (n_check < hi) {
-        const uint32_t mid = n_check + (hi - n_check) / 2;
-        if (tb->ratio_by_order[mid] <= r_max) {
-            n_check = mid + 1;
-        } else {
-            hi = mid;
-        }
+    /* how many ratios are at or below r_max: a search whose steps select, not branch (the
+     * ratio a check stops at is as good as random to a branch predictor); everything
+     * before base is at or below r_max, the count lies within [base, base + len] */
+    const float *base = tb->ratio_by_order;
+    uint32_t len = tb->n_branches;
+    while (len > 1) {
+        const uint32_t half = len / 2;
+        base = base[half - 1] <= r_max ? base + half : base;
+        len -= half;
     }
+    const uint32_t n_check =
+        (uint32_t)(base - tb->ratio_by_order) + (len == 1 && base[0] <= r_max);
     /* below the weakest multiplier a branch holds whatever its own strength: first on the
      * bound (Σ_g |x_g| |M_b,g| in vector lanes, 1e-4 for its rounding), then on the moment
      * itself; the draw of its own strength (a log, a cos and an exp) only for one that
      * might fail. 1e-3: lo's single-precision exp against the draws' double one */
     const float lo_branch = 0.999f * lo;
-    const bool res_alone = tb->n_modes % DAMAGE_GROUP_MODES == 0;
-    damage_branch_bounds(tb, xg, n_check, s->moments);
-    /* the few the bound passes, gathered without a branch per entry */
+    /* the few the bound passes, gathered without a branch per entry, up to the last */
+    const uint32_t hits = damage_branch_bounds(tb, xg, n_check, lo_branch, s->moments);
     uint32_t n_cand = 0;
-    for (uint32_t j = 0; j < n_check; j++) {
+    for (uint32_t j = 0; n_cand < hits && j < n_check; j++) {
         s->cand[n_cand] = j;
         n_cand += s->moments[j] * 1.0001f > lo_branch * tb->cap_by_order[j];
     }
@@ -404,15 +431,13 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
         const uint32_t b = tb->order[j];
         const damage_branch *br = &tb->branch[b];
         const float(*mm)[3] = (const float(*)[3])(tb->branch_moment + (size_t)b * n * 3);
-        /* with the residual a group of its own, its part summed (3 columns) and the modes'
-         * part bounded by their groups: tighter, at a tenth of the full sum's cost */
-        if (res_alone) {
-            const float rm = damage_moment(mm + tb->n_modes, q + tb->n_modes, DAMAGE_RES_COLS, NULL);
-            const float gl = xg[tb->n_groups - 1] *
-                             tb->group_norm[(size_t)(tb->n_groups - 1) * tb->n_branches + j];
-            if ((s->moments[j] - gl + rm) * 1.0001f <= lo_branch * br->cap_nm) {
-                continue;
-            }
+        /* with the residual a group of its own, the first group and the residual summed
+         * (7 columns) and the other modes bounded by their groups: tighter, at a fifth of
+         * the full sum's cost */
+        if (res_alone &&
+            lead_bound(tb, mm, q, xg, tb->group_norm + j, tb->group_stride) * 1.0001f <=
+                lo_branch * br->cap_nm) {
+            continue;
         }
         const float mbr = damage_moment(mm, q, n, NULL);
         if (mbr <= lo_branch * br->cap_nm) {

@@ -68,23 +68,51 @@ static void element_moment(const asset *a, double E_pa, uint32_t i, uint32_t p, 
     }
 }
 
-/* Over a contiguous run of n_check bounds: the lanes are independent (omp simd: -O2
- * alone leaves the loop scalar), so the clones vectorise it and round alike (-std=c11:
- * no contraction). */
+/* Over whole vectors of lanes (damage_bound_lanes: the padded table has them, so no
+ * scalar remainder runs): the lanes are independent (omp simd: -O2 alone leaves the loop
+ * scalar), so the clones vectorise it and round alike (-std=c11: no contraction). The
+ * first group sets the bounds and the last compares them, so the check needs no pass of
+ * its own to find that none of them reaches its capacity (the common case). */
 __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-void damage_branch_bounds(const damage_table *t, const float *xg, uint32_t n_check,
-                          float *out)
+uint32_t damage_branch_bounds(const damage_table *t, const float *xg, uint32_t n_check,
+                              float cap_mult, float *out)
 {
-    memset(out, 0, sizeof(float) * n_check);
-    for (uint32_t g = 0; g < t->n_groups; g++) {
-        const float x = xg[g];
-        const float *restrict m = t->group_norm + (size_t)g * t->n_branches;
-        float *restrict o = out;
+    const uint32_t last = t->n_groups - 1, nv = damage_bound_lanes(n_check);
+    const size_t stride = t->group_stride;
+    float *restrict o = out;
+    {
+        const float x = xg[0];
+        const float *restrict m = t->group_norm;
 #pragma omp simd
-        for (uint32_t j = 0; j < n_check; j++) {
+        for (uint32_t j = 0; j < nv; j++) {
+            o[j] = x * m[j];
+        }
+    }
+    for (uint32_t g = 1; g < last; g++) {
+        const float x = xg[g];
+        const float *restrict m = t->group_norm + g * stride;
+#pragma omp simd
+        for (uint32_t j = 0; j < nv; j++) {
             o[j] += x * m[j];
         }
     }
+    uint32_t hits = 0;
+    const float *restrict cap = t->cap_by_order;
+    if (last > 0) {
+        const float x = xg[last];
+        const float *restrict m = t->group_norm + last * stride;
+#pragma omp simd reduction(+ : hits)
+        for (uint32_t j = 0; j < nv; j++) {
+            o[j] += x * m[j];
+            hits += (j < n_check) & (o[j] * 1.0001f > cap_mult * cap[j]);
+        }
+    } else {
+#pragma omp simd reduction(+ : hits)
+        for (uint32_t j = 0; j < nv; j++) {
+            hits += (j < n_check) & (o[j] * 1.0001f > cap_mult * cap[j]);
+        }
+    }
+    return hits;
 }
 
 float damage_moment(const float (*m)[3], const float *q, uint32_t n, float out[3])
@@ -394,12 +422,16 @@ int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_
         const uint32_t k = nc - i0 < DAMAGE_GROUP_MODES ? nc - i0 : DAMAGE_GROUP_MODES;
         t->stem_group[g] = norm_modes((const float(*)[3])t->stem_moment + i0, k);
     }
+    t->group_stride = damage_bound_lanes(nb);
     t->ratio_by_order = malloc(sizeof(float) * (nb ? nb : 1));
-    t->cap_by_order = malloc(sizeof(float) * (nb ? nb : 1));
-    t->group_norm = malloc(sizeof(float) * t->n_groups * (nb ? nb : 1));
+    t->cap_by_order = malloc(sizeof(float) * t->group_stride);
+    t->group_norm = calloc((size_t)t->n_groups * t->group_stride, sizeof(float));
     if (!t->ratio_by_order || !t->cap_by_order || !t->group_norm) {
         damage_table_fini(t);
         return gale_errf(err, GALE_E_NOMEM, "damage_table_build: no memory for %u branches", nb);
+    }
+    for (uint32_t j = nb; j < t->group_stride; j++) {
+        t->cap_by_order[j] = INFINITY; /* the lanes past the last branch: no capacity reached */
     }
     for (uint32_t j = 0; j < nb; j++) {
         const damage_branch *b = &t->branch[t->order[j]];
@@ -410,7 +442,7 @@ int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_
             const uint32_t i0 = g * DAMAGE_GROUP_MODES;
             const uint32_t k = nc - i0 < DAMAGE_GROUP_MODES ? nc - i0 : DAMAGE_GROUP_MODES;
             const float gn = norm_modes(m + i0, k);
-            t->group_norm[(size_t)g * nb + j] = gn;
+            t->group_norm[(size_t)g * t->group_stride + j] = gn;
             if (b->cap_nm > 0.0f && gn / b->cap_nm > t->group_screen[g]) {
                 t->group_screen[g] = gn / b->cap_nm;
             }

@@ -63,12 +63,14 @@ typedef struct damage_table {
                                 the first that cannot fail at |q| ends a check */
     float *ratio_by_order;   /* owned [n_branches] cap_nm / moment_norm of order[j], rising
                                 (+inf for a branch no mode loads) */
-    float *cap_by_order;     /* owned [n_branches] cap_nm of order[j] */
-    float *group_norm;       /* owned [n_groups][n_branches] |M_b,g| of order[j] at [g][j]
+    float *cap_by_order;     /* owned [group_stride] cap_nm of order[j] */
+    float *group_norm;       /* owned [n_groups][group_stride] |M_b,g| of order[j] at [g][j]
                                 (groups of DAMAGE_GROUP_MODES columns of x): a check
                                 bounds the branches it needs, a prefix of the order,
                                 group by group in vector lanes */
     uint32_t n_groups;       /* ceil(n_cols / DAMAGE_GROUP_MODES) */
+    uint32_t group_stride;   /* damage_bound_lanes(n_branches): group_norm's row length and
+                                cap_by_order's length, zero and +inf past the branches */
     float group_screen[DAMAGE_MAX_GROUPS]; /* max over branches of |M_b,g| / cap_b: no
                                 branch fails at strength 1 while Σ_g |x_g| group_screen[g]
                                 < 1 */
@@ -97,11 +99,24 @@ int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_
 /* NULL or an empty table is a no-op. */
 void damage_table_fini(damage_table *t);
 
+/* Lanes of a branch bound's vector loop: n rounded up to a whole number of the widest
+ * vectors (16 floats), so the loop has no scalar remainder. */
+#define DAMAGE_BOUND_LANES 16u
+
+static inline uint32_t damage_bound_lanes(uint32_t n)
+{
+    return n ? (n + DAMAGE_BOUND_LANES - 1u) / DAMAGE_BOUND_LANES * DAMAGE_BOUND_LANES
+             : DAMAGE_BOUND_LANES;
+}
+
 /* Upper bounds of the bending moments of the first n_check branches in t's order from
  * |x_g| of each group (xg[n_groups], x = (q, κ w)): out[j] = Σ_g xg[g] |M_b,g| >= |M(x)|
- * of branch order[j] [N m]. */
-void damage_branch_bounds(const damage_table *t, const float *xg, uint32_t n_check,
-                          float *out);
+ * of branch order[j] [N m], out[damage_bound_lanes(n_check)] written (the lanes past
+ * n_check hold bounds of no use). Returns how many of them have out[j] · 1.0001 above
+ * cap_mult · cap_by_order[j] (1e-4 for the bound's rounding): 0, and none can fail at
+ * strength cap_mult. */
+uint32_t damage_branch_bounds(const damage_table *t, const float *xg, uint32_t n_check,
+                              float cap_mult, float *out);
 
 /* κ of DAMAGE_RES_COLS for asset a: sqrt(Σ_i |p_i|² / ω_i⁴), 1 when that is 0 or the asset
  * has no omega or wind_basis [1/(m/s)²]. */
