@@ -18,6 +18,7 @@
 #include "lsystem.h"
 #include "scenario.h"
 #include "species.h"
+#include "species_bake.h"
 #include "tick.h"
 
 #define PI 3.14159265358979323846
@@ -185,25 +186,13 @@ static int bake_all(void)
         return 0;
     }
     for (int k = 0; k < N_SP; k++) {
-        char path[4096];
-        snprintf(path, sizeof path, "%s/configs/species/%s.json", GALE_SOURCE_DIR, sp_names[k]);
-        gale_err err;
-        memset(&err, 0, sizeof err);
         species sp;
-        skeleton s;
-        memset(&s, 0, sizeof s);
-        bake_desc d = { .n_modes = 32 };
-        int rc = species_load(path, &sp, &err);
-        rc = rc ? rc : lsystem_generate(&sp.gen, &s, &err);
-        rc = rc ? rc : bake_run(&s, &sp, &d, &assets[k], NULL, &err);
-        rc = rc ? rc : damage_table_build(&assets[k], sp.E_pa, sp.drag_c, &sp.damage, &tables[k], &err);
-        skeleton_fini(&s);
-        drag_c[k] = sp.drag_c;
-        drags[k] = sp.drag;
+        int rc = bake_shipped_species(sp_names[k], &sp, &assets[k], &tables[k]);
         if (rc) {
-            fprintf(stderr, "%s: %s\n", sp_names[k], err.msg);
             return rc;
         }
+        drag_c[k] = sp.drag_c;
+        drags[k] = sp.drag;
         const asset *a = &assets[k];
         for (uint32_t i = 0; i < a->n_modes; i++) {
             qsteps[k][i] = 1e-3f;
