@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "mono.h"
+#include "proc_fixture.h"
 #include "server_wsraw.h"
 #include "wire.h"
 
@@ -50,60 +51,6 @@ static inline pid_t kf_spawn(char *const argv[], const char *log, const char *ou
     return pid;
 }
 
-static inline int kf_log_count(const char *log, const char *needle)
-{
-    FILE *f = fopen(log, "r");
-    if (!f) {
-        return 0;
-    }
-    char line[1024];
-    int n = 0;
-    while (fgets(line, sizeof line, f)) {
-        n += strstr(line, needle) != NULL;
-    }
-    fclose(f);
-    return n;
-}
-
-static inline bool kf_wait_log(const char *log, const char *needle, int count, double timeout_s)
-{
-    double until = mono_s() + timeout_s;
-    while (mono_s() < until) {
-        if (kf_log_count(log, needle) >= count) {
-            return true;
-        }
-        usleep(50000);
-    }
-    return false;
-}
-
-/* The exit status of pid (128 + signal when killed), or -1 after timeout_s (then it is
- * killed). */
-static inline int kf_wait_exit(pid_t pid, double timeout_s)
-{
-    double until = mono_s() + timeout_s;
-    int st;
-    while (mono_s() < until) {
-        pid_t r = waitpid(pid, &st, WNOHANG);
-        if (r == pid) {
-            return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
-        }
-        usleep(20000);
-    }
-    kill(pid, SIGKILL);
-    waitpid(pid, &st, 0);
-    return -1;
-}
-
-static inline void kf_dump(const char *log)
-{
-    char cmd[600];
-    snprintf(cmd, sizeof cmd, "tail -n 20 '%s' >&2", log);
-    if (system(cmd) != 0) {
-        fprintf(stderr, "(no log %s)\n", log);
-    }
-}
-
 /* Makes kf_dir (name under the working directory, the build tree). */
 static inline void kf_init(const char *name)
 {
@@ -134,8 +81,8 @@ static inline int kf_start_server(const char *config, const char *const *extra)
     argv[n] = NULL;
     unlink(log);
     kf_server = kf_spawn((char *const *)argv, log, NULL);
-    if (!kf_wait_log(log, "listening on port", 1, 300.0)) {
-        kf_dump(log);
+    if (!proc_wait_log(log, "listening on port", 1, 300.0)) {
+        proc_dump(log);
         return -1;
     }
     FILE *f = fopen(log, "r");
@@ -157,7 +104,7 @@ static inline void kf_stop_server(void)
 {
     if (kf_server > 0) {
         kill(kf_server, SIGTERM);
-        kf_wait_exit(kf_server, 10.0);
+        proc_wait_exit(kf_server, 10.0);
         kf_server = 0;
     }
 }

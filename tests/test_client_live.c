@@ -17,6 +17,7 @@
 
 #include "camera.h"
 #include "check.h"
+#include "proc_fixture.h"
 #include "mono.h"
 
 #ifndef GALE_SERVER_EXE
@@ -29,75 +30,6 @@
 static char tmp[256];
 static int port;
 static pid_t server;
-
-/* Starts argv with stderr (and stdout) into log. */
-static pid_t spawn(char *const argv[], const char *log)
-{
-    pid_t pid = fork();
-    if (pid == 0) {
-        FILE *f = freopen(log, "w", stderr);
-        if (!f || dup2(fileno(stderr), 1) < 0) {
-            _exit(126);
-        }
-        execv(argv[0], argv);
-        _exit(127);
-    }
-    return pid;
-}
-
-/* Count of lines of the log file containing needle. */
-static int log_count(const char *log, const char *needle)
-{
-    FILE *f = fopen(log, "r");
-    if (!f) {
-        return 0;
-    }
-    char line[1024];
-    int n = 0;
-    while (fgets(line, sizeof line, f)) {
-        n += strstr(line, needle) != NULL;
-    }
-    fclose(f);
-    return n;
-}
-
-static bool wait_log(const char *log, const char *needle, int count, double timeout_s)
-{
-    double until = mono_s() + timeout_s;
-    while (mono_s() < until) {
-        if (log_count(log, needle) >= count) {
-            return true;
-        }
-        usleep(100000);
-    }
-    return false;
-}
-
-/* Waits for pid; returns its exit status, or -1 on timeout (then kills it). */
-static int wait_exit(pid_t pid, double timeout_s)
-{
-    double until = mono_s() + timeout_s;
-    int st;
-    while (mono_s() < until) {
-        pid_t r = waitpid(pid, &st, WNOHANG);
-        if (r == pid) {
-            return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
-        }
-        usleep(50000);
-    }
-    kill(pid, SIGKILL);
-    waitpid(pid, &st, 0);
-    return -1;
-}
-
-static void dump(const char *log)
-{
-    char cmd[600];
-    snprintf(cmd, sizeof cmd, "tail -n 15 '%s' >&2", log);
-    if (system(cmd) != 0) {
-        fprintf(stderr, "(no log %s)\n", log);
-    }
-}
 
 static int start_server(int want_port)
 {
@@ -117,9 +49,9 @@ static int start_server(int want_port)
                      cache,
                      NULL };
     unlink(log);
-    server = spawn(argv, log);
-    if (!wait_log(log, "listening on port", 1, 120.0)) {
-        dump(log);
+    server = proc_spawn(argv, log);
+    if (!proc_wait_log(log, "listening on port", 1, 120.0)) {
+        proc_dump(log);
         return -1;
     }
     FILE *f = fopen(log, "r");
@@ -146,7 +78,7 @@ static pid_t start_client(const char *name, int frames, const char *png, const c
     char *argv[] = { GALE_CLIENT_EXE, "--url",     url,      "--headless", "--frames", fr,
                      "--size",        (char *)size, "--wait", "150",        "--cache",  cache,
                      "--screenshot",  (char *)png, NULL };
-    return spawn(argv, log);
+    return proc_spawn(argv, log);
 }
 
 static void client_log(char *buf, size_t cap, const char *name)
@@ -214,9 +146,9 @@ static void test_headless_png(void)
     snprintf(png, sizeof png, "%s/a.png", tmp);
     client_log(log, sizeof log, "a");
     pid_t a = start_client("a", 5, png, "960x540");
-    int st = wait_exit(a, 200.0);
+    int st = proc_wait_exit(a, 200.0);
     CHECK(st == 0);
-    CHECK(log_count(log, "receiving state from tick") >= 1);
+    CHECK(proc_log_count(log, "receiving state from tick") >= 1);
     int w = 0, h = 0, ch = 0;
     unsigned char *img = stbi_load(png, &w, &h, &ch, 3);
     CHECK(img != NULL && w == PW && h == PH);
@@ -253,7 +185,7 @@ static void test_headless_png(void)
     }
     stbi_image_free(img);
     if (st != 0) {
-        dump(log);
+        proc_dump(log);
     }
 }
 
@@ -265,12 +197,12 @@ static void test_no_server(void)
     char *argv[] = { GALE_CLIENT_EXE, "--url",  "ws://127.0.0.1:1",
                      "--headless",    "--wait", "2",
                      "--size",        "64x64",  NULL };
-    pid_t p = spawn(argv, log);
-    int st = wait_exit(p, 120.0);
+    pid_t p = proc_spawn(argv, log);
+    int st = proc_wait_exit(p, 120.0);
     CHECK(st == 3);
-    CHECK(log_count(log, "no state received") == 1);
+    CHECK(proc_log_count(log, "no state received") == 1);
     if (st != 3) {
-        dump(log);
+        proc_dump(log);
     }
 }
 
@@ -282,15 +214,15 @@ static void test_client_killed(void)
     client_log(logk, sizeof logk, "k");
     client_log(logb, sizeof logb, "b");
     pid_t k = start_client("k", 1000000, png, "320x180");
-    CHECK(wait_log(logk, "receiving state", 1, 200.0));
+    CHECK(proc_wait_log(logk, "receiving state", 1, 200.0));
     kill(k, SIGKILL);
-    CHECK(wait_exit(k, 10.0) == 128 + SIGKILL);
+    CHECK(proc_wait_exit(k, 10.0) == 128 + SIGKILL);
     pid_t b = start_client("b", 5, png, "320x180");
-    int st = wait_exit(b, 200.0);
+    int st = proc_wait_exit(b, 200.0);
     CHECK(st == 0);
     CHECK(waitpid(server, NULL, WNOHANG) == 0); /* the server lives */
     if (st != 0) {
-        dump(logb);
+        proc_dump(logb);
     }
 }
 
@@ -302,23 +234,23 @@ static void test_server_restart(void)
     snprintf(png, sizeof png, "%s/r.png", tmp);
     client_log(log, sizeof log, "r");
     pid_t r = start_client("r", 1000000, png, "320x180");
-    CHECK(wait_log(log, "receiving state", 1, 200.0));
+    CHECK(proc_wait_log(log, "receiving state", 1, 200.0));
     kill(server, SIGTERM);
-    CHECK(wait_exit(server, 30.0) >= 0);
-    CHECK(wait_log(log, "connection lost", 1, 30.0));
+    CHECK(proc_wait_exit(server, 30.0) >= 0);
+    CHECK(proc_wait_log(log, "connection lost", 1, 30.0));
     sleep(1);
     int old_port = port;
     CHECK(start_server(old_port) == 0);
     CHECK(port == old_port);
-    CHECK(wait_log(log, "receiving state", 2, 200.0));
+    CHECK(proc_wait_log(log, "receiving state", 2, 200.0));
     kill(r, SIGTERM); /* ends its loop: writes the screenshot, exits 0 (it had state) */
-    int st = wait_exit(r, 60.0);
+    int st = proc_wait_exit(r, 60.0);
     CHECK(st == 0);
-    CHECK(log_count(log, "welcome as viewer") >= 2);
+    CHECK(proc_log_count(log, "welcome as viewer") >= 2);
     struct stat sb;
     CHECK(stat(png, &sb) == 0 && sb.st_size > 1000);
-    if (st != 0 || log_count(log, "receiving state") < 2) {
-        dump(log);
+    if (st != 0 || proc_log_count(log, "receiving state") < 2) {
+        proc_dump(log);
     }
 }
 
@@ -348,7 +280,7 @@ int main(void)
     RUN(test_server_restart);
     if (waitpid(server, NULL, WNOHANG) == 0) {
         kill(server, SIGTERM);
-        wait_exit(server, 30.0);
+        proc_wait_exit(server, 30.0);
     }
     /* the logs stay beside the test when it fails, to read */
     if (check_failures == 0) {

@@ -15,6 +15,7 @@
 #include <stb_image.h>
 
 #include "check.h"
+#include "proc_fixture.h"
 #include "mono.h"
 
 #if !defined(GALE_SERVER_EXE) || !defined(GALE_CLIENT_EXE) || !defined(GALE_CTL_EXE)
@@ -23,21 +24,6 @@
 
 static char tmp[256];
 static int port;
-
-/* Starts argv with stderr (and stdout) into log. */
-static pid_t spawn(char *const argv[], const char *log)
-{
-    pid_t pid = fork();
-    if (pid == 0) {
-        FILE *f = freopen(log, "w", stderr);
-        if (!f || dup2(fileno(stderr), 1) < 0) {
-            _exit(126);
-        }
-        execv(argv[0], argv);
-        _exit(127);
-    }
-    return pid;
-}
 
 /* The first line of log containing needle into line (cap bytes); false if none. */
 static bool log_line(const char *log, const char *needle, int nth, char *line, size_t cap)
@@ -70,31 +56,6 @@ static bool wait_log(const char *log, const char *needle, double timeout_s)
     return false;
 }
 
-/* Waits for pid; its exit status, or -1 on timeout (then kills it). */
-static int wait_exit(pid_t pid, double timeout_s)
-{
-    double until = mono_s() + timeout_s;
-    int st;
-    while (mono_s() < until) {
-        if (waitpid(pid, &st, WNOHANG) == pid) {
-            return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
-        }
-        usleep(50000);
-    }
-    kill(pid, SIGKILL);
-    waitpid(pid, &st, 0);
-    return -1;
-}
-
-static void dump(const char *log)
-{
-    char cmd[600];
-    snprintf(cmd, sizeof cmd, "tail -n 15 '%s' >&2", log);
-    if (system(cmd) != 0) {
-        fprintf(stderr, "(no log %s)\n", log);
-    }
-}
-
 /* The path and age of fall shot k from the client's log ("fall shot PATH (A s after"). */
 static bool shot(const char *log, int k, char *path, size_t cap, double *age_s)
 {
@@ -118,7 +79,7 @@ static void test_bad_times(void)
     snprintf(log, sizeof log, "%s/bad.log", tmp);
     char *argv[] = { GALE_CLIENT_EXE, "--url", "ws://127.0.0.1:1", "--headless", "--fall-shots",
                      "2,1", NULL };
-    CHECK(wait_exit(spawn(argv, log), 20.0) == 2);
+    CHECK(proc_wait_exit(proc_spawn(argv, log), 20.0) == 2);
     char line[1024];
     CHECK(log_line(log, "--fall-shots: expected 1..8 ascending seconds", 0, line, sizeof line));
 }
@@ -133,7 +94,7 @@ static void test_fall_live(void)
     snprintf(png, sizeof png, "%s/live.png", tmp);
     char *sargv[] = { GALE_SERVER_EXE, "--config", GALE_SOURCE_DIR "/tests/data/fall_scene.json",
                       "--port", "0", "--cache", cache, NULL };
-    pid_t server = spawn(sargv, slog);
+    pid_t server = proc_spawn(sargv, slog);
     char line[1024];
     CHECK(wait_log(slog, "listening on port ", 120.0));
     if (log_line(slog, "listening on port ", 0, line, sizeof line)) {
@@ -144,19 +105,19 @@ static void test_fall_live(void)
     char *cargv[] = { GALE_CLIENT_EXE, "--url", url, "--headless", "--size", "320x180",
                       "--storm-fx", "off", "--frames", "20000", "--wait", "60", "--cache", ccache,
                       "--fall-shots", "0.3,2,6", "--screenshot", png, NULL };
-    pid_t client = spawn(cargv, clog);
+    pid_t client = proc_spawn(cargv, clog);
     CHECK(wait_log(clog, "receiving state", 90.0));
     sleep(2); /* frames drawn in calm */
     char ctl_log[300];
     snprintf(ctl_log, sizeof ctl_log, "%s/ctl.log", tmp);
     char *targv[] = { GALE_CTL_EXE, "--url", url, "--token", "test-token", "wind", "--speed",
                       "50", NULL };
-    CHECK(wait_exit(spawn(targv, ctl_log), 30.0) == 0);
-    const int rc = wait_exit(client, 120.0);
+    CHECK(proc_wait_exit(proc_spawn(targv, ctl_log), 30.0) == 0);
+    const int rc = proc_wait_exit(client, 120.0);
     CHECK(rc == 0);
     CHECK(log_line(clog, "fall caught live: tree ", 0, line, sizeof line));
     if (rc != 0 || !strstr(line, "uprooted")) {
-        dump(clog);
+        proc_dump(clog);
     }
     /* three shots, each at or after its time, the frames' ages ascending */
     const double want[3] = { 0.3, 2.0, 6.0 };
@@ -187,7 +148,7 @@ static void test_fall_live(void)
         stbi_image_free(img[k]);
     }
     kill(server, SIGTERM);
-    wait_exit(server, 20.0);
+    proc_wait_exit(server, 20.0);
 }
 
 int main(void)

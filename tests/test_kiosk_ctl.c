@@ -32,9 +32,9 @@ static int ctl(const char *token, const char *const *cmd)
     }
     argv[n] = NULL;
     pid_t p = kf_spawn((char *const *)argv, log, NULL);
-    int st = kf_wait_exit(p, 30.0);
+    int st = proc_wait_exit(p, 30.0);
     if (st != 0) {
-        kf_dump(log);
+        proc_dump(log);
     }
     return st;
 }
@@ -87,7 +87,7 @@ static void test_disconnect_releases(void)
     CHECK(kf_reader_wait(&viewer, 5.0, no_dial, 0, &w));
     char slog[300];
     snprintf(slog, sizeof slog, "%s/server.log", kf_dir);
-    CHECK(kf_wait_log(slog, "kiosk dial released (its kiosk disconnected)", 1, 2.0));
+    CHECK(proc_wait_log(slog, "kiosk dial released (its kiosk disconnected)", 1, 2.0));
 }
 
 static void test_refusals(void)
@@ -101,15 +101,15 @@ static void test_refusals(void)
     char log[300];
     snprintf(log, sizeof log, "%s/ctl.log", kf_dir);
     CHECK(ctl(KIOSK_TOKEN, (const char *[]){ "scenario", "charley2005", NULL }) == 1);
-    CHECK(kf_log_count(log, "\"charley2005\": unknown; one of: andrew1992") == 1);
-    CHECK(kf_log_count(log, "the server's scenarios: andrew1992, breeze, calm, cat1, cat2, cat3, "
+    CHECK(proc_log_count(log, "\"charley2005\": unknown; one of: andrew1992") == 1);
+    CHECK(proc_log_count(log, "the server's scenarios: andrew1992, breeze, calm, cat1, cat2, cat3, "
                             "cat3-synthetic, cat4, cat5, charley2004, gusty, storm") == 1);
     CHECK(ctl(KIOSK_TOKEN, (const char *[]){ "replay", "--at", "landfall", NULL }) == 1);
-    CHECK(kf_log_count(log, "replays no storm") == 1);
+    CHECK(proc_log_count(log, "replays no storm") == 1);
     CHECK(ctl(KIOSK_TOKEN, (const char *[]){ "wind", "--speed", "500", NULL }) == 2);
     /* last: wrong tokens make the server delay this address's next kiosk checks */
     CHECK(ctl("wrong", (const char *[]){ "wind", "--speed", "50", NULL }) == 1);
-    CHECK(kf_log_count(log, "wrong kiosk token") >= 1);
+    CHECK(proc_log_count(log, "wrong kiosk token") >= 1);
 }
 
 /* A second server: Andrew from storm minute -30 at x10, kiosks idle out after 2 s. */
@@ -141,7 +141,7 @@ static void test_replay_and_idle(void)
     pthread_mutex_unlock(&k.lock);
     char slog[300];
     snprintf(slog, sizeof slog, "%s/server.log", kf_dir);
-    CHECK(kf_log_count(slog, "kiosk dial released (idle)") == 1);
+    CHECK(proc_log_count(slog, "kiosk dial released (idle)") == 1);
     /* reset: back to the configured start (--start-min -30, x10), not the file's */
     CHECK(ctl(KIOSK_TOKEN, (const char *[]){ "reset", NULL }) == 0);
     CHECK(kf_reader_wait(&v, 10.0, storm_near, -30.0, &w));

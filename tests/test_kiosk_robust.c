@@ -39,16 +39,16 @@ static void test_wrong_token(void)
                             "--wait", "60", "--screenshot", png, NULL };
     double t0 = mono_s();
     pid_t p = client("refused", extra);
-    int st = kf_wait_exit(p, 60.0);
+    int st = proc_wait_exit(p, 60.0);
     CHECK(st == 4);
     CHECK(mono_s() - t0 < 20.0); /* one attempt, no retry loop */
-    CHECK(kf_log_count(log, "refused this kiosk: server: hello.token: wrong kiosk token") == 1);
-    CHECK(kf_log_count(log, "--token") >= 1);
-    CHECK(kf_log_count(log, "retry 1 in") == 0);
+    CHECK(proc_log_count(log, "refused this kiosk: server: hello.token: wrong kiosk token") == 1);
+    CHECK(proc_log_count(log, "--token") >= 1);
+    CHECK(proc_log_count(log, "retry 1 in") == 0);
     struct stat sb;
     CHECK(stat(png, &sb) != 0); /* no screenshot */
     if (st != 4) {
-        kf_dump(log);
+        proc_dump(log);
     }
 }
 
@@ -59,28 +59,28 @@ static void test_reconnect_after_slow(void)
     snprintf(slog, sizeof slog, "%s/server.log", kf_dir);
     const char *extra[] = { "--frames", "100000000", "--wait", "300", NULL };
     pid_t p = client("slow", extra);
-    bool live = kf_wait_log(log, "receiving state", 1, 180.0);
+    bool live = proc_wait_log(log, "receiving state", 1, 180.0);
     CHECK(live);
     if (!live) {
-        kf_dump(log);
+        proc_dump(log);
         kill(p, SIGKILL);
-        kf_wait_exit(p, 5.0);
+        proc_wait_exit(p, 5.0);
         return;
     }
     kill(p, SIGSTOP);
     /* the server drops its snapshots once the buffers fill, then closes it as too slow */
-    bool closed = kf_wait_log(slog, "too slow", 1, 60.0);
+    bool closed = proc_wait_log(slog, "too slow", 1, 60.0);
     CHECK(closed);
     usleep(2500000); /* past the server's close bound: the socket is gone */
     kill(p, SIGCONT);
-    bool again = kf_wait_log(log, "receiving state", 2, 90.0);
+    bool again = proc_wait_log(log, "receiving state", 2, 90.0);
     CHECK(again);
     if (!again) {
-        kf_dump(log);
-        kf_dump(slog);
+        proc_dump(log);
+        proc_dump(slog);
     }
     kill(p, SIGTERM);
-    CHECK(kf_wait_exit(p, 20.0) == 0);
+    CHECK(proc_wait_exit(p, 20.0) == 0);
     /* (under a loaded machine a slow llvmpipe client may be closed as slow again after
      * reconnecting: the count of connections is not bounded here, only that it returns) */
     FILE *f = fopen(log, "r");

@@ -35,9 +35,9 @@ static int ctl_out(const char *const *cmd, const char *out)
     }
     argv[n] = NULL;
     pid_t p = kf_spawn((char *const *)argv, log, out);
-    int st = kf_wait_exit(p, 30.0);
+    int st = proc_wait_exit(p, 30.0);
     if (st != 0) {
-        kf_dump(log);
+        proc_dump(log);
     }
     return st;
 }
@@ -107,11 +107,11 @@ static void test_list(void)
     char out[300];
     snprintf(out, sizeof out, "%s/scenarios.txt", kf_dir);
     CHECK(ctl_out((const char *[]){ "scenarios", NULL }, out) == 0);
-    CHECK(kf_log_count(out, "andrew1992\treplay\t0.0\tAndrew 1992") == 1);
-    CHECK(kf_log_count(out, "charley2004\treplay\t0.0\tCharley 2004") == 1);
-    CHECK(kf_log_count(out, "cat4\tsteady\t64.0\tCategory 4 (steady)") == 1);
-    CHECK(kf_log_count(out, "calm\tsteady\t0.8\tCalm") == 1);
-    CHECK(kf_log_count(out, "\t") >= 12);
+    CHECK(proc_log_count(out, "andrew1992\treplay\t0.0\tAndrew 1992") == 1);
+    CHECK(proc_log_count(out, "charley2004\treplay\t0.0\tCharley 2004") == 1);
+    CHECK(proc_log_count(out, "cat4\tsteady\t64.0\tCategory 4 (steady)") == 1);
+    CHECK(proc_log_count(out, "calm\tsteady\t0.8\tCalm") == 1);
+    CHECK(proc_log_count(out, "\t") >= 12);
 }
 
 /* Switch to Andrew at run time, pause and play its clock, then "" back to the scene's. */
@@ -142,7 +142,7 @@ static void test_switch_pause(void)
     CHECK(wait_name(v, "Gusty afternoon", 5.0, &w));
     char slog[300];
     snprintf(slog, sizeof slog, "%s/server.log", kf_dir);
-    CHECK(kf_log_count(slog, "scenario Andrew 1992 (picked by a kiosk)") == 1);
+    CHECK(proc_log_count(slog, "scenario Andrew 1992 (picked by a kiosk)") == 1);
 }
 
 /* An unknown name: 4002, the valid names in the reason. */
@@ -174,7 +174,7 @@ static void test_bad_name(void)
     /* the log has them all */
     char slog[300];
     snprintf(slog, sizeof slog, "%s/server.log", kf_dir);
-    CHECK(kf_log_count(slog, "wind.scenario \"andrew1993\" refused: the scenarios are andrew1992, "
+    CHECK(proc_log_count(slog, "wind.scenario \"andrew1993\" refused: the scenarios are andrew1992, "
                              "breeze, calm, cat1, cat2, cat3, cat3-synthetic, cat4, cat5, "
                              "charley2004, gusty, storm") == 1);
     wsraw_close(&k);
@@ -186,7 +186,7 @@ static void test_bad_name(void)
     CHECK(wsraw_wait_close(&k2, 5000) == WIRE_CLOSE_BAD_FIELD);
     CHECK_STR_HAS(k2.close_reason, "wind.replay: \"cat4\" replays no storm");
     wsraw_close(&k2);
-    CHECK(kf_log_count(slog, "scenario Category 4 (steady) (picked by a kiosk)") == 0);
+    CHECK(proc_log_count(slog, "scenario Category 4 (steady) (picked by a kiosk)") == 0);
 }
 
 /* Andrew's eyewall at storm speed 1 fills the gust window with ~57 m/s; a jump into the
@@ -292,7 +292,7 @@ static void test_playlist_reset(void)
     CHECK(wait_name(&v, "Short 2", 6.0, &w));
     char slog[300];
     snprintf(slog, sizeof slog, "%s/server.log", kf_dir);
-    CHECK(kf_log_count(slog, "scenario Short 1 (playlist entry 1 of 2)") >= 1);
+    CHECK(proc_log_count(slog, "scenario Short 1 (playlist entry 1 of 2)") >= 1);
     /* a steady Category 5 breaks palms; a dial holds the wind */
     CHECK(ctl((const char *[]){ "scenario", "gale", NULL }) == 0);
     CHECK(wait_name(&v, "Gale", 5.0, &w));
@@ -327,14 +327,14 @@ static void test_playlist_reset(void)
         }
     }
     CHECK(healed);
-    CHECK(kf_log_count(slog, "reset: the forest healed, scenario Short 1 from its start") == 1);
-    CHECK(kf_log_count(slog, "kiosk dial released (reset)") == 1);
+    CHECK(proc_log_count(slog, "reset: the forest healed, scenario Short 1 from its start") == 1);
+    CHECK(proc_log_count(slog, "kiosk dial released (reset)") == 1);
     /* and the playlist goes on from there */
     CHECK(wait_name(&v, "Short 2", 6.0, &w));
     /* attract: a pick nobody follows up ends after the kiosk idle time (5 s here) */
     CHECK(ctl((const char *[]){ "scenario", "gale", NULL }) == 0);
     CHECK(wait_name(&v, "Gale", 5.0, &w));
-    CHECK(kf_wait_log(slog, "(the playlist)", 1, 10.0));
+    CHECK(proc_wait_log(slog, "(the playlist)", 1, 10.0));
     CHECK(kf_reader_wait(&v, 5.0, a_short, 0, &w));
     kf_reader_stop(&v);
     kf_stop_server();

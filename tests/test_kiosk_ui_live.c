@@ -149,10 +149,10 @@ static int sent(const kiosk_run *k, ctl_msg *m, int max)
 static void stop_kiosk(kiosk_run *k, char *panel_line, size_t cap)
 {
     kill(k->pid, SIGTERM);
-    int st = kf_wait_exit(k->pid, 30.0);
+    int st = proc_wait_exit(k->pid, 30.0);
     CHECK(st == 0);
     if (st != 0) {
-        kf_dump(k->log);
+        proc_dump(k->log);
     }
     panel_line[0] = '\0';
     FILE *f = fopen(k->out, "r");
@@ -205,7 +205,7 @@ static void test_dial_and_compass(void)
     }
     CHECK(n >= 2);
     if (n < 2) {
-        kf_dump(k.log);
+        proc_dump(k.log);
         stop_kiosk(&k, spec, sizeof spec);
         return;
     }
@@ -257,7 +257,7 @@ static void test_replay_controls(void)
     if (!moved) {
         fprintf(stderr, "  WEATHER minute %.1f at x%.0f\n", (double)w.storm_min,
                 (double)w.replay_speed);
-        kf_dump(k.log);
+        proc_dump(k.log);
     }
     ctl_msg m[16];
     int n = sent(&k, m, 16);
@@ -396,13 +396,13 @@ static void test_attract_wake(void)
     kiosk_run k;
     CHECK(start_kiosk_args(&k, "attract", spec, "1") == 0);
     double until = mono_s() + 60.0;
-    while (mono_s() < until && kf_log_count(k.log, "attract mode: woken by a touch") < 1) {
+    while (mono_s() < until && proc_log_count(k.log, "attract mode: woken by a touch") < 1) {
         usleep(100000);
     }
     char line[512];
     stop_kiosk(&k, line, sizeof line);
-    CHECK(kf_log_count(k.log, "attract mode: dial released, back to the scene's scenarios") == 1);
-    CHECK(kf_log_count(k.log, "attract mode: woken by a touch") == 1);
+    CHECK(proc_log_count(k.log, "attract mode: dial released, back to the scene's scenarios") == 1);
+    CHECK(proc_log_count(k.log, "attract mode: woken by a touch") == 1);
     ctl_msg m[8];
     int n = sent(&k, m, 8);
     CHECK(n == 1);
@@ -411,7 +411,7 @@ static void test_attract_wake(void)
               m[0].u.wind.scenario[0] == '\0' && !m[0].u.wind.has_speed);
     }
     if (n != 1) {
-        kf_dump(k.log);
+        proc_dump(k.log);
     }
 }
 

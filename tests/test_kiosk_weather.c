@@ -30,10 +30,10 @@ static int run_client(const char *name, char lines[16][256])
     char *argv[] = { GALE_CLIENT_EXE, "--url", url, "--headless", "--frames", "3", "--size",
                      "480x270", "--wait", "60", "--cache", cache, NULL };
     pid_t p = kf_spawn(argv, log, out);
-    int st = kf_wait_exit(p, 120.0);
+    int st = proc_wait_exit(p, 120.0);
     if (st != 0) {
         fprintf(stderr, "gale-client exited %d\n", st);
-        kf_dump(log);
+        proc_dump(log);
         return -1;
     }
     FILE *f = fopen(out, "r");

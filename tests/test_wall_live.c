@@ -19,6 +19,7 @@
 #include <unistd.h>
 
 #include "check.h"
+#include "proc_fixture.h"
 #include "mono.h"
 #include "server_wsraw.h"
 #include "wire.h"
@@ -47,20 +48,6 @@ typedef struct line {
 static line L[N_TILES][MAX_LINES];
 static int n_lines[N_TILES];
 
-static pid_t spawn(char *const argv[], const char *log)
-{
-    pid_t pid = fork();
-    if (pid == 0) {
-        FILE *f = freopen(log, "w", stderr);
-        if (!f || dup2(fileno(stderr), 1) < 0) {
-            _exit(126);
-        }
-        execv(argv[0], argv);
-        _exit(127);
-    }
-    return pid;
-}
-
 /* The first line of path containing needle into out[cap]; false if none. */
 static bool log_find(const char *path, const char *needle, char *out, size_t cap)
 {
@@ -87,15 +74,6 @@ static bool wait_find(const char *path, const char *needle, char *out, size_t ca
         }
     }
     return false;
-}
-
-static void dump(const char *log)
-{
-    char cmd[600];
-    snprintf(cmd, sizeof cmd, "tail -n 12 '%s' >&2", log);
-    if (system(cmd) != 0) {
-        fprintf(stderr, "(no log %s)\n", log);
-    }
 }
 
 static int read_frames(int t, const char *suffix)
@@ -132,7 +110,7 @@ static pid_t start_tile(int t, const char *suffix)
                      (char *)TILES[t], "--headless", "--size", "48x27", "--frames", "1000000",
                      "--wait", "120", "--cache", cache, "--swap-lock", "--budget", "30",
                      "--rate", "30", "--frame-log", frames, NULL };
-    return spawn(argv, log);
+    return proc_spawn(argv, log);
 }
 
 static int start_server(void)
@@ -144,9 +122,9 @@ static int start_server(void)
     char *argv[] = { GALE_SERVER_EXE, "--config",
                      GALE_SOURCE_DIR "/tests/data/clientnet_scene.json", "--port", "0", "--iface",
                      "127.0.0.1", "--cache", cache, NULL };
-    server = spawn(argv, log);
+    server = proc_spawn(argv, log);
     if (!wait_find(log, "listening on port ", line_, sizeof line_, 120.0)) {
-        dump(log);
+        proc_dump(log);
         return -1;
     }
     port = atoi(strstr(line_, "listening on port ") + 18);
@@ -179,7 +157,7 @@ static void test_wall(void)
         snprintf(log, sizeof log, "%s/%s.log", tmp, TILES[t]);
         if (!wait_find(log, "wall flat-2x2: joined", buf, sizeof buf, 120.0)) {
             CHECK(!"tile joined its wall");
-            dump(log);
+            proc_dump(log);
             return;
         }
     }
