@@ -495,6 +495,46 @@ static void test_speed_for(void)
     CHECK(isinf(damage_speed_for(&oak, 0.0)) && isinf(damage_speed_for(&oak, (double)INFINITY)));
 }
 
+/* damage_branches_within against a count of every ratio, on the shipped oak's table: at
+ * each ratio itself (ties), between two, below the first, above the last and past a
+ * non-number, from every start (the count before, after and far off, past the end). */
+static void test_branches_within(void)
+{
+    species sp;
+    asset a;
+    damage_table t;
+    CHECK(bake_shipped_species("oak", &sp, &a, &t) == 0);
+    const uint32_t n = t.n_branches;
+    CHECK(n > 100);
+    const float *r = t.ratio_by_order;
+    for (uint32_t k = 0; k <= 2 * n + 2; k++) {
+        float x;
+        if (k < n) {
+            x = r[k];
+        } else if (k < 2 * n) {
+            x = k - n + 1 < n ? 0.5f * (r[k - n] + r[k - n + 1]) : 2.0f * r[n - 1] + 1.0f;
+        } else {
+            x = k == 2 * n ? 0.5f * r[0] : (k == 2 * n + 1 ? -1.0f : NAN);
+        }
+        uint32_t want = 0;
+        for (uint32_t j = 0; j < n; j++) {
+            want += r[j] <= x;
+        }
+        for (uint32_t hint = 0; hint <= n + 3; hint++) {
+            if (damage_branches_within(&t, x, hint) != want) {
+                CHECK(damage_branches_within(&t, x, hint) == want);
+                fprintf(stderr, "  x %g hint %u: %u, want %u\n", (double)x, hint,
+                        damage_branches_within(&t, x, hint), want);
+                hint = n + 4;
+                k = 2 * n + 3;
+            }
+        }
+    }
+    CHECK(damage_branches_within(&t, r[n - 1], 1u << 30) == n);
+    damage_table_fini(&t);
+    asset_fini(&a);
+}
+
 /* The static residual (damage_table.c residual) on a baked cantilever with one side
  * branch: a stem of 7 elements of 0.5 m up z (r 0.1 m) and, from its node at z = 2 m, a
  * branch of 4 elements of 0.5 m along x (r 0.03 m). Under a uniform wind w the wood's load
@@ -580,6 +620,7 @@ int main(void)
 {
     RUN(test_critical_moments);
     RUN(test_speed_for);
+    RUN(test_branches_within);
     RUN(test_static_residual);
     RUN(test_branch_breaks);
     RUN(test_strip_hugo);

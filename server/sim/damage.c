@@ -12,6 +12,7 @@
 
 typedef struct damage_tree_st {
     float strength;     /* seeded multiplier of every capacity of the tree */
+    float weakest;      /* strength of its weakest branch at most: strength exp(-sd) */
     float leaf;         /* leaf area left on the crown, 0..1 */
     float area_frac;    /* ∫ D ds left after broken branches, 0..1 */
     float leaf_frac;    /* leaf slots left after broken branches, 0..1 */
@@ -20,6 +21,8 @@ typedef struct damage_tree_st {
     uint8_t fall_az;    /* fall azimuth, 1/256 turns */
     uint32_t fall_tick, level_tick;
     uint32_t broken;    /* branches broken */
+    uint32_t n_check;   /* branches the last check bounded: where the next one's search
+                           starts */
 } damage_tree_st;
 
 struct damage_sim {
@@ -64,7 +67,9 @@ static void tree_intact(damage_sim *s, uint32_t t)
     const damage_table *tb = s->table[s->species[t]];
     double sd = tb ? tb->p.strength_sd : 0.0;
     /* log-normal strength per tree (seeded): a stand fails progressively */
-    *ts = (damage_tree_st){ .strength = (float)exp(sd * normal3(s->d.seed, t, 0)),
+    const float strength = (float)exp(sd * normal3(s->d.seed, t, 0));
+    *ts = (damage_tree_st){ .strength = strength,
+                            .weakest = strength * expf(-(float)sd),
                             .leaf = 1.0f,
                             .area_frac = 1.0f,
                             .leaf_frac = 1.0f,
@@ -335,7 +340,7 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
     /* the weakest branch multiplier is exp(-sd) (normal3 is clamped to ±2, halved); two
      * bounds of every moment of the tree, either below its weakest capacity ends the
      * check (1e-4 for their rounding) */
-    const float lo = ts->strength * expf(-(float)tb->p.strength_sd);
+    const float lo = ts->weakest;
     if (!(qn >= lo * tb->q_screen) ||
         !((qm * tb->screen_q + wn * tb->screen_w) * 1.0001f >= lo)) {
         return;
@@ -355,11 +360,16 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
     /* |x_g| per group: Σ_g |x_g| |M_g| bounds a moment (triangle inequality over groups,
      * Cauchy-Schwarz within one) */
     float xg[DAMAGE_MAX_GROUPS] = { 0 }, sb = 0.0f, bb = 0.0f;
-    for (uint32_t i = 0; i < n; i++) {
-        xg[i / DAMAGE_GROUP_MODES] += q[i] * q[i];
-    }
     for (uint32_t g = 0; g < tb->n_groups; g++) {
-        xg[g] = sqrtf(xg[g]);
+        /* summed in a register: an accumulator in the array waits on its own store */
+        const uint32_t i1 = g * DAMAGE_GROUP_MODES + DAMAGE_GROUP_MODES < n
+                                ? g * DAMAGE_GROUP_MODES + DAMAGE_GROUP_MODES
+                                : n;
+        float acc = 0.0f;
+        for (uint32_t i = g * DAMAGE_GROUP_MODES; i < i1; i++) {
+            acc += q[i] * q[i];
+        }
+        xg[g] = sqrtf(acc);
         sb += xg[g] * tb->stem_group[g];
         bb += xg[g] * tb->group_screen[g];
     }
@@ -402,18 +412,8 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
     /* branches by rising cap / norm: from the first that cannot fail at |q| no later one
      * can fail either (a few more are bounded than the exact test needs: 1e-5) */
     const float r_max = qn / lo * 1.00001f;
-    /* how many ratios are at or below r_max: a search whose steps select, not branch (the
-     * ratio a check stops at is as good as random to a branch predictor); everything
-     * before base is at or below r_max, the count lies within [base, base + len] */
-    const float *base = tb->ratio_by_order;
-    uint32_t len = tb->n_branches;
-    while (len > 1) {
-        const uint32_t half = len / 2;
-        base = base[half - 1] <= r_max ? base + half : base;
-        len -= half;
-    }
-    const uint32_t n_check =
-        (uint32_t)(base - tb->ratio_by_order) + (len == 1 && base[0] <= r_max);
+    const uint32_t n_check = damage_branches_within(tb, r_max, ts->n_check);
+    ts->n_check = n_check;
     /* below the weakest multiplier a branch holds whatever its own strength: first on the
      * bound (Σ_g |x_g| |M_b,g| in vector lanes, 1e-4 for its rounding), then on the moment
      * itself; the draw of its own strength (a log, a cos and an exp) only for one that

@@ -68,6 +68,43 @@ static void element_moment(const asset *a, double E_pa, uint32_t i, uint32_t p, 
     }
 }
 
+/* Galloping out from hint: a tree's |x| moves little between two of its checks, so the
+ * count is found in a step or two where a bisection of the whole array waits on eight or
+ * nine loads in a row. */
+uint32_t damage_branches_within(const damage_table *t, float x, uint32_t hint)
+{
+    const float *r = t->ratio_by_order;
+    const uint32_t n = t->n_branches;
+    uint32_t lo, hi, step = 1; /* the count lies in [lo, hi] */
+    if (hint > n) {
+        hint = n;
+    }
+    if (hint > 0 && !(r[hint - 1] <= x)) {
+        hi = hint - 1;
+        while (hi >= step && !(r[hi - step] <= x)) {
+            hi -= step;
+            step *= 2;
+        }
+        lo = hi >= step ? hi - step + 1 : 0;
+    } else {
+        lo = hint;
+        while (lo + step <= n && r[lo + step - 1] <= x) {
+            lo += step;
+            step *= 2;
+        }
+        hi = lo + step - 1 < n ? lo + step - 1 : n;
+    }
+    while (lo < hi) {
+        const uint32_t mid = lo + (hi - lo + 1) / 2;
+        if (r[mid - 1] <= x) {
+            lo = mid;
+        } else {
+            hi = mid - 1;
+        }
+    }
+    return lo;
+}
+
 /* Over whole vectors of lanes (damage_bound_lanes: the padded table has them, so no
  * scalar remainder runs): the lanes are independent (omp simd: -O2 alone leaves the loop
  * scalar), so the clones vectorise it and round alike (-std=c11: no contraction). The

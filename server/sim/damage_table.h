@@ -109,6 +109,11 @@ static inline uint32_t damage_bound_lanes(uint32_t n)
              : DAMAGE_BOUND_LANES;
 }
 
+/* How many branches of t's order have ratio_by_order[j] <= x (those whose moment can
+ * reach their capacity at |x| = x times the strength), searched from hint (any value;
+ * the last count of the same tree is the fast one). */
+uint32_t damage_branches_within(const damage_table *t, float x, uint32_t hint);
+
 /* Upper bounds of the bending moments of the first n_check branches in t's order from
  * |x_g| of each group (xg[n_groups], x = (q, κ w)): out[j] = Σ_g xg[g] |M_b,g| >= |M(x)|
  * of branch order[j] [N m], out[damage_bound_lanes(n_check)] written (the lanes past
