@@ -162,9 +162,9 @@ static void test_strip_hugo(void)
     float mid = damage_strip_target(95.0f / 3.6f, 0.8f);
     CHECK(mid < 0.65f && mid > 0.55f);
     /* relaxes with DAMAGE_STRIP_TAU_S, never regrows */
-    float l = damage_strip_step(1.0f, 50.0f, 0.8f, DAMAGE_STRIP_TAU_S);
+    float l = damage_strip_step(1.0f, 50.0f, 0.8f, damage_strip_decay(DAMAGE_STRIP_TAU_S));
     CHECK_NEAR(l, 0.2 + 0.8 * exp(-1.0), 1e-5);
-    CHECK(damage_strip_step(l, 5.0f, 0.8f, 100.0f) == l);
+    CHECK(damage_strip_step(l, 5.0f, 0.8f, damage_strip_decay(100.0f)) == l);
 }
 
 /* ---- the shipped species in a scene ------------------------------------------------- */

@@ -162,7 +162,7 @@ static void test_events_equal_reference(void)
     const damage_table *tp[N_SP] = { &tables[0], &tables[1], &tables[2] };
     damage_sim *d = damage_create(&(damage_desc){ .n_trees = N_TREES, .n_species = N_SP,
                                                   .table = tp, .tree_species = sp,
-                                                  .tree_yaw_rad = yaw, .species_drag = drags,
+                                                  .tree_yaw_rad = yaw,
                                                   .seed = SEED, .dt_s = 1.0 / 60 },
                                   &err);
     CHECK(m != NULL && d != NULL);

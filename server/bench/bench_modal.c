@@ -157,7 +157,6 @@ static int variant_init(variant *v, bool damage, const modal_desc *md, int n_mod
                                                .table = tables,
                                                .tree_species = md->tree_species,
                                                .tree_yaw_rad = md->tree_yaw_rad,
-                                               .species_drag = md->species_drag,
                                                .seed = 1,
                                                .dt_s = 1.0 / 60 },
                                err);

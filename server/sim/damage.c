@@ -30,11 +30,10 @@ struct damage_sim {
     const damage_table **table; /* owned array of borrowed tables [n_species] */
     uint8_t *species;           /* owned [n_trees] */
     float *cos_yaw, *sin_yaw;   /* owned [n_trees] */
-    drag_law *drag;             /* owned [n_species] */
     damage_tree_st *tree;       /* owned [n_trees] */
     uint64_t *bits;             /* owned [n_trees][words] broken branches */
     uint32_t words;
-    float *q;                   /* owned [64] scratch */
+    float *q;                   /* owned [DAMAGE_MAX_GROUPS][DAMAGE_GROUP_MODES] scratch: x */
     float *moments;             /* owned [damage_bound_lanes(the most branches)] scratch:
                                    moment bounds */
     uint32_t *cand;             /* owned [the most branches] scratch: branches a bound passes */
@@ -43,6 +42,7 @@ struct damage_sim {
     wire_damage *log;           /* owned [DAMAGE_LOG_MAX] broken branches, in order */
     uint32_t n_log;
     damage_counts counts;
+    float strip_decay;          /* damage_strip_decay of a tree's DAMAGE_EVERY ticks */
 };
 
 /* Uniform in [0, 1) from (seed, a, b). */
@@ -90,6 +90,7 @@ damage_sim *damage_create(const damage_desc *d, gale_err *err)
         goto nomem;
     }
     s->d = *d;
+    s->strip_decay = damage_strip_decay((float)(d->dt_s * DAMAGE_EVERY));
     if (s->d.max_events <= 0) {
         s->d.max_events = (int)WIRE_MAX_DAMAGE;
     }
@@ -110,20 +111,15 @@ damage_sim *damage_create(const damage_desc *d, gale_err *err)
     s->sin_yaw = malloc(sizeof(float) * d->n_trees);
     s->tree = calloc(d->n_trees, sizeof *s->tree);
     s->bits = calloc((size_t)d->n_trees * s->words, sizeof(uint64_t));
-    s->q = calloc(64 + DAMAGE_RES_COLS, sizeof(float));
-    s->drag = calloc(d->n_species, sizeof *s->drag);
+    s->q = calloc(DAMAGE_MAX_GROUPS * DAMAGE_GROUP_MODES, sizeof(float));
     s->moments = calloc(damage_bound_lanes(maxb), sizeof(float));
     s->cand = calloc((size_t)maxb, sizeof(uint32_t));
     s->ev = calloc((size_t)s->d.max_events, sizeof *s->ev);
     s->log = calloc(DAMAGE_LOG_MAX, sizeof *s->log);
     if (!s->species || !s->cos_yaw || !s->sin_yaw || !s->tree || !s->bits || !s->q ||
-        !s->drag || !s->moments || !s->cand || !s->ev || !s->log) {
+        !s->moments || !s->cand || !s->ev || !s->log) {
         goto nomem;
     }
-    for (uint32_t k = 0; d->species_drag && k < d->n_species; k++) {
-        s->drag[k] = d->species_drag[k];
-    }
-    s->d.species_drag = NULL; /* borrowed for the call only */
     for (uint32_t t = 0; t < d->n_trees; t++) {
         if (d->tree_species[t] >= d->n_species) {
             gale_errf(err, GALE_E_RANGE, "damage_create: tree_species[%u]: expected < %u, got %u",
@@ -154,7 +150,6 @@ void damage_destroy(damage_sim *s)
     free(s->species);
     free(s->cos_yaw);
     free(s->sin_yaw);
-    free(s->drag);
     free(s->tree);
     free(s->bits);
     free(s->q);
@@ -284,9 +279,9 @@ static uint8_t azimuth(const float *v)
     return (uint8_t)((int)(a * 256.0 + 0.5) & 255);
 }
 
-/* The force vector of tree t this tick, w = s(U) k_t |v| v in the tree frame, as
- * modal_tick forms it (modal.c range_tick, the same guard on absurd samples); returns
- * |w|². */
+/* The force vector of tree t this tick, w = s(U) k_t |v| v in the tree frame, from the
+ * factor s(U) k_t |v| modal_tick applied (modal_force_scale: the same drag law, the same
+ * guard on absurd samples); returns |w|². */
 static float force_vector(const damage_sim *s, const modal *m, uint32_t t, const float *v,
                           float w[3])
 {
@@ -295,8 +290,7 @@ static float force_vector(const damage_sim *s, const modal *m, uint32_t t, const
         wx = wy = wz = 0.0f;
     }
     const float cy = s->cos_yaw[t], sy = s->sin_yaw[t];
-    const float u = sqrtf(wx * wx + wy * wy + wz * wz);
-    const float sv = u * drag_law_scale(&s->drag[s->species[t]], u) * modal_drag_mult(m, t);
+    const float sv = modal_force_scale(m, t);
     w[0] = sv * (cy * wx + sy * wy);
     w[1] = sv * (-sy * wx + cy * wy);
     w[2] = sv * wz;
@@ -357,17 +351,19 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
         q[tb->n_modes + k] = kw * w[k];
     }
     const uint32_t n = tb->n_cols;
+    /* x zero up to whole groups, so each group sums four squares in the order a running
+     * sum over its columns would (+0 is exact) */
+    for (uint32_t i = n; i < tb->n_groups * DAMAGE_GROUP_MODES; i++) {
+        q[i] = 0.0f;
+    }
     /* |x_g| per group: Σ_g |x_g| |M_g| bounds a moment (triangle inequality over groups,
      * Cauchy-Schwarz within one) */
     float xg[DAMAGE_MAX_GROUPS] = { 0 }, sb = 0.0f, bb = 0.0f;
     for (uint32_t g = 0; g < tb->n_groups; g++) {
-        /* summed in a register: an accumulator in the array waits on its own store */
-        const uint32_t i1 = g * DAMAGE_GROUP_MODES + DAMAGE_GROUP_MODES < n
-                                ? g * DAMAGE_GROUP_MODES + DAMAGE_GROUP_MODES
-                                : n;
-        float acc = 0.0f;
-        for (uint32_t i = g * DAMAGE_GROUP_MODES; i < i1; i++) {
-            acc += q[i] * q[i];
+        const float *p = q + g * DAMAGE_GROUP_MODES;
+        float acc = p[0] * p[0];
+        for (uint32_t i = 1; i < DAMAGE_GROUP_MODES; i++) {
+            acc += p[i] * p[i];
         }
         xg[g] = sqrtf(acc);
         sb += xg[g] * tb->stem_group[g];
@@ -468,10 +464,17 @@ int damage_step(damage_sim *s, modal *m, const float *wind_world, uint32_t tick,
 {
     s->n_ev = 0;
     int lost = 0;
-    const float dt = (float)s->d.dt_s;
     /* each tree on its own tick of DAMAGE_EVERY: (tick + t) % DAMAGE_EVERY == 0 */
     const uint32_t first = (DAMAGE_EVERY - tick % DAMAGE_EVERY) % DAMAGE_EVERY;
     for (uint32_t t = first; t < s->d.n_trees; t += DAMAGE_EVERY) {
+        /* the next tree's state on its way while this one is checked: a stride of
+         * DAMAGE_EVERY trees leaves each read a miss otherwise */
+        const uint32_t next = t + DAMAGE_EVERY;
+        if (next < s->d.n_trees) {
+            modal_prefetch(m, next);
+            __builtin_prefetch(&s->tree[next]);
+            __builtin_prefetch(&wind_world[3 * (size_t)next]);
+        }
         const damage_table *tb = s->table[s->species[t]];
         damage_tree_st *ts = &s->tree[t];
         if (!tb || ts->fallen) {
@@ -481,8 +484,7 @@ int damage_step(damage_sim *s, modal *m, const float *wind_world, uint32_t tick,
         const float *v = &wind_world[3 * (size_t)t];
         float sp = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
         if (sp > DAMAGE_STRIP_START_MS && ts->leaf > 1.0f - (float)tb->p.strip_max) {
-            float l = damage_strip_step(ts->leaf, sp, (float)tb->p.strip_max,
-                                        dt * (float)DAMAGE_EVERY);
+            float l = damage_strip_step(ts->leaf, sp, (float)tb->p.strip_max, s->strip_decay);
             if (l != ts->leaf) {
                 ts->leaf = l;
                 modal_set_drag_mult(m, t, drag_of(tb, ts));

@@ -12,7 +12,6 @@
 #include <stdint.h>
 
 #include "damage_table.h"
-#include "drag_law.h"
 #include "err.h"
 #include "leaf.h"
 #include "modal.h"
@@ -30,8 +29,6 @@ typedef struct damage_desc {
                                          takes no damage */
     const uint8_t *tree_species;      /* [n_trees] borrowed for the call */
     const float *tree_yaw_rad;        /* [n_trees] borrowed for the call; NULL = 0 */
-    const drag_law *species_drag;     /* [n_species] streamlining as the modal force has it
-                                         (modal_desc), borrowed for the call; NULL: rigid */
     const uint32_t *tree_leaves;      /* [n_trees] leaf slots; NULL = none */
     uint64_t seed;                    /* per-tree strength, leaf variation */
     double dt_s;                      /* tick length [s] */

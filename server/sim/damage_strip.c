@@ -10,11 +10,16 @@ float damage_strip_target(float gust_ms, float strip_max)
     return 1.0f - strip_max * x * x * (3.0f - 2.0f * x);
 }
 
-float damage_strip_step(float leaf, float gust_ms, float strip_max, float dt_s)
+float damage_strip_decay(float dt_s)
+{
+    return expf(-dt_s / DAMAGE_STRIP_TAU_S);
+}
+
+float damage_strip_step(float leaf, float gust_ms, float strip_max, float decay)
 {
     float target = damage_strip_target(gust_ms, strip_max);
     if (!(leaf > target)) {
         return leaf;
     }
-    return target + (leaf - target) * expf(-dt_s / DAMAGE_STRIP_TAU_S);
+    return target + (leaf - target) * decay;
 }

@@ -13,8 +13,11 @@
  * smoothstep down to 1 - strip_max at the plateau. */
 float damage_strip_target(float gust_ms, float strip_max);
 
-/* Leaf area after dt_s more under gust_ms, from leaf (0..1): it never grows back (only a
- * heal restores it). */
-float damage_strip_step(float leaf, float gust_ms, float strip_max, float dt_s);
+/* The relaxation over a step of dt_s: exp(-dt_s / DAMAGE_STRIP_TAU_S). */
+float damage_strip_decay(float dt_s);
+
+/* Leaf area after a step of decay = damage_strip_decay(dt_s) more under gust_ms, from leaf
+ * (0..1): it never grows back (only a heal restores it). */
+float damage_strip_step(float leaf, float gust_ms, float strip_max, float decay);
 
 #endif

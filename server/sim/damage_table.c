@@ -152,23 +152,6 @@ uint32_t damage_branch_bounds(const damage_table *t, const float *xg, uint32_t n
     return hits;
 }
 
-float damage_moment(const float (*m)[3], const float *q, uint32_t n, float out[3])
-{
-    /* q: the x = (q, w) of damage_table.h */
-    float x = 0.0f, y = 0.0f, z = 0.0f;
-    for (uint32_t i = 0; i < n; i++) {
-        x += q[i] * m[i][0];
-        y += q[i] * m[i][1];
-        z += q[i] * m[i][2];
-    }
-    if (out) {
-        out[0] = x;
-        out[1] = y;
-        out[2] = z;
-    }
-    return sqrtf(x * x + y * y + z * z);
-}
-
 static float norm_modes(const float (*m)[3], uint32_t n)
 {
     double s = 0.0;

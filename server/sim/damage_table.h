@@ -8,6 +8,7 @@
 #ifndef GALE_DAMAGE_TABLE_H
 #define GALE_DAMAGE_TABLE_H
 
+#include <math.h>
 #include <stdint.h>
 
 #include "asset.h"
@@ -127,8 +128,23 @@ uint32_t damage_branch_bounds(const damage_table *t, const float *xg, uint32_t n
  * has no omega or wind_basis [1/(m/s)²]. */
 float damage_w_scale(const asset *a);
 
-/* The bending moment M(x) = Σ_c x_c M_c [N m] of per-column moments m[n][3]; returns |M|. */
-float damage_moment(const float (*m)[3], const float *x, uint32_t n, float out[3]);
+/* The bending moment M(x) = Σ_c x_c M_c [N m] of per-column moments m[n][3] (out may be
+ * NULL); returns |M|. Inline: a check sums a few columns of it per branch it bounds. */
+static inline float damage_moment(const float (*m)[3], const float *x, uint32_t n, float out[3])
+{
+    float mx = 0.0f, my = 0.0f, mz = 0.0f;
+    for (uint32_t i = 0; i < n; i++) {
+        mx += x[i] * m[i][0];
+        my += x[i] * m[i][1];
+        mz += x[i] * m[i][2];
+    }
+    if (out) {
+        out[0] = mx;
+        out[1] = my;
+        out[2] = mz;
+    }
+    return sqrtf(mx * mx + my * my + mz * mz);
+}
 
 /* Exact quasi-static moment at the start of the element parent(c) -> c under the load
  * the bake's basis applies (crown_load.h with the leaves' share leaf_share, 0 when the

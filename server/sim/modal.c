@@ -41,6 +41,8 @@ struct modal {
                                 intact (damage.h: stripped leaves, lost branches) */
     float *qnorm2;           /* owned: [n_trees] Σ q_i² after the last tick (damage.h screens
                                 with it without reading the state) */
+    float *force_scale;      /* owned: [n_trees] s(U) k_t |v| of the last tick (damage.h forms
+                                the tick's force vector from it without a second powf) */
 };
 
 modal *modal_create(const modal_desc *d, gale_err *err)
@@ -135,7 +137,9 @@ modal *modal_create(const modal_desc *d, gale_err *err)
     m->sin_yaw = malloc(sizeof(float) * d->n_trees);
     m->drag_mult = malloc(sizeof(float) * d->n_trees);
     m->qnorm2 = calloc(d->n_trees, sizeof(float));
-    if (!m->tree_species || !m->cos_yaw || !m->sin_yaw || !m->drag_mult || !m->qnorm2) {
+    m->force_scale = calloc(d->n_trees, sizeof(float));
+    if (!m->tree_species || !m->cos_yaw || !m->sin_yaw || !m->drag_mult || !m->qnorm2 ||
+        !m->force_scale) {
         goto nomem;
     }
     for (uint32_t t = 0; t < d->n_trees; t++) {
@@ -185,6 +189,7 @@ void modal_destroy(modal *m)
     free(m->sin_yaw);
     free(m->drag_mult);
     free(m->qnorm2);
+    free(m->force_scale);
     free(m);
 }
 
@@ -271,6 +276,7 @@ static void range_tick(modal *m, uint32_t t0, uint32_t t1, const float *wind_wor
             n2 += modes_step(sp, g, vx, vy, wz, sv, q + g, q + pad + g, out + g);
         }
         m->qnorm2[t] = n2;
+        m->force_scale[t] = sv;
         if (qsnap && out == qq) {
             memcpy(qsnap + (size_t)t * stride, qq, stride * sizeof(int16_t));
         }
@@ -338,4 +344,23 @@ void modal_set(modal *m, uint32_t t, const float *q, const float *qdot)
 float modal_qnorm2(const modal *m, uint32_t t)
 {
     return t < m->n_trees ? m->qnorm2[t] : 0.0f;
+}
+
+float modal_force_scale(const modal *m, uint32_t t)
+{
+    return t < m->n_trees ? m->force_scale[t] : 0.0f;
+}
+
+void modal_prefetch(const modal *m, uint32_t t)
+{
+    if (t >= m->n_trees) {
+        return;
+    }
+    const char *row = (const char *)(m->state + (size_t)t * 2 * m->pad);
+    const size_t bytes = m->sp[m->tree_species[t]].n_modes * sizeof(float);
+    for (size_t b = 0; b < bytes; b += 64) {
+        __builtin_prefetch(row + b);
+    }
+    __builtin_prefetch(&m->qnorm2[t]);
+    __builtin_prefetch(&m->force_scale[t]);
 }

@@ -103,7 +103,6 @@ tick_sim *tick_create(const tick_desc *d, gale_err *err)
                                                    .table = tables,
                                                    .tree_species = species,
                                                    .tree_yaw_rad = yaw,
-                                                   .species_drag = drag,
                                                    .tree_leaves = nl,
                                                    .seed = sc->leaf_seed ^ 0xDA3A6Eull,
                                                    .dt_s = (double)t->dt_s },
