@@ -33,7 +33,7 @@ struct damage_sim {
     damage_tree_st *tree;       /* owned [n_trees] */
     uint64_t *bits;             /* owned [n_trees][words] broken branches */
     uint32_t words;
-    float *q;                   /* owned [DAMAGE_MAX_GROUPS][DAMAGE_GROUP_MODES] scratch: x */
+    float *q;                   /* owned [DAMAGE_MAX_GROUPS + 1][DAMAGE_GROUP_MODES] scratch: x */
     float *moments;             /* owned [damage_bound_lanes(the most branches)] scratch:
                                    moment bounds */
     uint32_t *cand;             /* owned [the most branches] scratch: branches a bound passes */
@@ -111,7 +111,7 @@ damage_sim *damage_create(const damage_desc *d, gale_err *err)
     s->sin_yaw = malloc(sizeof(float) * d->n_trees);
     s->tree = calloc(d->n_trees, sizeof *s->tree);
     s->bits = calloc((size_t)d->n_trees * s->words, sizeof(uint64_t));
-    s->q = calloc(DAMAGE_MAX_GROUPS * DAMAGE_GROUP_MODES, sizeof(float));
+    s->q = calloc(DAMAGE_MAX_GROUPS * DAMAGE_GROUP_MODES + DAMAGE_GROUP_MODES, sizeof(float));
     s->moments = calloc(damage_bound_lanes(maxb), sizeof(float));
     s->cand = calloc((size_t)maxb, sizeof(uint32_t));
     s->ev = calloc((size_t)s->d.max_events, sizeof *s->ev);
@@ -353,19 +353,14 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
     const uint32_t n = tb->n_cols;
     /* x zero up to whole groups, so each group sums four squares in the order a running
      * sum over its columns would (+0 is exact) */
-    for (uint32_t i = n; i < tb->n_groups * DAMAGE_GROUP_MODES; i++) {
-        q[i] = 0.0f;
+    for (uint32_t i = 0; i + 1 < DAMAGE_GROUP_MODES; i++) {
+        q[n + i] = 0.0f; /* stores, not a call: the buffer has room past any n_cols */
     }
     /* |x_g| per group: Σ_g |x_g| |M_g| bounds a moment (triangle inequality over groups,
      * Cauchy-Schwarz within one) */
     float xg[DAMAGE_MAX_GROUPS] = { 0 }, sb = 0.0f, bb = 0.0f;
+    damage_group_norms(q, tb->n_groups, xg);
     for (uint32_t g = 0; g < tb->n_groups; g++) {
-        const float *p = q + g * DAMAGE_GROUP_MODES;
-        float acc = p[0] * p[0];
-        for (uint32_t i = 1; i < DAMAGE_GROUP_MODES; i++) {
-            acc += p[i] * p[i];
-        }
-        xg[g] = sqrtf(acc);
         sb += xg[g] * tb->stem_group[g];
         bb += xg[g] * tb->group_screen[g];
     }

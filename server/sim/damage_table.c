@@ -152,6 +152,24 @@ uint32_t damage_branch_bounds(const damage_table *t, const float *xg, uint32_t n
     return hits;
 }
 
+/* Lanes over the groups (omp simd: the stride-4 loads become one shuffle per vector and
+ * the square roots one instruction, where the scalar loop waits on each root in turn);
+ * each lane adds its group's squares in column order, so the clones round alike.
+ * damage_table.c builds with -fno-math-errno: a root of a sum of squares sets no errno. */
+__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+void damage_group_norms(const float *x, uint32_t n_groups, float *xg)
+{
+#pragma omp simd
+    for (uint32_t g = 0; g < n_groups; g++) {
+        const float *p = x + (size_t)g * DAMAGE_GROUP_MODES;
+        float acc = p[0] * p[0];
+        for (uint32_t i = 1; i < DAMAGE_GROUP_MODES; i++) {
+            acc += p[i] * p[i];
+        }
+        xg[g] = sqrtf(acc);
+    }
+}
+
 static float norm_modes(const float (*m)[3], uint32_t n)
 {
     double s = 0.0;

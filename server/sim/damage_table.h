@@ -124,6 +124,10 @@ uint32_t damage_branches_within(const damage_table *t, float x, uint32_t hint);
 uint32_t damage_branch_bounds(const damage_table *t, const float *xg, uint32_t n_check,
                               float cap_mult, float *out);
 
+/* |x_g| of each group of DAMAGE_GROUP_MODES columns of x (x zero past its columns up to
+ * n_groups whole groups) into xg[n_groups]. */
+void damage_group_norms(const float *x, uint32_t n_groups, float *xg);
+
 /* κ of DAMAGE_RES_COLS for asset a: sqrt(Σ_i |p_i|² / ω_i⁴), 1 when that is 0 or the asset
  * has no omega or wind_basis [1/(m/s)²]. */
 float damage_w_scale(const asset *a);
