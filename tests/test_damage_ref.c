@@ -10,6 +10,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "bake.h"
 #include "damage.h"
@@ -30,16 +31,24 @@ static asset assets[N_SP];
 static damage_table tables[N_SP];
 static drag_law drags[N_SP];
 static float qsteps[N_SP][64];
+static double strip_max[N_SP]; /* the species' own, kept for test_threads_same */
+static int baked = -1;
 
 static int bake_all(void)
 {
+    if (baked >= 0) {
+        return baked;
+    }
+    baked = 0;
     for (int k = 0; k < N_SP; k++) {
         species sp;
         int rc = bake_shipped_species(sp_names[k], &sp, &assets[k], &tables[k]);
         if (rc) {
+            baked = rc;
             return rc;
         }
         drags[k] = sp.drag;
+        strip_max[k] = tables[k].p.strip_max;
         tables[k].p.strip_max = 0.0; /* no stripping: see the file's comment */
         for (uint32_t i = 0; i < assets[k].n_modes; i++) {
             qsteps[k][i] = 1e-3f;
@@ -132,7 +141,61 @@ static void ref_check(const damage_sim *d, const modal *m, uint32_t t, uint8_t s
     }
 }
 
-static void test_events_equal_reference(void)
+/* 40 s of a ramp to a 42 m/s crown wind over 25 s, each tree's own gusts of ±35 % and a
+ * veer of ±0.5 rad about the mean direction: the wind of every tree at tick. */
+static void stand_wind(uint32_t tick, float *wind)
+{
+    const float ts = (float)tick / 60.0f;
+    const float mean = 42.0f * (ts < 25.0f ? ts / 25.0f : 1.0f);
+    for (uint32_t t = 0; t < N_TREES; t++) {
+        const float g = 1.0f + 0.35f * sinf(0.9f * ts + 1.3f * (float)t) *
+                                   sinf(0.23f * ts + 0.7f * (float)t);
+        const float dir = 0.5f * sinf(0.11f * ts + (float)t);
+        wind[3 * t] = mean * g * cosf(dir);
+        wind[3 * t + 1] = mean * g * sinf(dir);
+        wind[3 * t + 2] = 0.05f * mean * sinf(1.7f * ts + (float)t);
+    }
+}
+
+/* The stand's trees: species in turn, each its own yaw. */
+static void stand_trees(uint8_t *sp, float *yaw)
+{
+    for (uint32_t t = 0; t < N_TREES; t++) {
+        sp[t] = (uint8_t)(t % N_SP);
+        yaw[t] = 0.37f * (float)t;
+    }
+}
+
+static modal *stand_modal(const uint8_t *sp, const float *yaw)
+{
+    modal_species ms[N_SP];
+    for (int k = 0; k < N_SP; k++) {
+        const asset *a = &assets[k];
+        ms[k] = (modal_species){ .n_modes = a->n_modes, .omega = a->omega, .gamma = a->gamma,
+                                 .wind_basis = a->wind_basis, .qstep = qsteps[k] };
+    }
+    gale_err err;
+    return modal_create(&(modal_desc){ .n_trees = N_TREES, .n_species = N_SP, .species = ms,
+                                       .tree_species = sp, .species_drag = drags,
+                                       .tree_yaw_rad = yaw, .dt_s = 1.0 / 60, .n_threads = 1 },
+                        &err);
+}
+
+/* The stand's damage on n_threads, each taking at least one due tree (so a small stand
+ * is split too), its caller's leaf cap max_leaves. */
+static damage_sim *stand_damage(const uint8_t *sp, const float *yaw, int n_threads,
+                                int max_leaves)
+{
+    const damage_table *tp[N_SP] = { &tables[0], &tables[1], &tables[2] };
+    gale_err err;
+    return damage_create(&(damage_desc){ .n_trees = N_TREES, .n_species = N_SP, .table = tp,
+                                         .tree_species = sp, .tree_yaw_rad = yaw, .seed = SEED,
+                                         .dt_s = 1.0 / 60, .max_leaves = max_leaves,
+                                         .n_threads = n_threads, .lane_min_trees = 1 },
+                         &err);
+}
+
+static void events_equal_reference(int n_threads)
 {
     if (bake_all()) {
         CHECK(0);
@@ -141,30 +204,16 @@ static void test_events_equal_reference(void)
     for (int k = 0; k < N_SP; k++) {
         CHECK(tables[k].n_branches <= 4096);
     }
-    modal_species ms[N_SP];
     for (int k = 0; k < N_SP; k++) {
-        const asset *a = &assets[k];
-        ms[k] = (modal_species){ .n_modes = a->n_modes, .omega = a->omega, .gamma = a->gamma,
-                                 .wind_basis = a->wind_basis, .qstep = qsteps[k] };
+        tables[k].p.strip_max = 0.0; /* no stripping: see the file's comment */
     }
+    memset(ref_fallen, 0, sizeof ref_fallen);
+    memset(ref_broken, 0, sizeof ref_broken);
     uint8_t sp[N_TREES];
     float yaw[N_TREES];
-    for (uint32_t t = 0; t < N_TREES; t++) {
-        sp[t] = (uint8_t)(t % N_SP);
-        yaw[t] = 0.37f * (float)t;
-    }
-    gale_err err;
-    modal *m = modal_create(&(modal_desc){ .n_trees = N_TREES, .n_species = N_SP, .species = ms,
-                                           .tree_species = sp, .species_drag = drags,
-                                           .tree_yaw_rad = yaw, .dt_s = 1.0 / 60,
-                                           .n_threads = 1 },
-                            &err);
-    const damage_table *tp[N_SP] = { &tables[0], &tables[1], &tables[2] };
-    damage_sim *d = damage_create(&(damage_desc){ .n_trees = N_TREES, .n_species = N_SP,
-                                                  .table = tp, .tree_species = sp,
-                                                  .tree_yaw_rad = yaw,
-                                                  .seed = SEED, .dt_s = 1.0 / 60 },
-                                  &err);
+    stand_trees(sp, yaw);
+    modal *m = stand_modal(sp, yaw);
+    damage_sim *d = stand_damage(sp, yaw, n_threads, 64);
     CHECK(m != NULL && d != NULL);
     if (!m || !d) {
         modal_destroy(m);
@@ -176,19 +225,8 @@ static void test_events_equal_reference(void)
     static leaf_seed leaves[64];
     int mismatched_ticks = 0, branches = 0, falls = 0;
     uint64_t h = 0;
-    /* 40 s: a ramp to a 42 m/s crown wind over 25 s, each tree's own gusts of ±35 % and a
-     * veer of ±0.5 rad about the mean direction */
     for (uint32_t tick = 0; tick < 40 * 60; tick++) {
-        const float ts = (float)tick / 60.0f;
-        const float mean = 42.0f * (ts < 25.0f ? ts / 25.0f : 1.0f);
-        for (uint32_t t = 0; t < N_TREES; t++) {
-            const float g = 1.0f + 0.35f * sinf(0.9f * ts + 1.3f * (float)t) *
-                                       sinf(0.23f * ts + 0.7f * (float)t);
-            const float dir = 0.5f * sinf(0.11f * ts + (float)t);
-            wind[3 * t] = mean * g * cosf(dir);
-            wind[3 * t + 1] = mean * g * sinf(dir);
-            wind[3 * t + 2] = 0.05f * mean * sinf(1.7f * ts + (float)t);
-        }
+        stand_wind(tick, wind);
         modal_tick(m, wind, NULL);
         int n_want = 0;
         for (uint32_t t = 0; t < N_TREES; t++) {
@@ -219,9 +257,9 @@ static void test_events_equal_reference(void)
         }
         CHECK(nl == 0);
     }
-    fprintf(stderr, "  reference: %d branches broken, %d trees fallen of %d, hash %016llx; "
-                    "%d ticks differ\n",
-            branches, falls, N_TREES, (unsigned long long)h, mismatched_ticks);
+    fprintf(stderr, "  %d thread(s), reference: %d branches broken, %d trees fallen of %d, "
+                    "hash %016llx; %d ticks differ\n",
+            n_threads, branches, falls, N_TREES, (unsigned long long)h, mismatched_ticks);
     CHECK(mismatched_ticks == 0);
     /* the stand exercises both paths: branches break, some trees fall, not all */
     CHECK(branches > 0);
@@ -230,9 +268,92 @@ static void test_events_equal_reference(void)
     modal_destroy(m);
 }
 
+static void test_events_equal_reference(void)
+{
+    if (bake_all()) {
+        CHECK(0);
+        return;
+    }
+    events_equal_reference(1);
+    /* three threads on uneven shares: the same events in the same order */
+    events_equal_reference(3);
+}
+
+/* With stripping on and a leaf cap the stand overflows, a step on three threads gives the
+ * events, the shed leaves (kept and over the cap) and the drag of one thread, tick by
+ * tick (damage.c lane_run and the merge after it). */
+static void test_threads_same(void)
+{
+    if (bake_all()) {
+        CHECK(0);
+        return;
+    }
+    for (int k = 0; k < N_SP; k++) {
+        tables[k].p.strip_max = strip_max[k];
+    }
+    enum { CAP = 96 };
+    uint8_t sp[N_TREES];
+    float yaw[N_TREES];
+    stand_trees(sp, yaw);
+    modal *m[2] = { stand_modal(sp, yaw), stand_modal(sp, yaw) };
+    damage_sim *d[2] = { stand_damage(sp, yaw, 1, CAP), stand_damage(sp, yaw, 3, CAP) };
+    CHECK(m[0] && m[1] && d[0] && d[1]);
+    static float wind[3 * N_TREES];
+    static leaf_seed leaves[2][CAP];
+    int differ = 0, events = 0, strips = 0, shed = 0, over = 0;
+    for (uint32_t tick = 0; m[0] && m[1] && d[0] && d[1] && tick < 40 * 60; tick++) {
+        stand_wind(tick, wind);
+        int nl[2] = { 0, 0 }, lost[2];
+        const wire_damage *ev[2];
+        int n_ev[2];
+        for (int j = 0; j < 2; j++) {
+            modal_tick(m[j], wind, NULL);
+            lost[j] = damage_step(d[j], m[j], wind, tick, leaves[j], CAP, &nl[j]);
+            n_ev[j] = damage_events(d[j], &ev[j]);
+        }
+        /* field by field: wire_damage has padding */
+        bool same = n_ev[0] == n_ev[1] && nl[0] == nl[1] && lost[0] == lost[1];
+        for (int i = 0; same && i < n_ev[0]; i++) {
+            const wire_damage *a = &ev[0][i], *b = &ev[1][i];
+            same = a->tree == b->tree && a->node == b->node && a->kind == b->kind &&
+                   a->value == b->value && a->tick == b->tick;
+        }
+        for (int i = 0; same && i < nl[0]; i++) {
+            const leaf_seed *a = &leaves[0][i], *b = &leaves[1][i];
+            same = a->instance == b->instance && a->slot == b->slot &&
+                   a->spawn_tick == b->spawn_tick && a->variation == b->variation;
+        }
+        for (uint32_t t = 0; same && t < N_TREES; t++) {
+            same = modal_drag_mult(m[0], t) == modal_drag_mult(m[1], t);
+        }
+        if (!same && differ < 3) {
+            fprintf(stderr, "  tick %u: events %d / %d, leaves %d / %d, over the cap %d / %d\n",
+                    tick, n_ev[0], n_ev[1], nl[0], nl[1], lost[0], lost[1]);
+        }
+        differ += !same;
+        events += n_ev[0];
+        for (int i = 0; i < n_ev[0]; i++) {
+            strips += ev[0][i].kind == WIRE_DAMAGE_STRIP;
+        }
+        shed += nl[0];
+        over += lost[0];
+    }
+    fprintf(stderr, "  1 and 3 threads: %d events (%d strips), %d leaves shed, %d over the "
+                    "cap; %d ticks differ\n",
+            events, strips, shed, over, differ);
+    CHECK(differ == 0);
+    /* the run strips crowns, sheds leaves past the cap and breaks things */
+    CHECK(strips > 0 && shed > 0 && over > 0 && events > strips);
+    for (int j = 0; j < 2; j++) {
+        damage_destroy(d[j]);
+        modal_destroy(m[j]);
+    }
+}
+
 int main(void)
 {
     RUN(test_events_equal_reference);
+    RUN(test_threads_same);
     for (int k = 0; k < N_SP; k++) {
         damage_table_fini(&tables[k]);
         asset_fini(&assets[k]);

@@ -158,7 +158,9 @@ static int variant_init(variant *v, bool damage, const modal_desc *md, int n_mod
                                                .tree_species = md->tree_species,
                                                .tree_yaw_rad = md->tree_yaw_rad,
                                                .seed = 1,
-                                               .dt_s = 1.0 / 60 },
+                                               .dt_s = 1.0 / 60,
+                                               .max_leaves = DAMAGE_LEAF_CAP,
+                                               .n_threads = md->n_threads },
                                err);
         if (!v->sim) {
             return GALE_E_NOMEM;

@@ -25,6 +25,20 @@ typedef struct damage_tree_st {
                            starts */
 } damage_tree_st;
 
+/* One thread's share of a damage step: its scratch, and for every lane after the first
+ * the events and stripped leaves of its trees, merged after the first lane's in tree
+ * order (the first lane writes straight to the step's outputs). */
+typedef struct damage_lane {
+    float *q;                   /* owned [DAMAGE_MAX_GROUPS + 1][DAMAGE_GROUP_MODES] scratch: x */
+    float *moments;             /* owned [damage_bound_lanes(the most branches)] scratch:
+                                   moment bounds */
+    uint32_t *cand;             /* owned [the most branches] scratch: branches a bound passes */
+    wire_damage *ev;            /* owned [cap_ev] its events this step, in tree order */
+    int n_ev, cap_ev;
+    leaf_seed *leaves;          /* owned [cap_leaves] its stripped leaves this step */
+    int n_leaves, cap_leaves;
+} damage_lane;
+
 struct damage_sim {
     damage_desc d;
     const damage_table **table; /* owned array of borrowed tables [n_species] */
@@ -33,10 +47,8 @@ struct damage_sim {
     damage_tree_st *tree;       /* owned [n_trees] */
     uint64_t *bits;             /* owned [n_trees][words] broken branches */
     uint32_t words;
-    float *q;                   /* owned [DAMAGE_MAX_GROUPS + 1][DAMAGE_GROUP_MODES] scratch: x */
-    float *moments;             /* owned [damage_bound_lanes(the most branches)] scratch:
-                                   moment bounds */
-    uint32_t *cand;             /* owned [the most branches] scratch: branches a bound passes */
+    damage_lane *lane;          /* owned [n_lanes] */
+    int n_lanes;
     wire_damage *ev;            /* owned [max_events] this tick's events */
     int n_ev;
     wire_damage *log;           /* owned [DAMAGE_LOG_MAX] broken branches, in order */
@@ -111,14 +123,31 @@ damage_sim *damage_create(const damage_desc *d, gale_err *err)
     s->sin_yaw = malloc(sizeof(float) * d->n_trees);
     s->tree = calloc(d->n_trees, sizeof *s->tree);
     s->bits = calloc((size_t)d->n_trees * s->words, sizeof(uint64_t));
-    s->q = calloc(DAMAGE_MAX_GROUPS * DAMAGE_GROUP_MODES + DAMAGE_GROUP_MODES, sizeof(float));
-    s->moments = calloc(damage_bound_lanes(maxb), sizeof(float));
-    s->cand = calloc((size_t)maxb, sizeof(uint32_t));
+    s->n_lanes = d->n_threads > 1 ? (d->n_threads < DAMAGE_MAX_THREADS ? d->n_threads
+                                                                        : DAMAGE_MAX_THREADS)
+                                  : 1;
+    s->lane = calloc((size_t)s->n_lanes, sizeof *s->lane);
     s->ev = calloc((size_t)s->d.max_events, sizeof *s->ev);
     s->log = calloc(DAMAGE_LOG_MAX, sizeof *s->log);
-    if (!s->species || !s->cos_yaw || !s->sin_yaw || !s->tree || !s->bits || !s->q ||
-        !s->moments || !s->cand || !s->ev || !s->log) {
+    if (!s->species || !s->cos_yaw || !s->sin_yaw || !s->tree || !s->bits || !s->lane ||
+        !s->ev || !s->log) {
         goto nomem;
+    }
+    for (int k = 0; k < s->n_lanes; k++) {
+        damage_lane *l = &s->lane[k];
+        l->q = calloc(DAMAGE_MAX_GROUPS * DAMAGE_GROUP_MODES + DAMAGE_GROUP_MODES, sizeof(float));
+        l->moments = calloc(damage_bound_lanes(maxb), sizeof(float));
+        l->cand = calloc((size_t)maxb, sizeof(uint32_t));
+        if (k > 0) {
+            /* room for every event a stream and the whole-state log can hold */
+            l->cap_ev = s->d.max_events + (int)DAMAGE_LOG_MAX;
+            l->cap_leaves = d->max_leaves > 0 ? d->max_leaves : DAMAGE_MAX_LEAVES;
+            l->ev = calloc((size_t)l->cap_ev, sizeof *l->ev);
+            l->leaves = calloc((size_t)l->cap_leaves, sizeof *l->leaves);
+        }
+        if (!l->q || !l->moments || !l->cand || (k > 0 && (!l->ev || !l->leaves))) {
+            goto nomem;
+        }
     }
     for (uint32_t t = 0; t < d->n_trees; t++) {
         if (d->tree_species[t] >= d->n_species) {
@@ -152,9 +181,14 @@ void damage_destroy(damage_sim *s)
     free(s->sin_yaw);
     free(s->tree);
     free(s->bits);
-    free(s->q);
-    free(s->moments);
-    free(s->cand);
+    for (int k = 0; s->lane && k < s->n_lanes; k++) {
+        free(s->lane[k].q);
+        free(s->lane[k].moments);
+        free(s->lane[k].cand);
+        free(s->lane[k].ev);
+        free(s->lane[k].leaves);
+    }
+    free(s->lane);
     free(s->ev);
     free(s->log);
     free(s);
@@ -175,6 +209,21 @@ static void emit(damage_sim *s, uint32_t t, uint32_t node, uint8_t kind, uint8_t
         } else {
             atomic_fetch_add(&s->counts.lost, 1);
         }
+    }
+}
+
+/* An event of lane l's trees: the first lane's straight out, a later lane's kept for the
+ * merge (beyond its room, counted lost). */
+static void lane_emit(damage_sim *s, damage_lane *l, uint32_t t, uint32_t node, uint8_t kind,
+                      uint8_t value, uint32_t tick)
+{
+    if (l == &s->lane[0]) {
+        emit(s, t, node, kind, value, tick);
+    } else if (l->n_ev < l->cap_ev) {
+        l->ev[l->n_ev++] = (wire_damage){ .tree = t, .node = node, .kind = kind,
+                                          .value = value, .tick = tick };
+    } else {
+        atomic_fetch_add(&s->counts.lost, 1);
     }
 }
 
@@ -252,13 +301,17 @@ static int strip_leaves(const damage_sim *s, const damage_table *tb, uint32_t t,
         }
         const uint32_t i0 = first_rank(tb, from), i1 = first_rank(tb, to);
         for (uint32_t i = i0; i < i1; i++) {
-            if (*n >= cap) {
+            if (*n >= cap && !ts_broken) {
                 lost += (int)(i1 - i); /* over the per-tick cap: counted, not shed */
                 break;
             }
             uint32_t k = (uint32_t)tb->slot_rank[i];
             uint32_t node = tb->leaf_node[k];
             if (ts_broken && node < tb->n_nodes && gone(s, tb, t, tb->node_branch[node])) {
+                continue;
+            }
+            if (*n >= cap) {
+                lost++; /* a leaf still on the tree, over the cap */
                 continue;
             }
             out[(*n)++] = (leaf_seed){ .instance = t,
@@ -320,8 +373,8 @@ static float lead_bound(const damage_table *tb, const float (*mm)[3], const floa
  * falls breaks nothing more), then every branch still on it. Each moment is
  * Σ_i q_i M_i + R κ w: the modes and the static residual of those left out, over
  * x = (q, κ w) (damage_table.h). */
-static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t t,
-                       const float *v, uint32_t tick)
+static void check_tree(damage_sim *s, damage_lane *l, modal *m, const damage_table *tb,
+                       uint32_t t, const float *v, uint32_t tick)
 {
     damage_tree_st *ts = &s->tree[t];
     float w[3];
@@ -339,7 +392,7 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
         !((qm * tb->screen_q + wn * tb->screen_w) * 1.0001f >= lo)) {
         return;
     }
-    float *q = s->q;
+    float *q = l->q;
     uint32_t nq = modal_get(m, t, q, NULL);
     if (nq > tb->n_modes) {
         nq = tb->n_modes;
@@ -387,7 +440,7 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
         ts->fallen = fall;
         ts->fall_az = azimuth(v);
         ts->fall_tick = tick;
-        emit(s, t, WIRE_DAMAGE_WHOLE, fall, ts->fall_az, tick);
+        lane_emit(s, l, t, WIRE_DAMAGE_WHOLE, fall, ts->fall_az, tick);
         atomic_fetch_add(fall == WIRE_DAMAGE_SNAP ? &s->counts.snapped : &s->counts.uprooted, 1);
         /* a fallen tree lies still: no force, no motion */
         memset(q, 0, sizeof(float) * nq);
@@ -411,14 +464,14 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
      * might fail. 1e-3: lo's single-precision exp against the draws' double one */
     const float lo_branch = 0.999f * lo;
     /* the few the bound passes, gathered without a branch per entry, up to the last */
-    const uint32_t hits = damage_branch_bounds(tb, xg, n_check, lo_branch, s->moments);
+    const uint32_t hits = damage_branch_bounds(tb, xg, n_check, lo_branch, l->moments);
     uint32_t n_cand = 0;
     for (uint32_t j = 0; n_cand < hits && j < n_check; j++) {
-        s->cand[n_cand] = j;
-        n_cand += s->moments[j] * 1.0001f > lo_branch * tb->cap_by_order[j];
+        l->cand[n_cand] = j;
+        n_cand += l->moments[j] * 1.0001f > lo_branch * tb->cap_by_order[j];
     }
     for (uint32_t c = 0; c < n_cand; c++) {
-        const uint32_t j = s->cand[c];
+        const uint32_t j = l->cand[c];
         const uint32_t b = tb->order[j];
         const damage_branch *br = &tb->branch[b];
         const float(*mm)[3] = (const float(*)[3])(tb->branch_moment + (size_t)b * n * 3);
@@ -443,7 +496,7 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
         if (mbr > mult * br->cap_nm) {
             s->bits[(size_t)t * s->words + b / 64] |= 1ull << (b % 64);
             ts->broken++;
-            emit(s, t, br->node, WIRE_DAMAGE_BRANCH, 0, tick);
+            lane_emit(s, l, t, br->node, WIRE_DAMAGE_BRANCH, 0, tick);
             atomic_fetch_add(&s->counts.branches, 1);
             changed = true;
         }
@@ -454,18 +507,20 @@ static void check_tree(damage_sim *s, modal *m, const damage_table *tb, uint32_t
     }
 }
 
-int damage_step(damage_sim *s, modal *m, const float *wind_world, uint32_t tick,
-                leaf_seed *leaves, int cap, int *n_leaves)
+/* The due trees [i0, i1) of this step (tree first + i DAMAGE_EVERY) on lane l: stripping,
+ * then stresses, each tree in turn; stripped leaves to out[*n..cap). Returns the leaves
+ * over cap. */
+static int lane_run(damage_sim *s, damage_lane *l, modal *m, const float *wind_world,
+                    uint32_t tick, uint32_t first, uint32_t i0, uint32_t i1, leaf_seed *out,
+                    int cap, int *n)
 {
-    s->n_ev = 0;
     int lost = 0;
-    /* each tree on its own tick of DAMAGE_EVERY: (tick + t) % DAMAGE_EVERY == 0 */
-    const uint32_t first = (DAMAGE_EVERY - tick % DAMAGE_EVERY) % DAMAGE_EVERY;
-    for (uint32_t t = first; t < s->d.n_trees; t += DAMAGE_EVERY) {
+    for (uint32_t i = i0; i < i1; i++) {
+        const uint32_t t = first + i * DAMAGE_EVERY;
         /* the next tree's state on its way while this one is checked: a stride of
          * DAMAGE_EVERY trees leaves each read a miss otherwise */
-        const uint32_t next = t + DAMAGE_EVERY;
-        if (next < s->d.n_trees) {
+        if (i + 1 < i1) {
+            const uint32_t next = t + DAMAGE_EVERY;
             modal_prefetch(m, next);
             __builtin_prefetch(&s->tree[next]);
             __builtin_prefetch(&wind_world[3 * (size_t)next]);
@@ -479,20 +534,65 @@ int damage_step(damage_sim *s, modal *m, const float *wind_world, uint32_t tick,
         const float *v = &wind_world[3 * (size_t)t];
         float sp = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
         if (sp > DAMAGE_STRIP_START_MS && ts->leaf > 1.0f - (float)tb->p.strip_max) {
-            float l = damage_strip_step(ts->leaf, sp, (float)tb->p.strip_max, s->strip_decay);
-            if (l != ts->leaf) {
-                ts->leaf = l;
+            float lf = damage_strip_step(ts->leaf, sp, (float)tb->p.strip_max, s->strip_decay);
+            if (lf != ts->leaf) {
+                ts->leaf = lf;
                 modal_set_drag_mult(m, t, drag_of(tb, ts));
-                uint32_t lv = (uint32_t)(l * (float)WIRE_DAMAGE_LEVELS + 0.5f);
+                uint32_t lv = (uint32_t)(lf * (float)WIRE_DAMAGE_LEVELS + 0.5f);
                 if (lv < ts->level) {
-                    lost += strip_leaves(s, tb, t, ts->level, lv, tick, leaves, cap, n_leaves);
+                    lost += strip_leaves(s, tb, t, ts->level, lv, tick, out, cap, n);
                     ts->level = (uint8_t)lv;
                     ts->level_tick = tick;
-                    emit(s, t, WIRE_DAMAGE_WHOLE, WIRE_DAMAGE_STRIP, (uint8_t)lv, tick);
+                    lane_emit(s, l, t, WIRE_DAMAGE_WHOLE, WIRE_DAMAGE_STRIP, (uint8_t)lv, tick);
                 }
             }
         }
-        check_tree(s, m, tb, t, v, tick);
+        check_tree(s, l, m, tb, t, v, tick);
+    }
+    return lost;
+}
+
+int damage_step(damage_sim *s, modal *m, const float *wind_world, uint32_t tick,
+                leaf_seed *leaves, int cap, int *n_leaves)
+{
+    s->n_ev = 0;
+    int lost = 0;
+    /* each tree on its own tick of DAMAGE_EVERY: (tick + t) % DAMAGE_EVERY == 0 */
+    const uint32_t first = (DAMAGE_EVERY - tick % DAMAGE_EVERY) % DAMAGE_EVERY;
+    const uint32_t n_due =
+        first < s->d.n_trees ? (s->d.n_trees - first + DAMAGE_EVERY - 1) / DAMAGE_EVERY : 0;
+    /* trees are independent: each lane takes a contiguous share of the due trees (its
+     * events and leaves then follow the lanes before it), and a small forest one lane */
+    const uint32_t min_trees = s->d.lane_min_trees ? s->d.lane_min_trees : DAMAGE_LANE_MIN_TREES;
+    const int nl = n_due >= (uint32_t)s->n_lanes * min_trees ? s->n_lanes : 1;
+#pragma omp parallel for schedule(static, 1) num_threads(nl) if (nl > 1) reduction(+ : lost)
+    for (int k = 0; k < nl; k++) {
+        damage_lane *l = &s->lane[k];
+        const uint32_t i0 = (uint32_t)((uint64_t)n_due * (uint32_t)k / (uint32_t)nl);
+        const uint32_t i1 = (uint32_t)((uint64_t)n_due * (uint32_t)(k + 1) / (uint32_t)nl);
+        if (k == 0) {
+            lost += lane_run(s, l, m, wind_world, tick, first, i0, i1, leaves, cap, n_leaves);
+        } else {
+            l->n_ev = 0;
+            l->n_leaves = 0;
+            lost += lane_run(s, l, m, wind_world, tick, first, i0, i1, l->leaves,
+                             l->cap_leaves, &l->n_leaves);
+        }
+    }
+    /* the later lanes' events and leaves after the first's, in tree order, under the same
+     * caps as one lane would meet them */
+    for (int k = 1; k < nl; k++) {
+        const damage_lane *l = &s->lane[k];
+        for (int e = 0; e < l->n_ev; e++) {
+            const wire_damage *ev = &l->ev[e];
+            emit(s, ev->tree, ev->node, ev->kind, ev->value, ev->tick);
+        }
+        int room = cap - *n_leaves;
+        room = room < 0 ? 0 : room;
+        const int take = l->n_leaves < room ? l->n_leaves : room;
+        memcpy(leaves + *n_leaves, l->leaves, sizeof *leaves * (size_t)take);
+        *n_leaves += take;
+        lost += l->n_leaves - take;
     }
     /* the standing leaf area for /metrics, once a second of 60 Hz ticks */
     if (tick % 60 == 0) {

@@ -22,6 +22,13 @@
  * is checked at 15 Hz, several samples per period of the modes that load branches. */
 #define DAMAGE_EVERY 4
 
+/* Threads a step uses at most; a step gives each at least DAMAGE_LANE_MIN_TREES of the
+ * trees due (fewer: the caller's thread alone, no team to start for a small forest). */
+#define DAMAGE_MAX_THREADS 64
+#define DAMAGE_LANE_MIN_TREES 1024u
+/* The default of damage_desc.max_leaves: the tick's own leaves per tick. */
+#define DAMAGE_MAX_LEAVES 4096
+
 typedef struct damage_desc {
     uint32_t n_trees;
     uint32_t n_species;
@@ -33,6 +40,12 @@ typedef struct damage_desc {
     uint64_t seed;                    /* per-tree strength, leaf variation */
     double dt_s;                      /* tick length [s] */
     int max_events;                   /* events kept per tick; 0 → WIRE_MAX_DAMAGE */
+    int max_leaves;                   /* the most stripped leaves a step's caller takes (its
+                                         cap); 0 → DAMAGE_MAX_LEAVES */
+    int n_threads;                    /* threads of a step (the modal update's); 0, 1: the
+                                         caller's alone */
+    uint32_t lane_min_trees;          /* due trees a thread takes at least; 0 →
+                                         DAMAGE_LANE_MIN_TREES */
 } damage_desc;
 
 /* Totals for /metrics (damage_metrics.h); any thread reads them. */
@@ -55,8 +68,10 @@ void damage_destroy(damage_sim *s); /* NULL is a no-op */
 /* One tick after modal_tick: wind_world[3 t] the wind at each crown this tick. Strips
  * leaves, checks the trees due this tick, breaks what fails, sets the drag multiplier of
  * each tree that changed in m, zeroes the state of a fallen tree. Stripped leaves are
- * appended to leaves[*n_leaves..cap); returns the number that did not fit. Does not
- * allocate. */
+ * appended to leaves[*n_leaves..cap); returns the number that did not fit. Events and
+ * leaves come in tree order whatever the threads (desc.n_threads), under the same caps,
+ * while cap is at most desc.max_leaves and a thread's share of one step breaks fewer than
+ * WIRE_MAX_DAMAGE + 65536 things. Does not allocate. */
 int damage_step(damage_sim *s, modal *m, const float *wind_world, uint32_t tick,
                 leaf_seed *leaves, int cap, int *n_leaves);
 

@@ -104,6 +104,7 @@ tick_sim *tick_create(const tick_desc *d, gale_err *err)
                                                    .tree_species = species,
                                                    .tree_yaw_rad = yaw,
                                                    .tree_leaves = nl,
+                                                   .max_leaves = t->d.max_leaves_per_tick,
                                                    .seed = sc->leaf_seed ^ 0xDA3A6Eull,
                                                    .dt_s = (double)t->dt_s },
                                    err);
