@@ -39,7 +39,8 @@ typedef struct client_args {
     bool headless;
     int frames;             /* headless: frames to draw once state arrives */
     const char *screenshot; /* headless: PNG of the last frame */
-    const char *token;      /* kiosk */
+    const char *token;      /* kiosk: --token, or token_buf from --token-file */
+    char token_buf[CTL_MAX_TOKEN];
     double delay_s;         /* playout delay */
     double wait_s;          /* headless: give up after this long without state */
     int tile[4];            /* wall-tile: col, row, cols, rows */

@@ -10,6 +10,7 @@
 
 #include "cli_net.h"
 #include "mono.h"
+#include "token_file.h"
 
 static void usage(FILE *f)
 {
@@ -39,26 +40,6 @@ static void usage(FILE *f)
             "  --wait S              seconds to wait for the server (default 10)\n"
             "Exit status: 0 the server took the command, 1 it refused it or could not be\n"
             "reached, 2 bad arguments.\n");
-}
-
-/* The first line of path into out[cap]; 0 or -1 with a message. */
-static int read_token(const char *path, char *out, size_t cap)
-{
-    FILE *f = fopen(path, "r");
-    if (!f) {
-        fprintf(stderr, "gale-ctl: --token-file %s: cannot open\n", path);
-        return -1;
-    }
-    if (!fgets(out, (int)cap, f)) {
-        out[0] = '\0';
-    }
-    fclose(f);
-    out[strcspn(out, "\r\n")] = '\0';
-    if (!out[0]) {
-        fprintf(stderr, "gale-ctl: --token-file %s: the first line is empty\n", path);
-        return -1;
-    }
-    return 0;
 }
 
 static int number(const char *opt, const char *v, double lo, double hi, float *out)
@@ -215,7 +196,7 @@ int main(int argc, char **argv)
         } else if (!strcmp(o, "--token")) {
             token = v;
         } else if (!strcmp(o, "--token-file")) {
-            if (read_token(v, token_buf, sizeof token_buf)) {
+            if (token_file_read("gale-ctl", v, token_buf, sizeof token_buf)) {
                 return 2;
             }
             token = token_buf;

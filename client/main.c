@@ -16,6 +16,7 @@
 
 #include "mono.h"
 #include "client.h"
+#include "token_file.h"
 
 static volatile sig_atomic_t quit_flag;
 
@@ -38,7 +39,10 @@ static void usage(FILE *f)
             "  --frames N             headless: frames to draw after state arrives (default 60)\n"
             "  --screenshot FILE.png  headless: write the last frame there\n"
             "  --wait S               headless: give up after S s without state (default 30)\n"
-            "  --token T              kiosk token (wind commands)\n"
+            "  --token-file F         kiosk token (wind commands): the file's first line\n"
+            "                         (gale-server --kiosk-token-file); kept out of the\n"
+            "                         process list, where --token T shows to local users\n"
+            "  --token T              kiosk token on the command line\n"
             "  --delay MS             playout delay behind server time, default 100\n"
             "  --tile C,R,COLS,ROWS   wall-tile: this tile of a COLS x ROWS wall (0,0 top left)\n"
             "  --bezel F              wall-tile: hidden glass between tiles / tile width (0)\n"
@@ -224,6 +228,11 @@ static int parse_args(int argc, char **argv, client_args *a)
             a->screenshot = v;
         } else if (strcmp(o, "--token") == 0) {
             a->token = v;
+        } else if (strcmp(o, "--token-file") == 0) {
+            if (token_file_read("gale-client", v, a->token_buf, sizeof a->token_buf) != 0) {
+                return -1;
+            }
+            a->token = a->token_buf;
         } else if (strcmp(o, "--delay") == 0) {
             a->delay_s = atof(v) * 1e-3;
             if (!(a->delay_s > 0.0 && a->delay_s < 10.0)) {
@@ -403,7 +412,7 @@ int main(int argc, char **argv)
             cli_net_stats ns = cli_net_get_stats(c.net);
             fprintf(stderr,
                     "gale-client: %s refused this kiosk: %s. Give the server's kiosk token "
-                    "with --token (gale-server --kiosk-token-file sets it); not retrying.\n",
+                    "with --token-file (gale-server --kiosk-token-file sets it); not retrying.\n",
                     cli_net_server_name(c.net), ns.last_error);
             status = 4;
             break;

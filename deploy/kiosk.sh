@@ -12,8 +12,8 @@
 # libglfw3-wayland installed the client draws to cage directly; the script is the same.
 # A refused token (gale-client exit 4) or bad options (2) are the operator's to fix: the
 # script stops with the client's message instead of retrying.
-# gale-client takes the token as --token, so local users of the kiosk machine can read it in
-# the process list; the token file keeps it out of unit files and shell history.
+# The client reads the token from the file itself (gale-client --token-file), so it stays
+# out of the process list, unit files and shell history.
 set -euo pipefail
 
 usage() {
@@ -76,8 +76,9 @@ for v in "$backoff_s" "$max_backoff_s"; do
 done
 [[ "$max_restarts" =~ $int_re ]] || [ "$max_restarts" = -1 ] ||
     { echo "kiosk.sh: --max-restarts \"$max_restarts\": expected N" >&2; exit 2; }
-token="$(head -n 1 "$token_file" | tr -d '\r\n')"
-[ -n "$token" ] || { echo "kiosk.sh: --token-file $token_file: first line is empty" >&2; exit 2; }
+[ -n "$(head -n 1 "$token_file" | tr -d '\r\n')" ] ||
+    { echo "kiosk.sh: --token-file $token_file: first line is empty" >&2; exit 2; }
+token_file="$(readlink -f "$token_file")" # the client may start elsewhere (under cage)
 if [ -z "$client_cmd" ]; then
     client_cmd="${GALE_BUILD:-build}/client/gale-client"
     [ -x "$client_cmd" ] || client_cmd="$(command -v gale-client || true)"
@@ -120,7 +121,7 @@ delay_s="$backoff_s"
 while :; do
     t0="$(date +%s)"
     status=0
-    "$client_cmd" --url "$url" --role kiosk --token "$token" --fullscreen "${extra[@]}" &
+    "$client_cmd" --url "$url" --role kiosk --token-file "$token_file" --fullscreen "${extra[@]}" &
     child=$!
     wait "$child" || status=$?
     child=0

@@ -25,8 +25,9 @@ step "built: build/server/gale-server, build/client/gale-client, build/client/ga
 
 token_file=out/kiosk-token
 if [ ! -s "$token_file" ]; then
-    head -c 12 /dev/urandom | od -An -tx1 | tr -d ' \n' >"$token_file"
-    echo >>"$token_file"
+    # readable by this user alone: the token lets its holder dial the wind
+    (umask 077; head -c 12 /dev/urandom | od -An -tx1 | tr -d ' \n' >"$token_file"
+     echo >>"$token_file")
 fi
 
 step "gale-server: the embedded town block on 127.0.0.1:${port} (species baked on first run)"
@@ -50,7 +51,7 @@ ctl() { ./build/client/gale-ctl --url "$url" --token-file "$token_file" "$@" >/d
 
 if [ -n "${DISPLAY:-}${WAYLAND_DISPLAY:-}" ] && [ -z "${GALE_HEADLESS:-}" ]; then
     step "gale-client: the kiosk at street level (drag to look, F11 fullscreen, Esc quits)"
-    ./build/client/gale-client --url "$url" --role kiosk --token "$(head -n1 "$token_file")" \
+    ./build/client/gale-client --url "$url" --role kiosk --token-file "$token_file" \
         --camera street --size 1280x720 2>out/client.log || true
 else
     step "headless: breeze → Category 4 at street level, one frame each"
@@ -78,7 +79,7 @@ cat <<EOF
 
 gale: next, try
   ./build/server/gale-server --port $port --kiosk-token-file $token_file --scenario configs/scenarios/andrew1992.json --start-min -40 --replay-speed 10
-  ./build/client/gale-client --url $url --role kiosk --token \$(cat $token_file) --camera street
+  ./build/client/gale-client --url $url --role kiosk --token-file $token_file --camera street
   ./build/client/gale-ctl --url $url --token-file $token_file wind --speed 50 --dir 90
   ./build/client/gale-ctl --url $url --token-file $token_file replay --at landfall --speed 10
   ./build/client/gale-ctl --url $url --token-file $token_file release

@@ -31,11 +31,19 @@ static pid_t client(const char *name, const char *const *extra)
 
 static void test_wrong_token(void)
 {
-    char png[300], log[300];
+    char png[300], log[300], token_file[300];
     snprintf(png, sizeof png, "%s/refused.png", kf_dir);
     snprintf(log, sizeof log, "%s/refused.log", kf_dir);
+    snprintf(token_file, sizeof token_file, "%s/wrong-token", kf_dir);
     unlink(png);
-    const char *extra[] = { "--role", "kiosk", "--token", "not-the-token", "--frames", "5",
+    FILE *tf = fopen(token_file, "w");
+    CHECK(tf != NULL);
+    if (!tf) {
+        return;
+    }
+    fputs("not-the-token\r\nsecond line\n", tf);
+    fclose(tf);
+    const char *extra[] = { "--role", "kiosk", "--token-file", token_file, "--frames", "5",
                             "--wait", "60", "--screenshot", png, NULL };
     double t0 = mono_s();
     pid_t p = client("refused", extra);
@@ -43,13 +51,37 @@ static void test_wrong_token(void)
     CHECK(st == 4);
     CHECK(mono_s() - t0 < 20.0); /* one attempt, no retry loop */
     CHECK(proc_log_count(log, "refused this kiosk: server: hello.token: wrong kiosk token") == 1);
-    CHECK(proc_log_count(log, "--token") >= 1);
+    CHECK(proc_log_count(log, "with --token-file") == 1);
     CHECK(proc_log_count(log, "retry 1 in") == 0);
     struct stat sb;
     CHECK(stat(png, &sb) != 0); /* no screenshot */
     if (st != 4) {
         proc_dump(log);
     }
+}
+
+/* A token file that cannot be read or holds no token: exit 2 at once, naming the file,
+ * with no connection tried. */
+static void test_bad_token_file(void)
+{
+    char log[300], missing[300], empty[300];
+    snprintf(log, sizeof log, "%s/tokenfile.log", kf_dir);
+    snprintf(missing, sizeof missing, "%s/no-such-token", kf_dir);
+    snprintf(empty, sizeof empty, "%s/empty-token", kf_dir);
+    FILE *tf = fopen(empty, "w");
+    CHECK(tf != NULL);
+    if (tf) {
+        fputs("\n", tf);
+        fclose(tf);
+    }
+    const char *gone[] = { "--role", "kiosk", "--token-file", missing, NULL };
+    CHECK(proc_wait_exit(client("tokenfile", gone), 20.0) == 2);
+    CHECK(proc_log_count(log, "--token-file") == 1 && proc_log_count(log, missing) == 1 &&
+          proc_log_count(log, "cannot open") == 1);
+    const char *blank[] = { "--role", "kiosk", "--token-file", empty, NULL };
+    CHECK(proc_wait_exit(client("tokenfile", blank), 20.0) == 2);
+    CHECK(proc_log_count(log, "the first line is empty") == 1);
+    CHECK(proc_log_count(log, "connect") == 0);
 }
 
 static void test_reconnect_after_slow(void)
@@ -108,6 +140,7 @@ int main(void)
         return 1;
     }
     RUN(test_wrong_token);
+    RUN(test_bad_token_file);
     RUN(test_reconnect_after_slow);
     kf_stop_server();
     return check_report();

@@ -34,8 +34,9 @@ env -u DISPLAY -u WAYLAND_DISPLAY sh -c '"$@"' sh "$kiosk" --no-cage --url ws://
     2>"$d/log1" || st=$?
 [ "$st" = 1 ] || fail "crashing client: exit $st, expected its status 1"
 [ "$(grep -c '^run ' "$d/runs")" = 4 ] || fail "crashing client: expected 4 runs"
-grep -q '^run --url ws://127.0.0.1:9 --role kiosk --token sekrit --fullscreen --camera street$' \
+grep -qxF "run --url ws://127.0.0.1:9 --role kiosk --token-file $(readlink -f "$d/token") --fullscreen --camera street" \
     "$d/runs" || fail "client arguments"
+! grep -q sekrit "$d/runs" || fail "the token itself on the client's command line"
 [ "$(grep -c 'restart' "$d/log1")" = 3 ] || fail "expected 3 restart messages"
 
 # a refused token: one run, exit 4, no restart

@@ -102,13 +102,21 @@ static int start_kiosk(kiosk_run *k, const char *name, const char *touch)
 static int start_kiosk_args(kiosk_run *k, const char *name, const char *touch,
                             const char *attract_s)
 {
-    char url[64], cache[300], size[32];
+    char url[64], cache[300], size[32], token_file[300];
+    /* the token from a file, as deploy/kiosk.sh gives it (out of the process list) */
+    snprintf(token_file, sizeof token_file, "%s/kiosk-token", kf_dir);
+    FILE *tf = fopen(token_file, "w");
+    if (!tf) {
+        return -1;
+    }
+    fprintf(tf, "%s\n", KIOSK_TOKEN);
+    fclose(tf);
     snprintf(k->log, sizeof k->log, "%s/%s.log", kf_dir, name);
     snprintf(k->out, sizeof k->out, "%s/%s.out", kf_dir, name);
     snprintf(url, sizeof url, "ws://127.0.0.1:%d", kf_port);
     snprintf(cache, sizeof cache, "%s/cache", kf_dir);
     snprintf(size, sizeof size, "%dx%d", FB_W, FB_H);
-    char *argv[] = { GALE_CLIENT_EXE, "--url", url, "--role", "kiosk", "--token", KIOSK_TOKEN,
+    char *argv[] = { GALE_CLIENT_EXE, "--url", url, "--role", "kiosk", "--token-file", token_file,
                      "--headless", "--frames", "100000", "--size", size, "--wait", "120",
                      "--cache", cache, "--touch", (char *)touch,
                      attract_s ? "--attract" : NULL, (char *)attract_s, NULL };
