@@ -401,8 +401,15 @@ int hud_format(const hud_state *s, char lines[HUD_MAX_LINES][HUD_LINE_CHARS])
     } else {
         snprintf(lat, sizeof lat, "\xE2\x80\x93");
     }
-    snprintf(lines[n++], HUD_LINE_CHARS, "%.0f fps \xC2\xB7 latency %s \xC2\xB7 delay %.0f ms",
-             (double)s->fps, lat, (double)s->delay_ms);
+    /* no rate before the first half-second window closes (a headless frame saved at once) */
+    char fps[24];
+    if (s->fps > 0.0f) {
+        snprintf(fps, sizeof fps, "%.0f", (double)s->fps);
+    } else {
+        snprintf(fps, sizeof fps, "\xE2\x80\x93");
+    }
+    snprintf(lines[n++], HUD_LINE_CHARS, "%s fps \xC2\xB7 latency %s \xC2\xB7 delay %.0f ms", fps,
+             lat, (double)s->delay_ms);
     if (s->frames_bad) {
         snprintf(lines[n++], HUD_LINE_CHARS, "%llu bad frames dropped",
                  (unsigned long long)s->frames_bad);

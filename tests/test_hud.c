@@ -193,6 +193,11 @@ static void test_format(void)
     CHECK_STR_HAS(lines[1], "Category 3 hurricane");
     CHECK_STR_HAS(lines[2], "Live \xC2\xB7 127.0.0.1:9000 \xC2\xB7 kiosk");
     CHECK_STR_HAS(lines[3], "60 fps \xC2\xB7 latency 3.2 ms \xC2\xB7 delay 100 ms");
+    /* a rate not measured yet reads as a dash, not "0 fps" */
+    s.fps = 0.0f;
+    n = hud_format(&s, lines);
+    CHECK_STR_HAS(lines[3], "\xE2\x80\x93 fps \xC2\xB7 latency 3.2 ms");
+    s.fps = 59.6f;
     s.conn = HUD_CONN_RECONNECTING;
     s.attempt = 3;
     s.retry_in_s = 1.5;
