@@ -194,18 +194,18 @@ void damage_destroy(damage_sim *s)
     free(s);
 }
 
-static void emit(damage_sim *s, uint32_t t, uint32_t node, uint8_t kind, uint8_t value,
-                 uint32_t tick)
+/* An event of this step, in tree order: streamed while under the cap, and a broken branch
+ * remembered for the whole-state frame. */
+static void emit(damage_sim *s, const wire_damage *e)
 {
-    wire_damage e = { .tree = t, .node = node, .kind = kind, .value = value, .tick = tick };
     if (s->n_ev < s->d.max_events) {
-        s->ev[s->n_ev++] = e;
+        s->ev[s->n_ev++] = *e;
     } else {
         atomic_fetch_add(&s->counts.lost, 1);
     }
-    if (kind == WIRE_DAMAGE_BRANCH) {
+    if (e->kind == WIRE_DAMAGE_BRANCH) {
         if (s->n_log < DAMAGE_LOG_MAX) {
-            s->log[s->n_log++] = e;
+            s->log[s->n_log++] = *e;
         } else {
             atomic_fetch_add(&s->counts.lost, 1);
         }
@@ -217,11 +217,11 @@ static void emit(damage_sim *s, uint32_t t, uint32_t node, uint8_t kind, uint8_t
 static void lane_emit(damage_sim *s, damage_lane *l, uint32_t t, uint32_t node, uint8_t kind,
                       uint8_t value, uint32_t tick)
 {
+    const wire_damage e = { .tree = t, .node = node, .kind = kind, .value = value, .tick = tick };
     if (l == &s->lane[0]) {
-        emit(s, t, node, kind, value, tick);
+        emit(s, &e);
     } else if (l->n_ev < l->cap_ev) {
-        l->ev[l->n_ev++] = (wire_damage){ .tree = t, .node = node, .kind = kind,
-                                          .value = value, .tick = tick };
+        l->ev[l->n_ev++] = e;
     } else {
         atomic_fetch_add(&s->counts.lost, 1);
     }
@@ -517,14 +517,6 @@ static int lane_run(damage_sim *s, damage_lane *l, modal *m, const float *wind_w
     int lost = 0;
     for (uint32_t i = i0; i < i1; i++) {
         const uint32_t t = first + i * DAMAGE_EVERY;
-        /* the next tree's state on its way while this one is checked: a stride of
-         * DAMAGE_EVERY trees leaves each read a miss otherwise */
-        if (i + 1 < i1) {
-            const uint32_t next = t + DAMAGE_EVERY;
-            modal_prefetch(m, next);
-            __builtin_prefetch(&s->tree[next]);
-            __builtin_prefetch(&wind_world[3 * (size_t)next]);
-        }
         const damage_table *tb = s->table[s->species[t]];
         damage_tree_st *ts = &s->tree[t];
         if (!tb || ts->fallen) {
@@ -584,8 +576,7 @@ int damage_step(damage_sim *s, modal *m, const float *wind_world, uint32_t tick,
     for (int k = 1; k < nl; k++) {
         const damage_lane *l = &s->lane[k];
         for (int e = 0; e < l->n_ev; e++) {
-            const wire_damage *ev = &l->ev[e];
-            emit(s, ev->tree, ev->node, ev->kind, ev->value, ev->tick);
+            emit(s, &l->ev[e]);
         }
         int room = cap - *n_leaves;
         room = room < 0 ? 0 : room;

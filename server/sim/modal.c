@@ -350,17 +350,3 @@ float modal_force_scale(const modal *m, uint32_t t)
 {
     return t < m->n_trees ? m->force_scale[t] : 0.0f;
 }
-
-void modal_prefetch(const modal *m, uint32_t t)
-{
-    if (t >= m->n_trees) {
-        return;
-    }
-    const char *row = (const char *)(m->state + (size_t)t * 2 * m->pad);
-    const size_t bytes = m->sp[m->tree_species[t]].n_modes * sizeof(float);
-    for (size_t b = 0; b < bytes; b += 64) {
-        __builtin_prefetch(row + b);
-    }
-    __builtin_prefetch(&m->qnorm2[t]);
-    __builtin_prefetch(&m->force_scale[t]);
-}

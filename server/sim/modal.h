@@ -70,8 +70,4 @@ float modal_qnorm2(const modal *m, uint32_t t);
  * w = s k_t |v| v (0 before any, and for a sample the tick treated as calm air). */
 float modal_force_scale(const modal *m, uint32_t t);
 
-/* Asks the memory system for tree t's q, qnorm2 and force scale ahead of a read of them
- * (damage.h walks every DAMAGE_EVERY-th tree, a stride no prefetcher follows well). */
-void modal_prefetch(const modal *m, uint32_t t);
-
 #endif
