@@ -32,38 +32,46 @@ static const char *weather_bad_field(const wire_weather *w, size_t name_len)
     if (w->beaufort > 12) {
         return "beaufort";
     }
-    if (w->flags & ~WIRE_WEATHER_FLAGS_ALL) {
+    /* FINISHED, PAUSED and CLOCK describe a replay: only with STORM. Fields a flag leaves
+     * unset hold their "none" value exactly, so every frame has one reading. */
+    const bool storm = (w->flags & WIRE_WEATHER_STORM) != 0;
+    const bool clock = (w->flags & WIRE_WEATHER_CLOCK) != 0;
+    const unsigned replay_only = WIRE_WEATHER_FINISHED | WIRE_WEATHER_PAUSED | WIRE_WEATHER_CLOCK;
+    if ((w->flags & ~WIRE_WEATHER_FLAGS_ALL) || (!storm && (w->flags & replay_only))) {
         return "flags";
     }
-    if (w->storm_class >= WIND_SCALE_SS_COUNT && w->storm_class != 255) {
+    if (storm ? w->storm_class >= WIND_SCALE_SS_COUNT : w->storm_class != 255) {
         return "storm_class";
     }
     if (!IN(w->pressure_hpa, 800.0f, 1100.0f)) {
         return "pressure_hpa";
     }
-    const bool storm = (w->flags & WIRE_WEATHER_STORM) != 0;
     if (storm ? !IN(w->central_hpa, 800.0f, 1100.0f) : w->central_hpa != 0.0f) {
         return "central_hpa";
     }
     if (storm ? !IN(w->distance_km, 0.0f, 20000.0f) : w->distance_km != -1.0f) {
         return "distance_km";
     }
-    if (!IN(w->bearing_deg, 0.0f, 360.0f) || w->bearing_deg >= 360.0f) {
+    if (storm ? !IN(w->bearing_deg, 0.0f, 360.0f) || w->bearing_deg >= 360.0f
+              : w->bearing_deg != 0.0f) {
         return "bearing_deg";
     }
-    if (w->utc_offset_min < -840 || w->utc_offset_min > 840) {
+    if (!clock && w->utc_min != 0) {
+        return "utc_min";
+    }
+    if (clock ? w->utc_offset_min < -840 || w->utc_offset_min > 840 : w->utc_offset_min != 0) {
         return "utc_offset_min";
     }
-    if (!IN(w->storm_min, -1e6f, 1e6f)) {
+    if (storm ? !IN(w->storm_min, -1e6f, 1e6f) : w->storm_min != 0.0f) {
         return "storm_min";
     }
-    if (!IN(w->replay_pos_s, 0.0f, 1e9f)) {
+    if (storm ? !IN(w->replay_pos_s, 0.0f, 1e9f) : w->replay_pos_s != 0.0f) {
         return "replay_pos_s";
     }
-    if (!IN(w->replay_len_s, 0.0f, 1e9f)) {
+    if (storm ? !IN(w->replay_len_s, 0.0f, 1e9f) : w->replay_len_s != 0.0f) {
         return "replay_len_s";
     }
-    if (!IN(w->replay_speed, 0.0f, 1e5f)) {
+    if (storm ? !IN(w->replay_speed, 0.0f, 1e5f) : w->replay_speed != 0.0f) {
         return "replay_speed";
     }
     if (name_len > WIRE_WEATHER_NAME_MAX) {

@@ -1,16 +1,18 @@
 /* WEATHER frames (protocol/msg_weather.c, PROTOCOL.md "WEATHER") and the server's 3-s gust
- * (server/serve/weather_gust.c): a replay's weather encodes to the documented bytes and
- * decodes back field for field; every field out of its range is refused on both sides
- * with its name; truncated and padded frames are refused; the gust is the peak 3-s mean
- * of the last 60 s and never undercuts the sustained wind. */
+ * (server/serve/weather_gust.c): the PROTOCOL.md vector WEATHER (read from the spec)
+ * decodes field for field; every field out of its range, and every field a clear flag
+ * governs holding other than its "none" value, is refused on both sides with its name;
+ * truncated and padded frames are refused; the gust is the peak 3-s mean of the last
+ * 60 s and never undercuts the sustained wind. */
 #include <stdio.h>
 #include <string.h>
 
 #include "check.h"
+#include "spec_vectors.h"
 #include "weather_gust.h"
 #include "wire.h"
 
-/* Andrew near landfall (the PROTOCOL.md test vector). */
+/* Andrew near landfall: the PROTOCOL.md vector WEATHER's values. */
 static wire_weather andrew(void)
 {
     wire_weather w = { .sustained_ms = 50.0f,
@@ -34,57 +36,33 @@ static wire_weather andrew(void)
     return w;
 }
 
-static const char *vector_hex =
-    "47414c450100050078000000" "80841e0000000000"    /* header: type 5, tick 120, 2 s */
-    "00004842" "00007a42" "00003442"                   /* sustained 50, gust 62.5, from 45 */
-    "040c0905"                                         /* Cat 3, Bft 12, flags, storm Cat 4 */
-    "00806d44" "00806644" "0000a041" "0000b442"       /* 950 hPa, 922 hPa, 20 km, 90 deg */
-    "81beb500" "10ff"                                  /* utc_min, offset -240 */
-    "000020c1" "00003443" "0000c943" "00004842"       /* -10 min, 180 s, 402 s, x50 */
-    "0b" "416e6472657720313939 32";                    /* "Andrew 1992" */
+static spec_file spec;
 
-static size_t unhex(const char *hex, uint8_t *out, size_t cap)
+/* The PROTOCOL.md vector WEATHER (tests/test_spec_vectors.c checks its bytes and values)
+ * into out; its length. */
+static size_t vector(uint8_t *out, size_t cap)
 {
-    size_t n = 0;
-    for (const char *p = hex; *p && n < cap;) {
-        if (*p == ' ') {
-            p++;
-            continue;
-        }
-        unsigned v;
-        sscanf(p, "%2x", &v);
-        out[n++] = (uint8_t)v;
-        p += 2;
+    const spec_vector *v = spec_find(&spec, "WEATHER");
+    CHECK(v != NULL && v->len <= cap);
+    if (!v || v->len > cap) {
+        return 0;
     }
-    return n;
+    memcpy(out, v->bytes, v->len);
+    return v->len;
 }
 
-static void test_vector(void)
+/* Truncated and padded frames are refused. */
+static void test_length(void)
 {
-    wire_weather w = andrew();
-    wire_header h = { .tick = 120, .server_time_us = 2000000 };
-    uint8_t buf[WIRE_WEATHER_MAX_BYTES], want[256];
-    size_t len = 0;
-    gale_err e = { 0 };
-    CHECK(wire_encode_weather(&h, &w, buf, sizeof buf, &len, &e) == 0);
-    size_t wn = unhex(vector_hex, want, sizeof want);
-    CHECK(len == 20 + 55 + 11);
-    CHECK(wn == len);
-    if (wn == len && memcmp(buf, want, len) != 0) {
-        for (size_t i = 0; i < len; i++) {
-            fprintf(stderr, "%02x%s", buf[i], i + 1 == len ? "\n" : "");
-        }
-        CHECK(!"encoded bytes differ from the PROTOCOL.md vector");
-    }
-    wire_decoder *d = wire_decoder_create(&(wire_decoder_desc){ .max_trees = 4, .max_modes = 4 }, &e);
-    CHECK(d != NULL);
+    uint8_t want[256];
+    size_t wn = vector(want, sizeof want);
+    wire_decoder *d = wire_decoder_create(&(wire_decoder_desc){ .max_trees = 4, .max_modes = 4 }, NULL);
+    CHECK(d != NULL && wn == 20 + 55 + 11);
     wire_frame f;
+    gale_err e = { 0 };
     CHECK(wire_decode(d, want, wn, &f, &e) == 0);
-    CHECK(f.hdr.type == WIRE_MSG_WEATHER);
-    CHECK(f.hdr.tick == 120);
+    wire_weather w = andrew();
     CHECK(memcmp(&f.weather, &w, sizeof w) == 0);
-    CHECK(strcmp(f.weather.name, "Andrew 1992") == 0);
-    CHECK(f.weather.utc_offset_min == -240);
     /* truncated by one byte, and one byte too many */
     CHECK(wire_decode(d, want, wn - 1, &f, &e) == GALE_E_FORMAT);
     CHECK_STR_HAS(e.msg, "WEATHER tick 120: length");
@@ -124,7 +102,7 @@ static void test_ranges(void)
         { "name", 55, { 0x07 }, 1 },                           /* a control byte */
     };
     uint8_t good[256];
-    size_t n = unhex(vector_hex, good, sizeof good);
+    size_t n = vector(good, sizeof good);
     wire_decoder *d = wire_decoder_create(&(wire_decoder_desc){ .max_trees = 4, .max_modes = 4 }, NULL);
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         uint8_t b[256];
@@ -140,17 +118,84 @@ static void test_ranges(void)
     }
     wire_decoder_destroy(d);
     wire_weather w = andrew();
-    w.flags = 0; /* no storm: storm fields must be their "none" values */
     uint8_t buf[WIRE_WEATHER_MAX_BYTES];
     size_t len;
     gale_err e = { 0 };
-    CHECK(wire_encode_weather(&(wire_header){ 0 }, &w, buf, sizeof buf, &len, &e) == GALE_E_RANGE);
-    CHECK_STR_HAS(e.msg, "central_hpa");
-    w.central_hpa = 0.0f;
-    w.distance_km = -1.0f;
     CHECK(wire_encode_weather(&(wire_header){ 0 }, &w, buf, sizeof buf, &len, &e) == 0);
     CHECK(wire_encode_weather(&(wire_header){ 0 }, &w, buf, 30, &len, &e) == GALE_E_RANGE);
     CHECK_STR_HAS(e.msg, "buffer");
+}
+
+/* A flag left clear: the fields it governs hold their one "none" value (PROTOCOL.md
+ * "WEATHER"); any other is refused by the encoder and, patched into the bytes, by the
+ * decoder, naming the field. */
+static void test_none_values(void)
+{
+    wire_weather w = andrew();
+    w.flags = 0;
+    w.storm_class = 255;
+    w.central_hpa = 0.0f;
+    w.distance_km = -1.0f;
+    w.bearing_deg = 0.0f;
+    w.utc_min = 0;
+    w.utc_offset_min = 0;
+    w.storm_min = w.replay_pos_s = w.replay_len_s = w.replay_speed = 0.0f;
+    uint8_t good[WIRE_WEATHER_MAX_BYTES];
+    size_t n = 0;
+    gale_err e = { 0 };
+    CHECK(wire_encode_weather(&(wire_header){ 0 }, &w, good, sizeof good, &n, &e) == 0);
+    struct {
+        const char *field;
+        size_t off; /* body offset */
+        uint8_t bytes[4];
+        int n;
+    } bad[] = {
+        { "flags", 14, { WIRE_WEATHER_FINISHED }, 1 },
+        { "flags", 14, { WIRE_WEATHER_CLOCK }, 1 },
+        { "flags", 14, { WIRE_WEATHER_PAUSED | WIRE_WEATHER_DIAL }, 1 },
+        { "storm_class", 15, { 3 }, 1 },
+        { "bearing_deg", 28, { 0x00, 0x00, 0xb4, 0x42 }, 4 }, /* 90 */
+        { "utc_min", 32, { 0x81, 0xbe, 0xb5, 0x00 }, 4 },
+        { "utc_offset_min", 36, { 0x10, 0xff }, 2 },
+        { "storm_min", 38, { 0x00, 0x00, 0x20, 0xc1 }, 4 },
+        { "replay_pos_s", 42, { 0x00, 0x00, 0x80, 0x3f }, 4 },
+        { "replay_len_s", 46, { 0x00, 0x00, 0x80, 0x3f }, 4 },
+        { "replay_speed", 50, { 0x00, 0x00, 0x80, 0x3f }, 4 },
+    };
+    wire_decoder *d = wire_decoder_create(&(wire_decoder_desc){ .max_trees = 4, .max_modes = 4 }, NULL);
+    wire_frame f;
+    CHECK(wire_decode(d, good, n, &f, &e) == 0);
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        uint8_t b[WIRE_WEATHER_MAX_BYTES];
+        memcpy(b, good, n);
+        memcpy(b + 20 + bad[i].off, bad[i].bytes, (size_t)bad[i].n);
+        CHECK(wire_decode(d, b, n, &f, &e) == GALE_E_FORMAT);
+        CHECK_STR_HAS(e.msg, bad[i].field);
+        /* the same value refused by the encoder */
+        wire_weather x;
+        CHECK(wire_decode(d, good, n, &f, &e) == 0);
+        x = f.weather;
+        uint8_t *body = b + 20;
+        x.flags = body[14];
+        x.storm_class = body[15];
+        memcpy(&x.bearing_deg, body + 28, 4);
+        memcpy(&x.utc_min, body + 32, 4);
+        memcpy(&x.utc_offset_min, body + 36, 2);
+        memcpy(&x.storm_min, body + 38, 4);
+        memcpy(&x.replay_pos_s, body + 42, 4);
+        memcpy(&x.replay_len_s, body + 46, 4);
+        memcpy(&x.replay_speed, body + 50, 4);
+        uint8_t out[WIRE_WEATHER_MAX_BYTES];
+        size_t len;
+        CHECK(wire_encode_weather(&(wire_header){ 0 }, &x, out, sizeof out, &len, &e) == GALE_E_RANGE);
+        CHECK_STR_HAS(e.msg, bad[i].field);
+    }
+    /* with STORM, storm_class 255 is refused */
+    w = andrew();
+    w.storm_class = 255;
+    CHECK(wire_encode_weather(&(wire_header){ 0 }, &w, good, sizeof good, &n, &e) == GALE_E_RANGE);
+    CHECK_STR_HAS(e.msg, "storm_class");
+    wire_decoder_destroy(d);
 }
 
 static void test_gust(void)
@@ -192,8 +237,13 @@ static void test_gust(void)
 
 int main(void)
 {
-    RUN(test_vector);
+    if (spec_load(&spec, SPEC_PROTOCOL_PATH)) {
+        fprintf(stderr, "test_weather: %s\n", spec.err);
+        return 1;
+    }
+    RUN(test_length);
     RUN(test_ranges);
+    RUN(test_none_values);
     RUN(test_gust);
     return check_report();
 }

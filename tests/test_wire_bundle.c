@@ -1,47 +1,32 @@
-/* Tests of BUNDLE frames (PROTOCOL.md "BUNDLE"): the test vector byte for byte, a bundle
- * decoding to the same values as its frames sent apart, and every malformed container
+/* Tests of BUNDLE frames (PROTOCOL.md "BUNDLE"), on the spec's own vectors (read from
+ * PROTOCOL.md): a bundle decoding to the same values as its frames sent apart, and every malformed container
  * (count, lengths, nesting, repeated types, trailing bytes, a bad inner frame) rejected
  * with the decoder's state unchanged. */
 #include <stdio.h>
 #include <string.h>
 
 #include "check.h"
+#include "spec_vectors.h"
 #include "wire.h"
 
 static uint8_t buf[4096];
 
-static size_t from_hex(const char *hex, uint8_t *out, size_t cap)
-{
-    size_t n = 0;
-    unsigned v;
-    int used;
-    while (n < cap && sscanf(hex, " %2x%n", &v, &used) == 1) {
-        out[n++] = (uint8_t)v;
-        hex += used;
-    }
-    return n;
-}
-
-/* PROTOCOL.md "Test vectors": KEYFRAME seq 5, then the BUNDLE of DELTA seq 6 and LEAVES. */
-static const char *const SPEC_KEYFRAME =
-    "47 41 4c 45 01 00 01 00 78 00 00 00 80 84 1e 00 00 00 00 00 05 00 00 00 03 00 00 00"
-    " 02 02 6f 12 83 3a 6f 12 03 3b 01 6f 12 03 3a 00 01 00 01 02 00 01 01 01 01 02 01"
-    " 03 1e 04 0e";
-static const char *const SPEC_DELTA =
-    "47 41 4c 45 01 00 02 00 7a 00 00 00 b5 06 1f 00 00 00 00 00 06 00 00 00 01 00 22 02"
-    " 20";
-static const char *const SPEC_LEAVES =
-    "47 41 4c 45 01 00 03 00 7b 00 00 00 d0 47 1f 00 00 00 00 00 01 00 02 00 00 00 11 00"
-    " 76 00 00 00 ef be ad de";
-static const char *const SPEC_BUNDLE =
-    "47 41 4c 45 01 00 07 00 7a 00 00 00 b5 06 1f 00 00 00 00 00 02 1d 00 00 00"
-    " 47 41 4c 45 01 00 02 00 7a 00 00 00 b5 06 1f 00 00 00 00 00 06 00 00 00 01 00 22 02"
-    " 20 24 00 00 00"
-    " 47 41 4c 45 01 00 03 00 7b 00 00 00 d0 47 1f 00 00 00 00 00 01 00 02 00 00 00 11 00"
-    " 76 00 00 00 ef be ad de";
-
 static uint8_t key[128], delta[64], leaves[64], bundle[256];
 static size_t nk, nd, nl, nb;
+
+/* PROTOCOL.md's vector name into out (tests/test_spec_vectors.c checks its bytes and
+ * values); its length, 0 when the spec lacks it. */
+static size_t spec_bytes(const spec_file *f, const char *name, uint8_t *out, size_t cap)
+{
+    const spec_vector *v = spec_find(f, name);
+    if (!v || v->len > cap) {
+        fprintf(stderr, "test_wire_bundle: %s: no vector %s of <= %zu bytes\n",
+                SPEC_PROTOCOL_PATH, name, cap);
+        return 0;
+    }
+    memcpy(out, v->bytes, v->len);
+    return v->len;
+}
 
 static wire_decoder *keyed(void)
 {
@@ -49,30 +34,6 @@ static wire_decoder *keyed(void)
     wire_frame f;
     CHECK(d && wire_decode(d, key, nk, &f, NULL) == 0 && f.types == 1u << WIRE_MSG_KEYFRAME);
     return d;
-}
-
-static void test_vector(void)
-{
-    nk = from_hex(SPEC_KEYFRAME, key, sizeof key);
-    nd = from_hex(SPEC_DELTA, delta, sizeof delta);
-    nl = from_hex(SPEC_LEAVES, leaves, sizeof leaves);
-    nb = from_hex(SPEC_BUNDLE, bundle, sizeof bundle);
-    CHECK(nk == 59 && nd == 29 && nl == 36 && nb == 94);
-    size_t len = nd;
-    memcpy(buf, delta, nd);
-    const uint8_t *more[1] = { leaves };
-    CHECK(wire_bundle_wrap(buf, sizeof buf, &len, more, &nl, 1, NULL) == 0);
-    CHECK(len == nb && memcmp(buf, bundle, nb) == 0);
-
-    wire_decoder *d = keyed();
-    wire_frame f;
-    CHECK(wire_decode(d, bundle, nb, &f, NULL) == 0);
-    CHECK(f.types == ((1u << WIRE_MSG_DELTA) | (1u << WIRE_MSG_LEAVES)));
-    CHECK(f.hdr.type == WIRE_MSG_DELTA && f.hdr.tick == 122 && f.seq == 6);
-    CHECK(f.n_leaves == 1 && f.leaves[0].instance == 2 && f.leaves[0].seed == 0xdeadbeefu);
-    wire_state st = wire_decoder_state(d);
-    CHECK(wire_decoder_seq(d) == 6 && st.q[0] == 4 && st.q[1] == -2 && st.q[st.stride * 2] == 7);
-    wire_decoder_destroy(d);
 }
 
 /* Sent apart or bundled, a client ends with the same state and the same leaves. */
@@ -187,7 +148,21 @@ static void test_wrap_limits(void)
 
 int main(void)
 {
-    RUN(test_vector);
+    static spec_file spec;
+    if (spec_load(&spec, SPEC_PROTOCOL_PATH)) {
+        fprintf(stderr, "test_wire_bundle: %s\n", spec.err);
+        return 1;
+    }
+    /* KEYFRAME seq 5, then the BUNDLE of DELTA seq 6 and LEAVES */
+    nk = spec_bytes(&spec, "KEYFRAME", key, sizeof key);
+    nd = spec_bytes(&spec, "DELTA", delta, sizeof delta);
+    nl = spec_bytes(&spec, "LEAVES", leaves, sizeof leaves);
+    nb = spec_bytes(&spec, "BUNDLE", bundle, sizeof bundle);
+    if (nk != 59 || nd != 29 || nl != 36 || nb != 94) {
+        fprintf(stderr, "test_wire_bundle: expected vectors of 59, 29, 36 and 94 bytes, got %zu, "
+                        "%zu, %zu, %zu\n", nk, nd, nl, nb);
+        return 1;
+    }
     RUN(test_same_as_apart);
     RUN(test_malformed);
     RUN(test_wrap_limits);

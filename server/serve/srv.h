@@ -44,8 +44,9 @@ typedef struct srv_desc {
     int quiet;                    /* 1: no start-up lines */
     void (*published)(void *user, const net_snap *snap); /* net_desc.published; NULL none */
     void *published_user;
-    bool separate_extras;         /* leaves and wind as messages of their own, not inside
-                                     the state's BUNDLE (net_desc.separate_extras) */
+    bool separate_extras;         /* leaves, wind, damage and weather as messages of their
+                                     own, not inside the state's BUNDLE
+                                     (net_desc.separate_extras) */
     int history;                  /* snapshots of float q kept for srv_history_q; 0 → none */
     double kiosk_idle_s;          /* a kiosk's dial is released this long after its last
                                      command [s]; 0 → SRV_KIOSK_IDLE_S, < 0 → never */
