@@ -14,6 +14,7 @@
 #include "wire.h"
 
 static spec_file spec;
+static const char *spec_path; /* the file read */
 static uint8_t buf[4096];
 
 /* The vector's bytes, or (failing) an empty one. */
@@ -22,7 +23,7 @@ static const spec_vector *vec(const char *name)
     static const spec_vector none;
     const spec_vector *v = spec_find(&spec, name);
     if (!v) {
-        fprintf(stderr, "  vector %s: missing from %s\n", name, SPEC_PROTOCOL_PATH);
+        fprintf(stderr, "  vector %s: missing from %s\n", name, spec_path);
     }
     CHECK(v != NULL);
     return v ? v : &none;
@@ -654,8 +655,8 @@ static void test_every_vector(void)
             k++;
         }
         if (k == N_KNOWN || vectors[k].json != v->json) {
-            fprintf(stderr, "  %s:%d: vector %s (%s): not one this test knows\n",
-                    SPEC_PROTOCOL_PATH, v->line, v->name, v->json ? "gale-json" : "gale-hex");
+            fprintf(stderr, "  %s:%d: vector %s (%s): not one this test knows\n", spec_path,
+                    v->line, v->name, v->json ? "gale-json" : "gale-hex");
             CHECK(!"an unknown vector in the spec");
             continue;
         }
@@ -667,7 +668,7 @@ static void test_every_vector(void)
     }
     for (size_t k = 0; k < N_KNOWN; k++) {
         if (!seen[k]) {
-            fprintf(stderr, "  vector %s: missing from %s\n", vectors[k].name, SPEC_PROTOCOL_PATH);
+            fprintf(stderr, "  vector %s: missing from %s\n", vectors[k].name, spec_path);
         }
         CHECK(seen[k]);
     }
@@ -714,12 +715,13 @@ static void test_reader(void)
 
 int main(int argc, char **argv)
 {
-    if (argc > 1 && !strcmp(argv[1], "--help")) {
-        printf("usage: test_spec_vectors\n  decodes and re-encodes every test vector of %s\n",
-               SPEC_PROTOCOL_PATH);
-        return 0;
+    if (argc > 2 || (argc == 2 && !strcmp(argv[1], "--help"))) {
+        printf("usage: test_spec_vectors [SPEC.md]\n  decodes and re-encodes every test vector "
+               "of SPEC.md (default %s)\n", SPEC_PROTOCOL_PATH);
+        return argc > 2;
     }
-    if (spec_load(&spec, SPEC_PROTOCOL_PATH)) {
+    spec_path = argc == 2 ? argv[1] : SPEC_PROTOCOL_PATH;
+    if (spec_load(&spec, spec_path)) {
         fprintf(stderr, "test_spec_vectors: %s\n", spec.err);
         return 1;
     }
