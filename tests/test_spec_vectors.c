@@ -3,7 +3,8 @@
  * values checked, and the inputs the spec states encode to exactly its bytes; each control
  * message decodes to the stated values and encodes back to exactly its text. A vector in
  * the file that this test does not know, one it knows that the file lacks, or a byte that
- * differs fails. */
+ * differs fails. The Saffir-Simpson and Beaufort tables of "WEATHER" are checked against
+ * protocol/wind_scale.c the same way. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,6 +12,7 @@
 #include "check.h"
 #include "ctl.h"
 #include "spec_vectors.h"
+#include "wind_scale.h"
 #include "wire.h"
 
 static spec_file spec;
@@ -674,6 +676,67 @@ static void test_every_vector(void)
     }
 }
 
+/* The row of the spec's markdown table whose first cell is head, copied into row; 0 if
+ * found once. */
+static int table_row(const char *head, char *row, size_t cap)
+{
+    FILE *fp = fopen(spec_path, "r");
+    char line[1024];
+    int found = 0;
+    while (fp && fgets(line, sizeof line, fp)) {
+        if (!strncmp(line, head, strlen(head))) {
+            found++;
+            snprintf(row, cap, "%s", line + strlen(head));
+        }
+    }
+    if (fp) {
+        fclose(fp);
+    }
+    return found == 1 ? 0 : -1;
+}
+
+/* PROTOCOL.md "WEATHER", "Classes": the Saffir-Simpson knots and the Beaufort limits in the
+ * spec's tables are those protocol/wind_scale.c classifies by, limit for limit. */
+static void test_class_tables(void)
+{
+    char row[1024];
+    CHECK(table_row("| kt |", row, sizeof row) == 0);
+    /* "| ≤ 33 | 34-63 | ... | ≥ 137 |": each class's first knot (class 0 from 0) */
+    int c = 0;
+    for (const char *p = row; p && *p != '\n' && c < WIND_SCALE_SS_COUNT; c++) {
+        int lo = 0, hi = 0;
+        if (c == 0) {
+            CHECK(sscanf(p, " \xe2\x89\xa4 %d |", &hi) == 1 && hi == 33);
+            lo = 0;
+        } else if (c == WIND_SCALE_SS_COUNT - 1) {
+            CHECK(sscanf(p, " \xe2\x89\xa5 %d |", &lo) == 1);
+        } else {
+            CHECK(sscanf(p, " %d-%d |", &lo, &hi) == 2);
+        }
+        p = strchr(p, '|');
+        p = p ? p + 1 : NULL;
+        /* the class starts half a knot below its first whole knot (rounding to knots) */
+        double want = c == 0 ? 0.0 : (lo - 0.5) * WIND_SCALE_MS_PER_KT;
+        CHECK_NEAR(wind_scale_ss_lower_ms(c), want, 1e-9);
+        if (c > 0) {
+            CHECK(wind_scale_ss_class(want + 1e-6) == c && wind_scale_ss_class(want - 1e-6) == c - 1);
+        }
+    }
+    CHECK(c == WIND_SCALE_SS_COUNT);
+    CHECK(table_row("| upper limit [m/s] |", row, sizeof row) == 0);
+    int b = 0;
+    for (const char *p = row; p && *p != '\n' && b < 12; b++) {
+        double up = 0;
+        CHECK(sscanf(p, " %lf |", &up) == 1);
+        p = strchr(p, '|');
+        p = p ? p + 1 : NULL;
+        /* force b ends at its limit; b + 1 starts half a tenth above it (rounding to 0.1) */
+        CHECK(wind_scale_beaufort(up) == b && wind_scale_beaufort(up + 0.1) == b + 1);
+        CHECK_NEAR(wind_scale_beaufort_lower_ms(b + 1), up + 0.05, 1e-9);
+    }
+    CHECK(b == 12);
+}
+
 /* The reader itself: a changed byte, a missing marker, a bad offset are noticed. */
 static void test_reader(void)
 {
@@ -727,5 +790,6 @@ int main(int argc, char **argv)
     }
     RUN(test_reader);
     RUN(test_every_vector);
+    RUN(test_class_tables);
     return check_report();
 }
