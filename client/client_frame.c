@@ -47,6 +47,8 @@ int client_frame_draw(client *c, double now, gale_err *err)
         rc.target[k] = rc.eye[k] + f[k];
     }
     rc.up[2] = 1.0f;
+    /* an orbit camera looks at its target (a preset's tree) */
+    rc.subject_m = c->cam.mode == CAMERA_ORBIT ? c->cam.distance : 0.0f;
     if (c->a.role == CTL_ROLE_WALL_TILE) {
         rc.matrices = true;
         client_wall_matrices(c, fb_w, fb_h, rc.z_near, rc.z_far, rc.view, rc.proj);

@@ -1,7 +1,9 @@
 /* Client HUD (server/PHYSICS.md "Hurricane scenario": the HUD shows speed and the
  * Saffir–Simpson category): a TrueType font baked into a glyph atlas with stb_truetype, text layout,
  * the HUD's lines (wind in m/s, km/h, mph; category; connection; fps; latency) and one
- * small OpenGL 3.3 pass that draws them over the rendered frame. */
+ * small OpenGL 3.3 pass that draws them over the rendered frame. Its files, one job each:
+ * hud_font.c (atlas and layout), hud_format.c (the lines' text), hud_gl.c (program and
+ * vertex batch), hud_layer.c (batches kept as pictures), hud_draw.c (the HUD's panels). */
 #ifndef GALE_HUD_H
 #define GALE_HUD_H
 

@@ -224,6 +224,11 @@ static void camera_matrices(render *r, const render_camera *cam)
         glm_perspective(glm_rad(fov), (float)r->w / (float)r->h, zn, zf, proj);
         memcpy(r->eye, cam->eye, sizeof r->eye);
     }
+    /* the subject lies subject_m along the view axis: -(row 2 of the view matrix) */
+    r->subject_m = cam->subject_m > 0.0f && isfinite(cam->subject_m) ? cam->subject_m : 0.0f;
+    for (int k = 0; k < 3; k++) {
+        r->subject[k] = r->eye[k] - r->subject_m * view[k][2];
+    }
     glm_mat4_mul(proj, view, vp);
     memcpy(r->view, view, sizeof view);
     memcpy(r->proj, proj, sizeof proj);

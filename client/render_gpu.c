@@ -80,6 +80,9 @@ void render_set_common(render *r, const render_prog *p, float time_rel, float fo
     glUniform3fv(p->u_sky_horizon, 1, r->fx.sky_horizon);
     glUniform3fv(p->u_ground_col, 1, r->fx.ground_col);
     glUniform1f(p->u_fog_dist, fog_dist * r->fx.fog_scale);
+    /* the storm fog is fog_dist * fog_scale; up to the subject it is thinned towards the
+     * calm fog_dist (common.glsl fog_apply) */
+    glUniform4f(p->u_storm, r->fx.wet, r->subject_m, fog_dist, r->fx.subject_clear);
     glUniform1f(p->u_time, time_rel);
     glUniform3fv(p->u_wind_origin, 1, r->wind_origin);
     glUniform3fv(p->u_wind_extent, 1, r->wind_extent);

@@ -65,6 +65,7 @@ typedef struct render_prog {
     GLint u_npath, u_pdt, u_ncont, u_cont, u_aspects;
     /* rain */
     GLint u_rain, u_spray;
+    GLint u_storm, u_rain_clear; /* the trees kept readable in a storm (common.glsl, rain) */
 } render_prog;
 
 typedef struct rs_buf {
@@ -157,6 +158,8 @@ struct render {
     bool t_base_set;
 
     float view[16], proj[16], viewproj[16], eye[3];
+    /* the camera's subject (render_camera.subject_m): world point and distance [m], 0 none */
+    float subject[3], subject_m;
     render_stats stats;
 };
 

@@ -30,6 +30,13 @@ void render_rain_draw(render *r, float time_rel)
     glUniform2f(r->p_rain.u_spray, r->fx.spray, -across / 30.0f);
     mat4 vp, inv;
     memcpy(vp, r->viewproj, sizeof vp);
+    /* the subject on screen: the streaks thin within half the frame's height of it */
+    vec4 s = { r->subject[0], r->subject[1], r->subject[2], 1.0f }, c;
+    glm_mat4_mulv(vp, s, c);
+    float clear = r->subject_m > 0.0f && c[3] > 0.0f ? r->fx.subject_clear : 0.0f;
+    float sx = clear > 0.0f ? (c[0] / c[3] * 0.5f + 0.5f) * (float)r->w : 0.0f;
+    float sy = clear > 0.0f ? (c[1] / c[3] * 0.5f + 0.5f) * (float)r->h : 0.0f;
+    glUniform4f(r->p_rain.u_rain_clear, sx, sy, 0.5f * (float)r->h, clear);
     glm_mat4_inv(vp, inv);
     glUniformMatrix4fv(r->p_rain.u_inv_viewproj, 1, GL_FALSE, (float *)inv);
     glDisable(GL_DEPTH_TEST);

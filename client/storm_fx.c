@@ -9,10 +9,14 @@ static const float calm_sun[3] = { 1.05f, 0.97f, 0.86f };
 static const float calm_zenith[3] = { 0.30f, 0.50f, 0.82f };
 static const float calm_horizon[3] = { 0.74f, 0.82f, 0.90f };
 static const float calm_ground[3] = { 0.30f, 0.40f, 0.17f };
-/* the darkest storm: slate cloud deck, a grey horizon in rain, light through thick cloud */
+/* the darkest storm: a grey cloud deck, a paler horizon in rain, light through thick cloud.
+ * The deck overhead stays lighter than wet foliage under it (ambient 0.55 of it), so a
+ * crown seen from the street is a dark shape on a grey sky, as under a real overcast,
+ * where the sky is brightest overhead (CIE standard overcast sky: zenith about three
+ * times the horizon; here the rain's veil lifts the horizon). */
 static const float storm_sun[3] = { 0.22f, 0.23f, 0.25f };
-static const float storm_zenith[3] = { 0.16f, 0.18f, 0.21f };
-static const float storm_horizon[3] = { 0.34f, 0.36f, 0.38f };
+static const float storm_zenith[3] = { 0.30f, 0.32f, 0.35f };
+static const float storm_horizon[3] = { 0.40f, 0.42f, 0.44f };
 static const float storm_ground[3] = { 0.20f, 0.25f, 0.14f };
 /* fog distance at full intensity: a fraction of the clear day's (heavy rain cuts visibility
  * to a few hundred metres) */
@@ -56,6 +60,8 @@ void storm_fx_from_weather(float sustained_ms, float dir_from_deg, storm_fx_qual
     mix3(calm_horizon, storm_horizon, i, fx->sky_horizon);
     mix3(calm_ground, storm_ground, i, fx->ground_col);
     fx->fog_scale = 1.0f + (storm_fog_scale - 1.0f) * i;
+    fx->wet = i;
+    fx->subject_clear = STORM_FX_SUBJECT_CLEAR;
     /* where the wind goes: opposite to where it comes from */
     float to = (dir_from_deg + 180.0f) * 0.017453293f;
     float s = sustained_ms > 200.0f ? 200.0f : sustained_ms;

@@ -30,10 +30,18 @@ typedef struct storm_fx {
     int rain_layers;  /* layers of streaks drawn (0 none) */
     float spray;      /* blown spray near the horizon 0 (none) .. 1 */
     float wind_to[2]; /* horizontal wind [m/s], world x east, y north: streaks slant along it */
+    /* Keeping the trees readable (the exhibit is about them): */
+    float wet;           /* wet bark and leaves 0 (dry) .. 1: darker, with a sheen of the sky */
+    float subject_clear; /* share of the storm's extra fog and of the rain streaks kept off
+                            the camera's subject (the trees it looks at) 0 .. 1 */
 } storm_fx;
 
 /* The calm look: the sky, light and fog the renderer draws with no storm. */
 void storm_fx_calm(storm_fx *fx);
+
+/* Share of the storm's extra fog and rain kept off the camera's subject once storm_fx
+ * darkens the sky (storm_fx.subject_clear). */
+#define STORM_FX_SUBJECT_CLEAR 0.8f
 
 /* The look at sustained wind sustained_ms coming from dir_from_deg (clockwise from north),
  * at quality q. Below STORM_FX_DARK_FROM_MS, or with q off, it equals storm_fx_calm. */

@@ -14,6 +14,10 @@ uniform sampler3D u_wind;   // coarse wind [m/s], world
 uniform vec3 u_wind_origin; // grid corner [m]
 uniform vec3 u_wind_extent; // grid size [m]; 0 = uniform wind only
 uniform vec3 u_wind_uniform;
+// The trees kept readable in a storm (storm_fx.h): x wetness 0..1, y distance of the
+// camera's subject [m] (0: none), z the calm fog distance [m], w share of the storm's extra
+// fog kept off the subject (storm_fx.subject_clear). All 0 in the calm look.
+uniform vec4 u_storm;
 
 vec3 sky_color(vec3 dir)
 {
@@ -32,7 +36,15 @@ vec3 fog_apply(vec3 c, vec3 wpos)
     vec3 d = wpos - u_eye;
     float dist = length(d);
     // exponential-squared fog, thicker near the ground
-    float f = 1.0 - exp(-pow(dist / u_fog_dist, 1.6));
+    float tau = pow(dist / u_fog_dist, 1.6);
+    if (u_storm.w > 0.0 && u_storm.y > 0.0) {
+        // the storm's fog by distance beyond the subject: up to it mostly the calm fog,
+        // the whole storm fog from twice its distance on (tau grows with dist throughout:
+        // the calm depth is the smaller, and its share falls with dist)
+        float keep = u_storm.w * (1.0 - smoothstep(u_storm.y, 2.0 * u_storm.y, dist));
+        tau = mix(tau, pow(dist / u_storm.z, 1.6), keep);
+    }
+    float f = 1.0 - exp(-tau);
     vec3 fc = sky_color(normalize(vec3(d.xy, max(d.z, 0.0) * 0.3)));
     return mix(c, fc, clamp(f, 0.0, 1.0));
 }
@@ -44,6 +56,18 @@ vec3 light(vec3 albedo, vec3 n, vec3 wpos, float spec_k, float shininess)
     vec3 hv = normalize(u_sun_dir + v);
     float spec = ndl > 0.0 ? pow(max(dot(n, hv), 0.0), shininess) * spec_k : 0.0;
     vec3 amb = mix(u_ground_col * 0.9, u_sky_zenith, 0.5 + 0.5 * n.z) * 0.55;
+    if (u_storm.x > 0.0) {
+        // wet: a water film darkens what it covers (light trapped in the film by total
+        // internal reflection, Lekner & Dorf, Appl. Opt. 27, 1988) and reflects the sky
+        // (Schlick's Fresnel for water, F0 = 0.02) as sharply as the surface is glossy
+        // (spec_k: leaves and bark, hardly grass): crowns darker than the grey sky
+        // behind them, their leaves' edges catching its light
+        albedo *= 1.0 - 0.3 * u_storm.x;
+        float fr = 0.02 + 0.98 * pow(1.0 - abs(dot(n, v)), 5.0);
+        float gloss = min(spec_k * 8.0, 1.0);
+        vec3 sheen = sky_color(reflect(-v, n)) * fr * 0.5 * gloss * u_storm.x;
+        return albedo * (amb + u_sun_col * max(ndl, 0.0)) + u_sun_col * spec + sheen;
+    }
     return albedo * (amb + u_sun_col * max(ndl, 0.0)) + u_sun_col * spec;
 }
 

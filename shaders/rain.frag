@@ -5,6 +5,9 @@
 // drifting with the wind.
 uniform vec4 u_rain; // density 0..1, slant dx/dy, layers 1..3, pixels per 720 rows
 uniform vec2 u_spray; // strength 0..1, drift [rad/s]
+// the camera's subject on screen [px] (xy), the radius about it [px] over which the
+// streaks thin (z), and the share of them kept off it (w; 0: none)
+uniform vec4 u_rain_clear;
 uniform mat4 u_inv_viewproj;
 in vec2 v_ndc;
 out vec4 o_col;
@@ -12,6 +15,13 @@ void main()
 {
     vec2 p = gl_FragCoord.xy;
     float a = 0.0;
+    // the foreground volume around the subject: the near layers (k 1, 2: wider, faster)
+    // thin out there, the far one less, so the trees read through the rain
+    float clear = 0.0;
+    if (u_rain_clear.w > 0.0) {
+        clear = u_rain_clear.w * (1.0 - smoothstep(0.5, 1.0, length(p - u_rain_clear.xy) /
+                                                             u_rain_clear.z));
+    }
     int n = int(u_rain.z);
     for (int k = 0; k < 3; k++) {
         if (k >= n) {
@@ -24,7 +34,8 @@ void main()
         uint h = hash_u(uint(int(c) + 1048576) * 0x9E3779B1u + uint(k) * 0x85EBCA77u);
         float r0 = float(h & 0xffffu) * (1.0 / 65536.0);
         float r1 = float(h >> 16u) * (1.0 / 65536.0);
-        if (r0 >= u_rain.x) {
+        float density = u_rain.x * (1.0 - clear * (k == 0 ? 0.5 : 1.0));
+        if (r0 >= density) {
             continue; // this column is dry
         }
         // the streak's line inside its column, about one pixel wide per layer scale
@@ -42,7 +53,7 @@ void main()
         float az = atan(dir.y, dir.x) + u_time * u_spray.y;
         float band = exp(-abs(dir.z) * 9.0);
         float streak = 0.6 + 0.4 * sin(az * 23.0 + sin(az * 7.0) * 2.0) * sin(az * 61.0 - u_time);
-        float s = u_spray.x * 0.55 * band * streak;
+        float s = u_spray.x * 0.55 * band * streak * (1.0 - 0.5 * clear);
         a = 1.0 - (1.0 - a) * (1.0 - s);
     }
     if (a <= 0.004) {

@@ -44,6 +44,9 @@ static void test_monotone(void)
         CHECK(fx.fog_scale <= prev.fog_scale && fx.fog_scale > 0.0f);
         CHECK(fx.rain >= prev.rain && fx.rain <= 1.0f);
         CHECK(fx.spray >= prev.spray && fx.spray <= 1.0f);
+        CHECK(fx.wet >= prev.wet && fx.wet <= 1.0f);
+        /* the subject kept clear whenever the storm look is on */
+        CHECK(fx.subject_clear == (fx.intensity > 0.0f ? STORM_FX_SUBJECT_CLEAR : 0.0f));
         prev = fx;
     }
 }
@@ -58,6 +61,26 @@ static void test_cat4_darker_than_cat1(void)
     CHECK(c4.fog_scale < c1.fog_scale - 0.05f);
     CHECK(c4.rain > c1.rain);
     CHECK(c1.spray > 0.0f && c4.spray > c1.spray);
+    CHECK(c4.wet > c1.wet && c1.wet > 0.0f);
+}
+
+/* Crowns darker than the sky behind them from Category 3 on: a leaf facing straight up,
+ * lit as common.glsl light() lights it (ambient 0.55 x the zenith, the sun at most fully
+ * on it, the wet albedo 1 - 0.3 wet), of the brightest demo leaf colour (palm, 0.30 0.52
+ * 0.16 x 1.18, render_demo.c and leaf.frag's variation), stays under 0.8 of the sky's
+ * zenith luma: the deck is a light ground for dark crowns, not the other way round. */
+static void test_crowns_darker_than_sky(void)
+{
+    const float leaf[3] = { 0.30f * 1.18f, 0.52f * 1.18f, 0.16f * 1.18f };
+    for (float v = 50.0f; v <= 90.0f; v += 1.0f) { /* Category 3 and above */
+        storm_fx fx;
+        storm_fx_from_weather(v, 0.0f, STORM_FX_HIGH, &fx);
+        float lit[3];
+        for (int k = 0; k < 3; k++) {
+            lit[k] = leaf[k] * (1.0f - 0.3f * fx.wet) * (0.55f * fx.sky_zenith[k] + fx.sun_col[k]);
+        }
+        CHECK(luma(lit) < 0.8f * luma(fx.sky_zenith));
+    }
 }
 
 static void test_rain_threshold_and_wind(void)
@@ -93,6 +116,7 @@ int main(void)
     RUN(test_calm_is_clear_day);
     RUN(test_monotone);
     RUN(test_cat4_darker_than_cat1);
+    RUN(test_crowns_darker_than_sky);
     RUN(test_rain_threshold_and_wind);
     RUN(test_quality_parse);
     return check_report();
