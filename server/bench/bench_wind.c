@@ -11,7 +11,10 @@
 
 #include "mono.h"
 #include "bench.h"
+#include "hash.h"
+#include "scenario.h"
 #include "wind.h"
+#include "wind_error.h"
 
 
 /* CPU time of the whole process [ms]: with the machine shared, CPU time per step over the
@@ -72,10 +75,149 @@ static void loadavg(double l[3])
     }
 }
 
+static void compare_drive(void *ctx, double t_s, wind_inflow *in, const wind_ball **balls,
+                          int *n_balls)
+{
+    scenario *sc = ctx;
+    scenario_state st;
+    scenario_eval(sc, t_s, &st);
+    *in = st.inflow;
+    *n_balls = scenario_balls(sc, balls);
+}
+
+/* gale-bench wind --compare SCENARIO: the landscape method (a coarse grid with the
+ * subgrid profile) against today's uniform 2 m grid at tree points, both driven by the
+ * scenario (wind_error.h). */
+static int bench_wind_compare(const char *file, int argc, char **argv)
+{
+    double region_m = 256.0, record_s = 60.0, spinup_s = 10.0;
+    int n_points = 400, ref_nz = 8, ref_every = 4, test_nz = 2, test_every = 4, subgrid = 1;
+    float ref_cell = 2.0f, test_cell = 8.0f;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (strcmp(a, "--compare") == 0 && v) {
+            i++;
+        } else if (strcmp(a, "--region-m") == 0 && v) {
+            region_m = atof(argv[++i]);
+        } else if (strcmp(a, "--record-s") == 0 && v) {
+            record_s = atof(argv[++i]);
+        } else if (strcmp(a, "--spinup-s") == 0 && v) {
+            spinup_s = atof(argv[++i]);
+        } else if (strcmp(a, "--points") == 0 && v) {
+            n_points = atoi(argv[++i]);
+        } else if (strcmp(a, "--ref-nz") == 0 && v) {
+            ref_nz = atoi(argv[++i]);
+        } else if (strcmp(a, "--ref-every") == 0 && v) {
+            ref_every = atoi(argv[++i]);
+        } else if (strcmp(a, "--test-cell-m") == 0 && v) {
+            test_cell = (float)atof(argv[++i]);
+        } else if (strcmp(a, "--test-nz") == 0 && v) {
+            test_nz = atoi(argv[++i]);
+        } else if (strcmp(a, "--test-every") == 0 && v) {
+            test_every = atoi(argv[++i]);
+        } else if (strcmp(a, "--no-subgrid-profile") == 0) {
+            subgrid = 0;
+        } else if (strcmp(a, "--json") == 0) {
+            /* JSON is the only output */
+        } else {
+            return bench_usage(a, "usage: gale-bench wind --compare SCENARIO.json "
+                                  "[--region-m 256] [--record-s 60] [--spinup-s 10] "
+                                  "[--points 400] [--ref-nz 8] [--ref-every 4] "
+                                  "[--test-cell-m 8] [--test-nz 2] [--test-every 4] "
+                                  "[--no-subgrid-profile] [--json]\n");
+        }
+    }
+    int ref_n = (int)lround(region_m / (double)ref_cell),
+        test_n = (int)lround(region_m / (double)test_cell);
+    if (!(region_m >= 32.0) || !(region_m <= 4096.0) || n_points < 1 || n_points > 100000 ||
+        !(record_s >= 3.0) || !(spinup_s >= 0.0) || !(test_cell >= 0.5f) || test_n < 2 ||
+        test_nz < 1 || ref_nz < 1 || ref_every < 1 || test_every < 1) {
+        fprintf(stderr, "gale-bench wind --compare: expected --region-m 32..4096 (at least two "
+                        "test cells), --points 1..100000, --record-s >= 3, --spinup-s >= 0, "
+                        "positive cells, layers and step intervals\n");
+        return 2;
+    }
+    gale_err err = { 0 };
+    scenario *sc = scenario_load(file, &err);
+    if (!sc) {
+        fprintf(stderr, "gale-bench wind --compare: %s\n", err.msg);
+        return 1;
+    }
+    /* crowns (0.7 of a 7..21 m tree) over the middle 70 %, clear of the borders' inflow */
+    float *pts = malloc((size_t)n_points * 3 * sizeof *pts);
+    if (!pts) {
+        scenario_destroy(sc);
+        return 1;
+    }
+    uint64_t rng = 0x5eedull;
+    for (int i = 0; i < n_points; i++) {
+        for (int a = 0; a < 2; a++) {
+            double u = (double)(hash64_splitmix(&rng) >> 11) / 9007199254740992.0;
+            pts[3 * i + a] = (float)((u - 0.5) * 0.7 * region_m);
+        }
+        double u = (double)(hash64_splitmix(&rng) >> 11) / 9007199254740992.0;
+        pts[3 * i + 2] = (float)(5.0 + 10.0 * u);
+    }
+    const float o = (float)(-0.5 * region_m);
+    wind_error_desc d = {
+        .ref = { .nx = ref_n, .ny = ref_n, .nz = ref_nz, .cell_m = ref_cell,
+                 .origin = { o, o, 0.0f }, .threads = 1, .seed = 1 },
+        .test = { .nx = test_n, .ny = test_n, .nz = test_nz, .cell_m = test_cell,
+                  .origin = { o, o, 0.0f }, .threads = 1, .seed = 1,
+                  .subgrid_profile = subgrid },
+        .ref_every = ref_every, .test_every = test_every, .tick_hz = 60.0,
+        .spinup_s = spinup_s, .record_s = record_s, .points = pts, .n_points = n_points,
+        .bin_z0_m = 4.0f, .bin_m = 2.0f, .n_bins = 6, .drive = compare_drive, .drive_ctx = sc };
+    double l0[3], l1[3];
+    loadavg(l0);
+    wind_error_result r;
+    int rc = wind_error_run(&d, &r, &err);
+    loadavg(l1);
+    free(pts);
+    if (rc) {
+        scenario_destroy(sc);
+        fprintf(stderr, "gale-bench wind --compare: %s\n", err.msg);
+        return 1;
+    }
+    printf("{\"scenario\": \"%s\", \"region_m\": %.0f, \"points\": %d, "
+           "\"crown_z_m\": [5, 15], \"record_s\": %.0f, \"spinup_s\": %.0f, "
+           "\"reference\": {\"grid\": [%d, %d, %d], \"cell_m\": %.1f, \"every\": %d, "
+           "\"mean_ms\": %.3f, \"std_ms\": %.3f, \"gust_factor_3s\": %.3f, "
+           "\"ms_per_step_median\": %.3f}, "
+           "\"test\": {\"grid\": [%d, %d, %d], \"cell_m\": %.1f, \"every\": %d, "
+           "\"subgrid_profile\": %s, \"mean_ms\": %.3f, \"std_ms\": %.3f, "
+           "\"gust_factor_3s\": %.3f, \"ms_per_step_median\": %.3f}, ",
+           scenario_name(sc), region_m, n_points, record_s, spinup_s, ref_n, ref_n, ref_nz,
+           (double)ref_cell, ref_every, r.ref.mean_ms, r.ref.std_ms, r.ref.gust3, r.ref.step_ms,
+           test_n, test_n, test_nz, (double)test_cell, test_every, subgrid ? "true" : "false",
+           r.test.mean_ms, r.test.std_ms, r.test.gust3, r.test.step_ms);
+    printf("\"per_point\": {\"mean_rel_err\": %.4f, \"mean_rel_err_max\": %.4f, "
+           "\"std_rel_err\": %.4f, \"std_rel_err_max\": %.4f, \"gust3_abs_err\": %.4f, "
+           "\"gust3_abs_err_max\": %.4f, \"speed_correlation\": %.4f}, \"profile\": [",
+           r.mean_rel_err, r.mean_rel_err_max, r.std_rel_err, r.std_rel_err_max,
+           r.gust3_abs_err, r.gust3_abs_err_max, r.corr);
+    for (int b = 0; b < r.n_bins; b++) {
+        printf("%s{\"z_m\": [%.0f, %.0f], \"points\": %d, \"ref_ms\": %.3f, "
+               "\"test_ms\": %.3f}", b ? ", " : "", (double)r.bin[b].z_lo_m,
+               (double)r.bin[b].z_hi_m, r.bin[b].n, r.bin[b].ref_ms, r.bin[b].test_ms);
+    }
+    printf("], \"loadavg_before\": [%.2f, %.2f, %.2f], \"loadavg_after\": [%.2f, %.2f, "
+           "%.2f]}\n", l0[0], l0[1], l0[2], l1[0], l1[1], l1[2]);
+    scenario_destroy(sc);
+    return 0;
+}
+
 int bench_wind(int argc, char **argv)
 {
+    for (int i = 1; i + 1 < argc; i++) {
+        if (strcmp(argv[i], "--compare") == 0) {
+            return bench_wind_compare(argv[i + 1], argc, argv);
+        }
+    }
     int nx = 256, ny = 256, nz = 16, steps = 100, threads = 2, houses = 24, triad = 1;
-    float dt = 1.0f / 60.0f, u10 = 20.0f;
+    float dt = 1.0f / 60.0f, u10 = 20.0f, h = 2.0f;
+    int subgrid = 0;
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--grid") == 0 && i + 1 < argc) {
             if (sscanf(argv[++i], "%dx%dx%d", &nx, &ny, &nz) != 3) {
@@ -84,6 +226,12 @@ int bench_wind(int argc, char **argv)
             }
         } else if (strcmp(argv[i], "--steps") == 0 && i + 1 < argc) {
             steps = atoi(argv[++i]);
+        } else if (strcmp(argv[i], "--cell-m") == 0 && i + 1 < argc) {
+            h = (float)atof(argv[++i]);
+        } else if (strcmp(argv[i], "--dt") == 0 && i + 1 < argc) {
+            dt = (float)atof(argv[++i]);
+        } else if (strcmp(argv[i], "--subgrid-profile") == 0) {
+            subgrid = 1;
         } else if (strcmp(argv[i], "--threads") == 0 && i + 1 < argc) {
             threads = atoi(argv[++i]);
         } else if (strcmp(argv[i], "--houses") == 0 && i + 1 < argc) {
@@ -95,16 +243,18 @@ int bench_wind(int argc, char **argv)
         } else if (strcmp(argv[i], "--json") == 0) {
             /* JSON is the only output */
         } else {
-            return bench_usage(argv[i], "usage: gale-bench wind [--grid 256x256x16] [--steps 100] "
-                                        "[--threads 2] [--houses 24] [--u10 20] [--no-triad] "
-                                        "[--json]\n");
+            return bench_usage(argv[i], "usage: gale-bench wind [--grid 256x256x16] [--cell-m 2] "
+                                        "[--dt 0.01667] [--steps 100] [--threads 2] "
+                                        "[--houses 24] [--u10 20] [--subgrid-profile] "
+                                        "[--no-triad] [--json]\n");
         }
     }
-    if (steps < 1 || steps > 100000 || houses < 0 || houses > 10000) {
-        fprintf(stderr, "gale-bench wind: --steps 1..100000, --houses 0..10000\n");
+    if (steps < 1 || steps > 100000 || houses < 0 || houses > 10000 || !(h >= 0.1f) ||
+        !(h <= 50.0f) || !(dt > 0.0f) || !(dt <= 1.0f)) {
+        fprintf(stderr, "gale-bench wind: --steps 1..100000, --houses 0..10000, --cell-m "
+                        "0.1..50, --dt (0, 1]\n");
         return 2;
     }
-    const float h = 2.0f;
     /* houses: 10 x 8 m footprints, 8 m tall, on a regular layout over the middle */
     wind_box *boxes = calloc((size_t)(houses > 0 ? houses : 1), sizeof *boxes);
     if (!boxes) {
@@ -121,6 +271,7 @@ int bench_wind(int argc, char **argv)
     gale_err err = { 0 };
     wind_grid *w = wind_create(&(wind_desc){ .nx = nx, .ny = ny, .nz = nz, .cell_m = h,
                                              .threads = threads, .seed = 1,
+                                             .subgrid_profile = subgrid,
                                              .obstacles = boxes, .n_obstacles = houses },
                                &err);
     free(boxes);
