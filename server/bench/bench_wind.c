@@ -279,15 +279,40 @@ int bench_wind(int argc, char **argv)
         fprintf(stderr, "gale-bench wind: %s\n", err.msg);
         return 1;
     }
-    /* two triads: one over the step's working set (SCENE_GRID_CELL_BYTES-like 61 B per
-       cell, scene.h), which on a grid that fits the last-level cache measures the cache,
-       and the DRAM-sized one */
+    /* two triads in alternating rounds (bench.h bench_triad_pair): one over float arrays
+       sized like the step's (15 a cell: about SCENE_GRID_CELL_BYTES, scene.h), which on a
+       grid that fits the last-level cache measures the cache, and the DRAM-sized one */
     const double cells = (double)nx * ny * nz;
-    const size_t ws_bytes = (size_t)(cells * 61.0);
     double l0[3];
     loadavg(l0);
-    double gbs_ws = triad ? bench_triad_sized_gb_s(threads, ws_bytes) : 0.0;
-    double gbs = triad ? bench_triad_gb_s(threads) : 0.0;
+    bench_triads tr = { 0 };
+    tr.ws_bytes = (size_t)cells * 15u * sizeof(float);
+    if (triad) {
+        bench_triad_pair(threads, (size_t)cells, 15, &tr);
+    }
+    const size_t ws_bytes = tr.ws_bytes;
+    double gbs_ws = tr.ws_gb_s, gbs = tr.dram_gb_s;
+    /* A working set's limit is its own triad, never less than DRAM's: a set past the
+       last-level cache streams from DRAM as the DRAM triad does, so a lower working-set
+       triad is the machine's contention in that round, said beside it. */
+    double ws_limit = gbs_ws > gbs ? gbs_ws : gbs;
+    char note[400] = "";
+    if (triad && gbs_ws < gbs) {
+        snprintf(note, sizeof note,
+                 "working-set triad %.2f GB/s below the DRAM triad %.2f GB/s: the set (%.1f MiB) "
+                 "%s the last-level cache (%.1f MiB)%s; fractions use the DRAM triad as the "
+                 "working set's limit (load %.2f)",
+                 gbs_ws, gbs, (double)ws_bytes / 1048576.0,
+                 ws_bytes > tr.llc_bytes ? "exceeds" : "fits",
+                 (double)tr.llc_bytes / 1048576.0,
+                 ws_bytes > tr.llc_bytes
+                     ? ", so both stream from DRAM and the gap is contention on a shared machine "
+                       "or the working set's shorter sweeps (a fork per sweep, as the step's "
+                       "kernels)"
+                     : ", yet ran slower: other processes shared the cache and cores in those "
+                       "rounds",
+                 l0[0]);
+    }
     wind_set_inflow(w, &(wind_inflow){ .dir_rad = 0.5f, .u10_ms = u10 });
     wind_fill_inflow(w);
     double *ms = malloc((size_t)steps * sizeof *ms);
@@ -346,14 +371,30 @@ int bench_wind(int argc, char **argv)
     double bytes = cells * per_cell;
     double eff = bytes / (med * 1e-3) / 1e9;
     printf("{\"inputs\": {\"cell_m\": %.1f, \"dt_s\": %.5f, \"u10_ms\": %.1f, "
-           "\"ball_force\": [30, 10, 0], \"working_set_bytes\": %zu}, "
+           "\"ball_force\": [30, 10, 0], \"working_set_bytes\": %zu, \"llc_bytes\": %zu, "
+           "\"subgrid_profile\": %s}, "
            "\"bytes_per_cell_model\": {\"advect\": %.1f, \"forces_bc_divergence\": %.1f, "
            "\"pressure_solve\": %.1f, \"projection\": %.1f, \"total\": %.1f}, "
-           "\"triad_working_set_gb_per_s\": %.2f, \"bandwidth_fraction_working_set\": %.3f, "
+           "\"triad_working_set_gb_per_s\": %.2f, \"working_set_limit_gb_per_s\": %.2f, "
+           "\"working_set_note\": \"%s\", \"bandwidth_fraction_working_set\": %.3f, "
            "\"loadavg_before\": [%.2f, %.2f, %.2f], \"loadavg_after\": [%.2f, %.2f, %.2f], ",
-           (double)h, (double)dt, (double)u10, ws_bytes, bm.advect, bm.forces, bm.solve,
-           bm.project, per_cell, gbs_ws, gbs_ws > 0.0 ? eff / gbs_ws : 0.0, l0[0], l0[1], l0[2],
-           l1[0], l1[1], l1[2]);
+           (double)h, (double)dt, (double)u10, ws_bytes, tr.llc_bytes, subgrid ? "true" : "false",
+           bm.advect, bm.forces, bm.solve, bm.project, per_cell, gbs_ws, ws_limit, note,
+           ws_limit > 0.0 ? eff / ws_limit : 0.0, l0[0], l0[1], l0[2], l1[0], l1[1], l1[2]);
+    /* each phase's model bytes over its mean time, against both limits */
+    const char *pname[4] = { "advect", "forces_bc_divergence", "pressure_solve", "projection" };
+    const double pbytes[4] = { bm.advect, bm.forces, bm.solve, bm.project };
+    printf("\"fractions\": [{\"what\": \"step\", \"gb_per_s\": %.2f, \"of_working_set_limit\": "
+           "%.3f, \"of_dram_triad\": %.3f}", eff, ws_limit > 0.0 ? eff / ws_limit : 0.0,
+           gbs > 0.0 ? eff / gbs : 0.0);
+    for (int q = 0; q < 4; q++) {
+        double pms = phase[q] / steps;
+        double g = pms > 0.0 ? cells * pbytes[q] / (pms * 1e-3) / 1e9 : 0.0;
+        printf(", {\"what\": \"%s\", \"gb_per_s\": %.2f, \"of_working_set_limit\": %.3f, "
+               "\"of_dram_triad\": %.3f}", pname[q], g, ws_limit > 0.0 ? g / ws_limit : 0.0,
+               gbs > 0.0 ? g / gbs : 0.0);
+    }
+    printf("], ");
     double load1 = l1[0];
     printf("\"grid\": [%d, %d, %d], \"steps\": %d, \"threads\": %d, \"houses\": %d, "
            "\"div_reduction_required\": %g, \"ms_per_step_median\": %.3f, "
