@@ -246,7 +246,9 @@ int bench_wind(int argc, char **argv)
             return bench_usage(argv[i], "usage: gale-bench wind [--grid 256x256x16] [--cell-m 2] "
                                         "[--dt 0.01667] [--steps 100] [--threads 2] "
                                         "[--houses 24] [--u10 20] [--subgrid-profile] "
-                                        "[--no-triad] [--json]\n");
+                                        "[--no-triad] [--json]\n"
+                                        "       gale-bench wind --compare SCENARIO.json "
+                                        "[...] (with --help: its options)\n");
         }
     }
     if (steps < 1 || steps > 100000 || houses < 0 || houses > 10000 || !(h >= 0.1f) ||
