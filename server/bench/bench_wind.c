@@ -13,6 +13,7 @@
 #include "bench.h"
 #include "hash.h"
 #include "scenario.h"
+#include "scene.h"
 #include "wind.h"
 #include "wind_error.h"
 
@@ -93,6 +94,7 @@ static int bench_wind_compare(const char *file, int argc, char **argv)
     double region_m = 256.0, record_s = 60.0, spinup_s = 10.0;
     int n_points = 400, ref_nz = 8, ref_every = 4, test_nz = 2, test_every = 4, subgrid = 1;
     float ref_cell = 2.0f, test_cell = 8.0f;
+    const char *houses_from = NULL;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -118,6 +120,8 @@ static int bench_wind_compare(const char *file, int argc, char **argv)
             test_every = atoi(argv[++i]);
         } else if (strcmp(a, "--no-subgrid-profile") == 0) {
             subgrid = 0;
+        } else if (strcmp(a, "--houses-from") == 0 && v) {
+            houses_from = argv[++i];
         } else if (strcmp(a, "--json") == 0) {
             /* JSON is the only output */
         } else {
@@ -125,7 +129,8 @@ static int bench_wind_compare(const char *file, int argc, char **argv)
                                   "[--region-m 256] [--record-s 60] [--spinup-s 10] "
                                   "[--points 400] [--ref-nz 8] [--ref-every 4] "
                                   "[--test-cell-m 8] [--test-nz 2] [--test-every 4] "
-                                  "[--no-subgrid-profile] [--json]\n");
+                                  "[--no-subgrid-profile] [--houses-from SCENE.json] "
+                                  "[--json]\n");
         }
     }
     int ref_n = (int)lround(region_m / (double)ref_cell),
@@ -139,8 +144,16 @@ static int bench_wind_compare(const char *file, int argc, char **argv)
         return 2;
     }
     gale_err err = { 0 };
+    /* the houses of a scene config, in both grids (points inside one are drawn again) */
+    scene scn;
+    memset(&scn, 0, sizeof scn);
+    if (houses_from && scene_load(&scn, houses_from, &err)) {
+        fprintf(stderr, "gale-bench wind --compare: %s\n", err.msg);
+        return 1;
+    }
     scenario *sc = scenario_load(file, &err);
     if (!sc) {
+        scene_fini(&scn);
         fprintf(stderr, "gale-bench wind --compare: %s\n", err.msg);
         return 1;
     }
@@ -148,24 +161,33 @@ static int bench_wind_compare(const char *file, int argc, char **argv)
     float *pts = malloc((size_t)n_points * 3 * sizeof *pts);
     if (!pts) {
         scenario_destroy(sc);
+        scene_fini(&scn);
         return 1;
     }
     uint64_t rng = 0x5eedull;
     for (int i = 0; i < n_points; i++) {
-        for (int a = 0; a < 2; a++) {
+        for (int a = 0; a < 3; a++) {
             double u = (double)(hash64_splitmix(&rng) >> 11) / 9007199254740992.0;
-            pts[3 * i + a] = (float)((u - 0.5) * 0.7 * region_m);
+            pts[3 * i + a] = a < 2 ? (float)((u - 0.5) * 0.7 * region_m) : (float)(5.0 + 10.0 * u);
         }
-        double u = (double)(hash64_splitmix(&rng) >> 11) / 9007199254740992.0;
-        pts[3 * i + 2] = (float)(5.0 + 10.0 * u);
+        int inside = 0;
+        for (int b = 0; b < scn.n_obstacles && !inside; b++) {
+            const wind_box *x = &scn.obstacles[b];
+            inside = pts[3 * i] >= x->min[0] && pts[3 * i] <= x->max[0] &&
+                     pts[3 * i + 1] >= x->min[1] && pts[3 * i + 1] <= x->max[1] &&
+                     pts[3 * i + 2] <= x->max[2];
+        }
+        i -= inside;
     }
     const float o = (float)(-0.5 * region_m);
     wind_error_desc d = {
         .ref = { .nx = ref_n, .ny = ref_n, .nz = ref_nz, .cell_m = ref_cell,
-                 .origin = { o, o, 0.0f }, .threads = 1, .seed = 1 },
+                 .origin = { o, o, 0.0f }, .threads = 1, .seed = 1,
+                 .obstacles = scn.obstacles, .n_obstacles = scn.n_obstacles },
         .test = { .nx = test_n, .ny = test_n, .nz = test_nz, .cell_m = test_cell,
                   .origin = { o, o, 0.0f }, .threads = 1, .seed = 1,
-                  .subgrid_profile = subgrid },
+                  .subgrid_profile = subgrid, .obstacles = scn.obstacles,
+                  .n_obstacles = scn.n_obstacles },
         .ref_every = ref_every, .test_every = test_every, .tick_hz = 60.0,
         .spinup_s = spinup_s, .record_s = record_s, .points = pts, .n_points = n_points,
         .bin_z0_m = 4.0f, .bin_m = 2.0f, .n_bins = 6, .drive = compare_drive, .drive_ctx = sc };
@@ -175,12 +197,14 @@ static int bench_wind_compare(const char *file, int argc, char **argv)
     int rc = wind_error_run(&d, &r, &err);
     loadavg(l1);
     free(pts);
+    const int n_houses = scn.n_obstacles;
+    scene_fini(&scn);
     if (rc) {
         scenario_destroy(sc);
         fprintf(stderr, "gale-bench wind --compare: %s\n", err.msg);
         return 1;
     }
-    printf("{\"scenario\": \"%s\", \"region_m\": %.0f, \"points\": %d, "
+    printf("{\"scenario\": \"%s\", \"houses\": %d, \"region_m\": %.0f, \"points\": %d, "
            "\"crown_z_m\": [5, 15], \"record_s\": %.0f, \"spinup_s\": %.0f, "
            "\"reference\": {\"grid\": [%d, %d, %d], \"cell_m\": %.1f, \"every\": %d, "
            "\"mean_ms\": %.3f, \"std_ms\": %.3f, \"gust_factor_3s\": %.3f, "
@@ -188,15 +212,17 @@ static int bench_wind_compare(const char *file, int argc, char **argv)
            "\"test\": {\"grid\": [%d, %d, %d], \"cell_m\": %.1f, \"every\": %d, "
            "\"subgrid_profile\": %s, \"mean_ms\": %.3f, \"std_ms\": %.3f, "
            "\"gust_factor_3s\": %.3f, \"ms_per_step_median\": %.3f}, ",
-           scenario_name(sc), region_m, n_points, record_s, spinup_s, ref_n, ref_n, ref_nz,
+           scenario_name(sc), n_houses, region_m, n_points, record_s, spinup_s, ref_n, ref_n, ref_nz,
            (double)ref_cell, ref_every, r.ref.mean_ms, r.ref.std_ms, r.ref.gust3, r.ref.step_ms,
            test_n, test_n, test_nz, (double)test_cell, test_every, subgrid ? "true" : "false",
            r.test.mean_ms, r.test.std_ms, r.test.gust3, r.test.step_ms);
     printf("\"per_point\": {\"mean_rel_err\": %.4f, \"mean_rel_err_max\": %.4f, "
            "\"std_rel_err\": %.4f, \"std_rel_err_max\": %.4f, \"gust3_abs_err\": %.4f, "
-           "\"gust3_abs_err_max\": %.4f, \"speed_correlation\": %.4f}, \"profile\": [",
+           "\"gust3_abs_err_max\": %.4f, \"mean_rel_err_p90\": %.4f, \"std_rel_err_p90\": %.4f, "
+           "\"gust3_abs_err_p90\": %.4f, \"speed_correlation\": %.4f}, \"profile\": [",
            r.mean_rel_err, r.mean_rel_err_max, r.std_rel_err, r.std_rel_err_max,
-           r.gust3_abs_err, r.gust3_abs_err_max, r.corr);
+           r.gust3_abs_err, r.gust3_abs_err_max, r.mean_rel_err_p90, r.std_rel_err_p90,
+           r.gust3_abs_err_p90, r.corr);
     for (int b = 0; b < r.n_bins; b++) {
         printf("%s{\"z_m\": [%.0f, %.0f], \"points\": %d, \"ref_ms\": %.3f, "
                "\"test_ms\": %.3f}", b ? ", " : "", (double)r.bin[b].z_lo_m,

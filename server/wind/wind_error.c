@@ -116,7 +116,8 @@ int wind_error_run(const wind_error_desc *d, wind_error_result *r, gale_err *err
         rc = side_init(&b, &d->test, d->test_every, n, win, (int)(spin + rec), err);
     }
     double *cross = rc ? NULL : calloc((size_t)n, sizeof *cross);
-    if (!rc && !cross) {
+    double *perr = rc ? NULL : calloc((size_t)n * 3u, sizeof *perr);
+    if (!rc && (!cross || !perr)) {
         rc = gale_errf(err, GALE_E_NOMEM, "wind_error_run: no memory for %d points", n);
     }
     for (long t = 0; !rc && t < spin + rec; t++) {
@@ -168,6 +169,9 @@ int wind_error_run(const wind_error_desc *d, wind_error_result *r, gale_err *err
             r->mean_rel_err_max = fmax(r->mean_rel_err_max, em);
             r->std_rel_err_max = fmax(r->std_rel_err_max, es);
             r->gust3_abs_err_max = fmax(r->gust3_abs_err_max, eg);
+            perr[i] = em;
+            perr[n + i] = es;
+            perr[2 * n + i] = eg;
             double cov = cross[i] / nr - ma * mb;
             r->corr += (sa > 0.0 && sb > 0.0 ? cov / (sa * sb) : 1.0) / n;
             if (d->n_bins > 0) {
@@ -185,12 +189,18 @@ int wind_error_run(const wind_error_desc *d, wind_error_result *r, gale_err *err
                 r->bin[bi].test_ms /= r->bin[bi].n;
             }
         }
+        double *p90[3] = { &r->mean_rel_err_p90, &r->std_rel_err_p90, &r->gust3_abs_err_p90 };
+        for (int q = 0; q < 3; q++) {
+            qsort(perr + (size_t)q * (size_t)n, (size_t)n, sizeof(double), cmp_double);
+            *p90[q] = perr[(size_t)q * (size_t)n + (size_t)((n - 1) * 9 / 10)];
+        }
         qsort(a.step_ms, (size_t)a.n_steps, sizeof(double), cmp_double);
         qsort(b.step_ms, (size_t)b.n_steps, sizeof(double), cmp_double);
         r->ref.step_ms = a.n_steps ? a.step_ms[a.n_steps / 2] : 0.0;
         r->test.step_ms = b.n_steps ? b.step_ms[b.n_steps / 2] : 0.0;
     }
     free(cross);
+    free(perr);
     side_free(&a);
     side_free(&b);
     return rc;

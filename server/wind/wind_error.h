@@ -48,6 +48,9 @@ typedef struct wind_error_result {
     double mean_rel_err, mean_rel_err_max;
     double std_rel_err, std_rel_err_max;
     double gust3_abs_err, gust3_abs_err_max;
+    /* the 90th percentile over the points of the same three errors: the largest ones
+     * are a few points (beside a house, under a ball's passage), the mean hides them */
+    double mean_rel_err_p90, std_rel_err_p90, gust3_abs_err_p90;
     double corr;             /* mean over points of the speed series' correlation */
     int n_bins;
     struct {
