@@ -11,8 +11,11 @@ set -euo pipefail
 
 usage() {
     cat <<'USAGE'
-usage: deploy/wind-cachesim.sh [--grid 128x128x16] [--ll-kib 2048] [--bench PATH]
+usage: deploy/wind-cachesim.sh [--grid 128x128x16] [--cell-m 2] [--subgrid-profile]
+                              [--ll-kib 2048] [--bench PATH]
   --grid G     wind grid (default 128x128x16: 16 MB of working set)
+  --cell-m H   cell edge in m (default 2; the landscape scene: --grid 250x250x2 --cell-m 8)
+  --subgrid-profile  the grid samples with the subgrid profile (as that scene does)
   --ll-kib K   simulated last-level cache (default 2048)
   --bench P    gale-bench to run (default build/server/gale-bench)
   --help       this text
@@ -21,12 +24,16 @@ USAGE
 
 root="$(cd "$(dirname "$0")/.." && pwd)"
 grid=128x128x16
+cell_m=2
+extra=()
 ll_kib=2048
 bench="$root/build/server/gale-bench"
 while [ $# -gt 0 ]; do
     case "$1" in
         --help|-h) usage; exit 0 ;;
         --grid) grid="$2"; shift 2 ;;
+        --cell-m) cell_m="$2"; shift 2 ;;
+        --subgrid-profile) extra+=(--subgrid-profile); shift ;;
         --ll-kib) ll_kib="$2"; shift 2 ;;
         --bench) bench="$2"; shift 2 ;;
         *) echo "wind-cachesim.sh: unknown argument $1" >&2; usage >&2; exit 2 ;;
@@ -43,7 +50,8 @@ long=6
 for s in $short $long; do
     valgrind --tool=callgrind --cache-sim=yes --LL=$((ll_kib * 1024)),16,64 \
         --callgrind-out-file="$dir/cg.$s" \
-        "$bench" wind --grid "$grid" --steps "$s" --threads 1 --no-triad >"$dir/bench.$s" \
+        "$bench" wind --grid "$grid" --cell-m "$cell_m" "${extra[@]}" --steps "$s" --threads 1 \
+        --no-triad >"$dir/bench.$s" \
         2>"$dir/vg.$s"
     callgrind_annotate --inclusive=yes --show=DLmr,DLmw --threshold=100 "$dir/cg.$s" \
         >"$dir/ann.$s"
@@ -81,7 +89,7 @@ model = bench["bytes_per_cell_model"]
 with open("/proc/loadavg") as f:
     load = [float(x) for x in f.read().split()[:3]]
 print(json.dumps({
-    "grid": [nx, ny, nz], "cells": cells, "ll_cache_kib": int(ll), "line_bytes": 64,
+    "grid": [nx, ny, nz], "cell_m": bench["inputs"]["cell_m"], "cells": cells, "ll_cache_kib": int(ll), "line_bytes": 64,
     "steps_differenced": steps, "iterations_mean": bench["iterations_mean"],
     "measured_bytes_per_cell_per_step": meas,
     "model_bytes_per_cell_per_step": {

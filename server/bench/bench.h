@@ -20,6 +20,20 @@ double bench_triad_gb_s(int threads);
  * benchmark's working set it measures what the caches holding that set deliver. */
 double bench_triad_sized_gb_s(int threads, size_t bytes);
 
+/* The wind step's own triad beside the DRAM one, measured in alternating rounds (so a
+ * busy moment of a shared machine hits both alike), best round of each:
+ *   ws: float arrays sized like the step's (`arrays` arrays of `cells` floats, swept in
+ *   triples a = b + s c, one parallel region per sweep as the step's kernels fork, on its
+ *   `threads` threads, first touched by them and warmed by one untimed pass);
+ *   dram: the 384 MiB double triad of bench_triad_gb_s, on the same threads.
+ * llc_bytes: the last-level cache (sysconf, else /sys; 0 unknown). 12 bytes counted per
+ * float triad element, 24 per double one (STREAM's convention). */
+typedef struct bench_triads {
+    double ws_gb_s, dram_gb_s;
+    size_t ws_bytes, llc_bytes;
+} bench_triads;
+void bench_triad_pair(int threads, size_t cells, int arrays, bench_triads *out);
+
 /* Answers an argument a subcommand does not take: "--help"/"-h" print usage on stdout and
  * give exit status 0, anything else prints it on stderr and gives 2. */
 int bench_usage(const char *arg, const char *usage);

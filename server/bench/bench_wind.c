@@ -11,7 +11,11 @@
 
 #include "mono.h"
 #include "bench.h"
+#include "hash.h"
+#include "scenario.h"
+#include "scene.h"
 #include "wind.h"
+#include "wind_error.h"
 
 
 /* CPU time of the whole process [ms]: with the machine shared, CPU time per step over the
@@ -72,10 +76,174 @@ static void loadavg(double l[3])
     }
 }
 
+static void compare_drive(void *ctx, double t_s, wind_inflow *in, const wind_ball **balls,
+                          int *n_balls)
+{
+    scenario *sc = ctx;
+    scenario_state st;
+    scenario_eval(sc, t_s, &st);
+    *in = st.inflow;
+    *n_balls = scenario_balls(sc, balls);
+}
+
+/* gale-bench wind --compare SCENARIO: the landscape method (a coarse grid with the
+ * subgrid profile) against today's uniform 2 m grid at tree points, both driven by the
+ * scenario (wind_error.h). */
+static int bench_wind_compare(const char *file, int argc, char **argv)
+{
+    double region_m = 256.0, record_s = 60.0, spinup_s = 10.0;
+    int n_points = 400, ref_nz = 8, ref_every = 4, test_nz = 2, test_every = 4, subgrid = 1;
+    float ref_cell = 2.0f, test_cell = 8.0f;
+    const char *houses_from = NULL;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (strcmp(a, "--compare") == 0 && v) {
+            i++;
+        } else if (strcmp(a, "--region-m") == 0 && v) {
+            region_m = atof(argv[++i]);
+        } else if (strcmp(a, "--record-s") == 0 && v) {
+            record_s = atof(argv[++i]);
+        } else if (strcmp(a, "--spinup-s") == 0 && v) {
+            spinup_s = atof(argv[++i]);
+        } else if (strcmp(a, "--points") == 0 && v) {
+            n_points = atoi(argv[++i]);
+        } else if (strcmp(a, "--ref-nz") == 0 && v) {
+            ref_nz = atoi(argv[++i]);
+        } else if (strcmp(a, "--ref-every") == 0 && v) {
+            ref_every = atoi(argv[++i]);
+        } else if (strcmp(a, "--test-cell-m") == 0 && v) {
+            test_cell = (float)atof(argv[++i]);
+        } else if (strcmp(a, "--test-nz") == 0 && v) {
+            test_nz = atoi(argv[++i]);
+        } else if (strcmp(a, "--test-every") == 0 && v) {
+            test_every = atoi(argv[++i]);
+        } else if (strcmp(a, "--no-subgrid-profile") == 0) {
+            subgrid = 0;
+        } else if (strcmp(a, "--houses-from") == 0 && v) {
+            houses_from = argv[++i];
+        } else if (strcmp(a, "--json") == 0) {
+            /* JSON is the only output */
+        } else {
+            return bench_usage(a, "usage: gale-bench wind --compare SCENARIO.json "
+                                  "[--region-m 256] [--record-s 60] [--spinup-s 10] "
+                                  "[--points 400] [--ref-nz 8] [--ref-every 4] "
+                                  "[--test-cell-m 8] [--test-nz 2] [--test-every 4] "
+                                  "[--no-subgrid-profile] [--houses-from SCENE.json] "
+                                  "[--json]\n");
+        }
+    }
+    int ref_n = (int)lround(region_m / (double)ref_cell),
+        test_n = (int)lround(region_m / (double)test_cell);
+    if (!(region_m >= 32.0) || !(region_m <= 4096.0) || n_points < 1 || n_points > 100000 ||
+        !(record_s >= 3.0) || !(spinup_s >= 0.0) || !(test_cell >= 0.5f) || test_n < 2 ||
+        test_nz < 1 || ref_nz < 1 || ref_every < 1 || test_every < 1) {
+        fprintf(stderr, "gale-bench wind --compare: expected --region-m 32..4096 (at least two "
+                        "test cells), --points 1..100000, --record-s >= 3, --spinup-s >= 0, "
+                        "positive cells, layers and step intervals\n");
+        return 2;
+    }
+    gale_err err = { 0 };
+    /* the houses of a scene config, in both grids (points inside one are drawn again) */
+    scene scn;
+    memset(&scn, 0, sizeof scn);
+    if (houses_from && scene_load(&scn, houses_from, &err)) {
+        fprintf(stderr, "gale-bench wind --compare: %s\n", err.msg);
+        return 1;
+    }
+    scenario *sc = scenario_load(file, &err);
+    if (!sc) {
+        scene_fini(&scn);
+        fprintf(stderr, "gale-bench wind --compare: %s\n", err.msg);
+        return 1;
+    }
+    /* crowns (0.7 of a 7..21 m tree) over the middle 70 %, clear of the borders' inflow */
+    float *pts = malloc((size_t)n_points * 3 * sizeof *pts);
+    if (!pts) {
+        scenario_destroy(sc);
+        scene_fini(&scn);
+        return 1;
+    }
+    uint64_t rng = 0x5eedull;
+    for (int i = 0; i < n_points; i++) {
+        for (int a = 0; a < 3; a++) {
+            double u = (double)(hash64_splitmix(&rng) >> 11) / 9007199254740992.0;
+            pts[3 * i + a] = a < 2 ? (float)((u - 0.5) * 0.7 * region_m) : (float)(5.0 + 10.0 * u);
+        }
+        int inside = 0;
+        for (int b = 0; b < scn.n_obstacles && !inside; b++) {
+            const wind_box *x = &scn.obstacles[b];
+            inside = pts[3 * i] >= x->min[0] && pts[3 * i] <= x->max[0] &&
+                     pts[3 * i + 1] >= x->min[1] && pts[3 * i + 1] <= x->max[1] &&
+                     pts[3 * i + 2] <= x->max[2];
+        }
+        i -= inside;
+    }
+    const float o = (float)(-0.5 * region_m);
+    wind_error_desc d = {
+        .ref = { .nx = ref_n, .ny = ref_n, .nz = ref_nz, .cell_m = ref_cell,
+                 .origin = { o, o, 0.0f }, .threads = 1, .seed = 1,
+                 .obstacles = scn.obstacles, .n_obstacles = scn.n_obstacles },
+        .test = { .nx = test_n, .ny = test_n, .nz = test_nz, .cell_m = test_cell,
+                  .origin = { o, o, 0.0f }, .threads = 1, .seed = 1,
+                  .subgrid_profile = subgrid, .obstacles = scn.obstacles,
+                  .n_obstacles = scn.n_obstacles },
+        .ref_every = ref_every, .test_every = test_every, .tick_hz = 60.0,
+        .spinup_s = spinup_s, .record_s = record_s, .points = pts, .n_points = n_points,
+        .bin_z0_m = 4.0f, .bin_m = 2.0f, .n_bins = 6, .drive = compare_drive, .drive_ctx = sc };
+    double l0[3], l1[3];
+    loadavg(l0);
+    wind_error_result r;
+    int rc = wind_error_run(&d, &r, &err);
+    loadavg(l1);
+    free(pts);
+    const int n_houses = scn.n_obstacles;
+    scene_fini(&scn);
+    if (rc) {
+        scenario_destroy(sc);
+        fprintf(stderr, "gale-bench wind --compare: %s\n", err.msg);
+        return 1;
+    }
+    printf("{\"scenario\": \"%s\", \"houses\": %d, \"region_m\": %.0f, \"points\": %d, "
+           "\"crown_z_m\": [5, 15], \"record_s\": %.0f, \"spinup_s\": %.0f, "
+           "\"reference\": {\"grid\": [%d, %d, %d], \"cell_m\": %.1f, \"every\": %d, "
+           "\"mean_ms\": %.3f, \"std_ms\": %.3f, \"gust_factor_3s\": %.3f, "
+           "\"ms_per_step_median\": %.3f}, "
+           "\"test\": {\"grid\": [%d, %d, %d], \"cell_m\": %.1f, \"every\": %d, "
+           "\"subgrid_profile\": %s, \"mean_ms\": %.3f, \"std_ms\": %.3f, "
+           "\"gust_factor_3s\": %.3f, \"ms_per_step_median\": %.3f}, ",
+           scenario_name(sc), n_houses, region_m, n_points, record_s, spinup_s, ref_n, ref_n, ref_nz,
+           (double)ref_cell, ref_every, r.ref.mean_ms, r.ref.std_ms, r.ref.gust3, r.ref.step_ms,
+           test_n, test_n, test_nz, (double)test_cell, test_every, subgrid ? "true" : "false",
+           r.test.mean_ms, r.test.std_ms, r.test.gust3, r.test.step_ms);
+    printf("\"per_point\": {\"mean_rel_err\": %.4f, \"mean_rel_err_max\": %.4f, "
+           "\"std_rel_err\": %.4f, \"std_rel_err_max\": %.4f, \"gust3_abs_err\": %.4f, "
+           "\"gust3_abs_err_max\": %.4f, \"mean_rel_err_p90\": %.4f, \"std_rel_err_p90\": %.4f, "
+           "\"gust3_abs_err_p90\": %.4f, \"speed_correlation\": %.4f}, \"profile\": [",
+           r.mean_rel_err, r.mean_rel_err_max, r.std_rel_err, r.std_rel_err_max,
+           r.gust3_abs_err, r.gust3_abs_err_max, r.mean_rel_err_p90, r.std_rel_err_p90,
+           r.gust3_abs_err_p90, r.corr);
+    for (int b = 0; b < r.n_bins; b++) {
+        printf("%s{\"z_m\": [%.0f, %.0f], \"points\": %d, \"ref_ms\": %.3f, "
+               "\"test_ms\": %.3f}", b ? ", " : "", (double)r.bin[b].z_lo_m,
+               (double)r.bin[b].z_hi_m, r.bin[b].n, r.bin[b].ref_ms, r.bin[b].test_ms);
+    }
+    printf("], \"loadavg_before\": [%.2f, %.2f, %.2f], \"loadavg_after\": [%.2f, %.2f, "
+           "%.2f]}\n", l0[0], l0[1], l0[2], l1[0], l1[1], l1[2]);
+    scenario_destroy(sc);
+    return 0;
+}
+
 int bench_wind(int argc, char **argv)
 {
+    for (int i = 1; i + 1 < argc; i++) {
+        if (strcmp(argv[i], "--compare") == 0) {
+            return bench_wind_compare(argv[i + 1], argc, argv);
+        }
+    }
     int nx = 256, ny = 256, nz = 16, steps = 100, threads = 2, houses = 24, triad = 1;
-    float dt = 1.0f / 60.0f, u10 = 20.0f;
+    float dt = 1.0f / 60.0f, u10 = 20.0f, h = 2.0f;
+    int subgrid = 0;
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--grid") == 0 && i + 1 < argc) {
             if (sscanf(argv[++i], "%dx%dx%d", &nx, &ny, &nz) != 3) {
@@ -84,6 +252,12 @@ int bench_wind(int argc, char **argv)
             }
         } else if (strcmp(argv[i], "--steps") == 0 && i + 1 < argc) {
             steps = atoi(argv[++i]);
+        } else if (strcmp(argv[i], "--cell-m") == 0 && i + 1 < argc) {
+            h = (float)atof(argv[++i]);
+        } else if (strcmp(argv[i], "--dt") == 0 && i + 1 < argc) {
+            dt = (float)atof(argv[++i]);
+        } else if (strcmp(argv[i], "--subgrid-profile") == 0) {
+            subgrid = 1;
         } else if (strcmp(argv[i], "--threads") == 0 && i + 1 < argc) {
             threads = atoi(argv[++i]);
         } else if (strcmp(argv[i], "--houses") == 0 && i + 1 < argc) {
@@ -95,16 +269,20 @@ int bench_wind(int argc, char **argv)
         } else if (strcmp(argv[i], "--json") == 0) {
             /* JSON is the only output */
         } else {
-            return bench_usage(argv[i], "usage: gale-bench wind [--grid 256x256x16] [--steps 100] "
-                                        "[--threads 2] [--houses 24] [--u10 20] [--no-triad] "
-                                        "[--json]\n");
+            return bench_usage(argv[i], "usage: gale-bench wind [--grid 256x256x16] [--cell-m 2] "
+                                        "[--dt 0.01667] [--steps 100] [--threads 2] "
+                                        "[--houses 24] [--u10 20] [--subgrid-profile] "
+                                        "[--no-triad] [--json]\n"
+                                        "       gale-bench wind --compare SCENARIO.json "
+                                        "[...] (with --help: its options)\n");
         }
     }
-    if (steps < 1 || steps > 100000 || houses < 0 || houses > 10000) {
-        fprintf(stderr, "gale-bench wind: --steps 1..100000, --houses 0..10000\n");
+    if (steps < 1 || steps > 100000 || houses < 0 || houses > 10000 || !(h >= 0.1f) ||
+        !(h <= 50.0f) || !(dt > 0.0f) || !(dt <= 1.0f)) {
+        fprintf(stderr, "gale-bench wind: --steps 1..100000, --houses 0..10000, --cell-m "
+                        "0.1..50, --dt (0, 1]\n");
         return 2;
     }
-    const float h = 2.0f;
     /* houses: 10 x 8 m footprints, 8 m tall, on a regular layout over the middle */
     wind_box *boxes = calloc((size_t)(houses > 0 ? houses : 1), sizeof *boxes);
     if (!boxes) {
@@ -121,6 +299,7 @@ int bench_wind(int argc, char **argv)
     gale_err err = { 0 };
     wind_grid *w = wind_create(&(wind_desc){ .nx = nx, .ny = ny, .nz = nz, .cell_m = h,
                                              .threads = threads, .seed = 1,
+                                             .subgrid_profile = subgrid,
                                              .obstacles = boxes, .n_obstacles = houses },
                                &err);
     free(boxes);
@@ -128,15 +307,40 @@ int bench_wind(int argc, char **argv)
         fprintf(stderr, "gale-bench wind: %s\n", err.msg);
         return 1;
     }
-    /* two triads: one over the step's working set (SCENE_GRID_CELL_BYTES-like 61 B per
-       cell, scene.h), which on a grid that fits the last-level cache measures the cache,
-       and the DRAM-sized one */
+    /* two triads in alternating rounds (bench.h bench_triad_pair): one over float arrays
+       sized like the step's (15 a cell: about SCENE_GRID_CELL_BYTES, scene.h), which on a
+       grid that fits the last-level cache measures the cache, and the DRAM-sized one */
     const double cells = (double)nx * ny * nz;
-    const size_t ws_bytes = (size_t)(cells * 61.0);
     double l0[3];
     loadavg(l0);
-    double gbs_ws = triad ? bench_triad_sized_gb_s(threads, ws_bytes) : 0.0;
-    double gbs = triad ? bench_triad_gb_s(threads) : 0.0;
+    bench_triads tr = { 0 };
+    tr.ws_bytes = (size_t)cells * 15u * sizeof(float);
+    if (triad) {
+        bench_triad_pair(threads, (size_t)cells, 15, &tr);
+    }
+    const size_t ws_bytes = tr.ws_bytes;
+    double gbs_ws = tr.ws_gb_s, gbs = tr.dram_gb_s;
+    /* A working set's limit is its own triad, never less than DRAM's: a set past the
+       last-level cache streams from DRAM as the DRAM triad does, so a lower working-set
+       triad is the machine's contention in that round, said beside it. */
+    double ws_limit = gbs_ws > gbs ? gbs_ws : gbs;
+    char note[400] = "";
+    if (triad && gbs_ws < gbs) {
+        snprintf(note, sizeof note,
+                 "working-set triad %.2f GB/s below the DRAM triad %.2f GB/s: the set (%.1f MiB) "
+                 "%s the last-level cache (%.1f MiB)%s; fractions use the DRAM triad as the "
+                 "working set's limit (load %.2f)",
+                 gbs_ws, gbs, (double)ws_bytes / 1048576.0,
+                 ws_bytes > tr.llc_bytes ? "exceeds" : "fits",
+                 (double)tr.llc_bytes / 1048576.0,
+                 ws_bytes > tr.llc_bytes
+                     ? ", so both stream from DRAM and the gap is contention on a shared machine "
+                       "or the working set's shorter sweeps (a fork per sweep, as the step's "
+                       "kernels)"
+                     : ", yet ran slower: other processes shared the cache and cores in those "
+                       "rounds",
+                 l0[0]);
+    }
     wind_set_inflow(w, &(wind_inflow){ .dir_rad = 0.5f, .u10_ms = u10 });
     wind_fill_inflow(w);
     double *ms = malloc((size_t)steps * sizeof *ms);
@@ -195,14 +399,30 @@ int bench_wind(int argc, char **argv)
     double bytes = cells * per_cell;
     double eff = bytes / (med * 1e-3) / 1e9;
     printf("{\"inputs\": {\"cell_m\": %.1f, \"dt_s\": %.5f, \"u10_ms\": %.1f, "
-           "\"ball_force\": [30, 10, 0], \"working_set_bytes\": %zu}, "
+           "\"ball_force\": [30, 10, 0], \"working_set_bytes\": %zu, \"llc_bytes\": %zu, "
+           "\"subgrid_profile\": %s}, "
            "\"bytes_per_cell_model\": {\"advect\": %.1f, \"forces_bc_divergence\": %.1f, "
            "\"pressure_solve\": %.1f, \"projection\": %.1f, \"total\": %.1f}, "
-           "\"triad_working_set_gb_per_s\": %.2f, \"bandwidth_fraction_working_set\": %.3f, "
+           "\"triad_working_set_gb_per_s\": %.2f, \"working_set_limit_gb_per_s\": %.2f, "
+           "\"working_set_note\": \"%s\", \"bandwidth_fraction_working_set\": %.3f, "
            "\"loadavg_before\": [%.2f, %.2f, %.2f], \"loadavg_after\": [%.2f, %.2f, %.2f], ",
-           (double)h, (double)dt, (double)u10, ws_bytes, bm.advect, bm.forces, bm.solve,
-           bm.project, per_cell, gbs_ws, gbs_ws > 0.0 ? eff / gbs_ws : 0.0, l0[0], l0[1], l0[2],
-           l1[0], l1[1], l1[2]);
+           (double)h, (double)dt, (double)u10, ws_bytes, tr.llc_bytes, subgrid ? "true" : "false",
+           bm.advect, bm.forces, bm.solve, bm.project, per_cell, gbs_ws, ws_limit, note,
+           ws_limit > 0.0 ? eff / ws_limit : 0.0, l0[0], l0[1], l0[2], l1[0], l1[1], l1[2]);
+    /* each phase's model bytes over its mean time, against both limits */
+    const char *pname[4] = { "advect", "forces_bc_divergence", "pressure_solve", "projection" };
+    const double pbytes[4] = { bm.advect, bm.forces, bm.solve, bm.project };
+    printf("\"fractions\": [{\"what\": \"step\", \"gb_per_s\": %.2f, \"of_working_set_limit\": "
+           "%.3f, \"of_dram_triad\": %.3f}", eff, ws_limit > 0.0 ? eff / ws_limit : 0.0,
+           gbs > 0.0 ? eff / gbs : 0.0);
+    for (int q = 0; q < 4; q++) {
+        double pms = phase[q] / steps;
+        double g = pms > 0.0 ? cells * pbytes[q] / (pms * 1e-3) / 1e9 : 0.0;
+        printf(", {\"what\": \"%s\", \"gb_per_s\": %.2f, \"of_working_set_limit\": %.3f, "
+               "\"of_dram_triad\": %.3f}", pname[q], g, ws_limit > 0.0 ? g / ws_limit : 0.0,
+               gbs > 0.0 ? g / gbs : 0.0);
+    }
+    printf("], ");
     double load1 = l1[0];
     printf("\"grid\": [%d, %d, %d], \"steps\": %d, \"threads\": %d, \"houses\": %d, "
            "\"div_reduction_required\": %g, \"ms_per_step_median\": %.3f, "

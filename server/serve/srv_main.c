@@ -359,6 +359,7 @@ int main(int argc, char **argv)
                                          .origin = { sc.origin[0], sc.origin[1], sc.origin[2] },
                                          .seed = sc.leaf_seed + 1,
                                          .threads = sc.wind_threads,
+                                         .subgrid_profile = sc.wind_subgrid ? 1 : 0,
                                          .obstacles = sc.obstacles,
                                          .n_obstacles = sc.n_obstacles },
                            &err);

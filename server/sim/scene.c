@@ -163,7 +163,8 @@ static int place_forest(scene *s, const cfg_doc *d, const char *path, int sp, in
 static int parse_wind(scene *s, const cfg_doc *d, const cJSON *root, gale_err *err)
 {
     static const char *const keys[] = { "grid",    "cell_m", "origin", "every",   "dir_deg",
-                                        "u10_ms",  "solver", "threads", NULL };
+                                        "u10_ms",  "solver", "threads", "subgrid_profile",
+                                        NULL };
     bool found = false;
     const cJSON *w = cfg_child(d, root, "", "wind", cJSON_Object, false, &found, err);
     s->grid[0] = 64;
@@ -184,11 +185,12 @@ static int parse_wind(scene *s, const cfg_doc *d, const cJSON *root, gale_err *e
     if (rc) {
         return rc;
     }
-    bool solver = true;
+    bool solver = true, subgrid = false;
     double g[3] = { 64, 64, 16 }, cell = 2, o[3], every = 1, dir = 0, u10 = 8;
     long long threads = 1;
     if ((rc = cfg_bool(d, w, "wind", "solver", false, true, &solver, err)) ||
-        (rc = cfg_vec(d, w, "wind", "grid", false, 3, g, 4, 1024, g, err)) ||
+        (rc = cfg_bool(d, w, "wind", "subgrid_profile", false, false, &subgrid, err)) ||
+        (rc = cfg_vec(d, w, "wind", "grid", false, 3, g, 2, 1024, g, err)) ||
         (rc = cfg_number(d, w, "wind", "cell_m", false, 2, 0.1, 50, &cell, err)) ||
         (rc = cfg_number(d, w, "wind", "every", false, 1, 1, 64, &every, err)) ||
         (rc = cfg_number(d, w, "wind", "dir_deg", false, 0, -360, 360, &dir, err)) ||
@@ -227,6 +229,7 @@ static int parse_wind(scene *s, const cfg_doc *d, const cJSON *root, gale_err *e
         return rc;
     }
     s->grid_on = solver;
+    s->wind_subgrid = subgrid;
     s->cell_m = (float)cell;
     s->wind_every = (int)every;
     s->wind_dir_deg = (float)dir;

@@ -64,6 +64,8 @@ typedef struct scene {
     int wind_threads;             /* solver threads; default 1 (the tick shares 2 cores with
                                      the service thread) */
     float origin[3];              /* default: grid centred on (0,0) at the ground */
+    bool wind_subgrid;            /* wind_desc.subgrid_profile: log-law shear restored at
+                                     sampling below the grid's resolution; default false */
     float wind_dir_deg;           /* steady inflow direction the wind blows toward */
     float wind_u10_ms;            /* steady inflow speed at 10 m; default 8 */
 

@@ -85,6 +85,10 @@ static int resolve_desc(const wind_desc *in, wind_desc *d, gale_err *err)
         return gale_errf(err, GALE_E_RANGE, "wind_desc.threads: expected 1..256, got %d",
                          d->threads);
     }
+    if (d->subgrid_profile != 0 && d->subgrid_profile != 1) {
+        return gale_errf(err, GALE_E_RANGE, "wind_desc.subgrid_profile: expected 0 or 1, got %d",
+                         d->subgrid_profile);
+    }
     if (d->n_obstacles < 0 || (d->n_obstacles > 0 && !d->obstacles)) {
         return gale_errf(err, GALE_E_ARG, "wind_desc.obstacles: %d boxes given without an array",
                          d->n_obstacles);
@@ -131,6 +135,35 @@ static void comp_init(wind_comp *c, int nx, int ny, int nz, int axis)
     }
 }
 
+/* The log law U(z) = U10 ln(z/z0) / ln(10/z0), z clamped below at zmin. */
+static float log_law(const wind_inflow *f, float z)
+{
+    z = fmaxf(z, f->zmin_m);
+    return f->u10_ms * logf(z / f->z0_m) / logf(10.0f / f->z0_m);
+}
+
+/* The subgrid profile table (wind_int.h): U(z) - U~(z), U~ the log law at the heights of
+ * the horizontal components' samples (cell centres), interpolated and clamped as
+ * sample_comp reads them. A horizontally uniform inflow is what the grid carries there,
+ * so what it lacks at a tree's height is this difference (a wall-function view of the
+ * unresolved surface layer, Stull 1988 section 9.7). */
+static void subgrid_resolve(wind_grid *w)
+{
+    const wind_inflow *f = &w->inflow;
+    const float oz = w->d.origin[2];
+    for (int e = 0; e < w->n_subgrid; e++) {
+        float zc = (float)e / (float)WIND_SUBGRID_PER_CELL; /* height in cell units */
+        float s = zc - 0.5f;
+        s = s < 0.0f ? 0.0f : s > (float)(w->nz - 1) ? (float)(w->nz - 1) : s;
+        int q = (int)s;
+        q = q < w->nz - 1 ? q : (w->nz > 1 ? w->nz - 2 : 0);
+        float t = s - (float)q;
+        float u0 = log_law(f, ((float)q + 0.5f) * w->h + oz);
+        float u1 = w->nz > 1 ? log_law(f, ((float)q + 1.5f) * w->h + oz) : u0;
+        w->subgrid[e] = log_law(f, zc * w->h + oz) - (u0 + t * (u1 - u0));
+    }
+}
+
 static void inflow_resolve(wind_grid *w, const wind_inflow *in)
 {
     wind_inflow f = *in;
@@ -155,6 +188,9 @@ static void inflow_resolve(wind_grid *w, const wind_inflow *in)
         }
     }
     w->inflow = f;
+    if (w->d.subgrid_profile) {
+        subgrid_resolve(w);
+    }
     const float cx = cosf(f.dir_rad), cy = sinf(f.dir_rad);
     const float ln10 = logf(10.0f / f.z0_m);
     for (int a = 0; a < 3; a++) {
@@ -220,7 +256,9 @@ wind_grid *wind_create(const wind_desc *d, gale_err *err)
     w->solid = calloc(cells, 1);
     w->rowsum = calloc((size_t)r.ny * (size_t)r.nz, sizeof(double));
     w->boxes = calloc((size_t)(r.n_obstacles > 0 ? r.n_obstacles : 1), sizeof *w->boxes);
-    if (!w->solid || !w->rowsum || !w->boxes) {
+    w->n_subgrid = r.nz * WIND_SUBGRID_PER_CELL + 1;
+    w->subgrid = calloc((size_t)w->n_subgrid, sizeof *w->subgrid);
+    if (!w->solid || !w->rowsum || !w->boxes || !w->subgrid) {
         gale_errf(err, GALE_E_NOMEM, "wind_create: out of memory");
         goto fail;
     }
@@ -283,6 +321,7 @@ void wind_destroy(wind_grid *w)
     free(w->solid);
     free(w->rowsum);
     free(w->boxes);
+    free(w->subgrid);
     free(w);
 }
 
@@ -709,6 +748,17 @@ static inline float sample_comp(const wind_comp *c, float x, float y, float z)
     return c0 + t[2] * (c1 - c0);
 }
 
+/* The subgrid table at a height z in cell units, linear between entries, clamped. */
+static inline float subgrid_at(const float *sg, int n, float z)
+{
+    float e = z * (float)WIND_SUBGRID_PER_CELL;
+    e = e < 0.0f ? 0.0f : e > (float)(n - 1) ? (float)(n - 1) : e;
+    int q = (int)e;
+    q = q < n - 1 ? q : n - 2;
+    float t = e - (float)q;
+    return sg[q] + t * (sg[q + 1] - sg[q]);
+}
+
 static inline void sample_point(const wind_grid *w, const float p[3], float v[3])
 {
     float inv = 1.0f / w->h;
@@ -716,6 +766,11 @@ static inline void sample_point(const wind_grid *w, const float p[3], float v[3]
           z = (p[2] - w->d.origin[2]) * inv;
     for (int a = 0; a < 3; a++) {
         v[a] = sample_comp(&w->c[a], x, y, z);
+    }
+    if (w->d.subgrid_profile) {
+        float du = subgrid_at(w->subgrid, w->n_subgrid, z);
+        v[0] += du * cosf(w->inflow.dir_rad);
+        v[1] += du * sinf(w->inflow.dir_rad);
     }
 }
 
@@ -788,6 +843,16 @@ static void sample_range(const wind_grid *w, int i0, int i1, const float *restri
         v[3 * i] = sample_view(&cu, x, y, z);
         v[3 * i + 1] = sample_view(&cv, x, y, z);
         v[3 * i + 2] = sample_view(&cw, x, y, z);
+    }
+    if (w->d.subgrid_profile) {
+        const float *sg = w->subgrid;
+        const int n = w->n_subgrid;
+        const float cx = cosf(w->inflow.dir_rad), cy = sinf(w->inflow.dir_rad);
+        for (int i = i0; i < i1; i++) {
+            float du = subgrid_at(sg, n, (p[3 * i + 2] - oz) * inv);
+            v[3 * i] += du * cx;
+            v[3 * i + 1] += du * cy;
+        }
     }
 }
 

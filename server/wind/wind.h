@@ -28,6 +28,10 @@ typedef struct wind_desc {
     uint64_t seed;             /* turbulence jitter; same seed, same field */
     const wind_box *obstacles; /* borrowed for the create call only */
     int n_obstacles;
+    /* 1: restore, at sampling, the log-law shear the grid cannot resolve between its
+     * lowest cell centres (wind_sample*, PHYSICS.md "Wind at landscape scale"): a coarse
+     * grid then gives the trees the mean profile of a fine one. 0: plain trilinear. */
+    int subgrid_profile;
 } wind_desc;
 
 /* Inflow at the open borders: the mean wind far upstream, with a log-law height
@@ -82,7 +86,10 @@ void wind_fill_inflow(wind_grid *w);
  * velocities in double, independently of the solver. */
 double wind_divergence_rms(const wind_grid *w);
 
-/* Trilinear wind velocity [m/s] at a world point; points outside the grid clamp to it. */
+/* Trilinear wind velocity [m/s] at a world point; points outside the grid clamp to it.
+ * With desc.subgrid_profile the horizontal wind gains U(z) - U~(z) along the inflow
+ * direction: the log law at the point's height minus the log law as the grid's samples
+ * interpolate it there. */
 void wind_sample(const wind_grid *w, const float p[3], float v[3]);
 /* The same for n points p[3n] into v[3n] (one per tree per tick). */
 void wind_sample_many(const wind_grid *w, int n, const float *p, float *v);

@@ -120,7 +120,14 @@ struct wind_grid {
     uint64_t rng;               /* jitter generator state */
     double *rowsum;             /* owned: per-row partial sums for stats (ny * nz) */
     float *scratch;             /* owned: WIND_SCRATCH_ROW floats per thread */
+    /* desc.subgrid_profile: U(z) - U~(z) of the current inflow [m/s] every
+     * h / WIND_SUBGRID_PER_CELL from the grid's floor to its lid, zeros when off */
+    float *subgrid;             /* owned [n_subgrid] */
+    int n_subgrid;
 };
+
+/* Subgrid profile table entries per cell height. */
+#define WIND_SUBGRID_PER_CELL 16
 
 /* Per-thread scratch: three displacement rows of up to nx + 1 samples (advection) or
  * one stencil row (multigrid). */
