@@ -106,19 +106,7 @@ int bake_run(const skeleton *s, const species *sp, const bake_desc *d, asset *a,
         rc = gale_errf(err, GALE_E_NOMEM, "bake: out of memory for the wind basis");
         goto fail;
     }
-    /* p_i,k = φ_iᵀ F_k (basis_compute's product, on the load already built) */
-    for (int m = 0; m < nm; m++) {
-        const double *x = er.phi + (size_t)m * f.n_dof;
-        double acc[3] = { 0, 0, 0 };
-        for (int dof = 0; dof < f.n_dof; dof++) {
-            for (int k = 0; k < 3; k++) {
-                acc[k] += x[dof] * F[3 * dof + k];
-            }
-        }
-        for (int k = 0; k < 3; k++) {
-            p[3 * m + k] = acc[k];
-        }
-    }
+    basis_project(&f, er.phi, nm, F, p); /* F serves the static correction below too */
     const double t3 = mono_s();
     for (int i = 0; i < 3 * n; i++) {
         rest[i] = (double)s->pos[i];

@@ -71,14 +71,9 @@ int basis_load(const fem_model *f, double drag_c, const crown_load *cl, double *
     return 0;
 }
 
-int basis_compute(const fem_model *f, const double *phi, int n_modes, double drag_c,
-                  const crown_load *cl, double *p)
+void basis_project(const fem_model *f, const double *phi, int n_modes, const double *F,
+                   double *p)
 {
-    double *F = malloc((size_t)f->n_dof * 3 * sizeof *F);
-    if (!F || basis_load(f, drag_c, cl, F) != 0) {
-        free(F);
-        return -1;
-    }
     for (int m = 0; m < n_modes; m++) {
         const double *x = phi + (size_t)m * f->n_dof;
         double acc[3] = { 0, 0, 0 };
@@ -91,6 +86,17 @@ int basis_compute(const fem_model *f, const double *phi, int n_modes, double dra
             p[3 * m + k] = acc[k];
         }
     }
+}
+
+int basis_compute(const fem_model *f, const double *phi, int n_modes, double drag_c,
+                  const crown_load *cl, double *p)
+{
+    double *F = malloc((size_t)f->n_dof * 3 * sizeof *F);
+    if (!F || basis_load(f, drag_c, cl, F) != 0) {
+        free(F);
+        return -1;
+    }
+    basis_project(f, phi, n_modes, F, p);
     free(F);
     return 0;
 }

@@ -15,8 +15,13 @@
  * of memory, else 0. */
 int basis_load(const fem_model *f, double drag_c, const crown_load *cl, double *F);
 
+/* p[3 m + k] = φ_mᵀ F_k for the modes phi[n_modes][f->n_dof] and a load F[3 d + k] of
+ * basis_load. */
+void basis_project(const fem_model *f, const double *phi, int n_modes, const double *F,
+                   double *p);
+
 /* p[3 m + k] (n_modes 3-vectors, tree frame) from the modes phi[n_modes][f->n_dof] of f:
- * p_m,k = φ_mᵀ F_k with F of basis_load. -1 when out of memory, else 0. */
+ * basis_load, then basis_project. -1 when out of memory, else 0. */
 int basis_compute(const fem_model *f, const double *phi, int n_modes, double drag_c,
                   const crown_load *cl, double *p);
 
