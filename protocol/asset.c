@@ -1,7 +1,7 @@
 /* The baked species asset file (ASSET.md): a 24-byte header (magic, version, payload
  * length, payload CRC-32, header CRC-32), seven sections in fixed order and, from version
- * 2, optional sections (SRID: source node ids); every field little-endian and
- * fixed-width, written and read byte by byte. Counts are checked
+ * 2, optional sections (SRID: source node ids; SRES: the static correction); every
+ * field little-endian and fixed-width, written and read byte by byte. Counts are checked
  * against the limits below and against the bytes left before anything is allocated.
  * asset_reconstruct (asset_pose.c) is the length-true pose of PHYSICS.md. */
 #include "asset.h"
@@ -36,7 +36,8 @@
 /* The seven required sections, then the optional ones a reader knows. */
 #define ASSET_SECTIONS     7
 #define ASSET_SECTION_SRID 7
-#define ASSET_TAGS         8
+#define ASSET_SECTION_SRES 8
+#define ASSET_TAGS         9
 
 static const uint8_t asset_magic[4] = { 'G', 'A', 'S', 'T' };
 
@@ -46,10 +47,11 @@ static const uint8_t asset_magic[4] = { 'G', 'A', 'S', 'T' };
 static const uint32_t asset_tags[ASSET_TAGS] = {
     TAG('M', 'E', 'T', 'A'), TAG('S', 'K', 'E', 'L'), TAG('M', 'O', 'D', 'E'),
     TAG('C', 'O', 'R', 'R'), TAG('M', 'E', 'S', 'H'), TAG('L', 'E', 'A', 'F'),
-    TAG('L', 'O', 'O', 'K'), TAG('S', 'R', 'I', 'D'),
+    TAG('L', 'O', 'O', 'K'), TAG('S', 'R', 'I', 'D'), TAG('S', 'R', 'E', 'S'),
 };
 static const char *const asset_tag_names[ASSET_TAGS] = { "META", "SKEL", "MODE", "CORR",
-                                                         "MESH", "LEAF", "LOOK", "SRID" };
+                                                         "MESH", "LEAF", "LOOK", "SRID",
+                                                         "SRES" };
 
 /* ---- writer: a growing buffer with a sticky out-of-memory flag ---- */
 
@@ -399,12 +401,18 @@ int asset_encode(const asset *a, uint8_t **out, size_t *len, gale_err *err)
     w_end(&w, at);
 
     /* optional sections: their presence makes the file version 2 */
-    const uint32_t version = a->source_id ? 2u : 1u;
+    const uint32_t version = a->source_id || a->static_res ? 2u : 1u;
     if (a->source_id) {
         at = w_begin(&w, ASSET_SECTION_SRID);
         w_f32s(&w, a->source_origin, 3);
         w_u32(&w, a->n_nodes);
         w_u32s(&w, a->source_id, nn);
+        w_end(&w, at);
+    }
+    if (a->static_res) {
+        at = w_begin(&w, ASSET_SECTION_SRES);
+        w_u32(&w, ASSET_STATIC_COLS);
+        w_f32s(&w, a->static_res, 3 * ASSET_STATIC_COLS * nn);
         w_end(&w, at);
     }
 
@@ -758,8 +766,26 @@ static void r_srid(asset_reader *r, asset *a, size_t end)
     r_section_end(r, ASSET_SECTION_SRID, end);
 }
 
-/* The optional sections after LOOK (version 2 on): SRID at most once; a tag this build
- * does not know is skipped by its length (ASSET.md "Optional sections"). */
+/* SRES body from r->pos to end: the static correction, one translation per node for each
+ * of the ASSET_STATIC_COLS wind-basis columns. */
+static void r_sres(asset_reader *r, asset *a, size_t end)
+{
+    const size_t at = r->pos;
+    const uint32_t nc = r_u32(r, "n_static_cols");
+    if (!r->bad && nc != ASSET_STATIC_COLS) {
+        r_fail(r, GALE_E_FORMAT, "n_static_cols", at, "count %u, expected %u (one per wind-basis column)",
+               nc, ASSET_STATIC_COLS);
+    }
+    const size_t n = 3u * ASSET_STATIC_COLS * (size_t)a->n_nodes;
+    if (r_need(r, 4 * n, "static_res")) {
+        a->static_res = r_alloc(r, n, sizeof *a->static_res, "static_res");
+        r_f32s(r, a->static_res, n, "static_res");
+    }
+    r_section_end(r, ASSET_SECTION_SRES, end);
+}
+
+/* The optional sections after LOOK (version 2 on): SRID and SRES at most once each; a tag
+ * this build does not know is skipped by its length (ASSET.md "Optional sections"). */
 static void r_optional(asset_reader *r, asset *a)
 {
     while (!r->bad && r->pos < r->len) {
@@ -769,7 +795,13 @@ static void r_optional(asset_reader *r, asset *a)
         if (r->bad) {
             return;
         }
-        if (tag != asset_tags[ASSET_SECTION_SRID]) {
+        if (tag == asset_tags[ASSET_SECTION_SRES]) {
+            if (a->static_res) {
+                r_fail(r, GALE_E_FORMAT, "SRES", at, "second SRES section (at most one)");
+            } else {
+                r_sres(r, a, end);
+            }
+        } else if (tag != asset_tags[ASSET_SECTION_SRID]) {
             r->pos = end;
         } else if (a->source_id) {
             r_fail(r, GALE_E_FORMAT, "SRID", at, "second SRID section (at most one)");
@@ -856,6 +888,7 @@ void asset_fini(asset *a)
     free(a->rest);
     free(a->radius);
     free(a->source_id);
+    free(a->static_res);
     free(a->omega);
     free(a->gamma);
     free(a->wind_basis);

@@ -48,6 +48,11 @@ typedef struct asset {
     float *phi;            /* [n_modes][n_nodes][3] linear mode translation, mass-normalised */
     float *phi_rot;        /* [n_modes][n_nodes][3] linear mode rotation [rad per unit q] */
 
+    /* static correction of the truncated modes (optional SRES section; PHYSICS.md "Static
+     * correction"): r_k, the translation of each node that the modes left out add in a
+     * steady unit wind force w_k; NULL without the section */
+    float *static_res;     /* [ASSET_STATIC_COLS][n_nodes][3] [m per m²/s²] or NULL */
+
     /* length-true pose (PHYSICS.md "Length-true pose"; section CORR): segment p -> i is
      * R(Σ q̃ v_i) (rest_i - rest_p + Σ q̃ w_i) hung from p's posed end, q̃ = a atan(b q) */
     float *corr_v;         /* [n_modes][n_nodes][3] segment rotation vector per unit q̃ [rad] */
@@ -80,8 +85,29 @@ typedef struct asset {
     uint32_t leaf_shape;   /* 0 broad leaf, 1 palm leaflet, 2 needle tuft */
 } asset;
 
+/* Columns of the static correction: one per wind-basis component x, y, z. */
+#define ASSET_STATIC_COLS 3u
+
+/* The force vector w̃ [m²/s²] the modal state q implies (ASSET.md "SRES"): the least
+ * squares fit of the modal forces that hold the modes where they are, ω_i² q_i ≈ p_i·w,
+ * w̃ = (Σ_i p_i p_iᵀ)⁺ Σ_i ω_i² q_i p_i, as w̃ = A q with A[k][i] (3 x n_modes, written to
+ * A) from omega and wind_basis (⁺: pseudo-inverse, eigenvalues below 1e-9 of the largest
+ * dropped). A steady wind's q_i = p_i·w / ω_i² gives w̃ = w. */
+void asset_static_map(const float *omega, const float *wind_basis, uint32_t n_modes, double *A);
+
+/* The drawn mode shapes φ̂_i = phi_i + Σ_k r_k A_k,i (A of asset_static_map over all the
+ * asset's modes, r_k of its SRES section; φ̂ = phi without it) into out[n_modes][n_nodes][3]:
+ * what gale-bake gives asset_pose_fields, so the length-true pose's slope at q = 0. */
+void asset_pose_shapes(const asset *a, float *out);
+
+/* The linear pose rest + Σ_i q_i φ̂_i of the first n_modes_used modes into out[3 n_nodes],
+ * φ̂_i = phi_i + Σ_k r_k A_k,i with the SRES section's r_k (φ̂ = phi without it): the slope
+ * at q = 0 of the length-true pose gale-bake writes. */
+void asset_linear(const asset *a, const float *q, uint32_t n_modes_used, float *out);
+
 /* Encodes a into a new buffer (*out, malloc'd, caller frees) of *len bytes: version 2
- * with an SRID section when a->source_id is set, else version 1. */
+ * with an SRID section when a->source_id is set and an SRES section when a->static_res
+ * is, else version 1. */
 int asset_encode(const asset *a, uint8_t **out, size_t *len, gale_err *err);
 
 /* Decodes len bytes into *a (caller-owned struct; arrays owned by it, free with

@@ -98,16 +98,8 @@ void asset_reconstruct(const asset *a, const float *q, uint32_t n_modes_used, fl
     }
     const bool corr = a->corr_v && a->corr_w && a->corr_a && a->corr_b && a->parent;
     if (!corr) {
-        /* no pose fields: the linear modal response rest + Σ q φ */
-        for (size_t i = 0; i < 3 * nn; i++) {
-            out[i] = a->rest[i];
-        }
-        for (size_t m = 0; m < n_modes_used; m++) {
-            const float *v = a->phi + 3 * m * nn;
-            for (size_t i = 0; i < 3 * nn; i++) {
-                out[i] += q[m] * v[i];
-            }
-        }
+        /* no pose fields: the linear modal response rest + Σ q φ̂ */
+        asset_linear(a, q, n_modes_used, out);
         return;
     }
     /* parent[i] < i: a parent is posed before its children */

@@ -645,6 +645,92 @@ static void test_source_ids_refused(void)
     free(buf);
 }
 
+/* SRES (ASSET.md "SRES"): the static correction comes back exactly from a version-2 file;
+ * the force vector read back from q is w's part in the span of the wind basis (here two
+ * modes: a plane); the linear pose and the drawn shapes add r (A q); a wrong column count,
+ * a second SRES and a NaN are refused naming the field. */
+static void test_static_res(void)
+{
+    asset a;
+    make_tiny(&a);
+    float r[27];
+    for (int k = 0; k < 27; k++) {
+        r[k] = 0.001f * (float)(k + 1) * (k % 2 ? -1.0f : 1.0f);
+    }
+    a.static_res = malloc(sizeof r);
+    memcpy(a.static_res, r, sizeof r);
+    uint8_t *buf;
+    size_t len;
+    gale_err err = { 0 };
+    CHECK(asset_encode(&a, &buf, &len, &err) == 0);
+    CHECK(buf[4] == 2);
+    const size_t sres = len - 124;
+    CHECK(memcmp(buf + sres, "SRES", 4) == 0 && buf[sres + 4] == 112 && buf[sres + 12] == 3);
+    asset b;
+    CHECK(asset_decode(buf, len, "t.asset", &b, &err) == 0);
+    CHECK(b.static_res && memcmp(b.static_res, r, sizeof r) == 0);
+    asset_fini(&b);
+
+    /* w̃ = A q: p_0 = (1, 2, 3), p_1 = (4, 5, 6); w = p_0 + n with n = p_0 × p_1 across
+     * both: q sees p_0 alone */
+    double A[6];
+    asset_static_map(a.omega, a.wind_basis, 2, A);
+    const double w[3] = { 1 - 3, 2 + 6, 3 - 3 };
+    float q[2];
+    double wt[3] = { 0, 0, 0 };
+    for (int i = 0; i < 2; i++) {
+        const float *p = a.wind_basis + 3 * i;
+        q[i] = (float)(((double)p[0] * w[0] + (double)p[1] * w[1] + (double)p[2] * w[2]) /
+                       ((double)a.omega[i] * (double)a.omega[i]));
+        for (int k = 0; k < 3; k++) {
+            wt[k] += A[k * 2 + i] * (double)q[i];
+        }
+    }
+    for (int k = 0; k < 3; k++) {
+        CHECK_NEAR(wt[k], (double)(k + 1), 1e-5);
+    }
+    /* the linear pose and the drawn shapes: rest + Σ q φ + Σ_k r_k w̃_k */
+    float lin[9], sh[18];
+    asset_linear(&a, q, 2, lin);
+    asset_pose_shapes(&a, sh);
+    for (int j = 0; j < 9; j++) {
+        double want = (double)a.rest[j], from_shapes = (double)a.rest[j];
+        for (int i = 0; i < 2; i++) {
+            want += (double)q[i] * (double)a.phi[9 * i + j];
+            from_shapes += (double)q[i] * (double)sh[9 * i + j];
+        }
+        for (int k = 0; k < 3; k++) {
+            want += (double)r[9 * k + j] * wt[k];
+        }
+        CHECK_NEAR(lin[j], want, 1e-5);
+        CHECK_NEAR(from_shapes, want, 1e-5);
+    }
+    asset_fini(&a);
+
+    char want_msg[160];
+    put32(buf, sres + 12, 2);
+    fix_crcs(buf, len);
+    snprintf(want_msg, sizeof want_msg,
+             "t.asset: n_static_cols at byte %zu: count 2, expected 3 (one per wind-basis column)",
+             sres + 12);
+    expect_reject(buf, len, GALE_E_FORMAT, want_msg);
+    put32(buf, sres + 12, 3);
+    put32(buf, sres + 16 + 4 * 5, 0x7fc00000u);
+    fix_crcs(buf, len);
+    snprintf(want_msg, sizeof want_msg, "static_res at byte %zu: not a finite number",
+             sres + 16 + 4 * 5);
+    expect_reject(buf, len, GALE_E_FORMAT, want_msg);
+    put32(buf, sres + 16 + 4 * 5, 0);
+    fix_crcs(buf, len);
+    size_t len2;
+    uint8_t *twice = append_section(buf, len, "SRES", buf + sres + 12, 112, 2, &len2);
+    snprintf(want_msg, sizeof want_msg, "SRES at byte %zu: second SRES section (at most one)",
+             len);
+    expect_reject(twice, len2, GALE_E_FORMAT, want_msg);
+    free(twice);
+    free(buf);
+}
+
 static void test_reconstruct(void)
 {
     asset a;
@@ -778,6 +864,7 @@ int main(void)
     RUN(test_absurd_counts);
     RUN(test_source_ids);
     RUN(test_source_ids_refused);
+    RUN(test_static_res);
     RUN(test_reconstruct);
     RUN(test_pose_fields);
     RUN(test_file);

@@ -12,6 +12,9 @@
 #include <cjson/cJSON.h>
 
 #include "asset_file.h"
+#include "bake.h"
+#include "skeleton.h"
+#include "species.h"
 #include "check.h"
 
 static char dir[256];
@@ -230,6 +233,74 @@ static void check_report_file(const char *name, int nodes, int modes)
     cJSON_Delete(o);
 }
 
+/* The parameters a CSV bake records (ASSET.md META): every one that changes the asset's
+ * bytes is there, under the keys of a species file, and baking the CSV again from them
+ * alone gives the file byte for byte. */
+static void check_csv_params(const asset *a, const char *csv, const char *gasset)
+{
+    static const char *const keys[][2] = {
+        { NULL, "name" },          { NULL, "E_pa" },          { NULL, "rho_kg_m3" },           { NULL, "G_pa" },
+        { NULL, "rayleigh_alpha" }, { NULL, "rayleigh_beta" },      { NULL, "drag_c" },
+        { "damage", "leaf_drag_share" }, { "generator", "seed" },   { "look", "bark_rgb" },
+        { "look", "leaf_rgb" },    { "look", "leaf_shape" },        { "look", "leaf_size_m" },
+        { "look", "leaves_per_tip" }, { "look", "leaf_spread_deg" },
+    };
+    cJSON *o = cJSON_Parse(a->params_json);
+    CHECK(o != NULL);
+    if (!o) {
+        return;
+    }
+    for (size_t k = 0; k < sizeof keys / sizeof keys[0]; k++) {
+        const cJSON *sec = keys[k][0] ? cJSON_GetObjectItem(o, keys[k][0]) : o;
+        const int has = sec && cJSON_GetObjectItem(sec, keys[k][1]);
+        if (!has) {
+            fprintf(stderr, "params_json lacks %s%s%s\n", keys[k][0] ? keys[k][0] : "",
+                    keys[k][0] ? "." : "", keys[k][1]);
+        }
+        CHECK(has);
+    }
+    cJSON_DeleteItemFromObject(o, "skeleton");
+    char *sp_text = cJSON_PrintUnformatted(o);
+    cJSON_Delete(o);
+    species sp;
+    gale_err err;
+    memset(&err, 0, sizeof err);
+    int rc = species_parse(sp_text, strlen(sp_text), "params_json", &sp, &err);
+    free(sp_text);
+    CHECK(rc == GALE_OK);
+    if (rc != GALE_OK) {
+        fprintf(stderr, "%s\n", err.msg);
+        return;
+    }
+    char p[512];
+    snprintf(p, sizeof p, "%s/%s", dir, csv);
+    skeleton s;
+    memset(&s, 0, sizeof s);
+    asset b;
+    memset(&b, 0, sizeof b);
+    bake_desc d = { .n_modes = (int)a->n_modes, .params_json = a->params_json,
+                    .source_hash = a->source_hash };
+    rc = skeleton_load_csv(p, &s, &err);
+    rc = rc ? rc : bake_run(&s, &sp, &d, &b, NULL, &err);
+    CHECK(rc == GALE_OK);
+    uint8_t *buf = NULL;
+    size_t len = 0;
+    if (rc == GALE_OK && asset_encode(&b, &buf, &len, &err) == GALE_OK) {
+        snprintf(p, sizeof p, "%s/%s", dir, gasset);
+        FILE *f = fopen(p, "rb");
+        uint8_t *file = malloc(len + 1);
+        size_t got = f && file ? fread(file, 1, len + 1, f) : 0;
+        CHECK(got == len && memcmp(file, buf, len) == 0);
+        free(file);
+        if (f) {
+            fclose(f);
+        }
+    }
+    free(buf);
+    asset_fini(&b);
+    skeleton_fini(&s);
+}
+
 static void test_skeleton_end_to_end(void)
 {
     CHECK(bake("--skeleton ok.csv --modes 4 --out ok.gasset --report ok-report.json") == 0);
@@ -243,6 +314,7 @@ static void test_skeleton_end_to_end(void)
     CHECK(a.n_nodes == 6 && a.n_modes == 4);
     CHECK_STR_HAS(a.species, "ok");
     CHECK_STR_HAS(a.params_json, "rayleigh_alpha");
+    check_csv_params(&a, "ok.csv", "ok.gasset");
     asset_fini(&a);
 }
 
@@ -339,8 +411,9 @@ static void test_species_end_to_end(void)
     check_report_file("oak.json", 0, 12);
     CHECK(exists("oak.png"));
     CHECK(count_files() == 4); /* ok.gasset, ids.gasset, oak.gasset, oak.png */
-    /* an L-system skeleton has no source ids: no SRID, a version-1 file */
-    CHECK(file_version("oak.gasset") == 1);
+    /* an L-system skeleton has no source ids, but every bake writes the static correction
+     * (SRES): a version-2 file */
+    CHECK(file_version("oak.gasset") == 2);
     char p[512];
     snprintf(p, sizeof p, "%s/oak.gasset", dir);
     asset a;

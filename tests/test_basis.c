@@ -7,6 +7,7 @@
 #include "bake_tree.h"
 #include "basis.h"
 #include "check.h"
+#include "crown_load.h"
 #include "eigen.h"
 #include "fem.h"
 
@@ -111,8 +112,40 @@ static void test_cantilever_closed_form(void)
     skeleton_fini(&s);
 }
 
+/* ASSET.md "Wind basis", its test vector: a 3-node skeleton (root (0,0,0) r 0.2, node 1
+ * (0,0,2) r 0.1, node 2 (1,0,2) r 0.05), C 0.6, leaf share 0.6 (wood 0.4, tip 0.27 m²),
+ * and four displacement fields in place of modes, each worked out by hand in the spec:
+ * every free node moved by x̂; node 2 moved by ŷ; node 2 turned about z; node 1 turned
+ * about y. */
+static void test_spec_vector(void)
+{
+    int parent[3] = { -1, 0, 1 };
+    float pos[9] = { 0, 0, 0, 0, 0, 2, 1, 0, 2 }, radius[3] = { 0.2f, 0.1f, 0.05f };
+    skeleton s = { .n = 3, .parent = parent, .pos = pos, .radius = radius };
+    gale_err err;
+    fem_model f;
+    CHECK(fem_build(&s, NULL, &f, &err) == GALE_OK);
+    const crown_load cl = crown_load_split(3, parent, pos, radius, 0.6);
+    CHECK_NEAR(cl.wood, 0.4, 1e-12);
+    CHECK_NEAR(cl.tip_m2, 0.27, 1e-7); /* radii in f32 */
+    /* free dofs: node 1 at 0..5, node 2 at 6..11 (ux uy uz rx ry rz) */
+    double phi[4][12] = { { 0 } };
+    phi[0][0] = phi[0][6] = 1.0;
+    phi[1][7] = 1.0;
+    phi[2][11] = 1.0;
+    phi[3][4] = 1.0;
+    double p[12];
+    CHECK(basis_compute(&f, &phi[0][0], 4, 0.6, &cl, p) == 0);
+    const double want[12] = { 0.27, 0, 0, 0, 0.18, 0, 0, -0.003, 0, -0.024, 0, -0.003 };
+    for (int k = 0; k < 12; k++) {
+        CHECK_NEAR(p[k], want[k], 1e-7);
+    }
+    fem_fini(&f);
+}
+
 int main(void)
 {
+    RUN(test_spec_vector);
     RUN(test_fine_quadrature);
     RUN(test_cantilever_closed_form);
     return check_report();

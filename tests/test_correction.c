@@ -110,6 +110,16 @@ static double slope_error(const asset *a, double k, uint32_t m)
     return umax > 0.0 ? e / umax : 0.0;
 }
 
+/* slope_error against the drawn shapes sh instead of the asset's φ */
+static double slope_error_shapes(asset *a, float *sh, double k, uint32_t m)
+{
+    float *phi = a->phi;
+    a->phi = sh;
+    const double e = slope_error(a, k, m);
+    a->phi = phi;
+    return e;
+}
+
 static int bake_species(const char *name, asset *a)
 {
     char path[4096];
@@ -142,6 +152,12 @@ static void grade_species(const char *name)
     if (!a.n_nodes) {
         return;
     }
+    /* the pose's slope at q = 0 is the drawn shape φ̂ (φ with the static correction,
+     * asset_pose_shapes): the linear response below is graded against it */
+    float *shapes = malloc((size_t)a.n_modes * a.n_nodes * 3 * sizeof *shapes);
+    asset_pose_shapes(&a, shapes);
+    free(a.phi);
+    a.phi = shapes;
     const size_t nc = 3 * (size_t)a.n_nodes;
     double *q = malloc(a.n_modes * sizeof *q), *u = malloc(nc * sizeof *u);
     float *qf = malloc(a.n_modes * sizeof *qf), *x = malloc(nc * sizeof *x), *xl = malloc(nc * sizeof *xl);
@@ -170,7 +186,10 @@ static void grade_species(const char *name)
         const double e1 = small_q_error(&a, q, 1e-3 * h / u1, UINT32_MAX);
         printf("%s dir %d at 0.1%% of height: |pose - linear| / |linear| = %.4f%%\n", name, dd,
                100.0 * e1);
-        CHECK(e1 <= 1e-3);
+        /* the pose's second-order part is about θ/2 of the largest segment rotation θ: the
+         * twigs' own bend under the leaves' load (the static correction) turns their short
+         * segments most, 0.30 % on pine at 0.1 % of height (0.07 % without it) */
+        CHECK(e1 <= 4e-3);
     }
     /* slope at q = 0: v × s + w = φ_i − φ_p, every mode and segment */
     double worst = 0.0, scale = 0.0;
@@ -240,6 +259,8 @@ static void test_l_frame_every_mode(void)
     memset(&a, 0, sizeof a);
     const int nm = 24;
     CHECK(bake_run(&s, &sp, &(bake_desc){ .n_modes = nm }, &a, NULL, &err) == GALE_OK);
+    float *shapes = malloc((size_t)a.n_modes * a.n_nodes * 3 * sizeof *shapes);
+    asset_pose_shapes(&a, shapes);
     int axial = 0, torsion = 0;
     const size_t nc = 3 * (size_t)n;
     for (uint32_t m = 0; m < a.n_modes; m++) {
@@ -268,7 +289,8 @@ static void test_l_frame_every_mode(void)
          * of largest segment rotation (or 4 cm of largest displacement for a mode without
          * rotation) it is the slope to ~1e-5 */
         const double k1 = rmax * 0.04 > 1e-2 * umax ? 1e-2 / rmax : 0.04 / umax;
-        const double es = slope_error(&a, k1, m);
+        /* the pose's slope is the drawn shape φ̂ (φ with the static correction) */
+        const double es = slope_error_shapes(&a, shapes, k1, m);
         if (!(es <= 1e-3)) {
             fprintf(stderr, "L frame mode %u: slope error %.4g\n", m, es);
         }
@@ -277,6 +299,7 @@ static void test_l_frame_every_mode(void)
     printf("L frame: %d axial-dominated and %d torsion-dominated modes of %u\n", axial, torsion,
            a.n_modes);
     CHECK(axial >= 1 && torsion >= 1);
+    free(shapes);
     asset_fini(&a);
     skeleton_fini(&s);
 }

@@ -1,5 +1,6 @@
 /* The bake pipeline: frame model (fem.c), shift-invert modes (eigen.c), Rayleigh damping
- * γ_i = α + β ω_i² (Diener 2008 eq. 9), wind basis (basis.c, section 4), the
+ * γ_i = α + β ω_i² (Diener 2008 eq. 9), wind basis (basis.c, section 4), the static
+ * correction of the truncated modes (statics.c, PHYSICS.md "Static correction"), the
  * length-true pose's fields (asset_pose_fields, PHYSICS.md "Length-true pose"), mesh
  * (mesh.h); everything the asset holds. */
 #include "bake.h"
@@ -15,6 +16,7 @@
 #include "eigen.h"
 #include "fem.h"
 #include "mesh.h"
+#include "statics.h"
 
 uint64_t bake_hash(uint64_t h, const void *data, size_t n)
 {
@@ -66,7 +68,9 @@ int bake_run(const skeleton *s, const species *sp, const bake_desc *d, asset *a,
     fem_model f;
     eigen_result er;
     memset(&er, 0, sizeof er);
-    double *tr = NULL, *rot = NULL, *rest = NULL, *p = NULL;
+    double *tr = NULL, *rot = NULL, *rest = NULL, *p = NULL, *F = NULL, *res = NULL;
+    double *rtr = NULL, *rrot = NULL;
+    float *shape = NULL;
     int rc = fem_build(s, &(fem_material){ sp->E_pa, sp->rho_kg_m3, sp->G_pa }, &f, err);
     if (rc != GALE_OK) {
         return rc;
@@ -84,7 +88,12 @@ int bake_run(const skeleton *s, const species *sp, const bake_desc *d, asset *a,
     rot = malloc((size_t)nm * n * 3 * sizeof *rot);
     rest = malloc((size_t)n * 3 * sizeof *rest);
     p = malloc((size_t)nm * 3 * sizeof *p);
-    if (!tr || !rot || !rest || !p) {
+    F = malloc((size_t)f.n_dof * 3 * sizeof *F);
+    res = malloc((size_t)f.n_dof * 3 * sizeof *res);
+    rtr = malloc((size_t)n * 9 * sizeof *rtr);
+    rrot = malloc((size_t)n * 9 * sizeof *rrot);
+    shape = malloc((size_t)nm * n * 3 * sizeof *shape);
+    if (!tr || !rot || !rest || !p || !F || !res || !rtr || !rrot || !shape) {
         rc = gale_errf(err, GALE_E_NOMEM, "bake: out of memory for %d modes x %d nodes", nm, n);
         goto fail;
     }
@@ -93,7 +102,11 @@ int bake_run(const skeleton *s, const species *sp, const bake_desc *d, asset *a,
     const crown_load cl = crown_load_split((uint32_t)n, s->parent, s->pos, s->radius,
                                            sp->leaves_per_tip > 0 ? sp->damage.leaf_drag_share
                                                                   : 0.0);
-    basis_compute(&f, er.phi, nm, sp->drag_c, &cl, p);
+    if (basis_load(&f, sp->drag_c, &cl, F) != 0) {
+        rc = gale_errf(err, GALE_E_NOMEM, "bake: out of memory for the wind basis");
+        goto fail;
+    }
+    basis_project(&f, er.phi, nm, F, p); /* F serves the static correction below too */
     const double t3 = mono_s();
     for (int i = 0; i < 3 * n; i++) {
         rest[i] = (double)s->pos[i];
@@ -122,13 +135,13 @@ int bake_run(const skeleton *s, const species *sp, const bake_desc *d, asset *a,
     a->n_modes = (uint32_t)nm;
     a->omega = malloc((size_t)nm * sizeof *a->omega);
     a->gamma = malloc((size_t)nm * sizeof *a->gamma);
+    a->corr_a = malloc((size_t)nm * sizeof *a->corr_a);
+    a->corr_b = malloc((size_t)nm * sizeof *a->corr_b);
     a->wind_basis = to_float(p, (size_t)nm * 3);
     a->phi = to_float(tr, (size_t)nm * n * 3);
     a->phi_rot = to_float(rot, (size_t)nm * n * 3);
     a->corr_v = malloc((size_t)nm * n * 3 * sizeof *a->corr_v);
     a->corr_w = malloc((size_t)nm * n * 3 * sizeof *a->corr_w);
-    a->corr_a = malloc((size_t)nm * sizeof *a->corr_a);
-    a->corr_b = malloc((size_t)nm * sizeof *a->corr_b);
     if (!a->params_json || !a->parent || !a->rest || !a->radius || !a->omega || !a->gamma ||
         !a->wind_basis || !a->phi || !a->phi_rot || !a->corr_v || !a->corr_w || !a->corr_a ||
         !a->corr_b) {
@@ -146,9 +159,6 @@ int bake_run(const skeleton *s, const species *sp, const bake_desc *d, asset *a,
             a->height_m = s->pos[3 * i + 2];
         }
     }
-    /* the pose is linear in q (q̃ = q): its slope at rest is φ, and no saturation is fitted */
-    asset_pose_fields(a->rest, a->parent, a->n_nodes, a->phi, a->n_modes, a->corr_v, a->corr_w);
-    const double t4 = mono_s();
     for (int m = 0; m < nm; m++) {
         a->corr_a[m] = 1.0f;
         a->corr_b[m] = 0.0f;
@@ -157,6 +167,31 @@ int bake_run(const skeleton *s, const species *sp, const bake_desc *d, asset *a,
         /* Diener 2008 eq. 9: γ_i = α + β ω_i² */
         a->gamma[m] = (float)(sp->rayleigh_alpha + sp->rayleigh_beta * er.omega2[m]);
     }
+    /* the static correction: the truncated modes' quasi-static response per wind-basis
+     * column (r_k, stored in SRES), carried by each mode's drawn shape in the share that
+     * the force vector read back from q gives it: φ̂_i = φ_i + Σ_k r_k A_k,i
+     * (asset_pose_shapes), so that a steady wind draws K⁻¹ F (PHYSICS.md "Static
+     * correction") */
+    rc = statics_residual(&f, F, er.phi, (uint32_t)nm, a->omega, a->wind_basis, res, err);
+    if (rc != GALE_OK) {
+        goto fail;
+    }
+    fem_split_modes(&f, res, 3, rtr, rrot);
+    a->static_res = to_float(rtr, (size_t)n * 9);
+    if (!a->static_res) {
+        rc = gale_errf(err, GALE_E_NOMEM, "bake: out of memory filling the asset");
+        goto fail;
+    }
+    asset_pose_shapes(a, shape);
+    double rep_static = 0.0;
+    for (int i = 0; i < n; i++) {
+        const double u = rtr[3 * i] * rtr[3 * i] + rtr[3 * i + 1] * rtr[3 * i + 1] +
+                         rtr[3 * i + 2] * rtr[3 * i + 2];
+        rep_static = fmax(rep_static, sqrt(u));
+    }
+    /* the pose is linear in q (q̃ = q): its slope at rest is φ̂, and no saturation is fitted */
+    asset_pose_fields(a->rest, a->parent, a->n_nodes, shape, a->n_modes, a->corr_v, a->corr_w);
+    const double t4 = mono_s();
     rc = mesh_build(s, sp, a, err);
     if (rc != GALE_OK) {
         goto fail;
@@ -175,6 +210,7 @@ int bake_run(const skeleton *s, const species *sp, const bake_desc *d, asset *a,
     r.eigen_solves = er.n_op;
     r.eigen_residual = er.max_residual;
     r.ortho_error = er.ortho_error;
+    r.static_residual_m = rep_static;
     pose_check_run(a, &sp->drag, &r.pose);
     r.seconds = mono_s() - t0;
     if (rep) {
@@ -186,7 +222,8 @@ fail:
     asset_fini(a);
     memset(a, 0, sizeof *a);
 done:
-    free(tr), free(rot), free(rest), free(p);
+    free(tr), free(rot), free(rest), free(p), free(F), free(res), free(rtr), free(rrot);
+    free(shape);
     eigen_result_fini(&er);
     fem_fini(&f);
     return rc;
@@ -244,6 +281,7 @@ char *bake_report_json(const asset *a, const bake_report *rep)
     cJSON_AddNumberToObject(e, "orthonormality_error", rep->ortho_error);
     cJSON_AddNumberToObject(o, "orthonormality_error", rep->ortho_error);
     cJSON_AddNumberToObject(o, "eigen_residual", rep->eigen_residual);
+    cJSON_AddNumberToObject(o, "static_correction_max_m_per_w", rep->static_residual_m);
     cJSON *t = cJSON_AddObjectToObject(o, "stage_seconds");
     cJSON_AddNumberToObject(t, "fem", rep->seconds_fem);
     cJSON_AddNumberToObject(t, "eigen", rep->seconds_eigen);

@@ -13,8 +13,9 @@
 #include "skeleton.h"
 #include "species.h"
 
-/* 2: CORR holds the length-true pose's fields (PHYSICS.md "Length-true pose") */
-#define BAKE_VERSION 2
+/* 2: CORR holds the length-true pose's fields (PHYSICS.md "Length-true pose"); 3: they
+ * carry the static correction of the truncated modes (PHYSICS.md "Static correction") */
+#define BAKE_VERSION 3
 #define BAKE_MAX_MODES 256
 
 typedef struct bake_desc {
@@ -33,6 +34,8 @@ typedef struct bake_report {
     int eigen_solves;       /* solves with the tree Cholesky of K */
     double eigen_residual;  /* max |K φ - ω² M φ| / |K φ| */
     double ortho_error;     /* max |Φ^T M Φ - I| */
+    double static_residual_m; /* largest node translation of the static correction r_k over
+                                 nodes and k, per unit w_k [m per m²/s²] */
     pose_check pose;        /* branch lengths, small-q error, deflection against wind speed */
 } bake_report;
 

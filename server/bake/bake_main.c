@@ -53,6 +53,45 @@ static void usage(FILE *out)
             BAKE_MAX_SKELETON_BYTES >> 20, BAKE_MAX_SPECIES_BYTES >> 20, BAKE_MAX_MODES);
 }
 
+/* The parameters a skeleton CSV is baked with, as the keys of a species file (so that the
+ * JSON less "skeleton" reads back as one, species_parse): every one that changes the
+ * asset's bytes besides the CSV itself and the mode count: the name (META), the wood and
+ * damping (frame,
+ * modes), the drag constant and the leaves' share of the drag (wind basis, static
+ * correction), the look and the leaves (mesh, leaf slots; the seed places the leaves).
+ * NULL when out of memory. */
+static char *csv_params(const char *skeleton_name, const species *sp)
+{
+    static const char *const shapes[] = { "broad", "palm", "needle" };
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "skeleton", skeleton_name);
+    cJSON_AddStringToObject(o, "name", sp->name);
+    cJSON_AddNumberToObject(o, "E_pa", sp->E_pa);
+    cJSON_AddNumberToObject(o, "rho_kg_m3", sp->rho_kg_m3);
+    cJSON_AddNumberToObject(o, "G_pa", sp->G_pa);
+    cJSON_AddNumberToObject(o, "rayleigh_alpha", sp->rayleigh_alpha);
+    cJSON_AddNumberToObject(o, "rayleigh_beta", sp->rayleigh_beta);
+    cJSON_AddNumberToObject(o, "drag_c", sp->drag_c);
+    cJSON *dm = cJSON_AddObjectToObject(o, "damage");
+    cJSON_AddNumberToObject(dm, "leaf_drag_share", sp->damage.leaf_drag_share);
+    cJSON *gen = cJSON_AddObjectToObject(o, "generator");
+    cJSON_AddNumberToObject(gen, "seed", (double)sp->gen.seed);
+    cJSON *lk = cJSON_AddObjectToObject(o, "look");
+    const double bark[3] = { sp->bark_rgb[0], sp->bark_rgb[1], sp->bark_rgb[2] };
+    const double leaf[3] = { sp->leaf_rgb[0], sp->leaf_rgb[1], sp->leaf_rgb[2] };
+    cJSON_AddItemToObject(lk, "bark_rgb", cJSON_CreateDoubleArray(bark, 3));
+    cJSON_AddItemToObject(lk, "leaf_rgb", cJSON_CreateDoubleArray(leaf, 3));
+    cJSON_AddStringToObject(lk, "leaf_shape", shapes[sp->leaf_shape >= 0 && sp->leaf_shape < 3
+                                                     ? sp->leaf_shape
+                                                     : 0]);
+    cJSON_AddNumberToObject(lk, "leaf_size_m", sp->leaf_size_m);
+    cJSON_AddNumberToObject(lk, "leaves_per_tip", sp->leaves_per_tip);
+    cJSON_AddNumberToObject(lk, "leaf_spread_deg", sp->leaf_spread_deg);
+    char *text = cJSON_PrintUnformatted(o);
+    cJSON_Delete(o);
+    return text;
+}
+
 /* Reads path whole into *out (NUL-terminated, caller frees) when it holds at most max
  * bytes; a larger file is refused naming it, its size when known, the cap and `what`. */
 static int read_file(const char *path, size_t max, const char *what, char **out, size_t *len,
@@ -240,16 +279,7 @@ int main(int argc, char **argv)
         const char *base = strrchr(skel_path, '/');
         base = base ? base + 1 : skel_path;
         snprintf(sp.name, sizeof sp.name, "%.*s", (int)strcspn(base, "."), base);
-        cJSON *o = cJSON_CreateObject();
-        cJSON_AddStringToObject(o, "skeleton", base);
-        cJSON_AddNumberToObject(o, "E_pa", sp.E_pa);
-        cJSON_AddNumberToObject(o, "rho_kg_m3", sp.rho_kg_m3);
-        cJSON_AddNumberToObject(o, "G_pa", sp.G_pa);
-        cJSON_AddNumberToObject(o, "rayleigh_alpha", sp.rayleigh_alpha);
-        cJSON_AddNumberToObject(o, "rayleigh_beta", sp.rayleigh_beta);
-        cJSON_AddNumberToObject(o, "drag_c", sp.drag_c);
-        params = cJSON_PrintUnformatted(o);
-        cJSON_Delete(o);
+        params = csv_params(base, &sp);
     }
     if (!params) {
         gale_errf(&err, GALE_E_NOMEM, "out of memory");

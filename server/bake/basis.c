@@ -1,16 +1,21 @@
 /* Diener 2008 eq. 13-15: the modal wind load of a uniform wind, precomputed per mode as
- * p_i = C Σ_e R^e ∫ D N^e(s) φ_i^e ds, the element integral taken in the element frame. */
+ * p_i = C Σ_e R^e ∫ D N^e(s) φ_i^e ds, the element integral taken in the element frame.
+ * The integral is linear in φ_i, so it is the dot product of φ_i with one nodal load
+ * vector per wind component (the consistent load of the drag, basis_load): the static
+ * correction (statics.c) solves K u = F with the same vectors. */
 #include "basis.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-void basis_compute(const fem_model *f, const double *phi, int n_modes, double drag_c,
-                   const crown_load *cl, double *p)
+int basis_load(const fem_model *f, double drag_c, const crown_load *cl, double *F)
 {
     const double wood = cl ? cl->wood : 1.0, tip_m2 = cl ? cl->tip_m2 : 0.0;
     uint8_t *tip = tip_m2 > 0.0 ? malloc((size_t)f->n_nodes) : NULL;
+    if (tip_m2 > 0.0 && !tip) {
+        return -1;
+    }
     if (tip) {
         crown_load_tips((uint32_t)f->n_nodes, f->parent, tip);
     }
@@ -29,46 +34,69 @@ void basis_compute(const fem_model *f, const double *phi, int n_modes, double dr
         ih[2] += w * (3 * x * x - 2 * x * x * x);
         ih[3] += w * (x * x * x - x * x);
     }
-    memset(p, 0, (size_t)n_modes * 3 * sizeof *p);
-    for (int m = 0; m < n_modes; m++) {
-        const double *x = phi + (size_t)m * f->n_dof;
-        double acc[3] = { 0, 0, 0 };
-        for (int i = 1; i < f->n_nodes; i++) {
-            const int par = f->parent[i];
-            const double *R = f->frame + 9 * i, L = f->len_m[i];
-            const double zero[6] = { 0, 0, 0, 0, 0, 0 };
-            const double *a = par > 0 ? x + FEM_DOF(par) : zero, *b = x + FEM_DOF(i);
-            /* both nodes' translation and rotation in the element frame */
-            double ua[3], ra[3], ub[3], rb[3];
-            for (int r = 0; r < 3; r++) {
-                ua[r] = R[3 * r] * a[0] + R[3 * r + 1] * a[1] + R[3 * r + 2] * a[2];
-                ra[r] = R[3 * r] * a[3] + R[3 * r + 1] * a[4] + R[3 * r + 2] * a[5];
-                ub[r] = R[3 * r] * b[0] + R[3 * r + 1] * b[1] + R[3 * r + 2] * b[2];
-                rb[r] = R[3 * r] * b[3] + R[3 * r + 1] * b[4] + R[3 * r + 2] * b[5];
-            }
-            /* appendix shape matrix N^e: uy pairs with rz = duy/dx, uz with ry = -duz/dx */
-            const double loc[3] = {
-                il[0] * ua[0] + il[1] * ub[0],
-                ih[0] * ua[1] + L * ih[1] * ra[2] + ih[2] * ub[1] + L * ih[3] * rb[2],
-                ih[0] * ua[2] - L * ih[1] * ra[1] + ih[2] * ub[2] - L * ih[3] * rb[1],
-            };
-            const double s = 2.0 * f->radius_m[i] * L; /* D ds = 2 r L dξ */
-            for (int k = 0; k < 3; k++) {
-                acc[k] += s * (R[k] * loc[0] + R[3 + k] * loc[1] + R[6 + k] * loc[2]);
-            }
-        }
-        /* the leaves' point loads: the translation of each tip */
-        double at[3] = { 0, 0, 0 };
-        for (int i = 1; tip && i < f->n_nodes; i++) {
-            if (tip[i]) {
-                for (int k = 0; k < 3; k++) {
-                    at[k] += x[FEM_DOF(i) + k];
+    memset(F, 0, (size_t)f->n_dof * 3 * sizeof *F);
+    for (int i = 1; i < f->n_nodes; i++) {
+        const int par = f->parent[i];
+        const double *R = f->frame + 9 * i, L = f->len_m[i];
+        const double s = drag_c * wood * 2.0 * f->radius_m[i] * L; /* C D ds = C 2 r L dξ */
+        double *a = par > 0 ? F + 3 * FEM_DOF(par) : NULL, *b = F + 3 * FEM_DOF(i);
+        for (int k = 0; k < 3; k++) {
+            /* the unit load w_k in the element frame: row r of R is element axis r */
+            const double l0 = s * R[k], l1 = s * R[3 + k], l2 = s * R[6 + k];
+            /* the appendix shape matrix N^e transposed: uy pairs with rz = duy/dx, uz with
+             * ry = -duz/dx; both nodes' translation and rotation, back in the tree frame */
+            const double fa[6] = { il[0] * l0, ih[0] * l1, ih[0] * l2, 0.0, -L * ih[1] * l2,
+                                   L * ih[1] * l1 };
+            const double fb[6] = { il[1] * l0, ih[2] * l1, ih[2] * l2, 0.0, -L * ih[3] * l2,
+                                   L * ih[3] * l1 };
+            for (int c = 0; c < 3; c++) {
+                const double tb = R[c] * fb[0] + R[3 + c] * fb[1] + R[6 + c] * fb[2];
+                const double rb = R[c] * fb[3] + R[3 + c] * fb[4] + R[6 + c] * fb[5];
+                b[3 * c + k] += tb;
+                b[3 * (3 + c) + k] += rb;
+                if (a) {
+                    a[3 * c + k] += R[c] * fa[0] + R[3 + c] * fa[1] + R[6 + c] * fa[2];
+                    a[3 * (3 + c) + k] += R[c] * fa[3] + R[3 + c] * fa[4] + R[6 + c] * fa[5];
                 }
             }
         }
-        for (int k = 0; k < 3; k++) {
-            p[3 * m + k] = drag_c * (wood * acc[k] + tip_m2 * at[k]);
+        /* the leaves' point load at a tip, on its translation */
+        if (tip && tip[i]) {
+            for (int k = 0; k < 3; k++) {
+                b[3 * k + k] += drag_c * tip_m2;
+            }
         }
     }
     free(tip);
+    return 0;
+}
+
+void basis_project(const fem_model *f, const double *phi, int n_modes, const double *F,
+                   double *p)
+{
+    for (int m = 0; m < n_modes; m++) {
+        const double *x = phi + (size_t)m * f->n_dof;
+        double acc[3] = { 0, 0, 0 };
+        for (int d = 0; d < f->n_dof; d++) {
+            for (int k = 0; k < 3; k++) {
+                acc[k] += x[d] * F[3 * d + k];
+            }
+        }
+        for (int k = 0; k < 3; k++) {
+            p[3 * m + k] = acc[k];
+        }
+    }
+}
+
+int basis_compute(const fem_model *f, const double *phi, int n_modes, double drag_c,
+                  const crown_load *cl, double *p)
+{
+    double *F = malloc((size_t)f->n_dof * 3 * sizeof *F);
+    if (!F || basis_load(f, drag_c, cl, F) != 0) {
+        free(F);
+        return -1;
+    }
+    basis_project(f, phi, n_modes, F, p);
+    free(F);
+    return 0;
 }

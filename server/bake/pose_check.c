@@ -44,16 +44,10 @@ static double len_err(const asset *a, const float *x)
     return worst;
 }
 
+/* the linear pose, the length-true pose's slope at q = 0 (asset_linear) */
 static void linear(const asset *a, const float *q, float *x)
 {
-    const size_t nc = 3 * (size_t)a->n_nodes;
-    for (size_t c = 0; c < nc; c++) {
-        double acc = (double)a->rest[c];
-        for (uint32_t m = 0; m < a->n_modes; m++) {
-            acc += (double)q[m] * (double)a->phi[m * nc + c];
-        }
-        x[c] = (float)acc;
-    }
+    asset_linear(a, q, a->n_modes, x);
 }
 
 void pose_check_run(const asset *a, const drag_law *d, pose_check *pc)

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "crown_load.h"
+#include "modal_static.h"
 #include "wire.h"
 
 #define PI 3.14159265358979323846
@@ -266,9 +267,8 @@ float damage_w_scale(const asset *a)
 {
     double s = 0.0;
     for (uint32_t i = 0; a->omega && a->wind_basis && i < a->n_modes; i++) {
-        const double w2 = (double)a->omega[i] * (double)a->omega[i];
         for (int k = 0; k < 3; k++) {
-            const double g = (double)a->wind_basis[3 * i + k] / w2;
+            const double g = modal_static_gain(a->omega, a->wind_basis, i, k);
             s += g * g;
         }
     }
@@ -293,8 +293,7 @@ static void residual(const asset *a, double drag_c, double leaf_share, uint32_t 
         }
         damage_static_moment(a, drag_c, leaf_share, c, w, ex);
         for (uint32_t i = 0; i < nm; i++) {
-            const double w2 = (double)a->omega[i] * (double)a->omega[i];
-            const double f = (double)a->wind_basis[3 * i + k] / w2;
+            const double f = modal_static_gain(a->omega, a->wind_basis, i, (int)k);
             for (int j = 0; j < 3; j++) {
                 ex[j] -= (double)m[i][j] * f;
             }
@@ -509,10 +508,8 @@ void damage_static_q(const asset *a, double u_ms, double dir_rad, float *q)
 {
     const double vx = u_ms * cos(dir_rad), vy = u_ms * sin(dir_rad);
     for (uint32_t i = 0; i < a->n_modes; i++) {
-        const float *pb = &a->wind_basis[3 * i];
-        double f = u_ms * (vx * (double)pb[0] + vy * (double)pb[1]);
-        double w = (double)a->omega[i];
-        q[i] = (float)(f / (w * w));
+        q[i] = (float)(u_ms * (vx * modal_static_gain(a->omega, a->wind_basis, i, 0) +
+                               vy * modal_static_gain(a->omega, a->wind_basis, i, 1)));
     }
     const double kappa = (double)damage_w_scale(a);
     q[a->n_modes] = (float)(kappa * u_ms * vx);

@@ -26,9 +26,17 @@ int quant_steps_derive(const asset *a, float eps, float *steps, gale_err *err)
                          (double)a->height_m);
     }
     const float h_m = a->height_m;
+    /* the drawn shapes φ̂_m = φ_m + Σ_k r_k A_k,m (asset_pose_shapes) node by node, without
+     * a copy: the static correction's share of each mode (ASSET.md "SRES") */
+    double A[3 * WIRE_MAX_MODES];
+    const float *res = a->static_res && a->omega && a->wind_basis ? a->static_res : NULL;
+    if (res) {
+        asset_static_map(a->omega, a->wind_basis, a->n_modes, A);
+    }
+    const size_t nc = 3 * (size_t)a->n_nodes;
     for (uint32_t m = 0; m < a->n_modes; m++) {
         /* Largest node displacement per unit q_m at q = 0: the length-true pose's slope
-         * there is φ times dq̃/dq = a b (q̃ = a atan(b q); 1 where b = 0, q̃ = q), see
+         * there is φ̂ times dq̃/dq = a b (q̃ = a atan(b q); 1 where b = 0, q̃ = q), see
          * PHYSICS.md "Length-true pose". */
         const float *v = a->phi;
         float gain = 1.0f;
@@ -39,8 +47,15 @@ int quant_steps_derive(const asset *a, float eps, float *steps, gale_err *err)
         if (v) {
             const float *vm = v + (size_t)m * a->n_nodes * 3;
             for (uint32_t i = 0; i < a->n_nodes; i++) {
-                float s2 = vm[3 * i] * vm[3 * i] + vm[3 * i + 1] * vm[3 * i + 1] +
-                           vm[3 * i + 2] * vm[3 * i + 2];
+                float d[3];
+                for (size_t c = 0; c < 3; c++) {
+                    double x = (double)vm[3 * i + c];
+                    for (size_t k = 0; res && k < 3; k++) {
+                        x += (double)res[k * nc + 3 * i + c] * A[k * a->n_modes + m];
+                    }
+                    d[c] = (float)x;
+                }
+                float s2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
                 smax = s2 > smax ? s2 : smax;
             }
         }

@@ -12,8 +12,9 @@
 
 /* Quantisation steps for one species: steps[i] = eps * H / s_i with s_i the largest
  * displacement per unit q_i over all nodes at q = 0 (the length-true pose's slope there is
- * phi times dq~/dq: |a_i b_i| max |phi_i| for q~ = a atan(b q), max |phi_i| where b_i = 0
- * or no pose fields are baked). eps = 0 means QUANT_STEPS_DEFAULT_EPS. Writes a->n_modes steps into the
+ * the drawn shape φ̂ (asset_pose_shapes: phi with the static correction's share) times
+ * dq~/dq: |a_i b_i| max |φ̂_i| for q~ = a atan(b q), max |φ̂_i| where b_i = 0 or no pose
+ * fields are baked). eps = 0 means QUANT_STEPS_DEFAULT_EPS. Writes a->n_modes steps into the
  * caller's steps (at least WIRE_MAX_MODES long). A mode that moves nothing gets
  * step = eps * H. Fails with GALE_E_ARG (eps outside (0, 1)), GALE_E_RANGE (n_modes or
  * height_m out of range) or GALE_E_NUMERIC (a step that is not finite and > 0); the
