@@ -247,7 +247,7 @@ int main(int argc, char **argv)
     const double until = mono_s() + wait_s;
     cli_net_stats st = cli_net_get_stats(n);
     while (mono_s() < until && st.state != CLI_NET_LIVE && st.state != CLI_NET_REFUSED) {
-        cli_net_poll(n, mono_s());
+        cli_net_poll(n);
         usleep(2000);
         st = cli_net_get_stats(n);
     }
@@ -271,7 +271,7 @@ int main(int argc, char **argv)
     const double settle = mono_s() + 0.5;
     uint32_t connects = st.connects;
     while (mono_s() < settle) {
-        cli_net_poll(n, mono_s());
+        cli_net_poll(n);
         usleep(2000);
         st = cli_net_get_stats(n);
         if (st.state != CLI_NET_LIVE || st.connects != connects) {
