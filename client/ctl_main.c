@@ -256,6 +256,8 @@ int main(int argc, char **argv)
                 st.last_error[0] ? st.last_error : "no welcome in time");
         goto done;
     }
+    /* live means the welcome is in cli_net's inbox: this poll hands it to on_welcome */
+    cli_net_poll(n);
     if (cmd == CMD_SCENARIOS) {
         status = seen.welcomed ? 0 : 1;
         goto done;

@@ -27,7 +27,7 @@
 #error "GALE_CLIENT_EXE (path of gale-client) must be defined by the build"
 #endif
 
-#define FRAMES 20
+#define FRAMES 12
 
 static char tmp[256];
 
@@ -90,7 +90,8 @@ static void test_one_frame_a_second(void)
     pid_t client = proc_spawn(cargv, clog);
     CHECK(proc_wait_log(clog, "receiving state", 1, 200.0));
     const double t0 = mono_s();
-    int st = proc_wait_exit(client, 200.0);
+    /* llvmpipe under a sanitizer on a busy machine: 10 s a frame and more */
+    int st = proc_wait_exit(client, 600.0);
     const double drew_s = mono_s() - t0;
     const double conns = metric(port, "gale_connections_total");
     const double decim = metric(port, "gale_decimations_total");
