@@ -1,6 +1,7 @@
-/* gale-bench-client client --url: the client's CPU per display frame from socket bytes to
- * the GL upload, against a real gale-server: cli_net_poll (the socket reads, the
- * libwebsockets frame parsing and reassembly, the control messages, the wire decode),
+/* gale-bench-client client --url: the client's CPU per display frame from received
+ * messages to the GL upload, against a real gale-server: cli_net_poll (the control
+ * messages, the wire decode; the socket reads and the libwebsockets frame parsing and
+ * reassembly run on cli_net's own thread, not counted here),
  * dequantisation of each state frame into a snapshot, jitter insert, Hermite
  * interpolation into the staging array and the upload into a GL buffer (a hidden window:
  * run under Xvfb, deploy/bench-client.sh), and with it the kiosk's touch panel (kiosk_ui.h)
@@ -108,7 +109,7 @@ int bench_client_live(const char *url, uint32_t frames)
     }
     double until = mono_s() + 30.0;
     while (!l.state_frames && mono_s() < until) {
-        cli_net_poll(n, mono_s());
+        cli_net_poll(n);
         usleep(2000);
     }
     if (!l.state_frames || l.err[0]) {
@@ -155,7 +156,7 @@ int bench_client_live(const char *url, uint32_t frames)
     double t_start = mono_s(), next = t_start;
     for (uint32_t i = 0; i < frames; i++) {
         double c0 = thread_cpu_ms(), w0 = mono_s();
-        cli_net_poll(n, w0);
+        cli_net_poll(n);
         /* the newest snapshot's server time less the playout delay (0.1 s) */
         jitter_sample(l.jit, jitter_newest_time(l.jit) - 0.1, staging, NULL);
         double p0 = thread_cpu_ms();

@@ -1,7 +1,13 @@
 /* Client networking on libwebsockets 4.1 (shaped like its minimal-ws-client and
- * minimal-http-client examples): the WebSocket state machine (connect, hello, welcome,
- * frames, pings, resync, backoff), message reassembly into one preallocated buffer, and
- * blocking HTTP GETs of assets over the same context. */
+ * minimal-http-client examples), on a thread of its own: that thread alone services the
+ * lws context (the WebSocket state machine: connect, hello, welcome, pings, backoff;
+ * message reassembly; HTTP GETs of assets), so the socket is read as fast as the server
+ * writes whatever the caller's frame rate, and the server never sees a slow reader in a
+ * client that draws slowly. What arrives waits in an inbox, in order, until cli_net_poll
+ * hands it to the handlers on the caller's thread: decoding, the decoder and the clock
+ * belong to that thread. One mutex guards what both threads touch (the inbox, the send
+ * ring, the stats, the fetch); the caller wakes the network thread with
+ * lws_cancel_service, the one lws call safe from another thread. */
 #include "cli_net.h"
 #include "asset_cache.h"
 #include "mono.h"
@@ -10,14 +16,18 @@
 
 #include <errno.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdarg.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #define CLI_NET_TX_SLOTS 8
 #define CLI_NET_TX_BYTES CTL_MAX_CLIENT_BYTES
+#define CLI_NET_TICK_US 20000 /* the network thread's timer: pings, retries, timeouts */
 
 enum { TAG_WS = 1, TAG_HTTP = 2 };
 
@@ -30,6 +40,25 @@ typedef struct cli_net_tx {
     uint8_t buf[LWS_PRE + CLI_NET_TX_BYTES];
     size_t len;
 } cli_net_tx;
+
+/* What the network thread hands the poller, in arrival order. */
+enum {
+    MSG_CONNECT, /* a new connection attempt: a fresh decoder and clock */
+    MSG_TEXT,    /* a control message for the handlers (welcome, wall messages) */
+    MSG_BINARY,  /* a state, leaves, wind, weather, damage or BUNDLE frame */
+    MSG_PONG,    /* a pong: pong.* */
+    MSG_LOST,    /* the connection ended: code, data the reason */
+};
+
+typedef struct cli_net_msg {
+    struct cli_net_msg *next;
+    int kind;
+    int code;       /* MSG_LOST */
+    double recv_s;  /* local clock when its last byte arrived */
+    double pong[2]; /* MSG_PONG: client and server time [s] */
+    size_t len;
+    uint8_t data[]; /* len bytes and a NUL */
+} cli_net_msg;
 
 struct cli_net {
     cli_net_desc d;
@@ -44,58 +73,123 @@ struct cli_net {
     int port;
     char server_name[300];
 
-    wire_decoder *dec; /* owned; recreated per connection */
-    uint8_t *rx;       /* owned: WIRE_MAX_FRAME_BYTES (+1 for a NUL) */
+    pthread_t thread;
+    bool thread_on;
+    atomic_int stop;
+    pthread_mutex_t lock; /* everything below that both threads touch */
+    pthread_cond_t cond;  /* a fetch ended */
+    pthread_mutex_t log_lock;
+    lws_sorted_usec_list_t tick_sul;
+
+    /* network thread */
+    uint8_t *rx; /* owned: WIRE_MAX_FRAME_BYTES (+1 for a NUL) */
     size_t rx_len, rx_cap;
     bool rx_binary, rx_overflow;
+    double next_ping_s, backoff_s;
+    double attempt_s; /* when the current connection attempt began (CONNECTING, HELLO) */
+    uint32_t ping_id;
 
+    /* shared (lock) */
+    cli_net_msg *in_head, *in_tail; /* the inbox */
+    size_t in_bytes;
     cli_net_tx tx[CLI_NET_TX_SLOTS]; /* ring of queued control messages */
     uint32_t tx_head, tx_count;
     uint64_t tx_sent; /* messages written */
     bool kill; /* close the WebSocket at the next writeable */
     bool destroying;
-
-    jitter_clock clock;
-    double next_ping_s, backoff_s;
-    double attempt_s; /* when the current connection attempt began (CONNECTING, HELLO) */
-    uint32_t ping_id;
-    double last_log_s;
-    uint64_t suppressed_logs;
     cli_net_stats st;
-
-    /* HTTP fetch */
+    /* HTTP fetch: the poller asks (want_fetch), the network thread runs it */
+    bool want_fetch, fetch_abort;
+    bool http_open; /* the fetch's socket exists (until its WSI_DESTROY) */
+    char fetch_path[512];
     uint8_t *fetch_buf; /* owned until handed to the caller */
     size_t fetch_len, fetch_cap, fetch_max;
     int fetch_status;
     bool fetch_done, fetch_complete;
     char fetch_err[160];
+
+    /* the poller's thread */
+    wire_decoder *dec; /* owned; recreated per connection */
+    jitter_clock clock;
+
+    /* the log's limit (log_lock) */
+    double last_log_s;
+    uint64_t suppressed_logs;
 };
 
-/* Rate-limited log line (at most one a second; the rest are counted). */
+/* Rate-limited log line (at most one a second; the rest are counted). Any thread. */
 static void cli_net_log(cli_net *n, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 static void cli_net_log(cli_net *n, const char *fmt, ...)
 {
     double now = mono_s();
+    pthread_mutex_lock(&n->log_lock);
     if (now - n->last_log_s < 1.0) {
         n->suppressed_logs++;
+        pthread_mutex_unlock(&n->log_lock);
         return;
     }
     n->last_log_s = now;
+    uint64_t suppressed = n->suppressed_logs;
+    n->suppressed_logs = 0;
+    pthread_mutex_unlock(&n->log_lock);
     char line[400];
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(line, sizeof line, fmt, ap);
     va_end(ap);
-    if (n->suppressed_logs) {
+    if (suppressed) {
         fprintf(stderr, "gale-client: %s (%llu similar lines suppressed)\n", line,
-                (unsigned long long)n->suppressed_logs);
-        n->suppressed_logs = 0;
+                (unsigned long long)suppressed);
     } else {
         fprintf(stderr, "gale-client: %s\n", line);
     }
 }
 
-static int queue_ctl(cli_net *n, const ctl_msg *m, gale_err *err)
+/* Appends a message to the inbox (lock held). Past CLI_NET_INBOX_BYTES the oldest frames
+ * go: the poller's decoder then sees a gap and asks for a keyframe, the newest state wins. */
+static void inbox_put(cli_net *n, int kind, int code, double recv_s, const void *data,
+                      size_t len)
+{
+    cli_net_msg *m = malloc(sizeof *m + len + 1);
+    if (!m) {
+        n->st.inbox_dropped++;
+        return;
+    }
+    *m = (cli_net_msg){ .kind = kind, .code = code, .recv_s = recv_s, .len = len };
+    if (len) {
+        memcpy(m->data, data, len);
+    }
+    m->data[len] = 0;
+    while (n->in_head && n->in_bytes + len > CLI_NET_INBOX_BYTES) {
+        cli_net_msg **at = &n->in_head, *prev = NULL;
+        while (*at && (*at)->kind != MSG_BINARY) {
+            prev = *at;
+            at = &(*at)->next;
+        }
+        if (!*at) {
+            break;
+        }
+        cli_net_msg *old = *at;
+        *at = old->next;
+        if (n->in_tail == old) {
+            n->in_tail = prev;
+        }
+        n->in_bytes -= old->len;
+        n->st.inbox_dropped++;
+        free(old);
+    }
+    if (n->in_tail) {
+        n->in_tail->next = m;
+    } else {
+        n->in_head = m;
+    }
+    n->in_tail = m;
+    n->in_bytes += len;
+}
+
+/* Queues a control message (lock held); the network thread writes it. on_net: the
+ * caller is the network thread (inside lws), else it is woken. */
+static int queue_ctl(cli_net *n, const ctl_msg *m, bool on_net, gale_err *err)
 {
     if (!n->ws) {
         return gale_errf(err, GALE_E_STATE, "%s: not connected", n->server_name);
@@ -112,10 +206,15 @@ static int queue_ctl(cli_net *n, const ctl_msg *m, gale_err *err)
     }
     t->len = len;
     n->tx_count++;
-    lws_callback_on_writable(n->ws);
+    if (on_net) {
+        lws_callback_on_writable(n->ws);
+    } else {
+        lws_cancel_service(n->ctx);
+    }
     return 0;
 }
 
+/* Network thread, lock held. */
 static void set_lost(cli_net *n, int code, const char *why)
 {
     n->ws = NULL;
@@ -128,9 +227,7 @@ static void set_lost(cli_net *n, int code, const char *why)
         if (strncmp(n->st.last_error, "server: ", 8) != 0) {
             snprintf(n->st.last_error, sizeof n->st.last_error, "%s", why);
         }
-        if (n->h.on_lost) {
-            n->h.on_lost(n->h.user, code, why);
-        }
+        inbox_put(n, MSG_LOST, code, mono_s(), why, strlen(why));
         return;
     }
     n->st.state = CLI_NET_BACKOFF;
@@ -142,12 +239,13 @@ static void set_lost(cli_net *n, int code, const char *why)
     n->backoff_s = fmin(n->backoff_s * 2.0, n->d.backoff_max_s);
     cli_net_log(n, "%s: connection lost (%s); retry %u in %.2f s", n->server_name, why,
                 n->st.attempt, n->st.retry_at_s - mono_s());
-    if (n->h.on_lost) {
-        n->h.on_lost(n->h.user, code, why);
-    }
+    inbox_put(n, MSG_LOST, code, mono_s(), why, strlen(why));
 }
 
-static void handle_text(cli_net *n, const char *text, size_t len)
+/* Network thread, lock held: a whole text message. The connection's own business (the
+ * welcome makes it live, an error says why it ends, a pong times the clock) is done here;
+ * what the handlers want goes to the inbox. */
+static void net_text(cli_net *n, const char *text, size_t len, double now)
 {
     ctl_msg m;
     int close_code = 0;
@@ -162,20 +260,21 @@ static void handle_text(cli_net *n, const char *text, size_t len)
         n->st.state = CLI_NET_LIVE;
         n->st.attempt = 0;
         n->backoff_s = n->d.backoff_min_s;
-        if (n->h.on_welcome) {
-            n->h.on_welcome(n->h.user, &m.u.welcome);
+        inbox_put(n, MSG_TEXT, 0, now, text, len);
+        break;
+    case CTL_PONG: {
+        cli_net_msg *before = n->in_tail;
+        inbox_put(n, MSG_PONG, 0, now, NULL, 0);
+        if (n->in_tail != before) {
+            n->in_tail->pong[0] = (double)m.u.pong.client_us * 1e-6;
+            n->in_tail->pong[1] = (double)m.u.pong.server_us * 1e-6;
         }
         break;
-    case CTL_PONG:
-        jitter_clock_pong(&n->clock, (double)m.u.pong.client_us * 1e-6,
-                          (double)m.u.pong.server_us * 1e-6, mono_s());
-        break;
+    }
     case CTL_WALL_SYNC:
     case CTL_WALL_SWAP:
     case CTL_WALL_CAMERA:
-        if (n->h.on_wall) {
-            n->h.on_wall(n->h.user, &m);
-        }
+        inbox_put(n, MSG_TEXT, 0, now, text, len);
         break;
     case CTL_ERROR:
         snprintf(n->st.last_error, sizeof n->st.last_error, "server: %.100s (%s)",
@@ -185,38 +284,10 @@ static void handle_text(cli_net *n, const char *text, size_t len)
     default:
         n->st.ctl_bad++;
         cli_net_log(n, "%s: unexpected control message \"%s\" dropped", n->server_name,
-                ctl_type_name(m.type) ? ctl_type_name(m.type) : "?");
+                    ctl_type_name(m.type) ? ctl_type_name(m.type) : "?");
         break;
     }
     ctl_msg_fini(&m);
-}
-
-static void handle_binary(cli_net *n, const uint8_t *buf, size_t len, double now)
-{
-    wire_frame f;
-    gale_err err = { 0 };
-    int rc = wire_decode(n->dec, buf, len, &f, &err);
-    if (rc == GALE_E_STATE) {
-        /* a delta whose base we lack: ask for a keyframe (once per gap) */
-        n->st.frames_gap++;
-        ctl_msg m = { .type = CTL_RESYNC };
-        m.u.resync_seq = wire_decoder_seq(n->dec);
-        queue_ctl(n, &m, NULL);
-        cli_net_log(n, "%s: %s; keyframe requested", n->server_name, err.msg);
-        return;
-    }
-    if (rc != 0) {
-        n->st.frames_bad++;
-        cli_net_log(n, "%s: frame of %zu bytes dropped: %s", n->server_name, len, err.msg);
-        return;
-    }
-    n->st.frames_ok++;
-    if (f.hdr.type == WIRE_MSG_KEYFRAME || f.hdr.type == WIRE_MSG_DELTA) {
-        jitter_clock_arrival(&n->clock, (double)f.hdr.server_time_us * 1e-6, now);
-    }
-    if (n->h.on_frame) {
-        n->h.on_frame(n->h.user, &f, n->dec, now);
-    }
 }
 
 static int ws_callback(cli_net *n, struct lws *wsi, enum lws_callback_reasons reason, void *in,
@@ -262,7 +333,7 @@ static int ws_callback(cli_net *n, struct lws *wsi, enum lws_callback_reasons re
             snprintf(m.u.hello.token, sizeof m.u.hello.token, "%s", n->d.token);
         }
         gale_err err = { 0 };
-        if (queue_ctl(n, &m, &err) != 0) {
+        if (queue_ctl(n, &m, true, &err) != 0) {
             cli_net_log(n, "%s: hello: %s", n->server_name, err.msg);
             return -1;
         }
@@ -289,10 +360,10 @@ static int ws_callback(cli_net *n, struct lws *wsi, enum lws_callback_reasons re
             n->st.frames_bad++;
             cli_net_log(n, "%s: message over %zu bytes dropped", n->server_name, n->rx_cap);
         } else if (n->rx_binary) {
-            handle_binary(n, n->rx, n->rx_len, mono_s());
+            inbox_put(n, MSG_BINARY, 0, mono_s(), n->rx, n->rx_len);
         } else {
             n->rx[n->rx_len] = '\0';
-            handle_text(n, (const char *)n->rx, n->rx_len);
+            net_text(n, (const char *)n->rx, n->rx_len, mono_s());
         }
         n->rx_len = 0;
         return 0;
@@ -398,27 +469,154 @@ static int http_callback(cli_net *n, struct lws *wsi, enum lws_callback_reasons 
         n->http = NULL;
         return -1; /* body complete: close rather than keep the connection alive */
     case LWS_CALLBACK_CLOSED_CLIENT_HTTP:
+    case LWS_CALLBACK_WSI_DESTROY:
         if (!n->fetch_complete && !n->fetch_err[0]) {
             snprintf(n->fetch_err, sizeof n->fetch_err, "connection closed after %zu bytes",
                      n->fetch_len);
         }
         n->fetch_done = true;
         n->http = NULL;
+        n->http_open = reason != LWS_CALLBACK_WSI_DESTROY && n->http_open;
         return 0;
     default:
         return 0;
     }
 }
 
+
+/* Network thread, lock held: a new connection attempt. */
+static void connect_ws(cli_net *n)
+{
+    inbox_put(n, MSG_CONNECT, 0, mono_s(), NULL, 0); /* the next keyframe starts anew */
+    n->st.last_close = 0;
+    n->st.state = CLI_NET_CONNECTING;
+    n->attempt_s = mono_s();
+    struct lws_client_connect_info i;
+    memset(&i, 0, sizeof i);
+    i.context = n->ctx;
+    i.address = n->host;
+    i.port = n->port;
+    i.path = n->path;
+    i.host = n->host;
+    i.origin = n->host;
+    i.protocol = CLI_NET_WS_PROTOCOL;
+    i.local_protocol_name = CLI_NET_WS_PROTOCOL;
+    i.opaque_user_data = &n->ws_tag;
+    n->ws = lws_client_connect_via_info(&i);
+    if (!n->ws) {
+        if (n->st.state == CLI_NET_CONNECTING) {
+            set_lost(n, 0, "connect failed");
+        }
+    }
+}
+
+/* Network thread, lock held: the fetch the poller asked for. */
+static void start_fetch(cli_net *n)
+{
+    n->want_fetch = false;
+    struct lws_client_connect_info i;
+    memset(&i, 0, sizeof i);
+    i.context = n->ctx;
+    i.address = n->host;
+    i.port = n->port;
+    i.path = n->fetch_path;
+    i.host = n->host;
+    i.origin = n->host;
+    i.method = "GET";
+    i.protocol = CLI_NET_WS_PROTOCOL;
+    i.local_protocol_name = CLI_NET_WS_PROTOCOL;
+    i.opaque_user_data = &n->http_tag;
+    n->http_open = true;
+    n->http = lws_client_connect_via_info(&i);
+    if (!n->http) {
+        n->http_open = false;
+        if (!n->fetch_done) {
+            snprintf(n->fetch_err, sizeof n->fetch_err, "connect failed");
+            n->fetch_done = true;
+        }
+    }
+    pthread_cond_broadcast(&n->cond);
+}
+
+/* Network thread, lock held: timers (connect timeout, retry, ping) and the poller's
+ * requests (messages to write, a drop, a fetch or its abort). */
+static void net_work(cli_net *n)
+{
+    const double now = mono_s();
+    if ((n->st.state == CLI_NET_CONNECTING || n->st.state == CLI_NET_HELLO) &&
+        now - n->attempt_s > CLI_NET_CONNECT_TIMEOUT_S) {
+        /* a handshake or hello that never finishes: drop that socket, try anew */
+        struct lws *stale = n->ws;
+        char why[96];
+        snprintf(why, sizeof why, "no %s within %.0f s",
+                 n->st.state == CLI_NET_HELLO ? "welcome" : "connection",
+                 CLI_NET_CONNECT_TIMEOUT_S);
+        set_lost(n, 0, why);
+        if (stale) {
+            lws_set_timeout(stale, PENDING_TIMEOUT_CLOSE_ACK, LWS_TO_KILL_ASYNC);
+        }
+    }
+    if (n->st.state == CLI_NET_IDLE ||
+        (n->st.state == CLI_NET_BACKOFF && now >= n->st.retry_at_s)) {
+        connect_ws(n);
+    }
+    if ((n->st.state == CLI_NET_LIVE || n->st.state == CLI_NET_HELLO) && n->ws &&
+        now >= n->next_ping_s) {
+        ctl_msg m = { .type = CTL_PING };
+        m.u.ping.id = ++n->ping_id;
+        m.u.ping.client_us = (uint64_t)(mono_s() * 1e6);
+        queue_ctl(n, &m, true, NULL);
+        n->next_ping_s = now + n->d.ping_interval_s;
+    }
+    if (n->ws && (n->tx_count || n->kill)) {
+        lws_callback_on_writable(n->ws);
+    }
+    if (n->want_fetch) {
+        start_fetch(n);
+    }
+    if (n->fetch_abort) {
+        n->fetch_abort = false;
+        if (n->http) {
+            lws_set_timeout(n->http, PENDING_TIMEOUT_CLOSE_ACK, LWS_TO_KILL_ASYNC);
+        }
+    }
+}
+
+static void tick_cb(lws_sorted_usec_list_t *sul)
+{
+    cli_net *n = lws_container_of(sul, cli_net, tick_sul);
+    pthread_mutex_lock(&n->lock);
+    net_work(n);
+    pthread_mutex_unlock(&n->lock);
+    lws_sul_schedule(n->ctx, 0, &n->tick_sul, tick_cb, CLI_NET_TICK_US);
+}
+
 static int cli_net_callback(struct lws *wsi, enum lws_callback_reasons reason, void *user, void *in,
                         size_t len)
 {
+    if (reason == LWS_CALLBACK_EVENT_WAIT_CANCELLED) {
+        cli_net *n = lws_context_user(lws_get_context(wsi));
+        if (n) {
+            pthread_mutex_lock(&n->lock);
+            net_work(n);
+            pthread_mutex_unlock(&n->lock);
+        }
+        return 0;
+    }
     cli_net_tag *tag = wsi ? lws_get_opaque_user_data(wsi) : NULL;
+    int rc;
     if (tag && tag->kind == TAG_WS) {
-        return ws_callback(tag->n, wsi, reason, in, len);
+        pthread_mutex_lock(&tag->n->lock);
+        rc = ws_callback(tag->n, wsi, reason, in, len);
+        pthread_mutex_unlock(&tag->n->lock);
+        return rc;
     }
     if (tag && tag->kind == TAG_HTTP) {
-        return http_callback(tag->n, wsi, reason, in, len);
+        pthread_mutex_lock(&tag->n->lock);
+        rc = http_callback(tag->n, wsi, reason, in, len);
+        pthread_cond_broadcast(&tag->n->cond);
+        pthread_mutex_unlock(&tag->n->lock);
+        return rc;
     }
     return lws_callback_http_dummy(wsi, reason, user, in, len);
 }
@@ -427,6 +625,18 @@ static const struct lws_protocols cli_net_protocols[] = {
     { CLI_NET_WS_PROTOCOL, cli_net_callback, 0, 65536, 0, NULL, 0 },
     { NULL, NULL, 0, 0, 0, NULL, 0 },
 };
+
+static void *net_main(void *arg)
+{
+    cli_net *n = arg;
+    lws_sul_schedule(n->ctx, 0, &n->tick_sul, tick_cb, 1);
+    while (!atomic_load(&n->stop)) {
+        if (lws_service(n->ctx, 0) < 0) {
+            break;
+        }
+    }
+    return NULL;
+}
 
 cli_net *cli_net_create(const cli_net_desc *d, const cli_net_handler *h, gale_err *err)
 {
@@ -439,6 +649,18 @@ cli_net *cli_net_create(const cli_net_desc *d, const cli_net_handler *h, gale_er
         gale_errf(err, GALE_E_NOMEM, "net: no memory");
         return NULL;
     }
+    /* recursive: lws may call back into the thread's handlers from inside net_work */
+    pthread_mutexattr_t ma;
+    pthread_mutexattr_init(&ma);
+    pthread_mutexattr_settype(&ma, PTHREAD_MUTEX_RECURSIVE);
+    pthread_mutex_init(&n->lock, &ma);
+    pthread_mutexattr_destroy(&ma);
+    pthread_mutex_init(&n->log_lock, NULL);
+    pthread_condattr_t ca;
+    pthread_condattr_init(&ca);
+    pthread_condattr_setclock(&ca, CLOCK_MONOTONIC);
+    pthread_cond_init(&n->cond, &ca);
+    pthread_condattr_destroy(&ca);
     n->d = *d;
     if (h) {
         n->h = *h;
@@ -493,12 +715,18 @@ cli_net *cli_net_create(const cli_net_desc *d, const cli_net_handler *h, gale_er
     info.port = CONTEXT_PORT_NO_LISTEN;
     info.protocols = cli_net_protocols;
     info.fd_limit_per_thread = 1 + 1 + 2;
+    info.user = n;
     n->ctx = lws_create_context(&info);
     if (!n->ctx) {
         gale_errf(err, GALE_E_STATE, "net: libwebsockets context creation failed");
         goto fail;
     }
     n->st.state = CLI_NET_IDLE;
+    if (pthread_create(&n->thread, NULL, net_main, n) != 0) {
+        gale_errf(err, GALE_E_STATE, "net: cannot start the network thread");
+        goto fail;
+    }
+    n->thread_on = true;
     return n;
 fail:
     cli_net_destroy(n);
@@ -510,13 +738,26 @@ void cli_net_destroy(cli_net *n)
     if (!n) {
         return;
     }
+    if (n->thread_on) {
+        atomic_store(&n->stop, 1);
+        lws_cancel_service(n->ctx);
+        pthread_join(n->thread, NULL);
+    }
     if (n->ctx) {
         n->destroying = true; /* closing callbacks neither log nor call the handler */
         lws_context_destroy(n->ctx);
     }
+    while (n->in_head) {
+        cli_net_msg *m = n->in_head;
+        n->in_head = m->next;
+        free(m);
+    }
     wire_decoder_destroy(n->dec);
     free(n->rx);
     free(n->fetch_buf);
+    pthread_cond_destroy(&n->cond);
+    pthread_mutex_destroy(&n->lock);
+    pthread_mutex_destroy(&n->log_lock);
     free(n);
 }
 
@@ -525,116 +766,154 @@ const char *cli_net_server_name(const cli_net *n)
     return n->server_name;
 }
 
-static void connect_ws(cli_net *n)
+/* --- the poller's side ----------------------------------------------------------------- */
+
+static void handle_text(cli_net *n, const char *text, size_t len)
 {
-    /* a fresh decoder: the next keyframe starts the new stream */
-    gale_err err = { 0 };
-    wire_decoder *dec = wire_decoder_create(
-        &(wire_decoder_desc){ .max_trees = n->d.max_trees, .max_modes = n->d.max_modes }, &err);
-    if (dec) {
-        wire_decoder_destroy(n->dec);
-        n->dec = dec;
+    ctl_msg m;
+    int close_code = 0;
+    if (ctl_decode(text, len, CTL_MAX_SERVER_BYTES, &m, &close_code, NULL) != 0) {
+        return; /* the network thread decoded it already: not reached */
     }
-    jitter_clock_init(&n->clock);
-    n->st.last_close = 0;
-    n->st.state = CLI_NET_CONNECTING;
-    n->attempt_s = mono_s();
-    struct lws_client_connect_info i;
-    memset(&i, 0, sizeof i);
-    i.context = n->ctx;
-    i.address = n->host;
-    i.port = n->port;
-    i.path = n->path;
-    i.host = n->host;
-    i.origin = n->host;
-    i.protocol = CLI_NET_WS_PROTOCOL;
-    i.local_protocol_name = CLI_NET_WS_PROTOCOL;
-    i.opaque_user_data = &n->ws_tag;
-    n->ws = lws_client_connect_via_info(&i);
-    if (!n->ws) {
-        if (n->st.state == CLI_NET_CONNECTING) {
-            set_lost(n, 0, "connect failed");
-        }
+    if (m.type == CTL_WELCOME && n->h.on_welcome) {
+        n->h.on_welcome(n->h.user, &m.u.welcome);
+    } else if (m.type != CTL_WELCOME && n->h.on_wall) {
+        n->h.on_wall(n->h.user, &m);
+    }
+    ctl_msg_fini(&m);
+}
+
+static void handle_binary(cli_net *n, const uint8_t *buf, size_t len, double recv_s)
+{
+    wire_frame f;
+    gale_err err = { 0 };
+    int rc = wire_decode(n->dec, buf, len, &f, &err);
+    if (rc == GALE_E_STATE) {
+        /* a delta whose base we lack: ask for a keyframe (once per gap) */
+        ctl_msg m = { .type = CTL_RESYNC };
+        m.u.resync_seq = wire_decoder_seq(n->dec);
+        pthread_mutex_lock(&n->lock);
+        n->st.frames_gap++;
+        queue_ctl(n, &m, false, NULL);
+        pthread_mutex_unlock(&n->lock);
+        cli_net_log(n, "%s: %s; keyframe requested", n->server_name, err.msg);
+        return;
+    }
+    pthread_mutex_lock(&n->lock);
+    if (rc != 0) {
+        n->st.frames_bad++;
+    } else {
+        n->st.frames_ok++;
+    }
+    pthread_mutex_unlock(&n->lock);
+    if (rc != 0) {
+        cli_net_log(n, "%s: frame of %zu bytes dropped: %s", n->server_name, len, err.msg);
+        return;
+    }
+    if (f.hdr.type == WIRE_MSG_KEYFRAME || f.hdr.type == WIRE_MSG_DELTA) {
+        jitter_clock_arrival(&n->clock, (double)f.hdr.server_time_us * 1e-6, recv_s);
+    }
+    if (n->h.on_frame) {
+        n->h.on_frame(n->h.user, &f, n->dec, recv_s);
     }
 }
 
-void cli_net_poll(cli_net *n, double now_s)
+void cli_net_poll(cli_net *n)
 {
-    if ((n->st.state == CLI_NET_CONNECTING || n->st.state == CLI_NET_HELLO) &&
-        now_s - n->attempt_s > CLI_NET_CONNECT_TIMEOUT_S) {
-        /* a handshake or hello that never finishes: drop that socket, try anew */
-        struct lws *stale = n->ws;
-        char why[96];
-        snprintf(why, sizeof why, "no %s within %.0f s",
-                 n->st.state == CLI_NET_HELLO ? "welcome" : "connection",
-                 CLI_NET_CONNECT_TIMEOUT_S);
-        set_lost(n, 0, why);
-        if (stale) {
-            lws_set_timeout(stale, PENDING_TIMEOUT_CLOSE_ACK, LWS_TO_KILL_ASYNC);
-        }
-    }
-    if (n->st.state == CLI_NET_IDLE ||
-        (n->st.state == CLI_NET_BACKOFF && now_s >= n->st.retry_at_s)) {
-        connect_ws(n);
-    }
-    if ((n->st.state == CLI_NET_LIVE || n->st.state == CLI_NET_HELLO) && n->ws &&
-        now_s >= n->next_ping_s) {
-        ctl_msg m = { .type = CTL_PING };
-        m.u.ping.id = ++n->ping_id;
-        m.u.ping.client_us = (uint64_t)(mono_s() * 1e6);
-        queue_ctl(n, &m, NULL);
-        n->next_ping_s = now_s + n->d.ping_interval_s;
-    }
-    /* -1: do what is pending, never wait. One call handles one batch of socket events;
-     * a frame that took long to draw (llvmpipe) leaves several snapshots waiting, so drain
-     * until a pass brings nothing new, bounded so a flood cannot stall drawing. A pass
-     * that opened the connection or wrote a message counts as new: the hello queued on
-     * ESTABLISHED goes out on the next pass's WRITEABLE, in this poll, not a frame later
-     * (a slow frame would let the server's hello timeout close the socket, 4009). */
-    for (int pass = 0; pass < 64; pass++) {
-        uint64_t before = n->st.frames_ok + n->st.frames_bad + n->st.ctl_bad + n->tx_sent +
-                          n->st.connects;
-        lws_service(n->ctx, -1);
-        if (n->st.frames_ok + n->st.frames_bad + n->st.ctl_bad + n->tx_sent + n->st.connects ==
-            before) {
+    pthread_mutex_lock(&n->lock);
+    cli_net_msg *m = n->in_head;
+    n->in_head = n->in_tail = NULL;
+    n->in_bytes = 0;
+    pthread_mutex_unlock(&n->lock);
+    while (m) {
+        cli_net_msg *next = m->next;
+        switch (m->kind) {
+        case MSG_CONNECT: {
+            /* a fresh decoder: the next keyframe starts the new stream */
+            gale_err err = { 0 };
+            wire_decoder *dec = wire_decoder_create(
+                &(wire_decoder_desc){ .max_trees = n->d.max_trees, .max_modes = n->d.max_modes },
+                &err);
+            if (dec) {
+                wire_decoder_destroy(n->dec);
+                n->dec = dec;
+            }
+            jitter_clock_init(&n->clock);
             break;
         }
+        case MSG_TEXT:
+            handle_text(n, (const char *)m->data, m->len);
+            break;
+        case MSG_BINARY:
+            handle_binary(n, m->data, m->len, m->recv_s);
+            break;
+        case MSG_PONG:
+            jitter_clock_pong(&n->clock, m->pong[0], m->pong[1], m->recv_s);
+            break;
+        case MSG_LOST:
+            if (n->h.on_lost) {
+                n->h.on_lost(n->h.user, m->code, (const char *)m->data);
+            }
+            break;
+        default:
+            break;
+        }
+        free(m);
+        m = next;
     }
 }
 
-int cli_net_send_wall(cli_net *n, const ctl_msg *m, gale_err *err)
+/* Queues m from the poller's thread once live. */
+static int send_live(cli_net *n, const ctl_msg *m, const char *what, char *text, size_t cap,
+                     gale_err *err)
 {
+    pthread_mutex_lock(&n->lock);
+    int rc;
     if (n->st.state != CLI_NET_LIVE) {
-        return gale_errf(err, GALE_E_STATE, "%s: %s: not connected", n->server_name,
-                         ctl_type_name(m->type) ? ctl_type_name(m->type) : "wall message");
+        rc = gale_errf(err, GALE_E_STATE, "%s: %s: not connected", n->server_name, what);
+    } else {
+        rc = queue_ctl(n, m, false, err);
     }
-    return queue_ctl(n, m, err);
-}
-
-int cli_net_send_wind(cli_net *n, const ctl_wind *w, gale_err *err)
-{
-    if (n->st.state != CLI_NET_LIVE) {
-        return gale_errf(err, GALE_E_STATE, "%s: wind command: not connected", n->server_name);
-    }
-    ctl_msg m = { .type = CTL_WIND };
-    m.u.wind = *w;
-    return queue_ctl(n, &m, err);
-}
-
-int cli_net_send_ctl(cli_net *n, const ctl_msg *m, char *text, size_t cap, gale_err *err)
-{
-    if (n->st.state != CLI_NET_LIVE) {
-        return gale_errf(err, GALE_E_STATE, "%s: %s: not connected", n->server_name,
-                         ctl_type_name(m->type) ? ctl_type_name(m->type) : "control message");
-    }
-    int rc = queue_ctl(n, m, err);
     if (rc == 0 && text && cap > 0) {
         const cli_net_tx *t = &n->tx[(n->tx_head + n->tx_count - 1) % CLI_NET_TX_SLOTS];
         size_t k = t->len < cap - 1 ? t->len : cap - 1;
         memcpy(text, t->buf + LWS_PRE, k);
         text[k] = '\0';
     }
+    pthread_mutex_unlock(&n->lock);
     return rc;
+}
+
+int cli_net_send_wall(cli_net *n, const ctl_msg *m, gale_err *err)
+{
+    return send_live(n, m, ctl_type_name(m->type) ? ctl_type_name(m->type) : "wall message",
+                     NULL, 0, err);
+}
+
+int cli_net_send_wind(cli_net *n, const ctl_wind *w, gale_err *err)
+{
+    ctl_msg m = { .type = CTL_WIND };
+    m.u.wind = *w;
+    return send_live(n, &m, "wind command", NULL, 0, err);
+}
+
+int cli_net_send_ctl(cli_net *n, const ctl_msg *m, char *text, size_t cap, gale_err *err)
+{
+    return send_live(n, m, ctl_type_name(m->type) ? ctl_type_name(m->type) : "control message",
+                     text, cap, err);
+}
+
+/* Waits on the fetch (lock held) until it ended and its socket is gone, or until_s. */
+static void fetch_wait(cli_net *n, double until_s)
+{
+    while (!(n->fetch_done && !n->http_open && !n->want_fetch) && mono_s() < until_s) {
+        struct timespec ts;
+        clock_gettime(CLOCK_MONOTONIC, &ts);
+        double t = (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9 + fmin(until_s - mono_s(), 0.05);
+        ts.tv_sec = (time_t)t;
+        ts.tv_nsec = (long)((t - (double)ts.tv_sec) * 1e9);
+        pthread_cond_timedwait(&n->cond, &n->lock, &ts);
+    }
 }
 
 int cli_net_fetch(cli_net *n, const char *path, size_t max_len, double timeout_s, uint8_t **out,
@@ -642,57 +921,57 @@ int cli_net_fetch(cli_net *n, const char *path, size_t max_len, double timeout_s
 {
     *out = NULL;
     *len = 0;
-    if (n->http) {
+    pthread_mutex_lock(&n->lock);
+    if (n->want_fetch || n->http_open) {
+        pthread_mutex_unlock(&n->lock);
         return gale_errf(err, GALE_E_STATE, "%s%s: a fetch is already under way", n->server_name,
                          path);
     }
+    if (strlen(path) >= sizeof n->fetch_path) {
+        pthread_mutex_unlock(&n->lock);
+        return gale_errf(err, GALE_E_ARG, "%s%s: path longer than %zu bytes", n->server_name,
+                         path, sizeof n->fetch_path - 1);
+    }
+    snprintf(n->fetch_path, sizeof n->fetch_path, "%s", path);
     n->fetch_len = 0;
     n->fetch_max = max_len;
     n->fetch_status = 0;
     n->fetch_done = false;
     n->fetch_complete = false;
     n->fetch_err[0] = '\0';
-    struct lws_client_connect_info i;
-    memset(&i, 0, sizeof i);
-    i.context = n->ctx;
-    i.address = n->host;
-    i.port = n->port;
-    i.path = path;
-    i.host = n->host;
-    i.origin = n->host;
-    i.method = "GET";
-    i.protocol = CLI_NET_WS_PROTOCOL;
-    i.local_protocol_name = CLI_NET_WS_PROTOCOL;
-    i.opaque_user_data = &n->http_tag;
-    n->http = lws_client_connect_via_info(&i);
-    if (!n->http && !n->fetch_done) {
-        return gale_errf(err, GALE_E_IO, "http://%s%s: connect failed", n->server_name, path);
-    }
-    const double deadline = mono_s() + timeout_s;
-    while (!n->fetch_done && mono_s() < deadline) {
-        lws_service(n->ctx, -1);
+    n->want_fetch = true;
+    lws_cancel_service(n->ctx);
+    fetch_wait(n, mono_s() + timeout_s);
+    if (!n->fetch_done || n->want_fetch || n->http_open) {
+        /* past the time: the network thread drops the socket; wait for it to go */
+        const bool started = !n->want_fetch;
+        n->want_fetch = false;
+        n->fetch_abort = true;
+        lws_cancel_service(n->ctx);
         if (!n->fetch_done) {
-            usleep(500);
+            n->fetch_done = true;
         }
+        fetch_wait(n, mono_s() + 2.0);
+        size_t got = n->fetch_len;
+        pthread_mutex_unlock(&n->lock);
+        return gale_errf(err, GALE_E_IO, "http://%s%s: timed out after %.1f s (%zu bytes%s)",
+                         n->server_name, path, timeout_s, got, started ? "" : ", not started");
     }
-    if (!n->fetch_done) {
-        if (n->http) {
-            lws_set_timeout(n->http, PENDING_TIMEOUT_CLOSE_ACK, LWS_TO_KILL_ASYNC);
-        }
-        return gale_errf(err, GALE_E_IO, "http://%s%s: timed out after %.1f s (%zu bytes)",
-                         n->server_name, path, timeout_s, n->fetch_len);
-    }
+    int rc = 0;
     if (!n->fetch_complete || n->fetch_err[0]) {
         int code = strstr(n->fetch_err, "body over") ? GALE_E_RANGE : GALE_E_IO;
-        return gale_errf(err, code, "http://%s%s: %s", n->server_name, path,
-                         n->fetch_err[0] ? n->fetch_err : "incomplete");
+        rc = gale_errf(err, code, "http://%s%s: %s", n->server_name, path,
+                       n->fetch_err[0] ? n->fetch_err : "incomplete");
+    } else {
+        *out = n->fetch_buf ? n->fetch_buf : malloc(1);
+        *len = n->fetch_len;
+        n->fetch_buf = NULL;
+        n->fetch_cap = 0;
+        n->fetch_len = 0;
+        rc = *out ? 0 : gale_errf(err, GALE_E_NOMEM, "cli_net_fetch: no memory");
     }
-    *out = n->fetch_buf ? n->fetch_buf : malloc(1);
-    *len = n->fetch_len;
-    n->fetch_buf = NULL;
-    n->fetch_cap = 0;
-    n->fetch_len = 0;
-    return *out ? 0 : gale_errf(err, GALE_E_NOMEM, "cli_net_fetch: no memory");
+    pthread_mutex_unlock(&n->lock);
+    return rc;
 }
 
 int cli_net_fetch_asset(cli_net *n, const char *path, const char *hash_hex, size_t max_len,
@@ -715,7 +994,11 @@ int cli_net_fetch_asset(cli_net *n, const char *path, const char *hash_hex, size
 
 cli_net_stats cli_net_get_stats(const cli_net *n)
 {
-    return n->st;
+    cli_net *m = (cli_net *)n; /* the lock, not the state, changes */
+    pthread_mutex_lock(&m->lock);
+    cli_net_stats st = n->st;
+    pthread_mutex_unlock(&m->lock);
+    return st;
 }
 
 const jitter_clock *cli_net_clock(const cli_net *n)
@@ -725,8 +1008,10 @@ const jitter_clock *cli_net_clock(const cli_net *n)
 
 void cli_net_drop(cli_net *n)
 {
+    pthread_mutex_lock(&n->lock);
     if (n->ws) {
         n->kill = true;
-        lws_callback_on_writable(n->ws);
+        lws_cancel_service(n->ctx);
     }
+    pthread_mutex_unlock(&n->lock);
 }

@@ -1,7 +1,10 @@
-/* Client networking (protocol/PROTOCOL.md): one libwebsockets client context
- * holding the WebSocket to the server (hello as the chosen role, welcome, binary state
- * frames decoded as they arrive, pings for the clock, resync on a gap) and HTTP GETs of
- * assets from the same server; reconnects with backoff when the server goes away. */
+/* Client networking (protocol/PROTOCOL.md): one libwebsockets client context, serviced
+ * on a thread of its own, holding the WebSocket to the server (hello as the chosen role,
+ * welcome, pings for the clock, resync on a gap) and HTTP GETs of assets from the same
+ * server; reconnects with backoff when the server goes away. The thread reads the socket
+ * as fast as the server writes, whatever the caller's frame rate (a software renderer at
+ * a frame a second is no slow reader to the server); cli_net_poll decodes what arrived
+ * since the last call, every message in order, and hands it to the handlers. */
 #ifndef GALE_CLI_NET_H
 #define GALE_CLI_NET_H
 
@@ -30,8 +33,13 @@ enum cli_net_state {
  * (HELLO) this long after it began is abandoned and retried [s]. */
 #define CLI_NET_CONNECT_TIMEOUT_S 10.0
 
-/* What the application hears, called from inside cli_net_poll / cli_net_fetch (the welcome and
- * frames are borrowed for the call). Any may be NULL. */
+/* Bytes of received messages held for cli_net_poll; past it the oldest frames are
+ * dropped (counted in inbox_dropped; the decoder then asks for a keyframe): 2 minutes of
+ * the town block's stream at 30 snapshots a second. */
+#define CLI_NET_INBOX_BYTES (64u << 20)
+
+/* What the application hears, called from inside cli_net_poll on its caller's thread (the
+ * welcome and frames are borrowed for the call). Any may be NULL. */
 typedef struct cli_net_handler {
     void *user;
     /* The scene description of a (re)connection. */
@@ -63,6 +71,7 @@ typedef struct cli_net_stats {
     uint64_t frames_gap; /* deltas without their base (resync asked) */
     uint64_t ctl_bad;    /* control messages that did not parse */
     uint64_t bytes_rx;
+    uint64_t inbox_dropped; /* frames dropped unread past CLI_NET_INBOX_BYTES */
     uint32_t connects;    /* successful WebSocket handshakes */
     uint32_t attempt;     /* consecutive failed attempts (BACKOFF) */
     double retry_at_s;    /* BACKOFF: local time of the next attempt */
@@ -72,17 +81,20 @@ typedef struct cli_net_stats {
 
 typedef struct cli_net cli_net;
 
-/* Parses the URL and creates the lws context; connects on the first cli_net_poll. Allocates
- * every buffer it will use (a receive buffer of WIRE_MAX_FRAME_BYTES, the decoder). NULL
- * with err on a bad URL or no memory. */
+/* Parses the URL, creates the lws context and starts the network thread, which connects
+ * at once. Allocates a receive buffer of WIRE_MAX_FRAME_BYTES and the decoder; each
+ * message received is copied once into the inbox. NULL with err on a bad URL, no memory
+ * or no thread. */
 cli_net *cli_net_create(const cli_net_desc *d, const cli_net_handler *h, gale_err *err);
 
-/* Closes the connection and frees everything. NULL is a no-op. */
+/* Stops the network thread, closes the connection and frees everything. NULL is a no-op. */
 void cli_net_destroy(cli_net *n);
 
-/* Services the sockets without blocking, sends pings, and (in BACKOFF) reconnects when
- * the delay has passed. now_s is the local monotonic clock (mono_s, mono.h). */
-void cli_net_poll(cli_net *n, double now_s);
+/* Decodes every message the network thread received since the last call, in order, and
+ * calls the handlers (a new connection's decoder and clock start afresh; a delta without
+ * its base asks for a keyframe). Never blocks on the network: the thread sends pings,
+ * reconnects after its backoff and reads the socket meanwhile. */
+void cli_net_poll(cli_net *n);
 
 /* "host:port" of the server (owned by n). */
 const char *cli_net_server_name(const cli_net *n);
@@ -97,8 +109,9 @@ int cli_net_send_wind(cli_net *n, const ctl_wind *w, gale_err *err);
 int cli_net_send_ctl(cli_net *n, const ctl_msg *m, char *text, size_t cap, gale_err *err);
 
 /* Downloads path from the server over HTTP into *out (malloc'd, caller frees) of *len
- * bytes, servicing the WebSocket meanwhile (callbacks may fire). Blocks at most
- * timeout_s. Returns 0, GALE_E_IO (connection, HTTP status, timeout) or GALE_E_RANGE
+ * bytes on the network thread, which keeps reading the WebSocket meanwhile (no handler
+ * runs: what arrives waits for cli_net_poll). Blocks at most timeout_s (and up to 2 s
+ * more for an abandoned socket to close). Returns 0, GALE_E_IO (connection, HTTP status, timeout) or GALE_E_RANGE
  * (longer than max_len). Must not be called from a handler callback. */
 int cli_net_fetch(cli_net *n, const char *path, size_t max_len, double timeout_s, uint8_t **out,
               size_t *len, gale_err *err);
@@ -112,7 +125,8 @@ int cli_net_fetch_asset(cli_net *n, const char *path, const char *hash_hex, size
 
 cli_net_stats cli_net_get_stats(const cli_net *n);
 
-/* The server clock estimate fed by pongs and frame arrivals. */
+/* The server clock estimate fed by pongs and frame arrivals (as cli_net_poll hands them
+ * on, each with the time it arrived); the poller's thread only. */
 const jitter_clock *cli_net_clock(const cli_net *n);
 
 /* Drops the connection now as if the server went away (tests; the F-key "reconnect"). */

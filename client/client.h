@@ -32,6 +32,12 @@ struct GLFWwindow;
 _Static_assert(CLIENT_MAX_SPECIES <= RENDER_MAX_SPECIES,
                "gale-client: every species a session loads must fit in gale_render");
 
+/* Leaf seeds a frame starts falling at most: a client drawing a frame a second receives
+ * a second of LEAVES frames at once (up to 41 000 seeds in a storm, each with its landing
+ * time to find), more than its falling-leaf ring shows; past the budget seeds are left
+ * out, so the frame's cost stays bounded however slowly it draws. */
+#define CLIENT_LEAVES_PER_FRAME 4096u
+
 typedef struct client_args {
     const char *url;
     int role; /* enum ctl_role */
@@ -43,6 +49,7 @@ typedef struct client_args {
     char token_buf[CTL_MAX_TOKEN];
     double delay_s;         /* playout delay */
     double wait_s;          /* headless: give up after this long without state */
+    double max_fps;         /* --max-fps: at most this many frames a second; 0 = no limit */
     int tile[4];            /* wall-tile: col, row, cols, rows */
     float bezel;            /* wall-tile: hidden strip / tile width */
     const char *cache_dir;
@@ -152,6 +159,8 @@ typedef struct client {
     bool live_since_welcome;  /* state taken since the last welcome */
     uint64_t frames_mismatch; /* state frames whose tree count disagreed with the scene */
     uint64_t leaves_bad;
+    uint32_t leaves_frame;    /* leaf seeds taken since the frame began (CLIENT_LEAVES_PER_FRAME) */
+    uint64_t leaves_thinned;  /* seeds left out past that budget */
     double fps, last_frame_s;
     double cursor[2];
     int drag; /* 0 none, 1 orbit, 2 pan */

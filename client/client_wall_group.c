@@ -202,7 +202,7 @@ void client_wall_group_before_present(client *c)
     const double due = ((double)g->sync.epoch_us + (double)g->frame * g->sync.period_us) * 1e-6;
     const double give_up = mono_s() + 1.0;
     for (double left; (left = due - server_now_s(c)) > 0.0 && mono_s() < give_up;) {
-        cli_net_poll(c->net, mono_s());
+        cli_net_poll(c->net);
         left = due - server_now_s(c);
         if (left > 0.0) {
             usleep((useconds_t)(fmin(left, 1e-3) * 1e6));
@@ -216,7 +216,7 @@ void client_wall_group_before_present(client *c)
             g->swap_timeouts++;
             break;
         }
-        cli_net_poll(c->net, now);
+        cli_net_poll(c->net);
         if (!(g->have_swap && g->swap >= g->frame)) {
             usleep(100);
         }

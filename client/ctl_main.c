@@ -247,7 +247,7 @@ int main(int argc, char **argv)
     const double until = mono_s() + wait_s;
     cli_net_stats st = cli_net_get_stats(n);
     while (mono_s() < until && st.state != CLI_NET_LIVE && st.state != CLI_NET_REFUSED) {
-        cli_net_poll(n, mono_s());
+        cli_net_poll(n);
         usleep(2000);
         st = cli_net_get_stats(n);
     }
@@ -256,6 +256,8 @@ int main(int argc, char **argv)
                 st.last_error[0] ? st.last_error : "no welcome in time");
         goto done;
     }
+    /* live means the welcome is in cli_net's inbox: this poll hands it to on_welcome */
+    cli_net_poll(n);
     if (cmd == CMD_SCENARIOS) {
         status = seen.welcomed ? 0 : 1;
         goto done;
@@ -271,7 +273,7 @@ int main(int argc, char **argv)
     const double settle = mono_s() + 0.5;
     uint32_t connects = st.connects;
     while (mono_s() < settle) {
-        cli_net_poll(n, mono_s());
+        cli_net_poll(n);
         usleep(2000);
         st = cli_net_get_stats(n);
         if (st.state != CLI_NET_LIVE || st.connects != connects) {

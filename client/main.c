@@ -18,12 +18,15 @@
 #include "client.h"
 #include "token_file.h"
 
-static volatile sig_atomic_t quit_flag;
+static volatile sig_atomic_t quit_flag, shot_flag;
 
 static void on_signal(int sig)
 {
-    (void)sig;
-    quit_flag = 1;
+    if (sig == SIGUSR1) {
+        shot_flag = 1;
+    } else {
+        quit_flag = 1;
+    }
 }
 
 static void usage(FILE *f)
@@ -39,6 +42,8 @@ static void usage(FILE *f)
             "  --frames N             headless: frames to draw after state arrives (default 60)\n"
             "  --screenshot FILE.png  headless: write the last frame there\n"
             "  --wait S               headless: give up after S s without state (default 30)\n"
+            "  --max-fps HZ           draw at most HZ frames a second (0.1..1000; a slow\n"
+            "                         renderer's pace; headless default 60)\n"
             "  --token-file F         kiosk token (wind commands): the file's first line\n"
             "                         (gale-server --kiosk-token-file); kept out of the\n"
             "                         process list, where --token T shows to local users\n"
@@ -70,6 +75,8 @@ static void usage(FILE *f)
             "                         PREFIX-fall-S.Ss.png T s after its stem gave way (PREFIX:\n"
             "                         --screenshot without .png, else gale); ends after the last\n"
             "  --help                 this text\n"
+            "SIGUSR1 writes a screenshot as F12 does (gale-DATE-TIME.png in the working\n"
+            "directory).\n"
             "keys: left-drag orbit, right-drag pan, wheel zoom, WASD/QE fly, F11 fullscreen,\n"
             "      F12 or P screenshot, R reset view, C next camera (kiosk: also the Camera\n"
             "      button, top right), kiosk: + / - dial the wind, touch the panel (wind dial,\n"
@@ -239,6 +246,12 @@ static int parse_args(int argc, char **argv, client_args *a)
                 fprintf(stderr, "gale-client: --delay: expected 1..9999 ms, got \"%s\"\n", v);
                 return -1;
             }
+        } else if (strcmp(o, "--max-fps") == 0) {
+            a->max_fps = atof(v);
+            if (!(a->max_fps >= 0.1 && a->max_fps <= 1000.0)) {
+                fprintf(stderr, "gale-client: --max-fps: expected 0.1..1000, got \"%s\"\n", v);
+                return -1;
+            }
         } else if (strcmp(o, "--wait") == 0) {
             a->wait_s = atof(v);
             if (!(a->wait_s > 0.0)) {
@@ -337,6 +350,7 @@ int main(int argc, char **argv)
     }
     signal(SIGINT, on_signal);
     signal(SIGTERM, on_signal);
+    signal(SIGUSR1, on_signal);
     signal(SIGPIPE, SIG_IGN);
     srand((unsigned)time(NULL) ^ (unsigned)getpid());
 
@@ -406,7 +420,8 @@ int main(int argc, char **argv)
     status = 0;
     while (!quit_flag && !(win && glfwWindowShouldClose(win))) {
         double now = mono_s();
-        cli_net_poll(c.net, now);
+        c.leaves_frame = 0;
+        cli_net_poll(c.net);
         if (cli_net_get_stats(c.net).state == CLI_NET_REFUSED) {
             /* an operator's error: say what to fix, once, and stop (no retry loop) */
             cli_net_stats ns = cli_net_get_stats(c.net);
@@ -471,6 +486,10 @@ int main(int argc, char **argv)
             status = 1;
             break;
         }
+        if (shot_flag && draw) {
+            shot_flag = 0;
+            c.want_screenshot = true;
+        }
         if (c.want_screenshot) {
             char name[64];
             client_input_screenshot_name(name, sizeof name);
@@ -497,12 +516,16 @@ int main(int argc, char **argv)
             if (!c.got_state && now - start > c.a.wait_s) {
                 break;
             }
-            /* pace at ~60 Hz so the stream advances between frames (a wall group paces
-             * itself) */
-            double spent = mono_s() - now;
-            if (!c.wg.have_sync && spent < 1.0 / 60.0) {
-                usleep((useconds_t)((1.0 / 60.0 - spent) * 1e6));
-            }
+        }
+        /* pace: --max-fps, or ~60 Hz headless so the stream advances between frames (a
+         * wall group paces itself); the network thread reads the socket meanwhile */
+        const double period = c.a.max_fps > 0.0 ? 1.0 / c.a.max_fps : c.a.headless ? 1.0 / 60.0 : 0.0;
+        double spent = mono_s() - now;
+        if (!c.wg.have_sync && spent < period && !quit_flag) {
+            const double rest = period - spent;
+            struct timespec ts = { .tv_sec = (time_t)rest,
+                                   .tv_nsec = (long)((rest - (double)(time_t)rest) * 1e9) };
+            nanosleep(&ts, NULL); /* a signal ends it early */
         }
     }
     if (c.a.headless && status == 0) { /* (a refused kiosk writes no screenshot) */
@@ -527,10 +550,12 @@ int main(int argc, char **argv)
         cli_net_stats ns = cli_net_get_stats(c.net);
         fprintf(stderr,
                 "gale-client: frames ok %llu, bad %llu, gaps %llu, control bad %llu, "
-                "tree-count mismatches %llu, connects %u\n",
+                "tree-count mismatches %llu, connects %u; frames left unread %llu, leaf "
+                "seeds left out %llu\n",
                 (unsigned long long)ns.frames_ok, (unsigned long long)ns.frames_bad,
                 (unsigned long long)ns.frames_gap, (unsigned long long)ns.ctl_bad,
-                (unsigned long long)c.frames_mismatch, ns.connects);
+                (unsigned long long)c.frames_mismatch, ns.connects,
+                (unsigned long long)ns.inbox_dropped, (unsigned long long)c.leaves_thinned);
     }
 done:
     hud_destroy(c.hud);

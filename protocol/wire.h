@@ -52,7 +52,7 @@ enum wire_close {
     WIRE_CLOSE_BINARY = 4005,      /* client sent a binary frame (clients send JSON only) */
     WIRE_CLOSE_FORBIDDEN = 4006,   /* role may not send this (a viewer sending wind) */
     WIRE_CLOSE_BAD_TOKEN = 4007,   /* kiosk token wrong */
-    WIRE_CLOSE_SLOW = 4008,        /* client stayed too far behind; its queue overflowed */
+    WIRE_CLOSE_SLOW = 4008,        /* client took nothing for the server's stall time */
     WIRE_CLOSE_ORDER = 4009,       /* message before hello, a second hello, no hello in time,
                                       or a server-only type (welcome, pong, error) from a
                                       client */

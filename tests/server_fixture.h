@@ -21,6 +21,7 @@ static srv *S;
 static pthread_t S_thread;
 static scene SC;
 static double FIXTURE_KEYFRAME_S; /* srv_desc.keyframe_s; 0 = the server's default */
+static int FIXTURE_SNDBUF = 16384; /* srv_desc.sndbuf: bytes a stalled reader pins in the kernel */
 
 static void *serve(void *arg)
 {
@@ -65,7 +66,7 @@ static int start_server(void)
         snprintf(sp[s].hash, sizeof sp[s].hash, "%016x", 0xabc0 + s);
     }
     S = srv_create(&(srv_desc){ .sc = &SC, .species = sp, .port = -1, .iface = "127.0.0.1",
-                                .queue_frames = 4, .lag_limit = 20, .sndbuf = 16384,
+                                .queue_frames = 4, .stall_ms = 2000, .sndbuf = FIXTURE_SNDBUF,
                                 .quiet = 1, .history = 120,
                                 .keyframe_s = FIXTURE_KEYFRAME_S },
                    &e);

@@ -331,7 +331,12 @@ static void test_slow_consumer(void)
        backlog never fills the fast one's (a few skips allowed for a starved test thread) */
     CHECK(last_seq - first_seq + 1u <= 60u + 4u);
     CHECK(errors == 0);
-    /* the slow one was culled: its close frame says why */
+    /* the slow one took nothing: closed once snapshots waited on it for stall_ms (2 s
+       here; reading it before then would make it a reader again) */
+    for (double t1 = mono_s();
+         atomic_load(&srv_metrics(S)->laggards_closed) < 1 && mono_s() - t1 < 10.0;) {
+        usleep(20000);
+    }
     int code = wsraw_wait_close(&slow, 5000);
     CHECK(code == WIRE_CLOSE_SLOW);
     CHECK(atomic_load(&srv_metrics(S)->frames_dropped) > 0);

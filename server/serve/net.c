@@ -102,7 +102,7 @@ static const metric_row net_rows[] = {
     { "gale_snapshots_unsent_total", NULL, "Snapshots not published (pool or hand-over full).",
       METRIC_COUNTER, 0 },
     { "gale_bad_messages_total", NULL, "Client messages rejected.", METRIC_COUNTER, 0 },
-    { "gale_laggards_closed_total", NULL, "Connections closed for falling too far behind.",
+    { "gale_laggards_closed_total", NULL, "Connections closed for taking nothing too long.",
       METRIC_COUNTER, 0 },
     { "gale_connections_total", NULL, "WebSocket connections accepted.", METRIC_COUNTER, 0 },
     { "gale_connections_refused_total", NULL,
@@ -115,9 +115,13 @@ static const metric_row net_rows[] = {
     { "gale_clients", "role=\"wall-tile\"", "Connected WebSocket clients by role.", METRIC_GAUGE,
       0 },
     { "gale_clients", "role=\"load\"", "Connected WebSocket clients by role.", METRIC_GAUGE, 0 },
+    { "gale_readers_decimated", NULL, "Connections sent fewer snapshots than published now.",
+      METRIC_GAUGE, 0 },
+    { "gale_decimations_total", NULL, "Times a slow reader's snapshot rate was lowered.",
+      METRIC_COUNTER, 0 },
 };
 #define NET_N_ROWS ((int)(sizeof net_rows / sizeof net_rows[0]))
-_Static_assert(NET_N_ROWS == 10 + NET_ROLE_COUNT, "one gale_clients row per role");
+_Static_assert(NET_N_ROWS == 12 + NET_ROLE_COUNT, "one gale_clients row per role");
 
 static void net_fill(void *ctx, double *v)
 {
@@ -136,6 +140,8 @@ static void net_fill(void *ctx, double *v)
     for (int r = 0; r < NET_ROLE_COUNT; r++) {
         v[10 + r] = (double)atomic_load(&m->clients[r]);
     }
+    v[10 + NET_ROLE_COUNT] = (double)atomic_load(&m->decimated);
+    v[11 + NET_ROLE_COUNT] = (double)atomic_load(&m->decimations);
 }
 
 int net_metrics_register(net_server *s, metric_reg *r, gale_err *err)
@@ -282,8 +288,11 @@ net_server *net_create(const net_desc *desc, gale_err *err)
     if (!s->d.queue_frames) {
         s->d.queue_frames = 8;
     }
-    if (!s->d.lag_limit) {
-        s->d.lag_limit = 90;
+    if (s->d.stall_ms <= 0) {
+        s->d.stall_ms = NET_STALL_MS;
+    }
+    if (s->d.snapshot_hz <= 0) {
+        s->d.snapshot_hz = 30;
     }
     if (!s->d.max_message) {
         s->d.max_message = CTL_MAX_CLIENT_BYTES;

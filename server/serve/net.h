@@ -77,6 +77,8 @@ typedef int (*net_control_fn)(void *user, net_peer *peer, const char *text, size
 /* A connection being closed (any code) has its socket closed by this bound even when its
  * peer never reads the close (server/SERVER.md "Connections"). */
 #define NET_CLOSE_BOUND_MS 2000
+/* net_desc.stall_ms's default. */
+#define NET_STALL_MS 10000
 
 typedef struct net_desc {
     int port;                 /* 0 → 8080; -1 → an ephemeral port (tests) */
@@ -86,7 +88,11 @@ typedef struct net_desc {
     int hello_timeout_ms;     /* a connection with no accepted hello this long after its
                                  upgrade is closed with 4009; 0 → 5000, < 0 → never */
     int queue_frames;         /* per-connection snapshot queue; 0 → 8 */
-    int lag_limit;            /* drops in a row before a laggard is closed; 0 → 90 (3 s at 30/s) */
+    int stall_ms;             /* a reader that takes nothing for this long while snapshots wait
+                                 is closed with 4008 [ms]; a slower one gets fewer snapshots
+                                 instead (SERVER.md "Slow readers"); 0 → NET_STALL_MS */
+    int snapshot_hz;          /* snapshots published a second per stream: a slow reader gets
+                                 one a second at least; 0 → 30 */
     size_t snap_cap;          /* bytes per state message (after LWS_PRE); required */
     size_t extra_cap;         /* bytes per extra message; 0 → 65536 */
     bool separate_extras;     /* true: extras go as messages of their own; false: each
@@ -132,6 +138,8 @@ typedef struct net_metrics {
     atomic_ullong refused;          /* closed with 4010, or at accept at the descriptor cap */
     atomic_ullong hello_timeouts;   /* closed with 4009 for saying no hello in time */
     atomic_int clients[NET_ROLE_COUNT];
+    atomic_int decimated;           /* connections sent fewer snapshots than published now */
+    atomic_ullong decimations;      /* times a connection's snapshot rate was lowered */
 } net_metrics;
 
 /* The connection limits net_create settled on. */

@@ -34,6 +34,12 @@
 #define NET_NOFILE_MAX (1L << 20)
 #define NET_HTTP_CHUNK 16384
 #define NET_LOG_PER_S 20  /* rate limit of bad-input log lines */
+/* A slow reader's snapshot rate (server/SERVER.md "Slow readers"): lowered (the interval
+ * doubled, at most to one snapshot a second) when its queue backs up, at most once per
+ * NET_RATE_DOWN_MS so a short stall costs one step; raised (halved) after it took every
+ * snapshot offered for NET_RATE_UP_MS. */
+#define NET_RATE_DOWN_MS 500
+#define NET_RATE_UP_MS 3000
 
 /* One queued control (text) message; data has LWS_PRE bytes of headroom. */
 typedef struct net_text {
@@ -61,6 +67,15 @@ typedef struct net_conn {
     int chain;            /* 0: holds nothing usable; 1: holds last_seq (a keyframe);
                              2: holds last_seq and last_seq - 1 */
     bool resync;          /* the client asked for a keyframe */
+    /* the slow reader's rate (net_ws.c deliver_one) */
+    int decim;            /* 1: every snapshot; n: one in n (net_desc.snapshot_hz at most) */
+    bool queued_any;      /* queued_seq and queued_stream hold the last snapshot queued */
+    uint32_t queued_seq, queued_stream;
+    uint64_t rate_ns;     /* mono_ns of the last rate change */
+    uint64_t ahead_ns;    /* mono_ns since which every snapshot offered found nothing waiting */
+    uint64_t take_ns;     /* mono_ns of the last message written, or of the last moment
+                             nothing was waiting: a reader that takes nothing for
+                             net_desc.stall_ms while something waits is closed (4008) */
     double tokens;        /* control messages the bucket allows now (NET_MSG_BURST at most) */
     uint64_t tokens_ns;   /* mono_ns of the last refill */
     net_text ctl[NET_CTL_MAX];

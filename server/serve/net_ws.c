@@ -166,6 +166,9 @@ void net_conn_free(net_server *s, net_conn *c)
         }
         c->linked = false;
         s->n_conns--;
+        if (c->decim > 1) {
+            atomic_fetch_sub(&s->m.decimated, 1);
+        }
         atomic_fetch_sub(&s->m.clients[c->role], 1);
         if (atomic_load(&s->stop) && !s->n_conns) {
             lws_cancel_service(s->ctx); /* the drain is done: wake net_run */
@@ -221,6 +224,8 @@ int net_ws_established(net_server *s, net_conn *c, struct lws *wsi)
     atomic_fetch_add(&s->m.connections_total, 1);
     c->tokens = NET_MSG_BURST;
     c->tokens_ns = mono_ns();
+    c->decim = 1;
+    c->rate_ns = c->ahead_ns = c->take_ns = c->tokens_ns;
     if (s->d.hello_timeout_ms > 0) {
         lws_set_timer_usecs(wsi, (lws_usec_t)s->d.hello_timeout_ms * 1000);
     }
@@ -234,6 +239,71 @@ int net_ws_established(net_server *s, net_conn *c, struct lws *wsi)
         net_conn_close(s, c, WIRE_CLOSE_FULL, why);
     }
     return 0;
+}
+
+/* Sets c's snapshot rate to one in decim, keeping the decimated gauge. */
+static void set_rate(net_server *s, net_conn *c, int decim, uint64_t now)
+{
+    if ((c->decim > 1) != (decim > 1)) {
+        atomic_fetch_add(&s->m.decimated, decim > 1 ? 1 : -1);
+    }
+    c->decim = decim;
+    c->rate_ns = now;
+    c->ahead_ns = now;
+}
+
+/* Offers snapshot p to c (server/SERVER.md "Slow readers"). A decimated reader takes one
+ * snapshot in c->decim; what it skips it never sees, so each one it gets follows a gap
+ * and goes out as its KEYFRAME (net_ws_writeable sends a delta only on the very next seq):
+ * no delta ever refers to a snapshot the reader lacks. The backlog at each offer steers
+ * the rate: a full queue (at full rate) or a snapshot still waiting from the interval
+ * before (decimated) lowers it; nothing waiting for NET_RATE_UP_MS raises it. Only a
+ * reader that takes nothing at all for stall_ms is closed. */
+static void deliver_one(net_server *s, net_conn *c, net_snap *p, uint64_t now)
+{
+    if (c->decim > 1 && c->queued_any && c->queued_stream == p->stream &&
+        p->seq - c->queued_seq < (uint32_t)c->decim) {
+        return; /* not its turn */
+    }
+    const int waiting = c->q.count + (c->cur != NULL);
+    if (!waiting) {
+        c->take_ns = now; /* idle, not stalled */
+    } else if (now > c->take_ns && now - c->take_ns > (uint64_t)s->d.stall_ms * 1000000u) {
+        char why[100];
+        snprintf(why, sizeof why, "too slow: took nothing for %.1f s",
+                 (double)(now - c->take_ns) * 1e-9);
+        atomic_fetch_add(&s->m.laggards_closed, 1);
+        sendq_clear(&c->q);
+        net_conn_close(s, c, WIRE_CLOSE_SLOW, why);
+        return;
+    }
+    const bool behind = c->decim > 1 ? waiting >= 2 : c->q.count == c->q.cap;
+    if (behind) {
+        c->ahead_ns = now;
+        if (c->decim < s->d.snapshot_hz && now - c->rate_ns >= NET_RATE_DOWN_MS * 1000000ull) {
+            int d = 2 * c->decim < s->d.snapshot_hz ? 2 * c->decim : s->d.snapshot_hz;
+            set_rate(s, c, d, now);
+            atomic_fetch_add(&s->m.decimations, 1);
+            net_conn_log(s, c, "slow reader: %.3g snapshots a second (one in %d)",
+                         (double)s->d.snapshot_hz / d, d);
+        }
+        if (c->decim > 1) {
+            sendq_clear(&c->q); /* newest wins: what waits is older than a whole interval */
+        }
+    } else if (waiting) {
+        c->ahead_ns = now;
+    } else if (c->decim > 1 && now - c->ahead_ns >= NET_RATE_UP_MS * 1000000ull &&
+               now - c->rate_ns >= NET_RATE_UP_MS * 1000000ull) {
+        set_rate(s, c, c->decim / 2 > 1 ? c->decim / 2 : 1, now);
+        net_conn_log(s, c, "reader keeps up: %.3g snapshots a second (one in %d)",
+                     (double)s->d.snapshot_hz / c->decim, c->decim);
+    }
+    atomic_fetch_add_explicit(&p->refs, 1, memory_order_relaxed);
+    sendq_push(&c->q, p);
+    c->queued_any = true;
+    c->queued_seq = p->seq;
+    c->queued_stream = p->stream;
+    lws_callback_on_writable(c->wsi);
 }
 
 void net_deliver_published(net_server *s)
@@ -251,24 +321,13 @@ void net_deliver_published(net_server *s)
     memcpy(batch, s->pub, sizeof batch[0] * (size_t)n);
     s->pub_n = 0;
     pthread_mutex_unlock(&s->pub_lock);
+    const uint64_t now = mono_ns();
     for (int i = 0; i < n; i++) {
         net_snap *p = batch[i];
         for (net_conn *c = s->conns; c; c = c->next) {
-            if (c->role == NET_ROLE_NONE || c->close_code || c->stream != p->stream) {
-                continue;
+            if (c->role != NET_ROLE_NONE && !c->close_code && c->stream == p->stream) {
+                deliver_one(s, c, p, now);
             }
-            atomic_fetch_add_explicit(&p->refs, 1, memory_order_relaxed);
-            sendq_push(&c->q, p);
-            if (c->q.drop_streak >= (uint32_t)s->d.lag_limit) {
-                char why[100];
-                snprintf(why, sizeof why, "too slow: %u snapshots dropped in a row",
-                         c->q.drop_streak);
-                atomic_fetch_add(&s->m.laggards_closed, 1);
-                sendq_clear(&c->q);
-                net_conn_close(s, c, WIRE_CLOSE_SLOW, why);
-                continue;
-            }
-            lws_callback_on_writable(c->wsi);
         }
         net_snap_unref(p); /* the publisher's reference */
     }
@@ -283,6 +342,7 @@ static int ws_write(net_server *s, net_conn *c, uint8_t *data, size_t len,
     }
     atomic_fetch_add_explicit(&s->m.bytes_sent, len, memory_order_relaxed);
     atomic_fetch_add_explicit(&s->m.frames_sent, 1, memory_order_relaxed);
+    c->take_ns = mono_ns();
     return 0;
 }
 

@@ -37,7 +37,8 @@ typedef struct srv_desc {
     int port;                     /* 0 → 8080, -1 → ephemeral */
     const char *iface;            /* NULL → all interfaces */
     int queue_frames;             /* per-connection snapshot queue; 0 → 8 */
-    int lag_limit;                /* 0 → net default */
+    int stall_ms;                 /* a reader taking nothing this long is closed (4008);
+                                     0 → NET_STALL_MS (net_desc.stall_ms) */
     int max_clients;              /* 0 → net default (net_desc.max_clients) */
     int hello_timeout_ms;         /* 0 → net default, < 0 → never (net_desc.hello_timeout_ms) */
     int sndbuf;                   /* 0 → net default */
