@@ -156,8 +156,11 @@ int hud_format(const hud_state *s, char lines[HUD_MAX_LINES][HUD_LINE_CHARS])
     }
     /* no rate before the first half-second window closes (a headless frame saved at once) */
     char fps[24];
-    if (s->fps > 0.0f) {
+    if (s->fps >= 9.5f) {
         snprintf(fps, sizeof fps, "%.0f", (double)s->fps);
+    } else if (s->fps > 0.0f) {
+        /* a software renderer at a frame or two a second reads "0.4", not "0" */
+        snprintf(fps, sizeof fps, "%.1f", (double)s->fps);
     } else {
         snprintf(fps, sizeof fps, "\xE2\x80\x93");
     }

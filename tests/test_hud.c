@@ -197,6 +197,10 @@ static void test_format(void)
     s.fps = 0.0f;
     n = hud_format(&s, lines);
     CHECK_STR_HAS(lines[3], "\xE2\x80\x93 fps \xC2\xB7 latency 3.2 ms");
+    /* a slow software renderer's rate keeps its tenths */
+    s.fps = 0.44f;
+    n = hud_format(&s, lines);
+    CHECK_STR_HAS(lines[3], "0.4 fps \xC2\xB7 latency 3.2 ms");
     s.fps = 59.6f;
     s.conn = HUD_CONN_RECONNECTING;
     s.attempt = 3;
