@@ -191,7 +191,7 @@ export class App {
 
     frame(t_ms) {
         requestAnimationFrame((t) => this.frame(t));
-        if (!this.ready || !this.jitter || !this.jitter.snaps.length) return;
+        if (this.frozen || !this.ready || !this.jitter || !this.jitter.snaps.length) return;
         const server = this.clock.serverTime(performance.now() * 1e-3);
         if (server === null) return;
         const t0 = performance.now();
@@ -215,6 +215,22 @@ export class App {
         this.framesDrawn++;
         if (this.firstFrame_ms === null) this.firstFrame_ms = performance.now() - this.t_load;
         if (this.o.afterFrame) this.o.afterFrame(this);
+    }
+
+    // One frame of the state drawn last, with or without the trees, its pixels read back
+    // (RGBA rows bottom first, base64) with the camera it was drawn with: for tests.
+    still(showTrees) {
+        this.frozen = true;
+        const cam = this.camera();
+        this.r.hideTrees = !showTrees;
+        this.r.draw(cam, 0, this.modes);
+        this.r.hideTrees = false;
+        const gl = this.r.gl, w = this.canvas.width, h = this.canvas.height;
+        const px = new Uint8Array(w * h * 4);
+        gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, px);
+        let bin = '';
+        for (let i = 0; i < px.length; i += 0x8000) bin += String.fromCharCode.apply(null, px.subarray(i, i + 0x8000));
+        return { w, h, cam, pixels: btoa(bin) };
     }
 
     perfSummary() {

@@ -154,6 +154,12 @@ export class Renderer {
         }
         s.height = h;
         s.crown_r = cr;
+        // the leaves' centroid at rest [m, tree frame]: where the crown stands
+        const c = [0, 0, 0];
+        for (let l = 0; l < a.n_leaves; l++) {
+            for (let k = 0; k < 3; k++) c[k] += (a.rest[3 * a.leaf_node[l] + k] + a.leaf_offset[3 * l + k]) / a.n_leaves;
+        }
+        s.crown_c = a.n_leaves ? c : [0, 0, 0.62 * h];
         s.ab = new Float32Array(128);
         for (let m = 0; m < nm; m++) {
             s.ab[2 * m] = a.corr_a[m];
@@ -367,6 +373,10 @@ export class Renderer {
         gl.drawArrays(gl.TRIANGLES, 0, 3);
         gl.depthFunc(gl.LESS);
 
+        if (this.hideTrees) {
+            this.stats.frames++;
+            return;
+        }
         this.bindTex(RU.SKEL, gl.TEXTURE_2D, this.skelTex[0]);
         this.bindTex(RU.LIST, gl.TEXTURE_2D, this.list.tex);
         this.bindTex(RU.TREES, gl.TEXTURE_2D, this.trees.tex);
