@@ -51,7 +51,7 @@ export function startServer(bin, extra = [], { port = 0, env = {} } = {}) {
 
 // A browser context with its own profile under dir; console errors and page errors are
 // collected in ctx.errors.
-export async function startBrowser(dir, { width = 800, height = 600 } = {}) {
+export async function startBrowser(dir, { width = 800, height = 600, extraArgs = [] } = {}) {
     mkdirSync(dir, { recursive: true });
     const profile = mkdtempSync(path.join(dir, 'profile-'));
     const ctx = await chromium.launchPersistentContext(profile, {
@@ -59,7 +59,7 @@ export async function startBrowser(dir, { width = 800, height = 600 } = {}) {
         headless: true,
         viewport: { width, height },
         args: ['--headless', '--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-            '--disable-background-networking', '--disable-component-update', '--disable-sync', '--no-first-run'],
+            '--disable-background-networking', '--disable-component-update', '--disable-sync', '--no-first-run', ...extraArgs],
     });
     ctx.errors = [];
     ctx.on('page', (p) => watch(ctx, p));
