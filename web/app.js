@@ -195,8 +195,11 @@ export class App {
         if (this.frozen || !this.ready || !this.jitter || !this.jitter.snaps.length) return;
         const server = this.clock.serverTime(performance.now() * 1e-3);
         if (server === null) return;
+        // a wall tile shows its group's frame instant; others a fixed delay behind the server
+        const shown = this.o.renderTime ? this.o.renderTime(this, server) : this.jitter.renderTime(server);
+        if (shown === null) return;
         const t0 = performance.now();
-        this.jitter.sample(this.jitter.renderTime(server), this.q);
+        this.jitter.sample(shown, this.q);
         const t1 = performance.now();
         this.r.uploadQ(this.q);
         const t2 = performance.now();

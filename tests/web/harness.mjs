@@ -3,14 +3,18 @@
 // (headless, WebGL2 through SwiftShader, a fresh profile under the build directory, no
 // browser download), and a bounded wait for a condition in the page.
 import { spawn } from 'node:child_process';
-import { mkdtempSync, mkdirSync } from 'node:fs';
+import { existsSync, mkdtempSync, mkdirSync } from 'node:fs';
 import path from 'node:path';
 import { pathToFileURL } from 'node:url';
 
 export const CHROMIUM = process.env.GALE_CHROMIUM || '/usr/bin/chromium';
-const deps = process.env.GALE_WEB_DEPS; // folder holding node_modules/playwright-core
-if (!deps) throw new Error('GALE_WEB_DEPS: expected the folder npm ci installed playwright-core into');
-const { chromium } = await import(pathToFileURL(path.resolve(deps, 'node_modules/playwright-core/index.mjs')).href);
+// playwright-core from the folder npm ci installed it into ($GALE_WEB_DEPS)
+async function driver() {
+    const deps = process.env.GALE_WEB_DEPS;
+    if (!deps) throw new Error('GALE_WEB_DEPS: expected the folder npm ci installed playwright-core into (the build tree\'s tests/web)');
+    if (!existsSync(CHROMIUM)) throw new Error(`${CHROMIUM}: no chromium (deploy/install-deps.sh installs Debian's)`);
+    return (await import(pathToFileURL(path.resolve(deps, 'node_modules/playwright-core/index.mjs')).href)).chromium;
+}
 
 export function args(usage) {
     const a = process.argv.slice(2);
@@ -54,6 +58,7 @@ export function startServer(bin, extra = [], { port = 0, env = {} } = {}) {
 export async function startBrowser(dir, { width = 800, height = 600, extraArgs = [] } = {}) {
     mkdirSync(dir, { recursive: true });
     const profile = mkdtempSync(path.join(dir, 'profile-'));
+    const chromium = await driver();
     const ctx = await chromium.launchPersistentContext(profile, {
         executablePath: CHROMIUM,
         headless: true,
