@@ -191,7 +191,7 @@ int srv_damage_encode(srv *s, const wire_header *h, net_snap *p, gale_err *e);
 void srv_weather_sample(srv *s, uint32_t tick, double dt_s, const scenario_state *st);
 int srv_weather_encode(srv *s, const wire_header *h, net_snap *p, gale_err *e);
 void srv_weather_fill(const srv *s, wire_weather *w);
-/* /metrics rows of the weather: gale_wind_sustained_ms, gale_wind_dial. */
+/* /metrics rows of the weather: gale_wind_sustained_meters_per_second, gale_wind_dial. */
 int srv_weather_register(srv *s, metric_reg *r, gale_err *err);
 
 /* srv_control.c: drops the dial that holds the wind (the scenario's override, or the

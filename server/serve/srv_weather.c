@@ -117,8 +117,8 @@ int srv_weather_encode(srv *s, const wire_header *h, net_snap *p, gale_err *e)
 }
 
 static const metric_row weather_rows[] = {
-    { "gale_wind_sustained_ms", NULL, "1-minute sustained wind at 10 m the WEATHER frame names [m/s]",
-      METRIC_GAUGE, 0 },
+    { "gale_wind_sustained_meters_per_second", NULL,
+      "1-minute sustained wind at 10 m the WEATHER frame names", METRIC_GAUGE, 0 },
     { "gale_wind_dial", NULL, "1 while a kiosk dial holds the wind", METRIC_GAUGE, 0 },
 };
 

@@ -1,6 +1,6 @@
 // The kiosk page against a real gale-server with a kiosk token: the token given in the URL
 // fragment is kept in localStorage and leaves the address bar, and is in no query string
-// nor page source; the wind dial sets the server's wind (gale_wind_sustained_ms and
+// nor page source; the wind dial sets the server's wind (gale_wind_sustained_meters_per_second and
 // gale_wind_dial in /metrics) and the HUD reads the category the server's WEATHER names;
 // leaving releases the dial; a wrong token is refused on the setup screen.
 import assert from 'node:assert/strict';
@@ -51,8 +51,8 @@ try {
 
     // 60 m/s = 117 kn: Saffir-Simpson Category 4 (113-136 kn)
     await page.locator('#dial').fill('60');
-    await until(async () => (await metric('gale_wind_dial')) === 1 && Math.abs((await metric('gale_wind_sustained_ms')) - 60) < 0.5, 20, 'server wind 60 m/s from the dial');
-    out.metric_sustained_ms = await metric('gale_wind_sustained_ms');
+    await until(async () => (await metric('gale_wind_dial')) === 1 && Math.abs((await metric('gale_wind_sustained_meters_per_second')) - 60) < 0.5, 20, 'server wind 60 m/s from the dial');
+    out.metric_sustained_ms = await metric('gale_wind_sustained_meters_per_second');
     await waitFor(page, () => window.gale.weather && window.gale.weather.ss_class === 5 && /Category 4 hurricane/.test(document.getElementById('hud').textContent), null, 30, 'HUD reads Category 4');
     await page.evaluate(() => new Promise((r) => { const n = window.gale.framesDrawn; const t = () => (window.gale.framesDrawn > n + 1 ? r() : setTimeout(t, 50)); t(); }));
     await page.screenshot({ path: path.join(work, 'kiosk-cat4.png') });
