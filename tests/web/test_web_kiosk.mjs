@@ -51,7 +51,7 @@ try {
 
     // 60 m/s = 117 kn: Saffir-Simpson Category 4 (113-136 kn)
     await page.locator('#dial').fill('60');
-    await until(async () => (await metric('gale_wind_dial')) === 1 && Math.abs((await metric('gale_wind_sustained_meters_per_second')) - 60) < 0.5, 20, 'server wind 60 m/s from the dial');
+    await until(async () => (await metric('gale_wind_dial')) === 1 && Math.abs((await metric('gale_wind_sustained_meters_per_second')) - 60) < 0.5, 60, 'server wind 60 m/s from the dial (the dial moves it 4 m/s a second)');
     out.metric_sustained_ms = await metric('gale_wind_sustained_meters_per_second');
     await waitFor(page, () => window.gale.weather && window.gale.weather.ss_class === 5 && /Category 4 hurricane/.test(document.getElementById('hud').textContent), null, 30, 'HUD reads Category 4');
     await page.evaluate(() => new Promise((r) => { const n = window.gale.framesDrawn; const t = () => (window.gale.framesDrawn > n + 1 ? r() : setTimeout(t, 50)); t(); }));
