@@ -105,6 +105,18 @@ export class Decoder {
         this.scene = null;   // { n_trees, n_species, n_modes[], step[][], species Uint8Array, stride }
         this.last = null;    // { seq, n_modes Uint8Array, q Int16Array (n_trees × stride) }
         this.before = null;  // seq − 1 of last, only after a DELTA
+        this.spare = [];     // snapshots no longer held, reused: no garbage per frame
+    }
+
+    // A snapshot's storage for n trees of `stride` modes, reused when one is spare.
+    take(n, stride) {
+        const s = this.spare.pop();
+        if (s && s.q.length === n * stride && s.n_modes.length === n) return s;
+        return { seq: 0, n_modes: new Uint8Array(n), q: new Int16Array(n * stride) };
+    }
+
+    give(s) {
+        if (s && this.spare.length < 2) this.spare.push(s);
     }
 
     decode(bytes) {
@@ -224,31 +236,41 @@ export class Decoder {
                 throw new WireError(`${where}: seq ${seq}: predicts from seq ${seq - 2} which this decoder does not hold: waiting for a keyframe`, true);
             }
         }
-        const n_modes = this.treeSet(r, sc, key);
-        const q = this.values(r, sc, n_modes, key ? null : this.last, hist === 2 ? this.before : null, hist);
-        r.end();
-        const snap = { seq, n_modes, q };
+        const snap = this.take(sc.n_trees, sc.stride);
+        try {
+            this.treeSet(r, sc, key, snap.n_modes);
+            this.values(r, sc, snap.n_modes, key ? null : this.last, hist === 2 ? this.before : null, hist, snap.q);
+            r.end();
+        } catch (e) {
+            this.give(snap);
+            throw e;
+        }
+        snap.seq = seq;
         if (commit) {
             if (key) {
                 this.scene = sc;
+                this.give(this.before);
                 this.before = null;
+                this.give(this.last);
             } else {
+                this.give(this.before);
                 this.before = this.last;
             }
             this.last = snap;
         }
-        return { seq, scene: sc, n_modes, q, keyframe: key };
+        // n_modes and q are the decoder's own until the frame after next: read them now
+        return { seq, scene: sc, n_modes: snap.n_modes, q: snap.q, keyframe: key };
     }
 
-    treeSet(r, sc, key) {
+    treeSet(r, sc, key, n_modes) {
         const where = r.where;
         const at = r.p;
         const kind = r.u8('tree set');
-        const n_modes = new Uint8Array(sc.n_trees);
         if (kind === 0 && !key) {
             n_modes.set(this.last.n_modes);
             return n_modes;
         }
+        n_modes.fill(0);
         if (kind !== 1) {
             throw new WireError(`${where}: tree set kind at byte ${at}: expected ${key ? '1 (runs)' : '0 (same) or 1 (runs)'}, got ${kind}`);
         }
@@ -288,13 +310,13 @@ export class Decoder {
         return n_modes;
     }
 
-    values(r, sc, n_modes, prev, prev2, hist) {
+    values(r, sc, n_modes, prev, prev2, hist, q) {
         const where = r.where, stride = sc.stride, b = r.b;
-        const q = new Int16Array(sc.n_trees * stride);
         const pq = prev && prev.q, pq2 = prev2 && prev2.q;
         for (let t = 0; t < sc.n_trees; t++) {
             const n = n_modes[t];
             const base = t * stride;
+            q.fill(0, base + n, base + stride);
             for (let g0 = 0; g0 < n; g0 += GROUP) {
                 const k = Math.min(GROUP, n - g0);
                 const at = r.p;
