@@ -13,7 +13,13 @@ pkgs=(
     valgrind
     nats-server libnats-dev
     prometheus lintian dpkg-dev
+    chromium
 )
+# The browser tests (tests/web) run under Node with npm; a machine that has both from
+# elsewhere keeps them (Debian's npm would conflict with another nodejs package).
+if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
+    pkgs+=(nodejs npm)
+fi
 
 missing=()
 for p in "${pkgs[@]}"; do

@@ -14,6 +14,11 @@ install(FILES ${GALE_DEB}/gale-server.conf ${GALE_DEB}/gale-relay.conf DESTINATI
 install(FILES ${GALE_DEB}/copyright DESTINATION share/doc/gale)
 install(FILES ${CMAKE_CURRENT_LIST_DIR}/../server/SERVER.md
         ${CMAKE_CURRENT_LIST_DIR}/../protocol/PROTOCOL.md DESTINATION share/doc/gale)
+# The browser client gale-server serves from its own binary, also as files (SERVER.md
+# "Browser client"), for a site that hosts the pages elsewhere.
+install(DIRECTORY ${CMAKE_CURRENT_LIST_DIR}/../web/ DESTINATION share/gale/web
+        FILES_MATCHING PATTERN "*.html" PATTERN "*.js" PATTERN "*.css")
+install(DIRECTORY ${CMAKE_CURRENT_LIST_DIR}/../shaders/ DESTINATION share/gale/shaders)
 # Debian wants the changelog compressed, with no timestamp in the gzip header (a native
 # package: changelog.gz)
 set(GALE_CHANGELOG_GZ ${CMAKE_BINARY_DIR}/changelog.gz)

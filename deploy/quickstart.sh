@@ -84,4 +84,5 @@ gale: next, try
   ./build/client/gale-ctl --url $url --token-file $token_file replay --at landfall --speed 10
   ./build/client/gale-ctl --url $url --token-file $token_file release
   ./build/client/gale-client --url $url --headless --frames 1 --camera aerial --screenshot out/aerial.png
+and with the server running, open http://127.0.0.1:$port/ in a browser (/kiosk for the kiosk)
 EOF

@@ -1,7 +1,7 @@
 // Far trees as billboards (Singh section 2, Oliapuram LOD): a quad turned about the
 // vertical toward the camera, textured with the species' impostor rendered at rest.
-uniform samplerBuffer u_list;  // per billboard: tree, share of its leaves left, 0, fade
-uniform samplerBuffer u_trees;
+uniform GALE_BUF u_list;  // per billboard: tree, share of its leaves left, 0, fade
+uniform GALE_BUF u_trees;
 uniform int u_base;
 uniform vec3 u_bsize;         // half width, height, bottom of the impostor [m, tree frame]
 out vec2 v_uv;
@@ -11,9 +11,9 @@ flat out float v_leaf;
 flat out int v_tree;
 void main()
 {
-    vec4 e = texelFetch(u_list, u_base + gl_InstanceID);
+    vec4 e = buf_fetch(u_list, u_base + gl_InstanceID);
     int tree = int(e.x);
-    vec4 t0 = texelFetch(u_trees, tree * 2), t1 = texelFetch(u_trees, tree * 2 + 1);
+    vec4 t0 = buf_fetch(u_trees, tree * 2), t1 = buf_fetch(u_trees, tree * 2 + 1);
     int id = gl_VertexID;
     float s = (id == 1 || id == 2 || id == 4) ? 1.0 : 0.0;
     float t = (id == 2 || id == 4 || id == 5) ? 1.0 : 0.0;

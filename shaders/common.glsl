@@ -1,4 +1,5 @@
-// Shared by every gale_render shader (prepended after the #version line): scene
+// Shared by every gale_render shader (prepended after the #version line, and in the
+// browser after "#version 300 es" and its precision lines): scene
 // uniforms, sky colour, fog, lighting (Singh section 2.4: diffuse + specular with the
 // skinned normal, plus sky ambient), small helpers.
 uniform mat4 u_viewproj;
@@ -18,6 +19,24 @@ uniform vec3 u_wind_uniform;
 // camera's subject [m] (0: none), z the calm fog distance [m], w share of the storm's extra
 // fog kept off the subject (storm_fx.subject_clear). All 0 in the calm look.
 uniform vec4 u_storm;
+
+// Data indexed by one integer (per node, tree, leaf, mode): a buffer texture in GLSL 3.30;
+// GLSL ES 3.00 has none, so the browser client (web/render_gl.js) keeps the same texels
+// row by row in a 2D texture. Declared GALE_BUF, read with buf_fetch.
+#ifdef GL_ES
+#define GALE_BUF highp sampler2D
+vec4 buf_fetch(highp sampler2D s, int i)
+{
+    int w = textureSize(s, 0).x;
+    return texelFetch(s, ivec2(i % w, i / w), 0);
+}
+#else
+#define GALE_BUF samplerBuffer
+vec4 buf_fetch(samplerBuffer s, int i)
+{
+    return texelFetch(s, i);
+}
+#endif
 
 vec3 sky_color(vec3 dir)
 {

@@ -3,10 +3,10 @@
 // with a phase and rate from its seed and an amplitude from the local wind, and leans
 // downwind in strong wind.
 uniform sampler2D u_skel;
-uniform samplerBuffer u_node;
-uniform samplerBuffer u_list;
-uniform samplerBuffer u_trees;
-uniform samplerBuffer u_leaf;  // per leaf: offset xyz, node; normal xyz, size
+uniform GALE_BUF u_node;
+uniform GALE_BUF u_list;
+uniform GALE_BUF u_trees;
+uniform GALE_BUF u_leaf;  // per leaf: offset xyz, node; normal xyz, size
 uniform int u_base;
 uniform int u_nleaves;
 uniform float u_aspect;        // blade width / length for this species' shape
@@ -22,20 +22,20 @@ void main()
 {
     int ent = gl_InstanceID / u_nleaves;
     int leaf = gl_InstanceID - ent * u_nleaves;
-    vec4 e = texelFetch(u_list, u_base + ent);
+    vec4 e = buf_fetch(u_list, u_base + ent);
     int tree = int(e.x), row = int(e.y);
-    vec4 l0 = texelFetch(u_leaf, leaf * 2), l1 = texelFetch(u_leaf, leaf * 2 + 1);
+    vec4 l0 = buf_fetch(u_leaf, leaf * 2), l1 = buf_fetch(u_leaf, leaf * 2 + 1);
     int j = int(l0.w);
-    vec4 nj = texelFetch(u_node, j);
+    vec4 nj = buf_fetch(u_node, j);
     vec4 sj = texelFetch(u_skel, ivec2(j, row), 0);
     vec3 xj = sj.xyz;
     mat3 r = mat3(1.0);
     int p = int(nj.w);
     if (p >= 0) {
         vec3 xp = texelFetch(u_skel, ivec2(p, row), 0).xyz;
-        r = rot_between(normalize(nj.xyz - texelFetch(u_node, p).xyz), normalize(xj - xp));
+        r = rot_between(normalize(nj.xyz - buf_fetch(u_node, p).xyz), normalize(xj - xp));
     }
-    vec4 t0 = texelFetch(u_trees, tree * 2), t1 = texelFetch(u_trees, tree * 2 + 1);
+    vec4 t0 = buf_fetch(u_trees, tree * 2), t1 = buf_fetch(u_trees, tree * 2 + 1);
     mat3 rz = tree_frame(t0.w, tree_fall(t1.z), t1.w);
     if (sj.w < 0.5 || !leaf_kept(uint(tree), uint(leaf), t1.z)) {
         // stripped, or on a broken-off branch: outside the clip volume

@@ -3,8 +3,8 @@
 // tree's frame so it turns with the stem (common.glsl tree_frame). Built from gl_VertexID:
 // a top fan (the turf), a bottom fan and the side band (soil), PLATE_SEG segments with a
 // ragged rim hashed per tree.
-uniform samplerBuffer u_trees;  // per tree: pos xyz, yaw; scale, species, fall, azimuth
-uniform samplerBuffer u_plates; // tree index per instance
+uniform GALE_BUF u_trees;  // per tree: pos xyz, yaw; scale, species, fall, azimuth
+uniform GALE_BUF u_plates; // tree index per instance
 out vec3 v_wpos;
 out vec3 v_nrm;
 out vec3 v_local;
@@ -26,7 +26,7 @@ vec3 rim(int tree, int i, float z)
 
 void main()
 {
-    int tree = int(texelFetch(u_plates, gl_InstanceID).x);
+    int tree = int(buf_fetch(u_plates, gl_InstanceID).x);
     int id = gl_VertexID;
     int fan = 3 * PLATE_SEG;
     vec3 p, n;
@@ -47,7 +47,7 @@ void main()
         p = rim(tree, seg, up ? 0.0 : -PLATE_DEPTH_M);
         n = normalize(vec3(p.xy, 0.0));
     }
-    vec4 t0 = texelFetch(u_trees, tree * 2), t1 = texelFetch(u_trees, tree * 2 + 1);
+    vec4 t0 = buf_fetch(u_trees, tree * 2), t1 = buf_fetch(u_trees, tree * 2 + 1);
     mat3 rz = tree_frame(t0.w, tree_fall(t1.z), t1.w);
     v_local = p;
     v_wpos = t0.xyz + rz * (p * t1.x);

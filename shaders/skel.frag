@@ -12,15 +12,15 @@
 // from it to the root is cut. A debris piece (keep-only) inverts it: only the sub-tree of
 // its listed node is drawn. The GLSL twin of damage_cut_mask (client/damage_cut.c), held
 // to it by tests/test_render_damage.c.
-uniform samplerBuffer u_vw;   // [(m n_nodes + node) 2 + {0: v, 1: w}]
-uniform samplerBuffer u_node; // rest xyz, parent
-uniform samplerBuffer u_q;    // [tree stride + m]
+uniform GALE_BUF u_vw;   // [(m n_nodes + node) 2 + {0: v, 1: w}]
+uniform GALE_BUF u_node; // rest xyz, parent
+uniform GALE_BUF u_q;    // [tree stride + m]
 uniform sampler2D u_skel;     // pass 1: the posed segments of pass 0
 uniform int u_qstride;
 uniform int u_nodes;
 uniform int u_pass;
 uniform vec2 u_ab[64];        // a_i, b_i
-uniform samplerBuffer u_cutn; // cut node indices, per tree ascending
+uniform GALE_BUF u_cutn; // cut node indices, per tree ascending
 flat in int v_tree;
 flat in float v_modes;
 flat in ivec3 v_cut;
@@ -47,7 +47,7 @@ void main()
 {
     int node = int(gl_FragCoord.x);
     int row = int(gl_FragCoord.y);
-    vec4 rn = texelFetch(u_node, node);
+    vec4 rn = buf_fetch(u_node, node);
     if (u_pass == 1) {
         vec3 x = vec3(0.0);
         float kept = 1.0;
@@ -56,14 +56,14 @@ void main()
             vec4 sg = texelFetch(u_skel, ivec2(j, row), 0);
             x += sg.xyz;
             kept = min(kept, sg.w);
-            j = int(texelFetch(u_node, j).w);
+            j = int(buf_fetch(u_node, j).w);
         }
         o_pos = vec4(x, v_cut.z != 0 ? 1.0 - kept : kept);
         return;
     }
     float whole = 1.0;
     for (int k = 0; k < v_cut.y; k++) {
-        if (int(texelFetch(u_cutn, v_cut.x + k).x) == node) {
+        if (int(buf_fetch(u_cutn, v_cut.x + k).x) == node) {
             whole = 0.0;
             break;
         }
@@ -73,17 +73,17 @@ void main()
         o_pos = vec4(rn.xyz, whole);
         return;
     }
-    vec3 s = rn.xyz - texelFetch(u_node, p).xyz;
+    vec3 s = rn.xyz - buf_fetch(u_node, p).xyz;
     vec3 th = vec3(0.0);
     int nm = int(ceil(v_modes));
     int qb = v_tree * u_qstride;
     for (int m = 0; m < nm; m++) {
-        float q = texelFetch(u_q, qb + m).x;
+        float q = buf_fetch(u_q, qb + m).x;
         float qt = u_ab[m].y != 0.0 ? u_ab[m].x * atan(u_ab[m].y * q) : q;
         float c = clamp(v_modes - float(m), 0.0, 1.0) * qt;
         int t = (m * u_nodes + node) * 2;
-        th += c * texelFetch(u_vw, t).xyz;
-        s += c * texelFetch(u_vw, t + 1).xyz;
+        th += c * buf_fetch(u_vw, t).xyz;
+        s += c * buf_fetch(u_vw, t + 1).xyz;
     }
     o_pos = vec4(posed_segment(th, s), whole);
 }

@@ -3,8 +3,8 @@
 // tree's yawed frame from gl_VertexID: per segment of STUMP_SEG around the stem a tooth of
 // wood, its bark side, its splintered top and its two radial walls (seen where a neighbour
 // broke lower), 21 vertices each.
-uniform samplerBuffer u_trees;  // per tree: pos xyz, yaw; scale, species, fall, azimuth
-uniform samplerBuffer u_stumps; // per stump: tree, base radius [m], taper [m/m]; bark rgb
+uniform GALE_BUF u_trees;  // per tree: pos xyz, yaw; scale, species, fall, azimuth
+uniform GALE_BUF u_stumps; // per stump: tree, base radius [m], taper [m/m]; bark rgb
 out vec3 v_wpos;
 out vec3 v_nrm;
 out vec3 v_local;
@@ -17,7 +17,7 @@ const float STUMP_LOW_M = 0.15; // the walls between teeth reach this far below 
 void main()
 {
     int inst = gl_InstanceID;
-    vec4 s0 = texelFetch(u_stumps, inst * 2), s1 = texelFetch(u_stumps, inst * 2 + 1);
+    vec4 s0 = buf_fetch(u_stumps, inst * 2), s1 = buf_fetch(u_stumps, inst * 2 + 1);
     int tree = int(s0.x);
     float h = stump_break_m(tree);
     int k = gl_VertexID / 21, c = gl_VertexID % 21;
@@ -55,7 +55,7 @@ void main()
         n = w == 0 ? vec3(sin(a0), -cos(a0), 0.0) : vec3(-sin(a1), cos(a1), 0.0);
         v_cap = 1.0;
     }
-    vec4 t0 = texelFetch(u_trees, tree * 2), t1 = texelFetch(u_trees, tree * 2 + 1);
+    vec4 t0 = buf_fetch(u_trees, tree * 2), t1 = buf_fetch(u_trees, tree * 2 + 1);
     mat3 rz = rot_z(t0.w);
     v_local = p;
     v_wpos = t0.xyz + rz * (p * t1.x);

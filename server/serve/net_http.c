@@ -1,6 +1,6 @@
 /* HTTP on the WebSocket port (server/SERVER.md "HTTP"): baked assets by content hash
  * (ETag, If-None-Match, one Range), /healthz, and /metrics (the registry of
- * net_desc.metrics rendered as Prometheus text); GET and HEAD, 405 otherwise. Headers
+ * net_desc.metrics rendered as Prometheus text), the browser client (net_web.c); GET and HEAD, 405 otherwise. Headers
  * at the request, the body in HTTP_WRITEABLE, as lws minimal-http-server-dynamic does;
  * an idle timeout re-armed on every chunk written. lws service thread. */
 #include "net_int.h"
@@ -13,6 +13,7 @@
 
 #include "http_hdr.h"
 #include "metric.h"
+#include "net_web.h"
 
 #define NET_HTTP_IDLE_S 10     /* net_desc.http_idle_s default */
 #define NET_HTTP_HDR_MAX 256   /* longest Range / If-None-Match / If-Range value read */
@@ -185,6 +186,12 @@ int net_http_request(net_server *s, net_conn *c, const char *uri)
                 return http_asset(s, c, a, head);
             }
         }
+    }
+    const char *type;
+    const net_web_file *w = net_web_find(uri, &type);
+    if (w) { /* the browser client (net_web.c) */
+        http_head h = { .code = HTTP_STATUS_OK, .type = type, .length = w->len };
+        return http_respond(s, c, &h, w->bytes, w->len, !head);
     }
     return http_text(s, c, HTTP_STATUS_NOT_FOUND, "not found\n", head, false);
 }

@@ -198,7 +198,8 @@ srv *srv_create(const srv_desc *d, gale_err *err)
         sim_metrics_register(&s->simm, &s->reg, err) ||
         net_metrics_register(s->net, &s->reg, err) || srv_publish_register(s, &s->reg, err) ||
         kiosk_gate_register(&s->kgate, &s->reg, err) ||
-        wall_groups_register(s->walls, &s->reg, err)) {
+        wall_groups_register(s->walls, &s->reg, err) ||
+        srv_weather_register(s, &s->reg, err)) {
         goto fail;
     }
     /* storm damage rows (damage_metrics.h), when any species takes damage */

@@ -134,6 +134,8 @@ struct srv {
     scenario_state wx_state;
     bool wx_have;
     weather_gust wx_gust;
+    _Atomic float wx_sustained_pub; /* wx_state's sustained wind and dial, for /metrics */
+    _Atomic bool wx_dial_pub;
     wind_inflow man_inflow;      /* under scen_lock: the inflow when there is no scenario
                                     (the scene's, or the last kiosk command's) */
     uint32_t dial_owner;         /* under scen_lock: connection whose dial holds the wind
@@ -189,6 +191,8 @@ int srv_damage_encode(srv *s, const wire_header *h, net_snap *p, gale_err *e);
 void srv_weather_sample(srv *s, uint32_t tick, double dt_s, const scenario_state *st);
 int srv_weather_encode(srv *s, const wire_header *h, net_snap *p, gale_err *e);
 void srv_weather_fill(const srv *s, wire_weather *w);
+/* /metrics rows of the weather: gale_wind_sustained_meters_per_second, gale_wind_dial. */
+int srv_weather_register(srv *s, metric_reg *r, gale_err *err);
 
 /* srv_control.c: drops the dial that holds the wind (the scenario's override, or the
  * manual inflow back to the scene's); s->scen_lock held. why names it in the log. */

@@ -32,6 +32,8 @@ void srv_weather_sample(srv *s, uint32_t tick, double dt_s, const scenario_state
     }
     s->wx_state = *st;
     s->wx_have = true;
+    atomic_store(&s->wx_sustained_pub, (float)st->sustained_ms);
+    atomic_store(&s->wx_dial_pub, st->override_active);
     weather_gust_add(&s->wx_gust, tick * dt_s, (float)st->gust_ms);
 }
 
@@ -112,4 +114,22 @@ int srv_weather_encode(srv *s, const wire_header *h, net_snap *p, gale_err *e)
         p->extra_key_only |= 1u << SRV_EXTRA_WEATHER;
     }
     return rc;
+}
+
+static const metric_row weather_rows[] = {
+    { "gale_wind_sustained_meters_per_second", NULL,
+      "1-minute sustained wind at 10 m the WEATHER frame names", METRIC_GAUGE, 0 },
+    { "gale_wind_dial", NULL, "1 while a kiosk dial holds the wind", METRIC_GAUGE, 0 },
+};
+
+static void weather_metrics_fill(void *ctx, double *v)
+{
+    srv *s = ctx;
+    v[0] = (double)atomic_load(&s->wx_sustained_pub);
+    v[1] = atomic_load(&s->wx_dial_pub) ? 1.0 : 0.0;
+}
+
+int srv_weather_register(srv *s, metric_reg *r, gale_err *err)
+{
+    return metric_reg_add(r, weather_rows, 2, weather_metrics_fill, s, err);
 }

@@ -1,0 +1,71 @@
+// Benchmark of the browser client (prints JSON; not a test): headless chromium (SwiftShader
+// WebGL2) on the viewer page of a real gale-server, for the town block (the embedded
+// default scene) and a generated scene of 4,000 trees. Per scene: JS CPU of the page's
+// stages, median and p95 [ms]: decode (web/wire.js, per snapshot), dequantise (per
+// snapshot), interpolate (web/jitter.js) and upload (q into its texture), both per drawn
+// frame; page load to the first drawn frame; bytes fetched (pages, shaders, assets over
+// HTTP, the WebSocket stream). The draw itself is capped at the --draw nearest trees (a
+// software GPU draws a tree in tens of milliseconds); every tree is still decoded,
+// dequantised, interpolated and uploaded. ref_ms: the same page's time for a fixed
+// multiply-add over 4,000 × 32 floats, 100 times: the machine's pace in this run.
+//   GALE_WEB_DEPS=build/tests/web node tests/web/bench_web.mjs build/server/gale-server OUT_DIR
+//       [--seconds S] [--draw N]
+import { writeFileSync, mkdirSync, readFileSync } from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { args, startServer, startBrowser, waitFor } from './harness.mjs';
+
+const a = args('usage: node bench_web.mjs GALE_SERVER OUT_DIR [--seconds S] [--draw N]');
+const [server, work] = a;
+const opt = (k, d) => (a.includes(k) ? Number(a[a.indexOf(k) + 1]) : d);
+const seconds = opt('--seconds', 20), draw = opt('--draw', 8);
+const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
+mkdirSync(work, { recursive: true });
+
+// 4,000 trees: the town block's species, forests of 1,334 / 1,333 / 1,333 on 600 m × 600 m
+const def = JSON.parse(readFileSync(path.join(root, 'configs/scenes/default.json'), 'utf8'));
+const big = { ...def, name: 'forest-4000', obstacles: [], trees: [] };
+delete big.wind;
+big.species = def.species.map((s) => ({ ...s, file: path.join(root, 'configs/species', path.basename(s.file)) }));
+big.forest = def.species.map((s, i) => ({ species: s.name, count: i === 0 ? 1334 : 1333, area_min: [-300, -300],
+    area_max: [300, 300], min_spacing_m: 3, seed: 21 + i, scale: [0.8, 1.15] }));
+const bigPath = path.join(work, 'forest-4000.json');
+writeFileSync(bigPath, JSON.stringify(big, null, 1));
+
+async function run(name, extra) {
+    const srv = await startServer(server, ['--cache', path.join(work, 'cache'), ...extra]);
+    const ctx = await startBrowser(path.join(work, name), { width: 800, height: 600 });
+    try {
+        const page = await ctx.newPage();
+        await page.goto(`${srv.url}/?max_trees=${draw}`);
+        await waitFor(page, () => window.gale && window.gale.framesDrawn >= 1, null, 600, `${name}: first frame`);
+        await new Promise((r) => setTimeout(r, 2000));
+        await page.evaluate(() => { for (const k of Object.keys(window.gale.perf)) window.gale.perf[k] = []; window.gale.ws0 = window.gale.conn.stats.bytes; window.gale.t0 = performance.now(); });
+        await new Promise((r) => setTimeout(r, seconds * 1000));
+        const res = await page.evaluate(() => {
+            const g = window.gale;
+            const res = performance.getEntriesByType('resource');
+            const http = res.reduce((s, e) => s + (e.transferSize || e.encodedBodySize || 0), 0);
+            const nav = performance.getEntriesByType('navigation')[0];
+            const x = new Float32Array(4000 * 32).fill(1), y = new Float32Array(4000 * 32);
+            const t = performance.now();
+            for (let k = 0; k < 100; k++) for (let i = 0; i < x.length; i++) y[i] = y[i] * 0.5 + x[i] * 0.25;
+            const ref = performance.now() - t;
+            return { trees: g.welcome.instances.length, modes_max: g.stride, drawn_trees: g.r.stats.trees_drawn, perf: g.perfSummary(),
+                first_frame_ms: g.firstFrame_ms, frames_drawn_per_s: g.perf.interp.length / ((performance.now() - g.t0) / 1000),
+                bytes: { http, page_html: nav ? nav.transferSize : null, assets: g.bytesAssets, ws_per_s: (g.conn.stats.bytes - g.ws0) / ((performance.now() - g.t0) / 1000) },
+                decode_errors: g.conn.stats.errors, ref_ms: ref };
+        });
+        return res;
+    } finally {
+        await ctx.close();
+        await srv.stop();
+    }
+}
+
+const out = { seconds, draw_cap: draw, load_avg_before: os.loadavg(), scenes: {} };
+out.scenes.town_block = await run('town', []);
+out.scenes.forest_4000 = await run('forest', ['--config', bigPath]);
+out.load_avg_after = os.loadavg();
+console.log(JSON.stringify(out, null, 1));

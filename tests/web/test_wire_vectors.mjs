@@ -1,0 +1,167 @@
+// web/wire.js against the test vectors of protocol/PROTOCOL.md (the C decoder's, in
+// tests/test_wire.c, test_weather.c, test_damage_wire.c): each decoded to the values the
+// spec states; then corruptions each decoder must refuse. node test_wire_vectors.mjs
+// PROTOCOL.md
+import assert from 'node:assert/strict';
+import { Decoder, MSG, dequantise, WireError } from '../../web/wire.js';
+import { readVectors } from './spec_vectors.mjs';
+
+const path = process.argv[2];
+if (!path || path === '--help') {
+    console.log('usage: node test_wire_vectors.mjs PATH/TO/PROTOCOL.md');
+    process.exit(path ? 0 : 2);
+}
+const frames = readVectors(path);
+const byType = {};
+for (const f of frames) {
+    const t = f.bytes[6];
+    assert.ok(!byType[t], `two vectors of type ${t} (lines ${byType[t]?.line}, ${f.line})`);
+    byType[t] = f.bytes;
+}
+for (const t of [MSG.KEYFRAME, MSG.DELTA, MSG.LEAVES, MSG.WIND, MSG.WEATHER, MSG.DAMAGE]) {
+    assert.ok(byType[t], `no vector of type ${t} in ${path}`);
+}
+let checks = 0;
+const near = (a, b, tol, what) => {
+    assert.ok(Math.abs(a - b) <= tol, `${what}: expected ${b} ± ${tol}, got ${a}`);
+    checks++;
+};
+
+// KEYFRAME: tick 120, 2 000 000 us, seq 5, Q tree 0 [3, -2], tree 2 [7], tree 1 not sent
+const d = new Decoder();
+const k = d.decode(byType[MSG.KEYFRAME]);
+assert.equal(k.hdr.tick, 120);
+assert.equal(k.hdr.server_time_us, 2000000);
+assert.equal(k.state.seq, 5);
+assert.deepEqual([...k.state.n_modes], [2, 0, 1]);
+assert.deepEqual([...k.state.q], [3, -2, 0, 0, 7, 0]);
+const qf = dequantise(k.state, new Float32Array(6));
+near(qf[0], 0.003, 1e-9, 'q tree 0 mode 0');
+near(qf[1], -0.004, 1e-9, 'q tree 0 mode 1');
+near(qf[4], 0.007, 1e-9, 'q tree 2 mode 0 (species 0 step 0.001)');
+checks += 6;
+
+// DELTA on it: seq 6, tick 122, Q tree 0 [4, -2], tree 2 [7]
+const dl = d.decode(byType[MSG.DELTA]);
+assert.equal(dl.hdr.tick, 122);
+assert.equal(dl.hdr.server_time_us, 2033333);
+assert.equal(dl.state.seq, 6);
+assert.deepEqual([...dl.state.q], [4, -2, 0, 0, 7, 0]);
+checks += 4;
+
+// the same DELTA again is a gap (holds 6, wants 6 + 1): a state error, state unchanged
+assert.throws(() => d.decode(byType[MSG.DELTA]), (e) => e.state && /gap/.test(e.message));
+assert.equal(d.last.seq, 6);
+// a DELTA before any KEYFRAME
+assert.throws(() => new Decoder().decode(byType[MSG.DELTA]), (e) => e.state && /no keyframe/.test(e.message));
+checks += 3;
+
+// LEAVES: instance 2, slot 17, spawn_tick 118, seed 0xdeadbeef
+const lv = d.decode(byType[MSG.LEAVES]);
+assert.deepEqual(lv.leaves, [{ instance: 2, slot: 17, spawn_tick: 118, seed: 0xdeadbeef }]);
+checks++;
+
+// WIND: corner (-64, -64, 4), cell 8, scale 0.1, 2 × 1, cells (10, -5, 0), (127, -127, 1)
+const w = d.decode(byType[MSG.WIND]).wind;
+assert.deepEqual([w.x0_m, w.y0_m, w.z_m, w.cell_m, w.nx, w.ny], [-64, -64, 4, 8, 2, 1]);
+near(w.scale_ms, 0.1, 1e-7, 'scale_ms');
+assert.deepEqual([...w.cells], [10, -5, 0, 127, -127, 1]);
+checks += 2;
+
+// WEATHER: Andrew near landfall
+const we = d.decode(byType[MSG.WEATHER]).weather;
+assert.equal(we.sustained_ms, 50);
+assert.equal(we.gust_ms, 62.5);
+assert.equal(we.dir_from_deg, 45);
+assert.deepEqual([we.ss_class, we.beaufort, we.flags, we.storm_class], [4, 12, 9, 5]);
+assert.deepEqual([we.pressure_hpa, we.central_hpa, we.distance_km, we.bearing_deg], [950, 922, 20, 90]);
+assert.equal(we.utc_offset_min, -240);
+assert.equal(new Date(we.utc_min * 60000).toISOString(), '1992-08-24T09:05:00.000Z');
+assert.deepEqual([we.storm_min, we.replay_pos_s, we.replay_len_s, we.replay_speed], [-10, 180, 402, 50]);
+assert.equal(we.name, 'Andrew 1992');
+checks += 9;
+
+// DAMAGE: tree 2 branch at node 17 tick 118; tree 5 uprooted towards 64/256 turn, tick 120
+const dm = d.decode(byType[MSG.DAMAGE]).damage;
+assert.equal(dm.full, false);
+assert.deepEqual(dm.events.map((e) => [e.tree, e.node, e.kind, e.value, e.tick]),
+    [[2, 17, 1, 0, 118], [5, 0xffffffff, 3, 64, 120]]);
+checks += 2;
+
+// BUNDLE of the DELTA and the LEAVES (the spec's 94 bytes, built as it says) on the KEYFRAME
+const delta = byType[MSG.DELTA], leaves = byType[MSG.LEAVES];
+const bundle = new Uint8Array(20 + 1 + 4 + delta.length + 4 + leaves.length);
+bundle.set(delta.subarray(0, 20));
+bundle[6] = MSG.BUNDLE;
+bundle[20] = 2;
+const dv = new DataView(bundle.buffer);
+dv.setUint32(21, delta.length, true);
+bundle.set(delta, 25);
+dv.setUint32(25 + delta.length, leaves.length, true);
+bundle.set(leaves, 29 + delta.length);
+assert.equal(bundle.length, 94);
+const d2 = new Decoder();
+d2.decode(byType[MSG.KEYFRAME]);
+const b = d2.decode(bundle);
+assert.equal(b.state.seq, 6);
+assert.deepEqual([...b.state.q], [4, -2, 0, 0, 7, 0]);
+assert.equal(b.leaves.length, 1);
+assert.equal(b.types, (1 << MSG.DELTA) | (1 << MSG.LEAVES));
+checks += 4;
+
+// Refusals: every one-byte change below breaks a rule the spec states.
+const bad = (bytes, at, val, re, dec = new Decoder()) => {
+    const c = Uint8Array.from(bytes);
+    c[at] = val;
+    assert.throws(() => dec.decode(c), re, `byte ${at} = ${val}`);
+    checks++;
+};
+bad(byType[MSG.KEYFRAME], 0, 0x48, /magic/);
+bad(byType[MSG.KEYFRAME], 7, 1, /flags/);
+bad(byType[MSG.KEYFRAME], 0x2b, 2, /species of tree 0/); // species index >= n_species
+bad(byType[MSG.KEYFRAME], 0x37, 0x23, /predictor/);      // predictor 1 in a KEYFRAME
+bad(byType[MSG.KEYFRAME], 0x3a, 0x8e, /padding/);       // a padding bit set
+bad(byType[MSG.DAMAGE], 0x1f, 5, /kind/);
+bad(byType[MSG.WEATHER], 0x20, 7, /ss_class/);
+bad(byType[MSG.WIND], 0x28, 0, /nx/);
+assert.throws(() => new Decoder().decode(byType[MSG.KEYFRAME].subarray(0, 58)), /truncated/);
+const longer = new Uint8Array(byType[MSG.LEAVES].length + 1);
+longer.set(byType[MSG.LEAVES]);
+assert.throws(() => new Decoder().decode(longer), /trailing/);
+// a bundle whose inner DELTA is broken leaves the decoder on seq 5
+const d3 = new Decoder();
+d3.decode(byType[MSG.KEYFRAME]);
+const bb = Uint8Array.from(bundle);
+bb[25 + 0x1a] = 0x3f; // predictor 1, width 31
+assert.throws(() => d3.decode(bb), /frame 1 of 2/);
+assert.equal(d3.last.seq, 5);
+checks += 3;
+
+// Outside input: 20,000 corruptions of the vectors (bytes changed, cut, grown; a seeded
+// xorshift) each decode or throw a WireError, nothing else, and a refused frame leaves the
+// decoder as it was (it still takes the DELTA on its KEYFRAME).
+let seed = 0x9e3779b9, refused = 0;
+const rnd = (n) => {
+    seed ^= seed << 13; seed >>>= 0; seed ^= seed >>> 17; seed ^= seed << 5; seed >>>= 0;
+    return seed % n;
+};
+const all = [...Object.values(byType), bundle];
+for (let i = 0; i < 20000; i++) {
+    const src = all[rnd(all.length)];
+    let c = Uint8Array.from(src);
+    const kind = rnd(3);
+    if (kind === 0) for (let k = 0, n = 1 + rnd(4); k < n; k++) c[rnd(c.length)] = rnd(256);
+    else if (kind === 1) c = c.subarray(0, rnd(c.length));
+    else { const g = new Uint8Array(c.length + 1 + rnd(8)); g.set(c); g.fill(rnd(256), c.length); c = g; }
+    const dec = new Decoder();
+    dec.decode(byType[MSG.KEYFRAME]);
+    try {
+        dec.decode(c);
+    } catch (e) {
+        assert.ok(e instanceof WireError, `corruption ${i}: ${e.constructor.name}: ${e.message}`);
+        assert.equal(dec.last.seq, 5, `corruption ${i}: a refused frame changed the decoder`);
+        refused++;
+    }
+}
+checks++;
+console.log(JSON.stringify({ vectors: frames.length, checks, corruptions: 20000, refused, ok: true }));

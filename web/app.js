@@ -1,0 +1,266 @@
+// What the three pages share: the connection (web/conn.js), the species assets checked
+// against the welcome's hashes (web/asset.js), snapshots through the jitter buffer
+// (web/jitter.js) into the renderer (web/render_gl.js), the HUD from WEATHER, and the
+// messages a person can act on. window.gale exposes the state for tests and benchmarks.
+import { Connection } from './conn.js';
+import { fetchAsset } from './asset.js';
+import { Jitter, Clock } from './jitter.js';
+import { dequantise } from './wire.js';
+import { Renderer, WebGL2Missing, orbitEye } from './render_gl.js';
+
+// Saffir-Simpson titles of WEATHER ss_class (protocol/wind_scale.c)
+export const SS_TITLE = ['Tropical depression', 'Tropical storm', 'Category 1 hurricane', 'Category 2 hurricane',
+    'Category 3 hurricane', 'Category 4 hurricane', 'Category 5 hurricane'];
+const COMPASS = ['north', 'north-east', 'east', 'south-east', 'south', 'south-west', 'west', 'north-west'];
+
+export function hudText(w) {
+    if (!w) return '';
+    const lines = [`${w.sustained_ms.toFixed(0)} m/s, gusts ${w.gust_ms.toFixed(0)} m/s`, SS_TITLE[w.ss_class],
+        `Beaufort ${w.beaufort} · from the ${COMPASS[Math.round(w.dir_from_deg / 45) % 8]} (${w.dir_from_deg.toFixed(0)}°)`];
+    if (w.name) lines.unshift(w.name);
+    return lines.join('\n');
+}
+
+function percentile(a, p) {
+    if (!a.length) return null;
+    const s = [...a].sort((x, y) => x - y);
+    return s[Math.min(s.length - 1, Math.floor(p * (s.length - 1) + 0.5))];
+}
+
+export class App {
+    // opts: { role, token?, extraHello?, onWelcome?, onWeather?, onStatus?, camera? (fn) }
+    constructor(opts) {
+        this.o = opts;
+        this.statusEl = document.getElementById('status');
+        this.hudEl = document.getElementById('hud');
+        this.canvas = document.getElementById('view');
+        this.perf = { decode: [], dequant: [], interp: [], upload: [], draw: [] };
+        this.bytesAssets = 0;
+        this.t_load = performance.now();
+        this.firstFrame_ms = null;
+        this.weather = null;
+        this.errors = [];
+        this.framesDrawn = 0;
+        this.cam = { yaw: 1.5707963 - 0.6108652, pitch: -0.5235988, distance: 60, target: [0, 0, 4], fov_y_deg: 50 };
+        window.gale = this;
+    }
+
+    say(text) {
+        if (!this.statusEl) return;
+        this.statusEl.hidden = !text;
+        this.statusEl.textContent = text || '';
+    }
+
+    status() {
+        return { conn: this.conn && this.conn.status, frames: this.conn && this.conn.stats, drawn: this.framesDrawn,
+            species: this.r ? this.r.species.filter(Boolean).length : 0, errors: this.errors, message: this.statusEl && !this.statusEl.hidden ? this.statusEl.textContent : '' };
+    }
+
+    async start() {
+        this.resize();
+        window.addEventListener('resize', () => this.resize());
+        try {
+            this.r = new Renderer(this.canvas);
+            if (this.o.maxTrees > 0) this.r.max_rows = this.o.maxTrees;
+            await this.r.init();
+        } catch (e) {
+            this.fatal = e;
+            this.say(e instanceof WebGL2Missing ? e.message : `The page could not start its renderer: ${e.message}`);
+            this.errors.push(e.message);
+            return;
+        }
+        const proto = location.protocol === 'https:' ? 'wss:' : 'ws:';
+        this.conn = new Connection({
+            url: `${proto}//${location.host}/`, role: this.o.role, token: this.o.token, extraHello: this.o.extraHello,
+            onStatus: (s) => this.onStatus(s),
+            onWelcome: (w) => this.onWelcome(w),
+            onFrame: (f) => this.onFrame(f),
+            onPong: (sent, server, recv) => this.clock.pong(sent, server, recv),
+            onText: (m) => this.o.onText && this.o.onText(m),
+        });
+        this.clock = new Clock();
+        this.conn.start();
+        this.attachControls();
+        requestAnimationFrame((t) => this.frame(t));
+    }
+
+    resize() {
+        const dpr = Math.min(window.devicePixelRatio || 1, 2);
+        this.canvas.width = Math.max(1, Math.round(this.canvas.clientWidth * dpr));
+        this.canvas.height = Math.max(1, Math.round(this.canvas.clientHeight * dpr));
+    }
+
+    onStatus(s) {
+        if (s.state === 'live') this.say('');
+        else if (s.text) this.say(s.text);
+        if (this.o.onStatus) this.o.onStatus(s);
+    }
+
+    async onWelcome(w) {
+        this.welcome = w;
+        this.ready = false;
+        const stride = Math.max(...w.species.map((s) => s.n_modes));
+        this.stride = stride;
+        this.clock.reset();
+        // the scene's centre and extent: the camera of client/client_scene.c
+        const n = w.instances.length;
+        const c = [0, 0, 0];
+        for (const r of w.instances) for (let k = 0; k < 3; k++) c[k] += r[1 + k] / n;
+        let rad = 10;
+        for (const r of w.instances) rad = Math.max(rad, Math.hypot(r[1] - c[0], r[2] - c[1]));
+        if (!this.camSet) {
+            this.cam.target = [c[0], c[1], c[2] + 4];
+            this.cam.distance = Math.min(1.6 * rad + 22, 1500);
+            this.camSet = true;
+        }
+        this.q = new Float32Array(n * stride);
+        this.qs = new Float32Array(n * stride);
+        this.modes = new Uint8Array(n);
+        this.jitter = new Jitter(n * stride);
+        try {
+            for (let i = 0; i < w.species.length; i++) {
+                if (this.speciesHash && this.speciesHash[i] === w.species[i].hash && this.r.species[i]) continue;
+                const sp = w.species[i];
+                const { asset, bytes } = await this.fetchWithRetry(sp);
+                this.bytesAssets += bytes;
+                if (asset.n_modes !== sp.n_modes) throw new Error(`${sp.name}: the asset has ${asset.n_modes} modes, the welcome says ${sp.n_modes}`);
+                this.r.addSpecies(i, asset);
+            }
+        } catch (e) {
+            this.errors.push(e.message);
+            this.say(e.message);
+            return;
+        }
+        this.speciesHash = w.species.map((s) => s.hash);
+        this.r.setInstances(w.instances, stride);
+        this.ready = true;
+        if (this.o.onWelcome) this.o.onWelcome(w);
+    }
+
+    // An asset whose bytes do not hash to the welcome's hash is refused and fetched again
+    // with a backoff (a server that rebakes serves the right bytes later).
+    async fetchWithRetry(sp) {
+        for (let wait = 0.5; ; wait = Math.min(wait * 2, 10)) {
+            try {
+                return await fetchAsset(sp.url, sp.hash, sp.name);
+            } catch (e) {
+                this.errors.push(e.message);
+                this.say(e.hashMismatch ? `Asset hash mismatch: ${e.message}. The tree species cannot be drawn; retrying in ${wait} s.` : `Could not load the ${sp.name} asset: ${e.message}. Retrying in ${wait} s.`);
+                await new Promise((res) => setTimeout(res, wait * 1000));
+                this.say('');
+            }
+        }
+    }
+
+    onFrame(f) {
+        const now = performance.now();
+        if (this.conn.lastDecode_ms !== undefined) this.perf.decode.push(this.conn.lastDecode_ms);
+        if (f.state && this.jitter) {
+            const st = f.state;
+            if (st.scene.stride !== this.stride) {
+                this.errors.push(`keyframe stride ${st.scene.stride}, welcome ${this.stride}`);
+                return;
+            }
+            const t0 = performance.now();
+            dequantise(st, this.qs);
+            this.perf.dequant.push(performance.now() - t0);
+            this.modes.set(st.n_modes);
+            const t_s = f.hdr.server_time_us * 1e-6;
+            this.clock.arrival(t_s, now * 1e-3);
+            try {
+                this.jitter.insert(f.hdr.tick, t_s, this.qs);
+            } catch (e) {
+                this.errors.push(e.message);
+                this.jitter.reset();
+            }
+        }
+        if (f.weather) {
+            this.weather = f.weather;
+            if (this.hudEl) this.hudEl.textContent = hudText(f.weather);
+            if (this.o.onWeather) this.o.onWeather(f.weather);
+        }
+        if (f.wind) this.lastWind = f.wind;
+        if (f.damage) this.damageEvents = (this.damageEvents || 0) + f.damage.events.length;
+        if (f.leaves) this.leavesShed = (this.leavesShed || 0) + f.leaves.length;
+    }
+
+    camera() {
+        if (this.o.camera) return this.o.camera(this);
+        const c = this.cam;
+        return { eye: orbitEye(c.target, c.distance, c.yaw, c.pitch), target: c.target, fov_y_deg: c.fov_y_deg };
+    }
+
+    frame(t_ms) {
+        requestAnimationFrame((t) => this.frame(t));
+        if (this.frozen || !this.ready || !this.jitter || !this.jitter.snaps.length) return;
+        const server = this.clock.serverTime(performance.now() * 1e-3);
+        if (server === null) return;
+        // a wall tile shows its group's frame instant; others a fixed delay behind the server
+        const shown = this.o.renderTime ? this.o.renderTime(this, server) : this.jitter.renderTime(server);
+        if (shown === null) return;
+        const t0 = performance.now();
+        this.jitter.sample(shown, this.q);
+        const t1 = performance.now();
+        this.r.uploadQ(this.q);
+        const t2 = performance.now();
+        try {
+            this.r.draw(this.camera(), (t_ms * 1e-3) % 3600, this.modes);
+        } catch (e) {
+            this.errors.push(e.message);
+            this.say(`Drawing failed: ${e.message}`);
+            this.ready = false;
+            return;
+        }
+        const t3 = performance.now();
+        this.perf.interp.push(t1 - t0);
+        this.perf.upload.push(t2 - t1);
+        this.perf.draw.push(t3 - t2);
+        for (const k of Object.keys(this.perf)) if (this.perf[k].length > 2000) this.perf[k].splice(0, 1000);
+        this.framesDrawn++;
+        if (this.firstFrame_ms === null) this.firstFrame_ms = performance.now(); // since navigation start
+        if (this.o.afterFrame) this.o.afterFrame(this);
+    }
+
+    // One frame of the state drawn last, with or without the trees, its pixels read back
+    // (RGBA rows bottom first, base64) with the camera it was drawn with: for tests.
+    still(showTrees) {
+        this.frozen = true;
+        const cam = this.camera();
+        this.r.hideTrees = !showTrees;
+        this.r.draw(cam, 0, this.modes);
+        this.r.hideTrees = false;
+        const gl = this.r.gl, w = this.canvas.width, h = this.canvas.height;
+        const px = new Uint8Array(w * h * 4);
+        gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, px);
+        let bin = '';
+        for (let i = 0; i < px.length; i += 0x8000) bin += String.fromCharCode.apply(null, px.subarray(i, i + 0x8000));
+        return { w, h, cam, pixels: btoa(bin) };
+    }
+
+    perfSummary() {
+        const out = {};
+        // performance.now() is coarsened (0.1 ms here): the mean over many is finer than a median
+        for (const [k, a] of Object.entries(this.perf)) {
+            out[k] = { n: a.length, median_ms: percentile(a, 0.5), p95_ms: percentile(a, 0.95), mean_ms: a.length ? a.reduce((x, y) => x + y, 0) / a.length : null };
+        }
+        return out;
+    }
+
+    // drag to orbit, wheel to zoom (gale-client's orbit camera); no hover-only control
+    attachControls() {
+        if (this.o.camera) return;
+        let last = null;
+        this.canvas.addEventListener('pointerdown', (e) => { last = [e.clientX, e.clientY]; this.canvas.setPointerCapture(e.pointerId); });
+        this.canvas.addEventListener('pointerup', () => { last = null; });
+        this.canvas.addEventListener('pointermove', (e) => {
+            if (!last) return;
+            this.cam.yaw -= (e.clientX - last[0]) * 0.005;
+            this.cam.pitch = Math.max(-1.5, Math.min(1.5, this.cam.pitch - (e.clientY - last[1]) * 0.005));
+            last = [e.clientX, e.clientY];
+        });
+        this.canvas.addEventListener('wheel', (e) => {
+            e.preventDefault();
+            this.cam.distance = Math.max(2, Math.min(5000, this.cam.distance * Math.exp(e.deltaY * 0.001)));
+        }, { passive: false });
+    }
+}

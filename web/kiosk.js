@@ -1,0 +1,140 @@
+// The kiosk page (/kiosk): the scene with the touch panel of client/kiosk_ui.c as HTML
+// (PROTOCOL.md "The kiosk's touch panel"). The token is typed once on the setup screen
+// (or given in the URL fragment, #token=..., which never reaches the server) and kept in
+// this browser's localStorage: never in the query string or the page source.
+import { App } from './app.js';
+
+const KEY = 'gale.kiosk.token';
+const $ = (id) => document.getElementById(id);
+
+function tokenFromFragment() {
+    const m = location.hash.match(/(?:^#|&)token=([^&]*)/);
+    if (!m) return;
+    localStorage.setItem(KEY, decodeURIComponent(m[1]));
+    history.replaceState(null, '', location.pathname + location.search); // off the address bar
+}
+
+function showSetup(message) {
+    $('panel').hidden = true;
+    $('setup').hidden = false;
+    $('setup-error').textContent = message || '';
+    $('token').focus();
+}
+
+let app = null;
+let dialSent = 0;
+let dialTimer = null;
+let chosenDir = false;
+
+function send(msg) {
+    return app && app.conn && app.conn.send({ ...msg, token: localStorage.getItem(KEY) });
+}
+
+// the dial sends a few values a second while dragged and the last on release
+function sendDial(final) {
+    const speed = Number($('dial').value);
+    const msg = { type: 'wind', speed_ms: speed };
+    if (chosenDir) msg.dir_deg = dirDeg();
+    const now = performance.now();
+    clearTimeout(dialTimer);
+    if (final || now - dialSent > 250) {
+        dialSent = now;
+        send(msg);
+    } else {
+        dialTimer = setTimeout(() => sendDial(true), 250);
+    }
+}
+
+// compass: where the wind comes from, clockwise from north; the wire wants where it blows
+// towards, counter-clockwise from +x: 270° − bearing
+function dirDeg() {
+    return (((270 - Number($('compass').value)) % 360) + 360) % 360;
+}
+
+function letters(s) { return (s || '').toLowerCase().replace(/[^a-z0-9]/g, ''); }
+
+function onWeather(w) {
+    if (document.activeElement !== $('dial')) {
+        $('dial').value = Math.round(w.sustained_ms);
+        $('dial-out').textContent = Math.round(w.sustained_ms);
+    }
+    if (document.activeElement !== $('compass')) {
+        $('compass').value = Math.round(w.dir_from_deg) % 360;
+        $('compass-out').textContent = Math.round(w.dir_from_deg) % 360;
+    }
+    for (const b of document.querySelectorAll('#scenarios button')) {
+        b.setAttribute('aria-pressed', String(letters(w.name) !== '' && (letters(w.name) === letters(b.dataset.title) || letters(w.name) === letters(b.dataset.name))));
+    }
+    const paused = (w.flags & 16) !== 0;
+    $('pause').textContent = paused ? 'Play' : 'Pause';
+    $('pause').setAttribute('aria-pressed', String(paused));
+    for (const b of document.querySelectorAll('[data-speed]')) {
+        b.setAttribute('aria-pressed', String(Math.abs(Number(b.dataset.speed) - w.replay_speed) < 0.5));
+    }
+}
+
+function onWelcome(w) {
+    $('setup').hidden = true;
+    $('panel').hidden = false;
+    const box = $('scenarios');
+    box.textContent = '';
+    for (const sc of w.scenarios || []) {
+        const b = document.createElement('button');
+        b.type = 'button';
+        b.textContent = sc.title || sc.name;
+        b.dataset.name = sc.name;
+        b.dataset.title = sc.title;
+        b.addEventListener('click', () => send({ type: 'wind', scenario: sc.name }));
+        box.append(b);
+    }
+}
+
+function start(token) {
+    if (app) {
+        app.conn.o.token = token;
+        app.conn.start();
+        return;
+    }
+    app = new App({
+        role: 'kiosk', token, onWelcome, onWeather,
+        onStatus: (s) => {
+            if (s.state === 'refused') {
+                localStorage.removeItem(KEY);
+                app.say('');
+                showSetup(s.text);
+            }
+        },
+    });
+    app.start();
+}
+
+tokenFromFragment();
+$('dial').addEventListener('input', () => { $('dial-out').textContent = $('dial').value; sendDial(false); });
+$('dial').addEventListener('change', () => sendDial(true));
+$('compass').addEventListener('input', () => { $('compass-out').textContent = $('compass').value; chosenDir = true; });
+$('compass').addEventListener('change', () => {
+    chosenDir = true;
+    const msg = { type: 'wind', dir_deg: dirDeg() };
+    if (app && app.weather && app.weather.flags & 2) msg.speed_ms = Number($('dial').value);
+    send(msg);
+});
+$('pause').addEventListener('click', () => send({ type: 'wind', replay_paused: $('pause').getAttribute('aria-pressed') !== 'true' }));
+$('landfall').addEventListener('click', () => send({ type: 'wind', replay_at_min: 0 }));
+for (const b of document.querySelectorAll('[data-speed]')) {
+    b.addEventListener('click', () => send({ type: 'wind', replay_speed: Number(b.dataset.speed) }));
+}
+$('reset').addEventListener('click', () => send({ type: 'reset' }));
+$('setup').addEventListener('submit', (e) => {
+    e.preventDefault();
+    const t = $('token').value;
+    if (!t) return;
+    localStorage.setItem(KEY, t);
+    $('token').value = '';
+    start(t);
+});
+// the dial is released when the visitor's page goes away
+window.addEventListener('pagehide', () => send({ type: 'wind', release: true }));
+
+const stored = localStorage.getItem(KEY);
+if (stored) start(stored);
+else showSetup('');

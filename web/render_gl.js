@@ -1,0 +1,421 @@
+// The trees in WebGL2 as gale-client draws them (client/render*.c): the skeleton of every
+// drawn tree rebuilt on the GPU from q in the length-true form (shaders/skel.frag, two
+// passes into float textures), the bark tubes skinned on it (tree.vert/.frag), the leaves
+// on their nodes (leaf.vert/.frag), sky and ground (sky.frag). The shaders are the files
+// of shaders/ (web/shaders.js). Data the native client keeps in buffer textures lives here
+// in 2D textures read by buf_fetch (common.glsl), row-major, DATA_W texels a row.
+import { loadProgram } from './shaders.js';
+
+export class WebGL2Missing extends Error {}
+
+const DATA_W = 2048;
+// texture units: the native client's (client/render_internal.h)
+const RU = { SKEL: 0, NODE: 1, LIST: 2, TREES: 3, VW: 4, Q: 5, LEAF: 6, WIND: 7, CUT: 10, CUTN: 11 };
+const SAMPLERS = { u_skel: RU.SKEL, u_node: RU.NODE, u_list: RU.LIST, u_trees: RU.TREES, u_vw: RU.VW,
+    u_q: RU.Q, u_leaf: RU.LEAF, u_wind: RU.WIND, u_cut: RU.CUT, u_cutn: RU.CUTN };
+const LEAF_ASPECT = [0.55, 0.16, 1.0]; // render_leaf_aspect, client/render_species.c
+const CALM = { sun: [1.05, 0.97, 0.86], zenith: [0.30, 0.50, 0.82], horizon: [0.74, 0.82, 0.90], ground: [0.30, 0.40, 0.17] };
+
+// ---- small column-major matrix helpers (the layout of cglm and GLSL) ----
+export function perspective(fovy_rad, aspect, near, far) {
+    const f = 1 / Math.tan(fovy_rad / 2), nf = 1 / (near - far);
+    return new Float32Array([f / aspect, 0, 0, 0, 0, f, 0, 0, 0, 0, (far + near) * nf, -1, 0, 0, 2 * far * near * nf, 0]);
+}
+export function lookAt(eye, target, up) {
+    const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    const norm = (a) => { const l = Math.hypot(...a); return a.map((x) => x / l); };
+    const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+    const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    const f = norm(sub(target, eye)), s = norm(cross(f, up)), u = cross(s, f);
+    return new Float32Array([s[0], u[0], -f[0], 0, s[1], u[1], -f[1], 0, s[2], u[2], -f[2], 0,
+        -dot(s, eye), -dot(u, eye), dot(f, eye), 1]);
+}
+export function mul(a, b) {
+    const o = new Float32Array(16);
+    for (let c = 0; c < 4; c++) for (let r = 0; r < 4; r++) {
+        let s = 0;
+        for (let k = 0; k < 4; k++) s += a[k * 4 + r] * b[c * 4 + k];
+        o[c * 4 + r] = s;
+    }
+    return o;
+}
+export function invert(m) {
+    const inv = new Float64Array(16);
+    inv[0] = m[5] * m[10] * m[15] - m[5] * m[11] * m[14] - m[9] * m[6] * m[15] + m[9] * m[7] * m[14] + m[13] * m[6] * m[11] - m[13] * m[7] * m[10];
+    inv[4] = -m[4] * m[10] * m[15] + m[4] * m[11] * m[14] + m[8] * m[6] * m[15] - m[8] * m[7] * m[14] - m[12] * m[6] * m[11] + m[12] * m[7] * m[10];
+    inv[8] = m[4] * m[9] * m[15] - m[4] * m[11] * m[13] - m[8] * m[5] * m[15] + m[8] * m[7] * m[13] + m[12] * m[5] * m[11] - m[12] * m[7] * m[9];
+    inv[12] = -m[4] * m[9] * m[14] + m[4] * m[10] * m[13] + m[8] * m[5] * m[14] - m[8] * m[6] * m[13] - m[12] * m[5] * m[10] + m[12] * m[6] * m[9];
+    inv[1] = -m[1] * m[10] * m[15] + m[1] * m[11] * m[14] + m[9] * m[2] * m[15] - m[9] * m[3] * m[14] - m[13] * m[2] * m[11] + m[13] * m[3] * m[10];
+    inv[5] = m[0] * m[10] * m[15] - m[0] * m[11] * m[14] - m[8] * m[2] * m[15] + m[8] * m[3] * m[14] + m[12] * m[2] * m[11] - m[12] * m[3] * m[10];
+    inv[9] = -m[0] * m[9] * m[15] + m[0] * m[11] * m[13] + m[8] * m[1] * m[15] - m[8] * m[3] * m[13] - m[12] * m[1] * m[11] + m[12] * m[3] * m[9];
+    inv[13] = m[0] * m[9] * m[14] - m[0] * m[10] * m[13] - m[8] * m[1] * m[14] + m[8] * m[2] * m[13] + m[12] * m[1] * m[10] - m[12] * m[2] * m[9];
+    inv[2] = m[1] * m[6] * m[15] - m[1] * m[7] * m[14] - m[5] * m[2] * m[15] + m[5] * m[3] * m[14] + m[13] * m[2] * m[7] - m[13] * m[3] * m[6];
+    inv[6] = -m[0] * m[6] * m[15] + m[0] * m[7] * m[14] + m[4] * m[2] * m[15] - m[4] * m[3] * m[14] - m[12] * m[2] * m[7] + m[12] * m[3] * m[6];
+    inv[10] = m[0] * m[5] * m[15] - m[0] * m[7] * m[13] - m[4] * m[1] * m[15] + m[4] * m[3] * m[13] + m[12] * m[1] * m[7] - m[12] * m[3] * m[5];
+    inv[14] = -m[0] * m[5] * m[14] + m[0] * m[6] * m[13] + m[4] * m[1] * m[14] - m[4] * m[2] * m[13] - m[12] * m[1] * m[6] + m[12] * m[2] * m[5];
+    inv[3] = -m[1] * m[6] * m[11] + m[1] * m[7] * m[10] + m[5] * m[2] * m[11] - m[5] * m[3] * m[10] - m[9] * m[2] * m[7] + m[9] * m[3] * m[6];
+    inv[7] = m[0] * m[6] * m[11] - m[0] * m[7] * m[10] - m[4] * m[2] * m[11] + m[4] * m[3] * m[10] + m[8] * m[2] * m[7] - m[8] * m[3] * m[6];
+    inv[11] = -m[0] * m[5] * m[11] + m[0] * m[7] * m[9] + m[4] * m[1] * m[11] - m[4] * m[3] * m[9] - m[8] * m[1] * m[7] + m[8] * m[3] * m[5];
+    inv[15] = m[0] * m[5] * m[10] - m[0] * m[6] * m[9] - m[4] * m[1] * m[10] + m[4] * m[2] * m[9] + m[8] * m[1] * m[6] - m[8] * m[2] * m[5];
+    const det = m[0] * inv[0] + m[1] * inv[4] + m[2] * inv[8] + m[3] * inv[12];
+    return Float32Array.from(inv, (x) => x / det);
+}
+
+// The orbit camera of client/camera.c: yaw from +x, pitch up, looking at target.
+export function orbitEye(target, distance, yaw, pitch) {
+    const cp = Math.cos(pitch);
+    const f = [cp * Math.cos(yaw), cp * Math.sin(yaw), Math.sin(pitch)];
+    return target.map((t, k) => t - f[k] * distance);
+}
+
+export class Renderer {
+    constructor(canvas) {
+        const gl = canvas.getContext('webgl2', { antialias: false, preserveDrawingBuffer: true });
+        if (!gl) throw new WebGL2Missing('This browser has no WebGL2: gale draws its trees with WebGL2. Use a current Chrome, Firefox, Edge or Safari with hardware acceleration on.');
+        if (!gl.getExtension('EXT_color_buffer_float')) {
+            throw new WebGL2Missing('This browser\'s WebGL2 cannot render to float textures (EXT_color_buffer_float), which gale needs to pose the trees.');
+        }
+        this.gl = gl;
+        this.canvas = canvas;
+        this.species = [];
+        this.n_trees = 0;
+        this.skel_w = 0;
+        this.skel_h = 0;
+        this.max_rows = 4096;
+        this.stats = { frames: 0, trees_drawn: 0, upload_ms: 0 };
+        this.fx = { ...CALM, fog_scale: 1 };
+    }
+
+    async init(base = '') {
+        const gl = this.gl;
+        const names = ['skel', 'tree', 'leaf', 'sky'];
+        const progs = await Promise.all(names.map((n) => loadProgram(gl, n, base)));
+        this.p = Object.fromEntries(names.map((n, i) => [n, progs[i]]));
+        for (const p of progs) {
+            gl.useProgram(p.id);
+            for (const [name, unit] of Object.entries(SAMPLERS)) if (p.u[name]) gl.uniform1i(p.u[name], unit);
+        }
+        this.vaoEmpty = gl.createVertexArray();
+        this.wind = gl.createTexture();
+        gl.bindTexture(gl.TEXTURE_3D, this.wind);
+        gl.texImage3D(gl.TEXTURE_3D, 0, gl.RGBA8, 1, 1, 1, 0, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
+        this.list = this.dataTex(4, 1);
+        this.cutn = this.dataTex(1, 1);
+    }
+
+    // A data texture of n texels of `channels` floats (1 or 4), uploaded from data.
+    dataTex(channels, n, data = null, old = null) {
+        const gl = this.gl;
+        const w = Math.min(DATA_W, Math.max(n, 1)), h = Math.max(1, Math.ceil(n / w));
+        const t = old && old.w === w && old.h >= h && old.channels === channels ? old : { tex: gl.createTexture(), w, h, channels, fresh: true };
+        if (old && t !== old) gl.deleteTexture(old.tex);
+        gl.bindTexture(gl.TEXTURE_2D, t.tex);
+        const fmt = channels === 1 ? gl.RED : gl.RGBA, ifmt = channels === 1 ? gl.R32F : gl.RGBA32F;
+        if (t.fresh) {
+            gl.texImage2D(gl.TEXTURE_2D, 0, ifmt, w, t.h, 0, fmt, gl.FLOAT, null);
+            for (const k of [gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER]) gl.texParameteri(gl.TEXTURE_2D, k, gl.NEAREST);
+            t.fresh = false;
+        }
+        if (data) {
+            const rows = Math.ceil(data.length / channels / w);
+            let src = data;
+            if (src.length < rows * w * channels) {
+                src = new Float32Array(rows * w * channels);
+                src.set(data);
+            }
+            gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, 0, w, rows, fmt, gl.FLOAT, src.subarray(0, rows * w * channels));
+        }
+        return t;
+    }
+
+    bindTex(unit, target, tex) {
+        const gl = this.gl;
+        gl.activeTexture(gl.TEXTURE0 + unit);
+        gl.bindTexture(target, tex);
+    }
+
+    // One species (web/asset.js decodeAsset), at index i of the welcome's list.
+    addSpecies(i, a) {
+        const gl = this.gl, nn = a.n_nodes, nm = a.n_modes;
+        if (nn < 2 || nn > 16384) throw new Error(`${a.name}: n_nodes ${nn} (2..16384)`);
+        if (nm > 64) throw new Error(`${a.name}: n_modes ${nm} (0..64)`);
+        const s = { n_nodes: nn, n_modes: nm, n_leaves: a.n_leaves, n_lods: a.n_lods, lod_first: a.lod_first,
+            lod_count: a.lod_count, bark: a.bark_rgb, leaf_rgb: a.leaf_rgb, leaf_shape: a.leaf_shape };
+        let h = 0, cr = 0;
+        for (let k = 0; k < nn; k++) {
+            h = Math.max(h, a.rest[3 * k + 2]);
+            cr = Math.max(cr, Math.hypot(a.rest[3 * k], a.rest[3 * k + 1]) + a.radius[k]);
+        }
+        for (let l = 0; l < a.n_leaves; l++) {
+            const j = a.leaf_node[l];
+            const x = a.rest[3 * j] + a.leaf_offset[3 * l], y = a.rest[3 * j + 1] + a.leaf_offset[3 * l + 1];
+            h = Math.max(h, a.rest[3 * j + 2] + a.leaf_offset[3 * l + 2] + a.leaf_size[l]);
+            cr = Math.max(cr, Math.hypot(x, y) + a.leaf_size[l]);
+        }
+        s.height = h;
+        s.crown_r = cr;
+        // the leaves' centroid at rest [m, tree frame]: where the crown stands
+        const c = [0, 0, 0];
+        for (let l = 0; l < a.n_leaves; l++) {
+            for (let k = 0; k < 3; k++) c[k] += (a.rest[3 * a.leaf_node[l] + k] + a.leaf_offset[3 * l + k]) / a.n_leaves;
+        }
+        s.crown_c = a.n_leaves ? c : [0, 0, 0.62 * h];
+        s.ab = new Float32Array(128);
+        for (let m = 0; m < nm; m++) {
+            s.ab[2 * m] = a.corr_a[m];
+            s.ab[2 * m + 1] = a.corr_b[m];
+        }
+        const vw = new Float32Array(nm * nn * 8);
+        for (let m = 0; m < nm; m++) for (let k = 0; k < nn; k++) {
+            const o = (m * nn + k) * 8, src = (m * nn + k) * 3;
+            vw.set(a.corr_v.subarray(src, src + 3), o);
+            vw.set(a.corr_w.subarray(src, src + 3), o + 4);
+        }
+        s.vw = this.dataTex(4, nm * nn * 2, vw);
+        const node = new Float32Array(nn * 4);
+        for (let k = 0; k < nn; k++) {
+            node.set(a.rest.subarray(3 * k, 3 * k + 3), 4 * k);
+            node[4 * k + 3] = a.parent[k];
+        }
+        s.node = this.dataTex(4, nn, node);
+        const leaf = new Float32Array(Math.max(1, a.n_leaves) * 8);
+        for (let l = 0; l < a.n_leaves; l++) {
+            leaf.set(a.leaf_offset.subarray(3 * l, 3 * l + 3), 8 * l);
+            leaf[8 * l + 3] = a.leaf_node[l];
+            leaf.set(a.leaf_normal.subarray(3 * l, 3 * l + 3), 8 * l + 4);
+            leaf[8 * l + 7] = a.leaf_size[l];
+        }
+        s.leaf = this.dataTex(4, Math.max(1, a.n_leaves) * 2, leaf);
+        s.vao = gl.createVertexArray();
+        gl.bindVertexArray(s.vao);
+        const nv = a.n_verts;
+        const vbo = gl.createBuffer();
+        gl.bindBuffer(gl.ARRAY_BUFFER, vbo);
+        gl.bufferData(gl.ARRAY_BUFFER, nv * 36 || 16, gl.STATIC_DRAW);
+        gl.bufferSubData(gl.ARRAY_BUFFER, 0, a.mesh_pos);
+        gl.bufferSubData(gl.ARRAY_BUFFER, nv * 12, a.mesh_normal);
+        gl.bufferSubData(gl.ARRAY_BUFFER, nv * 24, a.mesh_bone);
+        gl.bufferSubData(gl.ARRAY_BUFFER, nv * 32, a.mesh_weight);
+        gl.enableVertexAttribArray(0);
+        gl.vertexAttribPointer(0, 3, gl.FLOAT, false, 0, 0);
+        gl.enableVertexAttribArray(1);
+        gl.vertexAttribPointer(1, 3, gl.FLOAT, false, 0, nv * 12);
+        gl.enableVertexAttribArray(2);
+        // tree.vert reads ivec2: WebGL wants the signed type (bones < 16384: the same bits)
+        gl.vertexAttribIPointer(2, 2, gl.INT, 0, nv * 24);
+        gl.enableVertexAttribArray(3);
+        gl.vertexAttribPointer(3, 1, gl.FLOAT, false, 0, nv * 32);
+        const ibo = gl.createBuffer();
+        gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, ibo);
+        gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, a.mesh_index, gl.STATIC_DRAW);
+        gl.bindVertexArray(null);
+        this.species[i] = s;
+    }
+
+    // The welcome's instances: rows [species, x, y, z, yaw, scale].
+    setInstances(rows, stride) {
+        this.n_trees = rows.length;
+        this.inst = rows;
+        const t = new Float32Array(rows.length * 8);
+        rows.forEach((r, i) => {
+            t.set([r[1], r[2], r[3], r[4], r[5] > 0 ? r[5] : 1, r[0], 0, 0], 8 * i);
+        });
+        this.trees = this.dataTex(4, rows.length * 2, t, this.trees);
+        this.cut = this.dataTex(4, rows.length, new Float32Array(rows.length * 4), this.cut);
+        this.setStride(stride);
+    }
+
+    setStride(stride) {
+        this.q_stride = stride;
+        this.q = this.dataTex(1, Math.max(1, this.n_trees * stride), null, this.q);
+    }
+
+    // q of every tree [n_trees × q_stride] (floats) and the modes each was sent with.
+    uploadQ(q) {
+        const gl = this.gl;
+        const n = this.n_trees * this.q_stride, w = this.q.w, rows = Math.ceil(n / w);
+        gl.bindTexture(gl.TEXTURE_2D, this.q.tex);
+        if (q.length >= rows * w) {
+            gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, 0, w, rows, gl.RED, gl.FLOAT, q, 0);
+        } else {
+            if (rows > 1) gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, 0, w, rows - 1, gl.RED, gl.FLOAT, q, 0);
+            const last = n - (rows - 1) * w;
+            gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, rows - 1, last, 1, gl.RED, gl.FLOAT, q, (rows - 1) * w);
+        }
+    }
+
+    ensureSkel(w, rows) {
+        const gl = this.gl;
+        if (w <= this.skel_w && rows <= this.skel_h) return;
+        w = Math.max(w, this.skel_w);
+        rows = Math.max(rows, 2 * this.skel_h, 16);
+        this.skelTex = this.skelTex || [gl.createTexture(), gl.createTexture()];
+        this.skelFbo = this.skelFbo || [gl.createFramebuffer(), gl.createFramebuffer()];
+        for (let k = 0; k < 2; k++) {
+            gl.bindTexture(gl.TEXTURE_2D, this.skelTex[k]);
+            gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, w, rows, 0, gl.RGBA, gl.FLOAT, null);
+            for (const p of [gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER]) gl.texParameteri(gl.TEXTURE_2D, p, gl.NEAREST);
+            gl.bindFramebuffer(gl.FRAMEBUFFER, this.skelFbo[k]);
+            gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, this.skelTex[k], 0);
+            if (gl.checkFramebufferStatus(gl.FRAMEBUFFER) !== gl.FRAMEBUFFER_COMPLETE) {
+                throw new WebGL2Missing(`skeleton texture ${w}×${rows} (RGBA32F) is not renderable here`);
+            }
+        }
+        this.skel_w = w;
+        this.skel_h = rows;
+    }
+
+    setCommon(p, t) {
+        const gl = this.gl, u = p.u, fx = this.fx;
+        gl.useProgram(p.id);
+        gl.uniformMatrix4fv(u.u_viewproj, false, this.viewproj);
+        gl.uniform3fv(u.u_eye, this.eye);
+        const sun = [0.45, -0.35, 0.62], l = Math.hypot(...sun);
+        gl.uniform3fv(u.u_sun_dir, sun.map((x) => x / l));
+        gl.uniform3fv(u.u_sun_col, fx.sun);
+        gl.uniform3fv(u.u_sky_zenith, fx.zenith);
+        gl.uniform3fv(u.u_sky_horizon, fx.horizon);
+        gl.uniform3fv(u.u_ground_col, fx.ground);
+        gl.uniform1f(u.u_fog_dist, 450 * fx.fog_scale);
+        gl.uniform1f(u.u_time, t);
+        gl.uniform3fv(u.u_wind_origin, [0, 0, 0]);
+        gl.uniform3fv(u.u_wind_extent, [0, 0, 0]);
+        gl.uniform3fv(u.u_wind_uniform, this.windUniform || [0, 0, 0]);
+        this.bindTex(RU.WIND, gl.TEXTURE_3D, this.wind);
+    }
+
+    // cam: { eye, target, fov_y_deg, near, far } or { viewproj, eye } for a wall tile;
+    // modes: per tree mode count (0: not sent: drawn at rest with none).
+    draw(cam, t, modes) {
+        const gl = this.gl, W = this.canvas.width, H = this.canvas.height;
+        if (cam.viewproj) {
+            this.viewproj = cam.viewproj;
+        } else {
+            const proj = perspective(cam.fov_y_deg * Math.PI / 180, W / H, cam.near || 0.3, cam.far || 3000);
+            this.viewproj = mul(proj, lookAt(cam.eye, cam.target, [0, 0, 1]));
+        }
+        this.eye = cam.eye;
+        // the draw list: per species, its trees nearest first, up to max_rows in all
+        const per = this.species.map(() => []);
+        const order = [];
+        for (let i = 0; i < this.n_trees; i++) {
+            const r = this.inst[i];
+            if (!this.species[r[0]]) continue;
+            order.push([Math.hypot(r[1] - cam.eye[0], r[2] - cam.eye[1], r[3] - cam.eye[2]), i]);
+        }
+        order.sort((a, b) => a[0] - b[0]);
+        for (const [d, i] of order.slice(0, this.max_rows)) per[this.inst[i][0]].push([i, d]);
+        const list = new Float32Array(Math.max(1, order.length) * 4);
+        const groups = [];
+        let row = 0, maxw = 1;
+        per.forEach((trees, s) => {
+            const sp = this.species[s];
+            if (!sp || !trees.length) return;
+            maxw = Math.max(maxw, sp.n_nodes);
+            // nearer trees get the finer mesh LOD: one group per LOD, 30 m apart
+            const byLod = Array.from({ length: sp.n_lods }, () => []);
+            for (const [i, d] of trees) byLod[Math.min(sp.n_lods - 1, Math.floor(d / 30))].push(i);
+            const g = { s, base: row, lods: [] };
+            for (let l = 0; l < sp.n_lods; l++) {
+                g.lods.push([row, byLod[l].length]);
+                for (const i of byLod[l]) {
+                    const nm = modes ? Math.min(modes[i], sp.n_modes) : sp.n_modes;
+                    list.set([i, row, nm, 1], 4 * row);
+                    row++;
+                }
+            }
+            g.n = row - g.base;
+            groups.push(g);
+        });
+        this.stats.trees_drawn = row;
+        this.list = this.dataTex(4, Math.max(1, row), list.subarray(0, Math.max(1, row) * 4), this.list);
+        this.ensureSkel(maxw, row);
+
+        gl.disable(gl.DEPTH_TEST);
+        gl.disable(gl.BLEND);
+        const ps = this.p.skel;
+        gl.useProgram(ps.id);
+        gl.uniform2f(ps.u.u_target, this.skel_w, this.skel_h);
+        gl.uniform1i(ps.u.u_qstride, this.q_stride);
+        gl.bindVertexArray(this.vaoEmpty);
+        this.bindTex(RU.LIST, gl.TEXTURE_2D, this.list.tex);
+        this.bindTex(RU.Q, gl.TEXTURE_2D, this.q.tex);
+        this.bindTex(RU.CUT, gl.TEXTURE_2D, this.cut.tex);
+        this.bindTex(RU.CUTN, gl.TEXTURE_2D, this.cutn.tex);
+        for (const g of groups) {
+            const sp = this.species[g.s];
+            gl.uniform1i(ps.u.u_base, g.base);
+            gl.uniform1i(ps.u.u_nodes, sp.n_nodes);
+            gl.uniform2fv(ps.u.u_ab, sp.ab);
+            this.bindTex(RU.VW, gl.TEXTURE_2D, sp.vw.tex);
+            this.bindTex(RU.NODE, gl.TEXTURE_2D, sp.node.tex);
+            // pass 0: posed segments into skelTex[1]; pass 1: their sums into skelTex[0]
+            gl.bindFramebuffer(gl.FRAMEBUFFER, this.skelFbo[1]);
+            gl.viewport(0, 0, this.skel_w, this.skel_h);
+            this.bindTex(RU.SKEL, gl.TEXTURE_2D, this.skelTex[0]);
+            gl.uniform1i(ps.u.u_pass, 0);
+            gl.drawArraysInstanced(gl.TRIANGLES, 0, 6, g.n);
+            gl.bindFramebuffer(gl.FRAMEBUFFER, this.skelFbo[0]);
+            this.bindTex(RU.SKEL, gl.TEXTURE_2D, this.skelTex[1]);
+            gl.uniform1i(ps.u.u_pass, 1);
+            gl.drawArraysInstanced(gl.TRIANGLES, 0, 6, g.n);
+        }
+
+        gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+        gl.viewport(0, 0, W, H);
+        gl.enable(gl.DEPTH_TEST);
+        gl.depthMask(true);
+        gl.clear(gl.DEPTH_BUFFER_BIT);
+        gl.depthFunc(gl.ALWAYS);
+        this.setCommon(this.p.sky, t);
+        gl.uniformMatrix4fv(this.p.sky.u.u_inv_viewproj, false, invert(this.viewproj));
+        gl.bindVertexArray(this.vaoEmpty);
+        gl.drawArrays(gl.TRIANGLES, 0, 3);
+        gl.depthFunc(gl.LESS);
+
+        if (this.hideTrees) {
+            this.stats.frames++;
+            return;
+        }
+        this.bindTex(RU.SKEL, gl.TEXTURE_2D, this.skelTex[0]);
+        this.bindTex(RU.LIST, gl.TEXTURE_2D, this.list.tex);
+        this.bindTex(RU.TREES, gl.TEXTURE_2D, this.trees.tex);
+        gl.enable(gl.CULL_FACE);
+        gl.cullFace(gl.BACK);
+        const pt = this.p.tree;
+        this.setCommon(pt, t);
+        for (const g of groups) {
+            const sp = this.species[g.s];
+            gl.uniform3fv(pt.u.u_bark, sp.bark);
+            this.bindTex(RU.NODE, gl.TEXTURE_2D, sp.node.tex);
+            gl.bindVertexArray(sp.vao);
+            g.lods.forEach(([base, n], l) => {
+                if (!n || !sp.lod_count[l]) return;
+                gl.uniform1i(pt.u.u_base, base);
+                gl.drawElementsInstanced(gl.TRIANGLES, sp.lod_count[l], gl.UNSIGNED_INT, sp.lod_first[l] * 4, n);
+            });
+        }
+        gl.disable(gl.CULL_FACE);
+        const pl = this.p.leaf;
+        this.setCommon(pl, t);
+        gl.bindVertexArray(this.vaoEmpty);
+        for (const g of groups) {
+            const sp = this.species[g.s];
+            if (!sp.n_leaves) continue;
+            gl.uniform1i(pl.u.u_base, g.base);
+            gl.uniform1i(pl.u.u_nleaves, sp.n_leaves);
+            gl.uniform1f(pl.u.u_aspect, LEAF_ASPECT[sp.leaf_shape]);
+            gl.uniform2f(pl.u.u_crown, sp.crown_r, sp.height);
+            gl.uniform3fv(pl.u.u_leafcol, sp.leaf_rgb);
+            gl.uniform1i(pl.u.u_shape, sp.leaf_shape);
+            this.bindTex(RU.NODE, gl.TEXTURE_2D, sp.node.tex);
+            this.bindTex(RU.LEAF, gl.TEXTURE_2D, sp.leaf.tex);
+            gl.drawArraysInstanced(gl.TRIANGLES, 0, 6, g.n * sp.n_leaves);
+        }
+        // the first frames are checked (a check each frame would stall the pipeline)
+        if (this.stats.frames++ < 3) {
+            const e = gl.getError();
+            if (e) throw new Error(`WebGL error 0x${e.toString(16)} in frame ${this.stats.frames}`);
+        }
+    }
+}
