@@ -1,34 +1,36 @@
-// The hex test vectors of protocol/PROTOCOL.md, read from that file (the one copy): every
-// fenced block whose lines are all `OFFSET: HEX HEX ...` dump lines is one frame, whatever
-// label or info string the block carries. Frames are told apart by their header's type
-// byte, not by where they stand, so a relabelled or reordered section still reads.
+// The test vectors of protocol/PROTOCOL.md, read from that file (the one copy) by the
+// marker its "Test vectors" section defines: a fenced block opened by ```gale-hex NAME
+// (a binary frame, offset-prefixed hex lines) or ```gale-json NAME (one line of JSON).
 import { readFileSync } from 'node:fs';
 
-const DUMP = /^\s*([0-9a-fA-F]+)\s*:\s*((?:[0-9a-fA-F]{2}\s*)+)$/;
+const BLOCK = /^```gale-(hex|json) ([A-Z][A-Z0-9-]*)\n([\s\S]*?)\n```$/gm;
+const DUMP = /^([0-9a-f]{2,}):((?: [0-9a-f]{2}){1,16})$/;
 
+// Returns { hex: { NAME: Uint8Array }, json: { NAME: string } }; throws, naming the
+// line, on a malformed dump, a gap in its offsets or a name used twice.
 export function parseVectors(text) {
-    const frames = [];
-    const lines = text.split('\n');
-    for (let i = 0; i < lines.length; i++) {
-        if (!/^\s*```/.test(lines[i])) continue;
-        let j = i + 1;
-        const body = [];
-        while (j < lines.length && !/^\s*```/.test(lines[j])) body.push(lines[j++]);
-        const dump = body.filter((l) => l.trim() !== '');
-        if (dump.length && dump.every((l) => DUMP.test(l))) {
-            const bytes = [];
-            for (const l of dump) {
-                const [, off, hex] = l.match(DUMP);
-                if (parseInt(off, 16) !== bytes.length) {
-                    throw new Error(`PROTOCOL.md line ${i + 1}: offset ${off} after ${bytes.length} bytes`);
-                }
-                for (const h of hex.trim().split(/\s+/)) bytes.push(parseInt(h, 16));
-            }
-            frames.push({ line: i + 1, bytes: Uint8Array.from(bytes) });
+    const out = { hex: {}, json: {} };
+    for (const m of text.matchAll(BLOCK)) {
+        const [, kind, name, body] = m;
+        const line = text.slice(0, m.index).split('\n').length;
+        if (out.hex[name] || out.json[name]) throw new Error(`PROTOCOL.md line ${line}: ${name} used twice`);
+        if (kind === 'json') {
+            if (body.includes('\n')) throw new Error(`PROTOCOL.md line ${line}: ${name}: more than one line`);
+            out.json[name] = body;
+            continue;
         }
-        i = j;
+        const bytes = [];
+        for (const [k, l] of body.split('\n').entries()) {
+            const d = l.match(DUMP);
+            if (!d) throw new Error(`PROTOCOL.md line ${line + 1 + k}: ${name}: not a dump line: ${l}`);
+            if (parseInt(d[1], 16) !== bytes.length) {
+                throw new Error(`PROTOCOL.md line ${line + 1 + k}: ${name}: offset ${d[1]} after ${bytes.length} bytes`);
+            }
+            for (const h of d[2].trim().split(' ')) bytes.push(parseInt(h, 16));
+        }
+        out.hex[name] = Uint8Array.from(bytes);
     }
-    return frames;
+    return out;
 }
 
 export function readVectors(path) {

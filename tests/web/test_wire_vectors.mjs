@@ -1,7 +1,6 @@
-// web/wire.js against the test vectors of protocol/PROTOCOL.md (the C decoder's, in
-// tests/test_wire.c, test_weather.c, test_damage_wire.c): each decoded to the values the
-// spec states; then corruptions each decoder must refuse. node test_wire_vectors.mjs
-// PROTOCOL.md
+// web/wire.js against the binary test vectors of protocol/PROTOCOL.md (the ones the C
+// tests read, tests/test_spec_vectors.c): each decoded to the values the spec states; then
+// corruptions each decoder must refuse. node test_wire_vectors.mjs PROTOCOL.md
 import assert from 'node:assert/strict';
 import { Decoder, MSG, dequantise, WireError } from '../../web/wire.js';
 import { readVectors } from './spec_vectors.mjs';
@@ -11,15 +10,15 @@ if (!path || path === '--help') {
     console.log('usage: node test_wire_vectors.mjs PATH/TO/PROTOCOL.md');
     process.exit(path ? 0 : 2);
 }
-const frames = readVectors(path);
+const vec = readVectors(path).hex;
+const KNOWN = ['KEYFRAME', 'DELTA', 'LEAVES', 'WIND', 'WEATHER', 'WEATHER-STEADY', 'DAMAGE',
+    'DAMAGE-FULL', 'BUNDLE', 'BUNDLE-KEYFRAME'];
+for (const name of KNOWN) assert.ok(vec[name], `no vector ${name} in ${path}`);
+for (const name of Object.keys(vec)) assert.ok(KNOWN.includes(name), `${path}: vector ${name} is not one this test knows`);
 const byType = {};
-for (const f of frames) {
-    const t = f.bytes[6];
-    assert.ok(!byType[t], `two vectors of type ${t} (lines ${byType[t]?.line}, ${f.line})`);
-    byType[t] = f.bytes;
-}
-for (const t of [MSG.KEYFRAME, MSG.DELTA, MSG.LEAVES, MSG.WIND, MSG.WEATHER, MSG.DAMAGE]) {
-    assert.ok(byType[t], `no vector of type ${t} in ${path}`);
+for (const name of ['KEYFRAME', 'DELTA', 'LEAVES', 'WIND', 'WEATHER', 'DAMAGE']) {
+    assert.equal(vec[name][6], MSG[name], `${name}: type byte`);
+    byType[MSG[name]] = vec[name];
 }
 let checks = 0;
 const near = (a, b, tol, what) => {
@@ -88,6 +87,33 @@ assert.deepEqual(dm.events.map((e) => [e.tree, e.node, e.kind, e.value, e.tick])
     [[2, 17, 1, 0, 118], [5, 0xffffffff, 3, 64, 120]]);
 checks += 2;
 
+// WEATHER-STEADY: a kiosk's dial, no storm, no clock: the "none" values of a clear flag
+const ws = new Decoder().decode(vec['WEATHER-STEADY']).weather;
+assert.deepEqual([ws.sustained_ms, ws.gust_ms, ws.dir_from_deg], [20, 26.5, 270]);
+assert.deepEqual([ws.ss_class, ws.beaufort, ws.flags, ws.storm_class], [1, 8, 2, 255]);
+assert.deepEqual([ws.pressure_hpa, ws.central_hpa, ws.distance_km, ws.utc_min, ws.storm_min], [1013, 0, -1, 0, 0]);
+assert.equal(ws.name, 'gale');
+checks += 4;
+
+// DAMAGE-FULL: the whole state; tree 0 kept 20/32 of its leaves, tree 1 snapped
+const df = new Decoder().decode(vec['DAMAGE-FULL']).damage;
+assert.equal(df.full, true);
+assert.deepEqual(df.events.map((e) => [e.tree, e.node, e.kind, e.value, e.tick]),
+    [[0, 0xffffffff, 4, 20, 110], [1, 0xffffffff, 2, 200, 115]]);
+checks += 2;
+
+// BUNDLE-KEYFRAME: every member a snapshot can carry, decoded by a new decoder
+const bk = new Decoder().decode(vec['BUNDLE-KEYFRAME']);
+assert.equal(bk.state.seq, 5);
+assert.deepEqual([...bk.state.q], [3, -2, 0, 0, 7, 0]);
+assert.equal(bk.leaves.length, 1);
+assert.deepEqual([...bk.wind.cells], [10, -5, 0, 127, -127, 1]);
+assert.equal(bk.damage.full, true);
+assert.equal(bk.weather.name, 'Andrew 1992');
+assert.equal(bk.types, (1 << MSG.KEYFRAME) | (1 << MSG.LEAVES) | (1 << MSG.WIND) |
+    (1 << MSG.WEATHER) | (1 << MSG.DAMAGE));
+checks += 7;
+
 // BUNDLE of the DELTA and the LEAVES (the spec's 94 bytes, built as it says) on the KEYFRAME
 const delta = byType[MSG.DELTA], leaves = byType[MSG.LEAVES];
 const bundle = new Uint8Array(20 + 1 + 4 + delta.length + 4 + leaves.length);
@@ -100,6 +126,7 @@ bundle.set(delta, 25);
 dv.setUint32(25 + delta.length, leaves.length, true);
 bundle.set(leaves, 29 + delta.length);
 assert.equal(bundle.length, 94);
+assert.deepEqual([...bundle], [...vec.BUNDLE], 'the BUNDLE vector is the DELTA and LEAVES wrapped');
 const d2 = new Decoder();
 d2.decode(byType[MSG.KEYFRAME]);
 const b = d2.decode(bundle);
@@ -145,7 +172,7 @@ const rnd = (n) => {
     seed ^= seed << 13; seed >>>= 0; seed ^= seed >>> 17; seed ^= seed << 5; seed >>>= 0;
     return seed % n;
 };
-const all = [...Object.values(byType), bundle];
+const all = Object.values(vec);
 for (let i = 0; i < 20000; i++) {
     const src = all[rnd(all.length)];
     let c = Uint8Array.from(src);
@@ -164,4 +191,4 @@ for (let i = 0; i < 20000; i++) {
     }
 }
 checks++;
-console.log(JSON.stringify({ vectors: frames.length, checks, corruptions: 20000, refused, ok: true }));
+console.log(JSON.stringify({ vectors: Object.keys(vec).length, checks, corruptions: 20000, refused, ok: true }));
