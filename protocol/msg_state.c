@@ -31,15 +31,6 @@ size_t wire_state_bound(uint32_t n_trees, uint32_t max_modes, uint32_t n_species
            n_trees + 2 + 5 + runs + 1 + n_trees + (size_t)n_trees * per_tree;
 }
 
-/* Value m of tree t in state s, 0 when not sent. */
-static inline int32_t state_at(const wire_state *s, uint32_t t, uint32_t m)
-{
-    if (!s || m >= s->n_modes[t]) {
-        return 0;
-    }
-    return s->q[(size_t)t * s->stride + m];
-}
-
 static int check_scene(const wire_scene *sc, const char *what, gale_err *err)
 {
     if (sc->n_trees == 0 || sc->n_trees > WIRE_MAX_TREES) {
@@ -207,49 +198,252 @@ static bool same_set(const wire_state *a, const wire_state *b)
     return memcmp(a->n_modes, b->n_modes, a->n_trees) == 0;
 }
 
-/* Values of every tree in view, group by group with the narrowest predictor. */
-static void put_values(wire_writer *w, const wire_state *cur, const wire_state *prev,
-                       const wire_state *prev2)
+/* One tree's rows as int32, zero beyond what is sent and up to a whole group: the
+ * history rows 0 where a mode was not sent (PROTOCOL.md). */
+static inline uint32_t tree_rows(const wire_state *cur, const wire_state *prev,
+                                 const wire_state *prev2, uint32_t t, int32_t *v, int32_t *a,
+                                 int32_t *b)
 {
-    uint32_t z[3][GROUP];
-    int32_t a_row[WIRE_MAX_MODES], b_row[WIRE_MAX_MODES];
-    const int n_pred = prev2 ? 3 : prev ? 2 : 1;
-    for (uint32_t t = 0; t < cur->n_trees; t++) {
-        uint32_t n = cur->n_modes[t];
-        if (n == 0) {
-            continue;
-        }
-        const int16_t *q = cur->q + (size_t)t * cur->stride;
-        /* The history rows, 0 where a mode was not sent (PROTOCOL.md). */
-        for (uint32_t m = 0; m < n; m++) {
-            a_row[m] = state_at(prev, t, m);
-            b_row[m] = state_at(prev2, t, m);
-        }
-        for (uint32_t g0 = 0; g0 < n; g0 += GROUP) {
-            uint32_t k = n - g0 < GROUP ? n - g0 : GROUP;
-            uint32_t zmax[3] = { 0, 0, 0 };
-            for (uint32_t i = 0; i < k; i++) {
-                int32_t v = q[g0 + i];
-                int32_t a = a_row[g0 + i], b = b_row[g0 + i];
-                z[PRED_ZERO][i] = wire_zigzag(v);
-                z[PRED_PREV][i] = wire_zigzag(v - a);
-                z[PRED_LINEAR][i] = wire_zigzag(v - (2 * a - b));
-                zmax[0] |= z[PRED_ZERO][i];
-                zmax[1] |= z[PRED_PREV][i];
-                zmax[2] |= z[PRED_LINEAR][i];
-            }
-            /* The OR of the values has the width of their maximum. */
-            int best = PRED_ZERO;
-            for (int p = 1; p < n_pred; p++) {
-                if (bit_width(zmax[p]) < bit_width(zmax[best])) {
-                    best = p;
-                }
-            }
-            unsigned width = bit_width(zmax[best]);
-            wire_put_u8(w, (uint8_t)((unsigned)best << 5 | width));
-            put_bits(w, z[best], k, width);
+    const uint32_t n = cur->n_modes[t];
+    const uint32_t ng = (n + GROUP - 1) / GROUP * GROUP;
+    const int16_t *q = cur->q + (size_t)t * cur->stride;
+    const uint32_t na = prev ? prev->n_modes[t] : 0, nb = prev2 ? prev2->n_modes[t] : 0;
+    const int16_t *qa = prev ? prev->q + (size_t)t * prev->stride : NULL;
+    const int16_t *qb = prev2 ? prev2->q + (size_t)t * prev2->stride : NULL;
+    for (uint32_t m = 0; m < ng; m++) {
+        v[m] = m < n ? q[m] : 0;
+        a[m] = m < n && m < na ? qa[m] : 0;
+        b[m] = m < n && m < nb ? qb[m] : 0;
+    }
+    return n;
+}
+
+/* The zigzag residuals of one group of 8 against each predictor and the header byte of the
+ * narrowest (the first of equal widths); z[best] holds the values, zero-padded to 8. */
+static inline uint8_t group_code(const int32_t *v, const int32_t *a, const int32_t *b,
+                                 int n_pred, uint32_t z[3][GROUP], int *best_out)
+{
+    uint32_t o0 = 0, o1 = 0, o2 = 0;
+    for (uint32_t i = 0; i < GROUP; i++) {
+        z[PRED_ZERO][i] = wire_zigzag(v[i]);
+        z[PRED_PREV][i] = wire_zigzag(v[i] - a[i]);
+        z[PRED_LINEAR][i] = wire_zigzag(v[i] - (2 * a[i] - b[i]));
+        o0 |= z[PRED_ZERO][i];
+        o1 |= z[PRED_PREV][i];
+        o2 |= z[PRED_LINEAR][i];
+    }
+    /* The OR of the values has the width of their maximum. */
+    const unsigned w[3] = { bit_width(o0), bit_width(o1), bit_width(o2) };
+    int best = PRED_ZERO;
+    for (int p = 1; p < n_pred; p++) {
+        if (w[p] < w[best]) {
+            best = p;
         }
     }
+    *best_out = best;
+    return (uint8_t)((unsigned)best << 5 | w[best]);
+}
+
+__extension__ typedef unsigned __int128 u128;
+
+static inline void store_le64(uint8_t *p, uint64_t v)
+{
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+    memcpy(p, &v, sizeof v);
+#else
+    for (unsigned i = 0; i < 8; i++) {
+        p[i] = (uint8_t)(v >> (8 * i));
+    }
+#endif
+}
+
+/* Room past a tree's worst case the packer may overwrite with zeros (the 24 bytes a
+ * group of width 17-18 is assembled in, plus the header byte before it). */
+#define FAST_SLACK 32u
+
+/* Packs 8 values of width w (zero beyond the group's k) LSB first at p, as put_bits
+ * writes them; bytes past ceil(k w / 8) are written as zeros (FAST_SLACK). */
+static inline void pack8(uint8_t *p, const uint32_t *z, unsigned width)
+{
+    if (width <= 8) {
+        uint64_t acc = 0;
+        for (unsigned i = 0; i < GROUP; i++) {
+            acc |= (uint64_t)z[i] << (i * width);
+        }
+        store_le64(p, acc);
+    } else if (width <= 16) {
+        u128 acc = 0;
+        for (unsigned i = 0; i < GROUP; i++) {
+            acc |= (u128)z[i] << (i * width);
+        }
+        store_le64(p, (uint64_t)acc);
+        store_le64(p + 8, (uint64_t)(acc >> 64));
+    } else {
+        uint8_t tmp[GROUP * MAX_WIDTH / 8 + 8] = { 0 };
+        for (unsigned i = 0; i < GROUP; i++) {
+            const unsigned off = i * width;
+            uint64_t x = load_le64(tmp + (off >> 3));
+            x |= (uint64_t)z[i] << (off & 7u);
+            store_le64(tmp + (off >> 3), x);
+        }
+        memcpy(p, tmp, GROUP * MAX_WIDTH / 8);
+    }
+}
+
+/* Worst-case bytes of one tree of n modes in the values section. */
+static inline size_t tree_bound(uint32_t n)
+{
+    return (n + GROUP - 1) / GROUP + ((size_t)n * MAX_WIDTH + 7) / 8;
+}
+
+/* Values of trees [t0, t1) into w, group by group with the narrowest predictor: each tree
+ * straight into memory while its worst case and FAST_SLACK fit before w->end, the rest
+ * through the checked writer (so a short buffer fails as it would byte by byte). */
+static void put_values(wire_writer *w, const wire_state *cur, const wire_state *prev,
+                       const wire_state *prev2, uint32_t t0, uint32_t t1)
+{
+    uint32_t z[3][GROUP];
+    int32_t v[WIRE_MAX_MODES + GROUP], a[WIRE_MAX_MODES + GROUP], b[WIRE_MAX_MODES + GROUP];
+    const int n_pred = prev2 ? 3 : prev ? 2 : 1;
+    for (uint32_t t = t0; t < t1 && !w->bad; t++) {
+        if (cur->n_modes[t] == 0) {
+            continue;
+        }
+        const uint32_t n = tree_rows(cur, prev, prev2, t, v, a, b);
+        const bool fast = (size_t)(w->end - w->p) >= tree_bound(n) + FAST_SLACK;
+        for (uint32_t g0 = 0; g0 < n; g0 += GROUP) {
+            const uint32_t k = n - g0 < GROUP ? n - g0 : GROUP;
+            int best;
+            const uint8_t gh = group_code(v + g0, a + g0, b + g0, n_pred, z, &best);
+            const unsigned width = gh & 0x1fu;
+            if (fast) {
+                *w->p = gh;
+                pack8(w->p + 1, z[best], width);
+                w->p += 1 + ((size_t)k * width + 7) / 8;
+            } else {
+                wire_put_u8(w, gh);
+                put_bits(w, z[best], k, width);
+            }
+        }
+    }
+}
+
+/* What one lane of the values section does: checks its trees' states (cur, prev, prev2)
+ * and encodes their values into its own part of the buffer. */
+typedef struct lane_job {
+    const wire_scene *sc;
+    const wire_state *cur, *prev, *prev2;
+    uint32_t n_lanes;
+    uint32_t t[WIRE_MAX_LANES + 1];   /* lane i: trees [t[i], t[i + 1]) */
+    uint8_t *at[WIRE_MAX_LANES + 1];  /* lane i writes in [at[i], at[i + 1]) */
+    uint8_t *end[WIRE_MAX_LANES];     /* where lane i's values ended */
+    bool bad[WIRE_MAX_LANES];         /* lane i found a bad state or ran out of room */
+} lane_job;
+
+/* True when trees [t0, t1) of st break none of check_state's rules. */
+static bool states_ok(const wire_scene *sc, const wire_state *st, uint32_t t0, uint32_t t1)
+{
+    if (!st) {
+        return true;
+    }
+    if (st->n_trees != sc->n_trees) {
+        return false;
+    }
+    int32_t lo = 0;
+    for (uint32_t t = t0; t < t1; t++) {
+        const uint32_t sp = sc->species[t];
+        const uint32_t n = st->n_modes[t];
+        if (sp >= sc->n_species || n > sc->n_modes[sp] || n > st->stride) {
+            return false;
+        }
+        const int16_t *q = st->q + (size_t)t * st->stride;
+        for (uint32_t m = 0; m < n; m++) {
+            lo = q[m] < lo ? q[m] : lo;
+        }
+    }
+    return lo >= -WIRE_QMAX;
+}
+
+static void lane_run(void *arg, int lane)
+{
+    lane_job *j = arg;
+    const uint32_t i = (uint32_t)lane, t0 = j->t[i], t1 = j->t[i + 1];
+    if (!states_ok(j->sc, j->cur, t0, t1) || !states_ok(j->sc, j->prev, t0, t1) ||
+        !states_ok(j->sc, j->prev2, t0, t1)) {
+        j->bad[i] = true;
+        return;
+    }
+    wire_writer w = wire_writer_make(j->at[i], (size_t)(j->at[i + 1] - j->at[i]));
+    put_values(&w, j->cur, j->prev, j->prev2, t0, t1);
+    j->bad[i] = w.bad;
+    j->end[i] = w.p;
+}
+
+/* The checks and values of a frame whose fixed part is already in w: the trees split into
+ * lanes->n contiguous shares, each share's bytes written at the worst-case offset of its
+ * first tree (so the lanes never overlap) and moved down after the lanes before it. The
+ * bytes are those of one lane, whatever the split. With too little room for that layout,
+ * or no lanes, one lane runs on the caller's thread. Returns non-zero when a state breaks
+ * a rule (the caller's checks then name it); a short buffer sets w->bad. */
+static int put_lanes(wire_writer *w, const wire_scene *sc, const wire_state *cur,
+                     const wire_state *prev, const wire_state *prev2, const wire_lanes *lanes)
+{
+    lane_job j = { .sc = sc, .cur = cur, .prev = prev, .prev2 = prev2, .n_lanes = 1 };
+    const uint32_t n = cur->n_trees;
+    uint32_t want = lanes && lanes->run && lanes->n > 1 ? (uint32_t)lanes->n : 1u;
+    want = want > WIRE_MAX_LANES ? WIRE_MAX_LANES : want;
+    want = want > n ? n : want;
+    const size_t per_tree = tree_bound(cur->stride < WIRE_MAX_MODES ? cur->stride : WIRE_MAX_MODES);
+    const size_t left = (size_t)(w->end - w->p);
+    if (want > 1 && cur->stride <= WIRE_MAX_MODES &&
+        left >= per_tree * n + (size_t)want * FAST_SLACK) {
+        j.n_lanes = want;
+    }
+    for (uint32_t i = 0; i <= j.n_lanes; i++) {
+        j.t[i] = (uint32_t)((uint64_t)n * i / j.n_lanes);
+        /* lane i's share: its trees' worst case, its slack, then the lanes before it */
+        j.at[i] = j.n_lanes == 1 ? (i ? w->end : w->p)
+                                 : w->p + per_tree * j.t[i] + (size_t)i * FAST_SLACK;
+    }
+    if (j.n_lanes == 1) {
+        lane_run(&j, 0);
+    } else {
+        lanes->run(lanes->ctx, (int)j.n_lanes, lane_run, &j);
+    }
+    uint8_t *p = w->p;
+    for (uint32_t i = 0; i < j.n_lanes; i++) {
+        if (j.bad[i]) {
+            /* a bad state, or lane 0 alone ran out of room: the caller tells which */
+            if (states_ok(sc, cur, j.t[i], j.t[i + 1]) &&
+                states_ok(sc, prev, j.t[i], j.t[i + 1]) &&
+                states_ok(sc, prev2, j.t[i], j.t[i + 1])) {
+                w->bad = true;
+                return 0;
+            }
+            return 1;
+        }
+        const size_t len = (size_t)(j.end[i] - j.at[i]);
+        if (p != j.at[i]) {
+            memmove(p, j.at[i], len);
+        }
+        p += len;
+    }
+    w->p = p;
+    return 0;
+}
+
+/* The state checks in order, for the message of the first rule broken. */
+static int check_states(const wire_scene *sc, const wire_state *cur, const wire_state *prev,
+                        const wire_state *prev2, const char *what, gale_err *err)
+{
+    int rc = check_state(sc, cur, what, "cur", err);
+    if (!rc && prev) {
+        rc = check_state(sc, prev, what, "prev", err);
+    }
+    if (!rc && prev2) {
+        rc = check_state(sc, prev2, what, "prev2", err);
+    }
+    return rc;
 }
 
 static int finish(wire_writer *w, uint8_t *buf, size_t cap, size_t *len, const char *what,
@@ -263,14 +457,48 @@ static int finish(wire_writer *w, uint8_t *buf, size_t cap, size_t *len, const c
     return 0;
 }
 
-int wire_encode_keyframe(const wire_header *h, uint32_t seq, const wire_scene *scene,
-                         const wire_state *cur, uint8_t *buf, size_t cap, size_t *len,
-                         gale_err *err)
+/* The values through the lanes, then the frame's length; a broken rule of the states is
+ * reported before a short buffer, as the checks run first. */
+static int finish_lanes(wire_writer *w, const wire_scene *sc, const wire_state *cur,
+                        const wire_state *prev, const wire_state *prev2,
+                        const wire_lanes *lanes, uint8_t *buf, size_t cap, size_t *len,
+                        const char *what, gale_err *err)
+{
+    const int bad_state = !w->bad ? put_lanes(w, sc, cur, prev, prev2, lanes) : 0;
+    if (bad_state || w->bad) {
+        int rc = check_states(sc, cur, prev, prev2, what, err);
+        if (rc || bad_state) {
+            return rc ? rc : gale_errf(err, GALE_E_RANGE, "%s: a state breaks a limit", what);
+        }
+    }
+    return finish(w, buf, cap, len, what, err);
+}
+
+/* The same check as check_state's first one, before anything indexes by tree. */
+static int check_counts(const wire_scene *sc, const wire_state *st, const char *what,
+                        const char *name, gale_err *err)
+{
+    if (st && st->n_trees != sc->n_trees) {
+        return gale_errf(err, GALE_E_ARG, "%s: %s.n_trees: expected %u (the scene), got %u",
+                         what, name, sc->n_trees, st->n_trees);
+    }
+    return 0;
+}
+
+int wire_encode_keyframe_lanes(const wire_header *h, uint32_t seq, const wire_scene *scene,
+                               const wire_state *cur, const wire_lanes *lanes, uint8_t *buf,
+                               size_t cap, size_t *len, gale_err *err)
 {
     const char *what = "wire_encode_keyframe";
     int rc = check_scene(scene, what, err);
     if (!rc) {
-        rc = check_state(scene, cur, what, "cur", err);
+        rc = check_counts(scene, cur, what, "cur", err);
+    }
+    for (uint32_t t = 0; !rc && t < scene->n_trees; t++) {
+        /* put_set reads the species before the lanes check them */
+        if (scene->species[t] >= scene->n_species) {
+            rc = check_states(scene, cur, NULL, NULL, what, err);
+        }
     }
     if (rc) {
         return rc;
@@ -289,17 +517,27 @@ int wire_encode_keyframe(const wire_header *h, uint32_t seq, const wire_scene *s
             wire_put_f32(&w, scene->step[s][m]);
         }
     }
-    for (uint32_t t = 0; t < scene->n_trees; t++) {
-        wire_put_u8(&w, scene->species[t]);
+    if (!w.bad && (size_t)(w.end - w.p) >= scene->n_trees) {
+        memcpy(w.p, scene->species, scene->n_trees);
+        w.p += scene->n_trees;
+    } else {
+        w.bad = true;
     }
     put_set(&w, scene, cur);
-    put_values(&w, cur, NULL, NULL);
-    return finish(&w, buf, cap, len, what, err);
+    return finish_lanes(&w, scene, cur, NULL, NULL, lanes, buf, cap, len, what, err);
 }
 
-int wire_encode_delta(const wire_header *h, uint32_t seq, const wire_scene *scene,
-                      const wire_state *cur, const wire_state *prev, const wire_state *prev2,
-                      uint8_t *buf, size_t cap, size_t *len, gale_err *err)
+int wire_encode_keyframe(const wire_header *h, uint32_t seq, const wire_scene *scene,
+                         const wire_state *cur, uint8_t *buf, size_t cap, size_t *len,
+                         gale_err *err)
+{
+    return wire_encode_keyframe_lanes(h, seq, scene, cur, NULL, buf, cap, len, err);
+}
+
+int wire_encode_delta_lanes(const wire_header *h, uint32_t seq, const wire_scene *scene,
+                            const wire_state *cur, const wire_state *prev,
+                            const wire_state *prev2, const wire_lanes *lanes, uint8_t *buf,
+                            size_t cap, size_t *len, gale_err *err)
 {
     const char *what = "wire_encode_delta";
     if (!prev) {
@@ -308,13 +546,18 @@ int wire_encode_delta(const wire_header *h, uint32_t seq, const wire_scene *scen
     }
     int rc = check_scene(scene, what, err);
     if (!rc) {
-        rc = check_state(scene, cur, what, "cur", err);
+        rc = check_counts(scene, cur, what, "cur", err);
     }
     if (!rc) {
-        rc = check_state(scene, prev, what, "prev", err);
+        rc = check_counts(scene, prev, what, "prev", err);
     }
-    if (!rc && prev2) {
-        rc = check_state(scene, prev2, what, "prev2", err);
+    if (!rc) {
+        rc = check_counts(scene, prev2, what, "prev2", err);
+    }
+    for (uint32_t t = 0; !rc && t < scene->n_trees; t++) {
+        if (scene->species[t] >= scene->n_species) {
+            rc = check_states(scene, cur, prev, prev2, what, err);
+        }
     }
     if (rc) {
         return rc;
@@ -331,8 +574,14 @@ int wire_encode_delta(const wire_header *h, uint32_t seq, const wire_scene *scen
     } else {
         put_set(&w, scene, cur);
     }
-    put_values(&w, cur, prev, prev2);
-    return finish(&w, buf, cap, len, what, err);
+    return finish_lanes(&w, scene, cur, prev, prev2, lanes, buf, cap, len, what, err);
+}
+
+int wire_encode_delta(const wire_header *h, uint32_t seq, const wire_scene *scene,
+                      const wire_state *cur, const wire_state *prev, const wire_state *prev2,
+                      uint8_t *buf, size_t cap, size_t *len, gale_err *err)
+{
+    return wire_encode_delta_lanes(h, seq, scene, cur, prev, prev2, NULL, buf, cap, len, err);
 }
 
 /* ---- decoding ---------------------------------------------------------------------- */
