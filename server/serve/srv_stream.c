@@ -20,14 +20,15 @@ int srv_stream_encode(srv_stream *st, const wire_header *h, uint32_t seq,
     if (st->key_every && seq % st->key_every == 0) {
         st->held = 0; /* no delta: every connection takes the keyframe (net.h net_snap) */
     }
-    int rc = wire_encode_keyframe(h, seq, scene, &cur, out->key, out->cap, &out->key_len, err);
+    int rc = wire_encode_keyframe_lanes(h, seq, scene, &cur, qh->lanes, out->key, out->cap,
+                                        &out->key_len, err);
     if (!rc && st->held >= 1) {
-        rc = wire_encode_delta(h, seq, scene, &cur, &prev, NULL, out->delta1, out->cap,
-                               &out->delta1_len, err);
+        rc = wire_encode_delta_lanes(h, seq, scene, &cur, &prev, NULL, qh->lanes, out->delta1,
+                                     out->cap, &out->delta1_len, err);
     }
     if (!rc && st->held >= 2) {
-        rc = wire_encode_delta(h, seq, scene, &cur, &prev, &prev2, out->delta2, out->cap,
-                               &out->delta2_len, err);
+        rc = wire_encode_delta_lanes(h, seq, scene, &cur, &prev, &prev2, qh->lanes,
+                                     out->delta2, out->cap, &out->delta2_len, err);
     }
     st->held = rc ? 0 : st->held < 2 ? st->held + 1 : 2;
     return rc;

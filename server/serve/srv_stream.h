@@ -18,6 +18,7 @@ typedef struct srv_qhist {
     const int16_t *q[3];
     uint32_t n_trees;
     uint32_t stride;
+    const wire_lanes *lanes; /* the encoders' lanes (sim_lanes); NULL: one */
 } srv_qhist;
 
 /* Caller-owned; srv_stream_start sets it up. */
