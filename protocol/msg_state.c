@@ -296,25 +296,134 @@ static inline size_t tree_bound(uint32_t n)
     return (n + GROUP - 1) / GROUP + ((size_t)n * MAX_WIDTH + 7) / 8;
 }
 
-/* Values of trees [t0, t1) into w, group by group with the narrowest predictor: each tree
- * straight into memory while its worst case and FAST_SLACK fit before w->end, the rest
- * through the checked writer (so a short buffer fails as it would byte by byte). */
-static void put_values(wire_writer *w, const wire_state *cur, const wire_state *prev,
-                       const wire_state *prev2, uint32_t t0, uint32_t t1)
+/* Four lanes of int16 and int32 (GCC vector extensions: one SSE2 register; a group of 8
+ * is two of them). */
+typedef int16_t v4hi __attribute__((vector_size(8)));
+typedef int32_t v4si __attribute__((vector_size(16)));
+typedef uint32_t v4su __attribute__((vector_size(16)));
+
+static inline v4si load4(const int16_t *p)
+{
+    v4hi h;
+    memcpy(&h, p, sizeof h);
+    return __builtin_convertvector(h, v4si);
+}
+
+static inline v4su zigzag4(v4si v)
+{
+    return ((v4su)v << 1) ^ (v4su)(v >> 31);
+}
+
+static inline uint32_t or4(v4su z)
+{
+    return z[0] | z[1] | z[2] | z[3];
+}
+
+static inline v4si min4(v4si a, v4si b)
+{
+    const v4si m = a < b;
+    return (a & m) | (b & ~m);
+}
+
+/* group_code on a full group read straight from the rows (qa, qb NULL: zero); *lo keeps
+ * the lanes' minimum of every value read, for the range check. */
+static inline uint8_t group_code8(const int16_t *q, const int16_t *qa, const int16_t *qb,
+                                  int n_pred, uint32_t z[3][GROUP], int *best_out, v4si *lo)
+{
+    const v4si zero = { 0, 0, 0, 0 };
+    v4su o[3] = { { 0 } };
+    for (unsigned h = 0; h < 2; h++) {
+        const v4si v = load4(q + 4 * h);
+        const v4si a = qa ? load4(qa + 4 * h) : zero, b = qb ? load4(qb + 4 * h) : zero;
+        *lo = min4(min4(*lo, v), min4(a, b));
+        const v4su z0 = zigzag4(v), z1 = zigzag4(v - a), z2 = zigzag4(v - (a + a - b));
+        memcpy(z[PRED_ZERO] + 4 * h, &z0, sizeof z0);
+        memcpy(z[PRED_PREV] + 4 * h, &z1, sizeof z1);
+        memcpy(z[PRED_LINEAR] + 4 * h, &z2, sizeof z2);
+        o[0] |= z0;
+        o[1] |= z1;
+        o[2] |= z2;
+    }
+    const unsigned w[3] = { bit_width(or4(o[0])), bit_width(or4(o[1])), bit_width(or4(o[2])) };
+    int best = PRED_ZERO;
+    for (int p = 1; p < n_pred; p++) {
+        if (w[p] < w[best]) {
+            best = p;
+        }
+    }
+    *best_out = best;
+    return (uint8_t)((unsigned)best << 5 | w[best]);
+}
+
+/* The smallest of q[m0..m1) (0 when empty). */
+static inline int32_t row_min(const int16_t *q, uint32_t m0, uint32_t m1)
+{
+    int32_t lo = 0;
+    for (uint32_t m = m0; m < m1; m++) {
+        lo = q[m] < lo ? q[m] : lo;
+    }
+    return lo;
+}
+
+/* Tree t breaks none of check_state's counts in st (NULL: none to break). */
+static inline bool counts_ok(const wire_scene *sc, const wire_state *st, uint32_t t)
+{
+    if (!st) {
+        return true;
+    }
+    const uint32_t n = st->n_modes[t];
+    return n <= sc->n_modes[sc->species[t]] && n <= st->stride;
+}
+
+/* Values of trees [t0, t1) into w, group by group with the narrowest predictor, checking
+ * every state's counts and values on the way (one pass over the rows): each tree straight
+ * into memory while its worst case and FAST_SLACK fit before w->end, the rest through the
+ * checked writer (so a short buffer fails as it would byte by byte). Returns false at the
+ * first tree whose state breaks a rule (check_state names it). */
+static bool put_values(wire_writer *w, const wire_scene *sc, const wire_state *cur,
+                       const wire_state *prev, const wire_state *prev2, uint32_t t0,
+                       uint32_t t1)
 {
     uint32_t z[3][GROUP];
     int32_t v[WIRE_MAX_MODES + GROUP], a[WIRE_MAX_MODES + GROUP], b[WIRE_MAX_MODES + GROUP];
     const int n_pred = prev2 ? 3 : prev ? 2 : 1;
+    v4si lo4 = { 0, 0, 0, 0 };
+    int32_t lo = 0;
     for (uint32_t t = t0; t < t1 && !w->bad; t++) {
-        if (cur->n_modes[t] == 0) {
+        if (sc->species[t] >= sc->n_species || !counts_ok(sc, cur, t) ||
+            !counts_ok(sc, prev, t) || !counts_ok(sc, prev2, t)) {
+            return false;
+        }
+        const uint32_t n = cur->n_modes[t];
+        const uint32_t na = prev ? prev->n_modes[t] : 0, nb = prev2 ? prev2->n_modes[t] : 0;
+        const int16_t *q = cur->q + (size_t)t * cur->stride;
+        const int16_t *qa = prev ? prev->q + (size_t)t * prev->stride : NULL;
+        const int16_t *qb = prev2 ? prev2->q + (size_t)t * prev2->stride : NULL;
+        /* the history values past what this frame reads are checked here */
+        lo = qa && na > n ? (row_min(qa, n, na) < lo ? row_min(qa, n, na) : lo) : lo;
+        lo = qb && nb > n ? (row_min(qb, n, nb) < lo ? row_min(qb, n, nb) : lo) : lo;
+        if (n == 0) {
             continue;
         }
-        const uint32_t n = tree_rows(cur, prev, prev2, t, v, a, b);
         const bool fast = (size_t)(w->end - w->p) >= tree_bound(n) + FAST_SLACK;
+        /* whole groups of every row read straight from the rows; a partial group or a
+         * history row shorter than this one through the zero-padded copies */
+        const bool rows = n % GROUP == 0 && (!prev || na >= n) && (!prev2 || nb >= n);
+        if (!rows) {
+            tree_rows(cur, prev, prev2, t, v, a, b);
+            const uint32_t ng = (n + GROUP - 1) / GROUP * GROUP;
+            for (uint32_t m = 0; m < ng; m++) {
+                lo = v[m] < lo ? v[m] : lo;
+                lo = a[m] < lo ? a[m] : lo;
+                lo = b[m] < lo ? b[m] : lo;
+            }
+        }
         for (uint32_t g0 = 0; g0 < n; g0 += GROUP) {
             const uint32_t k = n - g0 < GROUP ? n - g0 : GROUP;
             int best;
-            const uint8_t gh = group_code(v + g0, a + g0, b + g0, n_pred, z, &best);
+            const uint8_t gh = rows ? group_code8(q + g0, qa ? qa + g0 : NULL, qb ? qb + g0 : NULL,
+                                                  n_pred, z, &best, &lo4)
+                                    : group_code(v + g0, a + g0, b + g0, n_pred, z, &best);
             const unsigned width = gh & 0x1fu;
             if (fast) {
                 *w->p = gh;
@@ -326,6 +435,10 @@ static void put_values(wire_writer *w, const wire_state *cur, const wire_state *
             }
         }
     }
+    for (unsigned i = 0; i < 4; i++) {
+        lo = lo4[i] < lo ? lo4[i] : lo;
+    }
+    return lo >= -WIRE_QMAX;
 }
 
 /* What one lane of the values section does: checks its trees' states (cur, prev, prev2)
@@ -368,14 +481,9 @@ static void lane_run(void *arg, int lane)
 {
     lane_job *j = arg;
     const uint32_t i = (uint32_t)lane, t0 = j->t[i], t1 = j->t[i + 1];
-    if (!states_ok(j->sc, j->cur, t0, t1) || !states_ok(j->sc, j->prev, t0, t1) ||
-        !states_ok(j->sc, j->prev2, t0, t1)) {
-        j->bad[i] = true;
-        return;
-    }
     wire_writer w = wire_writer_make(j->at[i], (size_t)(j->at[i + 1] - j->at[i]));
-    put_values(&w, j->cur, j->prev, j->prev2, t0, t1);
-    j->bad[i] = w.bad;
+    const bool ok = put_values(&w, j->sc, j->cur, j->prev, j->prev2, t0, t1);
+    j->bad[i] = w.bad || !ok;
     j->end[i] = w.p;
 }
 

@@ -197,8 +197,9 @@ static void test_lanes_same_bytes(void)
     }
 }
 
-/* A value below -WIRE_QMAX in a late tree of prev is named as the one-lane encoder names
- * it, whichever lane finds it. */
+/* A value below -WIRE_QMAX in cur, prev or prev2, in a whole group, a partial one, a history
+ * row longer than the frame's or a tree out of view, is named as the one-lane encoder
+ * names it, whichever lane finds it. */
 static void test_lanes_bad_state(void)
 {
     wire_scene sc = { .n_trees = NT, .n_species = 1, .species = species };
@@ -212,14 +213,34 @@ static void test_lanes_bad_state(void)
         memset(hist[k].n_modes, 8, NT);
         memset(hist[k].q, 0, sizeof hist[k].q);
     }
-    hist[1].q[(NT - 3) * STRIDE + 5] = -WIRE_QMAX - 1;
-    gale_err e1, e2;
-    size_t len;
-    const wire_lanes l = { 4, run_threads, NULL };
-    CHECK(encode(1, &sc, NULL, one, sizeof one, &len, &e1) == GALE_E_RANGE);
-    CHECK(encode(1, &sc, &l, many, sizeof many, &len, &e2) == GALE_E_RANGE);
-    CHECK(strcmp(e1.msg, e2.msg) == 0);
-    CHECK(strstr(e2.msg, "prev.q[1997][5]") != NULL);
+    /* a whole group read from the rows; a partial group (5 modes sent); a history row
+       longer than the frame's (prev sends 8, cur 3); prev2's row of a tree cur does not
+       send */
+    const struct {
+        int state, tree, mode, cur_modes;
+        const char *named;
+    } bad[] = { { 1, NT - 3, 5, 8, "prev.q[1997][5]" },
+                { 0, NT / 2, 4, 5, "cur.q[1000][4]" },
+                { 1, 700, 6, 3, "prev.q[700][6]" },
+                { 2, 1500, 7, 0, "prev2.q[1500][7]" } };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        for (int j = 0; j < 3; j++) {
+            memset(hist[j].n_modes, 8, NT);
+            memset(hist[j].q, 0, sizeof hist[j].q);
+        }
+        hist[0].n_modes[bad[k].tree] = (uint8_t)bad[k].cur_modes;
+        hist[bad[k].state].q[bad[k].tree * STRIDE + bad[k].mode] = -WIRE_QMAX - 1;
+        gale_err e1, e2;
+        size_t len;
+        const wire_lanes l = { 4, run_threads, NULL };
+        CHECK(encode(2, &sc, NULL, one, sizeof one, &len, &e1) == GALE_E_RANGE);
+        CHECK(encode(2, &sc, &l, many, sizeof many, &len, &e2) == GALE_E_RANGE);
+        CHECK(strcmp(e1.msg, e2.msg) == 0);
+        CHECK(strstr(e2.msg, bad[k].named) != NULL);
+        if (!strstr(e2.msg, bad[k].named)) {
+            fprintf(stderr, "case %zu: %s\n", k, e2.msg);
+        }
+    }
 }
 
 int main(void)
