@@ -276,18 +276,19 @@ static void test_threads_same_tick(void)
     for (int cap = 0; cap < 2; cap++) {
         tick_sim *t[2];
         int16_t *q[2];
+        /* borrowed by the simulations for their life */
+        static scene s[2];
+        static tick_wind tws[2];
         for (int j = 0; j < 2; j++) {
-            scene s = one_tree(0, 20);
-            s.trees = tr;
-            s.n_trees = N;
-            s.cell_m = 2;
-            s.origin[0] = s.origin[1] = -64;
-            s.tick_threads = j ? 3 : 1;
-            tick_wind tw = { .set_inflow = fw_inflow, .step = field_step,
-                             .sample_many = field_sample };
-            static tick_wind tws[2];
-            tws[j] = tw;
-            t[j] = tick_create(&(tick_desc){ .sc = &s, .species = &sp, .wind = &tws[j],
+            s[j] = one_tree(0, 20);
+            s[j].trees = tr;
+            s[j].n_trees = N;
+            s[j].cell_m = 2;
+            s[j].origin[0] = s[j].origin[1] = -64;
+            s[j].tick_threads = j ? 3 : 1;
+            tws[j] = (tick_wind){ .set_inflow = fw_inflow, .step = field_step,
+                                  .sample_many = field_sample };
+            t[j] = tick_create(&(tick_desc){ .sc = &s[j], .species = &sp, .wind = &tws[j],
                                              .max_leaves_per_tick = cap ? 100000 : 700 },
                                NULL);
             q[j] = calloc((size_t)N * MODES, sizeof(int16_t));
