@@ -630,7 +630,8 @@ int bench_modal(int argc, char **argv)
                    "\"update_only_bytes_per_tree\":%.0f,\"update_only_effective_gb_per_s\":%.2f,"
                    "\"update_only_bandwidth_fraction\":%.3f,\"checksum\":%ld,"
                    "\"inputs\":{\"cell_m\":%.1f,\"grid\":[%d,%d,%d],\"wind_every_ticks\":%d,"
-                   "\"leaf_slots_per_tree\":%u,\"side_m\":%.0f},\"leaf_shed_ms_median\":%.3f,"
+                   "\"leaf_slots_per_tree\":%u,\"side_m\":%.0f,\"encode_lanes\":%d},"
+                   "\"leaf_shed_ms_median\":%.3f,"
                    "\"encode_ms_median\":%.3f,\"encoded_bytes_per_tick\":%.0f,"
                    "\"leaves_shed_per_tick\":%.1f,\"wind_step_ms_mean\":%.1f,"
                    "\"memory_floor_ms\":%.3f,\"loadavg\":[%.2f,%.2f,%.2f]}\n",
@@ -639,7 +640,7 @@ int bench_modal(int argc, char **argv)
                    med_t * 1e6 / ((double)n_trees * n_modes), med_cpu, med_ns, load[0], gbs,
                    tb.read, tb.written, tick_bytes, tick_gbs, frac, ub.read + ub.written,
                    upd_gbs, upd_frac, check, (double)cell_m, gxy, gxy, gz, every, in.slots,
-                   (double)side, med_l, med_e, enc_per_tick, (double)v->n_shed / ticks,
+                   (double)side, in.lanes.n > 1 ? in.lanes.n : 1, med_l, med_e, enc_per_tick, (double)v->n_shed / ticks,
                    wind_sum / ((ticks + every - 1) / every),
                    gbs > 0.0 ? tick_bytes / (gbs * 1e9) * 1e3 : 0.0, load[0], load[1], load[2]);
         } else {
