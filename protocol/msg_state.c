@@ -218,10 +218,10 @@ static inline uint32_t tree_rows(const wire_state *cur, const wire_state *prev,
     return n;
 }
 
-/* The zigzag residuals of one group of 8 against each predictor and the header byte of the
- * narrowest (the first of equal widths); z[best] holds the values, zero-padded to 8. */
-static inline uint8_t group_code(const int32_t *v, const int32_t *a, const int32_t *b,
-                                 int n_pred, uint32_t z[3][GROUP], int *best_out)
+/* The zigzag residuals of one group of 8 against each predictor, zero-padded to 8, and the
+ * width of each. */
+static inline void group_code(const int32_t *v, const int32_t *a, const int32_t *b,
+                              uint32_t z[3][GROUP], unsigned wd[3])
 {
     uint32_t o0 = 0, o1 = 0, o2 = 0;
     for (uint32_t i = 0; i < GROUP; i++) {
@@ -233,15 +233,23 @@ static inline uint8_t group_code(const int32_t *v, const int32_t *a, const int32
         o2 |= z[PRED_LINEAR][i];
     }
     /* The OR of the values has the width of their maximum. */
-    const unsigned w[3] = { bit_width(o0), bit_width(o1), bit_width(o2) };
+    wd[0] = bit_width(o0);
+    wd[1] = bit_width(o1);
+    wd[2] = bit_width(o2);
+}
+
+/* The header byte of a group: the narrowest of the first n_pred predictors (the first of
+ * equal widths) and its width. */
+static inline uint8_t group_header(const unsigned wd[3], int n_pred, int *best_out)
+{
     int best = PRED_ZERO;
     for (int p = 1; p < n_pred; p++) {
-        if (w[p] < w[best]) {
+        if (wd[p] < wd[best]) {
             best = p;
         }
     }
     *best_out = best;
-    return (uint8_t)((unsigned)best << 5 | w[best]);
+    return (uint8_t)((unsigned)best << 5 | wd[best]);
 }
 
 __extension__ typedef unsigned __int128 u128;
@@ -327,8 +335,8 @@ static inline v4si min4(v4si a, v4si b)
 
 /* group_code on a full group read straight from the rows (qa, qb NULL: zero); *lo keeps
  * the lanes' minimum of every value read, for the range check. */
-static inline uint8_t group_code8(const int16_t *q, const int16_t *qa, const int16_t *qb,
-                                  int n_pred, uint32_t z[3][GROUP], int *best_out, v4si *lo)
+static inline void group_code8(const int16_t *q, const int16_t *qa, const int16_t *qb,
+                               uint32_t z[3][GROUP], unsigned wd[3], v4si *lo)
 {
     const v4si zero = { 0, 0, 0, 0 };
     v4su o[3] = { { 0 } };
@@ -344,15 +352,9 @@ static inline uint8_t group_code8(const int16_t *q, const int16_t *qa, const int
         o[1] |= z1;
         o[2] |= z2;
     }
-    const unsigned w[3] = { bit_width(or4(o[0])), bit_width(or4(o[1])), bit_width(or4(o[2])) };
-    int best = PRED_ZERO;
-    for (int p = 1; p < n_pred; p++) {
-        if (w[p] < w[best]) {
-            best = p;
-        }
-    }
-    *best_out = best;
-    return (uint8_t)((unsigned)best << 5 | w[best]);
+    wd[0] = bit_width(or4(o[0]));
+    wd[1] = bit_width(or4(o[1]));
+    wd[2] = bit_width(or4(o[2]));
 }
 
 /* The smallest of q[m0..m1) (0 when empty). */
@@ -375,21 +377,23 @@ static inline bool counts_ok(const wire_scene *sc, const wire_state *st, uint32_
     return n <= sc->n_modes[sc->species[t]] && n <= st->stride;
 }
 
-/* Values of trees [t0, t1) into w, group by group with the narrowest predictor, checking
+/* Values of trees [t0, t1) into the nf frames w[f], group by group with the narrowest of
+ * each frame's first n_pred[f] predictors (the residuals computed once for all), checking
  * every state's counts and values on the way (one pass over the rows): each tree straight
- * into memory while its worst case and FAST_SLACK fit before w->end, the rest through the
- * checked writer (so a short buffer fails as it would byte by byte). Returns false at the
- * first tree whose state breaks a rule (check_state names it). */
-static bool put_values(wire_writer *w, const wire_scene *sc, const wire_state *cur,
-                       const wire_state *prev, const wire_state *prev2, uint32_t t0,
-                       uint32_t t1)
+ * into memory while its worst case and FAST_SLACK fit before w[f]->end, the rest through
+ * the checked writer (so a short buffer fails as it would byte by byte). Returns false at
+ * the first tree whose state breaks a rule (check_state names it). */
+static bool put_values(wire_writer *const *w, const int *n_pred, int nf, const wire_scene *sc,
+                       const wire_state *cur, const wire_state *prev, const wire_state *prev2,
+                       uint32_t t0, uint32_t t1)
 {
     uint32_t z[3][GROUP];
+    unsigned wd[3];
     int32_t v[WIRE_MAX_MODES + GROUP], a[WIRE_MAX_MODES + GROUP], b[WIRE_MAX_MODES + GROUP];
-    const int n_pred = prev2 ? 3 : prev ? 2 : 1;
     v4si lo4 = { 0, 0, 0, 0 };
     int32_t lo = 0;
-    for (uint32_t t = t0; t < t1 && !w->bad; t++) {
+    bool bad = false;
+    for (uint32_t t = t0; t < t1 && !bad; t++) {
         if (sc->species[t] >= sc->n_species || !counts_ok(sc, cur, t) ||
             !counts_ok(sc, prev, t) || !counts_ok(sc, prev2, t)) {
             return false;
@@ -405,7 +409,10 @@ static bool put_values(wire_writer *w, const wire_scene *sc, const wire_state *c
         if (n == 0) {
             continue;
         }
-        const bool fast = (size_t)(w->end - w->p) >= tree_bound(n) + FAST_SLACK;
+        bool fast[3];
+        for (int f = 0; f < nf; f++) {
+            fast[f] = (size_t)(w[f]->end - w[f]->p) >= tree_bound(n) + FAST_SLACK;
+        }
         /* whole groups of every row read straight from the rows; a partial group or a
          * history row shorter than this one through the zero-padded copies */
         const bool rows = n % GROUP == 0 && (!prev || na >= n) && (!prev2 || nb >= n);
@@ -420,19 +427,28 @@ static bool put_values(wire_writer *w, const wire_scene *sc, const wire_state *c
         }
         for (uint32_t g0 = 0; g0 < n; g0 += GROUP) {
             const uint32_t k = n - g0 < GROUP ? n - g0 : GROUP;
-            int best;
-            const uint8_t gh = rows ? group_code8(q + g0, qa ? qa + g0 : NULL, qb ? qb + g0 : NULL,
-                                                  n_pred, z, &best, &lo4)
-                                    : group_code(v + g0, a + g0, b + g0, n_pred, z, &best);
-            const unsigned width = gh & 0x1fu;
-            if (fast) {
-                *w->p = gh;
-                pack8(w->p + 1, z[best], width);
-                w->p += 1 + ((size_t)k * width + 7) / 8;
+            if (rows) {
+                group_code8(q + g0, qa ? qa + g0 : NULL, qb ? qb + g0 : NULL, z, wd, &lo4);
             } else {
-                wire_put_u8(w, gh);
-                put_bits(w, z[best], k, width);
+                group_code(v + g0, a + g0, b + g0, z, wd);
             }
+            for (int f = 0; f < nf; f++) {
+                int best;
+                const uint8_t gh = group_header(wd, n_pred[f], &best);
+                const unsigned width = gh & 0x1fu;
+                wire_writer *wf = w[f];
+                if (fast[f]) {
+                    *wf->p = gh;
+                    pack8(wf->p + 1, z[best], width);
+                    wf->p += 1 + ((size_t)k * width + 7) / 8;
+                } else {
+                    wire_put_u8(wf, gh);
+                    put_bits(wf, z[best], k, width);
+                }
+            }
+        }
+        for (int f = 0; f < nf; f++) {
+            bad = bad || w[f]->bad;
         }
     }
     for (unsigned i = 0; i < 4; i++) {
@@ -441,16 +457,16 @@ static bool put_values(wire_writer *w, const wire_scene *sc, const wire_state *c
     return lo >= -WIRE_QMAX;
 }
 
-/* What one lane of the values section does: checks its trees' states (cur, prev, prev2)
- * and encodes their values into its own part of the buffer. */
 typedef struct lane_job {
     const wire_scene *sc;
     const wire_state *cur, *prev, *prev2;
+    int nf;                              /* frames written at once */
+    int n_pred[3];                       /* predictors of each frame */
     uint32_t n_lanes;
-    uint32_t t[WIRE_MAX_LANES + 1];   /* lane i: trees [t[i], t[i + 1]) */
-    uint8_t *at[WIRE_MAX_LANES + 1];  /* lane i writes in [at[i], at[i + 1]) */
-    uint8_t *end[WIRE_MAX_LANES];     /* where lane i's values ended */
-    bool bad[WIRE_MAX_LANES];         /* lane i found a bad state or ran out of room */
+    uint32_t t[WIRE_MAX_LANES + 1];      /* lane i: trees [t[i], t[i + 1]) */
+    uint8_t *at[3][WIRE_MAX_LANES + 1];  /* lane i writes frame f in [at[f][i], at[f][i + 1]) */
+    uint8_t *end[3][WIRE_MAX_LANES];     /* where lane i's values of frame f ended */
+    bool bad[WIRE_MAX_LANES];            /* lane i found a bad state or ran out of room */
 } lane_job;
 
 /* True when trees [t0, t1) of st break none of check_state's rules. */
@@ -481,62 +497,80 @@ static void lane_run(void *arg, int lane)
 {
     lane_job *j = arg;
     const uint32_t i = (uint32_t)lane, t0 = j->t[i], t1 = j->t[i + 1];
-    wire_writer w = wire_writer_make(j->at[i], (size_t)(j->at[i + 1] - j->at[i]));
-    const bool ok = put_values(&w, j->sc, j->cur, j->prev, j->prev2, t0, t1);
-    j->bad[i] = w.bad || !ok;
-    j->end[i] = w.p;
+    wire_writer w[3], *wp[3];
+    for (int f = 0; f < j->nf; f++) {
+        w[f] = wire_writer_make(j->at[f][i], (size_t)(j->at[f][i + 1] - j->at[f][i]));
+        wp[f] = &w[f];
+    }
+    const bool ok = put_values(wp, j->n_pred, j->nf, j->sc, j->cur, j->prev, j->prev2, t0, t1);
+    j->bad[i] = !ok;
+    for (int f = 0; f < j->nf; f++) {
+        j->bad[i] = j->bad[i] || w[f].bad;
+        j->end[f][i] = w[f].p;
+    }
 }
 
-/* The checks and values of a frame whose fixed part is already in w: the trees split into
- * lanes->n contiguous shares, each share's bytes written at the worst-case offset of its
- * first tree (so the lanes never overlap) and moved down after the lanes before it. The
- * bytes are those of one lane, whatever the split. With too little room for that layout,
- * or no lanes, one lane runs on the caller's thread. Returns non-zero when a state breaks
- * a rule (the caller's checks then name it); a short buffer sets w->bad. */
-static int put_lanes(wire_writer *w, const wire_scene *sc, const wire_state *cur,
-                     const wire_state *prev, const wire_state *prev2, const wire_lanes *lanes)
+/* The checks and values of nf frames whose fixed parts are already in w[f] (frame f coded
+ * with n_pred[f] predictors): the trees split into lanes->n contiguous shares, each
+ * share's bytes written at the worst-case offset of its first tree (so the lanes never
+ * overlap) and moved down after the lanes before it. The bytes are those of one lane,
+ * whatever the split. With too little room for that layout, or no lanes, one lane runs on
+ * the caller's thread. Returns non-zero when a state breaks a rule (the caller's checks
+ * then name it); a short buffer sets that frame's bad. */
+static int put_lanes(wire_writer *const *w, const int *n_pred, int nf, const wire_scene *sc,
+                     const wire_state *cur, const wire_state *prev, const wire_state *prev2,
+                     const wire_lanes *lanes)
 {
-    lane_job j = { .sc = sc, .cur = cur, .prev = prev, .prev2 = prev2, .n_lanes = 1 };
+    lane_job j = { .sc = sc, .cur = cur, .prev = prev, .prev2 = prev2, .nf = nf, .n_lanes = 1 };
     const uint32_t n = cur->n_trees;
     uint32_t want = lanes && lanes->run && lanes->n > 1 ? (uint32_t)lanes->n : 1u;
     want = want > WIRE_MAX_LANES ? WIRE_MAX_LANES : want;
     want = want > n ? n : want;
     const size_t per_tree = tree_bound(cur->stride < WIRE_MAX_MODES ? cur->stride : WIRE_MAX_MODES);
-    const size_t left = (size_t)(w->end - w->p);
-    if (want > 1 && cur->stride <= WIRE_MAX_MODES &&
-        left >= per_tree * n + (size_t)want * FAST_SLACK) {
-        j.n_lanes = want;
+    bool room = want > 1 && cur->stride <= WIRE_MAX_MODES;
+    for (int f = 0; f < nf; f++) {
+        j.n_pred[f] = n_pred[f];
+        room = room && (size_t)(w[f]->end - w[f]->p) >= per_tree * n + (size_t)want * FAST_SLACK;
     }
+    j.n_lanes = room ? want : 1;
     for (uint32_t i = 0; i <= j.n_lanes; i++) {
         j.t[i] = (uint32_t)((uint64_t)n * i / j.n_lanes);
         /* lane i's share: its trees' worst case, its slack, then the lanes before it */
-        j.at[i] = j.n_lanes == 1 ? (i ? w->end : w->p)
-                                 : w->p + per_tree * j.t[i] + (size_t)i * FAST_SLACK;
+        for (int f = 0; f < nf; f++) {
+            j.at[f][i] = j.n_lanes == 1 ? (i ? w[f]->end : w[f]->p)
+                                        : w[f]->p + per_tree * j.t[i] + (size_t)i * FAST_SLACK;
+        }
     }
     if (j.n_lanes == 1) {
         lane_run(&j, 0);
     } else {
         lanes->run(lanes->ctx, (int)j.n_lanes, lane_run, &j);
     }
-    uint8_t *p = w->p;
     for (uint32_t i = 0; i < j.n_lanes; i++) {
         if (j.bad[i]) {
             /* a bad state, or lane 0 alone ran out of room: the caller tells which */
             if (states_ok(sc, cur, j.t[i], j.t[i + 1]) &&
                 states_ok(sc, prev, j.t[i], j.t[i + 1]) &&
                 states_ok(sc, prev2, j.t[i], j.t[i + 1])) {
-                w->bad = true;
+                for (int f = 0; f < nf; f++) {
+                    w[f]->bad = true;
+                }
                 return 0;
             }
             return 1;
         }
-        const size_t len = (size_t)(j.end[i] - j.at[i]);
-        if (p != j.at[i]) {
-            memmove(p, j.at[i], len);
-        }
-        p += len;
     }
-    w->p = p;
+    for (int f = 0; f < nf; f++) {
+        uint8_t *p = w[f]->p;
+        for (uint32_t i = 0; i < j.n_lanes; i++) {
+            const size_t len = (size_t)(j.end[f][i] - j.at[f][i]);
+            if (p != j.at[f][i]) {
+                memmove(p, j.at[f][i], len);
+            }
+            p += len;
+        }
+        w[f]->p = p;
+    }
     return 0;
 }
 
@@ -572,7 +606,9 @@ static int finish_lanes(wire_writer *w, const wire_scene *sc, const wire_state *
                         const wire_lanes *lanes, uint8_t *buf, size_t cap, size_t *len,
                         const char *what, gale_err *err)
 {
-    const int bad_state = !w->bad ? put_lanes(w, sc, cur, prev, prev2, lanes) : 0;
+    wire_writer *const ws[1] = { w };
+    const int n_pred[1] = { prev2 ? 3 : prev ? 2 : 1 };
+    const int bad_state = !w->bad ? put_lanes(ws, n_pred, 1, sc, cur, prev, prev2, lanes) : 0;
     if (bad_state || w->bad) {
         int rc = check_states(sc, cur, prev, prev2, what, err);
         if (rc || bad_state) {
@@ -591,6 +627,50 @@ static int check_counts(const wire_scene *sc, const wire_state *st, const char *
                          what, name, sc->n_trees, st->n_trees);
     }
     return 0;
+}
+
+/* A KEYFRAME's fields before its values. */
+static void put_key_head(wire_writer *w, const wire_header *h, uint32_t seq,
+                         const wire_scene *scene, const wire_state *cur)
+{
+    wire_header hh = *h;
+    hh.type = WIRE_MSG_KEYFRAME;
+    hh.flags = 0;
+    wire_put_header(w, &hh);
+    wire_put_u32(w, seq);
+    wire_put_u32(w, scene->n_trees);
+    wire_put_u8(w, (uint8_t)scene->n_species);
+    for (uint32_t s = 0; s < scene->n_species; s++) {
+        wire_put_u8(w, scene->n_modes[s]);
+        for (uint32_t m = 0; m < scene->n_modes[s]; m++) {
+            wire_put_f32(w, scene->step[s][m]);
+        }
+    }
+    if (!w->bad && (size_t)(w->end - w->p) >= scene->n_trees) {
+        memcpy(w->p, scene->species, scene->n_trees);
+        w->p += scene->n_trees;
+    } else {
+        w->bad = true;
+    }
+    put_set(w, scene, cur);
+}
+
+/* A DELTA's fields before its values. */
+static void put_delta_head(wire_writer *w, const wire_header *h, uint32_t seq,
+                           const wire_scene *scene, const wire_state *cur,
+                           const wire_state *prev, bool two)
+{
+    wire_header hh = *h;
+    hh.type = WIRE_MSG_DELTA;
+    hh.flags = 0;
+    wire_put_header(w, &hh);
+    wire_put_u32(w, seq);
+    wire_put_u8(w, two ? 2 : 1);
+    if (same_set(cur, prev)) {
+        wire_put_u8(w, SET_SAME);
+    } else {
+        put_set(w, scene, cur);
+    }
 }
 
 int wire_encode_keyframe_lanes(const wire_header *h, uint32_t seq, const wire_scene *scene,
@@ -612,26 +692,7 @@ int wire_encode_keyframe_lanes(const wire_header *h, uint32_t seq, const wire_sc
         return rc;
     }
     wire_writer w = wire_writer_make(buf, cap);
-    wire_header hh = *h;
-    hh.type = WIRE_MSG_KEYFRAME;
-    hh.flags = 0;
-    wire_put_header(&w, &hh);
-    wire_put_u32(&w, seq);
-    wire_put_u32(&w, scene->n_trees);
-    wire_put_u8(&w, (uint8_t)scene->n_species);
-    for (uint32_t s = 0; s < scene->n_species; s++) {
-        wire_put_u8(&w, scene->n_modes[s]);
-        for (uint32_t m = 0; m < scene->n_modes[s]; m++) {
-            wire_put_f32(&w, scene->step[s][m]);
-        }
-    }
-    if (!w.bad && (size_t)(w.end - w.p) >= scene->n_trees) {
-        memcpy(w.p, scene->species, scene->n_trees);
-        w.p += scene->n_trees;
-    } else {
-        w.bad = true;
-    }
-    put_set(&w, scene, cur);
+    put_key_head(&w, h, seq, scene, cur);
     return finish_lanes(&w, scene, cur, NULL, NULL, lanes, buf, cap, len, what, err);
 }
 
@@ -671,17 +732,7 @@ int wire_encode_delta_lanes(const wire_header *h, uint32_t seq, const wire_scene
         return rc;
     }
     wire_writer w = wire_writer_make(buf, cap);
-    wire_header hh = *h;
-    hh.type = WIRE_MSG_DELTA;
-    hh.flags = 0;
-    wire_put_header(&w, &hh);
-    wire_put_u32(&w, seq);
-    wire_put_u8(&w, prev2 ? 2 : 1);
-    if (same_set(cur, prev)) {
-        wire_put_u8(&w, SET_SAME);
-    } else {
-        put_set(&w, scene, cur);
-    }
+    put_delta_head(&w, h, seq, scene, cur, prev, prev2 != NULL);
     return finish_lanes(&w, scene, cur, prev, prev2, lanes, buf, cap, len, what, err);
 }
 
@@ -690,6 +741,73 @@ int wire_encode_delta(const wire_header *h, uint32_t seq, const wire_scene *scen
                       uint8_t *buf, size_t cap, size_t *len, gale_err *err)
 {
     return wire_encode_delta_lanes(h, seq, scene, cur, prev, prev2, NULL, buf, cap, len, err);
+}
+
+/* The frames of wire_encode_snapshot_lanes one after the other: the first error is the
+ * one the separate calls give. */
+static int encode_each(const wire_header *h, uint32_t seq, const wire_scene *scene,
+                       const wire_state *cur, const wire_state *prev, const wire_state *prev2,
+                       const wire_lanes *lanes, wire_frame_out *out)
+{
+    int rc = wire_encode_keyframe_lanes(h, seq, scene, cur, lanes, out[0].buf, out[0].cap,
+                                        &out[0].len, out[0].err);
+    if (!rc && prev) {
+        rc = wire_encode_delta_lanes(h, seq, scene, cur, prev, NULL, lanes, out[1].buf,
+                                     out[1].cap, &out[1].len, out[0].err);
+    }
+    if (!rc && prev && prev2) {
+        rc = wire_encode_delta_lanes(h, seq, scene, cur, prev, prev2, lanes, out[2].buf,
+                                     out[2].cap, &out[2].len, out[0].err);
+    }
+    return rc;
+}
+
+int wire_encode_snapshot_lanes(const wire_header *h, uint32_t seq, const wire_scene *scene,
+                               const wire_state *cur, const wire_state *prev,
+                               const wire_state *prev2, const wire_lanes *lanes,
+                               wire_frame_out *out)
+{
+    prev2 = prev ? prev2 : NULL;
+    const int nf = prev2 ? 3 : prev ? 2 : 1;
+    gale_err scratch;
+    bool ok = !check_scene(scene, "", &scratch) && !check_counts(scene, cur, "", "", &scratch) &&
+              !check_counts(scene, prev, "", "", &scratch) &&
+              !check_counts(scene, prev2, "", "", &scratch);
+    for (uint32_t t = 0; ok && t < scene->n_trees; t++) {
+        ok = scene->species[t] < scene->n_species;
+    }
+    if (!ok) {
+        return encode_each(h, seq, scene, cur, prev, prev2, lanes, out);
+    }
+    wire_writer w[3], *ws[3];
+    for (int f = 0; f < nf; f++) {
+        w[f] = wire_writer_make(out[f].buf, out[f].cap);
+        ws[f] = &w[f];
+    }
+    put_key_head(&w[0], h, seq, scene, cur);
+    if (nf >= 2) {
+        put_delta_head(&w[1], h, seq, scene, cur, prev, false);
+    }
+    if (nf == 3) {
+        put_delta_head(&w[2], h, seq, scene, cur, prev, true);
+    }
+    bool short_buf = false;
+    for (int f = 0; f < nf; f++) {
+        short_buf = short_buf || w[f].bad;
+    }
+    /* one pass over the rows for the three frames: the residuals against each predictor
+       once, each frame taking the narrowest of its own */
+    const int n_pred[3] = { 1, 2, 3 };
+    if (short_buf || put_lanes(ws, n_pred, nf, scene, cur, prev, prev2, lanes)) {
+        return encode_each(h, seq, scene, cur, prev, prev2, lanes, out);
+    }
+    for (int f = 0; f < nf; f++) {
+        if (w[f].bad) {
+            return encode_each(h, seq, scene, cur, prev, prev2, lanes, out);
+        }
+        out[f].len = (size_t)(w[f].p - out[f].buf);
+    }
+    return 0;
 }
 
 /* ---- decoding ---------------------------------------------------------------------- */

@@ -154,6 +154,23 @@ int wire_encode_delta_lanes(const wire_header *h, uint32_t seq, const wire_scene
                             const wire_state *prev2, const wire_lanes *lanes, uint8_t *buf,
                             size_t cap, size_t *len, gale_err *err);
 
+/* One output of wire_encode_snapshot_lanes. */
+typedef struct wire_frame_out {
+    uint8_t *buf;
+    size_t cap;
+    size_t len;     /* set on success */
+    gale_err *err;  /* out[0]'s receives the error (may be NULL) */
+} wire_frame_out;
+
+/* A snapshot's frames in one pass over the states: out[0] the KEYFRAME, and with prev
+ * out[1] the DELTA against prev, and with prev and prev2 out[2] the DELTA against both;
+ * the bytes and the first error are those of wire_encode_keyframe_lanes and
+ * wire_encode_delta_lanes called in that order. */
+int wire_encode_snapshot_lanes(const wire_header *h, uint32_t seq, const wire_scene *scene,
+                               const wire_state *cur, const wire_state *prev,
+                               const wire_state *prev2, const wire_lanes *lanes,
+                               wire_frame_out *out);
+
 /* ---- leaf seeds and coarse wind ----------------------------------------------------- */
 
 typedef struct wire_leaf {

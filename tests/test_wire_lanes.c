@@ -4,7 +4,8 @@
  * out of view, LOD, species of different mode counts and residuals of every width 0..18;
  * each frame decodes to the snapshot it was made from; a buffer too small for the lanes'
  * layout still gets the one-lane bytes, one byte short of the frame fails, and a bad state
- * is named as without lanes. */
+ * is named as without lanes; a snapshot's three frames encoded in one pass
+ * (wire_encode_snapshot_lanes) are those of the three calls. */
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -184,6 +185,30 @@ static void test_lanes_same_bytes(void)
             }
             frames++;
         }
+        /* the three frames in one pass: the bytes of the separate calls, with and without
+           lanes, holding none, one or two previous snapshots */
+        for (int held = 0; held < 3; held++) {
+            static uint8_t fused[3][1 << 22];
+            const wire_header h = { .tick = 77, .server_time_us = 123456789ull };
+            const wire_state cur = state_of(&hist[0]), prev = state_of(&hist[1]),
+                             prev2 = state_of(&hist[2]);
+            for (int li = 0; li < 2; li++) {
+                const wire_lanes l = { 3, run_threads, NULL };
+                gale_err err;
+                wire_frame_out out[3];
+                for (int f = 0; f < 3; f++) {
+                    out[f] = (wire_frame_out){ fused[f], sizeof fused[f], 0, &err };
+                }
+                CHECK(wire_encode_snapshot_lanes(&h, 9, &sc, &cur, held >= 1 ? &prev : NULL,
+                                                 held >= 2 ? &prev2 : NULL, li ? &l : NULL,
+                                                 out) == 0);
+                for (int f = 0; f <= held; f++) {
+                    size_t len1 = 0;
+                    CHECK(encode(f, &sc, NULL, one, sizeof one, &len1, &err) == 0);
+                    CHECK(out[f].len == len1 && memcmp(one, fused[f], len1) == 0);
+                }
+            }
+        }
         hist[2] = hist[1];
         hist[1] = hist[0];
     }
@@ -237,6 +262,18 @@ static void test_lanes_bad_state(void)
         CHECK(encode(2, &sc, &l, many, sizeof many, &len, &e2) == GALE_E_RANGE);
         CHECK(strcmp(e1.msg, e2.msg) == 0);
         CHECK(strstr(e2.msg, bad[k].named) != NULL);
+        /* the three frames in one pass name it as the keyframe or a delta would */
+        gale_err e3;
+        static uint8_t third[1 << 22];
+        wire_frame_out out[3] = { { one, sizeof one, 0, &e3 }, { many, sizeof many, 0, NULL },
+                                  { third, sizeof third, 0, NULL } };
+        const wire_state cur = state_of(&hist[0]), prev = state_of(&hist[1]),
+                         prev2 = state_of(&hist[2]);
+        const wire_header h = { .tick = 77, .server_time_us = 123456789ull };
+        CHECK(wire_encode_snapshot_lanes(&h, 9, &sc, &cur, &prev, &prev2, &l, out) ==
+              GALE_E_RANGE);
+        CHECK(strstr(e3.msg, bad[k].named) != NULL);
+        CHECK(strstr(e3.msg, bad[k].state ? "wire_encode_delta" : "wire_encode_keyframe") != NULL);
         if (!strstr(e2.msg, bad[k].named)) {
             fprintf(stderr, "case %zu: %s\n", k, e2.msg);
         }
