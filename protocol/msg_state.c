@@ -31,15 +31,6 @@ size_t wire_state_bound(uint32_t n_trees, uint32_t max_modes, uint32_t n_species
            n_trees + 2 + 5 + runs + 1 + n_trees + (size_t)n_trees * per_tree;
 }
 
-/* Value m of tree t in state s, 0 when not sent. */
-static inline int32_t state_at(const wire_state *s, uint32_t t, uint32_t m)
-{
-    if (!s || m >= s->n_modes[t]) {
-        return 0;
-    }
-    return s->q[(size_t)t * s->stride + m];
-}
-
 static int check_scene(const wire_scene *sc, const char *what, gale_err *err)
 {
     if (sc->n_trees == 0 || sc->n_trees > WIRE_MAX_TREES) {
@@ -207,49 +198,394 @@ static bool same_set(const wire_state *a, const wire_state *b)
     return memcmp(a->n_modes, b->n_modes, a->n_trees) == 0;
 }
 
-/* Values of every tree in view, group by group with the narrowest predictor. */
-static void put_values(wire_writer *w, const wire_state *cur, const wire_state *prev,
-                       const wire_state *prev2)
+/* One tree's rows as int32, zero beyond what is sent and up to a whole group: the
+ * history rows 0 where a mode was not sent (PROTOCOL.md). */
+static inline uint32_t tree_rows(const wire_state *cur, const wire_state *prev,
+                                 const wire_state *prev2, uint32_t t, int32_t *v, int32_t *a,
+                                 int32_t *b)
+{
+    const uint32_t n = cur->n_modes[t];
+    const uint32_t ng = (n + GROUP - 1) / GROUP * GROUP;
+    const int16_t *q = cur->q + (size_t)t * cur->stride;
+    const uint32_t na = prev ? prev->n_modes[t] : 0, nb = prev2 ? prev2->n_modes[t] : 0;
+    const int16_t *qa = prev ? prev->q + (size_t)t * prev->stride : NULL;
+    const int16_t *qb = prev2 ? prev2->q + (size_t)t * prev2->stride : NULL;
+    for (uint32_t m = 0; m < ng; m++) {
+        v[m] = m < n ? q[m] : 0;
+        a[m] = m < n && m < na ? qa[m] : 0;
+        b[m] = m < n && m < nb ? qb[m] : 0;
+    }
+    return n;
+}
+
+/* The zigzag residuals of one group of 8 against each predictor, zero-padded to 8, and the
+ * width of each. */
+static inline void group_code(const int32_t *v, const int32_t *a, const int32_t *b,
+                              uint32_t z[3][GROUP], unsigned wd[3])
+{
+    uint32_t o0 = 0, o1 = 0, o2 = 0;
+    for (uint32_t i = 0; i < GROUP; i++) {
+        z[PRED_ZERO][i] = wire_zigzag(v[i]);
+        z[PRED_PREV][i] = wire_zigzag(v[i] - a[i]);
+        z[PRED_LINEAR][i] = wire_zigzag(v[i] - (2 * a[i] - b[i]));
+        o0 |= z[PRED_ZERO][i];
+        o1 |= z[PRED_PREV][i];
+        o2 |= z[PRED_LINEAR][i];
+    }
+    /* The OR of the values has the width of their maximum. */
+    wd[0] = bit_width(o0);
+    wd[1] = bit_width(o1);
+    wd[2] = bit_width(o2);
+}
+
+/* The header byte of a group: the narrowest of the first n_pred predictors (the first of
+ * equal widths) and its width. */
+static inline uint8_t group_header(const unsigned wd[3], int n_pred, int *best_out)
+{
+    int best = PRED_ZERO;
+    for (int p = 1; p < n_pred; p++) {
+        if (wd[p] < wd[best]) {
+            best = p;
+        }
+    }
+    *best_out = best;
+    return (uint8_t)((unsigned)best << 5 | wd[best]);
+}
+
+__extension__ typedef unsigned __int128 u128;
+
+static inline void store_le64(uint8_t *p, uint64_t v)
+{
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+    memcpy(p, &v, sizeof v);
+#else
+    for (unsigned i = 0; i < 8; i++) {
+        p[i] = (uint8_t)(v >> (8 * i));
+    }
+#endif
+}
+
+/* Room past a tree's worst case the packer may overwrite with zeros (the 24 bytes a
+ * group of width 17-18 is assembled in, plus the header byte before it). */
+#define FAST_SLACK 32u
+
+/* Packs 8 values of width w (zero beyond the group's k) LSB first at p, as put_bits
+ * writes them; bytes past ceil(k w / 8) are written as zeros (FAST_SLACK). */
+static inline void pack8(uint8_t *p, const uint32_t *z, unsigned width)
+{
+    if (width <= 8) {
+        uint64_t acc = 0;
+        for (unsigned i = 0; i < GROUP; i++) {
+            acc |= (uint64_t)z[i] << (i * width);
+        }
+        store_le64(p, acc);
+    } else if (width <= 16) {
+        u128 acc = 0;
+        for (unsigned i = 0; i < GROUP; i++) {
+            acc |= (u128)z[i] << (i * width);
+        }
+        store_le64(p, (uint64_t)acc);
+        store_le64(p + 8, (uint64_t)(acc >> 64));
+    } else {
+        uint8_t tmp[GROUP * MAX_WIDTH / 8 + 8] = { 0 };
+        for (unsigned i = 0; i < GROUP; i++) {
+            const unsigned off = i * width;
+            uint64_t x = load_le64(tmp + (off >> 3));
+            x |= (uint64_t)z[i] << (off & 7u);
+            store_le64(tmp + (off >> 3), x);
+        }
+        memcpy(p, tmp, GROUP * MAX_WIDTH / 8);
+    }
+}
+
+/* Worst-case bytes of one tree of n modes in the values section. */
+static inline size_t tree_bound(uint32_t n)
+{
+    return (n + GROUP - 1) / GROUP + ((size_t)n * MAX_WIDTH + 7) / 8;
+}
+
+/* Four lanes of int16 and int32 (GCC vector extensions: one SSE2 register; a group of 8
+ * is two of them). */
+typedef int16_t v4hi __attribute__((vector_size(8)));
+typedef int32_t v4si __attribute__((vector_size(16)));
+typedef uint32_t v4su __attribute__((vector_size(16)));
+
+static inline v4si load4(const int16_t *p)
+{
+    v4hi h;
+    memcpy(&h, p, sizeof h);
+    return __builtin_convertvector(h, v4si);
+}
+
+static inline v4su zigzag4(v4si v)
+{
+    return ((v4su)v << 1) ^ (v4su)(v >> 31);
+}
+
+static inline uint32_t or4(v4su z)
+{
+    return z[0] | z[1] | z[2] | z[3];
+}
+
+static inline v4si min4(v4si a, v4si b)
+{
+    const v4si m = a < b;
+    return (a & m) | (b & ~m);
+}
+
+/* group_code on a full group read straight from the rows (qa, qb NULL: zero); *lo keeps
+ * the lanes' minimum of every value read, for the range check. */
+static inline void group_code8(const int16_t *q, const int16_t *qa, const int16_t *qb,
+                               uint32_t z[3][GROUP], unsigned wd[3], v4si *lo)
+{
+    const v4si zero = { 0, 0, 0, 0 };
+    v4su o[3] = { { 0 } };
+    for (unsigned h = 0; h < 2; h++) {
+        const v4si v = load4(q + 4 * h);
+        const v4si a = qa ? load4(qa + 4 * h) : zero, b = qb ? load4(qb + 4 * h) : zero;
+        *lo = min4(min4(*lo, v), min4(a, b));
+        const v4su z0 = zigzag4(v), z1 = zigzag4(v - a), z2 = zigzag4(v - (a + a - b));
+        memcpy(z[PRED_ZERO] + 4 * h, &z0, sizeof z0);
+        memcpy(z[PRED_PREV] + 4 * h, &z1, sizeof z1);
+        memcpy(z[PRED_LINEAR] + 4 * h, &z2, sizeof z2);
+        o[0] |= z0;
+        o[1] |= z1;
+        o[2] |= z2;
+    }
+    wd[0] = bit_width(or4(o[0]));
+    wd[1] = bit_width(or4(o[1]));
+    wd[2] = bit_width(or4(o[2]));
+}
+
+/* The smallest of q[m0..m1) (0 when empty). */
+static inline int32_t row_min(const int16_t *q, uint32_t m0, uint32_t m1)
+{
+    int32_t lo = 0;
+    for (uint32_t m = m0; m < m1; m++) {
+        lo = q[m] < lo ? q[m] : lo;
+    }
+    return lo;
+}
+
+/* Tree t breaks none of check_state's counts in st (NULL: none to break). */
+static inline bool counts_ok(const wire_scene *sc, const wire_state *st, uint32_t t)
+{
+    if (!st) {
+        return true;
+    }
+    const uint32_t n = st->n_modes[t];
+    return n <= sc->n_modes[sc->species[t]] && n <= st->stride;
+}
+
+/* Values of trees [t0, t1) into the nf frames w[f], group by group with the narrowest of
+ * each frame's first n_pred[f] predictors (the residuals computed once for all), checking
+ * every state's counts and values on the way (one pass over the rows): each tree straight
+ * into memory while its worst case and FAST_SLACK fit before w[f]->end, the rest through
+ * the checked writer (so a short buffer fails as it would byte by byte). Returns false at
+ * the first tree whose state breaks a rule (check_state names it). */
+static bool put_values(wire_writer *const *w, const int *n_pred, int nf, const wire_scene *sc,
+                       const wire_state *cur, const wire_state *prev, const wire_state *prev2,
+                       uint32_t t0, uint32_t t1)
 {
     uint32_t z[3][GROUP];
-    int32_t a_row[WIRE_MAX_MODES], b_row[WIRE_MAX_MODES];
-    const int n_pred = prev2 ? 3 : prev ? 2 : 1;
-    for (uint32_t t = 0; t < cur->n_trees; t++) {
-        uint32_t n = cur->n_modes[t];
+    unsigned wd[3];
+    int32_t v[WIRE_MAX_MODES + GROUP], a[WIRE_MAX_MODES + GROUP], b[WIRE_MAX_MODES + GROUP];
+    v4si lo4 = { 0, 0, 0, 0 };
+    int32_t lo = 0;
+    bool bad = false;
+    for (uint32_t t = t0; t < t1 && !bad; t++) {
+        if (sc->species[t] >= sc->n_species || !counts_ok(sc, cur, t) ||
+            !counts_ok(sc, prev, t) || !counts_ok(sc, prev2, t)) {
+            return false;
+        }
+        const uint32_t n = cur->n_modes[t];
+        const uint32_t na = prev ? prev->n_modes[t] : 0, nb = prev2 ? prev2->n_modes[t] : 0;
+        const int16_t *q = cur->q + (size_t)t * cur->stride;
+        const int16_t *qa = prev ? prev->q + (size_t)t * prev->stride : NULL;
+        const int16_t *qb = prev2 ? prev2->q + (size_t)t * prev2->stride : NULL;
+        /* the history values past what this frame reads are checked here */
+        lo = qa && na > n ? (row_min(qa, n, na) < lo ? row_min(qa, n, na) : lo) : lo;
+        lo = qb && nb > n ? (row_min(qb, n, nb) < lo ? row_min(qb, n, nb) : lo) : lo;
         if (n == 0) {
             continue;
         }
-        const int16_t *q = cur->q + (size_t)t * cur->stride;
-        /* The history rows, 0 where a mode was not sent (PROTOCOL.md). */
-        for (uint32_t m = 0; m < n; m++) {
-            a_row[m] = state_at(prev, t, m);
-            b_row[m] = state_at(prev2, t, m);
+        bool fast[3];
+        for (int f = 0; f < nf; f++) {
+            fast[f] = (size_t)(w[f]->end - w[f]->p) >= tree_bound(n) + FAST_SLACK;
+        }
+        /* whole groups of every row read straight from the rows; a partial group or a
+         * history row shorter than this one through the zero-padded copies */
+        const bool rows = n % GROUP == 0 && (!prev || na >= n) && (!prev2 || nb >= n);
+        if (!rows) {
+            tree_rows(cur, prev, prev2, t, v, a, b);
+            const uint32_t ng = (n + GROUP - 1) / GROUP * GROUP;
+            for (uint32_t m = 0; m < ng; m++) {
+                lo = v[m] < lo ? v[m] : lo;
+                lo = a[m] < lo ? a[m] : lo;
+                lo = b[m] < lo ? b[m] : lo;
+            }
         }
         for (uint32_t g0 = 0; g0 < n; g0 += GROUP) {
-            uint32_t k = n - g0 < GROUP ? n - g0 : GROUP;
-            uint32_t zmax[3] = { 0, 0, 0 };
-            for (uint32_t i = 0; i < k; i++) {
-                int32_t v = q[g0 + i];
-                int32_t a = a_row[g0 + i], b = b_row[g0 + i];
-                z[PRED_ZERO][i] = wire_zigzag(v);
-                z[PRED_PREV][i] = wire_zigzag(v - a);
-                z[PRED_LINEAR][i] = wire_zigzag(v - (2 * a - b));
-                zmax[0] |= z[PRED_ZERO][i];
-                zmax[1] |= z[PRED_PREV][i];
-                zmax[2] |= z[PRED_LINEAR][i];
+            const uint32_t k = n - g0 < GROUP ? n - g0 : GROUP;
+            if (rows) {
+                group_code8(q + g0, qa ? qa + g0 : NULL, qb ? qb + g0 : NULL, z, wd, &lo4);
+            } else {
+                group_code(v + g0, a + g0, b + g0, z, wd);
             }
-            /* The OR of the values has the width of their maximum. */
-            int best = PRED_ZERO;
-            for (int p = 1; p < n_pred; p++) {
-                if (bit_width(zmax[p]) < bit_width(zmax[best])) {
-                    best = p;
+            for (int f = 0; f < nf; f++) {
+                int best;
+                const uint8_t gh = group_header(wd, n_pred[f], &best);
+                const unsigned width = gh & 0x1fu;
+                wire_writer *wf = w[f];
+                if (fast[f]) {
+                    *wf->p = gh;
+                    pack8(wf->p + 1, z[best], width);
+                    wf->p += 1 + ((size_t)k * width + 7) / 8;
+                } else {
+                    wire_put_u8(wf, gh);
+                    put_bits(wf, z[best], k, width);
                 }
             }
-            unsigned width = bit_width(zmax[best]);
-            wire_put_u8(w, (uint8_t)((unsigned)best << 5 | width));
-            put_bits(w, z[best], k, width);
+        }
+        for (int f = 0; f < nf; f++) {
+            bad = bad || w[f]->bad;
         }
     }
+    for (unsigned i = 0; i < 4; i++) {
+        lo = lo4[i] < lo ? lo4[i] : lo;
+    }
+    return lo >= -WIRE_QMAX;
+}
+
+typedef struct lane_job {
+    const wire_scene *sc;
+    const wire_state *cur, *prev, *prev2;
+    int nf;                              /* frames written at once */
+    int n_pred[3];                       /* predictors of each frame */
+    uint32_t n_lanes;
+    uint32_t t[WIRE_MAX_LANES + 1];      /* lane i: trees [t[i], t[i + 1]) */
+    uint8_t *at[3][WIRE_MAX_LANES + 1];  /* lane i writes frame f in [at[f][i], at[f][i + 1]) */
+    uint8_t *end[3][WIRE_MAX_LANES];     /* where lane i's values of frame f ended */
+    bool bad[WIRE_MAX_LANES];            /* lane i found a bad state or ran out of room */
+} lane_job;
+
+/* True when trees [t0, t1) of st break none of check_state's rules. */
+static bool states_ok(const wire_scene *sc, const wire_state *st, uint32_t t0, uint32_t t1)
+{
+    if (!st) {
+        return true;
+    }
+    if (st->n_trees != sc->n_trees) {
+        return false;
+    }
+    int32_t lo = 0;
+    for (uint32_t t = t0; t < t1; t++) {
+        const uint32_t sp = sc->species[t];
+        const uint32_t n = st->n_modes[t];
+        if (sp >= sc->n_species || n > sc->n_modes[sp] || n > st->stride) {
+            return false;
+        }
+        const int16_t *q = st->q + (size_t)t * st->stride;
+        for (uint32_t m = 0; m < n; m++) {
+            lo = q[m] < lo ? q[m] : lo;
+        }
+    }
+    return lo >= -WIRE_QMAX;
+}
+
+static void lane_run(void *arg, int lane)
+{
+    lane_job *j = arg;
+    const uint32_t i = (uint32_t)lane, t0 = j->t[i], t1 = j->t[i + 1];
+    wire_writer w[3], *wp[3];
+    for (int f = 0; f < j->nf; f++) {
+        w[f] = wire_writer_make(j->at[f][i], (size_t)(j->at[f][i + 1] - j->at[f][i]));
+        wp[f] = &w[f];
+    }
+    const bool ok = put_values(wp, j->n_pred, j->nf, j->sc, j->cur, j->prev, j->prev2, t0, t1);
+    j->bad[i] = !ok;
+    for (int f = 0; f < j->nf; f++) {
+        j->bad[i] = j->bad[i] || w[f].bad;
+        j->end[f][i] = w[f].p;
+    }
+}
+
+/* The checks and values of nf frames whose fixed parts are already in w[f] (frame f coded
+ * with n_pred[f] predictors): the trees split into lanes->n contiguous shares, each
+ * share's bytes written at the worst-case offset of its first tree (so the lanes never
+ * overlap) and moved down after the lanes before it. The bytes are those of one lane,
+ * whatever the split. With too little room for that layout, or no lanes, one lane runs on
+ * the caller's thread. Returns non-zero when a state breaks a rule (the caller's checks
+ * then name it); a short buffer sets that frame's bad. */
+static int put_lanes(wire_writer *const *w, const int *n_pred, int nf, const wire_scene *sc,
+                     const wire_state *cur, const wire_state *prev, const wire_state *prev2,
+                     const wire_lanes *lanes)
+{
+    lane_job j = { .sc = sc, .cur = cur, .prev = prev, .prev2 = prev2, .nf = nf, .n_lanes = 1 };
+    const uint32_t n = cur->n_trees;
+    uint32_t want = lanes && lanes->run && lanes->n > 1 ? (uint32_t)lanes->n : 1u;
+    want = want > WIRE_MAX_LANES ? WIRE_MAX_LANES : want;
+    want = want > n ? n : want;
+    const size_t per_tree = tree_bound(cur->stride < WIRE_MAX_MODES ? cur->stride : WIRE_MAX_MODES);
+    bool room = want > 1 && cur->stride <= WIRE_MAX_MODES;
+    for (int f = 0; f < nf; f++) {
+        j.n_pred[f] = n_pred[f];
+        room = room && (size_t)(w[f]->end - w[f]->p) >= per_tree * n + (size_t)want * FAST_SLACK;
+    }
+    j.n_lanes = room ? want : 1;
+    for (uint32_t i = 0; i <= j.n_lanes; i++) {
+        j.t[i] = (uint32_t)((uint64_t)n * i / j.n_lanes);
+        /* lane i's share: its trees' worst case, its slack, then the lanes before it */
+        for (int f = 0; f < nf; f++) {
+            j.at[f][i] = j.n_lanes == 1 ? (i ? w[f]->end : w[f]->p)
+                                        : w[f]->p + per_tree * j.t[i] + (size_t)i * FAST_SLACK;
+        }
+    }
+    if (j.n_lanes == 1) {
+        lane_run(&j, 0);
+    } else {
+        lanes->run(lanes->ctx, (int)j.n_lanes, lane_run, &j);
+    }
+    for (uint32_t i = 0; i < j.n_lanes; i++) {
+        if (j.bad[i]) {
+            /* a bad state, or lane 0 alone ran out of room: the caller tells which */
+            if (states_ok(sc, cur, j.t[i], j.t[i + 1]) &&
+                states_ok(sc, prev, j.t[i], j.t[i + 1]) &&
+                states_ok(sc, prev2, j.t[i], j.t[i + 1])) {
+                for (int f = 0; f < nf; f++) {
+                    w[f]->bad = true;
+                }
+                return 0;
+            }
+            return 1;
+        }
+    }
+    for (int f = 0; f < nf; f++) {
+        uint8_t *p = w[f]->p;
+        for (uint32_t i = 0; i < j.n_lanes; i++) {
+            const size_t len = (size_t)(j.end[f][i] - j.at[f][i]);
+            if (p != j.at[f][i]) {
+                memmove(p, j.at[f][i], len);
+            }
+            p += len;
+        }
+        w[f]->p = p;
+    }
+    return 0;
+}
+
+/* The state checks in order, for the message of the first rule broken. */
+static int check_states(const wire_scene *sc, const wire_state *cur, const wire_state *prev,
+                        const wire_state *prev2, const char *what, gale_err *err)
+{
+    int rc = check_state(sc, cur, what, "cur", err);
+    if (!rc && prev) {
+        rc = check_state(sc, prev, what, "prev", err);
+    }
+    if (!rc && prev2) {
+        rc = check_state(sc, prev2, what, "prev2", err);
+    }
+    return rc;
 }
 
 static int finish(wire_writer *w, uint8_t *buf, size_t cap, size_t *len, const char *what,
@@ -263,43 +599,114 @@ static int finish(wire_writer *w, uint8_t *buf, size_t cap, size_t *len, const c
     return 0;
 }
 
-int wire_encode_keyframe(const wire_header *h, uint32_t seq, const wire_scene *scene,
-                         const wire_state *cur, uint8_t *buf, size_t cap, size_t *len,
-                         gale_err *err)
+/* The values through the lanes, then the frame's length; a broken rule of the states is
+ * reported before a short buffer, as the checks run first. */
+static int finish_lanes(wire_writer *w, const wire_scene *sc, const wire_state *cur,
+                        const wire_state *prev, const wire_state *prev2,
+                        const wire_lanes *lanes, uint8_t *buf, size_t cap, size_t *len,
+                        const char *what, gale_err *err)
+{
+    wire_writer *const ws[1] = { w };
+    const int n_pred[1] = { prev2 ? 3 : prev ? 2 : 1 };
+    const int bad_state = !w->bad ? put_lanes(ws, n_pred, 1, sc, cur, prev, prev2, lanes) : 0;
+    if (bad_state || w->bad) {
+        int rc = check_states(sc, cur, prev, prev2, what, err);
+        if (rc || bad_state) {
+            return rc ? rc : gale_errf(err, GALE_E_RANGE, "%s: a state breaks a limit", what);
+        }
+    }
+    return finish(w, buf, cap, len, what, err);
+}
+
+/* The same check as check_state's first one, before anything indexes by tree. */
+static int check_counts(const wire_scene *sc, const wire_state *st, const char *what,
+                        const char *name, gale_err *err)
+{
+    if (st && st->n_trees != sc->n_trees) {
+        return gale_errf(err, GALE_E_ARG, "%s: %s.n_trees: expected %u (the scene), got %u",
+                         what, name, sc->n_trees, st->n_trees);
+    }
+    return 0;
+}
+
+/* A KEYFRAME's fields before its values. */
+static void put_key_head(wire_writer *w, const wire_header *h, uint32_t seq,
+                         const wire_scene *scene, const wire_state *cur)
+{
+    wire_header hh = *h;
+    hh.type = WIRE_MSG_KEYFRAME;
+    hh.flags = 0;
+    wire_put_header(w, &hh);
+    wire_put_u32(w, seq);
+    wire_put_u32(w, scene->n_trees);
+    wire_put_u8(w, (uint8_t)scene->n_species);
+    for (uint32_t s = 0; s < scene->n_species; s++) {
+        wire_put_u8(w, scene->n_modes[s]);
+        for (uint32_t m = 0; m < scene->n_modes[s]; m++) {
+            wire_put_f32(w, scene->step[s][m]);
+        }
+    }
+    if (!w->bad && (size_t)(w->end - w->p) >= scene->n_trees) {
+        memcpy(w->p, scene->species, scene->n_trees);
+        w->p += scene->n_trees;
+    } else {
+        w->bad = true;
+    }
+    put_set(w, scene, cur);
+}
+
+/* A DELTA's fields before its values. */
+static void put_delta_head(wire_writer *w, const wire_header *h, uint32_t seq,
+                           const wire_scene *scene, const wire_state *cur,
+                           const wire_state *prev, bool two)
+{
+    wire_header hh = *h;
+    hh.type = WIRE_MSG_DELTA;
+    hh.flags = 0;
+    wire_put_header(w, &hh);
+    wire_put_u32(w, seq);
+    wire_put_u8(w, two ? 2 : 1);
+    if (same_set(cur, prev)) {
+        wire_put_u8(w, SET_SAME);
+    } else {
+        put_set(w, scene, cur);
+    }
+}
+
+int wire_encode_keyframe_lanes(const wire_header *h, uint32_t seq, const wire_scene *scene,
+                               const wire_state *cur, const wire_lanes *lanes, uint8_t *buf,
+                               size_t cap, size_t *len, gale_err *err)
 {
     const char *what = "wire_encode_keyframe";
     int rc = check_scene(scene, what, err);
     if (!rc) {
-        rc = check_state(scene, cur, what, "cur", err);
+        rc = check_counts(scene, cur, what, "cur", err);
+    }
+    for (uint32_t t = 0; !rc && t < scene->n_trees; t++) {
+        /* put_set reads the species before the lanes check them */
+        if (scene->species[t] >= scene->n_species) {
+            rc = check_states(scene, cur, NULL, NULL, what, err);
+        }
     }
     if (rc) {
         return rc;
     }
     wire_writer w = wire_writer_make(buf, cap);
-    wire_header hh = *h;
-    hh.type = WIRE_MSG_KEYFRAME;
-    hh.flags = 0;
-    wire_put_header(&w, &hh);
-    wire_put_u32(&w, seq);
-    wire_put_u32(&w, scene->n_trees);
-    wire_put_u8(&w, (uint8_t)scene->n_species);
-    for (uint32_t s = 0; s < scene->n_species; s++) {
-        wire_put_u8(&w, scene->n_modes[s]);
-        for (uint32_t m = 0; m < scene->n_modes[s]; m++) {
-            wire_put_f32(&w, scene->step[s][m]);
-        }
-    }
-    for (uint32_t t = 0; t < scene->n_trees; t++) {
-        wire_put_u8(&w, scene->species[t]);
-    }
-    put_set(&w, scene, cur);
-    put_values(&w, cur, NULL, NULL);
-    return finish(&w, buf, cap, len, what, err);
+    put_key_head(&w, h, seq, scene, cur);
+    return finish_lanes(&w, scene, cur, NULL, NULL, lanes, buf, cap, len, what, err);
 }
 
-int wire_encode_delta(const wire_header *h, uint32_t seq, const wire_scene *scene,
-                      const wire_state *cur, const wire_state *prev, const wire_state *prev2,
-                      uint8_t *buf, size_t cap, size_t *len, gale_err *err)
+int wire_encode_keyframe(const wire_header *h, uint32_t seq, const wire_scene *scene,
+                         const wire_state *cur, uint8_t *buf, size_t cap, size_t *len,
+                         gale_err *err)
+{
+    return wire_encode_keyframe_lanes(h, seq, scene, cur, NULL, buf, cap, len, err);
+}
+
+int wire_encode_delta_lanes(const wire_header *h, uint32_t seq, const wire_scene *scene,
+                            const wire_state *cur, const wire_state *prev,
+                            const wire_state *prev2, const wire_lanes *lanes, uint8_t *buf,
+                            size_t cap, size_t *len, gale_err *err)
 {
     const char *what = "wire_encode_delta";
     if (!prev) {
@@ -308,31 +715,99 @@ int wire_encode_delta(const wire_header *h, uint32_t seq, const wire_scene *scen
     }
     int rc = check_scene(scene, what, err);
     if (!rc) {
-        rc = check_state(scene, cur, what, "cur", err);
+        rc = check_counts(scene, cur, what, "cur", err);
     }
     if (!rc) {
-        rc = check_state(scene, prev, what, "prev", err);
+        rc = check_counts(scene, prev, what, "prev", err);
     }
-    if (!rc && prev2) {
-        rc = check_state(scene, prev2, what, "prev2", err);
+    if (!rc) {
+        rc = check_counts(scene, prev2, what, "prev2", err);
+    }
+    for (uint32_t t = 0; !rc && t < scene->n_trees; t++) {
+        if (scene->species[t] >= scene->n_species) {
+            rc = check_states(scene, cur, prev, prev2, what, err);
+        }
     }
     if (rc) {
         return rc;
     }
     wire_writer w = wire_writer_make(buf, cap);
-    wire_header hh = *h;
-    hh.type = WIRE_MSG_DELTA;
-    hh.flags = 0;
-    wire_put_header(&w, &hh);
-    wire_put_u32(&w, seq);
-    wire_put_u8(&w, prev2 ? 2 : 1);
-    if (same_set(cur, prev)) {
-        wire_put_u8(&w, SET_SAME);
-    } else {
-        put_set(&w, scene, cur);
+    put_delta_head(&w, h, seq, scene, cur, prev, prev2 != NULL);
+    return finish_lanes(&w, scene, cur, prev, prev2, lanes, buf, cap, len, what, err);
+}
+
+int wire_encode_delta(const wire_header *h, uint32_t seq, const wire_scene *scene,
+                      const wire_state *cur, const wire_state *prev, const wire_state *prev2,
+                      uint8_t *buf, size_t cap, size_t *len, gale_err *err)
+{
+    return wire_encode_delta_lanes(h, seq, scene, cur, prev, prev2, NULL, buf, cap, len, err);
+}
+
+/* The frames of wire_encode_snapshot_lanes one after the other: the first error is the
+ * one the separate calls give. */
+static int encode_each(const wire_header *h, uint32_t seq, const wire_scene *scene,
+                       const wire_state *cur, const wire_state *prev, const wire_state *prev2,
+                       const wire_lanes *lanes, wire_frame_out *out)
+{
+    int rc = wire_encode_keyframe_lanes(h, seq, scene, cur, lanes, out[0].buf, out[0].cap,
+                                        &out[0].len, out[0].err);
+    if (!rc && prev) {
+        rc = wire_encode_delta_lanes(h, seq, scene, cur, prev, NULL, lanes, out[1].buf,
+                                     out[1].cap, &out[1].len, out[0].err);
     }
-    put_values(&w, cur, prev, prev2);
-    return finish(&w, buf, cap, len, what, err);
+    if (!rc && prev && prev2) {
+        rc = wire_encode_delta_lanes(h, seq, scene, cur, prev, prev2, lanes, out[2].buf,
+                                     out[2].cap, &out[2].len, out[0].err);
+    }
+    return rc;
+}
+
+int wire_encode_snapshot_lanes(const wire_header *h, uint32_t seq, const wire_scene *scene,
+                               const wire_state *cur, const wire_state *prev,
+                               const wire_state *prev2, const wire_lanes *lanes,
+                               wire_frame_out *out)
+{
+    prev2 = prev ? prev2 : NULL;
+    const int nf = prev2 ? 3 : prev ? 2 : 1;
+    gale_err scratch;
+    bool ok = !check_scene(scene, "", &scratch) && !check_counts(scene, cur, "", "", &scratch) &&
+              !check_counts(scene, prev, "", "", &scratch) &&
+              !check_counts(scene, prev2, "", "", &scratch);
+    for (uint32_t t = 0; ok && t < scene->n_trees; t++) {
+        ok = scene->species[t] < scene->n_species;
+    }
+    if (!ok) {
+        return encode_each(h, seq, scene, cur, prev, prev2, lanes, out);
+    }
+    wire_writer w[3], *ws[3];
+    for (int f = 0; f < nf; f++) {
+        w[f] = wire_writer_make(out[f].buf, out[f].cap);
+        ws[f] = &w[f];
+    }
+    put_key_head(&w[0], h, seq, scene, cur);
+    if (nf >= 2) {
+        put_delta_head(&w[1], h, seq, scene, cur, prev, false);
+    }
+    if (nf == 3) {
+        put_delta_head(&w[2], h, seq, scene, cur, prev, true);
+    }
+    bool short_buf = false;
+    for (int f = 0; f < nf; f++) {
+        short_buf = short_buf || w[f].bad;
+    }
+    /* one pass over the rows for the three frames: the residuals against each predictor
+       once, each frame taking the narrowest of its own */
+    const int n_pred[3] = { 1, 2, 3 };
+    if (short_buf || put_lanes(ws, n_pred, nf, scene, cur, prev, prev2, lanes)) {
+        return encode_each(h, seq, scene, cur, prev, prev2, lanes, out);
+    }
+    for (int f = 0; f < nf; f++) {
+        if (w[f].bad) {
+            return encode_each(h, seq, scene, cur, prev, prev2, lanes, out);
+        }
+        out[f].len = (size_t)(w[f].p - out[f].buf);
+    }
+    return 0;
 }
 
 /* ---- decoding ---------------------------------------------------------------------- */

@@ -119,6 +119,17 @@ typedef struct wire_state {
 /* Worst-case bytes of one KEYFRAME or DELTA for these sizes (to size a buffer once). */
 size_t wire_state_bound(uint32_t n_trees, uint32_t max_modes, uint32_t n_species);
 
+/* Lanes for the state encoders: run(ctx, n, job, arg) calls job(arg, i) for every i in
+ * 0..n-1, on several threads at once or in turn, and returns when all have returned. The
+ * trees are split into n contiguous shares; the frame's bytes are those of one lane. */
+#define WIRE_MAX_LANES 16u
+typedef void (*wire_lane_fn)(void *arg, int lane);
+typedef struct wire_lanes {
+    int n; /* lanes, <= WIRE_MAX_LANES; <= 1: one, on the caller's thread */
+    void (*run)(void *ctx, int n, wire_lane_fn job, void *arg);
+    void *ctx;
+} wire_lanes;
+
 /* Encodes a KEYFRAME (absolute q) of snapshot `seq` into buf[cap]; *len gets its size.
  * h->type is ignored (set to KEYFRAME). Fails with GALE_E_RANGE when buf is too small
  * or a count breaks a limit. Does not allocate. */
@@ -132,6 +143,33 @@ int wire_encode_keyframe(const wire_header *h, uint32_t seq, const wire_scene *s
 int wire_encode_delta(const wire_header *h, uint32_t seq, const wire_scene *scene,
                       const wire_state *cur, const wire_state *prev, const wire_state *prev2,
                       uint8_t *buf, size_t cap, size_t *len, gale_err *err);
+
+/* The same two in lanes (NULL: one). A buffer of wire_state_bound bytes leaves the lanes
+ * room; a smaller one that still fits the frame is encoded in one lane. */
+int wire_encode_keyframe_lanes(const wire_header *h, uint32_t seq, const wire_scene *scene,
+                               const wire_state *cur, const wire_lanes *lanes, uint8_t *buf,
+                               size_t cap, size_t *len, gale_err *err);
+int wire_encode_delta_lanes(const wire_header *h, uint32_t seq, const wire_scene *scene,
+                            const wire_state *cur, const wire_state *prev,
+                            const wire_state *prev2, const wire_lanes *lanes, uint8_t *buf,
+                            size_t cap, size_t *len, gale_err *err);
+
+/* One output of wire_encode_snapshot_lanes. */
+typedef struct wire_frame_out {
+    uint8_t *buf;
+    size_t cap;
+    size_t len;     /* set on success */
+    gale_err *err;  /* out[0]'s receives the error (may be NULL) */
+} wire_frame_out;
+
+/* A snapshot's frames in one pass over the states: out[0] the KEYFRAME, and with prev
+ * out[1] the DELTA against prev, and with prev and prev2 out[2] the DELTA against both;
+ * the bytes and the first error are those of wire_encode_keyframe_lanes and
+ * wire_encode_delta_lanes called in that order. */
+int wire_encode_snapshot_lanes(const wire_header *h, uint32_t seq, const wire_scene *scene,
+                               const wire_state *cur, const wire_state *prev,
+                               const wire_state *prev2, const wire_lanes *lanes,
+                               wire_frame_out *out);
 
 /* ---- leaf seeds and coarse wind ----------------------------------------------------- */
 

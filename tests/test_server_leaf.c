@@ -2,6 +2,9 @@
  * mean, reproducibility and the output cap. */
 #include "check.h"
 #include "leaf.h"
+#include "hash.h"
+
+#include <math.h>
 
 static const leaf_desc D = { .rate_hz = 0.01f, .calm_ms = 3, .ref_ms = 20, .seed = 42 };
 
@@ -60,11 +63,56 @@ static void test_cap(void)
     CHECK(lost > 0);
 }
 
+/* The draw written out as Knuth's (every tree computes e^-mean): leaf_shed gives the same
+ * seeds for every tree, tick and speed, the calm and capped means and the small ones its
+ * early exit takes included. */
+static int knuth_ref(uint32_t instance, uint32_t n_slots, double speed_ms, uint32_t tick,
+                     leaf_seed *out)
+{
+    double mean = leaf_rate(&D, speed_ms) * (double)n_slots / 60.0;
+    if (!(mean > 0) || n_slots == 0) {
+        return 0;
+    }
+    mean = mean > 32 ? 32 : mean;
+    uint64_t st = hash64_final(D.seed ^ hash64_final(((uint64_t)instance << 32) | tick));
+    double limit = exp(-mean);
+    double p = (double)(hash64_splitmix(&st) >> 11) * (1.0 / 9007199254740992.0);
+    int k = 0;
+    while (p > limit && k < 256) {
+        k++;
+        p *= (double)(hash64_splitmix(&st) >> 11) * (1.0 / 9007199254740992.0);
+    }
+    for (int i = 0; i < k; i++) {
+        uint64_t r = hash64_splitmix(&st);
+        out[i] = (leaf_seed){ instance, (uint32_t)((r >> 32) % n_slots), tick, (uint32_t)r };
+    }
+    return k;
+}
+
+static void test_same_as_knuth(void)
+{
+    static leaf_seed got[64], want[64];
+    int diff = 0, total = 0;
+    for (uint32_t t = 0; t < 20000; t++) {
+        const double speed = 3.0 + (double)(t % 200) * 0.25; /* calm to 53 m/s */
+        const uint32_t slots = t % 7 == 0 ? 1 : 1500;
+        const uint32_t tick = t * 2654435761u;
+        int n = 0;
+        leaf_shed(&D, t, slots, speed, tick, 1.0 / 60, got, 64, &n);
+        int k = knuth_ref(t, slots, speed, tick, want);
+        total += k;
+        diff += n != k || memcmp(got, want, sizeof(leaf_seed) * (size_t)k) != 0;
+    }
+    CHECK(diff == 0);
+    CHECK(total > 1000);
+}
+
 int main(void)
 {
     RUN(test_rate_law);
     RUN(test_calm_sheds_nothing);
     RUN(test_poisson_mean);
     RUN(test_cap);
+    RUN(test_same_as_knuth);
     return check_report();
 }

@@ -4,6 +4,7 @@
 #include "check.h"
 #include "tick.h"
 
+#include <math.h>
 #include <stdlib.h>
 
 static scene one_tree(float yaw_rad, float u10)
@@ -224,11 +225,114 @@ static void test_unconverged(void)
     tick_destroy(t);
 }
 
+/* A wind field given by a formula of the sample point: what each crown gets tells whether
+ * the samples went back to the right tree. */
+static void field_at(const float *p, float *v)
+{
+    v[0] = 25.0f + 0.05f * p[0] + 3.0f * sinf(0.2f * p[1]);
+    v[1] = 0.04f * p[1] - 2.0f;
+    v[2] = 0.01f * p[0] + 0.02f * p[2];
+}
+
+static void field_sample(void *ctx, int n, const float *p, float *v)
+{
+    (void)ctx;
+    for (int i = 0; i < n; i++) {
+        field_at(p + 3 * i, v + 3 * i);
+    }
+}
+
+static int field_step(void *ctx, float dt_s, wind_step_stats *st)
+{
+    (void)ctx;
+    (void)dt_s;
+    (void)st;
+    return 0;
+}
+
+/* 6000 trees in random order over a grid of 2 m cells, on 1 and 3 tick threads, with a leaf
+ * cap that overflows and one that does not: every crown gets the wind at its own crown
+ * (sampled in the grid's Morton order, scattered back), and the snapshots, the leaves in
+ * order, the leaves lost and the strongest wind are the same on both. */
+static void test_threads_same_tick(void)
+{
+    enum { N = 6000, MODES = 4 };
+    float omega[MODES] = { 3, 7, 13, 29 }, gamma[MODES] = { 0.3f, 0.5f, 0.9f, 2 };
+    float basis[3 * MODES] = { 1e-3f, 2e-4f, 0, -5e-4f, 1e-3f, 1e-4f,
+                               3e-4f, -2e-4f, 1e-4f, 1e-4f, 1e-4f, -1e-4f };
+    float qstep[MODES] = { 1e-5f, 1e-5f, 1e-5f, 1e-5f };
+    tick_species sp = { .n_modes = MODES, .omega = omega, .gamma = gamma, .wind_basis = basis,
+                        .qstep = qstep, .height_m = 12, .n_leaves = 1500 };
+    static scene_tree tr[N];
+    uint64_t r = 99;
+    for (int k = 0; k < N; k++) {
+        r = r * 6364136223846793005ull + 1442695040888963407ull;
+        float x = (float)(r >> 40) / 16777216.0f * 128.0f - 64.0f;
+        r = r * 6364136223846793005ull + 1442695040888963407ull;
+        float y = (float)(r >> 40) / 16777216.0f * 128.0f - 64.0f;
+        tr[k] = (scene_tree){ .species = 0, .pos = { x, y, 0 }, .yaw_rad = 0.001f * (float)k,
+                              .scale = 1 };
+    }
+    for (int cap = 0; cap < 2; cap++) {
+        tick_sim *t[2];
+        int16_t *q[2];
+        /* borrowed by the simulations for their life */
+        static scene s[2];
+        static tick_wind tws[2];
+        for (int j = 0; j < 2; j++) {
+            s[j] = one_tree(0, 20);
+            s[j].trees = tr;
+            s[j].n_trees = N;
+            s[j].cell_m = 2;
+            s[j].origin[0] = s[j].origin[1] = -64;
+            s[j].tick_threads = j ? 3 : 1;
+            tws[j] = (tick_wind){ .set_inflow = fw_inflow, .step = field_step,
+                                  .sample_many = field_sample };
+            t[j] = tick_create(&(tick_desc){ .sc = &s[j], .species = &sp, .wind = &tws[j],
+                                             .max_leaves_per_tick = cap ? 100000 : 700 },
+                               NULL);
+            q[j] = calloc((size_t)N * MODES, sizeof(int16_t));
+            CHECK(t[j] != NULL && q[j] != NULL);
+        }
+        if (!t[0] || !t[1] || !q[0] || !q[1]) {
+            return;
+        }
+        int lost = 0, shed = 0, wind_bad = 0;
+        for (int n = 0; n < 8; n++) {
+            tick_stats st[2];
+            for (int j = 0; j < 2; j++) {
+                CHECK(tick_step(t[j], q[j], &st[j], NULL) == 0);
+            }
+            CHECK(memcmp(q[0], q[1], sizeof(int16_t) * N * MODES) == 0);
+            const leaf_seed *l[2];
+            int nl[2] = { tick_leaves(t[0], &l[0]), tick_leaves(t[1], &l[1]) };
+            CHECK(nl[0] == nl[1] && memcmp(l[0], l[1], sizeof(leaf_seed) * (size_t)nl[0]) == 0);
+            CHECK(st[0].leaves_lost == st[1].leaves_lost);
+            CHECK(st[0].max_speed_ms == st[1].max_speed_ms);
+            lost += st[0].leaves_lost;
+            shed += nl[0];
+            for (int k = 0; k < N; k++) {
+                float want[3], p[3] = { tr[k].pos[0], tr[k].pos[1], 0.7f * 12.0f };
+                field_at(p, want);
+                wind_bad += memcmp(&tick_crown_wind(t[1])[3 * k], want, sizeof want) != 0;
+            }
+        }
+        CHECK(wind_bad == 0);
+        CHECK(shed > 8 * 500);
+        CHECK(cap ? lost == 0 : lost > 0);
+        for (int j = 0; j < 2; j++) {
+            tick_destroy(t[j]);
+            free(q[j]);
+        }
+    }
+}
+
 int main(void)
 {
     RUN(test_step_response);
     RUN(test_balls);
     RUN(test_unconverged);
     RUN(test_leaves_and_errors);
+    RUN(test_threads_same_tick);
     return check_report();
 }

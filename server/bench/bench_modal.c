@@ -3,8 +3,9 @@
  * grid of scene-scale cells, 2 m by default, over the trees' 2 km square, stepped by the
  * real solver every few ticks under a gusty inflow so the field evolves), forces
  * f_i = |v| v.p_i in the tree frame, exact update, quantisation into the snapshot buffer,
- * leaf shedding at each tree's wind speed (leaf.c) and the snapshot's DELTA encoding
- * (wire_encode_delta): all timed as the tick. Prints JSON; medians over the ticks, with
+ * leaf shedding at each tree's wind speed (leaf_shed_trees) and the snapshot's DELTA
+ * encoding (wire_encode_delta_lanes), both on the tick's threads: all timed as the tick.
+ * Prints JSON; medians over the ticks, with
  * the tick's byte model, the memory floor it implies and the machine's triad bandwidth
  * measured in the same run (bench_triad.c). The wind step itself is timed apart (and in
  * gale-bench wind). --damage both runs the tick twice on each tick's wind, without and
@@ -25,6 +26,7 @@
 #include "lsystem.h"
 #include "modal.h"
 #include "quant_steps.h"
+#include "sim_lanes.h"
 #include "species.h"
 #include "wind.h"
 #include "wire.h"
@@ -130,7 +132,7 @@ typedef struct variant {
     damage_sim *sim;
     int16_t *snap, *prev;
     uint8_t *enc;
-    leaf_seed *leaves;
+    leaf_seed *leaves, *leaf_scratch; /* [LEAF_CAP], [(threads - 1) * LEAF_CAP] */
     double *t_total, *t_cpu, *t_sample, *t_modal, *t_damage, *t_leaf, *t_enc, *t_nosnap;
     long n_shed, enc_bytes;
 } variant;
@@ -170,9 +172,11 @@ static int variant_init(variant *v, bool damage, const modal_desc *md, int n_mod
     v->prev = calloc(n * (size_t)n_modes, sizeof(int16_t));
     v->enc = malloc(enc_cap);
     v->leaves = malloc(LEAF_CAP * sizeof *v->leaves);
+    v->leaf_scratch = malloc((size_t)(md->n_threads > 1 ? md->n_threads - 1 : 1) * LEAF_CAP *
+                             sizeof *v->leaf_scratch);
     double **t[] = { &v->t_total, &v->t_cpu, &v->t_sample, &v->t_modal,
                      &v->t_damage, &v->t_leaf, &v->t_enc, &v->t_nosnap };
-    bool ok = v->snap && v->prev && v->enc && v->leaves;
+    bool ok = v->snap && v->prev && v->enc && v->leaves && v->leaf_scratch;
     for (size_t i = 0; i < sizeof t / sizeof t[0]; i++) {
         *t[i] = calloc(nt, sizeof(double));
         ok = ok && *t[i];
@@ -192,6 +196,7 @@ static void variant_fini(variant *v)
     free(v->prev);
     free(v->enc);
     free(v->leaves);
+    free(v->leaf_scratch);
     double *t[] = { v->t_total, v->t_cpu, v->t_sample, v->t_modal,
                     v->t_damage, v->t_leaf, v->t_enc, v->t_nosnap };
     for (size_t i = 0; i < sizeof t / sizeof t[0]; i++) {
@@ -211,6 +216,8 @@ typedef struct tick_in {
     size_t enc_cap;
     const leaf_desc *ld;
     uint32_t slots;
+    int threads;
+    wire_lanes lanes; /* the encoder's, on the tick's threads */
 } tick_in;
 
 /* Tick k (k < 0: warm-up, not recorded) of v: sampling, update (and damage), leaf
@@ -231,19 +238,15 @@ static int variant_tick(variant *v, const tick_in *in, int k, gale_err *err)
     }
     double t2 = mono_ms();
     int nl = 0;
-    for (size_t t = 0; t < n; t++) {
-        const float *w = &in->wind[3 * t];
-        double sp_ms = sqrt((double)(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]));
-        leaf_shed(in->ld, (uint32_t)t, in->slots, sp_ms, (uint32_t)(k + 20), 1.0 / 60,
-                  v->leaves, LEAF_CAP, &nl);
-    }
+    leaf_shed_trees(in->ld, (uint32_t)n, in->wind, NULL, in->slots, (uint32_t)(k + 20), 1.0 / 60,
+                    in->threads, v->leaf_scratch, v->leaves, LEAF_CAP, &nl, NULL);
     double t2l = mono_ms();
     size_t len = 0;
     wire_header hdr = { .tick = (uint32_t)(k + 20) };
     const wire_state cur_st = { (uint32_t)n, (uint32_t)in->n_modes, in->nm, v->snap };
     const wire_state prev_st = { (uint32_t)n, (uint32_t)in->n_modes, in->nm, v->prev };
-    if (wire_encode_delta(&hdr, (uint32_t)(k + 21), in->wsc, &cur_st, &prev_st, NULL, v->enc,
-                          in->enc_cap, &len, err) != 0) {
+    if (wire_encode_delta_lanes(&hdr, (uint32_t)(k + 21), in->wsc, &cur_st, &prev_st, NULL,
+                                &in->lanes, v->enc, in->enc_cap, &len, err) != 0) {
         return GALE_E_RANGE;
     }
     double t2e = mono_ms();
@@ -485,7 +488,8 @@ int bench_modal(int argc, char **argv)
     const leaf_desc ld = { .rate_hz = 0.002f, .calm_ms = 3.0f, .ref_ms = 20.0f, .seed = 11 };
     const tick_in in = { .wg = wg, .n_trees = n_trees, .pos = pos, .wind = wind, .wsc = &wsc,
                          .nm = nm, .n_modes = n_modes, .enc_cap = enc_cap, .ld = &ld,
-                         .slots = 1500 /* leaf slots per tree: the shipped species' 1500-5300 */ };
+                         .slots = 1500 /* leaf slots per tree: the shipped species' 1500-5300 */,
+                         .threads = threads, .lanes = sim_lanes(threads) };
     /* With the oak, every tree starts at its static pose under the wind at its crown
      * (damage_static_q, streamlined as modal_tick drives it), so the ticks time a stand
      * swaying about its mean, not the overshoot of a load switched on at once (which
@@ -626,7 +630,8 @@ int bench_modal(int argc, char **argv)
                    "\"update_only_bytes_per_tree\":%.0f,\"update_only_effective_gb_per_s\":%.2f,"
                    "\"update_only_bandwidth_fraction\":%.3f,\"checksum\":%ld,"
                    "\"inputs\":{\"cell_m\":%.1f,\"grid\":[%d,%d,%d],\"wind_every_ticks\":%d,"
-                   "\"leaf_slots_per_tree\":%u,\"side_m\":%.0f},\"leaf_shed_ms_median\":%.3f,"
+                   "\"leaf_slots_per_tree\":%u,\"side_m\":%.0f,\"encode_lanes\":%d},"
+                   "\"leaf_shed_ms_median\":%.3f,"
                    "\"encode_ms_median\":%.3f,\"encoded_bytes_per_tick\":%.0f,"
                    "\"leaves_shed_per_tick\":%.1f,\"wind_step_ms_mean\":%.1f,"
                    "\"memory_floor_ms\":%.3f,\"loadavg\":[%.2f,%.2f,%.2f]}\n",
@@ -635,7 +640,7 @@ int bench_modal(int argc, char **argv)
                    med_t * 1e6 / ((double)n_trees * n_modes), med_cpu, med_ns, load[0], gbs,
                    tb.read, tb.written, tick_bytes, tick_gbs, frac, ub.read + ub.written,
                    upd_gbs, upd_frac, check, (double)cell_m, gxy, gxy, gz, every, in.slots,
-                   (double)side, med_l, med_e, enc_per_tick, (double)v->n_shed / ticks,
+                   (double)side, in.lanes.n > 1 ? in.lanes.n : 1, med_l, med_e, enc_per_tick, (double)v->n_shed / ticks,
                    wind_sum / ((ticks + every - 1) / every),
                    gbs > 0.0 ? tick_bytes / (gbs * 1e9) * 1e3 : 0.0, load[0], load[1], load[2]);
         } else {

@@ -4,6 +4,7 @@
  * thread owns the tick state, the lws thread the connections; they meet in net_publish
  * (snapshots), the scenario lock (kiosk commands), the view lock and a few atomics. */
 #include "srv_int.h"
+#include "sim_lanes.h"
 #include "damage_metrics.h"
 
 #include <math.h>
@@ -63,6 +64,7 @@ srv *srv_create(const srv_desc *d, gale_err *err)
         goto fail;
     }
     s->stride = tick_stride(s->tick);
+    s->lanes = sim_lanes(sc->tick_threads);
     weather_gust_init(&s->wx_gust);
     s->man_inflow = (wind_inflow){ .dir_rad = sc->wind_dir_deg * 0.017453292f,
                                    .u10_ms = sc->wind_u10_ms };

@@ -96,6 +96,7 @@ struct srv {
     int16_t *qbuf[3];            /* owned [n_trees * stride]: current, previous, before */
     int cur;                     /* index of the current buffer in qbuf */
     srv_stream shared;           /* the whole-scene stream (net_snap.stream 0) */
+    wire_lanes lanes;            /* the encoders' lanes on the scene's tick_threads */
     uint32_t seq;
     int ticks_per_snap;
     uint32_t key_every;          /* snapshots between periodic keyframes (desc.keyframe_s) */

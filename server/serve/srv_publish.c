@@ -116,7 +116,8 @@ void srv_publish(srv *s, uint32_t tick)
     const srv_qhist qh = { .q = { s->qbuf[s->cur], s->qbuf[(s->cur + 2) % 3],
                                   s->qbuf[(s->cur + 1) % 3] },
                            .n_trees = (uint32_t)n,
-                           .stride = (uint32_t)stride };
+                           .stride = (uint32_t)stride,
+                           .lanes = &s->lanes };
     net_snap *p = net_snap_acquire(s->net);
     if (p) {
         wire_header h = { .tick = tick, .server_time_us = mono_us() };

@@ -20,14 +20,18 @@ int srv_stream_encode(srv_stream *st, const wire_header *h, uint32_t seq,
     if (st->key_every && seq % st->key_every == 0) {
         st->held = 0; /* no delta: every connection takes the keyframe (net.h net_snap) */
     }
-    int rc = wire_encode_keyframe(h, seq, scene, &cur, out->key, out->cap, &out->key_len, err);
-    if (!rc && st->held >= 1) {
-        rc = wire_encode_delta(h, seq, scene, &cur, &prev, NULL, out->delta1, out->cap,
-                               &out->delta1_len, err);
+    /* the keyframe and the deltas the stream can send, in one pass over the snapshots */
+    wire_frame_out f[3] = { { out->key, out->cap, 0, err },
+                            { out->delta1, out->cap, 0, NULL },
+                            { out->delta2, out->cap, 0, NULL } };
+    int rc = wire_encode_snapshot_lanes(h, seq, scene, &cur, st->held >= 1 ? &prev : NULL,
+                                        st->held >= 2 ? &prev2 : NULL, qh->lanes, f);
+    out->key_len = f[0].len;
+    if (st->held >= 1) {
+        out->delta1_len = f[1].len;
     }
-    if (!rc && st->held >= 2) {
-        rc = wire_encode_delta(h, seq, scene, &cur, &prev, &prev2, out->delta2, out->cap,
-                               &out->delta2_len, err);
+    if (st->held >= 2) {
+        out->delta2_len = f[2].len;
     }
     st->held = rc ? 0 : st->held < 2 ? st->held + 1 : 2;
     return rc;

@@ -18,6 +18,7 @@ typedef struct srv_qhist {
     const int16_t *q[3];
     uint32_t n_trees;
     uint32_t stride;
+    const wire_lanes *lanes; /* the encoders' lanes (sim_lanes); NULL: one */
 } srv_qhist;
 
 /* Caller-owned; srv_stream_start sets it up. */
@@ -34,7 +35,8 @@ typedef struct srv_stream {
  * KEYFRAME at least that often (PROTOCOL.md "Sequence and gaps"). */
 void srv_stream_start(srv_stream *st, uint32_t id, const uint8_t *n_modes, uint32_t key_every);
 
-/* Encodes snapshot seq (header h: tick and server time) of the stream into out: the
+/* Encodes snapshot seq (header h: tick and server time) of the stream into out, in one
+ * pass over the snapshots (wire_encode_snapshot_lanes, on qh->lanes): the
  * keyframe, delta1 when the stream holds the previous snapshot, delta2 when it holds the
  * two previous (neither on a periodic keyframe's seq); sets out->seq and out->stream. The
  * stream then holds one more. Fails

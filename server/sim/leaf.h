@@ -34,4 +34,15 @@ double leaf_rate(const leaf_desc *d, double speed_ms);
 int leaf_shed(const leaf_desc *d, uint32_t instance, uint32_t n_slots, double speed_ms,
               uint32_t tick, double dt_s, leaf_seed *out, int cap, int *n);
 
+/* The leaves of every tree for one tick: tree t has slots[t] slots (slots NULL: every
+ * tree slots_all) and the wind wind[3 t..3 t + 2] [m/s] at its crown. The trees split
+ * into n_threads contiguous shares, each drawn on its own thread, the first into out, the
+ * others into scratch[(n_threads - 1) * cap], then merged after it in tree order under
+ * the cap: the seeds, their order and the count lost are those of one thread. *max_ms
+ * gets the strongest wind (may be NULL). Returns the number drawn that did not fit. */
+int leaf_shed_trees(const leaf_desc *d, uint32_t n_trees, const float *wind,
+                    const uint32_t *slots, uint32_t slots_all, uint32_t tick, double dt_s,
+                    int n_threads, leaf_seed *scratch, leaf_seed *out, int cap, int *n,
+                    float *max_ms);
+
 #endif

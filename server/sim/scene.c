@@ -630,6 +630,7 @@ int scene_parse(scene *s, const char *name, const char *text, size_t len, const 
     static const char *const keys[] = { "name",     "tick_hz", "snapshot_hz", "kiosk_token",
                                         "scenario", "wind",    "leaves",      "species",
                                         "obstacles", "trees",  "forest",      "playlist",
+                                        "tick_threads",
                                         NULL };
     memset(s, 0, sizeof *s);
     gale_err_clear(err_out);
@@ -658,6 +659,11 @@ int scene_parse(scene *s, const char *name, const char *text, size_t len, const 
         (rc = parse_playlist(s, &d, r, err))) {
         goto fail;
     }
+    long long tick_threads = 1;
+    if ((rc = cfg_int(&d, r, "", "tick_threads", false, 1, 1, 64, &tick_threads, err))) {
+        goto fail;
+    }
+    s->tick_threads = (int)tick_threads;
     if (s->n_playlist > 0 && scen[0]) {
         rc = gale_errf(err, GALE_E_PARSE, "%s: scenario: not used with a playlist (the "
                        "playlist's first entry starts): expected one of the two", d.name);

@@ -17,7 +17,13 @@ struct tick_sim {
     modal *m;               /* owned: q, q' of every tree and mode */
     float *crown;           /* owned [n_trees][3] sample points, world */
     float *vel;             /* owned [n_trees][3] sampled wind */
+    uint32_t *order;        /* owned [n_trees]: the trees in the order they are sampled */
+    float *crown_ordered;   /* owned [n_trees][3]: crown in that order */
+    float *vel_ordered;     /* owned [n_trees][3]: the wind sampled in that order */
+    uint32_t *slots;        /* owned [n_trees]: leaf slots of each tree's species */
+    int threads;            /* scene tick_threads */
     leaf_seed *leaves;      /* owned [max_leaves_per_tick] */
+    leaf_seed *leaf_scratch;/* owned [(threads - 1) * max_leaves_per_tick] */
     int n_leaves;
     uint32_t tick;
     leaf_desc leaf;
@@ -29,6 +35,56 @@ struct tick_sim {
     damage_sim *dmg;        /* owned; NULL when no species takes damage */
     atomic_int heal;        /* a heal is due before the next tick */
 };
+
+/* Interleaves the low 16 bits of x and y (x in the even bits): the Morton code. */
+static uint32_t morton2(uint32_t x, uint32_t y)
+{
+    uint32_t v[2] = { x & 0xffffu, y & 0xffffu };
+    for (int k = 0; k < 2; k++) {
+        v[k] = (v[k] | (v[k] << 8)) & 0x00ff00ffu;
+        v[k] = (v[k] | (v[k] << 4)) & 0x0f0f0f0fu;
+        v[k] = (v[k] | (v[k] << 2)) & 0x33333333u;
+        v[k] = (v[k] | (v[k] << 1)) & 0x55555555u;
+    }
+    return v[0] | v[1] << 1;
+}
+
+static int cmp_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* The trees in the Morton order of the wind cell their crown stands in (ties by index),
+ * so consecutive samples read neighbouring cells of the grid, whatever order the scene
+ * lists its trees in (a generated forest's is random). Tree ids are unchanged: the
+ * samples are scattered back to scene order. Returns non-zero without memory. */
+static int sample_order(tick_sim *t)
+{
+    const scene *sc = t->d.sc;
+    const size_t n = (size_t)t->n_trees;
+    uint64_t *key = malloc(n * sizeof *key);
+    if (!key) {
+        return GALE_E_NOMEM;
+    }
+    const float cell = sc->cell_m > 0.0f ? sc->cell_m : 1.0f;
+    for (size_t k = 0; k < n; k++) {
+        float fx = (t->crown[3 * k] - sc->origin[0]) / cell;
+        float fy = (t->crown[3 * k + 1] - sc->origin[1]) / cell;
+        /* outside the grid clamps to its edge cells, as the sampler does */
+        uint32_t ix = fx > 0.0f ? (fx < 65535.0f ? (uint32_t)fx : 65535u) : 0u;
+        uint32_t iy = fy > 0.0f ? (fy < 65535.0f ? (uint32_t)fy : 65535u) : 0u;
+        key[k] = (uint64_t)morton2(ix, iy) << 32 | (uint64_t)k;
+    }
+    qsort(key, n, sizeof *key, cmp_u64);
+    for (size_t i = 0; i < n; i++) {
+        const uint32_t k = (uint32_t)key[i];
+        t->order[i] = k;
+        memcpy(&t->crown_ordered[3 * i], &t->crown[3 * (size_t)k], 3 * sizeof(float));
+    }
+    free(key);
+    return 0;
+}
 
 tick_sim *tick_create(const tick_desc *d, gale_err *err)
 {
@@ -61,7 +117,18 @@ tick_sim *tick_create(const tick_desc *d, gale_err *err)
     t->crown = calloc((size_t)t->n_trees * 3, sizeof *t->crown);
     t->vel = calloc((size_t)t->n_trees * 3, sizeof *t->vel);
     t->leaves = calloc((size_t)t->d.max_leaves_per_tick, sizeof *t->leaves);
-    if (!species || !yaw || !t->crown || !t->vel || !t->leaves) {
+    t->threads = sc->tick_threads > 1 ? sc->tick_threads : 1;
+    t->order = malloc((size_t)t->n_trees * sizeof *t->order);
+    t->crown_ordered = malloc((size_t)t->n_trees * 3 * sizeof(float));
+    t->vel_ordered = malloc((size_t)t->n_trees * 3 * sizeof(float));
+    t->slots = malloc((size_t)t->n_trees * sizeof *t->slots);
+    t->leaf_scratch = t->threads > 1 ? calloc((size_t)(t->threads - 1) *
+                                                  (size_t)t->d.max_leaves_per_tick,
+                                              sizeof *t->leaf_scratch)
+                                     : NULL;
+    if (!species || !yaw || !t->crown || !t->vel || !t->leaves || !t->order ||
+        !t->crown_ordered || !t->vel_ordered || !t->slots ||
+        (t->threads > 1 && !t->leaf_scratch)) {
         free(species);
         free(yaw);
         gale_errf(err, GALE_E_NOMEM, "tick_create: no memory for %d trees", t->n_trees);
@@ -75,8 +142,16 @@ tick_sim *tick_create(const tick_desc *d, gale_err *err)
         t->crown[3 * k + 2] = tr->pos[2] + 0.7f * h;
         species[k] = (uint8_t)tr->species;
         yaw[k] = tr->yaw_rad;
+        t->slots[k] = d->species[tr->species].n_leaves;
     }
-    /* one thread: the tick shares two cores with the service thread and the wind */
+    if (sample_order(t)) {
+        free(species);
+        free(yaw);
+        gale_errf(err, GALE_E_NOMEM, "tick_create: no memory for %d trees", t->n_trees);
+        goto fail;
+    }
+    /* tick_threads (default one: the tick shares two cores with the service thread and
+       the wind) */
     t->m = modal_create(&(modal_desc){ .n_trees = (uint32_t)t->n_trees,
                                        .n_species = (uint32_t)sc->n_species,
                                        .species = ms,
@@ -84,7 +159,7 @@ tick_sim *tick_create(const tick_desc *d, gale_err *err)
                                        .species_drag = drag,
                                        .tree_yaw_rad = yaw,
                                        .dt_s = (double)t->dt_s,
-                                       .n_threads = 1 },
+                                       .n_threads = t->threads },
                         err);
     if (t->m) {
         const damage_table *tables[SCENE_MAX_SPECIES];
@@ -106,7 +181,8 @@ tick_sim *tick_create(const tick_desc *d, gale_err *err)
                                                    .tree_leaves = nl,
                                                    .max_leaves = t->d.max_leaves_per_tick,
                                                    .seed = sc->leaf_seed ^ 0xDA3A6Eull,
-                                                   .dt_s = (double)t->dt_s },
+                                                   .dt_s = (double)t->dt_s,
+                                                   .n_threads = t->threads },
                                    err);
         } else if (any) {
             gale_errf(err, GALE_E_NOMEM, "tick_create: no memory for %d trees", t->n_trees);
@@ -146,7 +222,12 @@ void tick_destroy(tick_sim *t)
     damage_destroy(t->dmg);
     free(t->crown);
     free(t->vel);
+    free(t->order);
+    free(t->crown_ordered);
+    free(t->vel_ordered);
+    free(t->slots);
     free(t->leaves);
+    free(t->leaf_scratch);
     pthread_mutex_destroy(&t->lock);
     free(t);
 }
@@ -225,8 +306,12 @@ int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
                                      ws.iterations >= t->d.wind->max_iterations &&
                                      ws.residual * (double)t->d.wind->div_reduction > 1.0;
         }
-        /* 2. sample the wind at every crown */
-        t->d.wind->sample_many(t->d.wind->ctx, t->n_trees, t->crown, t->vel);
+        /* 2. sample the wind at every crown, in the grid's locality order */
+        t->d.wind->sample_many(t->d.wind->ctx, t->n_trees, t->crown_ordered, t->vel_ordered);
+        for (int i = 0; i < t->n_trees; i++) {
+            memcpy(&t->vel[3 * (size_t)t->order[i]], &t->vel_ordered[3 * (size_t)i],
+                   3 * sizeof(float));
+        }
     } else {
         sample_profile(t, &in);
     }
@@ -236,19 +321,10 @@ int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
 
     /* 4. leaves: the shedding rate follows the wind speed at each crown */
     t->n_leaves = 0;
-    for (int k = 0; k < t->n_trees; k++) {
-        const tick_species *sp = &t->d.species[sc->trees[k].species];
-        const float *v = &t->vel[3 * k];
-        float speed = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-        if (speed > local.max_speed_ms) {
-            local.max_speed_ms = speed;
-        }
-        if (sp->n_leaves) {
-            local.leaves_lost +=
-                leaf_shed(&t->leaf, (uint32_t)k, sp->n_leaves, (double)speed, t->tick,
-                          (double)t->dt_s, t->leaves, t->d.max_leaves_per_tick, &t->n_leaves);
-        }
-    }
+    local.leaves_lost += leaf_shed_trees(&t->leaf, (uint32_t)t->n_trees, t->vel, t->slots, 0,
+                                         t->tick, (double)t->dt_s, t->threads, t->leaf_scratch,
+                                         t->leaves, t->d.max_leaves_per_tick, &t->n_leaves,
+                                         &local.max_speed_ms);
     /* 5. storm damage from the new modal state (damage.h); stripped leaves fall too */
     if (t->dmg) {
         local.leaves_lost += damage_step(t->dmg, t->m, t->vel, t->tick, t->leaves,
