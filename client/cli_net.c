@@ -235,7 +235,8 @@ static void set_lost(cli_net *n, int code, const char *why)
     snprintf(n->st.last_error, sizeof n->st.last_error, "%s", why);
     /* doubling backoff with ±20 % spread so many clients do not return in step */
     double spread = 0.8 + 0.4 * (double)(rand() % 1000) / 1000.0;
-    n->st.retry_at_s = mono_s() + n->backoff_s * spread;
+    n->st.retry_delay_s = n->backoff_s * spread;
+    n->st.retry_at_s = mono_s() + n->st.retry_delay_s;
     n->backoff_s = fmin(n->backoff_s * 2.0, n->d.backoff_max_s);
     cli_net_log(n, "%s: connection lost (%s); retry %u in %.2f s", n->server_name, why,
                 n->st.attempt, n->st.retry_at_s - mono_s());

@@ -75,6 +75,7 @@ typedef struct cli_net_stats {
     uint32_t connects;    /* successful WebSocket handshakes */
     uint32_t attempt;     /* consecutive failed attempts (BACKOFF) */
     double retry_at_s;    /* BACKOFF: local time of the next attempt */
+    double retry_delay_s; /* BACKOFF: the delay the last failed attempt set [s] */
     int last_close;       /* close code of the last disconnect (0 transport) */
     char last_error[200]; /* why the last connection ended / was refused */
 } cli_net_stats;
