@@ -88,7 +88,8 @@ try {
     const page = await ctx.newPage();
     const requests = [];
     page.on('request', (r) => requests.push(r.url()));
-    await page.goto(`${srv.url}/kiosk#token=${TOKEN}`);
+    // (attract mode an hour away: a slow first frame here must not send the panel away)
+    await page.goto(`${srv.url}/kiosk?attract=3600#token=${TOKEN}`);
     await waitFor(page, () => window.gale && window.gale.framesDrawn >= 3 && window.gale.weather, null, 120, 'kiosk live and drawn');
     const where = await page.evaluate(() => ({ href: location.href, stored: localStorage.getItem('gale.kiosk.token'),
         html: document.documentElement.outerHTML, panel: !document.getElementById('panel').hidden }));
