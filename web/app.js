@@ -142,6 +142,12 @@ export class App {
         }
         this.speciesHash = w.species.map((s) => s.hash);
         this.r.setInstances(w.instances, stride);
+        try {
+            this.r.setObstacles(w.obstacles || []);
+        } catch (e) {
+            this.errors.push(e.message); // the trees are still drawn
+            this.say(`The scene's houses cannot be drawn: ${e.message}`);
+        }
         this.ready = true;
         if (this.o.onWelcome) this.o.onWelcome(w);
     }

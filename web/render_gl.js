@@ -2,12 +2,14 @@
 // drawn tree rebuilt on the GPU from q in the length-true form (shaders/skel.frag, two
 // passes into float textures), the bark tubes skinned on it (tree.vert/.frag), the leaves
 // on their nodes (leaf.vert/.frag), sky and ground (sky.frag), and in a storm the sky,
-// light, fog and wet crowns of web/storm_fx.js with rain streaks over the frame
+// light, fog and wet crowns of web/storm_fx.js, the welcome's houses (web/house.js,
+// house.vert/.frag) with rain streaks over the frame
 // (rain.vert/.frag, client/render_rain.c). The shaders are the files
 // of shaders/ (web/shaders.js). Data the native client keeps in buffer textures lives here
 // in 2D textures read by buf_fetch (common.glsl), row-major, DATA_W texels a row.
 import { loadProgram } from './shaders.js';
 import { stormFxCalm, rainUniforms } from './storm_fx.js';
+import { housesMesh, HOUSE_FLOATS } from './house.js';
 
 export class WebGL2Missing extends Error {}
 
@@ -92,7 +94,7 @@ export class Renderer {
 
     async init(base = '') {
         const gl = this.gl;
-        const names = ['skel', 'tree', 'leaf', 'sky', 'rain'];
+        const names = ['skel', 'tree', 'leaf', 'sky', 'rain', 'house'];
         const progs = await Promise.all(names.map((n) => loadProgram(gl, n, base)));
         this.p = Object.fromEntries(names.map((n, i) => [n, progs[i]]));
         for (const p of progs) {
@@ -214,6 +216,33 @@ export class Renderer {
         gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, a.mesh_index, gl.STATIC_DRAW);
         gl.bindVertexArray(null);
         this.species[i] = s;
+    }
+
+    // The welcome's obstacles, rows [min x, y, z, max x, y, z] (PROTOCOL.md checks them on
+    // the server's side; a row that is not 6 finite numbers with min <= max is an error).
+    setObstacles(rows) {
+        const gl = this.gl;
+        rows.forEach((b, i) => {
+            if (!Array.isArray(b) || b.length !== 6 || !b.every(Number.isFinite) || b[0] > b[3] || b[1] > b[4] || b[2] > b[5]) {
+                throw new Error(`welcome.obstacles[${i}]: expected [min x, y, z, max x, y, z] with min <= max, got ${JSON.stringify(b)}`);
+            }
+        });
+        const v = housesMesh(rows);
+        this.houseVerts = v.length / HOUSE_FLOATS;
+        if (!this.houseVao) {
+            this.houseVao = gl.createVertexArray();
+            this.houseVbo = gl.createBuffer();
+            gl.bindVertexArray(this.houseVao);
+            gl.bindBuffer(gl.ARRAY_BUFFER, this.houseVbo);
+            const stride = HOUSE_FLOATS * 4;
+            [[3, 0], [3, 3], [4, 6], [1, 10]].forEach(([size, off], a) => {
+                gl.enableVertexAttribArray(a);
+                gl.vertexAttribPointer(a, size, gl.FLOAT, false, stride, off * 4);
+            });
+            gl.bindVertexArray(null);
+        }
+        gl.bindBuffer(gl.ARRAY_BUFFER, this.houseVbo);
+        gl.bufferData(gl.ARRAY_BUFFER, v.length ? v : new Float32Array(HOUSE_FLOATS), gl.STATIC_DRAW);
     }
 
     // The welcome's instances: rows [species, x, y, z, yaw, scale].
@@ -411,6 +440,18 @@ export class Renderer {
         gl.bindVertexArray(this.vaoEmpty);
         gl.drawArrays(gl.TRIANGLES, 0, 3);
         gl.depthFunc(gl.LESS);
+
+        // houses (both faces drawn: the mesh is closed, and thin boxes stay visible);
+        // gale-client's colours (client/render.c)
+        if (this.houseVerts > 0 && !this.hideHouses) {
+            const ph = this.p.house;
+            this.setCommon(ph, t);
+            gl.uniform3f(ph.u.u_wall, 0.92, 0.82, 0.64);
+            gl.uniform3f(ph.u.u_roof, 0.52, 0.22, 0.15);
+            gl.uniform3f(ph.u.u_window, 0.14, 0.18, 0.24);
+            gl.bindVertexArray(this.houseVao);
+            gl.drawArrays(gl.TRIANGLES, 0, this.houseVerts);
+        }
 
         if (this.hideTrees) {
             this.stats.frames++;
