@@ -1,12 +1,15 @@
 // What the three pages share: the connection (web/conn.js), the species assets checked
 // against the welcome's hashes (web/asset.js), snapshots through the jitter buffer
 // (web/jitter.js) into the renderer (web/render_gl.js), the HUD from WEATHER, and the
-// messages a person can act on. window.gale exposes the state for tests and benchmarks.
+// messages a person can act on, the storm look from WEATHER (web/storm_fx.js; the page's
+// ?storm_fx=off|low|high, default low as gale-client's --storm-fx). window.gale exposes
+// the state for tests and benchmarks.
 import { Connection } from './conn.js';
 import { fetchAsset } from './asset.js';
 import { Jitter, Clock } from './jitter.js';
 import { dequantise } from './wire.js';
 import { Renderer, WebGL2Missing, orbitEye } from './render_gl.js';
+import { stormFxFromWeather, stormFxQualityParse, STORM_FX_LOW } from './storm_fx.js';
 
 // Saffir-Simpson titles of WEATHER ss_class (protocol/wind_scale.c)
 export const SS_TITLE = ['Tropical depression', 'Tropical storm', 'Category 1 hurricane', 'Category 2 hurricane',
@@ -41,6 +44,12 @@ export class App {
         this.weather = null;
         this.errors = [];
         this.framesDrawn = 0;
+        const sq = new URLSearchParams(location.search).get('storm_fx');
+        this.stormQuality = sq === null ? STORM_FX_LOW : stormFxQualityParse(sq);
+        if (this.stormQuality === null) {
+            this.stormQuality = STORM_FX_LOW;
+            this.errors.push(`storm_fx=${sq}: expected off, low or high; low is used`);
+        }
         this.cam = { yaw: 1.5707963 - 0.6108652, pitch: -0.5235988, distance: 60, target: [0, 0, 4], fov_y_deg: 50 };
         window.gale = this;
     }
@@ -133,6 +142,12 @@ export class App {
         }
         this.speciesHash = w.species.map((s) => s.hash);
         this.r.setInstances(w.instances, stride);
+        try {
+            this.r.setObstacles(w.obstacles || []);
+        } catch (e) {
+            this.errors.push(e.message); // the trees are still drawn
+            this.say(`The scene's houses cannot be drawn: ${e.message}`);
+        }
         this.ready = true;
         if (this.o.onWelcome) this.o.onWelcome(w);
     }
@@ -176,6 +191,7 @@ export class App {
         }
         if (f.weather) {
             this.weather = f.weather;
+            if (this.r) this.r.fx = stormFxFromWeather(f.weather.sustained_ms, f.weather.dir_from_deg, this.stormQuality);
             if (this.hudEl) this.hudEl.textContent = hudText(f.weather);
             if (this.o.onWeather) this.o.onWeather(f.weather);
         }
@@ -187,7 +203,8 @@ export class App {
     camera() {
         if (this.o.camera) return this.o.camera(this);
         const c = this.cam;
-        return { eye: orbitEye(c.target, c.distance, c.yaw, c.pitch), target: c.target, fov_y_deg: c.fov_y_deg };
+        // the orbit's subject: the point it turns about (client/client_frame.c)
+        return { eye: orbitEye(c.target, c.distance, c.yaw, c.pitch), target: c.target, fov_y_deg: c.fov_y_deg, subject_m: c.distance };
     }
 
     frame(t_ms) {

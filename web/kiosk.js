@@ -1,8 +1,11 @@
 // The kiosk page (/kiosk): the scene with the touch panel of client/kiosk_ui.c as HTML
 // (PROTOCOL.md "The kiosk's touch panel"). The token is typed once on the setup screen
 // (or given in the URL fragment, #token=..., which never reaches the server) and kept in
-// this browser's localStorage: never in the query string or the page source.
+// this browser's localStorage: never in the query string or the page source. After
+// ?attract=S seconds (default 90, as gale-client's --attract) without a touch the page
+// lets go of its dial and tours the cameras (web/attract.js); the next touch wakes it.
 import { App } from './app.js';
+import { Attract, cameraTour } from './attract.js';
 
 const KEY = 'gale.kiosk.token';
 const $ = (id) => document.getElementById(id);
@@ -25,6 +28,10 @@ let app = null;
 let dialSent = 0;
 let dialTimer = null;
 let chosenDir = false;
+let attract = null;
+let tourStart_s = 0;
+let ownCam = null; // the kiosk's camera before the tour, restored on waking
+const now_s = () => performance.now() * 1e-3;
 
 function send(msg) {
     return app && app.conn && app.conn.send({ ...msg, token: localStorage.getItem(KEY) });
@@ -89,6 +96,52 @@ function onWelcome(w) {
     }
 }
 
+// nobody at the kiosk: the scenario's wind back (the scene's own scenario or playlist:
+// scenario ""), the panel away, the cameras toured
+function attractBegin() {
+    send({ type: 'wind', release: true, scenario: '' });
+    $('dial').blur();
+    $('compass').blur();
+    chosenDir = false;
+    $('panel').hidden = true;
+    $('attract').hidden = false;
+    ownCam = { ...app.cam, target: [...app.cam.target] };
+    tourStart_s = now_s();
+}
+
+function attractFrame() {
+    requestAnimationFrame(attractFrame);
+    if (!app || !app.welcome || !app.ready || !attract) return;
+    if (attract.tick(now_s())) attractBegin();
+    if (attract.active) {
+        const w = app.welcome, c = cameraTour(now_s() - tourStart_s, w.instances, w.species.map((s) => s.name));
+        Object.assign(app.cam, { target: c.target, distance: c.distance, yaw: c.yaw, pitch: c.pitch });
+    }
+}
+
+// a touch, key, wheel or control change: the idle clock restarts; the touch that wakes
+// the kiosk is not taken as a control
+function onInput(e) {
+    if (!attract || !attract.input(now_s())) return;
+    e.preventDefault();
+    e.stopImmediatePropagation();
+    if (ownCam) Object.assign(app.cam, ownCam);
+    $('attract').hidden = true;
+    $('panel').hidden = !$('setup').hidden;
+}
+for (const type of ['pointerdown', 'keydown', 'wheel', 'input', 'change']) {
+    window.addEventListener(type, onInput, { capture: true, passive: false });
+}
+
+function attractIdle_s() {
+    const v = new URLSearchParams(location.search).get('attract');
+    if (v === null) return 0;
+    const s = Number(v);
+    if (s >= 1 && s <= 86400) return s;
+    console.warn(`attract=${v}: expected 1..86400 s; 90 s is used`);
+    return 0;
+}
+
 function start(token) {
     if (app) {
         app.conn.o.token = token;
@@ -106,6 +159,8 @@ function start(token) {
         },
     });
     app.start();
+    attract = new Attract(attractIdle_s(), now_s());
+    requestAnimationFrame(attractFrame);
 }
 
 tokenFromFragment();

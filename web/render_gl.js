@@ -1,10 +1,15 @@
 // The trees in WebGL2 as gale-client draws them (client/render*.c): the skeleton of every
 // drawn tree rebuilt on the GPU from q in the length-true form (shaders/skel.frag, two
 // passes into float textures), the bark tubes skinned on it (tree.vert/.frag), the leaves
-// on their nodes (leaf.vert/.frag), sky and ground (sky.frag). The shaders are the files
+// on their nodes (leaf.vert/.frag), sky and ground (sky.frag), and in a storm the sky,
+// light, fog and wet crowns of web/storm_fx.js, the welcome's houses (web/house.js,
+// house.vert/.frag) with rain streaks over the frame
+// (rain.vert/.frag, client/render_rain.c). The shaders are the files
 // of shaders/ (web/shaders.js). Data the native client keeps in buffer textures lives here
 // in 2D textures read by buf_fetch (common.glsl), row-major, DATA_W texels a row.
 import { loadProgram } from './shaders.js';
+import { stormFxCalm, rainUniforms } from './storm_fx.js';
+import { housesMesh, HOUSE_FLOATS } from './house.js';
 
 export class WebGL2Missing extends Error {}
 
@@ -14,7 +19,7 @@ const RU = { SKEL: 0, NODE: 1, LIST: 2, TREES: 3, VW: 4, Q: 5, LEAF: 6, WIND: 7,
 const SAMPLERS = { u_skel: RU.SKEL, u_node: RU.NODE, u_list: RU.LIST, u_trees: RU.TREES, u_vw: RU.VW,
     u_q: RU.Q, u_leaf: RU.LEAF, u_wind: RU.WIND, u_cut: RU.CUT, u_cutn: RU.CUTN };
 const LEAF_ASPECT = [0.55, 0.16, 1.0]; // render_leaf_aspect, client/render_species.c
-const CALM = { sun: [1.05, 0.97, 0.86], zenith: [0.30, 0.50, 0.82], horizon: [0.74, 0.82, 0.90], ground: [0.30, 0.40, 0.17] };
+const FOG_DIST_M = 450; // the native renderer's default fog distance (client/render.c)
 
 // ---- small column-major matrix helpers (the layout of cglm and GLSL) ----
 export function perspective(fovy_rad, aspect, near, far) {
@@ -83,12 +88,13 @@ export class Renderer {
         this.skel_h = 0;
         this.max_rows = 4096;
         this.stats = { frames: 0, trees_drawn: 0, upload_ms: 0 };
-        this.fx = { ...CALM, fog_scale: 1 };
+        this.fx = stormFxCalm(); // web/storm_fx.js; the page sets it from WEATHER
+        this.subject_m = 0;
     }
 
     async init(base = '') {
         const gl = this.gl;
-        const names = ['skel', 'tree', 'leaf', 'sky'];
+        const names = ['skel', 'tree', 'leaf', 'sky', 'rain', 'house'];
         const progs = await Promise.all(names.map((n) => loadProgram(gl, n, base)));
         this.p = Object.fromEntries(names.map((n, i) => [n, progs[i]]));
         for (const p of progs) {
@@ -212,6 +218,33 @@ export class Renderer {
         this.species[i] = s;
     }
 
+    // The welcome's obstacles, rows [min x, y, z, max x, y, z] (PROTOCOL.md checks them on
+    // the server's side; a row that is not 6 finite numbers with min <= max is an error).
+    setObstacles(rows) {
+        const gl = this.gl;
+        rows.forEach((b, i) => {
+            if (!Array.isArray(b) || b.length !== 6 || !b.every(Number.isFinite) || b[0] > b[3] || b[1] > b[4] || b[2] > b[5]) {
+                throw new Error(`welcome.obstacles[${i}]: expected [min x, y, z, max x, y, z] with min <= max, got ${JSON.stringify(b)}`);
+            }
+        });
+        const v = housesMesh(rows);
+        this.houseVerts = v.length / HOUSE_FLOATS;
+        if (!this.houseVao) {
+            this.houseVao = gl.createVertexArray();
+            this.houseVbo = gl.createBuffer();
+            gl.bindVertexArray(this.houseVao);
+            gl.bindBuffer(gl.ARRAY_BUFFER, this.houseVbo);
+            const stride = HOUSE_FLOATS * 4;
+            [[3, 0], [3, 3], [4, 6], [1, 10]].forEach(([size, off], a) => {
+                gl.enableVertexAttribArray(a);
+                gl.vertexAttribPointer(a, size, gl.FLOAT, false, stride, off * 4);
+            });
+            gl.bindVertexArray(null);
+        }
+        gl.bindBuffer(gl.ARRAY_BUFFER, this.houseVbo);
+        gl.bufferData(gl.ARRAY_BUFFER, v.length ? v : new Float32Array(HOUSE_FLOATS), gl.STATIC_DRAW);
+    }
+
     // The welcome's instances: rows [species, x, y, z, yaw, scale].
     setInstances(rows, stride) {
         this.n_trees = rows.length;
@@ -272,11 +305,14 @@ export class Renderer {
         gl.uniform3fv(u.u_eye, this.eye);
         const sun = [0.45, -0.35, 0.62], l = Math.hypot(...sun);
         gl.uniform3fv(u.u_sun_dir, sun.map((x) => x / l));
-        gl.uniform3fv(u.u_sun_col, fx.sun);
-        gl.uniform3fv(u.u_sky_zenith, fx.zenith);
-        gl.uniform3fv(u.u_sky_horizon, fx.horizon);
-        gl.uniform3fv(u.u_ground_col, fx.ground);
-        gl.uniform1f(u.u_fog_dist, 450 * fx.fog_scale);
+        gl.uniform3fv(u.u_sun_col, fx.sun_col);
+        gl.uniform3fv(u.u_sky_zenith, fx.sky_zenith);
+        gl.uniform3fv(u.u_sky_horizon, fx.sky_horizon);
+        gl.uniform3fv(u.u_ground_col, fx.ground_col);
+        gl.uniform1f(u.u_fog_dist, FOG_DIST_M * fx.fog_scale);
+        // the storm fog is the calm one times fog_scale; up to the subject it is thinned
+        // towards the calm fog (common.glsl fog_apply)
+        if (u.u_storm) gl.uniform4f(u.u_storm, fx.wet, this.subject_m, FOG_DIST_M, fx.subject_clear);
         gl.uniform1f(u.u_time, t);
         gl.uniform3fv(u.u_wind_origin, [0, 0, 0]);
         gl.uniform3fv(u.u_wind_extent, [0, 0, 0]);
@@ -284,17 +320,49 @@ export class Renderer {
         this.bindTex(RU.WIND, gl.TEXTURE_3D, this.wind);
     }
 
-    // cam: { eye, target, fov_y_deg, near, far } or { viewproj, eye } for a wall tile;
+    // Rain streaks and spray over the frame (client/render_rain.c): one full-screen
+    // triangle of rain.frag, blended, after the scene.
+    drawRain(t) {
+        const gl = this.gl, fx = this.fx, p = this.p.rain;
+        if (fx.rain_layers <= 0 || !(fx.rain > 0)) return;
+        const v = this.view || new Float32Array(16); // no view matrix: streaks fall straight
+        let subject = null;
+        if (this.subject_m > 0) {
+            // the subject lies subject_m along the view axis: -(row 2 of the view matrix)
+            subject = [0, 1, 2].map((k) => this.eye[k] - this.subject_m * v[4 * k + 2]);
+        }
+        const ru = rainUniforms(fx, v, this.viewproj, subject, this.canvas.width, this.canvas.height);
+        this.setCommon(p, t);
+        gl.uniform4fv(p.u.u_rain, ru.rain);
+        gl.uniform2fv(p.u.u_spray, ru.spray);
+        gl.uniform4fv(p.u.u_rain_clear, ru.clear);
+        gl.uniformMatrix4fv(p.u.u_inv_viewproj, false, invert(this.viewproj));
+        gl.disable(gl.DEPTH_TEST);
+        gl.depthMask(false);
+        gl.enable(gl.BLEND);
+        gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA);
+        gl.bindVertexArray(this.vaoEmpty);
+        gl.drawArrays(gl.TRIANGLES, 0, 3);
+        gl.disable(gl.BLEND);
+        gl.depthMask(true);
+        gl.enable(gl.DEPTH_TEST);
+    }
+
+    // cam: { eye, target, fov_y_deg, near, far, subject_m? } or { viewproj, eye } for a
+    // wall tile (subject_m: how far along the view the camera's subject lies, 0 none);
     // modes: per tree mode count (0: not sent: drawn at rest with none).
     draw(cam, t, modes) {
         const gl = this.gl, W = this.canvas.width, H = this.canvas.height;
         if (cam.viewproj) {
             this.viewproj = cam.viewproj;
+            this.view = cam.view || null;
         } else {
             const proj = perspective(cam.fov_y_deg * Math.PI / 180, W / H, cam.near || 0.3, cam.far || 3000);
-            this.viewproj = mul(proj, lookAt(cam.eye, cam.target, [0, 0, 1]));
+            this.view = lookAt(cam.eye, cam.target, [0, 0, 1]);
+            this.viewproj = mul(proj, this.view);
         }
         this.eye = cam.eye;
+        this.subject_m = cam.subject_m > 0 && Number.isFinite(cam.subject_m) && this.view ? cam.subject_m : 0;
         // the draw list: per species, its trees nearest first, up to max_rows in all
         const per = this.species.map(() => []);
         const order = [];
@@ -373,6 +441,18 @@ export class Renderer {
         gl.drawArrays(gl.TRIANGLES, 0, 3);
         gl.depthFunc(gl.LESS);
 
+        // houses (both faces drawn: the mesh is closed, and thin boxes stay visible);
+        // gale-client's colours (client/render.c)
+        if (this.houseVerts > 0 && !this.hideHouses) {
+            const ph = this.p.house;
+            this.setCommon(ph, t);
+            gl.uniform3f(ph.u.u_wall, 0.92, 0.82, 0.64);
+            gl.uniform3f(ph.u.u_roof, 0.52, 0.22, 0.15);
+            gl.uniform3f(ph.u.u_window, 0.14, 0.18, 0.24);
+            gl.bindVertexArray(this.houseVao);
+            gl.drawArrays(gl.TRIANGLES, 0, this.houseVerts);
+        }
+
         if (this.hideTrees) {
             this.stats.frames++;
             return;
@@ -412,6 +492,7 @@ export class Renderer {
             this.bindTex(RU.LEAF, gl.TEXTURE_2D, sp.leaf.tex);
             gl.drawArraysInstanced(gl.TRIANGLES, 0, 6, g.n * sp.n_leaves);
         }
+        this.drawRain(t);
         // the first frames are checked (a check each frame would stall the pipeline)
         if (this.stats.frames++ < 3) {
             const e = gl.getError();

@@ -114,7 +114,9 @@ async function main() {
             const c = fromServer || (wall.tour && wall.tour.length >= 2 ? tourStop(wall, g.instant_s || 0) : { target_m: [0, 0, 4], distance_m: 40, yaw_deg: 55, pitch_deg: -25 });
             const eye = orbitEye(c.target_m, c.distance_m, c.yaw_deg * Math.PI / 180, c.pitch_deg * Math.PI / 180);
             const view = lookAt(eye, c.target_m, [0, 0, 1]);
-            return { eye, target: c.target_m, viewproj: mul(proj, mul(toWall, view)) };
+            // view and subject as gale-client's orbit: the storm's rain slants across this
+            // view and its fog and streaks thin about the subject (web/storm_fx.js)
+            return { eye, target: c.target_m, viewproj: mul(proj, mul(toWall, view)), view, subject_m: c.distance_m };
         },
     });
     app.wallGroup = g;
