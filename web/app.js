@@ -20,7 +20,10 @@ export function hudText(w) {
     if (!w) return '';
     const lines = [`${w.sustained_ms.toFixed(0)} m/s, gusts ${w.gust_ms.toFixed(0)} m/s`, SS_TITLE[w.ss_class],
         `Beaufort ${w.beaufort} · from the ${COMPASS[Math.round(w.dir_from_deg / 45) % 8]} (${w.dir_from_deg.toFixed(0)}°)`];
-    if (w.name) lines.unshift(w.name);
+    // a storm keeps its name; a dial overrides a steady scenario, whose title would
+    // contradict the wind above (client/hud_format.c)
+    const STORM = 1, DIAL = 2;
+    if (w.name && ((w.flags & STORM) || !(w.flags & DIAL))) lines.unshift(w.name);
     return lines.join('\n');
 }
 

@@ -112,6 +112,8 @@ try {
     await twoFrames(page);
     await page.screenshot({ path: path.join(work, 'kiosk-cat4.png') });
     out.cat4_hud = await page.textContent('#hud');
+    // the dial holds the wind: the steady scenario's title ("Calm") is not shown over it
+    assert.ok(!/^Calm/.test(out.cat4_hud), `HUD under a dialled Category 4 reads: ${out.cat4_hud}`);
     out.cat4_picture = await measure(page, 'cat4');
     out.cat4_fx = await page.evaluate(() => window.gale.r.fx);
     out.cat4_rain_share = await rainShare(page);
