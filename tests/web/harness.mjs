@@ -86,3 +86,23 @@ export async function waitFor(page, fn, arg, timeout_s, what) {
         throw new Error(`${what}: not within ${timeout_s} s (page status ${st})`);
     }
 }
+
+// The value of one unlabelled metric of the server at URL; fails naming it when absent.
+export async function readMetric(url, name) {
+    const text = await (await fetch(`${url}/metrics`)).text();
+    const m = text.match(new RegExp(`^${name} (\\S+)$`, 'm'));
+    if (!m) throw new Error(`${name} not in ${url}/metrics`);
+    return Number(m[1]);
+}
+
+// Polls fn (async) every 0.2 s until it returns something true; throws naming what after
+// timeout_s.
+export async function until(fn, timeout_s, what) {
+    const end = Date.now() + timeout_s * 1000;
+    for (;;) {
+        const v = await fn();
+        if (v) return v;
+        if (Date.now() > end) throw new Error(`${what}: not within ${timeout_s} s`);
+        await new Promise((r) => setTimeout(r, 200));
+    }
+}

@@ -8,7 +8,7 @@
 import assert from 'node:assert/strict';
 import { writeFileSync } from 'node:fs';
 import path from 'node:path';
-import { args, startServer, startBrowser, waitFor } from './harness.mjs';
+import { args, startServer, startBrowser, waitFor, readMetric, until } from './harness.mjs';
 
 const [server, work, config] = args('usage: node test_web_kiosk.mjs GALE_SERVER WORK_DIR SCENE.json');
 const TOKEN = 'web-kiosk-test-7f3a';
@@ -17,21 +17,7 @@ mkdirSync(work, { recursive: true });
 const tokenFile = path.join(work, 'token');
 writeFileSync(tokenFile, `${TOKEN}\n`, { mode: 0o600 });
 const srv = await startServer(server, ['--cache', path.join(work, '..', 'cache'), '--config', config, '--kiosk-token-file', tokenFile]);
-const metric = async (name) => {
-    const text = await (await fetch(`${srv.url}/metrics`)).text();
-    const m = text.match(new RegExp(`^${name} (\\S+)$`, 'm'));
-    assert.ok(m, `${name} not in /metrics`);
-    return Number(m[1]);
-};
-const until = async (fn, timeout_s, what) => {
-    const end = Date.now() + timeout_s * 1000;
-    for (;;) {
-        const v = await fn();
-        if (v) return v;
-        if (Date.now() > end) throw new Error(`${what}: not within ${timeout_s} s`);
-        await new Promise((r) => setTimeout(r, 200));
-    }
-};
+const metric = (name) => readMetric(srv.url, name);
 // Mean luma (Rec. 709, 0..255) and mean chroma (max - min channel) of the canvas's last
 // drawn frame (preserveDrawingBuffer), over its top quarter and over the whole of it.
 const pictureStats = (page) => page.evaluate(() => {

@@ -7,7 +7,7 @@
 import assert from 'node:assert/strict';
 import { writeFileSync, mkdirSync } from 'node:fs';
 import path from 'node:path';
-import { args, startServer, startBrowser, waitFor } from './harness.mjs';
+import { args, startServer, startBrowser, waitFor, readMetric, until } from './harness.mjs';
 
 const [server, work, config] = args('usage: node test_web_kiosk_attract.mjs GALE_SERVER WORK_DIR SCENE.json');
 const TOKEN = 'web-attract-test-91c2';
@@ -16,21 +16,7 @@ mkdirSync(work, { recursive: true });
 const tokenFile = path.join(work, 'token');
 writeFileSync(tokenFile, `${TOKEN}\n`, { mode: 0o600 });
 const srv = await startServer(server, ['--cache', path.join(work, '..', 'cache'), '--config', config, '--kiosk-token-file', tokenFile]);
-const metric = async (name) => {
-    const text = await (await fetch(`${srv.url}/metrics`)).text();
-    const m = text.match(new RegExp(`^${name} (\\S+)$`, 'm'));
-    assert.ok(m, `${name} not in /metrics`);
-    return Number(m[1]);
-};
-const until = async (fn, timeout_s, what) => {
-    const end = Date.now() + timeout_s * 1000;
-    for (;;) {
-        const v = await fn();
-        if (v) return v;
-        if (Date.now() > end) throw new Error(`${what}: not within ${timeout_s} s`);
-        await new Promise((r) => setTimeout(r, 200));
-    }
-};
+const metric = (name) => readMetric(srv.url, name);
 const camOf = (page) => page.evaluate(() => { const c = window.gale.cam; return { target: [...c.target], distance: c.distance, yaw: c.yaw, pitch: c.pitch }; });
 const ctx = await startBrowser(work, { width: 800, height: 600 });
 const out = {};

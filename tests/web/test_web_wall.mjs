@@ -9,7 +9,7 @@ import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
 import { writeFileSync, readFileSync, mkdirSync } from 'node:fs';
 import path from 'node:path';
-import { args, startServer, startBrowser, waitFor } from './harness.mjs';
+import { args, startServer, startBrowser, waitFor, readMetric } from './harness.mjs';
 
 const [server, work, config, client, wallFile] = args('usage: node test_web_wall.mjs GALE_SERVER WORK_DIR SCENE.json GALE_CLIENT WALL.json');
 mkdirSync(work, { recursive: true });
@@ -17,7 +17,7 @@ const TOKEN = 'web-wall-test-5c1e';
 const tokenFile = path.join(work, 'token');
 writeFileSync(tokenFile, `${TOKEN}\n`, { mode: 0o600 });
 const srv = await startServer(server, ['--cache', path.join(work, '..', 'cache'), '--config', config, '--kiosk-token-file', tokenFile]);
-const metric = async (name) => Number((await (await fetch(`${srv.url}/metrics`)).text()).match(new RegExp(`^${name} (\\S+)$`, 'm'))[1]);
+const metric = (name) => readMetric(srv.url, name);
 const W = 480, H = 270;
 const native = (tile, png, frames) => new Promise((resolve, reject) => {
     const p = spawn(client, ['--url', `ws://127.0.0.1:${srv.port}`, '--role', 'wall-tile', '--wall', wallFile, '--tile', tile,
