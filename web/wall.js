@@ -64,6 +64,26 @@ async function main() {
         if (g.held && g.held.fence) app.r.gl.deleteSync(g.held.fence);
         g.held = null;
     };
+    // Whether the GPU has finished held frame h (its fence signalled); the first time it
+    // has, the time is kept and, in swap-lock, the frame reported drawn.
+    const drawn = (a, h, now_s) => {
+        if (h.drawn_s !== undefined) return true;
+        const gl = a.r.gl;
+        if (gl.getSyncParameter(h.fence, gl.SYNC_STATUS) !== gl.SIGNALED) return false;
+        h.drawn_s = now_s;
+        if (sync && sync.swap_lock && a.conn.send({ type: 'wall_drawn', frame: h.frame })) {
+            h.reported = true;
+            g.reports++;
+        }
+        return true;
+    };
+    // Between animation frames too, so that the report leaves as soon as the frame is
+    // drawn: the group waits on it, not on this page's next animation frame.
+    const poll = (a, h) => {
+        if (g.held !== h || h.drawn_s !== undefined) return;
+        const now_s = a.clock.serverTime(performance.now() * 1e-3);
+        if (now_s === null || !drawn(a, h, now_s)) setTimeout(() => poll(a, h), 2);
+    };
     const app = new App({
         role: 'wall-tile',
         offscreen: true,
@@ -90,15 +110,7 @@ async function main() {
                 g.held = null;
                 return;
             }
-            const gl = a.r.gl;
-            if (h.drawn_s === undefined) {
-                if (gl.getSyncParameter(h.fence, gl.SYNC_STATUS) !== gl.SIGNALED) return;
-                h.drawn_s = now_s;
-                if (sync.swap_lock && a.conn.send({ type: 'wall_drawn', frame: h.frame })) {
-                    h.reported = true;
-                    g.reports++;
-                }
-            }
+            if (!drawn(a, h, now_s)) return;
             if (now_s < h.due_s) return; // its instant has not come
             if (h.reported && swap < h.frame) {
                 if (now_s < Math.max(h.due_s, h.drawn_s) + sync.budget_ms * 1e-3) return;
@@ -137,6 +149,7 @@ async function main() {
             g.held.fence = gl.fenceSync(gl.SYNC_GPU_COMMANDS_COMPLETE, 0);
             gl.flush();
             g.drawn++;
+            setTimeout(() => poll(a, g.held), 0);
         },
         camera: () => {
             const c = fromServer || (wall.tour && wall.tour.length >= 2 ? tourAt(wall, g.instant_s || 0) : { target_m: [0, 0, 4], distance_m: 40, yaw_deg: 55, pitch_deg: -25 });
