@@ -247,15 +247,20 @@ export class App {
         if (this.o.afterFrame) this.o.afterFrame(this);
     }
 
-    // One frame of the state drawn last, with or without the trees, its pixels read back
-    // (RGBA rows bottom first, base64) with the camera it was drawn with: for tests.
-    still(showTrees) {
+    // One frame of the state drawn last (or of the state at server time at_s), with or
+    // without the trees, at shader time t_s, its pixels read back (RGBA rows bottom first,
+    // base64) with the camera it was drawn with: for tests.
+    still(showTrees, at_s = null, t_s = 0) {
         this.frozen = true;
         const cam = this.camera();
         this.r.hideTrees = !showTrees;
+        if (at_s !== null) {
+            this.jitter.sample(at_s, this.q);
+            this.r.uploadQ(this.q);
+        }
         const off = this.r.offscreen;
         this.r.offscreen = false; // onto the canvas, read back below
-        this.r.draw(cam, 0, this.modes);
+        this.r.draw(cam, t_s, this.modes);
         this.r.offscreen = off;
         this.r.hideTrees = false;
         const gl = this.r.gl, w = this.canvas.width, h = this.canvas.height;
