@@ -116,10 +116,13 @@ async function main() {
                 if (now_s < Math.max(h.due_s, h.drawn_s) + sync.budget_ms * 1e-3) return;
                 g.swapTimeouts++;
             }
-            a.r.present();
-            keep(g.log, [h.frame, Math.round(h.due_s * 1e6), Math.round(h.drawn_s * 1e6), Math.round(now_s * 1e6)]);
-            g.frames++;
-            g.frame = last = h.frame;
+            // (a canvas resized since the draw shows nothing of it: the frame is passed)
+            if (a.r.present()) {
+                keep(g.log, [h.frame, Math.round(h.due_s * 1e6), Math.round(h.drawn_s * 1e6), Math.round(now_s * 1e6)]);
+                g.frames++;
+                g.frame = h.frame;
+            }
+            last = h.frame;
             drop(a);
         },
         renderTime: (a, now_s) => {

