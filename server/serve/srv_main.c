@@ -77,6 +77,31 @@ static void w_sample(void *ctx, int n, const float *p, float *v)
     wind_sample_many(ctx, n, p, v);
 }
 
+static void *w_probe_create(void *ctx, int n, const float *p)
+{
+    gale_err err;
+    wind_probe *pr = wind_probe_create(ctx, n, p, &err);
+    if (!pr) {
+        fprintf(stderr, "gale-server: %s: sampling every crown every tick instead\n", err.msg);
+    }
+    return pr;
+}
+
+static void w_probe_destroy(void *probe)
+{
+    wind_probe_destroy(probe);
+}
+
+static void w_probe_sample(void *ctx, const void *probe, int i0, int i1, float *v)
+{
+    wind_probe_sample(ctx, probe, i0, i1, v);
+}
+
+static void w_add_subgrid(void *ctx, int n, const float *p, float *v)
+{
+    wind_add_subgrid(ctx, n, p, v);
+}
+
 static int w_coarse(void *ctx, int factor, float *out, int capacity, int dims[3])
 {
     return wind_coarse(ctx, factor, out, capacity, dims);
@@ -370,6 +395,8 @@ int main(int argc, char **argv)
         wind_desc wd = wind_get_desc(grid);
         tw = (tick_wind){ .ctx = grid, .set_inflow = w_inflow, .step = w_step,
                           .sample_many = w_sample, .coarse = w_coarse,
+                          .probe_create = w_probe_create, .probe_destroy = w_probe_destroy,
+                          .probe_sample = w_probe_sample, .add_subgrid = w_add_subgrid,
                           .add_ball = w_ball, .max_iterations = wd.max_iterations,
                           .div_reduction = wd.div_reduction };
     }
