@@ -160,8 +160,26 @@ static void *wait_signal(void *arg)
     return NULL;
 }
 
+/* The OpenMP threads wait passively (sleep in the kernel) between parallel regions
+ * unless the environment says otherwise: libgomp's default spins for a while after each
+ * region, and on a machine with as many cores as tick threads the spinning thread takes
+ * the core the service thread, the wind step or the other tick thread needs (SERVER.md
+ * "The tick at 100 000 trees": a wind step 20 times slower). libgomp reads the variable
+ * once, as it loads, before main; so the server sets it and runs itself again. Where
+ * that exec fails it runs on with libgomp's default. */
+static void omp_wait_passive(char **argv)
+{
+    if (getenv("OMP_WAIT_POLICY") || setenv("OMP_WAIT_POLICY", "passive", 1)) {
+        return;
+    }
+    execv("/proc/self/exe", argv);
+    fprintf(stderr, "gale-server: cannot run again with OMP_WAIT_POLICY=passive (%s): "
+                    "OpenMP threads spin between regions\n", strerror(errno));
+}
+
 int main(int argc, char **argv)
 {
+    omp_wait_passive(argv);
     if (pipe(sig_pipe) != 0) {
         fprintf(stderr, "gale-server: pipe: %s\n", strerror(errno));
         return 1;

@@ -162,8 +162,6 @@ tick_sim *tick_create(const tick_desc *d, gale_err *err)
                                                        t->crown_ordered)
                                : NULL;
     }
-    /* tick_threads (default one: the tick shares two cores with the service thread and
-       the wind) */
     t->m = modal_create(&(modal_desc){ .n_trees = (uint32_t)t->n_trees,
                                        .n_species = (uint32_t)sc->n_species,
                                        .species = ms,
