@@ -471,7 +471,7 @@ export class Renderer {
     drawFalling(server_s) {
         const gl = this.gl;
         this.stats.falling = this.ringCount;
-        if (this.ringCount === 0 || this.t_base === undefined || !Number.isFinite(server_s)) return;
+        if (this.ringCount === 0 || this.hideFalling || this.t_base === undefined || !Number.isFinite(server_s)) return;
         gl.bindBuffer(gl.ARRAY_BUFFER, this.fallVbo);
         if (this.dirtyLo < this.dirtyHi) {
             gl.bufferSubData(gl.ARRAY_BUFFER, this.dirtyLo * FALL_FLOATS * 4, this.ring, this.dirtyLo * FALL_FLOATS, (this.dirtyHi - this.dirtyLo) * FALL_FLOATS);
