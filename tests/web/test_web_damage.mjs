@@ -12,14 +12,18 @@
 //   pixels off by more than 32 levels, 8-pixel blocks off by more than 16 on average);
 // - where each fallen tree stood, its crown in the intact picture of the same page is
 //   gone in the damaged one;
-// - after a reconnect the page holds the same damage.
+// - a snapped stem (PROTOCOL.md's DAMAGE-FULL vector, tree 1 snapped, given to the page as
+//   if received): one stump drawn, the stem above the break gone, the stump where the stem was;
+// - after a reconnect the page holds the server's damage again.
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
 import { writeFileSync, readFileSync, mkdirSync } from 'node:fs';
 import path from 'node:path';
 import { args, startServer, startBrowser, waitFor, until } from './harness.mjs';
+import { readVectors } from './spec_vectors.mjs';
 
-const [server, work, config, client] = args('usage: node test_web_damage.mjs GALE_SERVER WORK_DIR SCENE.json GALE_CLIENT');
+const [server, work, config, client, protocolMd] = args('usage: node test_web_damage.mjs GALE_SERVER WORK_DIR SCENE.json GALE_CLIENT PROTOCOL.md');
+const SNAP_FULL = Array.from(readVectors(protocolMd).hex['DAMAGE-FULL']);
 mkdirSync(work, { recursive: true });
 const TOKEN = 'web-damage-test-7d2a';
 writeFileSync(path.join(work, 'token'), `${TOKEN}\n`, { mode: 0o600 });
@@ -225,33 +229,44 @@ try {
     const pics = await page.evaluate(() => {
         const g = window.gale, r = g.r, n = r.n_trees;
         const damaged = g.still(true);
-        // the broken branches close up: about the first one's tree (along its fall if it lies)
-        const t = Math.floor(g.damage.view.broken[0] / 2 ** 32), row = g.welcome.instances[t], sp = r.species[row[0]];
-        const h = sp.height * row[5], az = g.damage.view.fall_az[t] * Math.PI / 128, lies = g.damage.view.fallen[t] !== 0;
-        const cam0 = { ...g.cam, target: g.cam.target.slice() };
-        g.cam.target = lies ? [row[1] + 0.5 * h * Math.cos(az), row[2] + 0.5 * h * Math.sin(az), 1.5] : [row[1], row[2], row[3] + 0.6 * h];
-        g.cam.distance = Math.max(10, 1.2 * h);
-        const cutClose = g.still(true);
+        // the broken branches close up: about each tree that lost some (along its fall if
+        // it lies), with and without the cut lists
+        const cam0 = { ...g.cam, target: g.cam.target.slice() }, close = [];
+        const cl = g.damage.cutLists((t) => r.species[g.welcome.instances[t][0]].n_nodes);
+        for (const t of new Set(g.damage.view.broken.map((k) => Math.floor(k / 2 ** 32)))) {
+            const row = g.welcome.instances[t], sp = r.species[row[0]];
+            const h = sp.height * row[5], az = g.damage.view.fall_az[t] * Math.PI / 128, lies = g.damage.view.fallen[t] !== 0;
+            g.cam.target = lies ? [row[1] + 0.5 * h * Math.cos(az), row[2] + 0.5 * h * Math.sin(az), 1.5] : [row[1], row[2], row[3] + 0.6 * h];
+            g.cam.distance = Math.max(10, 1.2 * h);
+            r.setCuts(cl.head, cl.nodes);
+            const cut = g.still(true);
+            r.setCuts(new Float32Array(4 * n), new Float32Array(1));
+            close.push({ tree: t, cut, uncut: g.still(true) });
+        }
         g.damageGen = -1;
-        r.setCuts(new Float32Array(4 * n), new Float32Array(1));
-        const uncutClose = g.still(true);
         Object.assign(g.cam, cam0);
         r.setDamage(new Float32Array(n), new Float32Array(n), new Uint8Array(n));
         const intact = g.still(true);
         g.damageGen = -1;
         g.damage.dirty = true;
         g.applyDamage(g.shown_s);
-        return { damaged, intact, cutClose, uncutClose };
+        return { damaged, intact, close };
     });
     {
         const a = Buffer.from(pics.damaged.pixels, 'base64'), b = Buffer.from(pics.intact.pixels, 'base64');
         const d = diffAt(a, b, W), proj = projector(pics.damaged.cam, W, H);
-        const du = diffAt(Buffer.from(pics.cutClose.pixels, 'base64'), Buffer.from(pics.uncutClose.pixels, 'base64'), W);
         let cut = 0;
-        for (let i = 0; i < W * H; i++) cut += du(i % W, Math.floor(i / W)) > 24;
-        out.broken_branches = { n: seen.broken.length, px_changed: cut };
+        const perTree = {};
+        for (const c of pics.close) {
+            const du = diffAt(Buffer.from(c.cut.pixels, 'base64'), Buffer.from(c.uncut.pixels, 'base64'), W);
+            let k = 0;
+            for (let i = 0; i < W * H; i++) k += du(i % W, Math.floor(i / W)) > 24;
+            perTree[c.tree] = k;
+            cut += k;
+        }
+        out.broken_branches = { n: seen.broken.length, px_changed: perTree };
         assert.ok(seen.broken.length >= 1, 'no branch broke in the storm');
-        assert.ok(cut >= 100, `the broken branches changed ${cut} pixels of the close view (expected >= 100)`);
+        assert.ok(cut >= 30, `the broken branches changed ${cut} pixels of the close views (expected >= 30): ${JSON.stringify({ broken: seen.broken, perTree })}`);
         out.fallen_crowns = [];
         out.stripped_crowns = [];
         seen.fallen.forEach((k, t) => {
@@ -275,6 +290,42 @@ try {
         assert.ok(out.fallen_crowns.length >= 2, `expected at least 2 fallen trees' crowns in view, got ${out.fallen_crowns.length}`);
         for (const c of out.fallen_crowns) assert.ok(c.changed >= 0.3, `tree ${c.tree}: ${c.changed} of its standing crown's window changed when it fell (expected >= 0.3)`);
         for (const c of out.stripped_crowns) assert.ok(c.changed >= 0.03, `tree ${c.tree}: ${c.changed} of its crown's window changed when stripped to ${c.level}/32 (expected >= 0.03)`);
+    }
+
+    // a snapped stem, from the DAMAGE-FULL vector (the whole state: tree 0 stripped to
+    // 20/32, tree 1 snapped towards 200/256 of a turn; the rest healed)
+    const snap = await page.evaluate(async (bytes) => {
+        const g = window.gale, r = g.r, n = r.n_trees;
+        const { Decoder } = await import('/web/wire.js');
+        const { tipFallBreak_m } = await import('/web/damage.js');
+        g.onFrame(new Decoder().decode(Uint8Array.from(bytes)));
+        g.applyDamage(g.shown_s);
+        const row = g.welcome.instances[1], az = g.damage.view.fall_az[1] * Math.PI / 128;
+        // side on to the fall, level with the break
+        Object.assign(g.cam, { target: [row[1], row[2], 1.2], distance: 7, yaw: az + Math.PI / 2, pitch: -0.15 });
+        const snapped = g.still(true);
+        const stats = { stumps: r.stats.stumps, plates: r.stats.plates, fallen: Array.from(g.damage.view.fallen) };
+        const code = Float32Array.from(g.damage.code);
+        r.setDamage(new Float32Array(n), new Float32Array(n), new Uint8Array(n));
+        const standing = g.still(true);
+        r.setDamage(code, g.damage.az, new Uint8Array(n));
+        g.still(true); // the canvas shows the snapped stem for the screenshot
+        return { snapped, standing, stats, break_m: tipFallBreak_m(1) * row[5], base: row.slice(1, 4) };
+    }, SNAP_FULL);
+    await page.screenshot({ path: path.join(work, 'snapped.png') });
+    {
+        assert.deepEqual(snap.stats, { stumps: 1, plates: 0, fallen: [0, 2, 0, 0, 0, 0, 0] });
+        const d = diffAt(Buffer.from(snap.snapped.pixels, 'base64'), Buffer.from(snap.standing.pixels, 'base64'), W);
+        const proj = projector(snap.snapped.cam, W, H);
+        const win = (z) => {
+            const c = proj([snap.base[0], snap.base[1], snap.base[2] + z]);
+            let m = 0, ch = 0;
+            for (let dy = -2; dy <= 2; dy++) for (let dx = -2; dx <= 2; dx++, m++) ch += d(Math.round(c[0]) + dx, Math.round(c[1]) + dy) > 24;
+            return +(ch / m).toFixed(2);
+        };
+        out.snapped = { break_m: +snap.break_m.toFixed(3), stump_changed: win(0.4 * snap.break_m), above_changed: win(snap.break_m + 2.5) };
+        assert.ok(out.snapped.stump_changed <= 0.3, `the stump below the break differs from the standing stem (${out.snapped.stump_changed} of its window)`);
+        assert.ok(out.snapped.above_changed >= 0.7, `the stem 2.5 m above the break is still there (${out.snapped.above_changed} of its window changed)`);
     }
 
     // a reconnect: the page gets the whole damage again with its keyframe
