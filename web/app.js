@@ -138,6 +138,7 @@ export class App {
             const sp = this.r.species[w.instances[t][0]];
             return sp ? sp.height * (w.instances[t][5] > 0 ? w.instances[t][5] : 1) : 0;
         }, (t) => (w.instances[t][5] > 0 ? w.instances[t][5] : 1));
+        this.damage.scene = { row: (t) => w.instances[t], asset: (t) => (this.ready && this.r.species[w.instances[t][0]] ? this.r.species[w.instances[t][0]].a : null) };
         this.damageGen = -1;
         this.leavesFrame = 0;
         try {
@@ -256,6 +257,7 @@ export class App {
             this.r.setCuts(cl.head, cl.nodes);
             this.damageGen = d.view.generation;
         }
+        this.r.setDebris(d.debrisAt(shown_s, (p) => this.r.windAt(p)));
     }
 
     camera() {

@@ -6,7 +6,8 @@
 // over as a rigid pole (client/tip_fall.c) about the break of a snapped stem
 // (tip_fall_break_m) or the base of an uprooted one, and what the renderer is given: per
 // tree the code of u_trees slot 1 .z (render_tree_code, client/render_internal.h) and the
-// azimuth, and the broken branches' cut lists. The formulas are the C's;
+// azimuth, the broken branches' cut lists, and the pieces that broke off as tumbling debris
+// (web/debris_path.js). The formulas are the C's;
 // tests/web/test_damage_js.mjs holds them to the C (gale-web-damage-table).
 
 // hash_mix32 of protocol/hash.h (lowbias32), the same bits as shaders/common.glsl hash_u.
@@ -19,7 +20,10 @@ export function hashMix32(x) {
 }
 
 export const DAMAGE = { BRANCH: 1, SNAP: 2, UPROOT: 3, STRIP: 4, LEVELS: 32 }; // protocol/wire.h
+import { DebrisPath, debrisFrameMatrix, debrisFrameAngles } from './debris_path.js';
+
 export const DAMAGE_RECENT_S = 3.0;          // client/damage_clock.h
+export const MAX_DEBRIS = 64;                // RENDER_MAX_DEBRIS (client/render.h)
 export const TIP_FALL = { G_MS2: 9.81, LEAN0_RAD: 0.05, LYING_RAD: 1.536, BREAK_MIN_M: 0.5, BREAK_SPAN_M: 1.0 }; // client/tip_fall.h
 
 // wire_damage_leaf_kept (protocol/wire.h): whether leaf slot `slot` of tree `tree` stays on a
@@ -55,6 +59,39 @@ export function tipFallAngle(t_s, height_m) {
 export function tipFallBreak_m(tree) {
     const u = Math.fround((hashMix32((Math.imul(tree, 2246822519) + 374761393) >>> 0) >>> 8) * (1 / 16777216));
     return Math.fround(TIP_FALL.BREAK_MIN_M + Math.fround(TIP_FALL.BREAK_SPAN_M * u));
+}
+
+// damage_cut_mask (client/damage_cut.c): out[i] 1 when no node from i up to the root is one
+// of cut (keepOnly: the inverse, only the sub-trees of cut); parents come first.
+export function damageCutMask(parent, cut, keepOnly) {
+    const n = parent.length, out = new Uint8Array(n);
+    for (const c of cut) if (c < n) out[c] = 1;
+    for (let i = 1; i < n; i++) if (!out[i] && parent[i] >= 0) out[i] = out[parent[i]];
+    if (!keepOnly) for (let i = 0; i < n; i++) out[i] = out[i] ? 0 : 1;
+    return out;
+}
+
+// render_piece_shape (client/render_damage.c): the piece from `node` of asset a at rest: its
+// nodes' centroid, its axis from the break to the centroid, the farthest node's distance.
+export function pieceShape(a, node) {
+    const m = damageCutMask(a.parent, [node], true);
+    const c = [0, 0, 0];
+    let n = 0;
+    for (let i = 0; i < a.n_nodes; i++) {
+        if (!m[i]) continue;
+        for (let k = 0; k < 3; k++) c[k] += a.rest[3 * i + k];
+        n++;
+    }
+    const centre = c.map((x) => Math.fround(x / n)); // n >= 1: the node itself
+    let axis = centre.map((x, k) => Math.fround(x - a.rest[3 * node + k])), ext = 0;
+    for (let i = 0; i < a.n_nodes; i++) {
+        if (m[i]) ext = Math.max(ext, Math.hypot(a.rest[3 * i] - centre[0], a.rest[3 * i + 1] - centre[1], a.rest[3 * i + 2] - centre[2]));
+    }
+    if (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2] < 1e-12) {
+        const p = a.parent[node]; // a single node: its own segment's direction
+        axis = [0, 1, 2].map((k) => (p >= 0 ? a.rest[3 * node + k] - a.rest[3 * p + k] : k === 2 ? 1 : 0));
+    }
+    return { centre, axis, extent_m: ext };
 }
 
 // protocol/damage_view.c: what a receiver holds after DAMAGE frames.
@@ -138,6 +175,45 @@ export class DamageFx {
         this.bad = 0;
         this.tipping = 0;
         this.dirty = true;
+        this.debris = []; // { path: DebrisPath, centre (tree frame, unit scale), species }
+        this.scene = null; // { row(t): [species, x, y, z, yaw, scale], asset(t): asset or null }
+        this.now_s = NaN;
+    }
+
+    // A piece of tree t from node leaves the tree where it broke, at t0_s (spawn_debris).
+    spawnDebris(t, node, t0_s) {
+        const a = this.scene && this.scene.asset(t);
+        if (!a || node >= a.n_nodes) return;
+        const row = this.scene.row(t), sc = row[5] > 0 ? row[5] : 1;
+        const shape = pieceShape(a, node);
+        if (this.debris.length === MAX_DEBRIS) { // full: the oldest piece goes
+            let k = 0;
+            for (let i = 1; i < this.debris.length; i++) if (this.debris[i].path.t0_s < this.debris[k].path.t0_s) k = i;
+            this.debris.splice(k, 1);
+        }
+        const r0 = debrisFrameMatrix(row[4], this.fallAngle(t, t0_s), Math.fround(this.view.fall_az[t] * Math.fround(6.2831853 / 256)));
+        // where the tree draws the piece's centre: turned about the fall's pivot
+        const piv = this.pivot_m(t), d = [shape.centre[0], shape.centre[1], shape.centre[2] - piv];
+        const c0 = [0, 1, 2].map((i) => row[1 + i] + sc * (r0[i] * d[0] + r0[3 + i] * d[1] + r0[6 + i] * d[2] + (i === 2 ? piv : 0)));
+        this.debris.push({ path: new DebrisPath(t, node, t0_s, c0, r0, shape.axis, shape.extent_m * sc), centre: shape.centre, species: row[0] });
+    }
+
+    // The pieces at server time now_s (client_damage_frame): advanced in the wind, the
+    // sunk ones dropped; per piece { tree, node, species, pos, yaw, fall, az }.
+    debrisAt(now_s, wind) {
+        this.now_s = now_s;
+        const out = [];
+        this.debris = this.debris.filter((dp) => {
+            const p = dp.path;
+            p.advance(now_s, wind);
+            if (p.done() || !this.scene) return false;
+            const r = p.rotation(), ce = dp.centre, row = this.scene.row(p.tree), s = row[5] > 0 ? row[5] : 1;
+            const pos = [0, 1, 2].map((i) => p.c[i] - s * (r[i] * ce[0] + r[3 + i] * ce[1] + r[6 + i] * ce[2]));
+            pos[2] -= p.sink_m();
+            out.push({ tree: p.tree, node: p.node, species: dp.species, pos, ...debrisFrameAngles(r) });
+            return true;
+        });
+        return out;
     }
 
     // A frame's DAMAGE (f.hdr, f.damage): what is new to this picture, then applied.
@@ -145,12 +221,17 @@ export class DamageFx {
         const v = this.view;
         for (const e of d.events) {
             if (e.tree >= v.n_trees) continue;
+            const t0 = damageEventStart_s(hdr.tick, hdr.server_time_us, e.tick, this.tick_hz);
             if ((e.kind === DAMAGE.SNAP || e.kind === DAMAGE.UPROOT) && !v.fallen[e.tree]) {
-                this.fall_t0_s[e.tree] = damageEventStart_s(hdr.tick, hdr.server_time_us, e.tick, this.tick_hz); // NaN: an old fall, lying at once
+                this.fall_t0_s[e.tree] = t0; // NaN: an old fall, lying at once
+            } else if (e.kind === DAMAGE.BRANCH && !Number.isNaN(t0) && !v.isBroken(e.tree, e.node)) {
+                this.spawnDebris(e.tree, e.node, t0);
             }
         }
         this.bad += v.apply(d.full, d.events);
         if (d.full) {
+            // a heal: what no longer stands broken stops moving
+            this.debris = this.debris.filter((dp) => v.isBroken(dp.path.tree, dp.path.node));
             for (let t = 0; t < v.n_trees; t++) if (!v.fallen[t]) this.fall_t0_s[t] = NaN;
         }
         this.dirty = true;

@@ -13,7 +13,7 @@
 import { loadProgram } from './shaders.js';
 import { stormFxCalm, rainUniforms } from './storm_fx.js';
 import { housesMesh, HOUSE_FLOATS } from './house.js';
-import { hashMix32 } from './damage.js';
+import { hashMix32, MAX_DEBRIS } from './damage.js';
 import { fallingPathBuild, fallingVar, fallingPathLandTime } from './falling_path.js';
 
 export class WebGL2Missing extends Error {}
@@ -321,16 +321,18 @@ export class Renderer {
         gl.bufferData(gl.ARRAY_BUFFER, v.length ? v : new Float32Array(HOUSE_FLOATS), gl.STATIC_DRAW);
     }
 
-    // The welcome's instances: rows [species, x, y, z, yaw, scale].
+    // The welcome's instances: rows [species, x, y, z, yaw, scale]; after them MAX_DEBRIS
+    // slots for broken-off pieces (setDebris).
     setInstances(rows, stride) {
         this.n_trees = rows.length;
         this.inst = rows;
-        const t = new Float32Array(rows.length * 8);
+        this.debris = [];
+        const t = new Float32Array((rows.length + MAX_DEBRIS) * 8);
         rows.forEach((r, i) => {
             t.set([r[1], r[2], r[3], r[4], r[5] > 0 ? r[5] : 1, r[0], 0, 0], 8 * i);
         });
         this.treeData = t;
-        this.trees = this.dataTex(4, rows.length * 2, t, this.trees);
+        this.trees = this.dataTex(4, (rows.length + MAX_DEBRIS) * 2, t, this.trees);
         this.uprooted = new Uint8Array(rows.length);
         this.setCuts(new Float32Array(rows.length * 4), new Float32Array(1));
         this.setStride(stride);
@@ -347,14 +349,45 @@ export class Renderer {
             t[8 * i + 7] = az[i];
         }
         this.uprooted.set(uprooted.subarray(0, this.n_trees));
-        this.trees = this.dataTex(4, this.n_trees * 2, t, this.trees);
+        this.trees = this.dataTex(4, (this.n_trees + MAX_DEBRIS) * 2, t, this.trees);
     }
 
     // The broken branches' cut lists (render_damage_upload): per tree (first, count,
-    // keep-only, 0) and the cut nodes.
+    // keep-only, 0) and the cut nodes; the debris slots' lists follow.
     setCuts(head, nodes) {
-        this.cut = this.dataTex(4, Math.max(1, this.n_trees), head, this.cut);
-        this.cutn = this.dataTex(1, nodes.length, nodes, this.cutn);
+        this.cutTrees = { head, nodes };
+        this.uploadCuts();
+    }
+
+    uploadCuts() {
+        const n = this.n_trees, { head, nodes } = this.cutTrees, nd = this.debris.length;
+        const h = new Float32Array((n + MAX_DEBRIS) * 4), nn = new Float32Array(nodes.length + nd);
+        h.set(head.subarray(0, 4 * n));
+        nn.set(nodes);
+        this.debris.forEach((d, k) => {
+            // keep only the sub-tree of the node that broke
+            h.set([nodes.length + k, 1, 1, 0], 4 * (n + k));
+            nn[nodes.length + k] = d.node;
+        });
+        this.cut = this.dataTex(4, n + MAX_DEBRIS, h, this.cut);
+        this.cutn = this.dataTex(1, nn.length, nn, this.cutn);
+    }
+
+    // The pieces broken off and tumbling or lying (render_set_debris; web/damage.js
+    // DamageFx.debrisAt): slot n_trees + k drawn at rest from its tree's species and scale,
+    // its own place and turn, only the sub-tree of its node.
+    setDebris(list) {
+        const n = this.n_trees, t = this.treeData;
+        const same = list.length === this.debris.length && list.every((d, k) => d.tree === this.debris[k].tree && d.node === this.debris[k].node);
+        if (!list.length && !this.debris.length) return;
+        list.forEach((d, k) => {
+            const src = 8 * d.tree, z = t[src + 6];
+            const lost = Math.floor((z - 256 * (z >= 256)) * 0.25);
+            t.set([d.pos[0], d.pos[1], d.pos[2], d.yaw, t[src + 4], t[src + 5], Math.min(Math.max(d.fall, 0), 3.1415926) + 4 * lost, d.az], 8 * (n + k));
+        });
+        this.debris = list;
+        this.trees = this.dataTex(4, (n + MAX_DEBRIS) * 2, t, this.trees);
+        if (!same) this.uploadCuts(); // the cut lists change only with the set of pieces
     }
 
     // The last WIND slice (PROTOCOL.md "WIND"), as gale-client keeps it for a leaf's drift
@@ -497,6 +530,7 @@ export class Renderer {
     drawDamage(drawn, t) {
         const gl = this.gl, plates = [], stumps = [];
         for (const i of drawn) {
+            if (i >= this.n_trees) continue; // a debris piece has no stump nor plate
             const z = this.treeData[8 * i + 6], fall = z - 4 * Math.floor(z * 0.25);
             if (this.uprooted[i] && fall > 0.02) plates.push(i);
             if (z >= 256) {
@@ -638,9 +672,14 @@ export class Renderer {
             if (!this.species[r[0]]) continue;
             order.push([Math.hypot(r[1] - cam.eye[0], r[2] - cam.eye[1], r[3] - cam.eye[2]), i]);
         }
+        // the debris pieces in slots after the trees
+        const spOf = (i) => (i < this.n_trees ? this.inst[i][0] : this.debris[i - this.n_trees].species);
+        this.debris.forEach((d, k) => {
+            if (this.species[d.species]) order.push([Math.hypot(d.pos[0] - cam.eye[0], d.pos[1] - cam.eye[1], d.pos[2] - cam.eye[2]), this.n_trees + k]);
+        });
         order.sort((a, b) => a[0] - b[0]);
         const drawn = order.slice(0, this.max_rows).map(([, i]) => i);
-        for (const [d, i] of order.slice(0, this.max_rows)) per[this.inst[i][0]].push([i, d]);
+        for (const [d, i] of order.slice(0, this.max_rows)) per[spOf(i)].push([i, d]);
         const list = new Float32Array(Math.max(1, order.length) * 4);
         const groups = [];
         let row = 0, maxw = 1;
@@ -655,7 +694,8 @@ export class Renderer {
             for (let l = 0; l < sp.n_lods; l++) {
                 g.lods.push([row, byLod[l].length]);
                 for (const i of byLod[l]) {
-                    const nm = modes ? Math.min(modes[i], sp.n_modes) : sp.n_modes;
+                    // a debris piece: its rest pose needs no modes
+                    const nm = i >= this.n_trees ? 0 : modes ? Math.min(modes[i], sp.n_modes) : sp.n_modes;
                     list.set([i, row, nm, 1], 4 * row);
                     row++;
                 }

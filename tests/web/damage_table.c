@@ -3,12 +3,16 @@
  * tip-over angle (client/tip_fall.c), the break height, the event clock
  * (client/damage_clock.c), the leaf slots a stripped crown keeps (protocol/wire.h), the
  * shared falling-leaf path sample by sample (client/falling_path.c), and leaves' variations,
- * positions and landing times from seeds. */
+ * positions and landing times from seeds, the cut mask of broken branches
+ * (client/damage_cut.c) and a broken branch's tumbling fall in a steady wind
+ * (client/debris_path.c). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "damage_clock.h"
+#include "damage_cut.h"
+#include "debris_path.h"
 #include "falling_path.h"
 #include "tip_fall.h"
 #include "wire.h"
@@ -20,6 +24,14 @@ static void floats(const char *name, const float *v, size_t n)
         printf("%s%.9g", k ? "," : "", (double)v[k]);
     }
     printf("]");
+}
+
+static void wind_steady(void *user, const float p[3], float out[3])
+{
+    (void)user;
+    out[0] = 15.0f;
+    out[1] = -4.0f + 0.1f * p[2]; /* a little shear, so the place matters */
+    out[2] = 0.5f;
 }
 
 static void uints(const char *name, const uint32_t *v, size_t n)
@@ -111,6 +123,40 @@ int main(int argc, char **argv)
         const float h0 = 0.5f + 1.5f * (float)k;
         printf(",\"h0\":%.9g,\"land_s\":%.9g}\n", (double)h0,
                (double)falling_path_land_time(&p, &v, h0, 600.0f));
+    }
+    static const int32_t parent[12] = { -1, 0, 0, 1, 1, 2, 3, 3, 5, 6, 7, 7 };
+    static const uint32_t cut[2] = { 3, 5 };
+    for (int keep = 0; keep < 2; keep++) {
+        uint8_t m[12];
+        uint32_t mv[12];
+        damage_cut_mask(parent, 12, cut, 2, keep != 0, m);
+        for (int i = 0; i < 12; i++) {
+            mv[i] = m[i];
+        }
+        printf("{\"k\":\"cut\",\"keep\":%d", keep);
+        uints("parent", (const uint32_t *)parent, 0);
+        uints("mask", mv, 12);
+        printf("}\n");
+    }
+    debris_path d;
+    float r0[9];
+    debris_frame_matrix(0.3f, 0.2f, 1.1f, r0);
+    const float c0[3] = { 1.0f, 2.0f, 9.0f }, axis[3] = { 0.2f, 0.1f, 1.0f };
+    debris_path_start(&d, 7, 33, 100.0, c0, r0, axis, 2.5f);
+    static const double at[] = { 100.0, 100.5, 101.0, 102.0, 104.0, 110.0, 150.0, 152.0, 200.0 };
+    for (size_t i = 0; i < sizeof at / sizeof at[0]; i++) {
+        debris_path_advance(&d, at[i], wind_steady, NULL);
+        float r[9], yaw, fall, az;
+        debris_path_rotation(&d, r);
+        debris_frame_angles(r, &yaw, &fall, &az);
+        printf("{\"k\":\"debris\",\"t_s\":%.17g,\"landed\":%d,\"done\":%d,\"sink_m\":%.9g", at[i],
+               d.landed, debris_path_done(&d), (double)debris_path_sink_m(&d));
+        floats("r0", r0, 9);
+        floats("c", d.c, 3);
+        floats("r", r, 9);
+        const float ang[3] = { yaw, fall, az };
+        floats("angles", ang, 3);
+        printf("}\n");
     }
     return 0;
 }

@@ -4,11 +4,16 @@
 // break height, the event clock and the kept leaf slots exactly, the shared falling-leaf
 // path sample by sample exactly (both in float32, every operation rounded alike), and each
 // leaf's variation exactly, its positions within 1e-5 m + 1e-6 relative (sinf/cosf of the
-// yaw may differ from the correctly rounded ones by an ulp) and its landing time within 1e-4 s.
+// yaw may differ from the correctly rounded ones by an ulp) and its landing time within 1e-4 s;
+// the cut mask of broken branches exactly; a broken branch's tumbling fall in a steady wind
+// (web/debris_path.js, in double where the C steps in float) within 1 mm and 1e-5 of each
+// rotation entry over 100 s.
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
 import { tipFallAngle, tipFallBreak_m, damageEventStart_s, leafKept, DamageView, DAMAGE } from '../../web/damage.js';
 import { fallingPathBuild, fallingVar, fallingPathEval, fallingPathLandTime } from '../../web/falling_path.js';
+import { damageCutMask } from '../../web/damage.js';
+import { DebrisPath, debrisFrameMatrix, debrisFrameAngles } from '../../web/debris_path.js';
 
 const a = process.argv.slice(2);
 if (a.includes('--help') || a.length !== 1) {
@@ -86,4 +91,25 @@ for (const r of by('leaf')) {
     assert.ok(Math.abs(land - r.land_s) <= 1e-4, `falling_path_land_time(seed ${r.seed}, ${r.h0} m): C ${r.land_s}, JS ${land}`);
 }
 out.leaves = { n: by('leaf').length, worst_pos_m: worstPos, worst_land_s: worstLand };
+
+for (const r of by('cut')) assert.deepEqual(Array.from(damageCutMask([-1, 0, 0, 1, 1, 2, 3, 3, 5, 6, 7, 7], [3, 5], r.keep === 1)), r.mask, `damage_cut_mask keep ${r.keep}`);
+const deb = by('debris');
+const r0 = debrisFrameMatrix(0.3, 0.2, 1.1);
+r0.forEach((x, i) => assert.ok(Math.abs(x - deb[0].r0[i]) < 1e-6, `debris_frame_matrix[${i}]: C ${deb[0].r0[i]}, JS ${x}`));
+const dp = new DebrisPath(7, 33, 100, [1, 2, 9], r0, [0.2, 0.1, 1], 2.5);
+let worstC = 0, worstR = 0;
+for (const r of deb) {
+    dp.advance(r.t_s, (p) => [15, -4 + 0.1 * p[2], 0.5]);
+    assert.equal(dp.landed, r.landed === 1, `debris landed at ${r.t_s} s`);
+    assert.equal(dp.done(), r.done === 1, `debris done at ${r.t_s} s`);
+    for (let k = 0; k < 3; k++) worstC = Math.max(worstC, Math.abs(dp.c[k] - r.c[k]));
+    const rot = dp.rotation();
+    for (let k = 0; k < 9; k++) worstR = Math.max(worstR, Math.abs(rot[k] - r.r[k]));
+    assert.ok(Math.abs(dp.sink_m() - r.sink_m) < 1e-3, `debris sink at ${r.t_s} s: C ${r.sink_m}, JS ${dp.sink_m()}`);
+    const ang = debrisFrameAngles(r.r);
+    assert.ok(Math.abs(ang.fall - r.angles[1]) < 1e-5 && Math.abs(ang.yaw - r.angles[0]) < 1e-4, `debris_frame_angles at ${r.t_s} s`);
+}
+assert.ok(worstC < 1e-3, `debris centre off by ${worstC} m`);
+assert.ok(worstR < 1e-5, `debris rotation off by ${worstR}`);
+out.debris = { samples: deb.length, landed: deb[deb.length - 1].landed, worst_centre_m: worstC, worst_rotation: worstR };
 console.log(JSON.stringify({ ...out, ok: true }));

@@ -1,7 +1,7 @@
 // Storm damage and falling leaves in the browser against a real gale-server (the 7-tree
 // clearing) and a native gale-client. A viewer page watches while a kiosk dials a storm:
-// trees uproot (their falls animated from the events), crowns are stripped, leaves are
-// torn off; the kiosk dials calm again. Then:
+// trees uproot (their falls animated from the events), crowns are stripped, branches break
+// off and fall as debris, leaves are torn off; the kiosk dials calm again. Then:
 // - falling leaves: the watching page, its camera close to where most torn leaves are,
 //   draws a still with and one without them; each leaf's place, computed here from the
 //   ring with web/falling_path.js (the C path formula, tests/web/test_damage_js.mjs) as
@@ -72,10 +72,12 @@ try {
     // the kiosk holds the dial while connected; it need not draw meanwhile
     await kiosk.evaluate((t) => { window.gale.frozen = true; window.gale.conn.send({ type: 'wind', token: t, speed_ms: 60, dir_deg: 90 }); }, TOKEN);
     // the storm until two trees lie and a fall was seen under way
-    let tipping = 0, last = null;
+    let tipping = 0, debris = 0, last = null;
     await until(async () => {
-        last = await watch.evaluate(() => ({ tipping: window.gale.damage.tipping, fallen: window.gale.damage.view.fallen.filter((x) => x).length, drawn: window.gale.framesDrawn }));
+        last = await watch.evaluate(() => ({ tipping: window.gale.damage.tipping, fallen: window.gale.damage.view.fallen.filter((x) => x).length, drawn: window.gale.framesDrawn,
+            debris: window.gale.r.debris.length }));
         tipping = Math.max(tipping, last.tipping);
+        debris = Math.max(debris, last.debris);
         return last.fallen >= 2 && tipping > 0;
     }, 90, 'two trees fallen, a fall seen under way').catch((e) => { throw new Error(`${e.message}: ${JSON.stringify({ last, tipping })}`); });
     await sleep(3); // the last falls finish; more leaves are torn off
@@ -92,7 +94,11 @@ try {
         }
         return Date.now() - since > 3000;
     }, 40, 'the damage standing still after the storm');
-    out.damage = { ...seen, tipping_seen: tipping };
+    const pieces = await watch.evaluate(() => window.gale.r.debris.length);
+    await watch.screenshot({ path: path.join(work, 'watched.png') });
+    out.damage = { ...seen, tipping_seen: tipping, debris_seen: Math.max(debris, pieces) };
+    // the branches broke while the page watched: they fell as pieces, which lie now
+    assert.ok(pieces >= 1, `${pieces} debris pieces lying for ${seen.broken.length} broken branches`);
 
     // falling leaves, where the C path formula puts them
     const lf = await watch.evaluate(async () => {
