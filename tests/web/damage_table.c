@@ -134,7 +134,6 @@ int main(int argc, char **argv)
             mv[i] = m[i];
         }
         printf("{\"k\":\"cut\",\"keep\":%d", keep);
-        uints("parent", (const uint32_t *)parent, 0);
         uints("mask", mv, 12);
         printf("}\n");
     }
