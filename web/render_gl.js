@@ -198,6 +198,14 @@ export class Renderer {
         return t;
     }
 
+    // Texels [a, b) of data (laid out as texture t, whole rows) into t: the rows they span.
+    subUpload(t, data, a, b) {
+        const gl = this.gl, r0 = Math.floor(a / t.w), r1 = Math.ceil(b / t.w);
+        gl.activeTexture(gl.TEXTURE0 + RU.SCRATCH);
+        gl.bindTexture(gl.TEXTURE_2D, t.tex);
+        gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, r0, t.w, r1 - r0, t.channels === 1 ? gl.RED : gl.RGBA, gl.FLOAT, data, r0 * t.w * t.channels);
+    }
+
     bindTex(unit, target, tex) {
         const gl = this.gl;
         gl.activeTexture(gl.TEXTURE0 + unit);
@@ -327,7 +335,9 @@ export class Renderer {
         this.n_trees = rows.length;
         this.inst = rows;
         this.debris = [];
-        const t = new Float32Array((rows.length + MAX_DEBRIS) * 8);
+        // whole rows of the texture, so that a range of slots uploads without a copy
+        const texels = (rows.length + MAX_DEBRIS) * 2, tw = Math.min(DATA_W, texels);
+        const t = new Float32Array(Math.ceil(texels / tw) * tw * 4);
         rows.forEach((r, i) => {
             t.set([r[1], r[2], r[3], r[4], r[5] > 0 ? r[5] : 1, r[0], 0, 0], 8 * i);
         });
@@ -386,7 +396,7 @@ export class Renderer {
             t.set([d.pos[0], d.pos[1], d.pos[2], d.yaw, t[src + 4], t[src + 5], Math.min(Math.max(d.fall, 0), 3.1415926) + 4 * lost, d.az], 8 * (n + k));
         });
         this.debris = list;
-        this.trees = this.dataTex(4, (n + MAX_DEBRIS) * 2, t, this.trees);
+        this.subUpload(this.trees, t, 2 * n, 2 * (n + Math.max(list.length, 1)));
         if (!same) this.uploadCuts(); // the cut lists change only with the set of pieces
     }
 

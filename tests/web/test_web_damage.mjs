@@ -76,6 +76,7 @@ try {
     await until(async () => {
         last = await watch.evaluate(() => ({ tipping: window.gale.damage.tipping, fallen: window.gale.damage.view.fallen.filter((x) => x).length, drawn: window.gale.framesDrawn,
             debris: window.gale.r.debris.length }));
+        if (last.tipping > 0 && tipping === 0) await watch.screenshot({ path: path.join(work, 'falling.png') }); // a fall under way
         tipping = Math.max(tipping, last.tipping);
         debris = Math.max(debris, last.debris);
         return last.fallen >= 2 && tipping > 0;
@@ -117,15 +118,15 @@ try {
             leaves.push([o[e] + d[0] + o[e + 8] * te, o[e + 1] + d[1] + o[e + 9] * te, Math.max(o[e + 2] + d[2], 0), o[e + 19]]);
         }
         // the camera close to the densest patch of leaves: the leaf with the most others
-        // within 2 m
+        // within 3 m
         let best = 0, most = -1;
         for (let i = 0; i < leaves.length; i += Math.ceil(leaves.length / 400)) {
             let n = 0;
-            for (const l of leaves) n += Math.hypot(l[0] - leaves[i][0], l[1] - leaves[i][1], l[2] - leaves[i][2]) < 2;
+            for (const l of leaves) n += Math.hypot(l[0] - leaves[i][0], l[1] - leaves[i][1], l[2] - leaves[i][2]) < 3;
             if (n > most) { most = n; best = i; }
         }
         g.cam.target = leaves[best].slice(0, 3);
-        g.cam.distance = 7;
+        g.cam.distance = 10;
         g.cam.pitch = -0.7;
         const on = g.still(true);
         r.hideFalling = true;
@@ -160,7 +161,7 @@ try {
             away += d(i % W, Math.floor(i / W)) > 24;
         }
         out.leaves = { ring: lf.n_ring, shed: lf.shed, in_view: inView, changed_at_leaf: +(hit / Math.max(inView, 1)).toFixed(3), changed_away: away, away_px: awayPx };
-        assert.ok(inView >= 20, `only ${inView} torn leaves in the close view: ${JSON.stringify(out.leaves)}`);
+        assert.ok(inView >= 15, `only ${inView} torn leaves in the close view: ${JSON.stringify(out.leaves)}`);
         assert.ok(hit >= 0.6 * inView, `the picture changed at ${hit} of ${inView} leaves' places (expected >= 60 %)`);
         assert.ok(away <= 0.01 * awayPx, `${away} of ${awayPx} pixels away from every leaf changed (expected <= 1 %)`);
     }
