@@ -311,48 +311,101 @@ export class Decoder {
     }
 
     values(r, sc, n_modes, prev, prev2, hist, q) {
-        const where = r.where, stride = sc.stride, b = r.b;
-        const pq = prev && prev.q, pq2 = prev2 && prev2.q;
-        for (let t = 0; t < sc.n_trees; t++) {
-            const n = n_modes[t];
-            const base = t * stride;
-            q.fill(0, base + n, base + stride);
-            for (let g0 = 0; g0 < n; g0 += GROUP) {
-                const k = Math.min(GROUP, n - g0);
-                const at = r.p;
-                if (r.p >= b.length) throw new WireError(`${where}: tree ${t} group ${g0 / GROUP} at byte ${at}: truncated`);
-                const gh = b[r.p++];
-                const width = gh & 0x1f, pred = gh >> 5;
-                if (width > MAX_WIDTH || pred > hist) {
-                    throw new WireError(`${where}: tree ${t} group ${g0 / GROUP} at byte ${at}: expected width <= ${MAX_WIDTH} and predictor <= ${hist}, got ${width}, ${pred}`);
-                }
-                const nb = (k * width + 7) >> 3;
-                if (r.left() < nb) throw new WireError(`${where}: tree ${t} group ${g0 / GROUP} at byte ${at}: truncated or nonzero padding`);
-                const mask = width ? (1 << width) - 1 : 0;
-                let acc = 0, nacc = 0, p = r.p; // acc holds < width + 8 <= 26 bits
-                for (let i = 0; i < k; i++) {
-                    while (nacc < width) {
-                        acc |= b[p++] << nacc;
-                        nacc += 8;
+        r.p = unpackValues(r.b, r.p, r.where, sc.n_trees, sc.stride, n_modes, q,
+            prev ? prev.q : q, prev2 ? prev2.q : q, hist);
+        return q;
+    }
+}
+
+// The values section (PROTOCOL.md "Values"; get_values in protocol/msg_state.c) from byte
+// p of b into q [n_trees × stride]; returns the byte after it. One pass over flat typed
+// arrays with the position in a local: this loop is most of a frame's decode. pq, pq2:
+// the snapshots a predictor 1 or 2 reads (any array when the history lacks them: a
+// predictor above hist is refused before either is read).
+function unpackValues(b, p, where, n_trees, stride, n_modes, q, pq, pq2, hist) {
+    const len = b.length, QMAX = LIMITS.QMAX;
+    for (let t = 0; t < n_trees; t++) {
+        const n = n_modes[t], base = t * stride;
+        if (n < stride) q.fill(0, base + n, base + stride);
+        for (let g0 = 0; g0 < n; g0 += GROUP) {
+            const k = n - g0 < GROUP ? n - g0 : GROUP;
+            const at = p;
+            if (p >= len) throw new WireError(`${where}: tree ${t} group ${g0 / GROUP} at byte ${at}: truncated`);
+            const gh = b[p++];
+            const width = gh & 0x1f, pred = gh >> 5;
+            if (width > MAX_WIDTH || pred > hist) {
+                throw new WireError(`${where}: tree ${t} group ${g0 / GROUP} at byte ${at}: expected width <= ${MAX_WIDTH} and predictor <= ${hist}, got ${width}, ${pred}`);
+            }
+            if (len - p < (k * width + 7) >> 3) throw new WireError(`${where}: tree ${t} group ${g0 / GROUP} at byte ${at}: truncated or nonzero padding`);
+            const ix0 = base + g0, ix1 = ix0 + k;
+            if (width === 0 && pred < 2) {
+                // a quiet group: no bytes, the prediction itself (always in range)
+                if (pred === 0) q.fill(0, ix0, ix1);
+                else for (let ix = ix0; ix < ix1; ix++) q[ix] = pq[ix];
+                continue;
+            }
+            const mask = (1 << width) - 1;
+            if (k === GROUP && width <= 16 && len - p >= width + 2) {
+                // a full group is exactly `width` bytes, no padding: value i is read from
+                // the 3 bytes at bit i·width (its bits and the shift fit in 24)
+                if (pred === 0 && width <= 8) {
+                    // the group's <= 64 bits as two words; |v| <= 128: in range unchecked
+                    let lo = 0, hi = 0;
+                    for (let j = 0; j < width; j++) {
+                        if (j < 4) lo |= b[p + j] << (8 * j);
+                        else hi |= b[p + j] << (8 * j - 32);
                     }
-                    const z = acc & mask;
-                    acc >>>= width;
-                    nacc -= width;
-                    const ix = base + g0 + i;
-                    let v = unzigzag(z);
+                    if (width <= 4) {
+                        for (let ix = ix0; ix < ix0 + GROUP; ix++) {
+                            const z = lo & mask;
+                            lo >>>= width;
+                            q[ix] = (z >>> 1) ^ -(z & 1);
+                        }
+                    } else {
+                        for (let i = 0, o = 0; i < GROUP; i++, o += width) {
+                            const z = (o + width <= 32 ? lo >>> o : o >= 32 ? hi >>> (o - 32) : (lo >>> o) | (hi << (32 - o))) & mask;
+                            q[ix0 + i] = (z >>> 1) ^ -(z & 1);
+                        }
+                    }
+                    p += width;
+                    continue;
+                }
+                for (let i = 0, o = 0; i < GROUP; i++, o += width) {
+                    const j = p + (o >> 3);
+                    const z = ((b[j] | (b[j + 1] << 8) | (b[j + 2] << 16)) >> (o & 7)) & mask;
+                    const ix = ix0 + i;
+                    let v = (z >>> 1) ^ -(z & 1);
                     if (pred === 1) v += pq[ix];
                     else if (pred === 2) v += 2 * pq[ix] - pq2[ix];
-                    if (v < -LIMITS.QMAX || v > LIMITS.QMAX) {
-                        throw new WireError(`${where}: tree ${t} mode ${g0 + i} at byte ${at}: expected |q| <= ${LIMITS.QMAX}, got ${v}`);
+                    if (v < -QMAX || v > QMAX) {
+                        throw new WireError(`${where}: tree ${t} mode ${ix - base} at byte ${at}: expected |q| <= ${QMAX}, got ${v}`);
                     }
                     q[ix] = v;
                 }
-                if (acc !== 0) throw new WireError(`${where}: tree ${t} group ${g0 / GROUP} at byte ${at}: truncated or nonzero padding`);
-                r.p = p;
+                p += width;
+                continue;
             }
+            let acc = 0, nacc = 0; // acc holds < width + 8 <= 26 bits
+            for (let ix = ix0; ix < ix1; ix++) {
+                while (nacc < width) {
+                    acc |= b[p++] << nacc;
+                    nacc += 8;
+                }
+                const z = acc & mask;
+                acc >>>= width;
+                nacc -= width;
+                let v = (z >>> 1) ^ -(z & 1);
+                if (pred === 1) v += pq[ix];
+                else if (pred === 2) v += 2 * pq[ix] - pq2[ix];
+                if (v < -QMAX || v > QMAX) {
+                    throw new WireError(`${where}: tree ${t} mode ${ix - base} at byte ${at}: expected |q| <= ${QMAX}, got ${v}`);
+                }
+                q[ix] = v;
+            }
+            if (acc !== 0) throw new WireError(`${where}: tree ${t} group ${g0 / GROUP} at byte ${at}: truncated or nonzero padding`);
         }
-        return q;
     }
+    return p;
 }
 
 function isState(type) { return type === MSG.KEYFRAME || type === MSG.DELTA ? 1 : 0; }
@@ -457,14 +510,20 @@ function damage(r) {
     return { full: full === 1, events };
 }
 
+// Each value's step [n_trees × stride]: step_m of the tree's species, 0 past its modes;
+// built once per keyframe scene. q_i = Q_i step_i is then one multiply per value.
+export function sceneSteps(sc) {
+    if (sc.steps) return sc.steps;
+    const stride = sc.stride, out = new Float32Array(sc.n_trees * stride);
+    for (let t = 0; t < sc.n_trees; t++) out.set(sc.step[sc.species[t]], t * stride);
+    sc.steps = out;
+    return out;
+}
+
 // q of every tree as floats: q_i = Q_i step_i (PROTOCOL.md "Quantisation of q") into
-// out[n_trees × stride] (0 where a mode was not sent).
+// out[n_trees × stride] (0 where a mode was not sent: the decoder keeps Q 0 there).
 export function dequantise(st, out) {
-    const sc = st.scene, stride = sc.stride, q = st.q, nm = st.n_modes;
-    for (let t = 0; t < sc.n_trees; t++) {
-        const step = sc.step[sc.species[t]], base = t * stride, n = nm[t];
-        for (let m = 0; m < n; m++) out[base + m] = q[base + m] * step[m];
-        for (let m = n; m < stride; m++) out[base + m] = 0;
-    }
+    const steps = sceneSteps(st.scene), q = st.q;
+    for (let i = 0; i < steps.length; i++) out[i] = q[i] * steps[i];
     return out;
 }
