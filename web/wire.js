@@ -167,7 +167,8 @@ export class Decoder {
         if (states > 1) throw new WireError(`${r.where}: more than one state frame`);
         // the state frame last, so a failing extra leaves the snapshots unchanged
         inner.sort((a, b) => isState(a[1].type) - isState(b[1].type));
-        const f = { hdr: h, types: seen };
+        // the header reported: the state frame's, else the first inner frame's (msg_bundle.c)
+        const f = { hdr: inner[0][1], types: seen };
         for (const [fb, ih, i] of inner) {
             const ir = new Reader(fb, `wire: ${typeName(ih.type)} tick ${ih.tick}`);
             ir.p = HEADER_BYTES;
@@ -442,51 +443,69 @@ function wind(r) {
     return w;
 }
 
-// WEATHER (PROTOCOL.md "WEATHER (type 5)"): every field range-checked (msg_weather.c).
+// WEATHER (PROTOCOL.md "WEATHER (type 5)"): every field range-checked as msg_weather.c
+// does (weather_bad_field); a field its flags leave unset holds its "none" value exactly.
 function weather(r) {
-    const range = (name, v, lo, hi) => {
-        if (!(v >= lo && v <= hi)) throw new WireError(`${r.where}: ${name}: expected in [${lo}, ${hi}], got ${v}`);
-        return v;
-    };
     const w = {};
-    w.sustained_ms = range('sustained_ms', r.f32('sustained_ms'), 0, 200);
-    w.gust_ms = range('gust_ms', r.f32('gust_ms'), 0, 300);
+    w.sustained_ms = r.f32('sustained_ms');
+    w.gust_ms = r.f32('gust_ms');
     w.dir_from_deg = r.f32('dir_from_deg');
-    if (!(w.dir_from_deg >= 0 && w.dir_from_deg < 360)) throw new WireError(`${r.where}: dir_from_deg: expected in [0, 360), got ${w.dir_from_deg}`);
-    w.ss_class = range('ss_class', r.u8('ss_class'), 0, 6);
-    w.beaufort = range('beaufort', r.u8('beaufort'), 0, 12);
+    w.ss_class = r.u8('ss_class');
+    w.beaufort = r.u8('beaufort');
     w.flags = r.u8('flags');
-    if (w.flags & 0xe0) throw new WireError(`${r.where}: flags: expected bits 5-7 zero, got ${w.flags}`);
     w.storm_class = r.u8('storm_class');
-    const storm = (w.flags & 1) !== 0;
-    if (w.storm_class > 6 && w.storm_class !== 255) throw new WireError(`${r.where}: storm_class: expected 0..6 or 255, got ${w.storm_class}`);
-    w.pressure_hpa = range('pressure_hpa', r.f32('pressure_hpa'), 800, 1100);
+    w.pressure_hpa = r.f32('pressure_hpa');
     w.central_hpa = r.f32('central_hpa');
     w.distance_km = r.f32('distance_km');
-    if (storm) {
-        range('central_hpa', w.central_hpa, 800, 1100);
-        range('distance_km', w.distance_km, 0, 20000);
-    } else {
-        range('central_hpa', w.central_hpa, 0, 0);
-        range('distance_km', w.distance_km, -1, -1);
-    }
     w.bearing_deg = r.f32('bearing_deg');
-    if (!(w.bearing_deg >= 0 && w.bearing_deg < 360)) throw new WireError(`${r.where}: bearing_deg: expected in [0, 360), got ${w.bearing_deg}`);
     w.utc_min = r.u32('utc_min');
-    w.utc_offset_min = range('utc_offset_min', r.i16('utc_offset_min'), -840, 840);
-    w.storm_min = range('storm_min', r.f32('storm_min'), -1e6, 1e6);
-    w.replay_pos_s = range('replay_pos_s', r.f32('replay_pos_s'), 0, 1e9);
-    w.replay_len_s = range('replay_len_s', r.f32('replay_len_s'), 0, 1e9);
-    w.replay_speed = range('replay_speed', r.f32('replay_speed'), 0, 1e5);
+    w.utc_offset_min = r.i16('utc_offset_min');
+    w.storm_min = r.f32('storm_min');
+    w.replay_pos_s = r.f32('replay_pos_s');
+    w.replay_len_s = r.f32('replay_len_s');
+    w.replay_speed = r.f32('replay_speed');
+    const bad = weatherBadField(w);
+    if (bad) throw new WireError(`${r.where}: ${bad}: out of range (PROTOCOL.md "WEATHER")`);
     const n = r.u8('name_len');
     if (n > 63 || n !== r.left()) throw new WireError(`${r.where}: name_len: expected ${Math.min(63, r.left())} (the bytes left), got ${n}`);
     const nb = r.b.subarray(r.p, r.p + n);
     for (const c of nb) {
         if (c < 0x20 || c === 0x7f) throw new WireError(`${r.where}: name: byte ${c} below 0x20 or 0x7f`);
     }
-    w.name = new TextDecoder().decode(nb);
+    try {
+        w.name = UTF8.decode(nb);
+    } catch (e) {
+        throw new WireError(`${r.where}: name (not UTF-8): out of range (PROTOCOL.md "WEATHER")`);
+    }
     r.p += n;
     return w;
+}
+
+const UTF8 = new TextDecoder('utf-8', { fatal: true });
+const W_STORM = 1, W_FINISHED = 4, W_CLOCK = 8, W_PAUSED = 16, W_FLAGS_ALL = 0x1f;
+
+function weatherBadField(w) {
+    const inr = (x, lo, hi) => x >= lo && x <= hi;
+    const storm = (w.flags & W_STORM) !== 0, clock = (w.flags & W_CLOCK) !== 0;
+    if (!inr(w.sustained_ms, 0, 200)) return 'sustained_ms';
+    if (!inr(w.gust_ms, 0, 300)) return 'gust_ms';
+    if (!(w.dir_from_deg >= 0 && w.dir_from_deg < 360)) return 'dir_from_deg';
+    if (w.ss_class >= 7) return 'ss_class';
+    if (w.beaufort > 12) return 'beaufort';
+    // FINISHED, PAUSED and CLOCK describe a replay: only with STORM
+    if ((w.flags & ~W_FLAGS_ALL) || (!storm && (w.flags & (W_FINISHED | W_PAUSED | W_CLOCK)))) return 'flags';
+    if (storm ? w.storm_class >= 7 : w.storm_class !== 255) return 'storm_class';
+    if (!inr(w.pressure_hpa, 800, 1100)) return 'pressure_hpa';
+    if (storm ? !inr(w.central_hpa, 800, 1100) : w.central_hpa !== 0) return 'central_hpa';
+    if (storm ? !inr(w.distance_km, 0, 20000) : w.distance_km !== -1) return 'distance_km';
+    if (storm ? !(w.bearing_deg >= 0 && w.bearing_deg < 360) : w.bearing_deg !== 0) return 'bearing_deg';
+    if (!clock && w.utc_min !== 0) return 'utc_min';
+    if (clock ? w.utc_offset_min < -840 || w.utc_offset_min > 840 : w.utc_offset_min !== 0) return 'utc_offset_min';
+    if (storm ? !inr(w.storm_min, -1e6, Math.fround(1e6)) : w.storm_min !== 0) return 'storm_min';
+    if (storm ? !inr(w.replay_pos_s, 0, Math.fround(1e9)) : w.replay_pos_s !== 0) return 'replay_pos_s';
+    if (storm ? !inr(w.replay_len_s, 0, Math.fround(1e9)) : w.replay_len_s !== 0) return 'replay_len_s';
+    if (storm ? !inr(w.replay_speed, 0, Math.fround(1e5)) : w.replay_speed !== 0) return 'replay_speed';
+    return null;
 }
 
 const DAMAGE_KINDS = ['', 'BRANCH', 'SNAP', 'UPROOT', 'STRIP'];
@@ -501,7 +520,8 @@ function damage(r) {
         const at = r.p;
         const e = { tree: r.u32('tree'), node: r.u32('node'), kind: r.u8('kind'), value: r.u8('value'), tick: r.u32('tick') };
         if (e.kind < 1 || e.kind > 4) throw new WireError(`${r.where}: event ${i} at byte ${at}: kind: expected 1..4, got ${e.kind}`);
-        if (e.kind !== 1 && e.node !== 0xffffffff) throw new WireError(`${r.where}: event ${i} at byte ${at}: node: expected ff ff ff ff for ${DAMAGE_KINDS[e.kind]}, got ${e.node}`);
+        // BRANCH names a node; the others the whole tree (ff ff ff ff), which is no node
+        if ((e.kind !== 1) !== (e.node === 0xffffffff)) throw new WireError(`${r.where}: event ${i} at byte ${at}: node: expected ${e.kind === 1 ? 'a node index' : 'ff ff ff ff'} for ${DAMAGE_KINDS[e.kind]}, got ${e.node}`);
         if (e.kind === 4 && e.value > 32) throw new WireError(`${r.where}: event ${i} at byte ${at}: value: expected <= 32 for STRIP, got ${e.value}`);
         if (e.kind === 1 && e.value !== 0) throw new WireError(`${r.where}: event ${i} at byte ${at}: value: expected 0 for BRANCH, got ${e.value}`);
         e.kindName = DAMAGE_KINDS[e.kind];
