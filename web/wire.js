@@ -93,8 +93,6 @@ export function decodeHeader(bytes) {
     return { type, tick, server_time_us: hi * 4294967296 + lo };
 }
 
-function unzigzag(z) { return (z >>> 1) ^ -(z & 1); }
-
 // The decoder of one connection: the scene of the last KEYFRAME and the two newest
 // snapshots (wire_decoder.c). decode() returns a frame object or throws a WireError; a
 // rejected frame leaves the state as it was.

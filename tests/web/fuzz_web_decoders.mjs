@@ -9,7 +9,9 @@
 // splices, inserted and deleted runs, count and length fields rewritten, BUNDLEs of seeds;
 // a frame goes alone, after the corpus keyframe, or after that keyframe and a DELTA (so
 // predictors 1 and 2 are reached); an asset goes as it is or with its header and CRCs
-// repaired (so a mutation reaches the sections, as tests/fuzz/fuzz_asset.c does).
+// repaired (so a mutation reaches the sections, as tests/fuzz/fuzz_asset.c does). Besides
+// the seeds, KEYFRAMEs and DELTAs are built from parts (random trees, runs, mode lists,
+// and groups of every width and predictor) so every path of the value decoders is reached.
 // The browser's asset reader draws with a subset of the file: it skips MODE's arrays (the
 // server's), params_json and the optional sections, and checks no range of a value it
 // only draws with; an asset asset_decode refuses for one of those alone (RELAXED below)
@@ -119,7 +121,7 @@ function mutateOnce(b, others, fields) {
         const f = fields.length && rnd() < 0.7 ? pick(fields) : [ri(Math.max(n, 1)), pick([1, 2, 4, 8])];
         const [at, w] = f;
         const old = at + w <= n ? c.subarray(at, at + w).reduce((s, x, i) => s + x * 2 ** (8 * i), 0) : 0;
-        const v = pick([0, 1, old + 1, old - 1, old * 2, n, n - at, 2 ** (8 * Math.min(w, 4)) - 1, 2 ** 31, 0x80, 64, 65, 262144, 262145]);
+        const v = pick([0, 1, 2, 3, old + 1, old - 1, old + 2, old + 3, old - 3, old * 2, n, n - at, 2 ** (8 * Math.min(w, 4)) - 1, 2 ** 31, 0x80, 64, 65, 262144, 262145]);
         put(c, at, Math.max(0, v), Math.min(w, 4));
         if (w === 8) put(c, at + 4, rnd() < 0.8 ? 0 : ri(4), 4);
         return c;
@@ -144,12 +146,16 @@ function assetFields(b) {
     const f = [[4, 4], [8, 8]];
     for (let p = 24; p + 12 <= b.length; p++) {
         const tag = String.fromCharCode(b[p], b[p + 1], b[p + 2], b[p + 3]);
-        if (/^(META|SKEL|MODE|CORR|MESH|LEAF|LOOK|SRID|SRES)$/.test(tag)) f.push([p + 4, 8], [p + 12, 4], [p, 4]);
+        if (!/^(META|SKEL|MODE|CORR|MESH|LEAF|LOOK|SRID|SRES)$/.test(tag)) continue;
+        f.push([p + 4, 8], [p + 12, 4], [p, 4]);
+        // words of the body: counts, flags, indices, LOD ranges
+        const len = b[p + 4] | (b[p + 5] << 8);
+        for (let k = 0; k < 6; k++) f.push([p + 12 + 4 * ri(Math.max(1, len >> 2)), 4]);
     }
     return f;
 }
 function mutate(b, others, fields) {
-    for (let k = 1 + ri(3); k > 0; k--) b = mutateOnce(b, others, fields(b));
+    for (let k = rnd() < 0.5 ? 1 : 1 + ri(3); k > 0; k--) b = mutateOnce(b, others, fields(b));
     return b;
 }
 function bundleOf(frames) {
@@ -246,8 +252,103 @@ function assetLines(b) {
     return out;
 }
 
+// ---- state frames built from parts (every width 0..18, predictor, group length, tree
+// set and mode list kind), so the value decoders' paths are reached, not only the seeds'
+function header(type, tick) {
+    const b = new Uint8Array(20);
+    b.set([0x47, 0x41, 0x4c, 0x45, 1, 0, type, 0]);
+    put(b, 8, tick, 4);
+    put(b, 12, tick * 33333, 4);
+    return b;
+}
+function varint(out, v) {
+    do {
+        out.push((v & 0x7f) | (v > 0x7f ? 0x80 : 0));
+        v = Math.floor(v / 128);
+    } while (v > 0);
+}
+function values(out, n_trees, counts, hist) {
+    for (let t = 0; t < n_trees; t++) {
+        for (let g0 = 0; g0 < counts[t]; g0 += 8) {
+            const k = Math.min(8, counts[t] - g0);
+            const width = rnd() < 0.6 ? ri(6) : ri(19), pred = ri(hist + 1);
+            out.push((pred << 5) | width);
+            let acc = 0, nacc = 0;
+            for (let i = 0; i < k; i++) {
+                const z = width ? ri(2 ** width) : 0;
+                acc += z * 2 ** nacc;
+                nacc += width;
+                while (nacc >= 8) {
+                    out.push(acc % 256);
+                    acc = Math.floor(acc / 256);
+                    nacc -= 8;
+                }
+            }
+            if (nacc > 0) out.push(acc);
+        }
+    }
+}
+function treeSet(out, n_trees, full, key) {
+    const counts = new Array(n_trees).fill(0);
+    if (!key && rnd() < 0.3) {
+        out.push(0);
+        return null; // SAME: the previous counts
+    }
+    out.push(1);
+    const runs = [];
+    for (let pos = 0; pos < n_trees;) {
+        const gap = runs.length ? 1 + ri(3) : ri(3), len = 1 + ri(6);
+        if (pos + gap + len > n_trees) break;
+        runs.push([gap, len]);
+        for (let t = pos + gap; t < pos + gap + len; t++) counts[t] = full[t];
+        pos += gap + len;
+    }
+    varint(out, runs.length);
+    for (const [gap, len] of runs) { varint(out, gap); varint(out, len); }
+    const list = rnd() < 0.5;
+    out.push(list ? 1 : 0);
+    if (list) for (let t = 0; t < n_trees; t++) if (counts[t]) { counts[t] = 1 + ri(full[t]); out.push(counts[t]); }
+    return counts;
+}
+function stateSequence() {
+    const n_trees = 1 + ri(40), n_species = 1 + ri(3);
+    const nm = Array.from({ length: n_species }, () => 1 + ri(20));
+    const species = Array.from({ length: n_trees }, () => ri(n_species));
+    const full = species.map((s) => nm[s]);
+    const kf = [...header(1, 100)];
+    const seq = 1 + ri(1000);
+    const b4 = new Uint8Array(4);
+    const u32 = (v) => { put(b4, 0, v, 4); return [...b4]; };
+    kf.push(...u32(seq), ...u32(n_trees), n_species);
+    for (let sp = 0; sp < n_species; sp++) {
+        kf.push(nm[sp]);
+        for (let m = 0; m < nm[sp]; m++) kf.push(...new Uint8Array(Float32Array.of(10 ** (-4 + 3 * rnd())).buffer));
+    }
+    kf.push(...species);
+    let counts = treeSet(kf, n_trees, full, true);
+    values(kf, n_trees, counts, 0);
+    const frames = [Uint8Array.from(kf)];
+    for (let d = 1, n = ri(4); d <= n; d++) {
+        const hist = d === 1 ? 1 : 1 + ri(2);
+        const df = [...header(2, 100 + d), ...u32(seq + d), hist];
+        counts = treeSet(df, n_trees, full, false) || counts;
+        values(df, n_trees, counts, hist);
+        frames.push(Uint8Array.from(df));
+    }
+    return frames;
+}
+
 // ---- cases ----
 function wireCase(i) {
+    if (i >= wireSeeds.length && rnd() < 0.3) {
+        // a built keyframe and deltas, one of them mutated now and then
+        const frames = stateSequence();
+        if (rnd() < 0.5) {
+            const k = ri(frames.length);
+            frames[k] = mutate(frames[k], wireSeeds, wireFields);
+        }
+        return { kind: 'W', frames };
+    }
     const r = rnd();
     const prefix = r < 0.25 ? [] : r < 0.75 ? [keyframe] : [keyframe, deltaSame];
     if (i < wireSeeds.length) return { kind: 'W', frames: [...prefix, wireSeeds[i]] };
@@ -275,12 +376,25 @@ function record(c) {
     return parts;
 }
 
+// A sweep before the random cases: the 32-bit word at every byte of the first asset
+// seed's payload (sections are not aligned) set to old ± 1 and 2, header and CRCs
+// repaired: each count, flag, index and LOD range of a whole asset, one at a time.
+const sweep = [];
+for (let at = 24, a = assetSeeds[0]; at + 4 <= a.length; at++) {
+    const old = a[at] | (a[at + 1] << 8) | (a[at + 2] << 16) | (a[at + 3] << 24);
+    for (const v of [old + 1, old - 1, 2]) {
+        const c = a.slice();
+        put(c, at, v >>> 0, 4);
+        sweep.push({ kind: 'A', bytes: repairAsset(c) });
+    }
+}
 const t_end = seconds ? Date.now() + seconds * 1000 : Infinity;
 const stats = { cases: 0, wire_frames: 0, wire_accepted: 0, wire_state_refusals: 0, assets: 0, assets_accepted: 0,
     assets_relaxed: 0, assets_nocorr: 0, batches: 0 };
 let n = 0;
 for (let batch = 0; n < cases && Date.now() < t_end; batch++) {
     const list = [];
+    if (batch === 0) list.push(...sweep);
     for (let k = 0; k < 500 && n < cases; k++, n++) list.push(rnd() < 0.75 ? wireCase(n) : assetCase(n));
     const file = path.join(work, 'batch.bin');
     writeFileSync(file, Buffer.concat(list.flatMap(record)));
