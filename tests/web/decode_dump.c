@@ -1,8 +1,8 @@
 /* What protocol/'s decoders make of a batch of inputs, one canonical line each, for
  * tests/web/fuzz_web_decoders.mjs to hold web/wire.js and web/asset.js to. Input (a file,
- * or - for stdin): records, each
- *   'W' u32 n, then n frames (u32 length, bytes): fed in order to one fresh wire_decoder
- *       (created for the protocol's limits, as a client's is), one line per frame;
+ * read twice where a record's frames are sized first): records, each
+ *   'W' u32 n, then n frames (u32 length, bytes): fed in order to one fresh wire_decoder,
+ *       one line per frame;
  *   'A' u32 length, bytes: one asset file: a line of its hash64 and CRC-32, then a line of
  *       what asset_decode made of it.
  * A rejected input prints "E state" (GALE_E_STATE: the client resyncs) or "E bad", then
@@ -211,13 +211,13 @@ int main(int argc, char **argv)
     if (argc != 2 || !strcmp(argv[1], "--help")) {
         bool help = argc == 2;
         fprintf(help ? stdout : stderr,
-                "usage: gale-web-decode-dump FILE|-\n"
+                "usage: gale-web-decode-dump FILE\n"
                 "  decodes each record of FILE ('W' u32 n then n frames of u32 length and bytes;\n"
                 "  'A' u32 length and an asset file) with protocol/'s decoders and prints one\n"
                 "  canonical line per frame, two per asset (hash64 and CRC-32, then the decode)\n");
         return help ? 0 : 2;
     }
-    FILE *f = strcmp(argv[1], "-") ? fopen(argv[1], "rb") : stdin;
+    FILE *f = fopen(argv[1], "rb");
     if (!f) {
         fprintf(stderr, "gale-web-decode-dump: %s: cannot open\n", argv[1]);
         return 1;
@@ -235,8 +235,26 @@ int main(int argc, char **argv)
             }
             asset_line(buf, n);
         } else if (kind == 'W' && get32(f, &n)) {
+            /* the decoder is made for as many trees as the longest frame has bytes: a
+             * KEYFRAME spends a byte per tree, so none that decodes needs more, and one
+             * that claims more is refused either way (the protocol's limit alone would
+             * cost 100 MB a record) */
+            long start = ftell(f);
+            uint32_t most = 1;
+            for (uint32_t i = 0; i < n && rc == 0; i++) {
+                uint32_t len;
+                if (!get32(f, &len) || fseek(f, (long)len, SEEK_CUR) != 0) {
+                    rc = 1;
+                }
+                most = len > most ? len : most;
+            }
+            if (rc || fseek(f, start, SEEK_SET) != 0) {
+                rc = 1;
+                break;
+            }
             gale_err e;
-            wire_decoder *d = wire_decoder_create(&(wire_decoder_desc){ 0 }, &e);
+            wire_decoder *d = wire_decoder_create(
+                &(wire_decoder_desc){ .max_trees = most < WIRE_MAX_TREES ? most : WIRE_MAX_TREES }, &e);
             if (!d) {
                 fprintf(stderr, "gale-web-decode-dump: %s\n", e.msg);
                 rc = 1;
@@ -269,8 +287,6 @@ int main(int argc, char **argv)
                 argv[1], rec);
     }
     free(buf);
-    if (f != stdin) {
-        fclose(f);
-    }
+    fclose(f);
     return rc;
 }
