@@ -345,8 +345,7 @@ function unpackValues(b, p, where, n_trees, stride, n_modes, q, pq, pq2, hist) {
             }
             const mask = (1 << width) - 1;
             if (k === GROUP && width <= 16 && len - p >= width + 2) {
-                // a full group is exactly `width` bytes, no padding: value i is read from
-                // the 3 bytes at bit i·width (its bits and the shift fit in 24)
+                // a full group is exactly `width` bytes, no padding to check
                 if (pred === 0 && width <= 8) {
                     // the group's <= 64 bits as two words; |v| <= 128: in range unchecked
                     let lo = 0, hi = 0;
@@ -369,6 +368,8 @@ function unpackValues(b, p, where, n_trees, stride, n_modes, q, pq, pq2, hist) {
                     p += width;
                     continue;
                 }
+                // value i from the 3 bytes at bit i·width (its bits and the shift fit in 24;
+                // the 2 bytes read past a group are masked off)
                 for (let i = 0, o = 0; i < GROUP; i++, o += width) {
                     const j = p + (o >> 3);
                     const z = ((b[j] | (b[j + 1] << 8) | (b[j + 2] << 16)) >> (o & 7)) & mask;
