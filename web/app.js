@@ -7,7 +7,7 @@
 import { Connection } from './conn.js';
 import { fetchAsset } from './asset.js';
 import { Jitter, Clock } from './jitter.js';
-import { dequantise } from './wire.js';
+import { sceneSteps } from './wire.js';
 import { Renderer, WebGL2Missing, orbitEye } from './render_gl.js';
 import { stormFxFromWeather, stormFxQualityParse, STORM_FX_LOW } from './storm_fx.js';
 import { DamageFx, DAMAGE } from './damage.js';
@@ -129,7 +129,6 @@ export class App {
             this.camSet = true;
         }
         this.q = new Float32Array(n * stride);
-        this.qs = new Float32Array(n * stride);
         this.modes = new Uint8Array(n);
         this.jitter = new Jitter(n * stride);
         // storm damage: a new picture per welcome; the keyframe's full DAMAGE fills it
@@ -187,22 +186,22 @@ export class App {
         if (this.conn.lastDecode_ms !== undefined) this.perf.decode.push(this.conn.lastDecode_ms);
         if (f.state && this.jitter) {
             const st = f.state;
-            if (st.scene.stride !== this.stride) {
-                this.errors.push(`keyframe stride ${st.scene.stride}, welcome ${this.stride}`);
+            if (st.scene.stride !== this.stride || st.scene.n_trees * this.stride !== this.jitter.n_values) {
+                this.errors.push(`keyframe of ${st.scene.n_trees} trees × ${st.scene.stride} modes, welcome ${this.jitter.n_values / this.stride} × ${this.stride}`);
                 return;
             }
-            const t0 = performance.now();
-            dequantise(st, this.qs);
-            this.perf.dequant.push(performance.now() - t0);
             this.modes.set(st.n_modes);
             const t_s = f.hdr.server_time_us * 1e-6;
             this.clock.arrival(t_s, now * 1e-3);
+            // dequantised into the jitter buffer's own copy: one pass (web/jitter.js)
+            const t0 = performance.now();
             try {
-                this.jitter.insert(f.hdr.tick, t_s, this.qs);
+                this.jitter.insert(f.hdr.tick, t_s, st.q, sceneSteps(st.scene));
             } catch (e) {
                 this.errors.push(e.message);
                 this.jitter.reset();
             }
+            this.perf.dequant.push(performance.now() - t0);
         }
         if (f.weather) {
             this.weather = f.weather;
