@@ -19,7 +19,7 @@ import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
 import { writeFileSync, readFileSync, mkdirSync } from 'node:fs';
 import path from 'node:path';
-import { args, startServer, startBrowser, waitFor, until } from './harness.mjs';
+import { args, startServer, startBrowser, waitFor, until, projector } from './harness.mjs';
 import { readVectors } from './spec_vectors.mjs';
 
 const [server, work, config, client, protocolMd] = args('usage: node test_web_damage.mjs GALE_SERVER WORK_DIR SCENE.json GALE_CLIENT PROTOCOL.md');
@@ -38,19 +38,6 @@ const native = (png) => new Promise((resolve, reject) => {
     p.on('exit', (c) => { clearTimeout(timer); return c === 0 ? resolve(log) : reject(new Error(`gale-client exited ${c}:\n${log}`)); });
 });
 const sleep = (s) => new Promise((r) => setTimeout(r, s * 1000));
-// pinhole projection of the page's camera (eye, target, fov_y_deg; y from the bottom)
-function projector(cam, w, h) {
-    const sub = (p, q) => p.map((x, k) => x - q[k]);
-    const dot = (p, q) => p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
-    const unit = (p) => p.map((x) => x / Math.hypot(...p));
-    const cross = (p, q) => [p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0]];
-    const f = unit(sub(cam.target, cam.eye)), s = unit(cross(f, [0, 0, 1])), u = cross(s, f);
-    const fy = 1 / Math.tan((cam.fov_y_deg * Math.PI) / 360), fx = fy * h / w;
-    return (p) => {
-        const d = sub(p, cam.eye), z = dot(d, f);
-        return [(1 + fx * dot(d, s) / z) * w / 2, (1 + fy * dot(d, u) / z) * h / 2, z];
-    };
-}
 const diffAt = (a, b, w) => (x, y) => {
     const i = 4 * (y * w + x);
     return Math.abs(a[i] - b[i]) + Math.abs(a[i + 1] - b[i + 1]) + Math.abs(a[i + 2] - b[i + 2]);
