@@ -2,6 +2,9 @@
 # Builds every tests/fuzz/fuzz_*.c as a libFuzzer program (CMake option GALE_FUZZ: clang,
 # -fsanitize=fuzzer with ASan + UBSan, into build-fuzz/) and runs each for a bounded time
 # from its seed corpus tests/fuzz/corpus/<name>/.
+# Then, unless NAMEs were given or node is missing, the browser's decoders (web/wire.js,
+# web/asset.js) against protocol/'s built the same way (gale-web-decode-dump, ASan + UBSan)
+# for SECONDS: tests/web/fuzz_web_decoders.mjs, a disagreement's input in build-fuzz/web/.
 # Usage: deploy/fuzz.sh [SECONDS per target, default 20] [NAME ...]
 # Exits non-zero when any target crashes, leaks or trips a sanitizer; the crashing input
 # is left in build-fuzz/artifacts/.
@@ -53,4 +56,16 @@ for name in "${names[@]}"; do
     fi
     rm -rf "$work"
 done
+if [ "$#" -eq 0 ] && command -v node >/dev/null; then
+    echo "== fuzz web decoders: ${secs} s"
+    if ! cmake --build build-fuzz -j 2 --target gale-web-decode-dump >build-fuzz/build_web.log 2>&1; then
+        echo "fuzz web: FAILED to build (log build-fuzz/build_web.log)" >&2
+        tail -20 build-fuzz/build_web.log >&2
+        fail=1
+    elif ! node tests/web/fuzz_web_decoders.mjs build-fuzz/tests/web/gale-web-decode-dump build-fuzz/web \
+            --seconds "$secs" --seed "$(date +%s)"; then
+        echo "fuzz web: FAILED (input in build-fuzz/web/)" >&2
+        fail=1
+    fi
+fi
 exit "$fail"

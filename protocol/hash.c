@@ -12,19 +12,6 @@ uint64_t hash64_update(uint64_t h, const void *data, size_t len)
     return h;
 }
 
-uint64_t hash64_final(uint64_t h)
-{
-    h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ull;
-    h = (h ^ (h >> 27)) * 0x94d049bb133111ebull;
-    return h ^ (h >> 31);
-}
-
-uint64_t hash64_splitmix(uint64_t *state)
-{
-    *state += 0x9e3779b97f4a7c15ull;
-    return hash64_final(*state);
-}
-
 uint64_t hash64(const void *data, size_t len)
 {
     return hash64_final(hash64_update(HASH64_INIT, data, len));

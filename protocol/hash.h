@@ -11,14 +11,24 @@
 
 /* Folds len bytes into the running 64-bit hash h (FNV-1a, 64-bit) and returns it. */
 uint64_t hash64_update(uint64_t h, const void *data, size_t len);
-/* Finishes a running hash with an avalanche step, so that near inputs differ in every bit. */
-uint64_t hash64_final(uint64_t h);
+/* Finishes a running hash with an avalanche step, so that near inputs differ in every bit
+ * (inline: the per-tree draws call it 100 000 times a tick, in loops that vectorise). */
+static inline uint64_t hash64_final(uint64_t h)
+{
+    h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ull;
+    h = (h ^ (h >> 27)) * 0x94d049bb133111ebull;
+    return h ^ (h >> 31);
+}
 /* One-shot: hash64_final(hash64_update(HASH64_INIT, data, len)). */
 uint64_t hash64(const void *data, size_t len);
 /* splitmix64 (Steele, Lea, Flood 2014): advances *state by the golden-ratio gamma and
  * returns its avalanche (hash64_final). Full period 2^64, the same sequence on every
  * machine: the one generator behind gale's seeded forests, leaves, gusts and jitter. */
-uint64_t hash64_splitmix(uint64_t *state);
+static inline uint64_t hash64_splitmix(uint64_t *state)
+{
+    *state += 0x9e3779b97f4a7c15ull;
+    return hash64_final(*state);
+}
 
 /* A 32-bit avalanche (lowbias32, C. Wellons' hash prospector): the hash behind gale's
  * per-tree and per-leaf draws that the GPU repeats, so shaders/common.glsl's hash_u is the

@@ -174,6 +174,9 @@ int wire_decode_weather(wire_reader *r, const wire_header *h, wire_weather *out,
     memcpy(w.name, r->p, name_len);
     r->p += name_len;
     const char *bad = weather_bad_field(&w, name_len);
+    if (!bad && !wire_utf8_valid((const uint8_t *)w.name, name_len)) {
+        bad = "name (not UTF-8)";
+    }
     if (bad) {
         return gale_errf(err, GALE_E_FORMAT,
                          "wire: WEATHER tick %u: %s: out of range (PROTOCOL.md \"WEATHER\")",
@@ -181,4 +184,46 @@ int wire_decode_weather(wire_reader *r, const wire_header *h, wire_weather *out,
     }
     *out = w;
     return 0;
+}
+
+/* RFC 3629: no overlong form, no surrogate (U+D800..DFFF), nothing above U+10FFFF. */
+bool wire_utf8_valid(const uint8_t *s, size_t n)
+{
+    for (size_t i = 0; i < n;) {
+        const uint8_t c = s[i];
+        size_t k;
+        uint32_t cp, min;
+        if (c < 0x80u) {
+            i++;
+            continue;
+        } else if ((c & 0xe0u) == 0xc0u) {
+            k = 1;
+            cp = c & 0x1fu;
+            min = 0x80u;
+        } else if ((c & 0xf0u) == 0xe0u) {
+            k = 2;
+            cp = c & 0x0fu;
+            min = 0x800u;
+        } else if ((c & 0xf8u) == 0xf0u) {
+            k = 3;
+            cp = c & 0x07u;
+            min = 0x10000u;
+        } else {
+            return false;
+        }
+        if (n - i <= k) {
+            return false;
+        }
+        for (size_t j = 1; j <= k; j++) {
+            if ((s[i + j] & 0xc0u) != 0x80u) {
+                return false;
+            }
+            cp = cp << 6 | (s[i + j] & 0x3fu);
+        }
+        if (cp < min || cp > 0x10ffffu || (cp >= 0xd800u && cp <= 0xdfffu)) {
+            return false;
+        }
+        i += k + 1;
+    }
+    return true;
 }

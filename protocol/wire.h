@@ -241,6 +241,9 @@ typedef struct wire_weather {
 
 /* Encodes w (fields checked against the ranges above: GALE_E_RANGE names the field).
  * Does not allocate. */
+/* True when n bytes at s are well-formed UTF-8 (a WEATHER name must be). */
+bool wire_utf8_valid(const uint8_t *s, size_t n);
+
 int wire_encode_weather(const wire_header *h, const wire_weather *w, uint8_t *buf, size_t cap,
                         size_t *len, gale_err *err);
 /* ---- storm damage (PROTOCOL.md "DAMAGE") ------------------------------------------- */

@@ -107,6 +107,50 @@ static void test_same_as_knuth(void)
     CHECK(total > 1000);
 }
 
+/* leaf_shed_trees (which screens trees in blocks before leaf_shed's draw) sheds what
+ * leaf_shed gives tree by tree, in tree order, on 1 and 2 threads: winds from calm to a
+ * storm, trees without slots, a leaf cap that overflows, and a rate high enough that a
+ * screen too strict or too loose by a rounding would show. */
+static void test_trees_same_as_one_by_one(void)
+{
+    enum { N = 20000, CAP = 3000 };
+    static float wind[3 * N];
+    static uint32_t slots[N];
+    static leaf_seed got[CAP], want[CAP], scratch[CAP];
+    const leaf_desc hot = { .rate_hz = 0.3f, .calm_ms = 3, .ref_ms = 20, .seed = 5 };
+    for (uint32_t t = 0; t < N; t++) {
+        const float sp = (float)(t % 211) * 0.27f; /* 0 to 57 m/s */
+        wind[3 * t] = sp * 0.6f;
+        wind[3 * t + 1] = -sp * 0.8f;
+        wind[3 * t + 2] = 0.01f * (float)(t % 5);
+        slots[t] = t % 13 == 0 ? 0 : 200 + t % 3000;
+    }
+    int diff = 0, total = 0;
+    for (int threads = 1; threads <= 2; threads++) {
+        for (uint32_t tick = 0; tick < 6; tick++) {
+            const leaf_desc *d = tick % 2 ? &hot : &D;
+            int n = 0, m = 0, lost_want = 0;
+            float vmax = 0, want_max = 0;
+            int lost = leaf_shed_trees(d, N, wind, slots, 0, tick, 1.0 / 60, threads, scratch,
+                                       got, CAP, &n, &vmax);
+            for (uint32_t t = 0; t < N; t++) {
+                const float *v = &wind[3 * t];
+                const float sp = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+                want_max = sp > want_max ? sp : want_max;
+                if (slots[t]) {
+                    lost_want += leaf_shed(d, t, slots[t], (double)sp, tick, 1.0 / 60, want,
+                                           CAP, &m);
+                }
+            }
+            total += m;
+            diff += n != m || lost != lost_want || vmax != want_max ||
+                    memcmp(got, want, sizeof(leaf_seed) * (size_t)m) != 0;
+        }
+    }
+    CHECK(diff == 0);
+    CHECK(total > 2000);
+}
+
 int main(void)
 {
     RUN(test_rate_law);
@@ -114,5 +158,6 @@ int main(void)
     RUN(test_poisson_mean);
     RUN(test_cap);
     RUN(test_same_as_knuth);
+    RUN(test_trees_same_as_one_by_one);
     return check_report();
 }

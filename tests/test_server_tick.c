@@ -327,6 +327,125 @@ static void test_threads_same_tick(void)
     }
 }
 
+/* The real wind grid behind tick_wind, with and without the probe's callbacks. */
+static void g_inflow(void *ctx, const wind_inflow *in)
+{
+    wind_set_inflow(ctx, in);
+}
+
+static int g_step(void *ctx, float dt_s, wind_step_stats *st)
+{
+    return wind_step(ctx, dt_s, st);
+}
+
+static void g_sample(void *ctx, int n, const float *p, float *v)
+{
+    wind_sample_many(ctx, n, p, v);
+}
+
+static void *g_probe_create(void *ctx, int n, const float *p)
+{
+    return wind_probe_create(ctx, n, p, NULL);
+}
+
+static void g_probe_destroy(void *probe)
+{
+    wind_probe_destroy(probe);
+}
+
+static void g_probe_sample(void *ctx, const void *probe, int i0, int i1, float *v)
+{
+    wind_probe_sample(ctx, probe, i0, i1, v);
+}
+
+static void g_add_subgrid(void *ctx, int n, const float *p, float *v)
+{
+    wind_add_subgrid(ctx, n, p, v);
+}
+
+/* 9000 trees over two identical subgrid-profile grids stepped every 3 ticks, the inflow
+ * changing every tick: the tick reading the grid through the probe only after a step (on
+ * 2 threads) gives every crown the same wind on every tick as sampling every crown every
+ * tick (on 1), and the same snapshots. */
+static void test_probe_same_tick(void)
+{
+    enum { N = 9000, MODES = 2 };
+    float omega[MODES] = { 3, 11 }, gamma[MODES] = { 0.3f, 0.8f };
+    float basis[3 * MODES] = { 1e-3f, 2e-4f, 0, -5e-4f, 1e-3f, 1e-4f };
+    float qstep[MODES] = { 1e-5f, 1e-5f };
+    tick_species sp = { .n_modes = MODES, .omega = omega, .gamma = gamma, .wind_basis = basis,
+                        .qstep = qstep, .height_m = 12, .n_leaves = 100 };
+    static scene_tree tr[N];
+    uint64_t r = 7;
+    for (int k = 0; k < N; k++) {
+        float c[3];
+        for (int a = 0; a < 3; a++) {
+            r = r * 6364136223846793005ull + 1442695040888963407ull;
+            c[a] = (float)(r >> 40) / 16777216.0f;
+        }
+        /* some beyond the grid's sides, which clamp */
+        tr[k] = (scene_tree){ .species = 0, .pos = { c[0] * 140.0f - 70.0f, c[1] * 140.0f - 70.0f, 0 },
+                              .yaw_rad = 0.002f * (float)k, .scale = 0.3f + 1.2f * c[2] };
+    }
+    static scene s[2];
+    tick_sim *t[2];
+    wind_grid *g[2];
+    int16_t *q[2];
+    tick_wind tw[2];
+    for (int j = 0; j < 2; j++) {
+        s[j] = one_tree(0, 14);
+        s[j].trees = tr;
+        s[j].n_trees = N;
+        s[j].cell_m = 8;
+        s[j].origin[0] = s[j].origin[1] = -64;
+        s[j].wind_every = 3;
+        s[j].tick_threads = j ? 2 : 1;
+        g[j] = wind_create(&(wind_desc){ .nx = 16, .ny = 16, .nz = 2, .cell_m = 8,
+                                         .origin = { -64, -64, 0 }, .threads = 1, .seed = 3,
+                                         .subgrid_profile = 1 },
+                           NULL);
+        tw[j] = (tick_wind){ .ctx = g[j], .set_inflow = g_inflow, .step = g_step,
+                             .sample_many = g_sample };
+        if (j) {
+            tw[j].probe_create = g_probe_create;
+            tw[j].probe_destroy = g_probe_destroy;
+            tw[j].probe_sample = g_probe_sample;
+            tw[j].add_subgrid = g_add_subgrid;
+        }
+        t[j] = g[j] ? tick_create(&(tick_desc){ .sc = &s[j], .species = &sp, .wind = &tw[j] },
+                                  NULL)
+                    : NULL;
+        q[j] = calloc((size_t)N * MODES, sizeof(int16_t));
+        CHECK(t[j] != NULL && q[j] != NULL);
+    }
+    if (!t[0] || !t[1] || !q[0] || !q[1]) {
+        return;
+    }
+    int wind_bad = 0, q_bad = 0;
+    for (int n = 0; n < 10; n++) {
+        wind_inflow in = { .dir_rad = 0.4f + 0.05f * (float)n, .u10_ms = 14.0f + (float)n,
+                           .gust = { 0.3f * (float)(n % 3), -0.2f, 0 } };
+        for (int j = 0; j < 2; j++) {
+            tick_set_inflow(t[j], &in);
+            CHECK(tick_step(t[j], q[j], NULL, NULL) == 0);
+        }
+        q_bad += memcmp(q[0], q[1], sizeof(int16_t) * N * MODES) != 0;
+        wind_bad += memcmp(tick_crown_wind(t[0]), tick_crown_wind(t[1]),
+                           sizeof(float) * 3 * N) != 0;
+    }
+    CHECK(wind_bad == 0);
+    CHECK(q_bad == 0);
+    /* and it is the grid's wind at the crown as it stands */
+    float v[3], p[3] = { tr[5].pos[0], tr[5].pos[1], 0.7f * (12.0f * tr[5].scale) };
+    wind_sample(g[1], p, v);
+    CHECK(memcmp(v, &tick_crown_wind(t[1])[15], sizeof v) == 0);
+    for (int j = 0; j < 2; j++) {
+        tick_destroy(t[j]);
+        wind_destroy(g[j]);
+        free(q[j]);
+    }
+}
+
 int main(void)
 {
     RUN(test_step_response);
@@ -334,5 +453,6 @@ int main(void)
     RUN(test_unconverged);
     RUN(test_leaves_and_errors);
     RUN(test_threads_same_tick);
+    RUN(test_probe_same_tick);
     return check_report();
 }

@@ -499,6 +499,58 @@ static void test_sampling(void)
     wind_destroy(w);
 }
 
+/* A probe's stencils read the grid as wind_sample does, float for float, at points
+ * inside and beyond every side, with and without the subgrid profile, after the field
+ * changed under them (a step, a new inflow): the tick reads its crowns so. */
+static void test_probe(void)
+{
+    for (int subgrid = 0; subgrid < 2; subgrid++) {
+        gale_err err = { 0 };
+        wind_grid *w = wind_create(&(wind_desc){ .nx = 14, .ny = 11, .nz = 3, .cell_m = 4.0f,
+                                                 .origin = { -20, 7, 0 },
+                                                 .subgrid_profile = subgrid, .threads = 1 },
+                                   &err);
+        CHECK(w != NULL);
+        if (!w) {
+            return;
+        }
+        enum { NP = 3000 };
+        static float pts[3 * NP], got[3 * NP];
+        for (int n = 0; n < NP; n++) {
+            pts[3 * n + 0] = -20.0f + (-0.2f + 1.4f * frand()) * 56.0f;
+            pts[3 * n + 1] = 7.0f + (-0.2f + 1.4f * frand()) * 44.0f;
+            pts[3 * n + 2] = (-0.2f + 1.4f * frand()) * 12.0f;
+        }
+        wind_probe *pr = wind_probe_create(w, NP, pts, &err);
+        CHECK(pr != NULL);
+        if (!pr) {
+            wind_destroy(w);
+            return;
+        }
+        int bad = 0;
+        for (int round = 0; round < 3; round++) {
+            if (round == 1) {
+                randomise(w, 3.0f);
+            } else if (round == 2) {
+                wind_set_inflow(w, &(wind_inflow){ .dir_rad = 2.1f, .u10_ms = 17.0f });
+                CHECK(wind_step(w, 0.1f, NULL) == 0);
+            }
+            /* in two shares, as the tick's threads split them */
+            wind_probe_sample(w, pr, 0, 1000, got);
+            wind_probe_sample(w, pr, 1000, NP, got);
+            wind_add_subgrid(w, NP, pts, got);
+            for (int n = 0; n < NP; n++) {
+                float v[3];
+                wind_sample(w, pts + 3 * n, v);
+                bad += memcmp(v, got + 3 * n, sizeof v) != 0;
+            }
+        }
+        CHECK(bad == 0);
+        wind_probe_destroy(pr);
+        wind_destroy(w);
+    }
+}
+
 static void test_coarse(void)
 {
     gale_err err = { 0 };
@@ -563,6 +615,7 @@ int main(void)
     RUN(test_determinism);
     RUN(test_ball_direction);
     RUN(test_sampling);
+    RUN(test_probe);
     RUN(test_coarse);
     RUN(test_bad_desc);
     return check_report();

@@ -7,9 +7,12 @@
 import { Connection } from './conn.js';
 import { fetchAsset } from './asset.js';
 import { Jitter, Clock } from './jitter.js';
-import { dequantise } from './wire.js';
+import { sceneSteps } from './wire.js';
 import { Renderer, WebGL2Missing, orbitEye } from './render_gl.js';
 import { stormFxFromWeather, stormFxQualityParse, STORM_FX_LOW } from './storm_fx.js';
+import { DamageFx, DAMAGE } from './damage.js';
+
+const LEAVES_PER_FRAME = 4096; // CLIENT_LEAVES_PER_FRAME (client/client.h): more are thinned
 
 // Saffir-Simpson titles of WEATHER ss_class (protocol/wind_scale.c)
 export const SS_TITLE = ['Tropical depression', 'Tropical storm', 'Category 1 hurricane', 'Category 2 hurricane',
@@ -129,9 +132,17 @@ export class App {
             this.camSet = true;
         }
         this.q = new Float32Array(n * stride);
-        this.qs = new Float32Array(n * stride);
         this.modes = new Uint8Array(n);
         this.jitter = new Jitter(n * stride);
+        // storm damage: a new picture per welcome; the keyframe's full DAMAGE fills it
+        // (a reconnect heals what the server no longer holds)
+        this.damage = new DamageFx(n, w.tick_hz, (t) => {
+            const sp = this.r.species[w.instances[t][0]];
+            return sp ? sp.height * (w.instances[t][5] > 0 ? w.instances[t][5] : 1) : 0;
+        }, (t) => (w.instances[t][5] > 0 ? w.instances[t][5] : 1));
+        this.damage.scene = { row: (t) => w.instances[t], asset: (t) => (this.ready && this.r.species[w.instances[t][0]] ? this.r.species[w.instances[t][0]].a : null) };
+        this.damageGen = -1;
+        this.leavesFrame = 0;
         try {
             for (let i = 0; i < w.species.length; i++) {
                 if (this.speciesHash && this.speciesHash[i] === w.species[i].hash && this.r.species[i]) continue;
@@ -178,22 +189,22 @@ export class App {
         if (this.conn.lastDecode_ms !== undefined) this.perf.decode.push(this.conn.lastDecode_ms);
         if (f.state && this.jitter) {
             const st = f.state;
-            if (st.scene.stride !== this.stride) {
-                this.errors.push(`keyframe stride ${st.scene.stride}, welcome ${this.stride}`);
+            if (st.scene.stride !== this.stride || st.scene.n_trees * this.stride !== this.jitter.n_values) {
+                this.errors.push(`keyframe of ${st.scene.n_trees} trees × ${st.scene.stride} modes, welcome ${this.jitter.n_values / this.stride} × ${this.stride}`);
                 return;
             }
-            const t0 = performance.now();
-            dequantise(st, this.qs);
-            this.perf.dequant.push(performance.now() - t0);
             this.modes.set(st.n_modes);
             const t_s = f.hdr.server_time_us * 1e-6;
             this.clock.arrival(t_s, now * 1e-3);
+            // dequantised into the jitter buffer's own copy: one pass (web/jitter.js)
+            const t0 = performance.now();
             try {
-                this.jitter.insert(f.hdr.tick, t_s, this.qs);
+                this.jitter.insert(f.hdr.tick, t_s, st.q, sceneSteps(st.scene));
             } catch (e) {
                 this.errors.push(e.message);
                 this.jitter.reset();
             }
+            this.perf.dequant.push(performance.now() - t0);
         }
         if (f.weather) {
             this.weather = f.weather;
@@ -201,9 +212,54 @@ export class App {
             if (this.hudEl) this.hudEl.textContent = hudText(f.weather);
             if (this.o.onWeather) this.o.onWeather(f.weather);
         }
-        if (f.wind) this.lastWind = f.wind;
-        if (f.damage) this.damageEvents = (this.damageEvents || 0) + f.damage.events.length;
-        if (f.leaves) this.leavesShed = (this.leavesShed || 0) + f.leaves.length;
+        if (f.wind) {
+            this.lastWind = f.wind;
+            if (this.r) this.r.setWind(f.wind);
+        }
+        if (f.damage) {
+            this.damageEvents = (this.damageEvents || 0) + f.damage.events.length;
+            if (this.damage) this.damage.take(f.hdr, f.damage);
+        }
+        if (f.leaves) {
+            this.leavesShed = (this.leavesShed || 0) + f.leaves.length;
+            if (this.ready) this.takeLeaves(f);
+        }
+    }
+
+    // LEAVES seeds released from the trees' pose now on screen, at their spawn time on the
+    // server clock (client/client_stream.c take_leaves).
+    takeLeaves(f) {
+        const hz = this.welcome.tick_hz > 0 ? this.welcome.tick_hz : 60, t_hdr = f.hdr.server_time_us * 1e-6;
+        for (let i = 0; i < f.leaves.length; i++) {
+            if (this.leavesFrame >= LEAVES_PER_FRAME) {
+                this.leavesThinned = (this.leavesThinned || 0) + f.leaves.length - i;
+                return;
+            }
+            this.leavesFrame++;
+            const l = f.leaves[i];
+            const spawn = t_hdr - (f.hdr.tick - l.spawn_tick) / hz;
+            if (!this.r.addFallingLeaf(l.instance, l.slot, l.seed, spawn, this.q)) this.leavesBad = (this.leavesBad || 0) + 1;
+        }
+    }
+
+    // The damage at server time shown_s into the renderer (client_damage_draw): the trees'
+    // codes while a fall is under way or the picture changed, the cut lists when the
+    // broken branches changed.
+    applyDamage(shown_s) {
+        const d = this.damage;
+        if (!d) return;
+        if (d.update(shown_s)) {
+            const up = new Uint8Array(d.view.n_trees);
+            for (let t = 0; t < up.length; t++) up[t] = d.view.fallen[t] === DAMAGE.UPROOT;
+            this.r.setDamage(d.code, d.az, up);
+        }
+        if (d.view.generation !== this.damageGen) {
+            const inst = this.welcome.instances;
+            const cl = d.cutLists((t) => (this.r.species[inst[t][0]] ? this.r.species[inst[t][0]].n_nodes : 0));
+            this.r.setCuts(cl.head, cl.nodes);
+            this.damageGen = d.view.generation;
+        }
+        this.r.setDebris(d.debrisAt(shown_s, (p) => this.r.windAt(p)));
     }
 
     camera() {
@@ -228,9 +284,12 @@ export class App {
         const t1 = performance.now();
         this.r.uploadQ(this.q);
         const t2 = performance.now();
+        this.leavesFrame = 0;
+        this.shown_s = shown;
         try {
+            this.applyDamage(shown);
             // the shaders' clock (leaves, rain): a wall tile's is its frame's instant
-            this.r.draw(this.camera(), this.o.shaderTime ? this.o.shaderTime(shown) : (t_ms * 1e-3) % 3600, this.modes);
+            this.r.draw(this.camera(), this.o.shaderTime ? this.o.shaderTime(shown) : (t_ms * 1e-3) % 3600, this.modes, shown);
         } catch (e) {
             this.errors.push(e.message);
             this.say(`Drawing failed: ${e.message}`);
@@ -257,10 +316,12 @@ export class App {
         if (at_s !== null) {
             this.jitter.sample(at_s, this.q);
             this.r.uploadQ(this.q);
+            this.shown_s = at_s;
+            this.applyDamage(at_s);
         }
         const off = this.r.offscreen;
         this.r.offscreen = false; // onto the canvas, read back below
-        this.r.draw(cam, t_s, this.modes);
+        this.r.draw(cam, t_s, this.modes, this.shown_s);
         this.r.offscreen = off;
         this.r.hideTrees = false;
         const gl = this.r.gl, w = this.canvas.width, h = this.canvas.height;

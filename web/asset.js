@@ -56,7 +56,14 @@ export function decodeAsset(bytes, name = 'asset') {
     let p = 24;
     const need = (n, what) => { if (p + n > bytes.length) fail(what, p, `truncated: expected ${n} bytes`); };
     const u32 = (what) => { need(4, what); const v = dv.getUint32(p, true); p += 4; return v; };
-    const f32s = (n, what) => { need(4 * n, what); const a = new Float32Array(bytes.slice(p, p + 4 * n).buffer); p += 4 * n; return a; };
+    // every float finite, as asset_decode reads them (a NaN would reach the GPU)
+    const f32s = (n, what) => {
+        need(4 * n, what);
+        const a = new Float32Array(bytes.slice(p, p + 4 * n).buffer);
+        for (let i = 0; i < n; i++) if (!Number.isFinite(a[i])) fail(what, p + 4 * i, 'not a finite number');
+        p += 4 * n;
+        return a;
+    };
     const u32s = (n, what) => { need(4 * n, what); const a = new Uint32Array(bytes.slice(p, p + 4 * n).buffer); p += 4 * n; return a; };
     const i32s = (n, what) => { need(4 * n, what); const a = new Int32Array(bytes.slice(p, p + 4 * n).buffer); p += 4 * n; return a; };
     const section = (tag) => {
@@ -68,6 +75,8 @@ export function decodeAsset(bytes, name = 'asset') {
         need(len, tag);
         return p + len;
     };
+    // a section's content must end where its length says (ASSET.md "Sections")
+    const close = (tag, end) => { if (p !== end) fail(tag, p, `section length disagrees with its content (ends at ${end})`); };
     const a = { name };
     let end = section('META');
     a.species = new TextDecoder().decode(bytes.subarray(p, p + 64)).replace(/\0.*$/s, '');
@@ -79,9 +88,9 @@ export function decodeAsset(bytes, name = 'asset') {
     a.parent = i32s(a.n_nodes, 'parent');
     a.rest = f32s(3 * a.n_nodes, 'rest');
     a.radius = f32s(a.n_nodes, 'radius');
-    if (p !== end) fail('SKEL', p, 'length mismatch');
+    close('SKEL', end);
     for (let i = 0; i < a.n_nodes; i++) {
-        if ((i === 0) !== (a.parent[i] < 0) || (i > 0 && a.parent[i] >= i)) fail('parent', 0, `node ${i}: parent ${a.parent[i]}`);
+        if (i === 0 ? a.parent[i] !== -1 : a.parent[i] < 0 || a.parent[i] >= i) fail('parent', 0, `node ${i}: parent ${a.parent[i]}`);
     }
     end = section('MODE');
     a.n_modes = u32('n_modes');
@@ -90,6 +99,7 @@ export function decodeAsset(bytes, name = 'asset') {
     p = end; // omega, gamma, wind basis, phi: the server's; the pose uses CORR
     end = section('CORR');
     const has = u32('has_correction');
+    if (has > 1) fail('has_correction', p - 4, `expected 0 or 1, got ${has}`);
     if (has) {
         a.corr_v = f32s(3 * nmn, 'corr_v');
         a.corr_w = f32s(3 * nmn, 'corr_w');
@@ -98,7 +108,7 @@ export function decodeAsset(bytes, name = 'asset') {
     } else if (a.n_modes) {
         fail('has_correction', p - 4, 'expected 1 for a species with modes (the length-true pose)');
     }
-    p = end;
+    close('CORR', end);
     end = section('MESH');
     a.n_verts = u32('n_verts');
     if (a.n_verts > 4194304) fail('n_verts', p - 4, 'over the limit');
@@ -110,12 +120,20 @@ export function decodeAsset(bytes, name = 'asset') {
     if (a.n_indices > 16777216) fail('n_indices', p - 4, 'over the limit');
     a.mesh_index = u32s(a.n_indices, 'mesh_index');
     a.n_lods = u32('n_lods');
+    if (a.n_lods > 4 || (a.n_lods === 0 && a.n_indices > 0)) fail('n_lods', p - 4, `expected 1..4, got ${a.n_lods}`);
     const lod = u32s(8, 'lods');
     a.lod_first = [lod[0], lod[2], lod[4], lod[6]];
     a.lod_count = [lod[1], lod[3], lod[5], lod[7]];
+    // each LOD whole triangles within the indices (the browser draws these ranges)
+    for (let l = 0; l < 4; l++) {
+        const first = a.lod_first[l], count = a.lod_count[l];
+        if (first + count > a.n_indices || count % 3 !== 0 || (l >= a.n_lods && (first || count))) {
+            fail('lod_first', p - 32 + 8 * l, `LOD ${l}: [${first}, +${count}) not whole triangles within ${a.n_indices} indices (or set past n_lods)`);
+        }
+    }
     for (let v = 0; v < 2 * a.n_verts; v++) if (a.mesh_bone[v] >= a.n_nodes) fail('mesh_bone', 0, `${v}: ${a.mesh_bone[v]} >= n_nodes`);
     for (let k = 0; k < a.n_indices; k++) if (a.mesh_index[k] >= a.n_verts) fail('mesh_index', 0, `${k}: ${a.mesh_index[k]} >= n_verts`);
-    p = end;
+    close('MESH', end);
     end = section('LEAF');
     a.n_leaves = u32('n_leaves');
     if (a.n_leaves > 1048576) fail('n_leaves', p - 4, 'over the limit');
@@ -124,12 +142,28 @@ export function decodeAsset(bytes, name = 'asset') {
     a.leaf_normal = f32s(3 * a.n_leaves, 'leaf_normal');
     a.leaf_size = f32s(a.n_leaves, 'leaf_size');
     for (let l = 0; l < a.n_leaves; l++) if (a.leaf_node[l] >= a.n_nodes) fail('leaf_node', 0, `${l}: ${a.leaf_node[l]} >= n_nodes`);
-    p = end;
+    close('LEAF', end);
     end = section('LOOK');
     a.bark_rgb = f32s(3, 'bark_rgb');
     a.leaf_rgb = f32s(3, 'leaf_rgb');
     a.leaf_shape = u32('leaf_shape');
     if (a.leaf_shape > 2) fail('leaf_shape', p - 4, `expected 0..2, got ${a.leaf_shape}`);
+    close('LOOK', end);
+    // version 1 ends here; version 2 may add optional sections, SRID and SRES at most once
+    // each (their content is the server's), any other tag skipped by its length
+    if (version === 1 && p !== bytes.length) fail('end', p, `${bytes.length - p} bytes after the last section (version 1 has no optional sections)`);
+    const seen = new Set();
+    while (p < bytes.length) {
+        const at = p;
+        need(12, 'section tag');
+        const t = String.fromCharCode(bytes[p], bytes[p + 1], bytes[p + 2], bytes[p + 3]);
+        const len = dv.getUint32(p + 4, true) + dv.getUint32(p + 8, true) * 4294967296;
+        p += 12;
+        if (len > bytes.length - p) fail('section length', at + 4, `section length ${len}, only ${bytes.length - p} bytes left`);
+        if ((t === 'SRID' || t === 'SRES') && seen.has(t)) fail(t, at, `second ${t} section (at most one)`);
+        seen.add(t);
+        p += len;
+    }
     return a;
 }
 

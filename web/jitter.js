@@ -20,8 +20,10 @@ export class Jitter {
         this.passed_t = -Infinity;
     }
 
-    // 'inserted' | 'duplicate' | 'late'; throws on a time out of tick order.
-    insert(tick, t_s, q) {
+    // 'inserted' | 'duplicate' | 'late'; throws on a time out of tick order. With scale,
+    // the snapshot held is q[i] * scale[i] (web/wire.js sceneSteps: dequantised in the
+    // copy, one pass).
+    insert(tick, t_s, q, scale = null) {
         if (!Number.isFinite(t_s)) throw new Error(`snapshot tick ${tick}: server time not finite`);
         if (t_s < this.passed_t) { this.stats.late++; return 'late'; }
         const s = this.snaps;
@@ -40,7 +42,11 @@ export class Jitter {
         if (pos < s.length) this.stats.out_of_order++;
         let buf = this.spare.pop();
         if (!buf || buf.length !== this.n_values) buf = new Float32Array(this.n_values);
-        buf.set(q);
+        if (scale) {
+            for (let i = 0; i < buf.length; i++) buf[i] = q[i] * scale[i];
+        } else {
+            buf.set(q);
+        }
         s.splice(pos, 0, { tick, t: t_s, q: buf });
         this.stats.inserted++;
         return 'inserted';

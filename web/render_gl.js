@@ -4,20 +4,28 @@
 // on their nodes (leaf.vert/.frag), sky and ground (sky.frag), and in a storm the sky,
 // light, fog and wet crowns of web/storm_fx.js, the welcome's houses (web/house.js,
 // house.vert/.frag) with rain streaks over the frame
-// (rain.vert/.frag, client/render_rain.c). The shaders are the files
+// (rain.vert/.frag, client/render_rain.c), storm damage (trees tipped over or lying, their
+// stumps and root plates, crowns stripped, branches gone: web/damage.js gives the trees'
+// codes and cut lists, client/render_damage.c draws the same) and falling leaves on the
+// shared path (web/falling_path.js, fall.vert/.frag, client/render_fall.c). The shaders are the files
 // of shaders/ (web/shaders.js). Data the native client keeps in buffer textures lives here
 // in 2D textures read by buf_fetch (common.glsl), row-major, DATA_W texels a row.
 import { loadProgram } from './shaders.js';
 import { stormFxCalm, rainUniforms } from './storm_fx.js';
 import { housesMesh, HOUSE_FLOATS } from './house.js';
+import { hashMix32, MAX_DEBRIS } from './damage.js';
+import { fallingPathBuild, fallingVar, fallingPathLandTime } from './falling_path.js';
 
 export class WebGL2Missing extends Error {}
 
 const DATA_W = 2048;
 // texture units: the native client's (client/render_internal.h)
-const RU = { SKEL: 0, NODE: 1, LIST: 2, TREES: 3, VW: 4, Q: 5, LEAF: 6, WIND: 7, CUT: 10, CUTN: 11 };
+const RU = { SKEL: 0, NODE: 1, LIST: 2, TREES: 3, VW: 4, Q: 5, LEAF: 6, WIND: 7, PATH: 8, CUT: 10, CUTN: 11, PLATE: 12, STUMP: 13, SCRATCH: 15 }; // SCRATCH: uploads
 const SAMPLERS = { u_skel: RU.SKEL, u_node: RU.NODE, u_list: RU.LIST, u_trees: RU.TREES, u_vw: RU.VW,
-    u_q: RU.Q, u_leaf: RU.LEAF, u_wind: RU.WIND, u_cut: RU.CUT, u_cutn: RU.CUTN };
+    u_q: RU.Q, u_leaf: RU.LEAF, u_wind: RU.WIND, u_path: RU.PATH, u_cut: RU.CUT, u_cutn: RU.CUTN, u_plates: RU.PLATE, u_stumps: RU.STUMP };
+const MAX_FALLING = 16384; // render_desc max_falling's default (client/render.c)
+const FALL_FLOATS = 21;    // rs_fall: start, var, drift, q0, look (4 each), shape
+const PLATE_SEG = 24, STUMP_SEG = 12; // shaders/plate.vert, stump.vert
 const LEAF_ASPECT = [0.55, 0.16, 1.0]; // render_leaf_aspect, client/render_species.c
 const FOG_DIST_M = 450; // the native renderer's default fog distance (client/render.c)
 
@@ -66,6 +74,25 @@ export function invert(m) {
     return Float32Array.from(inv, (x) => x / det);
 }
 
+// quaternion (x, y, z, w) of an orthonormal basis given as columns (client/render_fall.c)
+function quatFromBasis(x, y, z) {
+    const tr = x[0] + y[1] + z[2];
+    if (tr > 0) {
+        const s = Math.sqrt(tr + 1) * 2;
+        return [(y[2] - z[1]) / s, (z[0] - x[2]) / s, (x[1] - y[0]) / s, 0.25 * s];
+    }
+    if (x[0] > y[1] && x[0] > z[2]) {
+        const s = Math.sqrt(1 + x[0] - y[1] - z[2]) * 2;
+        return [0.25 * s, (y[0] + x[1]) / s, (z[0] + x[2]) / s, (y[2] - z[1]) / s];
+    }
+    if (y[1] > z[2]) {
+        const s = Math.sqrt(1 + y[1] - x[0] - z[2]) * 2;
+        return [(y[0] + x[1]) / s, 0.25 * s, (z[1] + y[2]) / s, (z[0] - x[2]) / s];
+    }
+    const s = Math.sqrt(1 + z[2] - x[0] - y[1]) * 2;
+    return [(z[0] + x[2]) / s, (z[1] + y[2]) / s, 0.25 * s, (x[1] - y[0]) / s];
+}
+
 // The orbit camera of client/camera.c: yaw from +x, pitch up, looking at target.
 export function orbitEye(target, distance, yaw, pitch) {
     const cp = Math.cos(pitch);
@@ -94,7 +121,7 @@ export class Renderer {
 
     async init(base = '') {
         const gl = this.gl;
-        const names = ['skel', 'tree', 'leaf', 'sky', 'rain', 'house'];
+        const names = ['skel', 'tree', 'leaf', 'sky', 'rain', 'house', 'plate', 'stump', 'fall'];
         const progs = await Promise.all(names.map((n) => loadProgram(gl, n, base)));
         this.p = Object.fromEntries(names.map((n, i) => [n, progs[i]]));
         for (const p of progs) {
@@ -107,6 +134,42 @@ export class Renderer {
         gl.texImage3D(gl.TEXTURE_3D, 0, gl.RGBA8, 1, 1, 1, 0, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
         this.list = this.dataTex(4, 1);
         this.cutn = this.dataTex(1, 1);
+        this.plateBuf = this.dataTex(1, 1);
+        this.stumpBuf = this.dataTex(4, 2);
+        this.fallInit();
+    }
+
+    // The shared falling-leaf path as a 2-row texture (positions, orientations) and the
+    // ring of released leaves in an instanced vertex buffer (client/render_fall.c).
+    fallInit() {
+        const gl = this.gl, p = this.path = fallingPathBuild();
+        const px = new Float32Array(8 * p.n);
+        for (let i = 0; i < p.n; i++) {
+            px.set(p.pos.subarray(3 * i, 3 * i + 3), 4 * i);
+            px.set(p.quat.subarray(4 * i, 4 * i + 4), 4 * (p.n + i));
+        }
+        this.pathTex = gl.createTexture();
+        gl.activeTexture(gl.TEXTURE0 + RU.SCRATCH);
+        gl.bindTexture(gl.TEXTURE_2D, this.pathTex);
+        gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, p.n, 2, 0, gl.RGBA, gl.FLOAT, px);
+        for (const k of [gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER]) gl.texParameteri(gl.TEXTURE_2D, k, gl.NEAREST);
+        this.ring = new Float32Array(MAX_FALLING * FALL_FLOATS);
+        this.ringU32 = new Uint32Array(this.ring.buffer);
+        this.ringHead = 0;
+        this.ringCount = 0;
+        this.dirtyLo = Infinity;
+        this.dirtyHi = 0;
+        this.fallVao = gl.createVertexArray();
+        gl.bindVertexArray(this.fallVao);
+        this.fallVbo = gl.createBuffer();
+        gl.bindBuffer(gl.ARRAY_BUFFER, this.fallVbo);
+        gl.bufferData(gl.ARRAY_BUFFER, this.ring.byteLength, gl.DYNAMIC_DRAW);
+        for (let a = 0; a < 6; a++) {
+            gl.enableVertexAttribArray(a);
+            gl.vertexAttribPointer(a, a < 5 ? 4 : 1, gl.FLOAT, false, FALL_FLOATS * 4, a * 16);
+            gl.vertexAttribDivisor(a, 1);
+        }
+        gl.bindVertexArray(null);
     }
 
     // A data texture of n texels of `channels` floats (1 or 4), uploaded from data.
@@ -115,6 +178,7 @@ export class Renderer {
         const w = Math.min(DATA_W, Math.max(n, 1)), h = Math.max(1, Math.ceil(n / w));
         const t = old && old.w === w && old.h >= h && old.channels === channels ? old : { tex: gl.createTexture(), w, h, channels, fresh: true };
         if (old && t !== old) gl.deleteTexture(old.tex);
+        gl.activeTexture(gl.TEXTURE0 + RU.SCRATCH); // the units a draw binds stay as they are
         gl.bindTexture(gl.TEXTURE_2D, t.tex);
         const fmt = channels === 1 ? gl.RED : gl.RGBA, ifmt = channels === 1 ? gl.R32F : gl.RGBA32F;
         if (t.fresh) {
@@ -132,6 +196,14 @@ export class Renderer {
             gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, 0, w, rows, fmt, gl.FLOAT, src.subarray(0, rows * w * channels));
         }
         return t;
+    }
+
+    // Texels [a, b) of data (laid out as texture t, whole rows) into t: the rows they span.
+    subUpload(t, data, a, b) {
+        const gl = this.gl, r0 = Math.floor(a / t.w), r1 = Math.ceil(b / t.w);
+        gl.activeTexture(gl.TEXTURE0 + RU.SCRATCH);
+        gl.bindTexture(gl.TEXTURE_2D, t.tex);
+        gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, r0, t.w, r1 - r0, t.channels === 1 ? gl.RED : gl.RGBA, gl.FLOAT, data, r0 * t.w * t.channels);
     }
 
     bindTex(unit, target, tex) {
@@ -160,6 +232,18 @@ export class Renderer {
         }
         s.height = h;
         s.crown_r = cr;
+        // the stem at the base, for a snapped tree's stump: the root's radius, tapering as
+        // towards its thickest child (client/render_species.c)
+        s.stem_r_m = a.radius[0];
+        s.stem_taper = 0;
+        for (let k = 1, best = 0; k < nn; k++) {
+            const dz = Math.fround(a.rest[3 * k + 2] - a.rest[2]);
+            if (a.parent[k] === 0 && dz > 0.05 && (best === 0 || a.radius[k] > a.radius[best])) {
+                best = k;
+                s.stem_taper = Math.min(Math.fround(Math.fround(a.radius[k] - a.radius[0]) / dz), 0);
+            }
+        }
+        s.a = a; // rest pose, pose fields and leaf slots for releasing a leaf (addFallingLeaf)
         // the leaves' centroid at rest [m, tree frame]: where the crown stands
         const c = [0, 0, 0];
         for (let l = 0; l < a.n_leaves; l++) {
@@ -245,17 +329,241 @@ export class Renderer {
         gl.bufferData(gl.ARRAY_BUFFER, v.length ? v : new Float32Array(HOUSE_FLOATS), gl.STATIC_DRAW);
     }
 
-    // The welcome's instances: rows [species, x, y, z, yaw, scale].
+    // The welcome's instances: rows [species, x, y, z, yaw, scale]; after them MAX_DEBRIS
+    // slots for broken-off pieces (setDebris).
     setInstances(rows, stride) {
         this.n_trees = rows.length;
         this.inst = rows;
-        const t = new Float32Array(rows.length * 8);
+        this.debris = [];
+        // whole rows of the texture, so that a range of slots uploads without a copy
+        const texels = (rows.length + MAX_DEBRIS) * 2, tw = Math.min(DATA_W, texels);
+        const t = new Float32Array(Math.ceil(texels / tw) * tw * 4);
         rows.forEach((r, i) => {
             t.set([r[1], r[2], r[3], r[4], r[5] > 0 ? r[5] : 1, r[0], 0, 0], 8 * i);
         });
-        this.trees = this.dataTex(4, rows.length * 2, t, this.trees);
-        this.cut = this.dataTex(4, rows.length, new Float32Array(rows.length * 4), this.cut);
+        this.treeData = t;
+        this.trees = this.dataTex(4, (rows.length + MAX_DEBRIS) * 2, t, this.trees);
+        this.uprooted = new Uint8Array(rows.length);
+        this.setCuts(new Float32Array(rows.length * 4), new Float32Array(1));
         this.setStride(stride);
+        this.clearFalling();
+    }
+
+    // Storm damage of every tree (web/damage.js DamageFx.update): u_trees slot 1 .z
+    // (render_tree_code: fall angle + 4 x leaf levels lost + 256 when snapped) and .w (fall
+    // azimuth), and which trees lie on their root plate.
+    setDamage(code, az, uprooted) {
+        const t = this.treeData;
+        for (let i = 0; i < this.n_trees; i++) {
+            t[8 * i + 6] = code[i];
+            t[8 * i + 7] = az[i];
+        }
+        this.uprooted.set(uprooted.subarray(0, this.n_trees));
+        this.trees = this.dataTex(4, (this.n_trees + MAX_DEBRIS) * 2, t, this.trees);
+    }
+
+    // The broken branches' cut lists (render_damage_upload): per tree (first, count,
+    // keep-only, 0) and the cut nodes; the debris slots' lists follow.
+    setCuts(head, nodes) {
+        this.cutTrees = { head, nodes };
+        this.uploadCuts();
+    }
+
+    uploadCuts() {
+        const n = this.n_trees, { head, nodes } = this.cutTrees, nd = this.debris.length;
+        const h = new Float32Array((n + MAX_DEBRIS) * 4), nn = new Float32Array(nodes.length + nd);
+        h.set(head.subarray(0, 4 * n));
+        nn.set(nodes);
+        this.debris.forEach((d, k) => {
+            // keep only the sub-tree of the node that broke
+            h.set([nodes.length + k, 1, 1, 0], 4 * (n + k));
+            nn[nodes.length + k] = d.node;
+        });
+        this.cut = this.dataTex(4, n + MAX_DEBRIS, h, this.cut);
+        this.cutn = this.dataTex(1, nn.length, nn, this.cutn);
+    }
+
+    // The pieces broken off and tumbling or lying (render_set_debris; web/damage.js
+    // DamageFx.debrisAt): slot n_trees + k drawn at rest from its tree's species and scale,
+    // its own place and turn, only the sub-tree of its node.
+    setDebris(list) {
+        const n = this.n_trees, t = this.treeData;
+        const same = list.length === this.debris.length && list.every((d, k) => d.tree === this.debris[k].tree && d.node === this.debris[k].node);
+        if (!list.length && !this.debris.length) return;
+        list.forEach((d, k) => {
+            const src = 8 * d.tree, z = t[src + 6];
+            const lost = Math.floor((z - 256 * (z >= 256)) * 0.25);
+            t.set([d.pos[0], d.pos[1], d.pos[2], d.yaw, t[src + 4], t[src + 5], Math.min(Math.max(d.fall, 0), 3.1415926) + 4 * lost, d.az], 8 * (n + k));
+        });
+        this.debris = list;
+        this.subUpload(this.trees, t, 2 * n, 2 * (n + Math.max(list.length, 1)));
+        if (!same) this.uploadCuts(); // the cut lists change only with the set of pieces
+    }
+
+    // The last WIND slice (PROTOCOL.md "WIND"), as gale-client keeps it for a leaf's drift
+    // (client/client_stream.c take_wind, client/render_wind.c render_wind_at): the mean as
+    // the uniform wind, the cells on a grid one layer high.
+    setWind(w) {
+        const n = w.nx * w.ny, v = new Float32Array(3 * n), mean = [0, 0, 0];
+        for (let i = 0; i < 3 * n; i++) {
+            v[i] = Math.fround(w.cells[i] * w.scale_ms);
+            mean[i % 3] += v[i];
+        }
+        this.windGrid = { nx: w.nx, ny: w.ny, origin: [w.x0_m, w.y0_m, 0],
+            cell: [w.cell_m, w.cell_m, 2 * w.z_m > 1 ? 2 * w.z_m : 1], v };
+        this.windMean = mean.map((x) => x / n);
+    }
+
+    windAt(p) {
+        const g = this.windGrid;
+        if (!g) return [0, 0, 0];
+        const ijk = [];
+        const nk = [g.nx, g.ny, 1];
+        for (let k = 0; k < 3; k++) {
+            let c = (p[k] - g.origin[k]) / g.cell[k];
+            if (k === 2) c = Math.min(Math.max(c, 0), nk[2] - 0.5); // a slice applies at every height
+            if (!(c >= 0) || c >= nk[k]) return this.windMean;
+            ijk.push(Math.trunc(c));
+        }
+        const c = ijk[0] + g.nx * ijk[1];
+        return [g.v[3 * c], g.v[3 * c + 1], g.v[3 * c + 2]];
+    }
+
+    clearFalling() {
+        this.ringHead = 0;
+        this.ringCount = 0;
+        this.dirtyLo = Infinity;
+        this.dirtyHi = 0;
+    }
+
+    // One leaf torn from its tree (render_add_falling_leaf): released from its slot in the
+    // tree's pose of q (the length-true form, protocol/asset_pose.c, for that node only) at
+    // server time spawn_s, its variation from its seed, its landing time and the wind's
+    // drift at release. Returns false for a tree or slot outside the scene.
+    addFallingLeaf(tree, slot, seed, spawn_s, q) {
+        if (!(tree < this.n_trees) || !Number.isFinite(spawn_s)) return false;
+        const r = this.inst[tree], s = this.species[r[0]];
+        if (!s || !(slot < s.n_leaves)) return false;
+        const a = s.a, nn = a.n_nodes, f = Math.fround;
+        const j = a.leaf_node[slot], qb = tree * this.q_stride;
+        const acc = [0, 0, 0];
+        let i = j;
+        for (let guard = 0; guard < nn && a.parent[i] >= 0; guard++) {
+            const p = a.parent[i], th = [0, 0, 0], sg = [0, 1, 2].map((k) => a.rest[3 * i + k] - a.rest[3 * p + k]);
+            for (let m = 0; m < s.n_modes; m++) {
+                const qm = q[qb + m] || 0, b = a.corr_b[m];
+                const qt = b !== 0 ? f(a.corr_a[m] * f(Math.atan(f(b * qm)))) : qm;
+                const o = (m * nn + i) * 3;
+                for (let k = 0; k < 3; k++) {
+                    th[k] += qt * a.corr_v[o + k];
+                    sg[k] += qt * a.corr_w[o + k];
+                }
+            }
+            const t2 = th[0] * th[0] + th[1] * th[1] + th[2] * th[2];
+            let sa, ca;
+            if (t2 < 1e-8) {
+                sa = 1 - t2 / 6;
+                ca = 0.5 - t2 / 24;
+            } else {
+                const tt = Math.sqrt(t2);
+                sa = Math.sin(tt) / tt;
+                ca = (1 - Math.cos(tt)) / t2;
+            }
+            const c = [th[1] * sg[2] - th[2] * sg[1], th[2] * sg[0] - th[0] * sg[2], th[0] * sg[1] - th[1] * sg[0]];
+            const cc = [th[1] * c[2] - th[2] * c[1], th[2] * c[0] - th[0] * c[2], th[0] * c[1] - th[1] * c[0]];
+            for (let k = 0; k < 3; k++) acc[k] += sg[k] + sa * c[k] + ca * cc[k];
+            i = p;
+        }
+        const x = [0, 1, 2].map((k) => f(a.rest[3 * i + k] + acc[k]));
+        const sc = r[5] > 0 ? r[5] : 1, cy = f(Math.cos(r[4])), sy = f(Math.sin(r[4]));
+        const off = a.leaf_offset.subarray(3 * slot, 3 * slot + 3);
+        const lp = [0, 1, 2].map((k) => f(f(x[k] + off[k]) * sc));
+        const wp = [f(f(r[1] + f(cy * lp[0])) - f(sy * lp[1])), f(f(r[2] + f(sy * lp[0])) + f(cy * lp[1])), f(r[3] + lp[2])];
+        const h = hashMix32((seed ^ Math.imul(tree, 2654435761) ^ Math.imul(slot, 40503)) >>> 0);
+        const v = fallingVar(this.path, h);
+        const t_land = fallingPathLandTime(this.path, v, wp[2], 600);
+        const wind = this.windAt(wp);
+        if (this.t_base === undefined) this.t_base = Math.floor(spawn_s);
+        const e = this.ringHead * FALL_FLOATS, o = this.ring;
+        o.fill(0, e, e + FALL_FLOATS);
+        o.set([wp[0], wp[1], wp[2], spawn_s - this.t_base, v.yaw, v.sx, v.sy, v.start, 0.8 * wind[0], 0.8 * wind[1], t_land], e);
+        this.ringU32[e + 11] = v.seed; // fall.vert reads its bits (floatBitsToUint)
+        // orientation on the tree: blade axis x, normal z (rest pose, instance yaw)
+        const n0 = a.leaf_normal.subarray(3 * slot, 3 * slot + 3);
+        const nz = [cy * n0[0] - sy * n0[1], sy * n0[0] + cy * n0[1], n0[2]];
+        let ax = Math.abs(nz[0]) > 0.9 ? [0, 1, 0] : [1, 0, 0];
+        const d = ax[0] * nz[0] + ax[1] * nz[1] + ax[2] * nz[2];
+        ax = ax.map((c, k) => c - d * nz[k]);
+        const al = Math.hypot(...ax);
+        ax = ax.map((c) => c / al);
+        const ay = [nz[1] * ax[2] - nz[2] * ax[1], nz[2] * ax[0] - nz[0] * ax[2], nz[0] * ax[1] - nz[1] * ax[0]];
+        o.set(quatFromBasis(ax, ay, nz), e + 12);
+        // torn leaves: the species colour, some turned yellow-brown
+        const yel = 0.35 * (hashMix32((h + 5) >>> 0) >>> 8) / 16777216, brown = [0.62, 0.48, 0.16];
+        for (let k = 0; k < 3; k++) o[e + 16 + k] = s.leaf_rgb[k] * (1 - yel) + brown[k] * yel;
+        o[e + 19] = a.leaf_size[slot] * sc;
+        o[e + 20] = s.leaf_shape;
+        this.dirtyLo = Math.min(this.dirtyLo, this.ringHead);
+        this.dirtyHi = Math.max(this.dirtyHi, this.ringHead + 1);
+        this.ringHead = (this.ringHead + 1) % MAX_FALLING;
+        if (this.ringCount < MAX_FALLING) this.ringCount++;
+        return true;
+    }
+
+    // The falling and landed leaves (render_fall_draw) at server time server_s.
+    drawFalling(server_s) {
+        const gl = this.gl;
+        this.stats.falling = this.ringCount;
+        if (this.ringCount === 0 || this.hideFalling || this.t_base === undefined || !Number.isFinite(server_s)) return;
+        gl.bindBuffer(gl.ARRAY_BUFFER, this.fallVbo);
+        if (this.dirtyLo < this.dirtyHi) {
+            gl.bufferSubData(gl.ARRAY_BUFFER, this.dirtyLo * FALL_FLOATS * 4, this.ring, this.dirtyLo * FALL_FLOATS, (this.dirtyHi - this.dirtyLo) * FALL_FLOATS);
+        }
+        this.dirtyLo = Infinity;
+        this.dirtyHi = 0;
+        const p = this.p.fall, path = this.path;
+        this.setCommon(p, server_s - this.t_base);
+        gl.uniform1i(p.u.u_npath, path.n);
+        gl.uniform1f(p.u.u_pdt, path.dt);
+        gl.uniform1i(p.u.u_ncont, path.cont.length);
+        const cont = new Int32Array(8);
+        cont.set(path.cont);
+        gl.uniform1iv(p.u.u_cont, cont);
+        gl.uniform1fv(p.u.u_aspects, LEAF_ASPECT);
+        this.bindTex(RU.PATH, gl.TEXTURE_2D, this.pathTex);
+        gl.bindVertexArray(this.fallVao);
+        gl.drawArraysInstanced(gl.TRIANGLES, 0, 6, this.ringCount);
+    }
+
+    // Root plates of uprooted trees and stumps of snapped ones among the trees drawn
+    // (client/render.c build_lists, render_damage.c render_plates_draw, render_stumps_draw).
+    drawDamage(drawn, t) {
+        const gl = this.gl, plates = [], stumps = [];
+        for (const i of drawn) {
+            if (i >= this.n_trees) continue; // a debris piece has no stump nor plate
+            const z = this.treeData[8 * i + 6], fall = z - 4 * Math.floor(z * 0.25);
+            if (this.uprooted[i] && fall > 0.02) plates.push(i);
+            if (z >= 256) {
+                const s = this.species[this.inst[i][0]];
+                stumps.push(i, s.stem_r_m, s.stem_taper, 0, s.bark[0], s.bark[1], s.bark[2], 0);
+            }
+        }
+        this.stats.plates = plates.length;
+        this.stats.stumps = stumps.length / 8;
+        this.bindTex(RU.TREES, gl.TEXTURE_2D, this.trees.tex);
+        gl.bindVertexArray(this.vaoEmpty);
+        if (plates.length) {
+            this.plateBuf = this.dataTex(1, plates.length, Float32Array.from(plates), this.plateBuf);
+            this.setCommon(this.p.plate, t);
+            this.bindTex(RU.PLATE, gl.TEXTURE_2D, this.plateBuf.tex);
+            gl.drawArraysInstanced(gl.TRIANGLES, 0, 12 * PLATE_SEG, plates.length);
+        }
+        if (stumps.length) {
+            this.stumpBuf = this.dataTex(4, stumps.length / 4, Float32Array.from(stumps), this.stumpBuf);
+            this.setCommon(this.p.stump, t);
+            this.bindTex(RU.STUMP, gl.TEXTURE_2D, this.stumpBuf.tex);
+            gl.drawArraysInstanced(gl.TRIANGLES, 0, 21 * STUMP_SEG, stumps.length / 8);
+        }
     }
 
     setStride(stride) {
@@ -267,6 +575,7 @@ export class Renderer {
     uploadQ(q) {
         const gl = this.gl;
         const n = this.n_trees * this.q_stride, w = this.q.w, rows = Math.ceil(n / w);
+        gl.activeTexture(gl.TEXTURE0 + RU.SCRATCH);
         gl.bindTexture(gl.TEXTURE_2D, this.q.tex);
         if (q.length >= rows * w) {
             gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, 0, w, rows, gl.RED, gl.FLOAT, q, 0);
@@ -385,8 +694,9 @@ export class Renderer {
 
     // cam: { eye, target, fov_y_deg, near, far, subject_m? } or { viewproj, eye } for a
     // wall tile (subject_m: how far along the view the camera's subject lies, 0 none);
-    // modes: per tree mode count (0: not sent: drawn at rest with none).
-    draw(cam, t, modes) {
+    // modes: per tree mode count (0: not sent: drawn at rest with none); server_s: the
+    // server time shown (falling leaves follow it), undefined: none drawn.
+    draw(cam, t, modes, server_s) {
         const gl = this.gl, W = this.canvas.width, H = this.canvas.height;
         if (cam.viewproj) {
             this.viewproj = cam.viewproj;
@@ -397,6 +707,7 @@ export class Renderer {
             this.viewproj = mul(proj, this.view);
         }
         this.eye = cam.eye;
+        if (this.t_base === undefined && Number.isFinite(server_s)) this.t_base = Math.floor(server_s);
         this.subject_m = cam.subject_m > 0 && Number.isFinite(cam.subject_m) && this.view ? cam.subject_m : 0;
         // the draw list: per species, its trees nearest first, up to max_rows in all
         const per = this.species.map(() => []);
@@ -406,8 +717,14 @@ export class Renderer {
             if (!this.species[r[0]]) continue;
             order.push([Math.hypot(r[1] - cam.eye[0], r[2] - cam.eye[1], r[3] - cam.eye[2]), i]);
         }
+        // the debris pieces in slots after the trees
+        const spOf = (i) => (i < this.n_trees ? this.inst[i][0] : this.debris[i - this.n_trees].species);
+        this.debris.forEach((d, k) => {
+            if (this.species[d.species]) order.push([Math.hypot(d.pos[0] - cam.eye[0], d.pos[1] - cam.eye[1], d.pos[2] - cam.eye[2]), this.n_trees + k]);
+        });
         order.sort((a, b) => a[0] - b[0]);
-        for (const [d, i] of order.slice(0, this.max_rows)) per[this.inst[i][0]].push([i, d]);
+        const drawn = order.slice(0, this.max_rows).map(([, i]) => i);
+        for (const [d, i] of order.slice(0, this.max_rows)) per[spOf(i)].push([i, d]);
         const list = new Float32Array(Math.max(1, order.length) * 4);
         const groups = [];
         let row = 0, maxw = 1;
@@ -422,7 +739,8 @@ export class Renderer {
             for (let l = 0; l < sp.n_lods; l++) {
                 g.lods.push([row, byLod[l].length]);
                 for (const i of byLod[l]) {
-                    const nm = modes ? Math.min(modes[i], sp.n_modes) : sp.n_modes;
+                    // a debris piece: its rest pose needs no modes
+                    const nm = i >= this.n_trees ? 0 : modes ? Math.min(modes[i], sp.n_modes) : sp.n_modes;
                     list.set([i, row, nm, 1], 4 * row);
                     row++;
                 }
@@ -511,6 +829,7 @@ export class Renderer {
             });
         }
         gl.disable(gl.CULL_FACE);
+        this.drawDamage(drawn, t);
         const pl = this.p.leaf;
         this.setCommon(pl, t);
         gl.bindVertexArray(this.vaoEmpty);
@@ -527,6 +846,7 @@ export class Renderer {
             this.bindTex(RU.LEAF, gl.TEXTURE_2D, sp.leaf.tex);
             gl.drawArraysInstanced(gl.TRIANGLES, 0, 6, g.n * sp.n_leaves);
         }
+        this.drawFalling(server_s);
         this.drawRain(t);
         // the first frames are checked (a check each frame would stall the pipeline)
         if (this.stats.frames++ < 3) {

@@ -93,8 +93,6 @@ export function decodeHeader(bytes) {
     return { type, tick, server_time_us: hi * 4294967296 + lo };
 }
 
-function unzigzag(z) { return (z >>> 1) ^ -(z & 1); }
-
 // The decoder of one connection: the scene of the last KEYFRAME and the two newest
 // snapshots (wire_decoder.c). decode() returns a frame object or throws a WireError; a
 // rejected frame leaves the state as it was.
@@ -167,7 +165,8 @@ export class Decoder {
         if (states > 1) throw new WireError(`${r.where}: more than one state frame`);
         // the state frame last, so a failing extra leaves the snapshots unchanged
         inner.sort((a, b) => isState(a[1].type) - isState(b[1].type));
-        const f = { hdr: h, types: seen };
+        // the header reported: the state frame's, else the first inner frame's (msg_bundle.c)
+        const f = { hdr: inner[0][1], types: seen };
         for (const [fb, ih, i] of inner) {
             const ir = new Reader(fb, `wire: ${typeName(ih.type)} tick ${ih.tick}`);
             ir.p = HEADER_BYTES;
@@ -311,48 +310,102 @@ export class Decoder {
     }
 
     values(r, sc, n_modes, prev, prev2, hist, q) {
-        const where = r.where, stride = sc.stride, b = r.b;
-        const pq = prev && prev.q, pq2 = prev2 && prev2.q;
-        for (let t = 0; t < sc.n_trees; t++) {
-            const n = n_modes[t];
-            const base = t * stride;
-            q.fill(0, base + n, base + stride);
-            for (let g0 = 0; g0 < n; g0 += GROUP) {
-                const k = Math.min(GROUP, n - g0);
-                const at = r.p;
-                if (r.p >= b.length) throw new WireError(`${where}: tree ${t} group ${g0 / GROUP} at byte ${at}: truncated`);
-                const gh = b[r.p++];
-                const width = gh & 0x1f, pred = gh >> 5;
-                if (width > MAX_WIDTH || pred > hist) {
-                    throw new WireError(`${where}: tree ${t} group ${g0 / GROUP} at byte ${at}: expected width <= ${MAX_WIDTH} and predictor <= ${hist}, got ${width}, ${pred}`);
-                }
-                const nb = (k * width + 7) >> 3;
-                if (r.left() < nb) throw new WireError(`${where}: tree ${t} group ${g0 / GROUP} at byte ${at}: truncated or nonzero padding`);
-                const mask = width ? (1 << width) - 1 : 0;
-                let acc = 0, nacc = 0, p = r.p; // acc holds < width + 8 <= 26 bits
-                for (let i = 0; i < k; i++) {
-                    while (nacc < width) {
-                        acc |= b[p++] << nacc;
-                        nacc += 8;
+        r.p = unpackValues(r.b, r.p, r.where, sc.n_trees, sc.stride, n_modes, q,
+            prev ? prev.q : q, prev2 ? prev2.q : q, hist);
+        return q;
+    }
+}
+
+// The values section (PROTOCOL.md "Values"; get_values in protocol/msg_state.c) from byte
+// p of b into q [n_trees × stride]; returns the byte after it. One pass over flat typed
+// arrays with the position in a local: this loop is most of a frame's decode. pq, pq2:
+// the snapshots a predictor 1 or 2 reads (any array when the history lacks them: a
+// predictor above hist is refused before either is read).
+function unpackValues(b, p, where, n_trees, stride, n_modes, q, pq, pq2, hist) {
+    const len = b.length, QMAX = LIMITS.QMAX;
+    for (let t = 0; t < n_trees; t++) {
+        const n = n_modes[t], base = t * stride;
+        if (n < stride) q.fill(0, base + n, base + stride);
+        for (let g0 = 0; g0 < n; g0 += GROUP) {
+            const k = n - g0 < GROUP ? n - g0 : GROUP;
+            const at = p;
+            if (p >= len) throw new WireError(`${where}: tree ${t} group ${g0 / GROUP} at byte ${at}: truncated`);
+            const gh = b[p++];
+            const width = gh & 0x1f, pred = gh >> 5;
+            if (width > MAX_WIDTH || pred > hist) {
+                throw new WireError(`${where}: tree ${t} group ${g0 / GROUP} at byte ${at}: expected width <= ${MAX_WIDTH} and predictor <= ${hist}, got ${width}, ${pred}`);
+            }
+            if (len - p < (k * width + 7) >> 3) throw new WireError(`${where}: tree ${t} group ${g0 / GROUP} at byte ${at}: truncated or nonzero padding`);
+            const ix0 = base + g0, ix1 = ix0 + k;
+            if (width === 0 && pred < 2) {
+                // a quiet group: no bytes, the prediction itself (always in range)
+                if (pred === 0) q.fill(0, ix0, ix1);
+                else for (let ix = ix0; ix < ix1; ix++) q[ix] = pq[ix];
+                continue;
+            }
+            const mask = (1 << width) - 1;
+            if (k === GROUP && width <= 16 && len - p >= width + 2) {
+                // a full group is exactly `width` bytes, no padding to check
+                if (pred === 0 && width <= 8) {
+                    // the group's <= 64 bits as two words; |v| <= 128: in range unchecked
+                    let lo = 0, hi = 0;
+                    for (let j = 0; j < width; j++) {
+                        if (j < 4) lo |= b[p + j] << (8 * j);
+                        else hi |= b[p + j] << (8 * j - 32);
                     }
-                    const z = acc & mask;
-                    acc >>>= width;
-                    nacc -= width;
-                    const ix = base + g0 + i;
-                    let v = unzigzag(z);
+                    if (width <= 4) {
+                        for (let ix = ix0; ix < ix0 + GROUP; ix++) {
+                            const z = lo & mask;
+                            lo >>>= width;
+                            q[ix] = (z >>> 1) ^ -(z & 1);
+                        }
+                    } else {
+                        for (let i = 0, o = 0; i < GROUP; i++, o += width) {
+                            const z = (o + width <= 32 ? lo >>> o : o >= 32 ? hi >>> (o - 32) : (lo >>> o) | (hi << (32 - o))) & mask;
+                            q[ix0 + i] = (z >>> 1) ^ -(z & 1);
+                        }
+                    }
+                    p += width;
+                    continue;
+                }
+                // value i from the 3 bytes at bit i·width (its bits and the shift fit in 24;
+                // the 2 bytes read past a group are masked off)
+                for (let i = 0, o = 0; i < GROUP; i++, o += width) {
+                    const j = p + (o >> 3);
+                    const z = ((b[j] | (b[j + 1] << 8) | (b[j + 2] << 16)) >> (o & 7)) & mask;
+                    const ix = ix0 + i;
+                    let v = (z >>> 1) ^ -(z & 1);
                     if (pred === 1) v += pq[ix];
                     else if (pred === 2) v += 2 * pq[ix] - pq2[ix];
-                    if (v < -LIMITS.QMAX || v > LIMITS.QMAX) {
-                        throw new WireError(`${where}: tree ${t} mode ${g0 + i} at byte ${at}: expected |q| <= ${LIMITS.QMAX}, got ${v}`);
+                    if (v < -QMAX || v > QMAX) {
+                        throw new WireError(`${where}: tree ${t} mode ${ix - base} at byte ${at}: expected |q| <= ${QMAX}, got ${v}`);
                     }
                     q[ix] = v;
                 }
-                if (acc !== 0) throw new WireError(`${where}: tree ${t} group ${g0 / GROUP} at byte ${at}: truncated or nonzero padding`);
-                r.p = p;
+                p += width;
+                continue;
             }
+            let acc = 0, nacc = 0; // acc holds < width + 8 <= 26 bits
+            for (let ix = ix0; ix < ix1; ix++) {
+                while (nacc < width) {
+                    acc |= b[p++] << nacc;
+                    nacc += 8;
+                }
+                const z = acc & mask;
+                acc >>>= width;
+                nacc -= width;
+                let v = (z >>> 1) ^ -(z & 1);
+                if (pred === 1) v += pq[ix];
+                else if (pred === 2) v += 2 * pq[ix] - pq2[ix];
+                if (v < -QMAX || v > QMAX) {
+                    throw new WireError(`${where}: tree ${t} mode ${ix - base} at byte ${at}: expected |q| <= ${QMAX}, got ${v}`);
+                }
+                q[ix] = v;
+            }
+            if (acc !== 0) throw new WireError(`${where}: tree ${t} group ${g0 / GROUP} at byte ${at}: truncated or nonzero padding`);
         }
-        return q;
     }
+    return p;
 }
 
 function isState(type) { return type === MSG.KEYFRAME || type === MSG.DELTA ? 1 : 0; }
@@ -389,51 +442,69 @@ function wind(r) {
     return w;
 }
 
-// WEATHER (PROTOCOL.md "WEATHER (type 5)"): every field range-checked (msg_weather.c).
+// WEATHER (PROTOCOL.md "WEATHER (type 5)"): every field range-checked as msg_weather.c
+// does (weather_bad_field); a field its flags leave unset holds its "none" value exactly.
 function weather(r) {
-    const range = (name, v, lo, hi) => {
-        if (!(v >= lo && v <= hi)) throw new WireError(`${r.where}: ${name}: expected in [${lo}, ${hi}], got ${v}`);
-        return v;
-    };
     const w = {};
-    w.sustained_ms = range('sustained_ms', r.f32('sustained_ms'), 0, 200);
-    w.gust_ms = range('gust_ms', r.f32('gust_ms'), 0, 300);
+    w.sustained_ms = r.f32('sustained_ms');
+    w.gust_ms = r.f32('gust_ms');
     w.dir_from_deg = r.f32('dir_from_deg');
-    if (!(w.dir_from_deg >= 0 && w.dir_from_deg < 360)) throw new WireError(`${r.where}: dir_from_deg: expected in [0, 360), got ${w.dir_from_deg}`);
-    w.ss_class = range('ss_class', r.u8('ss_class'), 0, 6);
-    w.beaufort = range('beaufort', r.u8('beaufort'), 0, 12);
+    w.ss_class = r.u8('ss_class');
+    w.beaufort = r.u8('beaufort');
     w.flags = r.u8('flags');
-    if (w.flags & 0xe0) throw new WireError(`${r.where}: flags: expected bits 5-7 zero, got ${w.flags}`);
     w.storm_class = r.u8('storm_class');
-    const storm = (w.flags & 1) !== 0;
-    if (w.storm_class > 6 && w.storm_class !== 255) throw new WireError(`${r.where}: storm_class: expected 0..6 or 255, got ${w.storm_class}`);
-    w.pressure_hpa = range('pressure_hpa', r.f32('pressure_hpa'), 800, 1100);
+    w.pressure_hpa = r.f32('pressure_hpa');
     w.central_hpa = r.f32('central_hpa');
     w.distance_km = r.f32('distance_km');
-    if (storm) {
-        range('central_hpa', w.central_hpa, 800, 1100);
-        range('distance_km', w.distance_km, 0, 20000);
-    } else {
-        range('central_hpa', w.central_hpa, 0, 0);
-        range('distance_km', w.distance_km, -1, -1);
-    }
     w.bearing_deg = r.f32('bearing_deg');
-    if (!(w.bearing_deg >= 0 && w.bearing_deg < 360)) throw new WireError(`${r.where}: bearing_deg: expected in [0, 360), got ${w.bearing_deg}`);
     w.utc_min = r.u32('utc_min');
-    w.utc_offset_min = range('utc_offset_min', r.i16('utc_offset_min'), -840, 840);
-    w.storm_min = range('storm_min', r.f32('storm_min'), -1e6, 1e6);
-    w.replay_pos_s = range('replay_pos_s', r.f32('replay_pos_s'), 0, 1e9);
-    w.replay_len_s = range('replay_len_s', r.f32('replay_len_s'), 0, 1e9);
-    w.replay_speed = range('replay_speed', r.f32('replay_speed'), 0, 1e5);
+    w.utc_offset_min = r.i16('utc_offset_min');
+    w.storm_min = r.f32('storm_min');
+    w.replay_pos_s = r.f32('replay_pos_s');
+    w.replay_len_s = r.f32('replay_len_s');
+    w.replay_speed = r.f32('replay_speed');
+    const bad = weatherBadField(w);
+    if (bad) throw new WireError(`${r.where}: ${bad}: out of range (PROTOCOL.md "WEATHER")`);
     const n = r.u8('name_len');
     if (n > 63 || n !== r.left()) throw new WireError(`${r.where}: name_len: expected ${Math.min(63, r.left())} (the bytes left), got ${n}`);
     const nb = r.b.subarray(r.p, r.p + n);
     for (const c of nb) {
         if (c < 0x20 || c === 0x7f) throw new WireError(`${r.where}: name: byte ${c} below 0x20 or 0x7f`);
     }
-    w.name = new TextDecoder().decode(nb);
+    try {
+        w.name = UTF8.decode(nb);
+    } catch (e) {
+        throw new WireError(`${r.where}: name (not UTF-8): out of range (PROTOCOL.md "WEATHER")`);
+    }
     r.p += n;
     return w;
+}
+
+const UTF8 = new TextDecoder('utf-8', { fatal: true });
+const W_STORM = 1, W_FINISHED = 4, W_CLOCK = 8, W_PAUSED = 16, W_FLAGS_ALL = 0x1f;
+
+function weatherBadField(w) {
+    const inr = (x, lo, hi) => x >= lo && x <= hi;
+    const storm = (w.flags & W_STORM) !== 0, clock = (w.flags & W_CLOCK) !== 0;
+    if (!inr(w.sustained_ms, 0, 200)) return 'sustained_ms';
+    if (!inr(w.gust_ms, 0, 300)) return 'gust_ms';
+    if (!(w.dir_from_deg >= 0 && w.dir_from_deg < 360)) return 'dir_from_deg';
+    if (w.ss_class >= 7) return 'ss_class';
+    if (w.beaufort > 12) return 'beaufort';
+    // FINISHED, PAUSED and CLOCK describe a replay: only with STORM
+    if ((w.flags & ~W_FLAGS_ALL) || (!storm && (w.flags & (W_FINISHED | W_PAUSED | W_CLOCK)))) return 'flags';
+    if (storm ? w.storm_class >= 7 : w.storm_class !== 255) return 'storm_class';
+    if (!inr(w.pressure_hpa, 800, 1100)) return 'pressure_hpa';
+    if (storm ? !inr(w.central_hpa, 800, 1100) : w.central_hpa !== 0) return 'central_hpa';
+    if (storm ? !inr(w.distance_km, 0, 20000) : w.distance_km !== -1) return 'distance_km';
+    if (storm ? !(w.bearing_deg >= 0 && w.bearing_deg < 360) : w.bearing_deg !== 0) return 'bearing_deg';
+    if (!clock && w.utc_min !== 0) return 'utc_min';
+    if (clock ? w.utc_offset_min < -840 || w.utc_offset_min > 840 : w.utc_offset_min !== 0) return 'utc_offset_min';
+    if (storm ? !inr(w.storm_min, -1e6, Math.fround(1e6)) : w.storm_min !== 0) return 'storm_min';
+    if (storm ? !inr(w.replay_pos_s, 0, Math.fround(1e9)) : w.replay_pos_s !== 0) return 'replay_pos_s';
+    if (storm ? !inr(w.replay_len_s, 0, Math.fround(1e9)) : w.replay_len_s !== 0) return 'replay_len_s';
+    if (storm ? !inr(w.replay_speed, 0, Math.fround(1e5)) : w.replay_speed !== 0) return 'replay_speed';
+    return null;
 }
 
 const DAMAGE_KINDS = ['', 'BRANCH', 'SNAP', 'UPROOT', 'STRIP'];
@@ -448,7 +519,8 @@ function damage(r) {
         const at = r.p;
         const e = { tree: r.u32('tree'), node: r.u32('node'), kind: r.u8('kind'), value: r.u8('value'), tick: r.u32('tick') };
         if (e.kind < 1 || e.kind > 4) throw new WireError(`${r.where}: event ${i} at byte ${at}: kind: expected 1..4, got ${e.kind}`);
-        if (e.kind !== 1 && e.node !== 0xffffffff) throw new WireError(`${r.where}: event ${i} at byte ${at}: node: expected ff ff ff ff for ${DAMAGE_KINDS[e.kind]}, got ${e.node}`);
+        // BRANCH names a node; the others the whole tree (ff ff ff ff), which is no node
+        if ((e.kind !== 1) !== (e.node === 0xffffffff)) throw new WireError(`${r.where}: event ${i} at byte ${at}: node: expected ${e.kind === 1 ? 'a node index' : 'ff ff ff ff'} for ${DAMAGE_KINDS[e.kind]}, got ${e.node}`);
         if (e.kind === 4 && e.value > 32) throw new WireError(`${r.where}: event ${i} at byte ${at}: value: expected <= 32 for STRIP, got ${e.value}`);
         if (e.kind === 1 && e.value !== 0) throw new WireError(`${r.where}: event ${i} at byte ${at}: value: expected 0 for BRANCH, got ${e.value}`);
         e.kindName = DAMAGE_KINDS[e.kind];
@@ -457,14 +529,20 @@ function damage(r) {
     return { full: full === 1, events };
 }
 
+// Each value's step [n_trees × stride]: step_m of the tree's species, 0 past its modes;
+// built once per keyframe scene. q_i = Q_i step_i is then one multiply per value.
+export function sceneSteps(sc) {
+    if (sc.steps) return sc.steps;
+    const stride = sc.stride, out = new Float32Array(sc.n_trees * stride);
+    for (let t = 0; t < sc.n_trees; t++) out.set(sc.step[sc.species[t]], t * stride);
+    sc.steps = out;
+    return out;
+}
+
 // q of every tree as floats: q_i = Q_i step_i (PROTOCOL.md "Quantisation of q") into
-// out[n_trees × stride] (0 where a mode was not sent).
+// out[n_trees × stride] (0 where a mode was not sent: the decoder keeps Q 0 there).
 export function dequantise(st, out) {
-    const sc = st.scene, stride = sc.stride, q = st.q, nm = st.n_modes;
-    for (let t = 0; t < sc.n_trees; t++) {
-        const step = sc.step[sc.species[t]], base = t * stride, n = nm[t];
-        for (let m = 0; m < n; m++) out[base + m] = q[base + m] * step[m];
-        for (let m = n; m < stride; m++) out[base + m] = 0;
-    }
+    const steps = sceneSteps(st.scene), q = st.q;
+    for (let i = 0; i < steps.length; i++) out[i] = q[i] * steps[i];
     return out;
 }

@@ -1,5 +1,7 @@
 /* gale-bench modal: the per-tick cost of the batch modal update (server/sim/modal.c) for
- * many trees: wind sampled at each tree from the real wind field (wind_sample_many on a
+ * many trees: wind sampled at each tree from the real wind field (as the server's tick
+ * does: the grid read at each tree's stencil, wind_probe_sample, on the tick's threads on
+ * the ticks after a wind step, the field being constant between steps; on a
  * grid of scene-scale cells, 2 m by default, over the trees' 2 km square, stepped by the
  * real solver every few ticks under a gusty inflow so the field evolves), forces
  * f_i = |v| v.p_i in the tree frame, exact update, quantisation into the snapshot buffer,
@@ -64,23 +66,24 @@ static int cmp_cell(const void *a, const void *b)
  * few MB at most and stay in cache, so they are not counted; write-allocate is not
  * counted, as in the triad). modal.c keeps each tree's q and q' as 2 x pad floats, pad
  * the modes rounded up to its 16-lane groups (MODE_PAD):
- *   sampling (wind_sample_many): position 12 read, wind 12 written;
+ *   sampling (wind_probe_sample, on one tick in `every`): the stencil 48 read, wind 12
+ *   written, amortised over the ticks (the grid's lines not counted, as above);
  *   update (modal_tick): wind 12, cos/sin of the yaw 8, species index 1 and the state
  *   8 pad read; the state 8 pad written, and with a snapshot the int16 row 2 modes. */
 typedef struct modal_bytes {
     double read, written; /* per tree per tick */
 } modal_bytes;
 
-static modal_bytes modal_tree_bytes(int n_modes, bool sample, bool snapshot)
+static modal_bytes modal_tree_bytes(int n_modes, int sample_every, bool snapshot)
 {
     const double pad = (double)((n_modes + 15) / 16 * 16);
     modal_bytes b = { 12.0 + 8.0 + 1.0 + 8.0 * pad, 8.0 * pad };
     if (snapshot) {
         b.written += 2.0 * n_modes;
     }
-    if (sample) {
-        b.read += 12.0;
-        b.written += 12.0;
+    if (sample_every > 0) {
+        b.read += 48.0 / sample_every;
+        b.written += 12.0 / sample_every;
     }
     return b;
 }
@@ -134,6 +137,7 @@ typedef struct variant {
     uint8_t *enc;
     leaf_seed *leaves, *leaf_scratch; /* [LEAF_CAP], [(threads - 1) * LEAF_CAP] */
     double *t_total, *t_cpu, *t_sample, *t_modal, *t_damage, *t_leaf, *t_enc, *t_nosnap;
+    bool *read; /* [ticks]: the tick read the grid (a wind step before it) */
     long n_shed, enc_bytes;
 } variant;
 
@@ -176,7 +180,8 @@ static int variant_init(variant *v, bool damage, const modal_desc *md, int n_mod
                              sizeof *v->leaf_scratch);
     double **t[] = { &v->t_total, &v->t_cpu, &v->t_sample, &v->t_modal,
                      &v->t_damage, &v->t_leaf, &v->t_enc, &v->t_nosnap };
-    bool ok = v->snap && v->prev && v->enc && v->leaves && v->leaf_scratch;
+    v->read = calloc(nt, sizeof *v->read);
+    bool ok = v->snap && v->prev && v->enc && v->leaves && v->leaf_scratch && v->read;
     for (size_t i = 0; i < sizeof t / sizeof t[0]; i++) {
         *t[i] = calloc(nt, sizeof(double));
         ok = ok && *t[i];
@@ -197,6 +202,7 @@ static void variant_fini(variant *v)
     free(v->enc);
     free(v->leaves);
     free(v->leaf_scratch);
+    free(v->read);
     double *t[] = { v->t_total, v->t_cpu, v->t_sample, v->t_modal,
                     v->t_damage, v->t_leaf, v->t_enc, v->t_nosnap };
     for (size_t i = 0; i < sizeof t / sizeof t[0]; i++) {
@@ -207,6 +213,7 @@ static void variant_fini(variant *v)
 /* What one tick of a variant needs from the run. */
 typedef struct tick_in {
     wind_grid *wg;
+    const wind_probe *probe; /* the trees' stencils */
     int n_trees;
     const float *pos;
     float *wind;
@@ -220,15 +227,30 @@ typedef struct tick_in {
     wire_lanes lanes; /* the encoder's, on the tick's threads */
 } tick_in;
 
-/* Tick k (k < 0: warm-up, not recorded) of v: sampling, update (and damage), leaf
- * shedding, DELTA encoding, timed as the tick; then an update without quantisation. */
-static int variant_tick(variant *v, const tick_in *in, int k, gale_err *err)
+/* The grid at every tree, in shares over the tick's threads (server/sim/tick.c). */
+static void sample_grid(const tick_in *in)
+{
+    enum { CHUNK = 4096 };
+    const int nc = (in->n_trees + CHUNK - 1) / CHUNK;
+#pragma omp parallel for schedule(static) num_threads(in->threads) if (nc > 1)
+    for (int c = 0; c < nc; c++) {
+        const int i1 = (c + 1) * CHUNK < in->n_trees ? (c + 1) * CHUNK : in->n_trees;
+        wind_probe_sample(in->wg, in->probe, c * CHUNK, i1, in->wind);
+    }
+}
+
+/* Tick k (k < 0: warm-up, not recorded) of v: sampling (when read_grid: the grid
+ * stepped), update (and damage), leaf shedding, DELTA encoding, timed as the tick; then
+ * an update without quantisation. */
+static int variant_tick(variant *v, const tick_in *in, int k, bool read_grid, gale_err *err)
 {
     const size_t n = (size_t)in->n_trees;
     memcpy(v->prev, v->snap, sizeof(int16_t) * n * (size_t)in->n_modes);
     double c0 = cpu_ms();
     double t0 = mono_ms();
-    wind_sample_many(in->wg, in->n_trees, in->pos, in->wind);
+    if (read_grid) {
+        sample_grid(in);
+    }
     double t1 = mono_ms();
     modal_tick(v->m, in->wind, v->snap);
     double t1d = mono_ms();
@@ -257,6 +279,7 @@ static int variant_tick(variant *v, const tick_in *in, int k, gale_err *err)
     double t3 = mono_ms();
     if (k >= 0) {
         v->t_sample[k] = t1 - t0;
+        v->read[k] = read_grid;
         v->t_modal[k] = t2 - t1;
         v->t_damage[k] = t2 - t1d;
         v->t_leaf[k] = t2l - t2;
@@ -486,7 +509,12 @@ int bench_modal(int argc, char **argv)
     }
     memset(nm, n_modes, (size_t)n_trees);
     const leaf_desc ld = { .rate_hz = 0.002f, .calm_ms = 3.0f, .ref_ms = 20.0f, .seed = 11 };
-    const tick_in in = { .wg = wg, .n_trees = n_trees, .pos = pos, .wind = wind, .wsc = &wsc,
+    wind_probe *probe = wind_probe_create(wg, n_trees, pos, &err);
+    if (!probe) {
+        fprintf(stderr, "gale-bench modal: %s\n", err.msg);
+        return 1;
+    }
+    const tick_in in = { .wg = wg, .probe = probe, .n_trees = n_trees, .pos = pos, .wind = wind, .wsc = &wsc,
                          .nm = nm, .n_modes = n_modes, .enc_cap = enc_cap, .ld = &ld,
                          .slots = 1500 /* leaf slots per tree: the shipped species' 1500-5300 */,
                          .threads = threads, .lanes = sim_lanes(threads) };
@@ -496,7 +524,7 @@ int bench_modal(int argc, char **argv)
      * would throw the whole stand over in the first second of a Cat 4). */
     if (with_oak) {
         float q0[WIRE_MAX_MODES + DAMAGE_RES_COLS] = { 0 }, qd0[WIRE_MAX_MODES] = { 0 };
-        wind_sample_many(wg, n_trees, pos, wind);
+        sample_grid(&in);
         for (int t = 0; t < n_trees; t++) {
             const float *w = &wind[3 * t];
             double u = sqrt((double)(w[0] * w[0] + w[1] * w[1]));
@@ -515,7 +543,8 @@ int bench_modal(int argc, char **argv)
     double gbs = bench_triad_gb_s(threads);
     for (int k = -20; k < ticks; k++) { /* 20 warm-up ticks */
         double tw = 0.0;
-        if ((k + 20) % every == 0) { /* the field evolves as the scene's grid would */
+        const bool stepped = (k + 20) % every == 0;
+        if (stepped) { /* the field evolves as the scene's grid would */
             wind_set_inflow(wg, &(wind_inflow){ .dir_rad = 0.3f, .u10_ms = u10_ms,
                                                 .gust = { gust_ms * (RND() - 0.5f),
                                                           gust_ms * (RND() - 0.5f), 0 } });
@@ -530,7 +559,8 @@ int bench_modal(int argc, char **argv)
          * in the same share of another program's turn */
         for (int j = 0; j < n_var; j++) {
             variant *v = &var[(k & 1) && n_var == 2 ? 1 - j : j];
-            if (variant_tick(v, &in, k, &err)) {
+            /* with two variants the second reads the grid too: the same work, timed */
+            if (variant_tick(v, &in, k, stepped, &err)) {
                 fprintf(stderr, "gale-bench modal: encode: %s\n", err.msg);
                 return 1;
             }
@@ -552,8 +582,8 @@ int bench_modal(int argc, char **argv)
         fclose(la);
     }
     /* the tick (sampling, update, quantisation) and the update between snapshots */
-    const modal_bytes tb = modal_tree_bytes(n_modes, true, true);
-    const modal_bytes ub = modal_tree_bytes(n_modes, false, false);
+    const modal_bytes tb = modal_tree_bytes(n_modes, every, true);
+    const modal_bytes ub = modal_tree_bytes(n_modes, 0, false);
     if (n_var == 2) {
         /* B over A tick by tick (the same wind, run back to back), and of the medians */
         for (int k = 0; k < ticks; k++) {
@@ -600,6 +630,34 @@ int bench_modal(int argc, char **argv)
             max_t = v->t_total[k] > max_t ? v->t_total[k] : max_t;
         }
         double med_s = median_of(v->t_sample, ticks, scratch);
+        double p99_t = (memcpy(scratch, v->t_total, sizeof(double) * (size_t)ticks),
+                        pct(scratch, ticks, 0.99));
+        /* the ticks that read the grid (after a wind step) and the others, apart */
+        double *rd = malloc(sizeof(double) * 2 * (size_t)ticks);
+        int n_rd = 0, n_other = 0;
+        for (int k = 0; rd && k < ticks; k++) {
+            if (v->read[k]) {
+                rd[ticks + n_rd++] = v->t_sample[k];
+                rd[n_rd - 1] = v->t_total[k];
+            } else {
+                n_other++;
+            }
+        }
+        double rd_tick = 0.0, rd_sample = 0.0, other_tick = 0.0;
+        if (rd && n_rd > 0) {
+            rd_tick = pct(rd, n_rd, 0.5);
+            rd_sample = pct(rd + ticks, n_rd, 0.5);
+        }
+        if (rd && n_other > 0) {
+            int j = 0;
+            for (int k = 0; k < ticks; k++) {
+                if (!v->read[k]) {
+                    rd[j++] = v->t_total[k];
+                }
+            }
+            other_tick = pct(rd, n_other, 0.5);
+        }
+        free(rd);
         double med_m = median_of(v->t_modal, ticks, scratch);
         double med_cpu = median_of(v->t_cpu, ticks, scratch);
         double med_ns = median_of(v->t_nosnap, ticks, scratch);
@@ -634,7 +692,10 @@ int bench_modal(int argc, char **argv)
                    "\"leaf_shed_ms_median\":%.3f,"
                    "\"encode_ms_median\":%.3f,\"encoded_bytes_per_tick\":%.0f,"
                    "\"leaves_shed_per_tick\":%.1f,\"wind_step_ms_mean\":%.1f,"
-                   "\"memory_floor_ms\":%.3f,\"loadavg\":[%.2f,%.2f,%.2f]}\n",
+                   "\"memory_floor_ms\":%.3f,\"tick_over_floor\":%.2f,\"tick_ms_p99\":%.3f,"
+                   "\"grid_read\":{\"ticks\":%d,\"tick_ms_median\":%.3f,\"sample_ms_median\":%.3f},"
+                   "\"no_grid_read\":{\"ticks\":%d,\"tick_ms_median\":%.3f},"
+                   "\"loadavg\":[%.2f,%.2f,%.2f]}\n",
                    n_trees, n_modes, n_species, threads, ticks, v->damage ? "true" : "false",
                    (double)u10_ms, med_s, med_m, med_t, p95_t, max_t,
                    med_t * 1e6 / ((double)n_trees * n_modes), med_cpu, med_ns, load[0], gbs,
@@ -642,7 +703,10 @@ int bench_modal(int argc, char **argv)
                    upd_gbs, upd_frac, check, (double)cell_m, gxy, gxy, gz, every, in.slots,
                    (double)side, in.lanes.n > 1 ? in.lanes.n : 1, med_l, med_e, enc_per_tick, (double)v->n_shed / ticks,
                    wind_sum / ((ticks + every - 1) / every),
-                   gbs > 0.0 ? tick_bytes / (gbs * 1e9) * 1e3 : 0.0, load[0], load[1], load[2]);
+                   gbs > 0.0 ? tick_bytes / (gbs * 1e9) * 1e3 : 0.0,
+                   gbs > 0.0 && tick_bytes > 0.0 ? med_t / (tick_bytes / (gbs * 1e9) * 1e3) : 0.0,
+                   p99_t, n_rd, rd_tick, rd_sample, n_other, other_tick, load[0], load[1],
+                   load[2]);
         } else {
             printf("modal: %d trees x %d modes, %d threads: tick median %.3f ms (sample %.3f, "
                    "update+quantise %.3f), p95 %.3f, max %.3f\n"
@@ -668,6 +732,7 @@ int bench_modal(int argc, char **argv)
     free(yaw);
     free(pos);
     free(wind);
+    wind_probe_destroy(probe);
     wind_destroy(wg);
     free(t_wind);
     free(scratch);

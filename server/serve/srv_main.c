@@ -77,6 +77,31 @@ static void w_sample(void *ctx, int n, const float *p, float *v)
     wind_sample_many(ctx, n, p, v);
 }
 
+static void *w_probe_create(void *ctx, int n, const float *p)
+{
+    gale_err err;
+    wind_probe *pr = wind_probe_create(ctx, n, p, &err);
+    if (!pr) {
+        fprintf(stderr, "gale-server: %s: sampling every crown every tick instead\n", err.msg);
+    }
+    return pr;
+}
+
+static void w_probe_destroy(void *probe)
+{
+    wind_probe_destroy(probe);
+}
+
+static void w_probe_sample(void *ctx, const void *probe, int i0, int i1, float *v)
+{
+    wind_probe_sample(ctx, probe, i0, i1, v);
+}
+
+static void w_add_subgrid(void *ctx, int n, const float *p, float *v)
+{
+    wind_add_subgrid(ctx, n, p, v);
+}
+
 static int w_coarse(void *ctx, int factor, float *out, int capacity, int dims[3])
 {
     return wind_coarse(ctx, factor, out, capacity, dims);
@@ -135,8 +160,26 @@ static void *wait_signal(void *arg)
     return NULL;
 }
 
+/* The OpenMP threads wait passively (sleep in the kernel) between parallel regions
+ * unless the environment says otherwise: libgomp's default spins for a while after each
+ * region, and on a machine with as many cores as tick threads the spinning thread takes
+ * the core the service thread, the wind step or the other tick thread needs (SERVER.md
+ * "The tick at 100 000 trees": a wind step 20 times slower). libgomp reads the variable
+ * once, as it loads, before main; so the server sets it and runs itself again. Where
+ * that exec fails it runs on with libgomp's default. */
+static void omp_wait_passive(char **argv)
+{
+    if (getenv("OMP_WAIT_POLICY") || setenv("OMP_WAIT_POLICY", "passive", 1)) {
+        return;
+    }
+    execv("/proc/self/exe", argv);
+    fprintf(stderr, "gale-server: cannot run again with OMP_WAIT_POLICY=passive (%s): "
+                    "OpenMP threads spin between regions\n", strerror(errno));
+}
+
 int main(int argc, char **argv)
 {
+    omp_wait_passive(argv);
     if (pipe(sig_pipe) != 0) {
         fprintf(stderr, "gale-server: pipe: %s\n", strerror(errno));
         return 1;
@@ -370,6 +413,8 @@ int main(int argc, char **argv)
         wind_desc wd = wind_get_desc(grid);
         tw = (tick_wind){ .ctx = grid, .set_inflow = w_inflow, .step = w_step,
                           .sample_many = w_sample, .coarse = w_coarse,
+                          .probe_create = w_probe_create, .probe_destroy = w_probe_destroy,
+                          .probe_sample = w_probe_sample, .add_subgrid = w_add_subgrid,
                           .add_ball = w_ball, .max_iterations = wd.max_iterations,
                           .div_reduction = wd.div_reduction };
     }

@@ -99,6 +99,12 @@ void srv_weather_fill(const srv *s, wire_weather *w)
         unsigned char ch = (unsigned char)name[i];
         w->name[i] = ch < 0x20 || ch == 0x7f ? ' ' : (char)ch;
     }
+    /* a name that is not UTF-8 would be refused by every client: its other bytes as '?' */
+    if (!wire_utf8_valid((const uint8_t *)w->name, n)) {
+        for (size_t i = 0; i < n; i++) {
+            w->name[i] = (unsigned char)w->name[i] >= 0x80u ? '?' : w->name[i];
+        }
+    }
 }
 
 int srv_weather_encode(srv *s, const wire_header *h, net_snap *p, gale_err *e)

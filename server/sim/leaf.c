@@ -4,6 +4,7 @@
 #include "hash.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <string.h>
 
 static double rng_unit(uint64_t *s)
@@ -63,6 +64,39 @@ int leaf_shed(const leaf_desc *d, uint32_t instance, uint32_t n_slots, double sp
     return lost;
 }
 
+/* Trees screened at once by may_shed. */
+#define SCREEN_BLOCK 256
+
+/* Trees [t0, t0 + k): the wind speed at each crown, and whether leaf_shed may draw a leaf
+ * for it this tick: its first uniform p is not below 1 - mean, leaf_shed's own test,
+ * computed here for a block at once so that the hashes vectorise, with a margin of 1e-12
+ * over roundings that may differ (the mean's, at most ~32 * 2^-52; p is exact), so a tree
+ * it screens out is one leaf_shed would return from without a leaf: the draws are
+ * leaf_shed's, tree for tree. Cloned for AVX-512 (64-bit multiplies in vector) and AVX2. */
+__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+static void may_shed(const leaf_desc *d, uint32_t t0, uint32_t k, const float *wind,
+                     const uint32_t *slots, uint32_t slots_all, uint32_t tick, double dt_s,
+                     float *restrict speed, uint8_t *restrict maybe)
+{
+    const double calm = (double)d->calm_ms, ref = (double)d->ref_ms, rate = (double)d->rate_hz;
+    const bool on = rate > 0 && ref > calm;
+    const double inv = on ? 1.0 / (ref - calm) : 0.0;
+    for (uint32_t i = 0; i < k; i++) {
+        const uint32_t t = t0 + i;
+        const float *v = &wind[3 * (size_t)t];
+        const float sp = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        speed[i] = sp;
+        const uint32_t ns = slots ? slots[t] : slots_all;
+        const double x = ((double)sp - calm) * inv;
+        double mean = rate * x * x * (double)ns * dt_s;
+        mean = mean > 32 ? 32 : mean;
+        uint64_t st = hash64_final(d->seed ^ hash64_final(((uint64_t)t << 32) | tick));
+        const double p = (double)(hash64_splitmix(&st) >> 11) * (1.0 / 9007199254740992.0);
+        maybe[i] = (uint8_t)(on & ((double)sp > calm) & (ns > 0) &
+                             (p >= 1.0 - mean * (1.0 + 1e-9) - 1e-15 - 1e-12));
+    }
+}
+
 /* Trees [t0, t1) into out[0..cap) from *n on. */
 static int shed_range(const leaf_desc *d, uint32_t t0, uint32_t t1, const float *wind,
                       const uint32_t *slots, uint32_t slots_all, uint32_t tick, double dt_s,
@@ -70,13 +104,17 @@ static int shed_range(const leaf_desc *d, uint32_t t0, uint32_t t1, const float 
 {
     int lost = 0;
     float vmax = 0.0f;
-    for (uint32_t t = t0; t < t1; t++) {
-        const float *v = &wind[3 * (size_t)t];
-        const float speed = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-        vmax = speed > vmax ? speed : vmax;
-        const uint32_t ns = slots ? slots[t] : slots_all;
-        if (ns) {
-            lost += leaf_shed(d, t, ns, (double)speed, tick, dt_s, out, cap, n);
+    float speed[SCREEN_BLOCK];
+    uint8_t maybe[SCREEN_BLOCK];
+    for (uint32_t b = t0; b < t1; b += SCREEN_BLOCK) {
+        const uint32_t k = t1 - b < SCREEN_BLOCK ? t1 - b : SCREEN_BLOCK;
+        may_shed(d, b, k, wind, slots, slots_all, tick, dt_s, speed, maybe);
+        for (uint32_t i = 0; i < k; i++) {
+            vmax = speed[i] > vmax ? speed[i] : vmax;
+            if (maybe[i]) {
+                lost += leaf_shed(d, b + i, slots ? slots[b + i] : slots_all, (double)speed[i],
+                                  tick, dt_s, out, cap, n);
+            }
         }
     }
     *max_ms = vmax;

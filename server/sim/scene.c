@@ -659,8 +659,8 @@ int scene_parse(scene *s, const char *name, const char *text, size_t len, const 
         (rc = parse_playlist(s, &d, r, err))) {
         goto fail;
     }
-    long long tick_threads = 1;
-    if ((rc = cfg_int(&d, r, "", "tick_threads", false, 1, 1, 64, &tick_threads, err))) {
+    long long tick_threads = 2;
+    if ((rc = cfg_int(&d, r, "", "tick_threads", false, 2, 1, 64, &tick_threads, err))) {
         goto fail;
     }
     s->tick_threads = (int)tick_threads;

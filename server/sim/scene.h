@@ -49,8 +49,9 @@ typedef struct scene {
     double tick_hz;               /* simulation rate; default 60, [1, 1000] */
     double snapshot_hz;           /* state frames per second; default 30, <= tick_hz */
     int wind_every;               /* wind grid steps once every k ticks; default 1 */
-    int tick_threads;             /* threads of the modal update, damage, leaf shedding and
-                                     the snapshot encoders' lanes; default 1, [1, 64] */
+    int tick_threads;             /* threads of the wind's reading at the crowns, the modal
+                                     update, damage, leaf shedding and the snapshot
+                                     encoders' lanes; default 2, [1, 64] */
     char kiosk_token[SCENE_KIOSK_TOKEN_MAX + 1]; /* a kiosk's hello must carry it; "" =
                                                     kiosks refused (scene_kiosk_token_resolve) */
     char scenario[SCENE_PATH_MAX];/* wind scenario file, "" = steady inflow only */

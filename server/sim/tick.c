@@ -20,6 +20,11 @@ struct tick_sim {
     uint32_t *order;        /* owned [n_trees]: the trees in the order they are sampled */
     float *crown_ordered;   /* owned [n_trees][3]: crown in that order */
     float *vel_ordered;     /* owned [n_trees][3]: the wind sampled in that order */
+    void *probe;            /* owned by d.wind: the crowns' stencils in that order; NULL:
+                               sample_many every tick */
+    float *vel_grid;        /* owned [n_trees][3]: the grid's part at each crown since the
+                               last step (with a probe) */
+    bool grid_read;         /* vel_grid holds the grid as it stands */
     uint32_t *slots;        /* owned [n_trees]: leaf slots of each tree's species */
     int threads;            /* scene tick_threads */
     leaf_seed *leaves;      /* owned [max_leaves_per_tick] */
@@ -150,8 +155,13 @@ tick_sim *tick_create(const tick_desc *d, gale_err *err)
         gale_errf(err, GALE_E_NOMEM, "tick_create: no memory for %d trees", t->n_trees);
         goto fail;
     }
-    /* tick_threads (default one: the tick shares two cores with the service thread and
-       the wind) */
+    if (d->wind && d->wind->probe_create && d->wind->probe_sample && d->wind->probe_destroy) {
+        /* without memory for them the crowns are sampled every tick as without a probe */
+        t->vel_grid = malloc((size_t)t->n_trees * 3 * sizeof(float));
+        t->probe = t->vel_grid ? d->wind->probe_create(d->wind->ctx, t->n_trees,
+                                                       t->crown_ordered)
+                               : NULL;
+    }
     t->m = modal_create(&(modal_desc){ .n_trees = (uint32_t)t->n_trees,
                                        .n_species = (uint32_t)sc->n_species,
                                        .species = ms,
@@ -220,6 +230,10 @@ void tick_destroy(tick_sim *t)
     }
     modal_destroy(t->m);
     damage_destroy(t->dmg);
+    if (t->probe) {
+        t->d.wind->probe_destroy(t->probe);
+    }
+    free(t->vel_grid);
     free(t->crown);
     free(t->vel);
     free(t->order);
@@ -244,6 +258,44 @@ void tick_set_balls(tick_sim *t, const wind_ball *balls, int n)
 {
     t->balls = balls;
     t->n_balls = balls ? n : 0;
+}
+
+/* Crowns per share of the sampling on the tick's threads. */
+#define SAMPLE_CHUNK 4096
+
+/* The wind at every crown from the probe: the grid read after a step (or on the first
+ * tick) in the crowns' locality order and put back in tree order, then each tick the
+ * term that follows the inflow. Each crown is independent, so the shares over the
+ * threads change no float. */
+static void sample_probe(tick_sim *t, bool stepped)
+{
+    const tick_wind *wd = t->d.wind;
+    const int n = t->n_trees, nc = (n + SAMPLE_CHUNK - 1) / SAMPLE_CHUNK;
+    const bool read = stepped || !t->grid_read;
+#pragma omp parallel num_threads(t->threads) if (nc > 1)
+    {
+        if (read) {
+#pragma omp for schedule(static)
+            for (int c = 0; c < nc; c++) {
+                const int i0 = c * SAMPLE_CHUNK, i1 = i0 + SAMPLE_CHUNK < n ? i0 + SAMPLE_CHUNK : n;
+                wd->probe_sample(wd->ctx, t->probe, i0, i1, t->vel_ordered);
+                for (int i = i0; i < i1; i++) {
+                    memcpy(&t->vel_grid[3 * (size_t)t->order[i]], &t->vel_ordered[3 * (size_t)i],
+                           3 * sizeof(float));
+                }
+            }
+        }
+#pragma omp for schedule(static)
+        for (int c = 0; c < nc; c++) {
+            const size_t i0 = (size_t)c * SAMPLE_CHUNK;
+            const int m = (int)i0 + SAMPLE_CHUNK < n ? SAMPLE_CHUNK : n - (int)i0;
+            memcpy(&t->vel[3 * i0], &t->vel_grid[3 * i0], 3 * sizeof(float) * (size_t)m);
+            if (wd->add_subgrid) {
+                wd->add_subgrid(wd->ctx, m, &t->crown[3 * i0], &t->vel[3 * i0]);
+            }
+        }
+    }
+    t->grid_read = true;
 }
 
 /* The log-law profile alone (no grid): U(z) = U10 ln(z/z0) / ln(10/z0), z clamped below
@@ -307,10 +359,15 @@ int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
                                      ws.residual * (double)t->d.wind->div_reduction > 1.0;
         }
         /* 2. sample the wind at every crown, in the grid's locality order */
-        t->d.wind->sample_many(t->d.wind->ctx, t->n_trees, t->crown_ordered, t->vel_ordered);
-        for (int i = 0; i < t->n_trees; i++) {
-            memcpy(&t->vel[3 * (size_t)t->order[i]], &t->vel_ordered[3 * (size_t)i],
-                   3 * sizeof(float));
+        if (t->probe) {
+            sample_probe(t, local.wind_stepped);
+        } else {
+            t->d.wind->sample_many(t->d.wind->ctx, t->n_trees, t->crown_ordered,
+                                   t->vel_ordered);
+            for (int i = 0; i < t->n_trees; i++) {
+                memcpy(&t->vel[3 * (size_t)t->order[i]], &t->vel_ordered[3 * (size_t)i],
+                       3 * sizeof(float));
+            }
         }
     } else {
         sample_profile(t, &in);

@@ -41,6 +41,16 @@ typedef struct tick_wind {
     int (*coarse)(void *ctx, int factor, float *out, int capacity, int dims[3]);
     /* wind_add_ball: a force ball for the next step only; may be NULL (balls ignored) */
     void (*add_ball)(void *ctx, const wind_ball *b);
+    /* Optional, the real grid's (a stand-in may leave them NULL: then sample_many reads
+     * every crown every tick). The crowns never move and the grid changes only in a step,
+     * so their stencils are made once (wind_probe_create), the grid is read there after
+     * each step on the tick's threads (wind_probe_sample, points [i0, i1)), and each tick
+     * adds only what follows the inflow at once (wind_add_subgrid; may be NULL). Together
+     * they give sample_many's floats. */
+    void *(*probe_create)(void *ctx, int n, const float *p);
+    void (*probe_destroy)(void *probe);
+    void (*probe_sample)(void *ctx, const void *probe, int i0, int i1, float *v);
+    void (*add_subgrid)(void *ctx, int n, const float *p, float *v);
     /* the pressure solve's budget and required divergence reduction (wind_get_desc), to
      * tell a solve that ran out of iterations; 0 → unknown, no solve counts as one */
     int max_iterations;

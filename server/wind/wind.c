@@ -881,6 +881,23 @@ void wind_sample_many(const wind_grid *w, int n, const float *p, float *v)
     }
 }
 
+void wind_add_subgrid(const wind_grid *w, int n, const float *p, float *v)
+{
+    if (!w->d.subgrid_profile) {
+        return;
+    }
+    /* the second loop of sample_range, over the same floats */
+    const float *sg = w->subgrid;
+    const int m = w->n_subgrid;
+    const float inv = 1.0f / w->h, oz = w->d.origin[2];
+    const float cx = cosf(w->inflow.dir_rad), cy = sinf(w->inflow.dir_rad);
+    for (int i = 0; i < n; i++) {
+        float du = subgrid_at(sg, m, (p[3 * i + 2] - oz) * inv);
+        v[3 * i] += du * cx;
+        v[3 * i + 1] += du * cy;
+    }
+}
+
 int wind_coarse(const wind_grid *w, int factor, float *out, int capacity, int dims[3])
 {
     if (factor < 1) {

@@ -94,6 +94,27 @@ void wind_sample(const wind_grid *w, const float p[3], float v[3]);
 /* The same for n points p[3n] into v[3n] (one per tree per tick). */
 void wind_sample_many(const wind_grid *w, int n, const float *p, float *v);
 
+/* Points fixed for the grid's life (a forest's crowns: trees never move), with each
+ * point's trilinear stencil on the three staggered components worked out once: an
+ * index and three fractions per component, the same numbers wind_sample computes per
+ * call, so reading the grid there costs only the gather and the blend. */
+typedef struct wind_probe wind_probe;
+/* Stencils of n points p[3n] on w's lattice (used with w, or a grid of the same desc);
+ * NULL on failure with err filled (no memory, or a grid too large for 32-bit indices). */
+wind_probe *wind_probe_create(const wind_grid *w, int n, const float *p, gale_err *err);
+/* NULL is a no-op. */
+void wind_probe_destroy(wind_probe *pr);
+/* The grid's part of the wind (wind_sample without the subgrid profile) at the probe's
+ * points [i0, i1) into v[3 * i0 .. 3 * i1): the same floats as wind_sample gives there
+ * with desc.subgrid_profile 0. One thread; callers split the points. The grid changes
+ * only in wind_step and wind_fill_inflow, so between those this needs no repeating. */
+void wind_probe_sample(const wind_grid *w, const wind_probe *pr, int i0, int i1, float *v);
+/* Adds the subgrid profile's term of the current inflow (desc.subgrid_profile) at n
+ * points p[3n] to v[3n]; nothing without it. The grid's part from wind_probe_sample
+ * plus this is wind_sample's result, float for float; the term follows wind_set_inflow
+ * at once (the table depends on U10, z0, z_min and the direction). */
+void wind_add_subgrid(const wind_grid *w, int n, const float *p, float *v);
+
 /* Coarse copy for clients: the grid averaged over factor³ blocks (factor in z capped to
  * nz), written as float [cz][cy][cx][3] into out (capacity floats). Returns the number of
  * floats written and the coarse dims in dims[3], or a negative GALE_E_* if out is small. */

@@ -106,3 +106,21 @@ export async function until(fn, timeout_s, what) {
         await new Promise((r) => setTimeout(r, 200));
     }
 }
+
+// The pinhole projection of a page's camera (eye, target, fov_y_deg, z up) onto a w × h
+// frame: p [m] to [x, y from the bottom, depth] [px, px, m]; .fy is the vertical focal
+// factor (a length l at depth z spans l * fy * h / 2 / z pixels).
+export function projector(cam, w, h) {
+    const sub = (p, q) => p.map((x, k) => x - q[k]);
+    const dot = (p, q) => p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
+    const unit = (p) => p.map((x) => x / Math.hypot(...p));
+    const cross = (p, q) => [p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0]];
+    const f = unit(sub(cam.target, cam.eye)), s = unit(cross(f, [0, 0, 1])), u = cross(s, f);
+    const fy = 1 / Math.tan((cam.fov_y_deg * Math.PI) / 360), fx = fy * h / w;
+    const project = (p) => {
+        const d = sub(p, cam.eye), z = dot(d, f);
+        return [(1 + fx * dot(d, s) / z) * w / 2, (1 + fy * dot(d, u) / z) * h / 2, z];
+    };
+    project.fy = fy;
+    return project;
+}

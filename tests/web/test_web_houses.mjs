@@ -7,7 +7,7 @@
 // on 15-60 % of it: 35 % from this camera), as gale-client's colours.
 import assert from 'node:assert/strict';
 import path from 'node:path';
-import { args, startServer, startBrowser, waitFor } from './harness.mjs';
+import { args, startServer, startBrowser, waitFor, projector } from './harness.mjs';
 
 const [server, work, config] = args('usage: node test_web_houses.mjs GALE_SERVER WORK_DIR SCENE.json');
 const srv = await startServer(server, ['--cache', path.join(work, '..', 'cache'), '--config', config]);
@@ -33,16 +33,7 @@ try {
     await page.screenshot({ path: path.join(work, 'house.png') });
     const { w, h, cam } = shots.full;
     const a = Buffer.from(shots.bare.pixels, 'base64'), p = Buffer.from(shots.full.pixels, 'base64');
-    const sub = (u, v) => u.map((x, k) => x - v[k]);
-    const dot = (u, v) => u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
-    const unit = (u) => u.map((x) => x / Math.hypot(...u));
-    const cross = (u, v) => [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
-    const f = unit(sub(cam.target, cam.eye)), s = unit(cross(f, [0, 0, 1])), u = cross(s, f);
-    const fy = 1 / Math.tan((cam.fov_y_deg * Math.PI) / 360), fx = fy * h / w;
-    const project = (q) => {
-        const d = sub(q, cam.eye), z = dot(d, f);
-        return [(1 + fx * dot(d, s) / z) * w / 2, (1 + fy * dot(d, u) / z) * h / 2]; // y from the bottom
-    };
+    const project = projector(cam, w, h);
     const pts = [];
     for (const x of [b[0], b[3]]) for (const y of [b[1], b[4]]) for (const z of [b[2], b[5]]) pts.push(project([x, y, z]));
     const [x0, x1] = [Math.min(...pts.map((q) => q[0])), Math.max(...pts.map((q) => q[0]))];

@@ -7,7 +7,7 @@
 import assert from 'node:assert/strict';
 import { writeFileSync } from 'node:fs';
 import path from 'node:path';
-import { args, startServer, startBrowser, waitFor } from './harness.mjs';
+import { args, startServer, startBrowser, waitFor, projector } from './harness.mjs';
 
 const [server, work, config] = args('usage: node test_web_viewer.mjs GALE_SERVER WORK_DIR SCENE.json');
 const srv = await startServer(server, ['--cache', path.join(work, '..', 'cache'), '--config', config]);
@@ -26,17 +26,7 @@ try {
     const full = await page.evaluate(() => window.gale.still(true));
     const a = Buffer.from(bare.pixels, 'base64'), b = Buffer.from(full.pixels, 'base64');
     const { w, h, cam } = full;
-    // pinhole projection: eye, target, vertical field of view, z up
-    const sub = (p, q) => p.map((x, k) => x - q[k]);
-    const dot = (p, q) => p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
-    const unit = (p) => p.map((x) => x / Math.hypot(...p));
-    const cross = (p, q) => [p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0]];
-    const f = unit(sub(cam.target, cam.eye)), s = unit(cross(f, [0, 0, 1])), u = cross(s, f);
-    const fy = 1 / Math.tan((cam.fov_y_deg * Math.PI) / 360), fx = fy * h / w;
-    const project = (p) => {
-        const d = sub(p, cam.eye), z = dot(d, f);
-        return [(1 + fx * dot(d, s) / z) * w / 2, (1 + fy * dot(d, u) / z) * h / 2, z]; // y from the bottom
-    };
+    const project = projector(cam, w, h), fy = project.fy;
     const changed = (x, y) => {
         const i = 4 * (y * w + x);
         return Math.abs(a[i] - b[i]) + Math.abs(a[i + 1] - b[i + 1]) + Math.abs(a[i + 2] - b[i + 2]) > 24;
