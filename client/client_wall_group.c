@@ -28,25 +28,13 @@ static void set_orbit(camera *cam, const float target[3], float distance_m, floa
     camera_eye(cam, cam->eye);
 }
 
-/* The tour's camera at server time t_s (looped over the last stop's time, linear between
- * stops): a pure function of the frame's time, so every tile agrees on every frame. */
+/* The tour's camera at server time t_s (wall_tour_at): a pure function of the frame's
+ * time, so every tile agrees on every frame. */
 static void tour_camera(const wall *w, double t_s, camera *cam)
 {
-    const wall_stop *s = w->stops;
-    const int n = w->n_stops;
-    double t = fmod(t_s, (double)s[n - 1].t_s);
-    int i = 0;
-    while (i + 2 < n && t >= (double)s[i + 1].t_s) {
-        i++;
-    }
-    const float u = (float)((t - (double)s[i].t_s) / (double)(s[i + 1].t_s - s[i].t_s));
-    float target[3];
-    for (int k = 0; k < 3; k++) {
-        target[k] = s[i].target_m[k] + u * (s[i + 1].target_m[k] - s[i].target_m[k]);
-    }
-    set_orbit(cam, target, s[i].distance_m + u * (s[i + 1].distance_m - s[i].distance_m),
-              s[i].yaw_deg + u * (s[i + 1].yaw_deg - s[i].yaw_deg),
-              s[i].pitch_deg + u * (s[i + 1].pitch_deg - s[i].pitch_deg));
+    wall_stop s;
+    wall_tour_at(w, t_s, &s);
+    set_orbit(cam, s.target_m, s.distance_m, s.yaw_deg, s.pitch_deg);
 }
 
 void client_wall_group_on_wall(void *user, const ctl_msg *m)

@@ -305,6 +305,25 @@ float wall_hud_px(const wall *w, int tile, int fb_h)
 
 /* ---- projection ---------------------------------------------------------------------- */
 
+void wall_tour_at(const wall *w, double t_s, wall_stop *out)
+{
+    const wall_stop *s = w->stops;
+    const int n = w->n_stops;
+    double t = fmod(t_s, (double)s[n - 1].t_s);
+    int i = 0;
+    while (i + 2 < n && t >= (double)s[i + 1].t_s) {
+        i++;
+    }
+    const float u = (float)((t - (double)s[i].t_s) / (double)(s[i + 1].t_s - s[i].t_s));
+    out->t_s = (float)t;
+    for (int k = 0; k < 3; k++) {
+        out->target_m[k] = s[i].target_m[k] + u * (s[i + 1].target_m[k] - s[i].target_m[k]);
+    }
+    out->distance_m = s[i].distance_m + u * (s[i + 1].distance_m - s[i].distance_m);
+    out->yaw_deg = s[i].yaw_deg + u * (s[i + 1].yaw_deg - s[i].yaw_deg);
+    out->pitch_deg = s[i].pitch_deg + u * (s[i + 1].pitch_deg - s[i].pitch_deg);
+}
+
 void wall_tile_corners(const wall_tile *t, float pa[3], float pb[3], float pc[3])
 {
     float right[3];

@@ -61,6 +61,10 @@ int wall_find_tile(const wall *w, const char *name);
  * (size_m[1] tall), within 8..256 px; 0 on every tile but hud_tile (and on all with "off"). */
 float wall_hud_px(const wall *w, int tile, int fb_h);
 
+/* The tour's camera at time t_s (looped over the last stop's time, linear between stops)
+ * into *out (t_s set to the looped time); w must have a tour (n_stops >= 2). */
+void wall_tour_at(const wall *w, double t_s, wall_stop *out);
+
 /* Corners of tile t's visible area: lower left, lower right, upper left (Kooima's pa, pb,
  * pc), wall frame [m]. */
 void wall_tile_corners(const wall_tile *t, float pa[3], float pb[3], float pc[3]);

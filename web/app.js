@@ -37,7 +37,9 @@ function percentile(a, p) {
 }
 
 export class App {
-    // opts: { role, token?, extraHello?, onWelcome?, onWeather?, onStatus?, camera? (fn) }
+    // opts: { role, token?, extraHello?, onWelcome?, onWeather?, onStatus?, camera? (fn),
+    // and a wall tile's offscreen (true), beforeDraw(app, server_s), renderTime(app,
+    // server_s) (null: draw nothing now), shaderTime(shown_s), afterFrame(app) }
     constructor(opts) {
         this.o = opts;
         this.statusEl = document.getElementById('status');
@@ -77,6 +79,7 @@ export class App {
         try {
             this.r = new Renderer(this.canvas);
             if (this.o.maxTrees > 0) this.r.max_rows = this.o.maxTrees;
+            this.r.offscreen = !!this.o.offscreen; // a wall tile draws ahead, presents later
             await this.r.init();
         } catch (e) {
             this.fatal = e;
@@ -271,6 +274,8 @@ export class App {
         if (this.frozen || !this.ready || !this.jitter || !this.jitter.snaps.length) return;
         const server = this.clock.serverTime(performance.now() * 1e-3);
         if (server === null) return;
+        // a wall tile first presents the group frame it drew ahead, when its time has come
+        if (this.o.beforeDraw) this.o.beforeDraw(this, server);
         // a wall tile shows its group's frame instant; others a fixed delay behind the server
         const shown = this.o.renderTime ? this.o.renderTime(this, server) : this.jitter.renderTime(server);
         if (shown === null) return;
@@ -283,7 +288,8 @@ export class App {
         this.shown_s = shown;
         try {
             this.applyDamage(shown);
-            this.r.draw(this.camera(), (t_ms * 1e-3) % 3600, this.modes, shown);
+            // the shaders' clock (leaves, rain): a wall tile's is its frame's instant
+            this.r.draw(this.camera(), this.o.shaderTime ? this.o.shaderTime(shown) : (t_ms * 1e-3) % 3600, this.modes, shown);
         } catch (e) {
             this.errors.push(e.message);
             this.say(`Drawing failed: ${e.message}`);
@@ -300,13 +306,23 @@ export class App {
         if (this.o.afterFrame) this.o.afterFrame(this);
     }
 
-    // One frame of the state drawn last, with or without the trees, its pixels read back
-    // (RGBA rows bottom first, base64) with the camera it was drawn with: for tests.
-    still(showTrees) {
+    // One frame of the state drawn last (or of the state at server time at_s), with or
+    // without the trees, at shader time t_s, its pixels read back (RGBA rows bottom first,
+    // base64) with the camera it was drawn with: for tests.
+    still(showTrees, at_s = null, t_s = 0) {
         this.frozen = true;
         const cam = this.camera();
         this.r.hideTrees = !showTrees;
-        this.r.draw(cam, 0, this.modes, this.shown_s);
+        if (at_s !== null) {
+            this.jitter.sample(at_s, this.q);
+            this.r.uploadQ(this.q);
+            this.shown_s = at_s;
+            this.applyDamage(at_s);
+        }
+        const off = this.r.offscreen;
+        this.r.offscreen = false; // onto the canvas, read back below
+        this.r.draw(cam, t_s, this.modes, this.shown_s);
+        this.r.offscreen = off;
         this.r.hideTrees = false;
         const gl = this.r.gl, w = this.canvas.width, h = this.canvas.height;
         const px = new Uint8Array(w * h * 4);

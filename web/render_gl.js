@@ -657,6 +657,41 @@ export class Renderer {
         gl.enable(gl.DEPTH_TEST);
     }
 
+    // The picture draw() renders into while this.offscreen is set (colour and depth of the
+    // canvas's size), so that a frame can be drawn ahead and shown later: present() copies
+    // it to the canvas, which the browser composites at its next display refresh.
+    target() {
+        const gl = this.gl, w = this.canvas.width, h = this.canvas.height;
+        if (this.off && this.off.w === w && this.off.h === h) return this.off.fbo;
+        if (this.off) {
+            gl.deleteFramebuffer(this.off.fbo);
+            for (const rb of this.off.rb) gl.deleteRenderbuffer(rb);
+        }
+        const fbo = gl.createFramebuffer(), rb = [gl.createRenderbuffer(), gl.createRenderbuffer()];
+        gl.bindFramebuffer(gl.FRAMEBUFFER, fbo);
+        [[gl.RGBA8, gl.COLOR_ATTACHMENT0], [gl.DEPTH_COMPONENT24, gl.DEPTH_ATTACHMENT]].forEach(([fmt, at], k) => {
+            gl.bindRenderbuffer(gl.RENDERBUFFER, rb[k]);
+            gl.renderbufferStorage(gl.RENDERBUFFER, fmt, w, h);
+            gl.framebufferRenderbuffer(gl.FRAMEBUFFER, at, gl.RENDERBUFFER, rb[k]);
+        });
+        if (gl.checkFramebufferStatus(gl.FRAMEBUFFER) !== gl.FRAMEBUFFER_COMPLETE) {
+            throw new WebGL2Missing(`an offscreen picture of ${w}×${h} (RGBA8, depth 24) is not renderable here`);
+        }
+        this.off = { fbo, rb, w, h };
+        return fbo;
+    }
+
+    // The offscreen picture onto the canvas (false when there is none of the canvas's size).
+    present() {
+        const gl = this.gl, o = this.off;
+        if (!o || o.w !== this.canvas.width || o.h !== this.canvas.height) return false;
+        gl.bindFramebuffer(gl.READ_FRAMEBUFFER, o.fbo);
+        gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, null);
+        gl.blitFramebuffer(0, 0, o.w, o.h, 0, 0, o.w, o.h, gl.COLOR_BUFFER_BIT, gl.NEAREST);
+        gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+        return true;
+    }
+
     // cam: { eye, target, fov_y_deg, near, far, subject_m? } or { viewproj, eye } for a
     // wall tile (subject_m: how far along the view the camera's subject lies, 0 none);
     // modes: per tree mode count (0: not sent: drawn at rest with none); server_s: the
@@ -747,7 +782,7 @@ export class Renderer {
             gl.drawArraysInstanced(gl.TRIANGLES, 0, 6, g.n);
         }
 
-        gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+        gl.bindFramebuffer(gl.FRAMEBUFFER, this.offscreen ? this.target() : null);
         gl.viewport(0, 0, W, H);
         gl.enable(gl.DEPTH_TEST);
         gl.depthMask(true);

@@ -1,64 +1,37 @@
 // A wall tile (/wall?file=NAME&tile=T): tile T of the wall file configs/walls/NAME.json
 // (served at /walls/), its view the generalized perspective projection of its glass from
-// the wall's eye (Kooima 2008, as client/wall.c), in the wall's group (PROTOCOL.md "Wall
-// groups"): frame N shows server time epoch + N period − delay on every tile, the camera
-// is the wall's tour at frame N's instant or the kiosk's wall_camera from its frame on.
+// the wall's eye (web/wall_view.js, as client/wall.c), in the wall's group (PROTOCOL.md
+// "Wall groups") as gale-client's client_wall_group.c: frame N shows server time epoch +
+// N period − delay on every tile, the camera is the wall's tour at frame N's instant or
+// the kiosk's wall_camera from its frame on.
+//
+// Presenting: frame N is drawn ahead into an offscreen picture (web/render_gl.js target)
+// in one animation frame; once the GPU has finished it (a fence) the tile reports
+// wall_drawn N (swap-lock), and in the first animation frame at or after N's instant on
+// the server clock, and after wall_swap N (or budget_ms without one), the picture is
+// copied onto the canvas: that animation frame is where N is "presented". The browser
+// composites it at its next display refresh, which the page cannot see, so a browser tile
+// shows N up to one refresh interval (16.7 ms at 60 Hz) after it became presentable, plus
+// the compositor's own latency; a native tile swaps at once. The frame number is locked,
+// the moment to within about a display refresh (PROTOCOL.md "Wall groups").
+//
+// The query may carry the group's clock for when this tile is the first to join:
+// rate=HZ (60), swap_lock=1, budget=MS (8), delay=MS (100), as gale-client's --rate,
+// --swap-lock, --budget and --delay; a later joiner takes the group's.
 import { App } from './app.js';
 import { lookAt, mul, orbitEye } from './render_gl.js';
+import { tileMatrices, tourAt } from './wall_view.js';
 
 const q = new URLSearchParams(location.search);
 const file = (q.get('file') || '').replace(/\.json$/, '');
 const tileName = q.get('tile') || '';
-const RATE_HZ = 60; // gale-client's default --rate
-
-const sub = (a, b) => a.map((x, k) => x - b[k]);
-const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
-const unit = (a) => a.map((x) => x / Math.hypot(...a));
-
-// wall_offaxis (client/wall.c): corners pa (bottom left), pb (bottom right), pc (top left)
-// of the glass, eye pe; returns proj · M^T T (Kooima eqs. 1-10)
-export function offaxis(pa, pb, pc, pe, n, f) {
-    const vr = unit(sub(pb, pa)), vu = unit(sub(pc, pa)), vn = unit(cross(vr, vu));
-    const va = sub(pa, pe), vb = sub(pb, pe), vc = sub(pc, pe);
-    const d = -dot(vn, va), s = n / d;
-    const l = dot(vr, va) * s, r = dot(vr, vb) * s, b = dot(vu, va) * s, t = dot(vu, vc) * s;
-    const proj = new Float32Array(16);
-    proj[0] = 2 * n / (r - l);
-    proj[5] = 2 * n / (t - b);
-    proj[8] = (r + l) / (r - l);
-    proj[9] = (t + b) / (t - b);
-    proj[10] = -(f + n) / (f - n);
-    proj[11] = -1;
-    proj[14] = -2 * f * n / (f - n);
-    const rot = new Float32Array(16);
-    for (let k = 0; k < 3; k++) {
-        rot[k * 4] = vr[k];
-        rot[k * 4 + 1] = vu[k];
-        rot[k * 4 + 2] = vn[k];
-    }
-    rot[12] = -dot(vr, pe);
-    rot[13] = -dot(vu, pe);
-    rot[14] = -dot(vn, pe);
-    rot[15] = 1;
-    return mul(proj, rot);
-}
-
-function corners(t) {
-    const right = cross(t.up, t.normal), hw = 0.5 * t.size_m[0], hh = 0.5 * t.size_m[1];
-    const at = (a, b) => t.centre_m.map((c, k) => c + a * right[k] + b * t.up[k]);
-    return [at(-hw, -hh), at(hw, -hh), at(-hw, hh)];
-}
-
-function tourStop(w, t_s) {
-    const s = w.tour, n = s.length, t = t_s % s[n - 1].t_s;
-    let i = 0;
-    while (i + 2 < n && t >= s[i + 1].t_s) i++;
-    const u = (t - s[i].t_s) / (s[i + 1].t_s - s[i].t_s);
-    const lerp = (a, b) => a + u * (b - a);
-    return { target_m: s[i].target_m.map((x, k) => lerp(x, s[i + 1].target_m[k])), distance_m: lerp(s[i].distance_m, s[i + 1].distance_m),
-        yaw_deg: lerp(s[i].yaw_deg, s[i + 1].yaw_deg), pitch_deg: lerp(s[i].pitch_deg, s[i + 1].pitch_deg) };
-}
+const num = (k, dflt, lo, hi) => {
+    const v = Number(q.get(k));
+    return q.get(k) !== null && Number.isInteger(v) && v >= lo && v <= hi ? v : dflt;
+};
+const JOIN = { rate_hz: num('rate', 60, 1, 240), swap_lock: q.get('swap_lock') === '1', budget_ms: num('budget', 8, 1, 1000),
+    delay_ms: num('delay', 100, 1, 10000) };
+const LOG_MAX = 4000; // presented frames kept for tests (a minute at 60 Hz)
 
 async function main() {
     const status = document.getElementById('status');
@@ -78,31 +51,88 @@ async function main() {
         say(`The wall "${wall.name}" has no tile "${tileName}"; its tiles: ${wall.tiles.map((t) => t.name).join(', ')}.`);
         return;
     }
-    const [pa, pb, pc] = corners(tile);
-    const proj = offaxis(pa, pb, pc, wall.eye_m, 0.3, 3000);
-    const toWall = new Float32Array([1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, ...wall.eye_m, 1]);
-    let sync = null, last = -1, pending = null, fromServer = null;
-    const g = { frames: 0, skipped: 0 };
+    let sync = null, last = -1, swap = -1, pending = null, fromServer = null, t_base = null;
+    // frames: presented; drawn; reports: wall_drawn sent; swapTimeouts: presented after
+    // the budget without wall_swap; log: [frame, due_us, drawn_us, presented_us] on the
+    // server clock; swaps: [frame, drawn, members, received_us]
+    const g = { frames: 0, drawn: 0, skipped: 0, reports: 0, swapTimeouts: 0, frame: -1, held: null, log: [], swaps: [], join: JOIN };
+    const keep = (a, row) => {
+        a.push(row);
+        if (a.length > LOG_MAX) a.splice(0, a.length - LOG_MAX);
+    };
+    const drop = (app) => {
+        if (g.held && g.held.fence) app.r.gl.deleteSync(g.held.fence);
+        g.held = null;
+    };
+    // Whether the GPU has finished held frame h (its fence signalled); the first time it
+    // has, the time is kept and, in swap-lock, the frame reported drawn.
+    const drawn = (a, h, now_s) => {
+        if (h.drawn_s !== undefined) return true;
+        const gl = a.r.gl;
+        if (gl.getSyncParameter(h.fence, gl.SYNC_STATUS) !== gl.SIGNALED) return false;
+        h.drawn_s = now_s;
+        if (sync && sync.swap_lock && a.conn.send({ type: 'wall_drawn', frame: h.frame })) {
+            h.reported = true;
+            g.reports++;
+        }
+        return true;
+    };
+    // Between animation frames too, so that the report leaves as soon as the frame is
+    // drawn: the group waits on it, not on this page's next animation frame.
+    const poll = (a, h) => {
+        if (g.held !== h || h.drawn_s !== undefined) return;
+        const now_s = a.clock.serverTime(performance.now() * 1e-3);
+        if (now_s === null || !drawn(a, h, now_s)) setTimeout(() => poll(a, h), 2);
+    };
     const app = new App({
         role: 'wall-tile',
+        offscreen: true,
         onWelcome: () => {
+            // a new connection may be a new server: a new clock, frames from its numbering
             sync = null;
-            last = -1;
-            app.conn.send({ type: 'wall_join', wall: wall.name, tile: tileName, rate_hz: RATE_HZ });
+            last = swap = -1;
+            pending = fromServer = null;
+            drop(app);
+            app.conn.send({ type: 'wall_join', wall: wall.name, tile: tileName, ...JOIN });
         },
         onText: (m) => {
             if (m.type === 'wall_sync') sync = m;
-            else if (m.type === 'wall_camera' && m.wall === wall.name) pending = m;
+            else if (m.type === 'wall_swap') {
+                swap = Math.max(swap, m.frame);
+                const now = app.clock.serverTime(performance.now() * 1e-3);
+                keep(g.swaps, [m.frame, m.drawn, m.members, now === null ? null : Math.round(now * 1e6)]);
+            } else if (m.type === 'wall_camera' && m.wall === wall.name) pending = m;
+        },
+        beforeDraw: (a, now_s) => {
+            const h = g.held;
+            if (!h || !sync) return;
+            if (!h.fence) { // its draw failed
+                g.held = null;
+                return;
+            }
+            if (!drawn(a, h, now_s)) return;
+            if (now_s < h.due_s) return; // its instant has not come
+            if (h.reported && swap < h.frame) {
+                if (now_s < Math.max(h.due_s, h.drawn_s) + sync.budget_ms * 1e-3) return;
+                g.swapTimeouts++;
+            }
+            // (a canvas resized since the draw shows nothing of it: the frame is passed)
+            if (a.r.present()) {
+                keep(g.log, [h.frame, Math.round(h.due_s * 1e6), Math.round(h.drawn_s * 1e6), Math.round(now_s * 1e6)]);
+                g.frames++;
+                g.frame = h.frame;
+            }
+            last = h.frame;
+            drop(a);
         },
         renderTime: (a, now_s) => {
-            if (!sync) return null;
+            if (!sync || g.held) return null;
             const epoch = sync.epoch_us * 1e-6, period = sync.period_us * 1e-6;
-            let n = Math.floor((now_s - epoch) / period) + 1;
-            if (n <= last) return null; // never a frame twice
-            if (last >= 0) g.skipped += n - last - 1;
-            last = n;
-            g.frames++;
-            g.frame = n;
+            // the next frame whose instant is still ahead, never one frame twice
+            let n = Math.max(0, Math.floor((now_s - epoch) / period) + 1);
+            if (last >= 0 && n <= last) n = last + 1;
+            else if (last >= 0) g.skipped += n - last - 1;
+            g.held = { frame: n, due_s: (sync.epoch_us + n * sync.period_us) * 1e-6, fence: null };
             g.instant_s = epoch + n * period;
             if (pending && n >= pending.frame) {
                 fromServer = pending;
@@ -110,13 +140,27 @@ async function main() {
             }
             return (sync.epoch_us + n * sync.period_us - sync.delay_us) * 1e-6;
         },
+        // the shaders' time from the first frame's whole second, as gale-client's
+        // render_rel_time
+        shaderTime: (shown_s) => {
+            if (t_base === null) t_base = Math.floor(shown_s);
+            return shown_s - t_base;
+        },
+        afterFrame: (a) => {
+            if (!g.held || g.held.fence) return;
+            const gl = a.r.gl;
+            g.held.fence = gl.fenceSync(gl.SYNC_GPU_COMMANDS_COMPLETE, 0);
+            gl.flush();
+            g.drawn++;
+            setTimeout(() => poll(a, g.held), 0);
+        },
         camera: () => {
-            const c = fromServer || (wall.tour && wall.tour.length >= 2 ? tourStop(wall, g.instant_s || 0) : { target_m: [0, 0, 4], distance_m: 40, yaw_deg: 55, pitch_deg: -25 });
+            const c = fromServer || (wall.tour && wall.tour.length >= 2 ? tourAt(wall, g.instant_s || 0) : { target_m: [0, 0, 4], distance_m: 40, yaw_deg: 55, pitch_deg: -25 });
             const eye = orbitEye(c.target_m, c.distance_m, c.yaw_deg * Math.PI / 180, c.pitch_deg * Math.PI / 180);
-            const view = lookAt(eye, c.target_m, [0, 0, 1]);
-            // view and subject as gale-client's orbit: the storm's rain slants across this
-            // view and its fog and streaks thin about the subject (web/storm_fx.js)
-            return { eye, target: c.target_m, viewproj: mul(proj, mul(toWall, view)), view, subject_m: c.distance_m };
+            const { view, proj } = tileMatrices(wall, tile, lookAt(eye, c.target_m, [0, 0, 1]));
+            // the tile's view as gale-client's: the storm's rain slants across it and its
+            // fog and streaks thin about the subject along its normal (web/storm_fx.js)
+            return { eye, target: c.target_m, viewproj: mul(proj, view), view, subject_m: c.distance_m };
         },
     });
     app.wallGroup = g;
