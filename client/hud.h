@@ -97,6 +97,11 @@ typedef struct hud_state {
 /* Compass point of a bearing [deg]: "N", "NNE", ... "NNW" (16 points). */
 const char *hud_compass_point(float bearing_deg);
 
+/* The lines of the server's weather (at most 6): wind with its gust, class (or Beaufort
+ * force below tropical storm), direction, and a replay's storm or a steady scenario's
+ * name; the browser's HUD (web/hud_text.js) says the same. Returns the count. */
+int hud_format_weather(const wire_weather *w, char lines[HUD_MAX_LINES][HUD_LINE_CHARS]);
+
 /* Formats the HUD lines into lines[HUD_MAX_LINES][HUD_LINE_CHARS]; returns the count. */
 int hud_format(const hud_state *s, char lines[HUD_MAX_LINES][HUD_LINE_CHARS]);
 

@@ -59,8 +59,7 @@ static void civil(long long min, char *date, size_t dcap, char *hm, size_t hcap)
     snprintf(hm, hcap, "%02lld:%02lld", rem / 60, rem % 60);
 }
 
-/* The lines of the server's weather: wind, class, direction, and a replay's storm. */
-static int format_weather(const wire_weather *w, char lines[HUD_MAX_LINES][HUD_LINE_CHARS])
+int hud_format_weather(const wire_weather *w, char lines[HUD_MAX_LINES][HUD_LINE_CHARS])
 {
     int n = 0;
     double v = (double)w->sustained_ms;
@@ -111,7 +110,7 @@ int hud_format(const hud_state *s, char lines[HUD_MAX_LINES][HUD_LINE_CHARS])
 {
     int n = 0;
     if (s->wx) {
-        n = format_weather(s->wx, lines);
+        n = hud_format_weather(s->wx, lines);
     } else if (s->have_wind) {
         float v = s->wind_ms;
         snprintf(lines[n++], HUD_LINE_CHARS, "Wind %.1f m/s \xC2\xB7 %.0f km/h \xC2\xB7 %.0f mph",

@@ -11,24 +11,9 @@ import { sceneSteps } from './wire.js';
 import { Renderer, WebGL2Missing, orbitEye } from './render_gl.js';
 import { stormFxFromWeather, stormFxQualityParse, STORM_FX_LOW } from './storm_fx.js';
 import { DamageFx, DAMAGE } from './damage.js';
+import { weatherLines } from './hud_text.js';
 
 const LEAVES_PER_FRAME = 4096; // CLIENT_LEAVES_PER_FRAME (client/client.h): more are thinned
-
-// Saffir-Simpson titles of WEATHER ss_class (protocol/wind_scale.c)
-export const SS_TITLE = ['Tropical depression', 'Tropical storm', 'Category 1 hurricane', 'Category 2 hurricane',
-    'Category 3 hurricane', 'Category 4 hurricane', 'Category 5 hurricane'];
-const COMPASS = ['north', 'north-east', 'east', 'south-east', 'south', 'south-west', 'west', 'north-west'];
-
-export function hudText(w) {
-    if (!w) return '';
-    const lines = [`${w.sustained_ms.toFixed(0)} m/s, gusts ${w.gust_ms.toFixed(0)} m/s`, SS_TITLE[w.ss_class],
-        `Beaufort ${w.beaufort} · from the ${COMPASS[Math.round(w.dir_from_deg / 45) % 8]} (${w.dir_from_deg.toFixed(0)}°)`];
-    // a storm keeps its name; a dial overrides a steady scenario, whose title would
-    // contradict the wind above (client/hud_format.c)
-    const STORM = 1, DIAL = 2;
-    if (w.name && ((w.flags & STORM) || !(w.flags & DIAL))) lines.unshift(w.name);
-    return lines.join('\n');
-}
 
 function percentile(a, p) {
     if (!a.length) return null;
@@ -44,6 +29,7 @@ export class App {
         this.o = opts;
         this.statusEl = document.getElementById('status');
         this.hudEl = document.getElementById('hud');
+        this.hudSaysEl = document.getElementById('hud-says');
         this.canvas = document.getElementById('view');
         this.perf = { decode: [], dequant: [], interp: [], upload: [], draw: [] };
         this.bytesAssets = 0;
@@ -209,7 +195,10 @@ export class App {
         if (f.weather) {
             this.weather = f.weather;
             if (this.r) this.r.fx = stormFxFromWeather(f.weather.sustained_ms, f.weather.dir_from_deg, this.stormQuality);
-            if (this.hudEl) this.hudEl.textContent = hudText(f.weather);
+            const lines = weatherLines(f.weather);
+            if (this.hudEl) this.hudEl.textContent = lines.join('\n');
+            // a screen reader is told the class when it changes, not every replay second
+            if (this.hudSaysEl && this.hudSaysEl.textContent !== lines[1]) this.hudSaysEl.textContent = lines[1];
             if (this.o.onWeather) this.o.onWeather(f.weather);
         }
         if (f.wind) {

@@ -86,6 +86,8 @@ try {
     assert.ok(where.panel, 'the panel is shown');
     await page.screenshot({ path: path.join(work, 'kiosk-calm.png') });
     out.calm_hud = await page.textContent('#hud');
+    // a breeze is named by its Beaufort force, never "Tropical depression"
+    assert.ok(/Beaufort \d/.test(out.calm_hud) && !/Tropical/.test(out.calm_hud), `HUD at calm reads: ${out.calm_hud}`);
     out.calm_picture = await measure(page, 'calm');
     out.calm_fx = await page.evaluate(() => window.gale.r.fx);
     assert.equal(await metric('gale_wind_dial'), 0);
@@ -99,7 +101,9 @@ try {
     await page.screenshot({ path: path.join(work, 'kiosk-cat4.png') });
     out.cat4_hud = await page.textContent('#hud');
     // the dial holds the wind: the steady scenario's title ("Calm") is not shown over it
-    assert.ok(!/^Calm/.test(out.cat4_hud), `HUD under a dialled Category 4 reads: ${out.cat4_hud}`);
+    // as gale-client's HUD: the dial said, the steady scenario's title ("Calm") not
+    assert.ok(/dialled at the kiosk/.test(out.cat4_hud) && !/\bCalm\b/.test(out.cat4_hud), `HUD under a dialled Category 4 reads: ${out.cat4_hud}`);
+    assert.equal(await page.textContent('#hud-says'), 'Category 4 hurricane', 'the class a screen reader is told');
     out.cat4_picture = await measure(page, 'cat4');
     out.cat4_fx = await page.evaluate(() => window.gale.r.fx);
     out.cat4_rain_share = await rainShare(page);

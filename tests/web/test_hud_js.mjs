@@ -1,0 +1,32 @@
+// web/hud_text.js against gale-client's HUD (gale-web-hud-table, built from
+// client/hud_format.c by tests/web/CMakeLists.txt): for each WEATHER frame of the table,
+// decoded by web/wire.js, the browser's HUD lines equal gale-client's, character for
+// character (one wording of the weather on every screen of an exhibit).
+import assert from 'node:assert/strict';
+import { execFileSync } from 'node:child_process';
+import { Decoder } from '../../web/wire.js';
+import { weatherLines } from '../../web/hud_text.js';
+
+const a = process.argv.slice(2);
+if (a.includes('--help') || a.length !== 1) {
+    console.log('usage: node test_hud_js.mjs GALE_WEB_HUD_TABLE');
+    process.exit(a.includes('--help') ? 0 : 2);
+}
+const rows = execFileSync(a[0], { encoding: 'utf8' }).trim().split('\n').map((l) => JSON.parse(l));
+assert.ok(rows.length >= 20, `the table has ${rows.length} cases`);
+const seen = { classes: new Set(), forces: new Set(), storm: 0, clock: 0, names: 0 };
+for (const r of rows) {
+    const f = new Decoder().decode(Uint8Array.from(Buffer.from(r.hex, 'hex')));
+    const w = f.weather;
+    assert.ok(w, `a WEATHER frame: ${r.hex}`);
+    seen.classes.add(w.ss_class);
+    seen.forces.add(w.beaufort);
+    seen.storm += (w.flags & 1) !== 0;
+    seen.clock += (w.flags & 8) !== 0;
+    seen.names += w.name !== '';
+    assert.deepEqual(weatherLines(w), r.lines, `the HUD of ${JSON.stringify(w)}`);
+}
+assert.equal(seen.classes.size, 7, 'every Saffir-Simpson class');
+assert.ok(seen.forces.size >= 12, `Beaufort forces: ${[...seen.forces]}`);
+assert.ok(seen.storm >= 3 && seen.clock >= 2 && seen.names >= 10, JSON.stringify(seen));
+console.log(JSON.stringify({ cases: rows.length, classes: seen.classes.size, forces: seen.forces.size, ok: true }));
