@@ -54,7 +54,7 @@ async function run(name, extra) {
             const t = performance.now();
             for (let k = 0; k < 100; k++) for (let i = 0; i < x.length; i++) y[i] = y[i] * 0.5 + x[i] * 0.25;
             const ref = performance.now() - t;
-            const ps = g.perfSummary(), sum = (k) => ['decode', 'dequant', 'interp', 'upload'].reduce((a, s) => a + ps[s][k], 0);
+            const ps = g.perfSummary(), sum = (k) => ['decode', 'insert', 'interp', 'upload'].reduce((a, s) => a + ps[s][k], 0);
             return { trees: g.welcome.instances.length, js_cpu_per_frame_ms: { median_sum: sum('median_ms'), p95_sum: sum('p95_ms'), mean_sum: sum('mean_ms') }, modes_max: g.stride, drawn_trees: g.r.stats.trees_drawn, perf: g.perfSummary(),
                 first_frame_ms: g.firstFrame_ms, frames_drawn_per_s: g.perf.interp.length / ((performance.now() - g.t0) / 1000),
                 bytes: { http, page_html: nav ? nav.transferSize : null, assets: g.bytesAssets, ws_per_s: (g.conn.stats.bytes - g.ws0) / ((performance.now() - g.t0) / 1000) },
