@@ -1,7 +1,8 @@
 // The trees in WebGL2 as gale-client draws them (client/render*.c): the skeleton of every
 // drawn tree rebuilt on the GPU from q in the length-true form (shaders/skel.frag, two
 // passes into float textures; q blended there from the snapshots' quantised values, each
-// uploaded once into a texture ring, where gale-client blends on the CPU), the bark tubes skinned on it (tree.vert/.frag), the leaves
+// uploaded once into a texture ring, where gale-client blends on the CPU), the bark tubes
+// skinned on it (tree.vert/.frag), the leaves
 // on their nodes (leaf.vert/.frag), sky and ground (sky.frag), and in a storm the sky,
 // light, fog and wet crowns of web/storm_fx.js, the welcome's houses (web/house.js,
 // house.vert/.frag) with rain streaks over the frame
