@@ -98,29 +98,6 @@ export class Jitter {
         return w;
     }
 
-    // q at server time t into out (Σ c_k q_k, the snapshots' values as held); false when
-    // empty (out untouched). Counts the sample as weights() does.
-    sample(t, out) {
-        const w = this.weights(t);
-        if (!w) return false;
-        const nv = this.n_values;
-        if (w.n === 1) {
-            out.set(w.snaps[0].q);
-            return true;
-        }
-        const [c0, c1, c2, c3] = w.c, [q0, q1, q2, q3] = w.snaps.map((x) => x && x.q);
-        if (w.n === 4) {
-            for (let k = 0; k < nv; k++) out[k] = c0 * q0[k] + c1 * q1[k] + c2 * q2[k] + c3 * q3[k];
-        } else {
-            for (let k = 0; k < nv; k++) {
-                let v = c0 * q0[k] + c1 * q1[k];
-                if (w.n === 3) v += c2 * q2[k];
-                out[k] = v;
-            }
-        }
-        return true;
-    }
-
     renderTime(server_now_s) { return server_now_s - this.delay_s; }
 }
 
@@ -141,6 +118,7 @@ function parabolaSlope(ta, tb, tc) {
     const dab = tb - ta, dbc = tc - tb, dac = tc - ta;
     return [-dbc / (dab * dac), dbc / (dab * dac) - dab / (dbc * dac), dab / (dbc * dac)];
 }
+
 // Server clock from ping/pong (NTP style): offset = t_server − (t_sent + t_recv) / 2 of the
 // sample of least round trip among the last 16; before any pong, the largest
 // t_server − t_recv of arriving snapshots.
