@@ -14,7 +14,32 @@
 // to it by tests/test_render_damage.c.
 uniform GALE_BUF u_vw;   // [(m n_nodes + node) 2 + {0: v, 1: w}]
 uniform GALE_BUF u_node; // rest xyz, parent
-uniform GALE_BUF u_q;    // [tree stride + m]
+#ifdef GALE_Q_RING
+// The browser blends the interpolation here (web/render_gl.js, web/jitter.js): each
+// snapshot's quantised values Q [tree stride + m] are a layer of u_qring, uploaded once,
+// and q = Σ_k u_qw[m][k] Q_k over the (up to four) snapshots of u_qlayer, u_qw the
+// Hermite weight of snapshot k times its step of mode m for this species (PROTOCOL.md
+// "Quantisation of q"): the sum client/jitter.c jitter_sample forms on the CPU.
+uniform highp isampler2DArray u_qring;
+uniform ivec4 u_qlayer;
+uniform vec4 u_qw[64];
+float modal_q(int i, int m)
+{
+    int w = textureSize(u_qring, 0).x;
+    ivec2 at = ivec2(i % w, i / w);
+    vec4 q = vec4(float(texelFetch(u_qring, ivec3(at, u_qlayer.x), 0).x),
+                  float(texelFetch(u_qring, ivec3(at, u_qlayer.y), 0).x),
+                  float(texelFetch(u_qring, ivec3(at, u_qlayer.z), 0).x),
+                  float(texelFetch(u_qring, ivec3(at, u_qlayer.w), 0).x));
+    return dot(u_qw[m], q);
+}
+#else
+uniform GALE_BUF u_q;    // [tree stride + m], interpolated and dequantised
+float modal_q(int i, int m)
+{
+    return buf_fetch(u_q, i).x;
+}
+#endif
 uniform sampler2D u_skel;     // pass 1: the posed segments of pass 0
 uniform int u_qstride;
 uniform int u_nodes;
@@ -78,7 +103,7 @@ void main()
     int nm = int(ceil(v_modes));
     int qb = v_tree * u_qstride;
     for (int m = 0; m < nm; m++) {
-        float q = buf_fetch(u_q, qb + m).x;
+        float q = modal_q(qb + m, m);
         float qt = u_ab[m].y != 0.0 ? u_ab[m].x * atan(u_ab[m].y * q) : q;
         float c = clamp(v_modes - float(m), 0.0, 1.0) * qt;
         int t = (m * u_nodes + node) * 2;

@@ -6,8 +6,7 @@
 // the state for tests and benchmarks.
 import { Connection } from './conn.js';
 import { fetchAsset } from './asset.js';
-import { Jitter, Clock } from './jitter.js';
-import { sceneSteps } from './wire.js';
+import { Jitter, Clock, blendWeights } from './jitter.js';
 import { Renderer, WebGL2Missing, orbitEye } from './render_gl.js';
 import { stormFxFromWeather, stormFxQualityParse, STORM_FX_LOW } from './storm_fx.js';
 import { DamageFx, DAMAGE } from './damage.js';
@@ -31,7 +30,10 @@ export class App {
         this.hudEl = document.getElementById('hud');
         this.hudSaysEl = document.getElementById('hud-says');
         this.canvas = document.getElementById('view');
-        this.perf = { decode: [], dequant: [], interp: [], upload: [], draw: [] };
+        // JS CPU per stage: decode and insert (the copy into the jitter buffer) per
+        // snapshot; interp (the blend's weights) and upload (of the snapshots a frame is
+        // first to blend, into the GPU's ring) per drawn frame
+        this.perf = { decode: [], insert: [], interp: [], upload: [], draw: [] };
         this.bytesAssets = 0;
         this.t_load = performance.now();
         this.firstFrame_ms = null;
@@ -103,6 +105,7 @@ export class App {
     async onWelcome(w) {
         this.welcome = w;
         this.ready = false;
+        this.sceneChecked = null;
         const stride = Math.max(...w.species.map((s) => s.n_modes));
         this.stride = stride;
         this.clock.reset();
@@ -117,7 +120,8 @@ export class App {
             this.cam.distance = Math.min(1.6 * rad + 22, 1500);
             this.camSet = true;
         }
-        this.q = new Float32Array(n * stride);
+        this.qTree = new Float32Array(stride);
+        this.qwTree = new Float32Array(4 * stride);
         this.modes = new Uint8Array(n);
         this.jitter = new Jitter(n * stride);
         // storm damage: a new picture per welcome; the keyframe's full DAMAGE fills it
@@ -145,6 +149,7 @@ export class App {
         }
         this.speciesHash = w.species.map((s) => s.hash);
         this.r.setInstances(w.instances, stride);
+        this.r.setStride(stride, this.jitter.capacity);
         try {
             this.r.setObstacles(w.obstacles || []);
         } catch (e) {
@@ -179,18 +184,29 @@ export class App {
                 this.errors.push(`keyframe of ${st.scene.n_trees} trees × ${st.scene.stride} modes, welcome ${this.jitter.n_values / this.stride} × ${this.stride}`);
                 return;
             }
+            // the skeleton pass dequantises with the steps of the scene's species, which
+            // PROTOCOL.md makes the welcome's instance species
+            if (st.scene !== this.sceneChecked) {
+                const inst = this.welcome.instances, t = inst.findIndex((r, i) => r[0] !== st.scene.species[i]);
+                if (t >= 0) {
+                    this.errors.push(`keyframe: tree ${t} of species ${st.scene.species[t]}, welcome ${inst[t][0]}`);
+                    return;
+                }
+                this.sceneChecked = st.scene;
+            }
             this.modes.set(st.n_modes);
             const t_s = f.hdr.server_time_us * 1e-6;
             this.clock.arrival(t_s, now * 1e-3);
-            // dequantised into the jitter buffer's own copy: one pass (web/jitter.js)
+            // Q as decoded into the jitter buffer's copy, later once into the GPU's ring
+            // (web/jitter.js, render_gl.js setMix), dequantised and blended there per frame
             const t0 = performance.now();
             try {
-                this.jitter.insert(f.hdr.tick, t_s, st.q, sceneSteps(st.scene));
+                this.jitter.insert(f.hdr.tick, t_s, st.q, st.scene);
             } catch (e) {
                 this.errors.push(e.message);
                 this.jitter.reset();
             }
-            this.perf.dequant.push(performance.now() - t0);
+            this.perf.insert.push(performance.now() - t0);
         }
         if (f.weather) {
             this.weather = f.weather;
@@ -227,8 +243,22 @@ export class App {
             this.leavesFrame++;
             const l = f.leaves[i];
             const spawn = t_hdr - (f.hdr.tick - l.spawn_tick) / hz;
-            if (!this.r.addFallingLeaf(l.instance, l.slot, l.seed, spawn, this.q)) this.leavesBad = (this.leavesBad || 0) + 1;
+            if (!this.r.addFallingLeaf(l.instance, l.slot, l.seed, spawn, this.treeQ(l.instance))) this.leavesBad = (this.leavesBad || 0) + 1;
         }
+    }
+
+    // One tree's q at the time shown last, the blend the skeleton pass forms (null before
+    // the first frame: at rest).
+    treeQ(tree) {
+        const w = this.shown_s === undefined ? null : this.jitter.weightsAt(this.shown_s);
+        if (!w || !(tree < this.welcome.instances.length)) return null;
+        const qw = blendWeights(w, this.welcome.instances[tree][0], this.qwTree), b = tree * this.stride, out = this.qTree;
+        for (let m = 0; m < out.length; m++) {
+            let v = 0;
+            for (let k = 0; k < w.n; k++) v += qw[4 * m + k] * w.snaps[k].q[b + m];
+            out[m] = v;
+        }
+        return out;
     }
 
     // The damage at server time shown_s into the renderer (client_damage_draw): the trees'
@@ -269,9 +299,7 @@ export class App {
         const shown = this.o.renderTime ? this.o.renderTime(this, server) : this.jitter.renderTime(server);
         if (shown === null) return;
         const t0 = performance.now();
-        this.jitter.sample(shown, this.q);
-        const t1 = performance.now();
-        this.r.uploadQ(this.q);
+        this.r.setMix(this.jitter.weights(shown));
         const t2 = performance.now();
         this.leavesFrame = 0;
         this.shown_s = shown;
@@ -286,13 +314,23 @@ export class App {
             return;
         }
         const t3 = performance.now();
-        this.perf.interp.push(t1 - t0);
-        this.perf.upload.push(t2 - t1);
+        this.perf.interp.push(t2 - t0 - this.r.stats.upload_ms);
+        this.perf.upload.push(this.r.stats.upload_ms);
         this.perf.draw.push(t3 - t2);
         for (const k of Object.keys(this.perf)) if (this.perf[k].length > 2000) this.perf[k].splice(0, 1000);
         this.framesDrawn++;
         if (this.firstFrame_ms === null) this.firstFrame_ms = performance.now(); // since navigation start
         if (this.o.afterFrame) this.o.afterFrame(this);
+    }
+
+    // Holds the newest n snapshots from now on (the jitter buffer and the GPU's ring grow;
+    // at most the GPU's texture layers), for tests that draw an instant long past with
+    // still(); returns the count held.
+    holdSnapshots(n) {
+        const layers = Math.min(n, this.r.gl.getParameter(this.r.gl.MAX_ARRAY_TEXTURE_LAYERS));
+        this.jitter.grow(layers);
+        this.r.setStride(this.stride, this.jitter.capacity);
+        return this.jitter.capacity;
     }
 
     // One frame of the state drawn last (or of the state at server time at_s), with or
@@ -303,8 +341,7 @@ export class App {
         const cam = this.camera();
         this.r.hideTrees = !showTrees;
         if (at_s !== null) {
-            this.jitter.sample(at_s, this.q);
-            this.r.uploadQ(this.q);
+            this.r.setMix(this.jitter.weights(at_s));
             this.shown_s = at_s;
             this.applyDamage(at_s);
         }

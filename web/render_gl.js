@@ -1,6 +1,8 @@
 // The trees in WebGL2 as gale-client draws them (client/render*.c): the skeleton of every
 // drawn tree rebuilt on the GPU from q in the length-true form (shaders/skel.frag, two
-// passes into float textures), the bark tubes skinned on it (tree.vert/.frag), the leaves
+// passes into float textures; q blended there from the snapshots' quantised values, each
+// uploaded once into a texture ring, where gale-client blends on the CPU), the bark tubes
+// skinned on it (tree.vert/.frag), the leaves
 // on their nodes (leaf.vert/.frag), sky and ground (sky.frag), and in a storm the sky,
 // light, fog and wet crowns of web/storm_fx.js, the welcome's houses (web/house.js,
 // house.vert/.frag) with rain streaks over the frame
@@ -11,6 +13,7 @@
 // of shaders/ (web/shaders.js). Data the native client keeps in buffer textures lives here
 // in 2D textures read by buf_fetch (common.glsl), row-major, DATA_W texels a row.
 import { loadProgram } from './shaders.js';
+import { blendWeights } from './jitter.js';
 import { stormFxCalm, rainUniforms } from './storm_fx.js';
 import { housesMesh, HOUSE_FLOATS } from './house.js';
 import { hashMix32, MAX_DEBRIS } from './damage.js';
@@ -22,7 +25,7 @@ const DATA_W = 2048;
 // texture units: the native client's (client/render_internal.h)
 const RU = { SKEL: 0, NODE: 1, LIST: 2, TREES: 3, VW: 4, Q: 5, LEAF: 6, WIND: 7, PATH: 8, CUT: 10, CUTN: 11, PLATE: 12, STUMP: 13, SCRATCH: 15 }; // SCRATCH: uploads
 const SAMPLERS = { u_skel: RU.SKEL, u_node: RU.NODE, u_list: RU.LIST, u_trees: RU.TREES, u_vw: RU.VW,
-    u_q: RU.Q, u_leaf: RU.LEAF, u_wind: RU.WIND, u_path: RU.PATH, u_cut: RU.CUT, u_cutn: RU.CUTN, u_plates: RU.PLATE, u_stumps: RU.STUMP };
+    u_q: RU.Q, u_qring: RU.Q, u_leaf: RU.LEAF, u_wind: RU.WIND, u_path: RU.PATH, u_cut: RU.CUT, u_cutn: RU.CUTN, u_plates: RU.PLATE, u_stumps: RU.STUMP };
 const MAX_FALLING = 16384; // render_desc max_falling's default (client/render.c)
 const FALL_FLOATS = 21;    // rs_fall: start, var, drift, q0, look (4 each), shape
 const PLATE_SEG = 24, STUMP_SEG = 12; // shaders/plate.vert, stump.vert
@@ -122,12 +125,11 @@ export class Renderer {
     async init(base = '') {
         const gl = this.gl;
         const names = ['skel', 'tree', 'leaf', 'sky', 'rain', 'house', 'plate', 'stump', 'fall'];
-        const progs = await Promise.all(names.map((n) => loadProgram(gl, n, base)));
+        this.base = base;
+        // the skeleton pass blends the snapshots itself (setMix)
+        const progs = await Promise.all(names.map((n) => loadProgram(gl, n, base, n === 'skel' ? '#define GALE_Q_RING 1\n' : '')));
         this.p = Object.fromEntries(names.map((n, i) => [n, progs[i]]));
-        for (const p of progs) {
-            gl.useProgram(p.id);
-            for (const [name, unit] of Object.entries(SAMPLERS)) if (p.u[name]) gl.uniform1i(p.u[name], unit);
-        }
+        for (const p of progs) this.bindSamplers(p);
         this.vaoEmpty = gl.createVertexArray();
         this.wind = gl.createTexture();
         gl.bindTexture(gl.TEXTURE_3D, this.wind);
@@ -137,6 +139,22 @@ export class Renderer {
         this.plateBuf = this.dataTex(1, 1);
         this.stumpBuf = this.dataTex(4, 2);
         this.fallInit();
+    }
+
+    bindSamplers(p) {
+        const gl = this.gl;
+        gl.useProgram(p.id);
+        for (const [name, unit] of Object.entries(SAMPLERS)) if (p.u[name]) gl.uniform1i(p.u[name], unit);
+    }
+
+    // The skeleton pass from q uploaded as floats (uploadQ), the native client's way, in
+    // place of the blend of snapshots: for tests that hold the one to the other.
+    async useFloatQ(on) {
+        if (on && !this.p.skelF) {
+            this.p.skelF = await loadProgram(this.gl, 'skel', this.base);
+            this.bindSamplers(this.p.skelF);
+        }
+        this.floatQ = on;
     }
 
     // The shared falling-leaf path as a 2-row texture (positions, orientations) and the
@@ -251,6 +269,7 @@ export class Renderer {
         }
         s.crown_c = a.n_leaves ? c : [0, 0, 0.62 * h];
         s.ab = new Float32Array(128);
+        s.qw = new Float32Array(256); // setMix: per mode, the weights of the blended snapshots
         for (let m = 0; m < nm; m++) {
             s.ab[2 * m] = a.corr_a[m];
             s.ab[2 * m + 1] = a.corr_b[m];
@@ -439,19 +458,20 @@ export class Renderer {
     // One leaf torn from its tree (render_add_falling_leaf): released from its slot in the
     // tree's pose of q (the length-true form, protocol/asset_pose.c, for that node only) at
     // server time spawn_s, its variation from its seed, its landing time and the wind's
-    // drift at release. Returns false for a tree or slot outside the scene.
+    // drift at release; q: the tree's modal state [modes] (null: at rest). Returns false for
+    // a tree or slot outside the scene.
     addFallingLeaf(tree, slot, seed, spawn_s, q) {
         if (!(tree < this.n_trees) || !Number.isFinite(spawn_s)) return false;
         const r = this.inst[tree], s = this.species[r[0]];
         if (!s || !(slot < s.n_leaves)) return false;
         const a = s.a, nn = a.n_nodes, f = Math.fround;
-        const j = a.leaf_node[slot], qb = tree * this.q_stride;
+        const j = a.leaf_node[slot];
         const acc = [0, 0, 0];
         let i = j;
         for (let guard = 0; guard < nn && a.parent[i] >= 0; guard++) {
             const p = a.parent[i], th = [0, 0, 0], sg = [0, 1, 2].map((k) => a.rest[3 * i + k] - a.rest[3 * p + k]);
             for (let m = 0; m < s.n_modes; m++) {
-                const qm = q[qb + m] || 0, b = a.corr_b[m];
+                const qm = (q && q[m]) || 0, b = a.corr_b[m];
                 const qt = b !== 0 ? f(a.corr_a[m] * f(Math.atan(f(b * qm)))) : qm;
                 const o = (m * nn + i) * 3;
                 for (let k = 0; k < 3; k++) {
@@ -566,14 +586,69 @@ export class Renderer {
         }
     }
 
-    setStride(stride) {
+    // The modal state's store: a ring of `layers` snapshots, each one's quantised values Q
+    // [n_trees × stride] (int16, as decoded) in a layer of an R16I texture array, DATA_W
+    // texels a row, uploaded once, by the first frame that blends it (setMix): a page that
+    // draws slower than snapshots come uploads only those it draws. The skeleton pass
+    // blends the layers setMix names (shaders/skel.frag GALE_Q_RING).
+    setStride(stride, layers = 32) {
+        const gl = this.gl, n = Math.max(1, this.n_trees * stride), w = Math.min(DATA_W, n), h = Math.ceil(n / w);
         this.q_stride = stride;
-        this.q = this.dataTex(1, Math.max(1, this.n_trees * stride), null, this.q);
+        this.mix = null;
+        if (this.qring && this.qring.w === w && this.qring.h === h && this.qring.layers === layers) {
+            this.qring.n = n;
+            this.qring.held.fill(null);
+            return;
+        }
+        if (this.qring) gl.deleteTexture(this.qring.tex);
+        const tex = gl.createTexture();
+        gl.activeTexture(gl.TEXTURE0 + RU.SCRATCH);
+        gl.bindTexture(gl.TEXTURE_2D_ARRAY, tex);
+        gl.texStorage3D(gl.TEXTURE_2D_ARRAY, 1, gl.R16I, w, h, layers);
+        // an integer texture is complete only unfiltered
+        for (const k of [gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER]) gl.texParameteri(gl.TEXTURE_2D_ARRAY, k, gl.NEAREST);
+        this.qring = { tex, w, h, layers, n, held: new Array(layers).fill(null) }; // held: the snapshot in each layer
     }
 
-    // q of every tree [n_trees × q_stride] (floats) and the modes each was sent with.
+    // One snapshot's Q [n_trees × stride] (Int16Array) into layer `layer` of the ring.
+    uploadSnapshot(layer, q) {
+        const gl = this.gl, { tex, w, n } = this.qring, full = Math.floor(n / w);
+        if (!(layer >= 0 && layer < this.qring.layers) || q.length < n) throw new Error(`snapshot of ${q.length} values into layer ${layer}: expected ${n} values, layer < ${this.qring.layers}`);
+        gl.activeTexture(gl.TEXTURE0 + RU.SCRATCH);
+        gl.bindTexture(gl.TEXTURE_2D_ARRAY, tex);
+        if (full) gl.texSubImage3D(gl.TEXTURE_2D_ARRAY, 0, 0, 0, layer, w, full, 1, gl.RED_INTEGER, gl.SHORT, q, 0);
+        if (n > full * w) gl.texSubImage3D(gl.TEXTURE_2D_ARRAY, 0, 0, full, layer, n - full * w, 1, 1, gl.RED_INTEGER, gl.SHORT, q, full * w);
+    }
+
+    // The snapshots the next frames blend (web/jitter.js weights: snaps[k].slot its layer,
+    // c[k] its Hermite weight, snaps[k].meta the keyframe scene whose steps dequantise it;
+    // null: none, drawn at rest), and per species the shader's weights (blendWeights): one
+    // multiply-add per value and snapshot there.
+    // Snapshots not yet in their layer are uploaded first (stats.upload_ms, stats.uploads).
+    setMix(w) {
+        this.mix = w && w.n ? w : null;
+        this.stats.upload_ms = 0;
+        if (!this.mix) return;
+        const t0 = performance.now();
+        let ups = 0;
+        for (let k = 0; k < w.n; k++) {
+            const snap = w.snaps[k];
+            if (this.qring.held[snap.slot] === snap) continue;
+            this.uploadSnapshot(snap.slot, snap.q);
+            this.qring.held[snap.slot] = snap;
+            ups++;
+        }
+        if (ups) this.stats.upload_ms = performance.now() - t0;
+        this.stats.uploads = (this.stats.uploads || 0) + ups;
+        this.qlayer = this.qlayer || new Int32Array(4);
+        for (let k = 0; k < 4; k++) this.qlayer[k] = w.snaps[k < w.n ? k : 0].slot;
+        this.species.forEach((sp, s) => { if (sp) blendWeights(w, s, sp.qw); });
+    }
+
+    // q of every tree [n_trees × q_stride] (floats) for the float path (useFloatQ).
     uploadQ(q) {
         const gl = this.gl;
+        this.q = this.dataTex(1, Math.max(1, this.n_trees * this.q_stride), null, this.q);
         const n = this.n_trees * this.q_stride, w = this.q.w, rows = Math.ceil(n / w);
         gl.activeTexture(gl.TEXTURE0 + RU.SCRATCH);
         gl.bindTexture(gl.TEXTURE_2D, this.q.tex);
@@ -749,18 +824,24 @@ export class Renderer {
             groups.push(g);
         });
         this.stats.trees_drawn = row;
+        this.groups = groups; // the skeleton rows drawn: for tests
         this.list = this.dataTex(4, Math.max(1, row), list.subarray(0, Math.max(1, row) * 4), this.list);
         this.ensureSkel(maxw, row);
 
         gl.disable(gl.DEPTH_TEST);
         gl.disable(gl.BLEND);
-        const ps = this.p.skel;
+        const ring = !this.floatQ, ps = ring ? this.p.skel : this.p.skelF;
         gl.useProgram(ps.id);
         gl.uniform2f(ps.u.u_target, this.skel_w, this.skel_h);
         gl.uniform1i(ps.u.u_qstride, this.q_stride);
         gl.bindVertexArray(this.vaoEmpty);
         this.bindTex(RU.LIST, gl.TEXTURE_2D, this.list.tex);
-        this.bindTex(RU.Q, gl.TEXTURE_2D, this.q.tex);
+        if (ring) {
+            this.bindTex(RU.Q, gl.TEXTURE_2D_ARRAY, this.qring.tex);
+            gl.uniform4iv(ps.u.u_qlayer, this.mix ? this.qlayer : [0, 0, 0, 0]);
+        } else {
+            this.bindTex(RU.Q, gl.TEXTURE_2D, this.q.tex);
+        }
         this.bindTex(RU.CUT, gl.TEXTURE_2D, this.cut.tex);
         this.bindTex(RU.CUTN, gl.TEXTURE_2D, this.cutn.tex);
         for (const g of groups) {
@@ -768,6 +849,10 @@ export class Renderer {
             gl.uniform1i(ps.u.u_base, g.base);
             gl.uniform1i(ps.u.u_nodes, sp.n_nodes);
             gl.uniform2fv(ps.u.u_ab, sp.ab);
+            if (ring) {
+                if (!this.mix) sp.qw.fill(0); // at rest
+                gl.uniform4fv(ps.u.u_qw, sp.qw);
+            }
             this.bindTex(RU.VW, gl.TEXTURE_2D, sp.vw.tex);
             this.bindTex(RU.NODE, gl.TEXTURE_2D, sp.node.tex);
             // pass 0: posed segments into skelTex[1]; pass 1: their sums into skelTex[0]

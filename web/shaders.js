@@ -17,8 +17,8 @@ async function text(base, name) {
     return cache.get(url);
 }
 
-function compile(gl, stage, name, common, body) {
-    const head = PREAMBLE + (stage === gl.VERTEX_SHADER ? '#define GALE_VERT 1\n' : '#define GALE_FRAG 1\n');
+function compile(gl, stage, name, common, body, defines) {
+    const head = PREAMBLE + (stage === gl.VERTEX_SHADER ? '#define GALE_VERT 1\n' : '#define GALE_FRAG 1\n') + defines;
     const sh = gl.createShader(stage);
     gl.shaderSource(sh, head + common + '\n#line 1\n' + body);
     gl.compileShader(sh);
@@ -30,12 +30,13 @@ function compile(gl, stage, name, common, body) {
     return sh;
 }
 
-// Program `name` from shaders/name.vert and .frag; uniform locations in prog.u.
-export async function loadProgram(gl, name, base = '') {
+// Program `name` from shaders/name.vert and .frag; uniform locations in prog.u. defines:
+// lines after the preamble (e.g. '#define GALE_Q_RING 1\n', shaders/skel.frag).
+export async function loadProgram(gl, name, base = '', defines = '') {
     const [common, vs, fs] = await Promise.all([text(base, 'common.glsl'), text(base, `${name}.vert`), text(base, `${name}.frag`)]);
     const p = gl.createProgram();
-    gl.attachShader(p, compile(gl, gl.VERTEX_SHADER, `${name}.vert`, common, vs));
-    gl.attachShader(p, compile(gl, gl.FRAGMENT_SHADER, `${name}.frag`, common, fs));
+    gl.attachShader(p, compile(gl, gl.VERTEX_SHADER, `${name}.vert`, common, vs, defines));
+    gl.attachShader(p, compile(gl, gl.FRAGMENT_SHADER, `${name}.frag`, common, fs, defines));
     gl.linkProgram(p);
     if (!gl.getProgramParameter(p, gl.LINK_STATUS)) {
         throw new Error(`shaders/${name}: link: ${gl.getProgramInfoLog(p)}`);

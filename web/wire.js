@@ -325,7 +325,8 @@ function unpackValues(b, p, where, n_trees, stride, n_modes, q, pq, pq2, hist) {
     const len = b.length, QMAX = LIMITS.QMAX;
     for (let t = 0; t < n_trees; t++) {
         const n = n_modes[t], base = t * stride;
-        if (n < stride) q.fill(0, base + n, base + stride);
+        // short runs zeroed in loops: fill() costs a call each, per tree and group
+        for (let ix = base + n; ix < base + stride; ix++) q[ix] = 0;
         for (let g0 = 0; g0 < n; g0 += GROUP) {
             const k = n - g0 < GROUP ? n - g0 : GROUP;
             const at = p;
@@ -339,7 +340,7 @@ function unpackValues(b, p, where, n_trees, stride, n_modes, q, pq, pq2, hist) {
             const ix0 = base + g0, ix1 = ix0 + k;
             if (width === 0 && pred < 2) {
                 // a quiet group: no bytes, the prediction itself (always in range)
-                if (pred === 0) q.fill(0, ix0, ix1);
+                if (pred === 0) for (let ix = ix0; ix < ix1; ix++) q[ix] = 0;
                 else for (let ix = ix0; ix < ix1; ix++) q[ix] = pq[ix];
                 continue;
             }
@@ -363,6 +364,31 @@ function unpackValues(b, p, where, n_trees, stride, n_modes, q, pq, pq2, hist) {
                         for (let i = 0, o = 0; i < GROUP; i++, o += width) {
                             const z = (o + width <= 32 ? lo >>> o : o >= 32 ? hi >>> (o - 32) : (lo >>> o) | (hi << (32 - o))) & mask;
                             q[ix0 + i] = (z >>> 1) ^ -(z & 1);
+                        }
+                    }
+                    p += width;
+                    continue;
+                }
+                if (width <= 4) {
+                    // a predicted group in <= 32 bits: one word, as above, each value added
+                    // to its prediction and checked (most delta groups are this narrow)
+                    let lo = 0;
+                    for (let j = 0; j < width; j++) lo |= b[p + j] << (8 * j);
+                    if (pred === 1) {
+                        for (let ix = ix0; ix < ix0 + GROUP; ix++) {
+                            const z = lo & mask;
+                            lo >>>= width;
+                            const v = ((z >>> 1) ^ -(z & 1)) + pq[ix];
+                            if (v < -QMAX || v > QMAX) throw new WireError(`${where}: tree ${t} mode ${ix - base} at byte ${at}: expected |q| <= ${QMAX}, got ${v}`);
+                            q[ix] = v;
+                        }
+                    } else {
+                        for (let ix = ix0; ix < ix0 + GROUP; ix++) {
+                            const z = lo & mask;
+                            lo >>>= width;
+                            const v = ((z >>> 1) ^ -(z & 1)) + 2 * pq[ix] - pq2[ix];
+                            if (v < -QMAX || v > QMAX) throw new WireError(`${where}: tree ${t} mode ${ix - base} at byte ${at}: expected |q| <= ${QMAX}, got ${v}`);
+                            q[ix] = v;
                         }
                     }
                     p += width;

@@ -1,15 +1,17 @@
 // Benchmark of the browser client (prints JSON; not a test): headless chromium (SwiftShader
 // WebGL2) on the viewer page of a real gale-server, for the town block (the embedded
 // default scene) and a generated scene of 4,000 trees. Per scene: JS CPU of the page's
-// stages, median and p95 [ms]: decode (web/wire.js, per snapshot), dequantise (per
-// snapshot, into the jitter buffer's copy), interpolate (web/jitter.js) and upload (q into
-// its texture), both per drawn frame; page load to the first drawn frame; bytes fetched
-// (pages, shaders, assets over HTTP, the WebSocket stream). The draw itself is capped at
-// the --draw nearest trees (a software GPU draws a tree in tens of milliseconds); every
-// tree is still decoded, dequantised, interpolated and uploaded. js_cpu_per_frame_ms: the
-// four stages' medians (p95s, means) summed, a drawn frame that also took a snapshot in.
-// ref_ms: the same page's time for a fixed multiply-add over 4,000 × 32 floats, 100
-// times: the machine's pace in this run.
+// stages, median and p95 [ms]: decode (web/wire.js) and insert (the copy of the quantised
+// values into the jitter buffer, web/jitter.js), per snapshot; interp (the Hermite weights
+// and the skeleton pass's per-species weights: the GPU dequantises and blends) and upload
+// (of the snapshots a frame is the first to blend into the GPU's ring, web/render_gl.js
+// setMix), per drawn frame; page load to the first drawn frame; bytes fetched (pages,
+// shaders, assets over HTTP, the WebSocket stream). The draw itself is capped at the
+// --draw nearest trees (a software GPU draws a tree in tens of milliseconds); every tree
+// is still decoded, copied and uploaded. js_cpu_per_frame_ms: the four stages' medians
+// (p95s, means) summed, a drawn frame that also took a snapshot in. ref_ms: the same
+// page's time for a fixed multiply-add over 4,000 × 32 floats, 100 times: the machine's
+// pace in this run.
 //   GALE_WEB_DEPS=build/tests/web node tests/web/bench_web.mjs build/server/gale-server OUT_DIR
 //       [--seconds S] [--draw N]
 import { writeFileSync, mkdirSync, readFileSync } from 'node:fs';
@@ -43,7 +45,8 @@ async function run(name, extra) {
         await page.goto(`${srv.url}/?max_trees=${draw}`);
         await waitFor(page, () => window.gale && window.gale.framesDrawn >= 1, null, 600, `${name}: first frame`);
         await new Promise((r) => setTimeout(r, 2000));
-        await page.evaluate(() => { for (const k of Object.keys(window.gale.perf)) window.gale.perf[k] = []; window.gale.ws0 = window.gale.conn.stats.bytes; window.gale.t0 = performance.now(); });
+        await page.evaluate(() => { for (const k of Object.keys(window.gale.perf)) window.gale.perf[k] = []; window.gale.ws0 = window.gale.conn.stats.bytes; window.gale.t0 = performance.now();
+            window.gale.up0 = window.gale.r.stats.uploads || 0; window.gale.j0 = { ...window.gale.jitter.stats }; });
         await new Promise((r) => setTimeout(r, seconds * 1000));
         const res = await page.evaluate(() => {
             const g = window.gale;
@@ -54,11 +57,13 @@ async function run(name, extra) {
             const t = performance.now();
             for (let k = 0; k < 100; k++) for (let i = 0; i < x.length; i++) y[i] = y[i] * 0.5 + x[i] * 0.25;
             const ref = performance.now() - t;
-            const ps = g.perfSummary(), sum = (k) => ['decode', 'dequant', 'interp', 'upload'].reduce((a, s) => a + ps[s][k], 0);
+            const ps = g.perfSummary(), sum = (k) => ['decode', 'insert', 'interp', 'upload'].reduce((a, s) => a + ps[s][k], 0);
             return { trees: g.welcome.instances.length, js_cpu_per_frame_ms: { median_sum: sum('median_ms'), p95_sum: sum('p95_ms'), mean_sum: sum('mean_ms') }, modes_max: g.stride, drawn_trees: g.r.stats.trees_drawn, perf: g.perfSummary(),
                 first_frame_ms: g.firstFrame_ms, frames_drawn_per_s: g.perf.interp.length / ((performance.now() - g.t0) / 1000),
                 bytes: { http, page_html: nav ? nav.transferSize : null, assets: g.bytesAssets, ws_per_s: (g.conn.stats.bytes - g.ws0) / ((performance.now() - g.t0) / 1000) },
-                decode_errors: g.conn.stats.errors, ref_ms: ref };
+                decode_errors: g.conn.stats.errors, ref_ms: ref,
+                snapshots_uploaded_per_frame: ((g.r.stats.uploads || 0) - g.up0) / Math.max(1, g.perf.interp.length),
+                jitter: Object.fromEntries(Object.entries(g.jitter.stats).map(([k, v]) => [k, v - (g.j0[k] || 0)])) };
         });
         return res;
     } finally {

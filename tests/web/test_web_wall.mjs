@@ -41,7 +41,8 @@ async function compare(page, what, frames) {
     const log = path.join(work, `native-c1r0-${what}.frames`);
     // the browser keeps 30 s of snapshots meanwhile (gale-client may take a while to
     // start and end, under a sanitizer more so)
-    await page.evaluate(() => { window.gale.jitter.capacity = 900; });
+    const held = await page.evaluate(() => window.gale.holdSnapshots(900));
+    assert.ok(held >= 256, `the browser holds ${held} snapshots`);
     await native('c1r0', path.join(work, `native-c1r0-${what}.png`), frames, log);
     // mono_us server_us_shown frame a line; the shader clock from the first whole second
     // (render_rel_time), here of the first group frame

@@ -40,6 +40,13 @@ near(qf[1], -0.004, 1e-9, 'q tree 0 mode 1');
 near(qf[4], 0.007, 1e-9, 'q tree 2 mode 0 (species 0 step 0.001)');
 checks += 6;
 
+// decoded into a reused snapshot (the decoder keeps spares) holding other values: those
+// past each tree's modes are zeroed too (the browser's skeleton pass blends them as held)
+const dz = new Decoder();
+dz.spare.push({ seq: 0, n_modes: new Uint8Array(3), q: new Int16Array(6).fill(99) });
+assert.deepEqual([...dz.decode(byType[MSG.KEYFRAME]).state.q], [3, -2, 0, 0, 7, 0], 'keyframe into a reused snapshot');
+checks++;
+
 // DELTA on it: seq 6, tick 122, Q tree 0 [4, -2], tree 2 [7]
 const dl = d.decode(byType[MSG.DELTA]);
 assert.equal(dl.hdr.tick, 122);
