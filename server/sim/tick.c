@@ -22,9 +22,10 @@ struct tick_sim {
     float *vel_ordered;     /* owned [n_trees][3]: the wind sampled in that order */
     void *probe;            /* owned by d.wind: the crowns' stencils in that order; NULL:
                                sample_many every tick */
-    float *vel_grid;        /* owned [n_trees][3]: the grid's part at each crown since the
-                               last step (with a probe) */
-    bool grid_read;         /* vel_grid holds the grid as it stands */
+    float *vel_grid;        /* owned [n_trees][3]: the grid's part at each crown (with a
+                               probe), as the grid stood after a step (sample_probe) */
+    float *vel_next;        /* owned [n_trees][3]: the same, of the last step, share by share */
+    bool grid_read;         /* vel_grid holds a step's grid */
     uint32_t *slots;        /* owned [n_trees]: leaf slots of each tree's species */
     int threads;            /* scene tick_threads */
     leaf_seed *leaves;      /* owned [max_leaves_per_tick] */
@@ -158,9 +159,10 @@ tick_sim *tick_create(const tick_desc *d, gale_err *err)
     if (d->wind && d->wind->probe_create && d->wind->probe_sample && d->wind->probe_destroy) {
         /* without memory for them the crowns are sampled every tick as without a probe */
         t->vel_grid = malloc((size_t)t->n_trees * 3 * sizeof(float));
-        t->probe = t->vel_grid ? d->wind->probe_create(d->wind->ctx, t->n_trees,
-                                                       t->crown_ordered)
-                               : NULL;
+        t->vel_next = malloc((size_t)t->n_trees * 3 * sizeof(float));
+        t->probe = t->vel_grid && t->vel_next
+                       ? d->wind->probe_create(d->wind->ctx, t->n_trees, t->crown_ordered)
+                       : NULL;
     }
     t->m = modal_create(&(modal_desc){ .n_trees = (uint32_t)t->n_trees,
                                        .n_species = (uint32_t)sc->n_species,
@@ -234,6 +236,7 @@ void tick_destroy(tick_sim *t)
         t->d.wind->probe_destroy(t->probe);
     }
     free(t->vel_grid);
+    free(t->vel_next);
     free(t->crown);
     free(t->vel);
     free(t->order);
@@ -263,39 +266,59 @@ void tick_set_balls(tick_sim *t, const wind_ball *balls, int n)
 /* Crowns per share of the sampling on the tick's threads. */
 #define SAMPLE_CHUNK 4096
 
-/* The wind at every crown from the probe: the grid read after a step (or on the first
- * tick) in the crowns' locality order and put back in tree order, then each tick the
- * term that follows the inflow. Each crown is independent, so the shares over the
- * threads change no float. */
-static void sample_probe(tick_sim *t, bool stepped)
+/* Crowns [i0, i1) of the locality order read from the grid through the probe into dst,
+ * in tree order, on the tick's threads. Each crown is independent, so the shares over
+ * the threads change no float. */
+static void read_grid(tick_sim *t, int i0, int i1, float *dst)
+{
+    const tick_wind *wd = t->d.wind;
+    const int nc = (i1 - i0 + SAMPLE_CHUNK - 1) / SAMPLE_CHUNK;
+#pragma omp parallel for schedule(static) num_threads(t->threads) if (nc > 1)
+    for (int c = 0; c < nc; c++) {
+        const int a = i0 + c * SAMPLE_CHUNK, b = a + SAMPLE_CHUNK < i1 ? a + SAMPLE_CHUNK : i1;
+        wd->probe_sample(wd->ctx, t->probe, a, b, t->vel_ordered);
+        for (int i = a; i < b; i++) {
+            memcpy(&dst[3 * (size_t)t->order[i]], &t->vel_ordered[3 * (size_t)i],
+                   3 * sizeof(float));
+        }
+    }
+}
+
+/* The wind at every crown from the probe: the grid's part, then each tick the term that
+ * follows the inflow. With a step every k > 1 ticks, the step's tick reads none of the
+ * grid (it carries the step) and each of the k - 1 ticks after it reads a share of the
+ * crowns, the last share switching all crowns to that step's grid at once: the grid's
+ * part lags the grid by k - 1 ticks (at most one step; none at k = 1), so no tick
+ * carries both the step and the whole read (SERVER.md "Loop"). The first tick reads the
+ * whole grid at once. */
+static void sample_probe(tick_sim *t)
 {
     const tick_wind *wd = t->d.wind;
     const int n = t->n_trees, nc = (n + SAMPLE_CHUNK - 1) / SAMPLE_CHUNK;
-    const bool read = stepped || !t->grid_read;
-#pragma omp parallel num_threads(t->threads) if (nc > 1)
-    {
-        if (read) {
-#pragma omp for schedule(static)
-            for (int c = 0; c < nc; c++) {
-                const int i0 = c * SAMPLE_CHUNK, i1 = i0 + SAMPLE_CHUNK < n ? i0 + SAMPLE_CHUNK : n;
-                wd->probe_sample(wd->ctx, t->probe, i0, i1, t->vel_ordered);
-                for (int i = i0; i < i1; i++) {
-                    memcpy(&t->vel_grid[3 * (size_t)t->order[i]], &t->vel_ordered[3 * (size_t)i],
-                           3 * sizeof(float));
-                }
-            }
-        }
-#pragma omp for schedule(static)
-        for (int c = 0; c < nc; c++) {
-            const size_t i0 = (size_t)c * SAMPLE_CHUNK;
-            const int m = (int)i0 + SAMPLE_CHUNK < n ? SAMPLE_CHUNK : n - (int)i0;
-            memcpy(&t->vel[3 * i0], &t->vel_grid[3 * i0], 3 * sizeof(float) * (size_t)m);
-            if (wd->add_subgrid) {
-                wd->add_subgrid(wd->ctx, m, &t->crown[3 * i0], &t->vel[3 * i0]);
-            }
+    const int every = t->d.sc->wind_every > 1 ? t->d.sc->wind_every : 1;
+    const int phase = (int)(t->tick % (uint32_t)every);
+    if (!t->grid_read || every == 1) {
+        read_grid(t, 0, n, t->vel_grid);
+        t->grid_read = true;
+    } else if (phase > 0) {
+        const int shares = every - 1, j = phase - 1;
+        read_grid(t, (int)((int64_t)n * j / shares), (int)((int64_t)n * (j + 1) / shares),
+                  t->vel_next);
+        if (j == shares - 1) {
+            float *v = t->vel_grid;
+            t->vel_grid = t->vel_next;
+            t->vel_next = v;
         }
     }
-    t->grid_read = true;
+#pragma omp parallel for schedule(static) num_threads(t->threads) if (nc > 1)
+    for (int c = 0; c < nc; c++) {
+        const size_t i0 = (size_t)c * SAMPLE_CHUNK;
+        const int m = (int)i0 + SAMPLE_CHUNK < n ? SAMPLE_CHUNK : n - (int)i0;
+        memcpy(&t->vel[3 * i0], &t->vel_grid[3 * i0], 3 * sizeof(float) * (size_t)m);
+        if (wd->add_subgrid) {
+            wd->add_subgrid(wd->ctx, m, &t->crown[3 * i0], &t->vel[3 * i0]);
+        }
+    }
 }
 
 /* The log-law profile alone (no grid): U(z) = U10 ln(z/z0) / ln(10/z0), z clamped below
@@ -360,7 +383,7 @@ int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
         }
         /* 2. sample the wind at every crown, in the grid's locality order */
         if (t->probe) {
-            sample_probe(t, local.wind_stepped);
+            sample_probe(t);
         } else {
             t->d.wind->sample_many(t->d.wind->ctx, t->n_trees, t->crown_ordered,
                                    t->vel_ordered);
