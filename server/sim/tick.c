@@ -285,26 +285,26 @@ static void read_grid(tick_sim *t, int i0, int i1, float *dst)
 }
 
 /* The wind at every crown from the probe: the grid's part, then each tick the term that
- * follows the inflow. With a step every k > 1 ticks, the step's tick reads none of the
- * grid (it carries the step) and each of the k - 1 ticks after it reads a share of the
- * crowns, the last share switching all crowns to that step's grid at once: the grid's
- * part lags the grid by k - 1 ticks (at most one step; none at k = 1), so no tick
- * carries both the step and the whole read (SERVER.md "Loop"). The first tick reads the
- * whole grid at once. */
+ * follows the inflow. With a step every k ticks, the step's tick and each of the k - 1
+ * after it read a k-th of the crowns into a second buffer, the last switching all crowns
+ * to that step's grid at once: the grid's part lags the grid by k - 1 ticks (less than
+ * one step; none at k = 1), and no tick carries the whole read (SERVER.md "Loop"). The
+ * first tick reads the whole grid at once. */
 static void sample_probe(tick_sim *t)
 {
     const tick_wind *wd = t->d.wind;
     const int n = t->n_trees, nc = (n + SAMPLE_CHUNK - 1) / SAMPLE_CHUNK;
     const int every = t->d.sc->wind_every > 1 ? t->d.sc->wind_every : 1;
-    const int phase = (int)(t->tick % (uint32_t)every);
-    if (!t->grid_read || every == 1) {
+    if (!t->grid_read) {
+        /* both buffers: the shares still to come of this step read the same grid */
         read_grid(t, 0, n, t->vel_grid);
+        memcpy(t->vel_next, t->vel_grid, (size_t)n * 3 * sizeof(float));
         t->grid_read = true;
-    } else if (phase > 0) {
-        const int shares = every - 1, j = phase - 1;
-        read_grid(t, (int)((int64_t)n * j / shares), (int)((int64_t)n * (j + 1) / shares),
+    } else {
+        const int j = (int)(t->tick % (uint32_t)every);
+        read_grid(t, (int)((int64_t)n * j / every), (int)((int64_t)n * (j + 1) / every),
                   t->vel_next);
-        if (j == shares - 1) {
+        if (j == every - 1) {
             float *v = t->vel_grid;
             t->vel_grid = t->vel_next;
             t->vel_next = v;
