@@ -562,17 +562,15 @@ int bench_modal(int argc, char **argv)
             }
             tw = mono_ms() - w0;
         }
-        /* the grid read as the server's tick reads it: whole on the first tick (and
-         * every tick at --wind-every 1), else a share of the trees on each of the
-         * every - 1 ticks after a step into the next buffer, switched on the last */
+        /* the grid read as the server's tick reads it: whole on the first tick, else an
+         * every-th of the trees on the step's tick and on each of the every - 1 after it
+         * into the next buffer, switched on the last */
         const int phase = (k + 20) % every;
-        int r0 = 0, r1 = 0;
+        int r0 = 0, r1 = n_trees;
         float *dst = in.wind;
-        if (k == -20 || every == 1) {
-            r1 = n_trees;
-        } else if (phase > 0) {
-            r0 = (int)((int64_t)n_trees * (phase - 1) / (every - 1));
-            r1 = (int)((int64_t)n_trees * phase / (every - 1));
+        if (k > -20) {
+            r0 = (int)((int64_t)n_trees * phase / every);
+            r1 = (int)((int64_t)n_trees * (phase + 1) / every);
             dst = in.wind_next;
         }
         /* A then B on even ticks, B then A on odd: neither always runs on warm caches or
@@ -584,6 +582,9 @@ int bench_modal(int argc, char **argv)
                 fprintf(stderr, "gale-bench modal: encode: %s\n", err.msg);
                 return 1;
             }
+        }
+        if (k == -20) {
+            memcpy(in.wind_next, in.wind, sizeof(float) * 3 * (size_t)n_trees);
         }
         if (dst == in.wind_next && phase == every - 1) {
             in.wind_next = in.wind;
@@ -656,7 +657,8 @@ int bench_modal(int argc, char **argv)
         double med_s = median_of(v->t_sample, ticks, scratch);
         double p99_t = (memcpy(scratch, v->t_total, sizeof(double) * (size_t)ticks),
                         pct(scratch, ticks, 0.99));
-        /* the ticks that read a share of the grid and the others (the steps' ticks), apart */
+        /* the ticks that read a share of the grid and the others (none since the grid is
+           read on every tick), apart */
         double *rd = malloc(sizeof(double) * 2 * (size_t)ticks);
         int n_rd = 0, n_other = 0;
         for (int k = 0; rd && k < ticks; k++) {
