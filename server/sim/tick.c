@@ -266,59 +266,58 @@ void tick_set_balls(tick_sim *t, const wind_ball *balls, int n)
 /* Crowns per share of the sampling on the tick's threads. */
 #define SAMPLE_CHUNK 4096
 
-/* Crowns [i0, i1) of the locality order read from the grid through the probe into dst,
- * in tree order, on the tick's threads. Each crown is independent, so the shares over
- * the threads change no float. */
-static void read_grid(tick_sim *t, int i0, int i1, float *dst)
-{
-    const tick_wind *wd = t->d.wind;
-    const int nc = (i1 - i0 + SAMPLE_CHUNK - 1) / SAMPLE_CHUNK;
-#pragma omp parallel for schedule(static) num_threads(t->threads) if (nc > 1)
-    for (int c = 0; c < nc; c++) {
-        const int a = i0 + c * SAMPLE_CHUNK, b = a + SAMPLE_CHUNK < i1 ? a + SAMPLE_CHUNK : i1;
-        wd->probe_sample(wd->ctx, t->probe, a, b, t->vel_ordered);
-        for (int i = a; i < b; i++) {
-            memcpy(&dst[3 * (size_t)t->order[i]], &t->vel_ordered[3 * (size_t)i],
-                   3 * sizeof(float));
-        }
-    }
-}
-
 /* The wind at every crown from the probe: the grid's part, then each tick the term that
  * follows the inflow. With a step every k ticks, the step's tick and each of the k - 1
  * after it read a k-th of the crowns into a second buffer, the last switching all crowns
  * to that step's grid at once: the grid's part lags the grid by k - 1 ticks (less than
  * one step; none at k = 1), and no tick carries the whole read (SERVER.md "Loop"). The
- * first tick reads the whole grid at once. */
+ * first tick reads the whole grid at once. Each crown is independent, so the shares over
+ * the threads change no float; one parallel region, as each costs a wake-up of the
+ * threads. */
 static void sample_probe(tick_sim *t)
 {
     const tick_wind *wd = t->d.wind;
     const int n = t->n_trees, nc = (n + SAMPLE_CHUNK - 1) / SAMPLE_CHUNK;
     const int every = t->d.sc->wind_every > 1 ? t->d.sc->wind_every : 1;
-    if (!t->grid_read) {
-        /* both buffers: the shares still to come of this step read the same grid */
-        read_grid(t, 0, n, t->vel_grid);
-        memcpy(t->vel_next, t->vel_grid, (size_t)n * 3 * sizeof(float));
-        t->grid_read = true;
-    } else {
-        const int j = (int)(t->tick % (uint32_t)every);
-        read_grid(t, (int)((int64_t)n * j / every), (int)((int64_t)n * (j + 1) / every),
-                  t->vel_next);
-        if (j == every - 1) {
-            float *v = t->vel_grid;
-            t->vel_grid = t->vel_next;
-            t->vel_next = v;
+    const bool first = !t->grid_read;
+    const int j = (int)(t->tick % (uint32_t)every);
+    /* this tick's share of the crowns in the locality order, and where it goes */
+    const int r0 = first ? 0 : (int)((int64_t)n * j / every);
+    const int r1 = first ? n : (int)((int64_t)n * (j + 1) / every);
+    float *const dst = first ? t->vel_grid : t->vel_next;
+    const int nr = (r1 - r0 + SAMPLE_CHUNK - 1) / SAMPLE_CHUNK;
+#pragma omp parallel num_threads(t->threads) if (nc > 1)
+    {
+#pragma omp for schedule(static)
+        for (int c = 0; c < nr; c++) {
+            const int a = r0 + c * SAMPLE_CHUNK, b = a + SAMPLE_CHUNK < r1 ? a + SAMPLE_CHUNK : r1;
+            wd->probe_sample(wd->ctx, t->probe, a, b, t->vel_ordered);
+            for (int i = a; i < b; i++) {
+                memcpy(&dst[3 * (size_t)t->order[i]], &t->vel_ordered[3 * (size_t)i],
+                       3 * sizeof(float));
+            }
+        }
+#pragma omp single
+        {
+            if (first) {
+                /* both buffers: the shares still to come of this step read the same grid */
+                memcpy(t->vel_next, t->vel_grid, (size_t)n * 3 * sizeof(float));
+            } else if (j == every - 1) {
+                t->vel_next = t->vel_grid;
+                t->vel_grid = dst;
+            }
+        }
+#pragma omp for schedule(static)
+        for (int c = 0; c < nc; c++) {
+            const size_t i0 = (size_t)c * SAMPLE_CHUNK;
+            const int m = (int)i0 + SAMPLE_CHUNK < n ? SAMPLE_CHUNK : n - (int)i0;
+            memcpy(&t->vel[3 * i0], &t->vel_grid[3 * i0], 3 * sizeof(float) * (size_t)m);
+            if (wd->add_subgrid) {
+                wd->add_subgrid(wd->ctx, m, &t->crown[3 * i0], &t->vel[3 * i0]);
+            }
         }
     }
-#pragma omp parallel for schedule(static) num_threads(t->threads) if (nc > 1)
-    for (int c = 0; c < nc; c++) {
-        const size_t i0 = (size_t)c * SAMPLE_CHUNK;
-        const int m = (int)i0 + SAMPLE_CHUNK < n ? SAMPLE_CHUNK : n - (int)i0;
-        memcpy(&t->vel[3 * i0], &t->vel_grid[3 * i0], 3 * sizeof(float) * (size_t)m);
-        if (wd->add_subgrid) {
-            wd->add_subgrid(wd->ctx, m, &t->crown[3 * i0], &t->vel[3 * i0]);
-        }
-    }
+    t->grid_read = true;
 }
 
 /* The log-law profile alone (no grid): U(z) = U10 ln(z/z0) / ln(10/z0), z clamped below
