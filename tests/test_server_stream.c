@@ -1,8 +1,7 @@
 /* The one snapshot-stream encoder (srv_stream.h): the shared stream and a view stream
  * with the same per-tree modes give the same bytes, both equal to the wire encoders
  * called directly; deltas appear as the stream holds one and two snapshots, and a failed
- * or skipped snapshot starts it over with a keyframe, and so does every key_every-th seq;
- * a snapshot encoded in stages over two turns is byte for byte the one-call snapshot. */
+ * or skipped snapshot starts it over with a keyframe, and so does every key_every-th seq. */
 #include "check.h"
 #include "srv_stream.h"
 
@@ -185,58 +184,10 @@ static void test_periodic_keyframe(void)
     CHECK(key_only == 4);
 }
 
-/* Lanes one after the other on the caller's thread, the last first. */
-static void run_serial(void *ctx, int n, wire_lane_fn job, void *arg)
-{
-    (void)ctx;
-    for (int i = n - 1; i >= 0; i--) {
-        job(arg, i);
-    }
-}
-
-/* A snapshot encoded in stages (srv_stream_begin, one of its 3 lanes, the rest in
- * srv_stream_finish, as srv_publish.c spreads it over two ticks), the header and the
- * history's description gone between: the bytes and the holding of srv_stream_encode
- * in one call (a lane not run would leave its trees out). */
-static void test_staged(void)
-{
-    wire_scene sc = make_scene();
-    const wire_lanes lanes = { 3, run_serial, NULL };
-    srv_stream whole, staged;
-    srv_stream_start(&whole, 0, full_modes, 4);
-    srv_stream_start(&staged, 0, full_modes, 4);
-    int16_t q[3][N * STRIDE];
-    int cur = 0;
-    for (int k = 1; k <= 6; k++) {
-        fill_q(q[cur], k);
-        struct {
-            srv_qhist qh;
-            wire_header h;
-        } d = { { .q = { q[cur], q[(cur + 2) % 3], q[(cur + 1) % 3] }, .n_trees = N,
-                  .stride = STRIDE, .lanes = &lanes },
-                { .tick = 2u * (uint32_t)k, .server_time_us = 1000u * (uint64_t)k } };
-        snap_bufs a, b;
-        snap_init(&a);
-        snap_init(&b);
-        CHECK(srv_stream_encode(&whole, &d.h, (uint32_t)k, &sc, &d.qh, &a.s, NULL) == 0);
-        srv_stream_begin(&staged, &d.h, (uint32_t)k, &sc, &d.qh, &b.s);
-        CHECK(srv_stream_lanes(&staged) == 3);
-        srv_stream_run(&staged, 1);
-        memset(&d, 0, sizeof d);
-        CHECK(srv_stream_finish(&staged, NULL) == 0);
-        CHECK(same(&a, &b));
-        CHECK(b.s.seq == (uint32_t)k && staged.held == whole.held);
-        CHECK((b.s.delta1_len > 0) == (k % 4 != 0 && k >= 2));
-        cur = (cur + 1) % 3;
-    }
-    CHECK(srv_stream_finish(&staged, NULL) != 0); /* none begun */
-}
-
 int main(void)
 {
     RUN(test_shared_equals_view);
     RUN(test_failure_and_skip);
     RUN(test_periodic_keyframe);
-    RUN(test_staged);
     return check_report();
 }

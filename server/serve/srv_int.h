@@ -54,7 +54,6 @@ typedef struct srv_view {
 typedef struct srv_vsel {
     srv_stream enc;  /* enc.id: the stream the modes below were selected for; 0 none */
     uint8_t *modes;  /* owned [n_trees]: view_select of the slot's view */
-    uint64_t enc_us; /* time spent on the snapshot it is encoding */
 } srv_vsel;
 
 struct srv {
@@ -97,8 +96,6 @@ struct srv {
     int16_t *qbuf[3];            /* owned [n_trees * stride]: current, previous, before */
     int cur;                     /* index of the current buffer in qbuf */
     srv_stream shared;           /* the whole-scene stream (net_snap.stream 0) */
-    net_snap *pend;              /* the shared snapshot begun on its tick and finished on
-                                    the next (srv_publish_finish); NULL none */
     wire_lanes lanes;            /* the encoders' lanes on the scene's tick_threads */
     uint32_t seq;
     int ticks_per_snap;
@@ -168,15 +165,8 @@ void srv_on_closed(void *user, const net_peer *p);
 void srv_wall_send(void *user, uint32_t conn, const char *text, size_t len);
 
 /* srv_publish.c, sim thread: snapshot s->seq + 1 of tick `tick` from s->qbuf[s->cur]
- * (which tick_step just filled) to every stream; then rotates the buffers. With
- * ticks_per_snap >= 2 the state frames' encoding is split between this tick and the next:
- * half of the lanes now, the rest, and the publishing, in srv_publish_finish after the
- * next tick_step (which leaves the quantised buffers alone). */
+ * (which tick_step just filled) to every stream; then rotates the buffers. */
 void srv_publish(srv *s, uint32_t tick);
-/* Finishes and publishes the snapshot srv_publish began, if any. */
-void srv_publish_finish(srv *s);
-/* Drops it unpublished (the loop's end). */
-void srv_publish_drop(srv *s);
 /* The publisher's rows (gale_leaves_shed_total, gale_view_*) into r. */
 int srv_publish_register(srv *s, metric_reg *r, gale_err *err);
 

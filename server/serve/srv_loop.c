@@ -1,6 +1,5 @@
 /* The fixed-step loop on the simulation thread (server/SERVER.md "Loop"): scenario →
- * inflow, one tick, leaf seeds gathered, a snapshot every ticks_per_snap ticks (its
- * encoding split with the tick after it: srv_publish), the
+ * inflow, one tick, leaf seeds gathered, a snapshot every ticks_per_snap ticks, the
  * simulation's metrics, and the overrun policy: a late tick is counted and logged but
  * never skipped, so simulated time stays exact. */
 #include "srv_int.h"
@@ -106,8 +105,6 @@ void *srv_loop(void *arg)
         srv_damage_gather(s);
         if (snap) {
             srv_publish(s, tick + 1);
-        } else {
-            srv_publish_finish(s); /* the rest of the last snapshot's encoding */
         }
         struct timespec now;
         clock_gettime(CLOCK_MONOTONIC, &now);
@@ -147,6 +144,5 @@ void *srv_loop(void *arg)
             clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next, NULL);
         }
     }
-    srv_publish_drop(s);
     return NULL;
 }

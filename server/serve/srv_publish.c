@@ -39,13 +39,11 @@ static int encode_wind(srv *s, wire_header *h, net_snap *p, gale_err *e)
                             &p->extra_len[SRV_EXTRA_WIND], e);
 }
 
-/* One snapshot per view stream, begun: the state encoded with the view's per-tree mode
- * counts (view_select), the extras of the shared snapshot p copied, `first` of its lanes
- * run. A stream whose selection is new starts with a keyframe, and every stream sends
- * only a keyframe on the periodic seqs (srv_stream_start), the shared one and the views
- * on the same snapshots. */
-static void views_begin(srv *s, const wire_header *h, const srv_qhist *qh, const net_snap *p,
-                        int first)
+/* One snapshot per view stream: the state encoded with the view's per-tree mode counts
+ * (view_select), the extras of the shared snapshot p copied. A stream whose
+ * selection is new starts with a keyframe, and every stream sends only a keyframe on the
+ * periodic seqs (srv_stream_start), the shared one and the views on the same snapshots. */
+static void publish_views(srv *s, const wire_header *h, const srv_qhist *qh, const net_snap *p)
 {
     uint32_t streams[SRV_MAX_VIEWS];
     ctl_view views[SRV_MAX_VIEWS];
@@ -73,41 +71,21 @@ static void views_begin(srv *s, const wire_header *h, const srv_qhist *qh, const
             srv_stream_skip(&vs->enc); /* its connections see a gap and get a keyframe */
             continue;
         }
-        srv_stream_begin(&vs->enc, h, p->seq, &s->wscene, qh, q);
-        for (int x = 0; x < NET_SNAP_MAX_EXTRA; x++) {
+        gale_err e;
+        int rc = srv_stream_encode(&vs->enc, h, p->seq, &s->wscene, qh, q, &e);
+        for (int x = 0; x < NET_SNAP_MAX_EXTRA && !rc; x++) {
             q->extra_len[x] = p->extra_len[x];
             memcpy(q->extra[x], p->extra[x], p->extra_len[x]);
         }
         q->extra_key_only = p->extra_key_only;
-        srv_stream_run(&vs->enc, first);
-        vs->enc_us = mono_us() - t0;
-    }
-}
-
-/* The view streams' snapshots begun by views_begin: finished and published, or (publish
- * false) dropped, their connections then seeing a gap. */
-static void views_end(srv *s, bool publish)
-{
-    for (int k = 0; k < SRV_MAX_VIEWS; k++) {
-        srv_vsel *vs = &s->vsel[k];
-        net_snap *q = vs->enc.out;
-        if (!q) {
-            continue;
-        }
-        uint64_t t0 = mono_us();
-        gale_err e;
-        int rc = srv_stream_finish(&vs->enc, &e);
-        if (rc || !publish) {
-            if (rc) {
-                fprintf(stderr, "gale-server: snapshot %u of view stream %u not sent: %s\n",
-                        q->seq, vs->enc.id, e.msg);
-            }
-            srv_stream_skip(&vs->enc);
+        if (rc) {
+            fprintf(stderr, "gale-server: snapshot %u of view stream %u not sent: %s\n", p->seq,
+                    vs->enc.id, e.msg);
             atomic_fetch_sub(&q->refs, 1);
             continue;
         }
         atomic_fetch_add(&s->pubm.view_snapshots, 1);
-        atomic_fetch_add(&s->pubm.view_encode_ns, (vs->enc_us + mono_us() - t0) * 1000u);
+        atomic_fetch_add(&s->pubm.view_encode_ns, (mono_us() - t0) * 1000u);
         net_publish(s->net, q);
     }
 }
@@ -120,44 +98,8 @@ static void skip_views(srv *s)
     }
 }
 
-/* The snapshot begun: its state frames completed and it and the views' published, or
- * (publish false) all of them dropped. */
-static void pend_end(srv *s, bool publish)
-{
-    net_snap *p = s->pend;
-    if (!p) {
-        return;
-    }
-    s->pend = NULL;
-    gale_err e;
-    int rc = srv_stream_finish(&s->shared, &e);
-    if (rc || !publish) {
-        if (rc) {
-            fprintf(stderr, "gale-server: snapshot %u not sent: %s\n", p->seq, e.msg);
-        }
-        atomic_fetch_sub(&p->refs, 1);
-        srv_stream_skip(&s->shared);
-        views_end(s, false);
-        skip_views(s);
-        return;
-    }
-    views_end(s, true);
-    net_publish(s->net, p);
-}
-
-void srv_publish_finish(srv *s)
-{
-    pend_end(s, true);
-}
-
-void srv_publish_drop(srv *s)
-{
-    pend_end(s, false);
-}
-
 void srv_publish(srv *s, uint32_t tick)
 {
-    srv_publish_finish(s);
     const int n = s->d.sc->n_trees, stride = s->stride;
     s->seq++;
     if (s->hist) {
@@ -176,16 +118,12 @@ void srv_publish(srv *s, uint32_t tick)
                            .n_trees = (uint32_t)n,
                            .stride = (uint32_t)stride,
                            .lanes = &s->lanes };
-    /* with a tick between snapshots, half of the state frames' lanes now and half after
-       the next tick: neither tick carries the whole encoding */
-    const bool split = s->ticks_per_snap >= 2;
     net_snap *p = net_snap_acquire(s->net);
     if (p) {
         wire_header h = { .tick = tick, .server_time_us = mono_us() };
         gale_err e;
-        srv_stream_begin(&s->shared, &h, s->seq, &s->wscene, &qh, p);
-        int rc = 0;
-        if (s->coarse && s->seq % SRV_WIND_EVERY == 1) {
+        int rc = srv_stream_encode(&s->shared, &h, s->seq, &s->wscene, &qh, p, &e);
+        if (!rc && s->coarse && s->seq % SRV_WIND_EVERY == 1) {
             rc = encode_wind(s, &h, p, &e);
         }
         if (!rc && s->n_leaves && s->seq % SRV_LEAF_EVERY == 0) {
@@ -200,18 +138,15 @@ void srv_publish(srv *s, uint32_t tick)
             h.type = WIRE_MSG_WEATHER;
             rc = srv_weather_encode(s, &h, p, &e);
         }
-        s->pend = p;
         if (rc) {
             fprintf(stderr, "gale-server: tick %u: snapshot %u not sent: %s\n", tick, s->seq,
                     e.msg);
-            srv_publish_drop(s);
+            atomic_fetch_sub(&p->refs, 1);
+            srv_stream_skip(&s->shared);
+            skip_views(s);
         } else {
-            const int first = split ? srv_stream_lanes(&s->shared) / 2 : 0;
-            srv_stream_run(&s->shared, first);
-            views_begin(s, &h, &qh, p, first);
-            if (!split) {
-                srv_publish_finish(s);
-            }
+            publish_views(s, &h, &qh, p);
+            net_publish(s->net, p);
         }
     } else {
         srv_stream_skip(&s->shared);

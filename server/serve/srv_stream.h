@@ -27,13 +27,6 @@ typedef struct srv_stream {
     const uint8_t *n_modes; /* [n_trees] modes encoded per tree, borrowed */
     int held;               /* snapshots in a row encoded with these modes: 0, 1, 2 (or more) */
     uint32_t key_every;     /* a snapshot whose seq is a multiple of it is keyframe only; 0 never */
-    /* the snapshot being encoded in stages (srv_stream_begin .. srv_stream_finish) */
-    net_snap *out;          /* NULL: none */
-    int using;              /* previous snapshots it is encoded against: 0, 1, 2 */
-    int ran;                /* its lanes run so far, from the first */
-    wire_frame_out f[3];
-    gale_err err;
-    wire_snapshot_job job;
 } srv_stream;
 
 /* (Re)starts stream id with per-tree mode counts n_modes (borrowed while the stream
@@ -52,18 +45,6 @@ void srv_stream_start(srv_stream *st, uint32_t id, const uint8_t *n_modes, uint3
 int srv_stream_encode(srv_stream *st, const wire_header *h, uint32_t seq,
                       const wire_scene *scene, const srv_qhist *qh, net_snap *out,
                       gale_err *err);
-
-/* srv_stream_encode in stages, so that a snapshot's lanes can run over the ticks until
- * the next (srv_publish.c): begin writes the frames' fixed parts (qh's buffers, scene and
- * out borrowed until finish; h and qh's description copied), run runs lanes [i0, i1) of
- * srv_stream_lanes, finish completes the frames (running any lanes not yet run), sets
- * out's lengths and the stream's holding, and returns what srv_stream_encode would with
- * the same bytes. */
-void srv_stream_begin(srv_stream *st, const wire_header *h, uint32_t seq,
-                      const wire_scene *scene, const srv_qhist *qh, net_snap *out);
-int srv_stream_lanes(const srv_stream *st);
-void srv_stream_run(srv_stream *st, int n);
-int srv_stream_finish(srv_stream *st, gale_err *err);
 
 /* The stream's snapshot was not published (no free snapshot, or another message of it
  * failed): the stream holds none. */
