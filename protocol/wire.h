@@ -186,7 +186,7 @@ typedef struct wire_lane_job {
 } wire_lane_job;
 
 /* wire_encode_snapshot_lanes in three calls, so that its lanes can run over several
- * turns (the server spreads a snapshot's encoding over the ticks until the next one):
+ * turns between other work (the same bytes whatever the turns; tests/test_wire_lanes.c):
  * wire_snapshot_begin writes the frames' fixed parts and lays out the lanes,
  * wire_snapshot_run runs lanes [i0, i1) of wire_snapshot_lanes (each lane once, in any
  * split and order), wire_snapshot_finish moves them together. The bytes, lengths and
