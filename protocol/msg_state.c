@@ -463,17 +463,7 @@ static bool put_values(wire_writer *const *w, const int *n_pred, int nf, const w
     return lo >= -WIRE_QMAX;
 }
 
-typedef struct lane_job {
-    const wire_scene *sc;
-    const wire_state *cur, *prev, *prev2;
-    int nf;                              /* frames written at once */
-    int n_pred[3];                       /* predictors of each frame */
-    uint32_t n_lanes;
-    uint32_t t[WIRE_MAX_LANES + 1];      /* lane i: trees [t[i], t[i + 1]) */
-    uint8_t *at[3][WIRE_MAX_LANES + 1];  /* lane i writes frame f in [at[f][i], at[f][i + 1]) */
-    uint8_t *end[3][WIRE_MAX_LANES];     /* where lane i's values of frame f ended */
-    bool bad[WIRE_MAX_LANES];            /* lane i found a bad state or ran out of room */
-} lane_job;
+typedef wire_lane_job lane_job;
 
 /* True when trees [t0, t1) of st break none of check_state's rules. */
 static bool states_ok(const wire_scene *sc, const wire_state *st, uint32_t t0, uint32_t t1)
@@ -516,18 +506,17 @@ static void lane_run(void *arg, int lane)
     }
 }
 
-/* The checks and values of nf frames whose fixed parts are already in w[f] (frame f coded
- * with n_pred[f] predictors): the trees split into lanes->n contiguous shares, each
- * share's bytes written at the worst-case offset of its first tree (so the lanes never
- * overlap) and moved down after the lanes before it. The bytes are those of one lane,
- * whatever the split. With too little room for that layout, or no lanes, one lane runs on
- * the caller's thread. Returns non-zero when a state breaks a rule (the caller's checks
- * then name it); a short buffer sets that frame's bad. */
-static int put_lanes(wire_writer *const *w, const int *n_pred, int nf, const wire_scene *sc,
-                     const wire_state *cur, const wire_state *prev, const wire_state *prev2,
-                     const wire_lanes *lanes)
+/* The lanes' layout for the values of nf frames whose fixed parts are already in w[f]
+ * (frame f coded with n_pred[f] predictors): the trees split into lanes->n contiguous
+ * shares, each share's bytes written at the worst-case offset of its first tree (so the
+ * lanes never overlap) and moved down after the lanes before it (lanes_join). The bytes
+ * are those of one lane, whatever the split. With too little room for that layout, or no
+ * lanes, one lane on the caller's thread. */
+static void lanes_layout(lane_job *j, wire_writer *const *w, const int *n_pred, int nf,
+                         const wire_scene *sc, const wire_state *cur, const wire_state *prev,
+                         const wire_state *prev2, const wire_lanes *lanes)
 {
-    lane_job j = { .sc = sc, .cur = cur, .prev = prev, .prev2 = prev2, .nf = nf, .n_lanes = 1 };
+    *j = (lane_job){ .sc = sc, .cur = cur, .prev = prev, .prev2 = prev2, .nf = nf, .n_lanes = 1 };
     const uint32_t n = cur->n_trees;
     uint32_t want = lanes && lanes->run && lanes->n > 1 ? (uint32_t)lanes->n : 1u;
     want = want > WIRE_MAX_LANES ? WIRE_MAX_LANES : want;
@@ -535,29 +524,62 @@ static int put_lanes(wire_writer *const *w, const int *n_pred, int nf, const wir
     const size_t per_tree = tree_bound(cur->stride < WIRE_MAX_MODES ? cur->stride : WIRE_MAX_MODES);
     bool room = want > 1 && cur->stride <= WIRE_MAX_MODES;
     for (int f = 0; f < nf; f++) {
-        j.n_pred[f] = n_pred[f];
+        j->n_pred[f] = n_pred[f];
         room = room && (size_t)(w[f]->end - w[f]->p) >= per_tree * n + (size_t)want * FAST_SLACK;
     }
-    j.n_lanes = room ? want : 1;
-    for (uint32_t i = 0; i <= j.n_lanes; i++) {
-        j.t[i] = (uint32_t)((uint64_t)n * i / j.n_lanes);
+    j->n_lanes = room ? want : 1;
+    for (uint32_t i = 0; i <= j->n_lanes; i++) {
+        j->t[i] = (uint32_t)((uint64_t)n * i / j->n_lanes);
         /* lane i's share: its trees' worst case, its slack, then the lanes before it */
         for (int f = 0; f < nf; f++) {
-            j.at[f][i] = j.n_lanes == 1 ? (i ? w[f]->end : w[f]->p)
-                                        : w[f]->p + per_tree * j.t[i] + (size_t)i * FAST_SLACK;
+            j->at[f][i] = j->n_lanes == 1 ? (i ? w[f]->end : w[f]->p)
+                                          : w[f]->p + per_tree * j->t[i] + (size_t)i * FAST_SLACK;
         }
     }
-    if (j.n_lanes == 1) {
-        lane_run(&j, 0);
-    } else {
-        lanes->run(lanes->ctx, (int)j.n_lanes, lane_run, &j);
+    /* a lane not run writes nothing (a defined frame, short of its trees) */
+    for (uint32_t i = 0; i < j->n_lanes; i++) {
+        j->bad[i] = false;
+        for (int f = 0; f < nf; f++) {
+            j->end[f][i] = j->at[f][i];
+        }
     }
-    for (uint32_t i = 0; i < j.n_lanes; i++) {
-        if (j.bad[i]) {
+}
+
+/* Lanes [i0, i1) of j, lane i0 + k as job k. */
+typedef struct lane_range {
+    lane_job *j;
+    int i0;
+} lane_range;
+
+static void lane_run_from(void *arg, int k)
+{
+    const lane_range *r = arg;
+    lane_run(r->j, r->i0 + k);
+}
+
+static void lanes_run(lane_job *j, const wire_lanes *lanes, int i0, int i1)
+{
+    i0 = i0 < 0 ? 0 : i0;
+    i1 = i1 > (int)j->n_lanes ? (int)j->n_lanes : i1;
+    if (i1 - i0 == 1 || (i1 > i0 && j->n_lanes == 1)) {
+        lane_run(j, i0);
+    } else if (i1 > i0) {
+        lane_range r = { j, i0 };
+        lanes->run(lanes->ctx, i1 - i0, lane_run_from, &r);
+    }
+}
+
+/* After every lane ran: the shares moved together. Returns non-zero when a state breaks
+ * a rule (the caller's checks then name it); a short buffer sets that frame's bad. */
+static int lanes_join(lane_job *j, wire_writer *const *w)
+{
+    const int nf = j->nf;
+    for (uint32_t i = 0; i < j->n_lanes; i++) {
+        if (j->bad[i]) {
             /* a bad state, or lane 0 alone ran out of room: the caller tells which */
-            if (states_ok(sc, cur, j.t[i], j.t[i + 1]) &&
-                states_ok(sc, prev, j.t[i], j.t[i + 1]) &&
-                states_ok(sc, prev2, j.t[i], j.t[i + 1])) {
+            if (states_ok(j->sc, j->cur, j->t[i], j->t[i + 1]) &&
+                states_ok(j->sc, j->prev, j->t[i], j->t[i + 1]) &&
+                states_ok(j->sc, j->prev2, j->t[i], j->t[i + 1])) {
                 for (int f = 0; f < nf; f++) {
                     w[f]->bad = true;
                 }
@@ -568,16 +590,27 @@ static int put_lanes(wire_writer *const *w, const int *n_pred, int nf, const wir
     }
     for (int f = 0; f < nf; f++) {
         uint8_t *p = w[f]->p;
-        for (uint32_t i = 0; i < j.n_lanes; i++) {
-            const size_t len = (size_t)(j.end[f][i] - j.at[f][i]);
-            if (p != j.at[f][i]) {
-                memmove(p, j.at[f][i], len);
+        for (uint32_t i = 0; i < j->n_lanes; i++) {
+            const size_t len = (size_t)(j->end[f][i] - j->at[f][i]);
+            if (p != j->at[f][i]) {
+                memmove(p, j->at[f][i], len);
             }
             p += len;
         }
         w[f]->p = p;
     }
     return 0;
+}
+
+/* The checks and values of nf frames in lanes (lanes_layout, lanes_run, lanes_join). */
+static int put_lanes(wire_writer *const *w, const int *n_pred, int nf, const wire_scene *sc,
+                     const wire_state *cur, const wire_state *prev, const wire_state *prev2,
+                     const wire_lanes *lanes)
+{
+    lane_job j;
+    lanes_layout(&j, w, n_pred, nf, sc, cur, prev, prev2, lanes);
+    lanes_run(&j, lanes, 0, (int)j.n_lanes);
+    return lanes_join(&j, w);
 }
 
 /* The state checks in order, for the message of the first rule broken. */
@@ -768,12 +801,23 @@ static int encode_each(const wire_header *h, uint32_t seq, const wire_scene *sce
     return rc;
 }
 
-int wire_encode_snapshot_lanes(const wire_header *h, uint32_t seq, const wire_scene *scene,
-                               const wire_state *cur, const wire_state *prev,
-                               const wire_state *prev2, const wire_lanes *lanes,
-                               wire_frame_out *out)
+void wire_snapshot_begin(wire_snapshot_job *j, const wire_header *h, uint32_t seq,
+                         const wire_scene *scene, const wire_state *cur,
+                         const wire_state *prev, const wire_state *prev2,
+                         const wire_lanes *lanes, wire_frame_out *out)
 {
     prev2 = prev ? prev2 : NULL;
+    j->h = *h;
+    j->seq = seq;
+    j->scene = scene;
+    j->st[0] = *cur;
+    j->st[1] = prev ? *prev : *cur;
+    j->st[2] = prev2 ? *prev2 : *cur;
+    j->prev = prev ? &j->st[1] : NULL;
+    j->prev2 = prev2 ? &j->st[2] : NULL;
+    j->lanes = lanes;
+    j->out = out;
+    j->lj.n_lanes = 0;
     const int nf = prev2 ? 3 : prev ? 2 : 1;
     gale_err scratch;
     bool ok = !check_scene(scene, "", &scratch) && !check_counts(scene, cur, "", "", &scratch) &&
@@ -782,38 +826,76 @@ int wire_encode_snapshot_lanes(const wire_header *h, uint32_t seq, const wire_sc
     for (uint32_t t = 0; ok && t < scene->n_trees; t++) {
         ok = scene->species[t] < scene->n_species;
     }
-    if (!ok) {
-        return encode_each(h, seq, scene, cur, prev, prev2, lanes, out);
+    j->each = !ok;
+    if (j->each) {
+        return;
     }
-    wire_writer w[3], *ws[3];
+    wire_writer *ws[3];
     for (int f = 0; f < nf; f++) {
-        w[f] = wire_writer_make(out[f].buf, out[f].cap);
-        ws[f] = &w[f];
+        j->w[f] = wire_writer_make(out[f].buf, out[f].cap);
+        ws[f] = &j->w[f];
     }
-    put_key_head(&w[0], h, seq, scene, cur);
+    put_key_head(&j->w[0], h, seq, scene, cur);
     if (nf >= 2) {
-        put_delta_head(&w[1], h, seq, scene, cur, prev, false);
+        put_delta_head(&j->w[1], h, seq, scene, cur, prev, false);
     }
     if (nf == 3) {
-        put_delta_head(&w[2], h, seq, scene, cur, prev, true);
-    }
-    bool short_buf = false;
-    for (int f = 0; f < nf; f++) {
-        short_buf = short_buf || w[f].bad;
-    }
-    /* one pass over the rows for the three frames: the residuals against each predictor
-       once, each frame taking the narrowest of its own */
-    const int n_pred[3] = { 1, 2, 3 };
-    if (short_buf || put_lanes(ws, n_pred, nf, scene, cur, prev, prev2, lanes)) {
-        return encode_each(h, seq, scene, cur, prev, prev2, lanes, out);
+        put_delta_head(&j->w[2], h, seq, scene, cur, prev, true);
     }
     for (int f = 0; f < nf; f++) {
-        if (w[f].bad) {
-            return encode_each(h, seq, scene, cur, prev, prev2, lanes, out);
+        j->each = j->each || j->w[f].bad;
+    }
+    if (!j->each) {
+        /* one pass over the rows for the three frames: the residuals against each
+           predictor once, each frame taking the narrowest of its own */
+        const int n_pred[3] = { 1, 2, 3 };
+        lanes_layout(&j->lj, ws, n_pred, nf, scene, &j->st[0], j->prev, j->prev2, lanes);
+    }
+}
+
+int wire_snapshot_lanes(const wire_snapshot_job *j)
+{
+    return j->each ? 0 : (int)j->lj.n_lanes;
+}
+
+void wire_snapshot_run(wire_snapshot_job *j, int i0, int i1)
+{
+    if (!j->each) {
+        lanes_run(&j->lj, j->lanes, i0, i1);
+    }
+}
+
+int wire_snapshot_finish(wire_snapshot_job *j)
+{
+    const wire_state *cur = &j->st[0];
+    if (j->each) {
+        return encode_each(&j->h, j->seq, j->scene, cur, j->prev, j->prev2, j->lanes, j->out);
+    }
+    wire_writer *ws[3] = { &j->w[0], &j->w[1], &j->w[2] };
+    if (lanes_join(&j->lj, ws)) {
+        return encode_each(&j->h, j->seq, j->scene, cur, j->prev, j->prev2, j->lanes, j->out);
+    }
+    for (int f = 0; f < j->lj.nf; f++) {
+        if (j->w[f].bad) {
+            return encode_each(&j->h, j->seq, j->scene, cur, j->prev, j->prev2, j->lanes,
+                               j->out);
         }
-        out[f].len = (size_t)(w[f].p - out[f].buf);
+    }
+    for (int f = 0; f < j->lj.nf; f++) {
+        j->out[f].len = (size_t)(j->w[f].p - j->out[f].buf);
     }
     return 0;
+}
+
+int wire_encode_snapshot_lanes(const wire_header *h, uint32_t seq, const wire_scene *scene,
+                               const wire_state *cur, const wire_state *prev,
+                               const wire_state *prev2, const wire_lanes *lanes,
+                               wire_frame_out *out)
+{
+    wire_snapshot_job j;
+    wire_snapshot_begin(&j, h, seq, scene, cur, prev, prev2, lanes, out);
+    wire_snapshot_run(&j, 0, wire_snapshot_lanes(&j));
+    return wire_snapshot_finish(&j);
 }
 
 /* ---- decoding ---------------------------------------------------------------------- */

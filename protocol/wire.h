@@ -171,6 +171,51 @@ int wire_encode_snapshot_lanes(const wire_header *h, uint32_t seq, const wire_sc
                                const wire_state *prev2, const wire_lanes *lanes,
                                wire_frame_out *out);
 
+/* The lanes' layout of one pass (msg_state.c): lane i writes trees [t[i], t[i + 1]) of
+ * frame f from at[f][i]. Private to msg_state.c. */
+typedef struct wire_lane_job {
+    const wire_scene *sc;
+    const wire_state *cur, *prev, *prev2;
+    int nf;                              /* frames written at once */
+    int n_pred[3];                       /* predictors of each frame */
+    uint32_t n_lanes;
+    uint32_t t[WIRE_MAX_LANES + 1];      /* lane i: trees [t[i], t[i + 1]) */
+    uint8_t *at[3][WIRE_MAX_LANES + 1];  /* lane i writes frame f in [at[f][i], at[f][i + 1]) */
+    uint8_t *end[3][WIRE_MAX_LANES];     /* where lane i's values of frame f ended */
+    bool bad[WIRE_MAX_LANES];            /* lane i found a bad state or ran out of room */
+} wire_lane_job;
+
+/* wire_encode_snapshot_lanes in three calls, so that its lanes can run over several
+ * turns between other work (the same bytes whatever the turns; tests/test_wire_lanes.c):
+ * wire_snapshot_begin writes the frames' fixed parts and lays out the lanes,
+ * wire_snapshot_run runs lanes [i0, i1) of wire_snapshot_lanes (each lane once, in any
+ * split and order), wire_snapshot_finish moves them together. The bytes, lengths and
+ * error are wire_encode_snapshot_lanes's. Caller-owned, not moved between the calls; the
+ * header is copied, the scene, states, lanes and out borrowed until finish. Fields
+ * private to msg_state.c. */
+typedef struct wire_snapshot_job {
+    wire_header h;
+    uint32_t seq;
+    const wire_scene *scene;
+    wire_state st[3];       /* cur, prev, prev2 */
+    const wire_state *prev, *prev2; /* &st[1], &st[2] or NULL */
+    const wire_lanes *lanes;
+    wire_frame_out *out;
+    wire_writer w[3];
+    bool each;              /* finish encodes the frames one by one (a rule broken, a buffer
+                               short): the error is theirs */
+    wire_lane_job lj;
+} wire_snapshot_job;
+
+void wire_snapshot_begin(wire_snapshot_job *j, const wire_header *h, uint32_t seq,
+                         const wire_scene *scene, const wire_state *cur,
+                         const wire_state *prev, const wire_state *prev2,
+                         const wire_lanes *lanes, wire_frame_out *out);
+/* The lanes to run: 0 when finish does all the work. */
+int wire_snapshot_lanes(const wire_snapshot_job *j);
+void wire_snapshot_run(wire_snapshot_job *j, int i0, int i1);
+int wire_snapshot_finish(wire_snapshot_job *j);
+
 /* ---- leaf seeds and coarse wind ----------------------------------------------------- */
 
 typedef struct wire_leaf {

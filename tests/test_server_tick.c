@@ -363,19 +363,23 @@ static void g_add_subgrid(void *ctx, int n, const float *p, float *v)
     wind_add_subgrid(ctx, n, p, v);
 }
 
-/* 9000 trees over two identical subgrid-profile grids stepped every 3 ticks, the inflow
- * changing every tick: the tick reading the grid through the probe only after a step (on
- * 2 threads) gives every crown the same wind on every tick as sampling every crown every
- * tick (on 1), and the same snapshots. */
-static void test_probe_same_tick(void)
+/* 9000 trees over identical subgrid-profile grids stepped every `every` ticks, the inflow
+ * changing every tick, the tick reading the grid through the probe on 1 and on 2
+ * threads: on every tick each crown gets, float for float, what sampling every crown of
+ * a third grid gives (wind_sample_many, an independent path) when that grid has taken the
+ * steps up to the tick every - 1 ticks back (the read is spread over the ticks between
+ * steps: tick.c sample_probe), with this tick's inflow; both tick counts leave the same
+ * snapshots. With every > 1 the lag shows: some ticks differ from the grid as it stands. */
+static void probe_case(int every)
 {
-    enum { N = 9000, MODES = 2 };
+    enum { N = 9000, MODES = 2, TICKS = 13 };
     float omega[MODES] = { 3, 11 }, gamma[MODES] = { 0.3f, 0.8f };
     float basis[3 * MODES] = { 1e-3f, 2e-4f, 0, -5e-4f, 1e-3f, 1e-4f };
     float qstep[MODES] = { 1e-5f, 1e-5f };
     tick_species sp = { .n_modes = MODES, .omega = omega, .gamma = gamma, .wind_basis = basis,
                         .qstep = qstep, .height_m = 12, .n_leaves = 100 };
     static scene_tree tr[N];
+    static float crown[3 * N], want[3 * N], now[3 * N];
     uint64_t r = 7;
     for (int k = 0; k < N; k++) {
         float c[3];
@@ -386,64 +390,87 @@ static void test_probe_same_tick(void)
         /* some beyond the grid's sides, which clamp */
         tr[k] = (scene_tree){ .species = 0, .pos = { c[0] * 140.0f - 70.0f, c[1] * 140.0f - 70.0f, 0 },
                               .yaw_rad = 0.002f * (float)k, .scale = 0.3f + 1.2f * c[2] };
+        crown[3 * k] = tr[k].pos[0];
+        crown[3 * k + 1] = tr[k].pos[1];
+        crown[3 * k + 2] = 0.7f * (12.0f * tr[k].scale);
     }
     static scene s[2];
     tick_sim *t[2];
-    wind_grid *g[2];
+    wind_grid *g[3];
     int16_t *q[2];
     tick_wind tw[2];
+    for (int j = 0; j < 3; j++) {
+        g[j] = wind_create(&(wind_desc){ .nx = 16, .ny = 16, .nz = 2, .cell_m = 8,
+                                         .origin = { -64, -64, 0 }, .threads = 1, .seed = 3,
+                                         .subgrid_profile = 1 },
+                           NULL);
+        CHECK(g[j] != NULL);
+    }
     for (int j = 0; j < 2; j++) {
         s[j] = one_tree(0, 14);
         s[j].trees = tr;
         s[j].n_trees = N;
         s[j].cell_m = 8;
         s[j].origin[0] = s[j].origin[1] = -64;
-        s[j].wind_every = 3;
+        s[j].wind_every = every;
         s[j].tick_threads = j ? 2 : 1;
-        g[j] = wind_create(&(wind_desc){ .nx = 16, .ny = 16, .nz = 2, .cell_m = 8,
-                                         .origin = { -64, -64, 0 }, .threads = 1, .seed = 3,
-                                         .subgrid_profile = 1 },
-                           NULL);
         tw[j] = (tick_wind){ .ctx = g[j], .set_inflow = g_inflow, .step = g_step,
-                             .sample_many = g_sample };
-        if (j) {
-            tw[j].probe_create = g_probe_create;
-            tw[j].probe_destroy = g_probe_destroy;
-            tw[j].probe_sample = g_probe_sample;
-            tw[j].add_subgrid = g_add_subgrid;
-        }
+                             .sample_many = g_sample, .probe_create = g_probe_create,
+                             .probe_destroy = g_probe_destroy, .probe_sample = g_probe_sample,
+                             .add_subgrid = g_add_subgrid };
         t[j] = g[j] ? tick_create(&(tick_desc){ .sc = &s[j], .species = &sp, .wind = &tw[j] },
                                   NULL)
                     : NULL;
         q[j] = calloc((size_t)N * MODES, sizeof(int16_t));
         CHECK(t[j] != NULL && q[j] != NULL);
     }
-    if (!t[0] || !t[1] || !q[0] || !q[1]) {
+    if (!t[0] || !t[1] || !q[0] || !q[1] || !g[2]) {
         return;
     }
-    int wind_bad = 0, q_bad = 0;
-    for (int n = 0; n < 10; n++) {
-        wind_inflow in = { .dir_rad = 0.4f + 0.05f * (float)n, .u10_ms = 14.0f + (float)n,
-                           .gust = { 0.3f * (float)(n % 3), -0.2f, 0 } };
+    wind_inflow in[TICKS];
+    const float dt_s = (float)(1.0 / s[0].tick_hz);
+    int wind_bad = 0, q_bad = 0, lagging = 0, steps_ref = 0;
+    for (int n = 0; n < TICKS; n++) {
+        in[n] = (wind_inflow){ .dir_rad = 0.4f + 0.05f * (float)n, .u10_ms = 14.0f + (float)n,
+                               .gust = { 0.3f * (float)(n % 3), -0.2f, 0 } };
         for (int j = 0; j < 2; j++) {
-            tick_set_inflow(t[j], &in);
+            tick_set_inflow(t[j], &in[n]);
             CHECK(tick_step(t[j], q[j], NULL, NULL) == 0);
         }
+        /* the reference grid: every step up to tick n - (every - 1) (the first always),
+         * each under its own tick's inflow; sampled under this tick's */
+        const int upto = n - (every - 1) > 0 ? n - (every - 1) : 0;
+        while (steps_ref * every <= upto) {
+            wind_set_inflow(g[2], &in[steps_ref * every]);
+            CHECK(wind_step(g[2], dt_s * (float)every, NULL) == 0);
+            steps_ref++;
+        }
+        wind_set_inflow(g[2], &in[n]);
+        wind_sample_many(g[2], N, crown, want);
+        wind_sample_many(g[0], N, crown, now);
         q_bad += memcmp(q[0], q[1], sizeof(int16_t) * N * MODES) != 0;
-        wind_bad += memcmp(tick_crown_wind(t[0]), tick_crown_wind(t[1]),
-                           sizeof(float) * 3 * N) != 0;
+        for (int j = 0; j < 2; j++) {
+            wind_bad += memcmp(tick_crown_wind(t[j]), want, sizeof(float) * 3 * N) != 0;
+        }
+        lagging += memcmp(tick_crown_wind(t[0]), now, sizeof(float) * 3 * N) != 0;
     }
     CHECK(wind_bad == 0);
     CHECK(q_bad == 0);
-    /* and it is the grid's wind at the crown as it stands */
-    float v[3], p[3] = { tr[5].pos[0], tr[5].pos[1], 0.7f * (12.0f * tr[5].scale) };
-    wind_sample(g[1], p, v);
-    CHECK(memcmp(v, &tick_crown_wind(t[1])[15], sizeof v) == 0);
+    CHECK(every > 1 ? lagging > 0 : lagging == 0);
     for (int j = 0; j < 2; j++) {
         tick_destroy(t[j]);
-        wind_destroy(g[j]);
         free(q[j]);
     }
+    for (int j = 0; j < 3; j++) {
+        wind_destroy(g[j]);
+    }
+}
+
+static void test_probe_same_tick(void)
+{
+    probe_case(3);
+    probe_case(4);
+    probe_case(1);
 }
 
 int main(void)

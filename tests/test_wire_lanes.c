@@ -5,7 +5,9 @@
  * each frame decodes to the snapshot it was made from; a buffer too small for the lanes'
  * layout still gets the one-lane bytes, one byte short of the frame fails, and a bad state
  * is named as without lanes; a snapshot's three frames encoded in one pass
- * (wire_encode_snapshot_lanes) are those of the three calls. */
+ * (wire_encode_snapshot_lanes) are those of the three calls, and so are they when the
+ * pass runs in stages, its lanes split over two turns (wire_snapshot_begin, _run,
+ * _finish). */
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -208,6 +210,37 @@ static void test_lanes_same_bytes(void)
                     CHECK(out[f].len == len1 && memcmp(one, fused[f], len1) == 0);
                 }
             }
+            /* the same in stages, the lanes over two turns (the later share first), the
+               header and the state descriptions gone before the lanes run */
+            for (int split = 0; split < 4; split++) {
+                const wire_lanes l = { 5, run_threads, NULL };
+                gale_err err;
+                wire_frame_out out[3];
+                for (int f = 0; f < 3; f++) {
+                    memset(fused[f], 0xA5, 1 << 16);
+                    out[f] = (wire_frame_out){ fused[f], sizeof fused[f], 0, &err };
+                }
+                wire_snapshot_job job;
+                struct {
+                    wire_header h;
+                    wire_state st[3];
+                } tmp = { h, { cur, prev, prev2 } };
+                wire_snapshot_begin(&job, &tmp.h, 9, &sc, &tmp.st[0],
+                                    held >= 1 ? &tmp.st[1] : NULL,
+                                    held >= 2 ? &tmp.st[2] : NULL, &l, out);
+                memset(&tmp, 0, sizeof tmp);
+                const int n = wire_snapshot_lanes(&job);
+                CHECK(n == 5);
+                const int k = split == 0 ? 0 : split == 1 ? 1 : split == 2 ? n / 2 : n;
+                wire_snapshot_run(&job, k, n);
+                wire_snapshot_run(&job, 0, k);
+                CHECK(wire_snapshot_finish(&job) == 0);
+                for (int f = 0; f <= held; f++) {
+                    size_t len1 = 0;
+                    CHECK(encode(f, &sc, NULL, one, sizeof one, &len1, &err) == 0);
+                    CHECK(out[f].len == len1 && memcmp(one, fused[f], len1) == 0);
+                }
+            }
         }
         hist[2] = hist[1];
         hist[1] = hist[0];
@@ -274,6 +307,15 @@ static void test_lanes_bad_state(void)
               GALE_E_RANGE);
         CHECK(strstr(e3.msg, bad[k].named) != NULL);
         CHECK(strstr(e3.msg, bad[k].state ? "wire_encode_delta" : "wire_encode_keyframe") != NULL);
+        /* and in stages, the lanes in two turns */
+        gale_err e4;
+        out[0].err = &e4;
+        wire_snapshot_job job;
+        wire_snapshot_begin(&job, &h, 9, &sc, &cur, &prev, &prev2, &l, out);
+        wire_snapshot_run(&job, 2, wire_snapshot_lanes(&job));
+        wire_snapshot_run(&job, 0, 2);
+        CHECK(wire_snapshot_finish(&job) == GALE_E_RANGE);
+        CHECK(strcmp(e3.msg, e4.msg) == 0);
         if (!strstr(e2.msg, bad[k].named)) {
             fprintf(stderr, "case %zu: %s\n", k, e2.msg);
         }

@@ -1,7 +1,8 @@
 /* gale-bench modal: the per-tick cost of the batch modal update (server/sim/modal.c) for
  * many trees: wind sampled at each tree from the real wind field (as the server's tick
- * does: the grid read at each tree's stencil, wind_probe_sample, on the tick's threads on
- * the ticks after a wind step, the field being constant between steps; on a
+ * does: the grid read at each tree's stencil, wind_probe_sample, on the tick's threads in
+ * shares over the ticks between wind steps, switched over on the last, server/sim/tick.c;
+ * on a
  * grid of scene-scale cells, 2 m by default, over the trees' 2 km square, stepped by the
  * real solver every few ticks under a gusty inflow so the field evolves), forces
  * f_i = |v| v.p_i in the tree frame, exact update, quantisation into the snapshot buffer,
@@ -66,7 +67,7 @@ static int cmp_cell(const void *a, const void *b)
  * few MB at most and stay in cache, so they are not counted; write-allocate is not
  * counted, as in the triad). modal.c keeps each tree's q and q' as 2 x pad floats, pad
  * the modes rounded up to its 16-lane groups (MODE_PAD):
- *   sampling (wind_probe_sample, on one tick in `every`): the stencil 48 read, wind 12
+ *   sampling (wind_probe_sample, each tree once in `every` ticks): the stencil 48 read, wind 12
  *   written, amortised over the ticks (the grid's lines not counted, as above);
  *   update (modal_tick): wind 12, cos/sin of the yaw 8, species index 1 and the state
  *   8 pad read; the state 8 pad written, and with a snapshot the int16 row 2 modes. */
@@ -137,7 +138,7 @@ typedef struct variant {
     uint8_t *enc;
     leaf_seed *leaves, *leaf_scratch; /* [LEAF_CAP], [(threads - 1) * LEAF_CAP] */
     double *t_total, *t_cpu, *t_sample, *t_modal, *t_damage, *t_leaf, *t_enc, *t_nosnap;
-    bool *read; /* [ticks]: the tick read the grid (a wind step before it) */
+    bool *read; /* [ticks]: the tick read the grid (a share of the trees) */
     long n_shed, enc_bytes;
 } variant;
 
@@ -216,7 +217,8 @@ typedef struct tick_in {
     const wind_probe *probe; /* the trees' stencils */
     int n_trees;
     const float *pos;
-    float *wind;
+    float *wind;      /* the trees' wind the ticks use */
+    float *wind_next; /* the last step's, read share by share */
     const wire_scene *wsc;
     const uint8_t *nm;
     int n_modes;
@@ -227,29 +229,32 @@ typedef struct tick_in {
     wire_lanes lanes; /* the encoder's, on the tick's threads */
 } tick_in;
 
-/* The grid at every tree, in shares over the tick's threads (server/sim/tick.c). */
-static void sample_grid(const tick_in *in)
+/* The grid at trees [i0, i1) into dst, in shares over the tick's threads
+ * (server/sim/tick.c). */
+static void sample_grid(const tick_in *in, int i0, int i1, float *dst)
 {
     enum { CHUNK = 4096 };
-    const int nc = (in->n_trees + CHUNK - 1) / CHUNK;
+    const int nc = (i1 - i0 + CHUNK - 1) / CHUNK;
 #pragma omp parallel for schedule(static) num_threads(in->threads) if (nc > 1)
     for (int c = 0; c < nc; c++) {
-        const int i1 = (c + 1) * CHUNK < in->n_trees ? (c + 1) * CHUNK : in->n_trees;
-        wind_probe_sample(in->wg, in->probe, c * CHUNK, i1, in->wind);
+        const int a = i0 + c * CHUNK, b = a + CHUNK < i1 ? a + CHUNK : i1;
+        wind_probe_sample(in->wg, in->probe, a, b, dst);
     }
 }
 
-/* Tick k (k < 0: warm-up, not recorded) of v: sampling (when read_grid: the grid
- * stepped), update (and damage), leaf shedding, DELTA encoding, timed as the tick; then
- * an update without quantisation. */
-static int variant_tick(variant *v, const tick_in *in, int k, bool read_grid, gale_err *err)
+/* Tick k (k < 0: warm-up, not recorded) of v: sampling (the grid at trees [r0, r1) into
+ * dst), update (and damage), leaf shedding, DELTA encoding, timed as the tick; then an
+ * update without quantisation. */
+static int variant_tick(variant *v, const tick_in *in, int k, int r0, int r1, float *dst,
+                        gale_err *err)
 {
+    const bool read_grid = r1 > r0;
     const size_t n = (size_t)in->n_trees;
     memcpy(v->prev, v->snap, sizeof(int16_t) * n * (size_t)in->n_modes);
     double c0 = cpu_ms();
     double t0 = mono_ms();
     if (read_grid) {
-        sample_grid(in);
+        sample_grid(in, r0, r1, dst);
     }
     double t1 = mono_ms();
     modal_tick(v->m, in->wind, v->snap);
@@ -402,13 +407,14 @@ int bench_modal(int argc, char **argv)
     float *yaw = malloc(sizeof(float) * (size_t)n_trees);
     float *pos = malloc(sizeof(float) * 3 * (size_t)n_trees);
     float *wind = malloc(sizeof(float) * 3 * (size_t)n_trees);
+    float *wind_next = malloc(sizeof(float) * 3 * (size_t)n_trees);
     double *t_wind = calloc((size_t)ticks, sizeof(double));
     double *scratch = malloc(sizeof(double) * (size_t)ticks);
     double *ratio = malloc(sizeof(double) * (size_t)ticks);
     uint8_t *nm = malloc((size_t)n_trees);
     const size_t enc_cap = wire_state_bound((uint32_t)n_trees, (uint32_t)n_modes,
                                             (uint32_t)n_species);
-    if (!omega || !gamma || !p || !step || !sp || !sp_drag || !ts || !yaw || !pos || !wind ||
+    if (!omega || !gamma || !p || !step || !sp || !sp_drag || !ts || !yaw || !pos || !wind || !wind_next ||
         !t_wind || !scratch || !ratio || !nm) {
         fprintf(stderr, "gale-bench modal: out of memory\n");
         return 1;
@@ -514,7 +520,8 @@ int bench_modal(int argc, char **argv)
         fprintf(stderr, "gale-bench modal: %s\n", err.msg);
         return 1;
     }
-    const tick_in in = { .wg = wg, .probe = probe, .n_trees = n_trees, .pos = pos, .wind = wind, .wsc = &wsc,
+    tick_in in = { .wg = wg, .probe = probe, .n_trees = n_trees, .pos = pos, .wind = wind,
+                         .wind_next = wind_next, .wsc = &wsc,
                          .nm = nm, .n_modes = n_modes, .enc_cap = enc_cap, .ld = &ld,
                          .slots = 1500 /* leaf slots per tree: the shipped species' 1500-5300 */,
                          .threads = threads, .lanes = sim_lanes(threads) };
@@ -524,7 +531,7 @@ int bench_modal(int argc, char **argv)
      * would throw the whole stand over in the first second of a Cat 4). */
     if (with_oak) {
         float q0[WIRE_MAX_MODES + DAMAGE_RES_COLS] = { 0 }, qd0[WIRE_MAX_MODES] = { 0 };
-        sample_grid(&in);
+        sample_grid(&in, 0, n_trees, in.wind);
         for (int t = 0; t < n_trees; t++) {
             const float *w = &wind[3 * t];
             double u = sqrt((double)(w[0] * w[0] + w[1] * w[1]));
@@ -555,15 +562,33 @@ int bench_modal(int argc, char **argv)
             }
             tw = mono_ms() - w0;
         }
+        /* the grid read as the server's tick reads it: whole on the first tick, else an
+         * every-th of the trees on the step's tick and on each of the every - 1 after it
+         * into the next buffer, switched on the last */
+        const int phase = (k + 20) % every;
+        int r0 = 0, r1 = n_trees;
+        float *dst = in.wind;
+        if (k > -20) {
+            r0 = (int)((int64_t)n_trees * phase / every);
+            r1 = (int)((int64_t)n_trees * (phase + 1) / every);
+            dst = in.wind_next;
+        }
         /* A then B on even ticks, B then A on odd: neither always runs on warm caches or
          * in the same share of another program's turn */
         for (int j = 0; j < n_var; j++) {
             variant *v = &var[(k & 1) && n_var == 2 ? 1 - j : j];
             /* with two variants the second reads the grid too: the same work, timed */
-            if (variant_tick(v, &in, k, stepped, &err)) {
+            if (variant_tick(v, &in, k, r0, r1, dst, &err)) {
                 fprintf(stderr, "gale-bench modal: encode: %s\n", err.msg);
                 return 1;
             }
+        }
+        if (k == -20) {
+            memcpy(in.wind_next, in.wind, sizeof(float) * 3 * (size_t)n_trees);
+        }
+        if (dst == in.wind_next && phase == every - 1) {
+            in.wind_next = in.wind;
+            in.wind = dst;
         }
         if (k >= 0) {
             t_wind[k] = tw;
@@ -632,7 +657,8 @@ int bench_modal(int argc, char **argv)
         double med_s = median_of(v->t_sample, ticks, scratch);
         double p99_t = (memcpy(scratch, v->t_total, sizeof(double) * (size_t)ticks),
                         pct(scratch, ticks, 0.99));
-        /* the ticks that read the grid (after a wind step) and the others, apart */
+        /* the ticks that read a share of the grid and the others (none since the grid is
+           read on every tick), apart */
         double *rd = malloc(sizeof(double) * 2 * (size_t)ticks);
         int n_rd = 0, n_other = 0;
         for (int k = 0; rd && k < ticks; k++) {
@@ -732,6 +758,7 @@ int bench_modal(int argc, char **argv)
     free(yaw);
     free(pos);
     free(wind);
+    free(wind_next);
     wind_probe_destroy(probe);
     wind_destroy(wg);
     free(t_wind);

@@ -22,9 +22,10 @@ struct tick_sim {
     float *vel_ordered;     /* owned [n_trees][3]: the wind sampled in that order */
     void *probe;            /* owned by d.wind: the crowns' stencils in that order; NULL:
                                sample_many every tick */
-    float *vel_grid;        /* owned [n_trees][3]: the grid's part at each crown since the
-                               last step (with a probe) */
-    bool grid_read;         /* vel_grid holds the grid as it stands */
+    float *vel_grid;        /* owned [n_trees][3]: the grid's part at each crown (with a
+                               probe), as the grid stood after a step (sample_probe) */
+    float *vel_next;        /* owned [n_trees][3]: the same, of the last step, share by share */
+    bool grid_read;         /* vel_grid holds a step's grid */
     uint32_t *slots;        /* owned [n_trees]: leaf slots of each tree's species */
     int threads;            /* scene tick_threads */
     leaf_seed *leaves;      /* owned [max_leaves_per_tick] */
@@ -158,9 +159,10 @@ tick_sim *tick_create(const tick_desc *d, gale_err *err)
     if (d->wind && d->wind->probe_create && d->wind->probe_sample && d->wind->probe_destroy) {
         /* without memory for them the crowns are sampled every tick as without a probe */
         t->vel_grid = malloc((size_t)t->n_trees * 3 * sizeof(float));
-        t->probe = t->vel_grid ? d->wind->probe_create(d->wind->ctx, t->n_trees,
-                                                       t->crown_ordered)
-                               : NULL;
+        t->vel_next = malloc((size_t)t->n_trees * 3 * sizeof(float));
+        t->probe = t->vel_grid && t->vel_next
+                       ? d->wind->probe_create(d->wind->ctx, t->n_trees, t->crown_ordered)
+                       : NULL;
     }
     t->m = modal_create(&(modal_desc){ .n_trees = (uint32_t)t->n_trees,
                                        .n_species = (uint32_t)sc->n_species,
@@ -234,6 +236,7 @@ void tick_destroy(tick_sim *t)
         t->d.wind->probe_destroy(t->probe);
     }
     free(t->vel_grid);
+    free(t->vel_next);
     free(t->crown);
     free(t->vel);
     free(t->order);
@@ -263,26 +266,45 @@ void tick_set_balls(tick_sim *t, const wind_ball *balls, int n)
 /* Crowns per share of the sampling on the tick's threads. */
 #define SAMPLE_CHUNK 4096
 
-/* The wind at every crown from the probe: the grid read after a step (or on the first
- * tick) in the crowns' locality order and put back in tree order, then each tick the
- * term that follows the inflow. Each crown is independent, so the shares over the
- * threads change no float. */
-static void sample_probe(tick_sim *t, bool stepped)
+/* The wind at every crown from the probe: the grid's part, then each tick the term that
+ * follows the inflow. With a step every k ticks, the step's tick and each of the k - 1
+ * after it read a k-th of the crowns into a second buffer, the last switching all crowns
+ * to that step's grid at once: the grid's part lags the grid by k - 1 ticks (less than
+ * one step; none at k = 1), and no tick carries the whole read (SERVER.md "Loop"). The
+ * first tick reads the whole grid at once. Each crown is independent, so the shares over
+ * the threads change no float; one parallel region, as each costs a wake-up of the
+ * threads. */
+static void sample_probe(tick_sim *t)
 {
     const tick_wind *wd = t->d.wind;
     const int n = t->n_trees, nc = (n + SAMPLE_CHUNK - 1) / SAMPLE_CHUNK;
-    const bool read = stepped || !t->grid_read;
+    const int every = t->d.sc->wind_every > 1 ? t->d.sc->wind_every : 1;
+    const bool first = !t->grid_read;
+    const int j = (int)(t->tick % (uint32_t)every);
+    /* this tick's share of the crowns in the locality order, and where it goes */
+    const int r0 = first ? 0 : (int)((int64_t)n * j / every);
+    const int r1 = first ? n : (int)((int64_t)n * (j + 1) / every);
+    float *const dst = first ? t->vel_grid : t->vel_next;
+    const int nr = (r1 - r0 + SAMPLE_CHUNK - 1) / SAMPLE_CHUNK;
 #pragma omp parallel num_threads(t->threads) if (nc > 1)
     {
-        if (read) {
 #pragma omp for schedule(static)
-            for (int c = 0; c < nc; c++) {
-                const int i0 = c * SAMPLE_CHUNK, i1 = i0 + SAMPLE_CHUNK < n ? i0 + SAMPLE_CHUNK : n;
-                wd->probe_sample(wd->ctx, t->probe, i0, i1, t->vel_ordered);
-                for (int i = i0; i < i1; i++) {
-                    memcpy(&t->vel_grid[3 * (size_t)t->order[i]], &t->vel_ordered[3 * (size_t)i],
-                           3 * sizeof(float));
-                }
+        for (int c = 0; c < nr; c++) {
+            const int a = r0 + c * SAMPLE_CHUNK, b = a + SAMPLE_CHUNK < r1 ? a + SAMPLE_CHUNK : r1;
+            wd->probe_sample(wd->ctx, t->probe, a, b, t->vel_ordered);
+            for (int i = a; i < b; i++) {
+                memcpy(&dst[3 * (size_t)t->order[i]], &t->vel_ordered[3 * (size_t)i],
+                       3 * sizeof(float));
+            }
+        }
+#pragma omp single
+        {
+            if (first) {
+                /* both buffers: the shares still to come of this step read the same grid */
+                memcpy(t->vel_next, t->vel_grid, (size_t)n * 3 * sizeof(float));
+            } else if (j == every - 1) {
+                t->vel_next = t->vel_grid;
+                t->vel_grid = dst;
             }
         }
 #pragma omp for schedule(static)
@@ -360,7 +382,7 @@ int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
         }
         /* 2. sample the wind at every crown, in the grid's locality order */
         if (t->probe) {
-            sample_probe(t, local.wind_stepped);
+            sample_probe(t);
         } else {
             t->d.wind->sample_many(t->d.wind->ctx, t->n_trees, t->crown_ordered,
                                    t->vel_ordered);

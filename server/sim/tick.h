@@ -43,10 +43,11 @@ typedef struct tick_wind {
     void (*add_ball)(void *ctx, const wind_ball *b);
     /* Optional, the real grid's (a stand-in may leave them NULL: then sample_many reads
      * every crown every tick). The crowns never move and the grid changes only in a step,
-     * so their stencils are made once (wind_probe_create), the grid is read there after
-     * each step on the tick's threads (wind_probe_sample, points [i0, i1)), and each tick
-     * adds only what follows the inflow at once (wind_add_subgrid; may be NULL). Together
-     * they give sample_many's floats. */
+     * so their stencils are made once (wind_probe_create), the grid is read there in
+     * shares over the ticks between steps on the tick's threads (wind_probe_sample, points
+     * [i0, i1)), and each tick adds only what follows the inflow at once
+     * (wind_add_subgrid; may be NULL). Together they give sample_many's floats of the
+     * grid as it stood every - 1 ticks back (tick.c sample_probe). */
     void *(*probe_create)(void *ctx, int n, const float *p);
     void (*probe_destroy)(void *probe);
     void (*probe_sample)(void *ctx, const void *probe, int i0, int i1, float *v);
