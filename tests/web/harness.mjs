@@ -124,3 +124,41 @@ export function projector(cam, w, h) {
     project.fy = fy;
     return project;
 }
+
+// A page's picture against gale-client's of the same size (RGBA bytes; `page` rows bottom
+// first as still() reads them, `native` rows top first as a PNG holds them): the mean
+// absolute difference [levels], the fraction of pixels off by more than 32 levels, and of
+// 8 × 8 blocks whose channel means are off by more than 16 (a leaf that flutters to a
+// neighbouring pixel moves no block mean much), over the pixels and blocks skip(x, y)
+// (y from the top) leaves in.
+export function comparePictures(page, native, w, h, skip = () => false) {
+    const at = (y, x) => [4 * ((h - 1 - y) * w + x), 4 * (y * w + x)];
+    let sum = 0, big = 0, n = 0;
+    for (let y = 0; y < h; y++) for (let x = 0; x < w; x++) {
+        if (skip(x, y)) continue;
+        const [a, b] = at(y, x);
+        let d = 0;
+        for (let k = 0; k < 3; k++) d += Math.abs(page[a + k] - native[b + k]);
+        sum += d / 3;
+        big += d / 3 > 32;
+        n++;
+    }
+    const B = 8;
+    let blocks = 0, bad = 0;
+    for (let by = 0; by < Math.floor(h / B); by++) for (let bx = 0; bx < Math.floor(w / B); bx++) {
+        if (skip(bx * B, by * B) || skip(bx * B + B - 1, by * B + B - 1)) continue;
+        let d = 0;
+        for (let k = 0; k < 3; k++) {
+            let ma = 0, mb = 0;
+            for (let y = by * B; y < by * B + B; y++) for (let x = bx * B; x < bx * B + B; x++) {
+                const [a, b] = at(y, x);
+                ma += page[a + k];
+                mb += native[b + k];
+            }
+            d += Math.abs(ma - mb) / (B * B) / 3;
+        }
+        blocks++;
+        bad += d > 16;
+    }
+    return { mean_abs_diff: sum / n, frac_over_32: big / n, blocks_8px_over_16: bad / blocks, compared_px: n };
+}

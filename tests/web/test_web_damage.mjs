@@ -19,7 +19,7 @@ import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
 import { writeFileSync, readFileSync, mkdirSync } from 'node:fs';
 import path from 'node:path';
-import { args, startServer, startBrowser, waitFor, until, projector } from './harness.mjs';
+import { args, startServer, startBrowser, waitFor, until, projector, comparePictures } from './harness.mjs';
 import { readVectors } from './spec_vectors.mjs';
 
 const [server, work, config, client, protocolMd] = args('usage: node test_web_damage.mjs GALE_SERVER WORK_DIR SCENE.json GALE_CLIENT PROTOCOL.md');
@@ -182,7 +182,7 @@ try {
     await page.evaluate(() => { window.gale.frozen = true; });
     await page.screenshot({ path: path.join(work, 'browser.png') });
     const png = readFileSync(path.join(work, 'native.png')).toString('base64');
-    const cmp = await page.evaluate(async (b64) => {
+    const two = await page.evaluate(async (b64) => {
         const g = window.gale, still = g.still(true); // rows bottom first
         const img = new Image();
         img.src = `data:image/png;base64,${b64}`;
@@ -193,38 +193,15 @@ try {
         const x = c.getContext('2d');
         x.drawImage(img, 0, 0, still.w, still.h);
         const nat = x.getImageData(0, 0, still.w, still.h).data; // rows top first
-        const raw = atob(still.pixels);
-        // the native HUD's boxes (gale-client draws them into its picture; the page's HUD is
-        // HTML over the canvas): the text box top left, the compass top right, the caption
-        const hud = (i, y) => (i < 0.66 * still.w && y < 0.36 * still.h) || (i > 0.8 * still.w && y < 0.25 * still.h) || y > 0.85 * still.h;
-        let sum = 0, big = 0, n = 0;
-        for (let y = 0; y < still.h; y++) for (let i = 0; i < still.w; i++) {
-            if (hud(i, y)) continue;
-            const a = 4 * ((still.h - 1 - y) * still.w + i), b = 4 * (y * still.w + i);
-            let d = 0;
-            for (let k = 0; k < 3; k++) d += Math.abs(raw.charCodeAt(a + k) - nat[b + k]);
-            sum += d / 3;
-            big += d / 3 > 32;
-            n++;
-        }
-        const B = 8;
-        let blocks = 0, bad = 0;
-        for (let by = 0; by < Math.floor(still.h / B); by++) for (let bx = 0; bx < Math.floor(still.w / B); bx++) {
-            if (hud(bx * B, by * B) || hud(bx * B + B - 1, by * B + B - 1)) continue;
-            let d = 0;
-            for (let k = 0; k < 3; k++) {
-                let ma = 0, mb = 0;
-                for (let y = by * B; y < by * B + B; y++) for (let i = bx * B; i < bx * B + B; i++) {
-                    ma += raw.charCodeAt(4 * ((still.h - 1 - y) * still.w + i) + k);
-                    mb += nat[4 * (y * still.w + i) + k];
-                }
-                d += Math.abs(ma - mb) / (B * B) / 3;
-            }
-            blocks++;
-            bad += d > 16;
-        }
-        return { mean_abs_diff: +(sum / n).toFixed(2), frac_over_32: +(big / n).toFixed(4), blocks_8px_over_16: +(bad / blocks).toFixed(4), compared_px: n, native_size: [img.width, img.height] };
+        const bytes = (bin) => btoa(Array.from({ length: Math.ceil(bin.length / 0x8000) }, (_, i) => String.fromCharCode.apply(null, bin.subarray(i * 0x8000, (i + 1) * 0x8000))).join(''));
+        return { w: still.w, h: still.h, page: still.pixels, native: bytes(nat), native_size: [img.width, img.height] };
     }, png);
+    // the native HUD's boxes (gale-client draws them into its picture; the page's HUD is
+    // HTML over the canvas): the text box top left, the compass top right, the caption
+    const hud = (i, y) => (i < 0.66 * two.w && y < 0.36 * two.h) || (i > 0.8 * two.w && y < 0.25 * two.h) || y > 0.85 * two.h;
+    const d = comparePictures(Buffer.from(two.page, 'base64'), Buffer.from(two.native, 'base64'), two.w, two.h, hud);
+    const cmp = { mean_abs_diff: +d.mean_abs_diff.toFixed(2), frac_over_32: +d.frac_over_32.toFixed(4), blocks_8px_over_16: +d.blocks_8px_over_16.toFixed(4),
+        compared_px: d.compared_px, native_size: two.native_size };
     out.native_vs_browser = cmp;
     assert.deepEqual(cmp.native_size, [W, H]);
     assert.ok(cmp.blocks_8px_over_16 < 0.06, `browser and native differ in ${(100 * cmp.blocks_8px_over_16).toFixed(1)} % of 8-pixel blocks (>= 6 %): ${JSON.stringify(cmp)}`);

@@ -12,7 +12,7 @@ import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
 import { writeFileSync, readFileSync, mkdirSync } from 'node:fs';
 import path from 'node:path';
-import { args, startServer, startBrowser, waitFor, readMetric, until } from './harness.mjs';
+import { args, startServer, startBrowser, waitFor, readMetric, until, comparePictures } from './harness.mjs';
 
 const [server, work, config, client, wallFile] = args('usage: node test_web_wall.mjs GALE_SERVER WORK_DIR SCENE.json GALE_CLIENT WALL.json');
 mkdirSync(work, { recursive: true });
@@ -35,8 +35,8 @@ const native = (tile, png, frames, frameLog = null) => new Promise((resolve, rej
 // gale-client c1r0 draws WHAT (native-c1r0-WHAT.png), then the browser tile draws the
 // server instant of its last frame (the frame log's; the browser's jitter buffer still
 // holds it) at the same shader time, and the two are compared: mean difference, pixels
-// off by more than 32 levels, 8-pixel blocks whose means are off by more than 16, each's
-// mean luma; beside-WHAT.png holds the two side by side (browser left).
+// off by more than 32 levels, 8-pixel blocks whose means are off by more than 16
+// (comparePictures), each's mean luma; beside-WHAT.png holds the two side by side (browser left).
 async function compare(page, what, frames) {
     const log = path.join(work, `native-c1r0-${what}.frames`);
     // the browser keeps 30 s of snapshots meanwhile (gale-client may take a while to
@@ -49,7 +49,7 @@ async function compare(page, what, frames) {
     const lines = readFileSync(log, 'utf8').trim().split('\n').map((l) => l.split(' ').map(Number));
     const at = { shown_s: lines[lines.length - 1][1] * 1e-6, t_s: (lines[lines.length - 1][1] - Math.floor(lines[0][1] * 1e-6) * 1e6) * 1e-6 };
     const png = readFileSync(path.join(work, `native-c1r0-${what}.png`)).toString('base64');
-    const cmp = await page.evaluate(async ([b64, at]) => {
+    const pics = await page.evaluate(async ([b64, at]) => {
         const snaps = window.gale.jitter.snaps;
         const held = snaps.length > 1 && at.shown_s >= snaps[0].t && at.shown_s <= snaps[snaps.length - 1].t;
         const still = window.gale.still(true, at.shown_s, at.t_s); // rows bottom first
@@ -63,31 +63,6 @@ async function compare(page, what, frames) {
         x.drawImage(img, 0, 0, still.w, still.h);
         const nat = x.getImageData(0, 0, still.w, still.h).data; // rows top first
         const raw = atob(still.pixels);
-        let sum = 0, big = 0;
-        for (let y = 0; y < still.h; y++) for (let i = 0; i < still.w; i++) {
-            const a = 4 * ((still.h - 1 - y) * still.w + i), b = 4 * (y * still.w + i);
-            let d = 0;
-            for (let k = 0; k < 3; k++) d += Math.abs(raw.charCodeAt(a + k) - nat[b + k]);
-            sum += d / 3;
-            big += d / 3 > 32;
-        }
-        // 8 × 8 blocks: a leaf that flutters to a neighbouring pixel moves no block mean much
-        const B = 8, bw = Math.floor(still.w / B), bh = Math.floor(still.h / B);
-        let blocks = 0, bad = 0;
-        for (let by = 0; by < bh; by++) for (let bx = 0; bx < bw; bx++) {
-            let d = 0;
-            for (let k = 0; k < 3; k++) {
-                let ma = 0, mb = 0;
-                for (let y = by * B; y < by * B + B; y++) for (let i = bx * B; i < bx * B + B; i++) {
-                    ma += raw.charCodeAt(4 * ((still.h - 1 - y) * still.w + i) + k);
-                    mb += nat[4 * (y * still.w + i) + k];
-                }
-                d += Math.abs(ma - mb) / (B * B) / 3;
-            }
-            blocks++;
-            bad += d > 16;
-        }
-        const n = still.w * still.h;
         // the two side by side (browser left, native right) to look at
         const both = document.createElement('canvas');
         both.width = 2 * still.w;
@@ -96,18 +71,21 @@ async function compare(page, what, frames) {
         for (let y = 0; y < still.h; y++) for (let i = 0; i < 4 * still.w; i++) own.data[4 * y * still.w + i] = raw.charCodeAt(4 * (still.h - 1 - y) * still.w + i);
         bx2.putImageData(own, 0, 0);
         bx2.drawImage(c, still.w, 0);
-        // mean luma (Rec. 709) of each, for the storm's darkening
-        let la = 0, lb = 0;
-        for (let y = 0; y < still.h; y++) for (let i = 0; i < still.w; i++) {
-            const a = 4 * ((still.h - 1 - y) * still.w + i), b = 4 * (y * still.w + i);
-            la += 0.2126 * raw.charCodeAt(a) + 0.7152 * raw.charCodeAt(a + 1) + 0.0722 * raw.charCodeAt(a + 2);
-            lb += 0.2126 * nat[b] + 0.7152 * nat[b + 1] + 0.0722 * nat[b + 2];
-        }
-        return { mean_abs_diff: sum / n, frac_over_32: big / n, blocks_8px_over_16: bad / blocks, native_size: [img.width, img.height],
-            luma_browser: la / n, luma_native: lb / n, instant_held: held, beside: both.toDataURL('image/png') };
+        const bytes = (bin) => btoa(Array.from({ length: Math.ceil(bin.length / 0x8000) }, (_, i) => String.fromCharCode.apply(null, bin.subarray(i * 0x8000, (i + 1) * 0x8000))).join(''));
+        return { w: still.w, h: still.h, page: still.pixels, native: bytes(nat), native_size: [img.width, img.height], instant_held: held,
+            beside: both.toDataURL('image/png') };
     }, [png, at]);
-    writeFileSync(path.join(work, `beside-${what}.png`), Buffer.from(cmp.beside.split(',')[1], 'base64'));
-    delete cmp.beside;
+    writeFileSync(path.join(work, `beside-${what}.png`), Buffer.from(pics.beside.split(',')[1], 'base64'));
+    const pa = Buffer.from(pics.page, 'base64'), na = Buffer.from(pics.native, 'base64');
+    const cmp = { ...comparePictures(pa, na, pics.w, pics.h), native_size: pics.native_size, instant_held: pics.instant_held };
+    // mean luma (Rec. 709) of each, for the storm's darkening
+    const luma = (px) => {
+        let l = 0;
+        for (let i = 0; i < px.length; i += 4) l += 0.2126 * px[i] + 0.7152 * px[i + 1] + 0.0722 * px[i + 2];
+        return l / (px.length / 4);
+    };
+    cmp.luma_browser = luma(pa);
+    cmp.luma_native = luma(na);
     assert.ok(cmp.instant_held, `${what}: the browser's jitter buffer no longer holds the native frame's instant ${at.shown_s} s`);
     return cmp;
 }
