@@ -10,6 +10,10 @@
 #include "wire_cursor.h"
 #include "wire_int.h"
 
+/* The vector helpers below are always inlined into put_values' clones, so no vector
+ * crosses a call; GCC's note that such a call would change ABI without AVX is moot. */
+#pragma GCC diagnostic ignored "-Wpsabi"
+
 #define GROUP 8u        /* modes per group; a full group of width w is exactly w bytes */
 #define MAX_WIDTH 18u   /* |v - pred| <= 4 * WIRE_QMAX < 2^17, zigzag < 2^18 */
 
@@ -304,57 +308,135 @@ static inline size_t tree_bound(uint32_t n)
     return (n + GROUP - 1) / GROUP + ((size_t)n * MAX_WIDTH + 7) / 8;
 }
 
-/* Four lanes of int16 and int32 (GCC vector extensions: one SSE2 register; a group of 8
- * is two of them). */
-typedef int16_t v4hi __attribute__((vector_size(8)));
-typedef int32_t v4si __attribute__((vector_size(16)));
-typedef uint32_t v4su __attribute__((vector_size(16)));
+/* Sixteen lanes of int16 and int32, and their halves (GCC vector extensions): two
+ * groups of 8 modes at a time, one AVX-512 register (two AVX2 ones, four SSE2 ones). */
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+#define LITTLE_ENDIAN_LANES 1 /* pack_pair reads 32-bit lanes as 64-bit ones */
+#else
+#define LITTLE_ENDIAN_LANES 0
+#endif
+typedef int16_t v16hi __attribute__((vector_size(32)));
+typedef int32_t v16si __attribute__((vector_size(64)));
+typedef uint32_t v16su __attribute__((vector_size(64)));
+typedef uint64_t v8du __attribute__((vector_size(64)));
+typedef uint32_t v8su __attribute__((vector_size(32)));
+typedef uint64_t v4du __attribute__((vector_size(32)));
 
-static inline v4si load4(const int16_t *p)
+/* z with its lanes permuted (GCC and clang spell it apart). */
+#if defined(__clang__)
+#define PERMUTE16(z, ...) __builtin_shufflevector(z, z, __VA_ARGS__)
+#else
+#define PERMUTE16(z, ...) __builtin_shuffle(z, (v16su){ __VA_ARGS__ })
+#endif
+
+/* Lanes 0 .. k - 1 (k 8 or 16) from p, the rest zero. */
+static inline __attribute__((always_inline)) v16si load16(const int16_t *p, uint32_t k)
 {
-    v4hi h;
-    memcpy(&h, p, sizeof h);
-    return __builtin_convertvector(h, v4si);
+    v16hi h = { 0 };
+    if (k == 2 * GROUP) {
+        memcpy(&h, p, sizeof h);
+    } else {
+        memcpy(&h, p, GROUP * sizeof *p);
+    }
+    return __builtin_convertvector(h, v16si);
 }
 
-static inline v4su zigzag4(v4si v)
+static inline __attribute__((always_inline)) v16su zigzag16(v16si v)
 {
-    return ((v4su)v << 1) ^ (v4su)(v >> 31);
+    return ((v16su)v << 1) ^ (v16su)(v >> 31);
 }
 
-static inline uint32_t or4(v4su z)
+static inline __attribute__((always_inline)) v16si min16(v16si a, v16si b)
 {
-    return z[0] | z[1] | z[2] | z[3];
-}
-
-static inline v4si min4(v4si a, v4si b)
-{
-    const v4si m = a < b;
+    const v16si m = a < b;
     return (a & m) | (b & ~m);
 }
 
-/* group_code on a full group read straight from the rows (qa, qb NULL: zero); *lo keeps
- * the lanes' minimum of every value read, for the range check. */
-static inline void group_code8(const int16_t *q, const int16_t *qa, const int16_t *qb,
-                               uint32_t z[3][GROUP], unsigned wd[3], v4si *lo)
+/* The widths of each half's OR (which has the width of the half's maximum). */
+static inline __attribute__((always_inline)) void widths16(v16su z, unsigned *w0, unsigned *w1)
 {
-    const v4si zero = { 0, 0, 0, 0 };
-    v4su o[3] = { { 0 } };
-    for (unsigned h = 0; h < 2; h++) {
-        const v4si v = load4(q + 4 * h);
-        const v4si a = qa ? load4(qa + 4 * h) : zero, b = qb ? load4(qb + 4 * h) : zero;
-        *lo = min4(min4(*lo, v), min4(a, b));
-        const v4su z0 = zigzag4(v), z1 = zigzag4(v - a), z2 = zigzag4(v - (a + a - b));
-        memcpy(z[PRED_ZERO] + 4 * h, &z0, sizeof z0);
-        memcpy(z[PRED_PREV] + 4 * h, &z1, sizeof z1);
-        memcpy(z[PRED_LINEAR] + 4 * h, &z2, sizeof z2);
-        o[0] |= z0;
-        o[1] |= z1;
-        o[2] |= z2;
+    z |= PERMUTE16(z, 4, 5, 6, 7, 0, 1, 2, 3, 12, 13, 14, 15, 8, 9, 10, 11);
+    z |= PERMUTE16(z, 2, 3, 0, 1, 6, 7, 4, 5, 10, 11, 8, 9, 14, 15, 12, 13);
+    z |= PERMUTE16(z, 1, 0, 3, 2, 5, 4, 7, 6, 9, 8, 11, 10, 13, 12, 15, 14);
+    *w0 = bit_width(z[0]);
+    *w1 = bit_width(z[GROUP]);
+}
+
+/* Two groups in lanes (the first in lanes 0-7 of width w0, the second in 8-15 of width
+ * w1, both <= 16) packed as pack8 packs each: neighbouring lanes joined, then neighbouring
+ * pairs, each step in every lane at once; out[g] is group g's 8w bits, low word first. */
+static inline __attribute__((always_inline)) void pack_pair(v16su z, unsigned w0, unsigned w1, uint64_t out[2][2])
+{
+    v8du x = (v8du)z; /* lane i: z[2i] | z[2i + 1] << 32 (little-endian) */
+    const v8du s1 = { w0, w0, w0, w0, w1, w1, w1, w1 };
+    x = (x & 0xffffffffu) | (x >> 32) << s1; /* 2w <= 32 bits a lane */
+    v4du y = (v4du)__builtin_convertvector(x, v8su);
+    const v4du s2 = { 2 * w0, 2 * w0, 2 * w1, 2 * w1 };
+    y = (y & 0xffffffffu) | (y >> 32) << s2; /* 4w <= 64 bits a lane */
+    const unsigned w[2] = { w0, w1 };
+    for (unsigned g = 0; g < 2; g++) {
+        const u128 acc = (u128)y[2 * g] | (u128)y[2 * g + 1] << (4 * w[g]);
+        out[g][0] = (uint64_t)acc;
+        out[g][1] = (uint64_t)(acc >> 64);
     }
-    wd[0] = bit_width(or4(o[0]));
-    wd[1] = bit_width(or4(o[1]));
-    wd[2] = bit_width(or4(o[2]));
+}
+
+/* The residuals of groups g0 and g0 + 8 (k of their 16 modes read, the rest zero) of one
+ * tree's full rows against the first n_pred predictors (qa, qb NULL: zero), and their
+ * widths wd[g][p]; *lo keeps the lanes' minimum of every value read, for the range
+ * check. */
+static inline __attribute__((always_inline)) void pair_code(const int16_t *q, const int16_t *qa, const int16_t *qb,
+                             uint32_t k, int n_pred, v16su z[3], unsigned wd[2][3],
+                             v16si *lo)
+{
+    const v16si zero = { 0 };
+    const v16si v = load16(q, k);
+    const v16si a = qa ? load16(qa, k) : zero, b = qb ? load16(qb, k) : zero;
+    *lo = min16(min16(*lo, v), min16(a, b));
+    z[PRED_ZERO] = zigzag16(v);
+    widths16(z[PRED_ZERO], &wd[0][PRED_ZERO], &wd[1][PRED_ZERO]);
+    if (n_pred > PRED_PREV) {
+        z[PRED_PREV] = zigzag16(v - a);
+        widths16(z[PRED_PREV], &wd[0][PRED_PREV], &wd[1][PRED_PREV]);
+    }
+    if (n_pred > PRED_LINEAR) {
+        z[PRED_LINEAR] = zigzag16(v - (a + a - b));
+        widths16(z[PRED_LINEAR], &wd[0][PRED_LINEAR], &wd[1][PRED_LINEAR]);
+    }
+}
+
+/* Groups g0 and g0 + 8 (k modes, 8 or 16) of one frame at p, each with the narrowest of
+ * the frame's first n_pred predictors; returns the end. Writes past it as pack8 does
+ * (FAST_SLACK). */
+static inline __attribute__((always_inline)) uint8_t *put_pair(uint8_t *p, const v16su z[3], const unsigned wd[2][3],
+                                uint32_t k, int n_pred)
+{
+    int best[2];
+    const uint8_t gh[2] = { group_header(wd[0], n_pred, &best[0]),
+                            group_header(wd[1], n_pred, &best[1]) };
+    const unsigned w0 = gh[0] & 0x1fu, w1 = gh[1] & 0x1fu;
+    const unsigned n_groups = k / GROUP;
+    if (w0 <= 16 && w1 <= 16) {
+        const v16su lo_half = { ~0u, ~0u, ~0u, ~0u, ~0u, ~0u, ~0u, ~0u };
+        const v16su zs = (z[best[0]] & lo_half) | (z[best[1]] & ~lo_half);
+        uint64_t bits[2][2];
+        pack_pair(zs, w0, w1, bits);
+        for (unsigned g = 0; g < n_groups; g++) {
+            *p = gh[g];
+            store_le64(p + 1, bits[g][0]);
+            store_le64(p + 9, bits[g][1]);
+            p += 1 + (g ? w1 : w0); /* a full group of width w is w bytes */
+        }
+        return p;
+    }
+    for (unsigned g = 0; g < n_groups; g++) { /* residuals of 17-18 bits: rare */
+        uint32_t zz[2 * GROUP];
+        memcpy(zz, &z[best[g]], sizeof zz);
+        *p = gh[g];
+        pack8(p + 1, zz + g * GROUP, gh[g] & 0x1fu);
+        p += 1 + (gh[g] & 0x1fu);
+    }
+    return p;
 }
 
 /* The smallest of q[m0..m1) (0 when empty). */
@@ -396,9 +478,13 @@ static bool put_values(wire_writer *const *w, const int *n_pred, int nf, const w
     uint32_t z[3][GROUP];
     unsigned wd[3];
     int32_t v[WIRE_MAX_MODES + GROUP], a[WIRE_MAX_MODES + GROUP], b[WIRE_MAX_MODES + GROUP];
-    v4si lo4 = { 0, 0, 0, 0 };
+    v16si lo16 = { 0 };
     int32_t lo = 0;
     bool bad = false;
+    int max_pred = 1;
+    for (int f = 0; f < nf; f++) {
+        max_pred = n_pred[f] > max_pred ? n_pred[f] : max_pred;
+    }
     for (uint32_t t = t0; t < t1 && !bad; t++) {
         if (sc->species[t] >= sc->n_species || !counts_ok(sc, cur, t) ||
             !counts_ok(sc, prev, t) || !counts_ok(sc, prev2, t)) {
@@ -415,29 +501,40 @@ static bool put_values(wire_writer *const *w, const int *n_pred, int nf, const w
         if (n == 0) {
             continue;
         }
+        bool all_fast = true;
         bool fast[3];
         for (int f = 0; f < nf; f++) {
             fast[f] = (size_t)(w[f]->end - w[f]->p) >= tree_bound(n) + FAST_SLACK;
+            all_fast = all_fast && fast[f];
         }
-        /* whole groups of every row read straight from the rows; a partial group or a
-         * history row shorter than this one through the zero-padded copies */
+        /* Whole groups of every row, straight into memory: read from the rows two groups
+         * at a time (pair_code, put_pair). */
         const bool rows = n % GROUP == 0 && (!prev || na >= n) && (!prev2 || nb >= n);
-        if (!rows) {
-            tree_rows(cur, prev, prev2, t, v, a, b);
-            const uint32_t ng = (n + GROUP - 1) / GROUP * GROUP;
-            for (uint32_t m = 0; m < ng; m++) {
-                lo = v[m] < lo ? v[m] : lo;
-                lo = a[m] < lo ? a[m] : lo;
-                lo = b[m] < lo ? b[m] : lo;
+        if (rows && all_fast && LITTLE_ENDIAN_LANES) {
+            for (uint32_t g0 = 0; g0 < n; g0 += 2 * GROUP) {
+                const uint32_t k = n - g0 < 2 * GROUP ? n - g0 : 2 * GROUP;
+                v16su z16[3];
+                unsigned wd2[2][3];
+                pair_code(q + g0, qa ? qa + g0 : NULL, qb ? qb + g0 : NULL, k, max_pred, z16,
+                          wd2, &lo16);
+                for (int f = 0; f < nf; f++) {
+                    w[f]->p = put_pair(w[f]->p, z16, wd2, k, n_pred[f]);
+                }
             }
+            continue;
+        }
+        /* otherwise through the zero-padded copies, and the checked writer where the
+         * worst case does not fit */
+        tree_rows(cur, prev, prev2, t, v, a, b);
+        const uint32_t ng = (n + GROUP - 1) / GROUP * GROUP;
+        for (uint32_t m = 0; m < ng; m++) {
+            lo = v[m] < lo ? v[m] : lo;
+            lo = a[m] < lo ? a[m] : lo;
+            lo = b[m] < lo ? b[m] : lo;
         }
         for (uint32_t g0 = 0; g0 < n; g0 += GROUP) {
             const uint32_t k = n - g0 < GROUP ? n - g0 : GROUP;
-            if (rows) {
-                group_code8(q + g0, qa ? qa + g0 : NULL, qb ? qb + g0 : NULL, z, wd, &lo4);
-            } else {
-                group_code(v + g0, a + g0, b + g0, z, wd);
-            }
+            group_code(v + g0, a + g0, b + g0, z, wd);
             for (int f = 0; f < nf; f++) {
                 int best;
                 const uint8_t gh = group_header(wd, n_pred[f], &best);
@@ -457,8 +554,8 @@ static bool put_values(wire_writer *const *w, const int *n_pred, int nf, const w
             bad = bad || w[f]->bad;
         }
     }
-    for (unsigned i = 0; i < 4; i++) {
-        lo = lo4[i] < lo ? lo4[i] : lo;
+    for (unsigned i = 0; i < 2 * GROUP; i++) {
+        lo = lo16[i] < lo ? lo16[i] : lo;
     }
     return lo >= -WIRE_QMAX;
 }
