@@ -325,8 +325,12 @@ typedef uint64_t v4du __attribute__((vector_size(32)));
 /* z with its lanes permuted (GCC and clang spell it apart). */
 #if defined(__clang__)
 #define PERMUTE16(z, ...) __builtin_shufflevector(z, z, __VA_ARGS__)
+#define PERMUTE4(z, ...) __builtin_shufflevector(z, z, __VA_ARGS__)
+#define SHUFFLE4(a, b, ...) __builtin_shufflevector(a, b, __VA_ARGS__)
 #else
 #define PERMUTE16(z, ...) __builtin_shuffle(z, (v16su){ __VA_ARGS__ })
+#define PERMUTE4(z, ...) __builtin_shuffle(z, (v4du){ __VA_ARGS__ })
+#define SHUFFLE4(a, b, ...) __builtin_shuffle(a, b, (v4du){ __VA_ARGS__ })
 #endif
 
 /* Lanes 0 .. k - 1 (k 8 or 16) from p, the rest zero. */
@@ -364,8 +368,9 @@ static inline __attribute__((always_inline)) void widths16(v16su z, unsigned *w0
 
 /* Two groups in lanes (the first in lanes 0-7 of width w0, the second in 8-15 of width
  * w1, both <= 16) packed as pack8 packs each: neighbouring lanes joined, then neighbouring
- * pairs, each step in every lane at once; out[g] is group g's 8w bits, low word first. */
-static inline __attribute__((always_inline)) void pack_pair(v16su z, unsigned w0, unsigned w1, uint64_t out[2][2])
+ * pairs, then the two 4w-bit halves of each group, each step in every lane at once.
+ * Returns group 0's 8w bits in lanes 0 (low) and 1 (high), group 1's in lanes 2 and 3. */
+static inline __attribute__((always_inline)) v4du pack_pair(v16su z, unsigned w0, unsigned w1)
 {
     v8du x = (v8du)z; /* lane i: z[2i] | z[2i + 1] << 32 (little-endian) */
     const v8du s1 = { w0, w0, w0, w0, w1, w1, w1, w1 };
@@ -373,12 +378,12 @@ static inline __attribute__((always_inline)) void pack_pair(v16su z, unsigned w0
     v4du y = (v4du)__builtin_convertvector(x, v8su);
     const v4du s2 = { 2 * w0, 2 * w0, 2 * w1, 2 * w1 };
     y = (y & 0xffffffffu) | (y >> 32) << s2; /* 4w <= 64 bits a lane */
-    const unsigned w[2] = { w0, w1 };
-    for (unsigned g = 0; g < 2; g++) {
-        const u128 acc = (u128)y[2 * g] | (u128)y[2 * g + 1] << (4 * w[g]);
-        out[g][0] = (uint64_t)acc;
-        out[g][1] = (uint64_t)(acc >> 64);
-    }
+    /* y0 | y1 << 4w as two words; each shift split in two of 2w <= 32, as a shift by the
+     * lane's width or more is undefined */
+    const v4du yo = PERMUTE4(y, 1, 0, 3, 2);
+    const v4du lo = y | (yo << s2) << s2;
+    const v4du hi = (yo >> (32 - s2)) >> (32 - s2);
+    return SHUFFLE4(lo, hi, 0, 4, 2, 6);
 }
 
 /* The residuals of groups g0 and g0 + 8 (k of their 16 modes read, the rest zero) of one
@@ -419,12 +424,10 @@ static inline __attribute__((always_inline)) uint8_t *put_pair(uint8_t *p, const
     if (w0 <= 16 && w1 <= 16) {
         const v16su lo_half = { ~0u, ~0u, ~0u, ~0u, ~0u, ~0u, ~0u, ~0u };
         const v16su zs = (z[best[0]] & lo_half) | (z[best[1]] & ~lo_half);
-        uint64_t bits[2][2];
-        pack_pair(zs, w0, w1, bits);
+        const v4du bits = pack_pair(zs, w0, w1);
         for (unsigned g = 0; g < n_groups; g++) {
             *p = gh[g];
-            store_le64(p + 1, bits[g][0]);
-            store_le64(p + 9, bits[g][1]);
+            memcpy(p + 1, (const uint8_t *)&bits + 16 * g, 16);
             p += 1 + (g ? w1 : w0); /* a full group of width w is w bytes */
         }
         return p;
@@ -472,8 +475,8 @@ static inline bool counts_ok(const wire_scene *sc, const wire_state *st, uint32_
 __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 #endif
 static bool put_values(wire_writer *const *w, const int *n_pred, int nf, const wire_scene *sc,
-                       const wire_state *cur, const wire_state *prev, const wire_state *prev2,
-                       uint32_t t0, uint32_t t1)
+                       const wire_state *cur_in, const wire_state *prev_in,
+                       const wire_state *prev2_in, uint32_t t0, uint32_t t1)
 {
     uint32_t z[3][GROUP];
     unsigned wd[3];
@@ -482,12 +485,27 @@ static bool put_values(wire_writer *const *w, const int *n_pred, int nf, const w
     int32_t lo = 0;
     bool bad = false;
     int max_pred = 1;
+    /* The frames' ends and the states kept in locals: a byte stored through a frame's
+     * pointer could alias any field in memory, which would be read again after it. */
+    uint8_t *pos[3], *lim[3];
     for (int f = 0; f < nf; f++) {
         max_pred = n_pred[f] > max_pred ? n_pred[f] : max_pred;
+        pos[f] = w[f]->p;
+        lim[f] = w[f]->end;
     }
+    const wire_state none = { 0 };
+    const wire_state cs = *cur_in, ps = prev_in ? *prev_in : none,
+                     bs = prev2_in ? *prev2_in : none;
+    const wire_state *const cur = &cs, *const prev = prev_in ? &ps : NULL,
+                     *const prev2 = prev2_in ? &bs : NULL;
+    const uint8_t *const species = sc->species;
+    const uint32_t n_species = sc->n_species;
     for (uint32_t t = t0; t < t1 && !bad; t++) {
-        if (sc->species[t] >= sc->n_species || !counts_ok(sc, cur, t) ||
-            !counts_ok(sc, prev, t) || !counts_ok(sc, prev2, t)) {
+        if (species[t] >= n_species || !counts_ok(sc, cur, t) || !counts_ok(sc, prev, t) ||
+            !counts_ok(sc, prev2, t)) {
+            for (int f = 0; f < nf; f++) {
+                w[f]->p = pos[f];
+            }
             return false;
         }
         const uint32_t n = cur->n_modes[t];
@@ -504,7 +522,7 @@ static bool put_values(wire_writer *const *w, const int *n_pred, int nf, const w
         bool all_fast = true;
         bool fast[3];
         for (int f = 0; f < nf; f++) {
-            fast[f] = (size_t)(w[f]->end - w[f]->p) >= tree_bound(n) + FAST_SLACK;
+            fast[f] = (size_t)(lim[f] - pos[f]) >= tree_bound(n) + FAST_SLACK;
             all_fast = all_fast && fast[f];
         }
         /* Whole groups of every row, straight into memory: read from the rows two groups
@@ -518,13 +536,16 @@ static bool put_values(wire_writer *const *w, const int *n_pred, int nf, const w
                 pair_code(q + g0, qa ? qa + g0 : NULL, qb ? qb + g0 : NULL, k, max_pred, z16,
                           wd2, &lo16);
                 for (int f = 0; f < nf; f++) {
-                    w[f]->p = put_pair(w[f]->p, z16, wd2, k, n_pred[f]);
+                    pos[f] = put_pair(pos[f], z16, wd2, k, n_pred[f]);
                 }
             }
             continue;
         }
         /* otherwise through the zero-padded copies, and the checked writer where the
          * worst case does not fit */
+        for (int f = 0; f < nf; f++) {
+            w[f]->p = pos[f];
+        }
         tree_rows(cur, prev, prev2, t, v, a, b);
         const uint32_t ng = (n + GROUP - 1) / GROUP * GROUP;
         for (uint32_t m = 0; m < ng; m++) {
@@ -552,7 +573,11 @@ static bool put_values(wire_writer *const *w, const int *n_pred, int nf, const w
         }
         for (int f = 0; f < nf; f++) {
             bad = bad || w[f]->bad;
+            pos[f] = w[f]->p;
         }
+    }
+    for (int f = 0; f < nf; f++) {
+        w[f]->p = pos[f];
     }
     for (unsigned i = 0; i < 2 * GROUP; i++) {
         lo = lo16[i] < lo ? lo16[i] : lo;
