@@ -910,13 +910,16 @@ static int encode_each(const wire_header *h, uint32_t seq, const wire_scene *sce
                        const wire_state *cur, const wire_state *prev, const wire_state *prev2,
                        const wire_lanes *lanes, wire_frame_out *out)
 {
-    int rc = wire_encode_keyframe_lanes(h, seq, scene, cur, lanes, out[0].buf, out[0].cap,
+    int rc = 0;
+    if (out[0].buf) {
+        rc = wire_encode_keyframe_lanes(h, seq, scene, cur, lanes, out[0].buf, out[0].cap,
                                         &out[0].len, out[0].err);
-    if (!rc && prev) {
+    }
+    if (!rc && prev && out[1].buf) {
         rc = wire_encode_delta_lanes(h, seq, scene, cur, prev, NULL, lanes, out[1].buf,
                                      out[1].cap, &out[1].len, out[0].err);
     }
-    if (!rc && prev && prev2) {
+    if (!rc && prev && prev2 && out[2].buf) {
         rc = wire_encode_delta_lanes(h, seq, scene, cur, prev, prev2, lanes, out[2].buf,
                                      out[2].cap, &out[2].len, out[0].err);
     }
@@ -940,7 +943,15 @@ void wire_snapshot_begin(wire_snapshot_job *j, const wire_header *h, uint32_t se
     j->lanes = lanes;
     j->out = out;
     j->lj.n_lanes = 0;
-    const int nf = prev2 ? 3 : prev ? 2 : 1;
+    const int avail = prev2 ? 3 : prev ? 2 : 1;
+    int nf = 0;
+    for (int f = 0; f < avail; f++) {
+        out[f].len = 0;
+        if (out[f].buf) {
+            j->frame[nf++] = f;
+        }
+    }
+    j->nf = nf;
     gale_err scratch;
     bool ok = !check_scene(scene, "", &scratch) && !check_counts(scene, cur, "", "", &scratch) &&
               !check_counts(scene, prev, "", "", &scratch) &&
@@ -953,36 +964,34 @@ void wire_snapshot_begin(wire_snapshot_job *j, const wire_header *h, uint32_t se
         return;
     }
     wire_writer *ws[3];
-    for (int f = 0; f < nf; f++) {
-        j->w[f] = wire_writer_make(out[f].buf, out[f].cap);
-        ws[f] = &j->w[f];
+    int n_pred[3]; /* frame f is coded with the first f + 1 predictors */
+    for (int k = 0; k < nf; k++) {
+        const int f = j->frame[k];
+        j->w[k] = wire_writer_make(out[f].buf, out[f].cap);
+        ws[k] = &j->w[k];
+        n_pred[k] = f + 1;
+        if (f == 0) {
+            put_key_head(&j->w[k], h, seq, scene, cur);
+        } else {
+            put_delta_head(&j->w[k], h, seq, scene, cur, prev, f == 2);
+        }
+        j->each = j->each || j->w[k].bad;
     }
-    put_key_head(&j->w[0], h, seq, scene, cur);
-    if (nf >= 2) {
-        put_delta_head(&j->w[1], h, seq, scene, cur, prev, false);
-    }
-    if (nf == 3) {
-        put_delta_head(&j->w[2], h, seq, scene, cur, prev, true);
-    }
-    for (int f = 0; f < nf; f++) {
-        j->each = j->each || j->w[f].bad;
-    }
-    if (!j->each) {
-        /* one pass over the rows for the three frames: the residuals against each
-           predictor once, each frame taking the narrowest of its own */
-        const int n_pred[3] = { 1, 2, 3 };
+    if (!j->each && nf > 0) {
+        /* one pass over the rows for the frames: the residuals against each predictor
+           once, each frame taking the narrowest of its own */
         lanes_layout(&j->lj, ws, n_pred, nf, scene, &j->st[0], j->prev, j->prev2, lanes);
     }
 }
 
 int wire_snapshot_lanes(const wire_snapshot_job *j)
 {
-    return j->each ? 0 : (int)j->lj.n_lanes;
+    return j->each || !j->nf ? 0 : (int)j->lj.n_lanes;
 }
 
 void wire_snapshot_run(wire_snapshot_job *j, int i0, int i1)
 {
-    if (!j->each) {
+    if (!j->each && j->nf) {
         lanes_run(&j->lj, j->lanes, i0, i1);
     }
 }
@@ -992,6 +1001,9 @@ int wire_snapshot_finish(wire_snapshot_job *j)
     const wire_state *cur = &j->st[0];
     if (j->each) {
         return encode_each(&j->h, j->seq, j->scene, cur, j->prev, j->prev2, j->lanes, j->out);
+    }
+    if (!j->nf) {
+        return 0;
     }
     wire_writer *ws[3] = { &j->w[0], &j->w[1], &j->w[2] };
     if (lanes_join(&j->lj, ws)) {
@@ -1003,8 +1015,8 @@ int wire_snapshot_finish(wire_snapshot_job *j)
                                j->out);
         }
     }
-    for (int f = 0; f < j->lj.nf; f++) {
-        j->out[f].len = (size_t)(j->w[f].p - j->out[f].buf);
+    for (int k = 0; k < j->lj.nf; k++) {
+        j->out[j->frame[k]].len = (size_t)(j->w[k].p - j->out[j->frame[k]].buf);
     }
     return 0;
 }

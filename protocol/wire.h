@@ -156,16 +156,17 @@ int wire_encode_delta_lanes(const wire_header *h, uint32_t seq, const wire_scene
 
 /* One output of wire_encode_snapshot_lanes. */
 typedef struct wire_frame_out {
-    uint8_t *buf;
+    uint8_t *buf;   /* NULL: this frame is not wanted (its len is 0, nothing is written) */
     size_t cap;
     size_t len;     /* set on success */
     gale_err *err;  /* out[0]'s receives the error (may be NULL) */
 } wire_frame_out;
 
 /* A snapshot's frames in one pass over the states: out[0] the KEYFRAME, and with prev
- * out[1] the DELTA against prev, and with prev and prev2 out[2] the DELTA against both;
- * the bytes and the first error are those of wire_encode_keyframe_lanes and
- * wire_encode_delta_lanes called in that order. */
+ * out[1] the DELTA against prev, and with prev and prev2 out[2] the DELTA against both,
+ * each unless its buf is NULL; the bytes and the first error are those of
+ * wire_encode_keyframe_lanes and wire_encode_delta_lanes called in that order for the
+ * frames wanted. */
 int wire_encode_snapshot_lanes(const wire_header *h, uint32_t seq, const wire_scene *scene,
                                const wire_state *cur, const wire_state *prev,
                                const wire_state *prev2, const wire_lanes *lanes,
@@ -201,7 +202,9 @@ typedef struct wire_snapshot_job {
     const wire_state *prev, *prev2; /* &st[1], &st[2] or NULL */
     const wire_lanes *lanes;
     wire_frame_out *out;
-    wire_writer w[3];
+    wire_writer w[3];       /* of the frames written, in order */
+    int frame[3];           /* which out[] each writer fills */
+    int nf;                 /* frames written */
     bool each;              /* finish encodes the frames one by one (a rule broken, a buffer
                                short): the error is theirs */
     wire_lane_job lj;

@@ -210,6 +210,29 @@ static void test_lanes_same_bytes(void)
                     CHECK(out[f].len == len1 && memcmp(one, fused[f], len1) == 0);
                 }
             }
+            /* only the frames wanted (a NULL buf: not written, its len 0), in every
+               choice: each written one the bytes of its own call */
+            for (unsigned want = 0; want < 8u; want++) {
+                const wire_lanes l = { 3, run_threads, NULL };
+                gale_err err;
+                wire_frame_out out[3];
+                for (int f = 0; f < 3; f++) {
+                    memset(fused[f], 0xA5, 64);
+                    out[f] = (wire_frame_out){ want >> f & 1u ? fused[f] : NULL,
+                                               sizeof fused[f], 99, &err };
+                }
+                CHECK(wire_encode_snapshot_lanes(&h, 9, &sc, &cur, held >= 1 ? &prev : NULL,
+                                                 held >= 2 ? &prev2 : NULL, &l, out) == 0);
+                for (int f = 0; f <= held; f++) {
+                    size_t len1 = 0;
+                    CHECK(encode(f, &sc, NULL, one, sizeof one, &len1, &err) == 0);
+                    if (want >> f & 1u) {
+                        CHECK(out[f].len == len1 && memcmp(one, fused[f], len1) == 0);
+                    } else {
+                        CHECK(out[f].len == 0 && fused[f][0] == 0xA5);
+                    }
+                }
+            }
             /* the same in stages, the lanes over two turns (the later share first), the
                header and the state descriptions gone before the lanes run */
             for (int split = 0; split < 4; split++) {
