@@ -90,16 +90,17 @@ static void test_shared_equals_view(void)
     int cur = 0;
     for (int k = 1; k <= 5; k++) {
         fill_q(q[cur], k);
-        srv_qhist qh = { .q = { q[cur], q[(cur + 2) % 3], q[(cur + 1) % 3] }, .n_trees = N,
+        srv_qhist qh = { .q = { q[cur], q[(cur + 2) % 3], q[(cur + 1) % 3] },
+                         .n_trees = N,
                          .stride = STRIDE };
         wire_header h = { .tick = 2u * (uint32_t)k, .server_time_us = 1000u * (uint64_t)k };
         snap_bufs a, b, c, ra, rc;
         snap_init(&a);
         snap_init(&b);
         snap_init(&c);
-        CHECK(srv_stream_encode(&shared, &h, (uint32_t)k, &sc, &qh, &a.s, NULL) == 0);
-        CHECK(srv_stream_encode(&view, &h, (uint32_t)k, &sc, &qh, &b.s, NULL) == 0);
-        CHECK(srv_stream_encode(&lod, &h, (uint32_t)k, &sc, &qh, &c.s, NULL) == 0);
+        CHECK(srv_stream_encode(&shared, &h, (uint32_t)k, &sc, &qh, NET_WANT_ALL, &a.s, NULL) == 0);
+        CHECK(srv_stream_encode(&view, &h, (uint32_t)k, &sc, &qh, NET_WANT_ALL, &b.s, NULL) == 0);
+        CHECK(srv_stream_encode(&lod, &h, (uint32_t)k, &sc, &qh, NET_WANT_ALL, &c.s, NULL) == 0);
         int held = k - 1 < 2 ? k - 1 : 2;
         reference(&h, (uint32_t)k, &sc, &qh, full_modes, held, &ra);
         reference(&h, (uint32_t)k, &sc, &qh, lod_modes, held, &rc);
@@ -132,27 +133,27 @@ static void test_failure_and_skip(void)
     snap_bufs a;
     for (uint32_t seq = 1; seq <= 3; seq++) {
         snap_init(&a);
-        CHECK(srv_stream_encode(&st, &h, seq, &sc, &qh, &a.s, NULL) == 0);
+        CHECK(srv_stream_encode(&st, &h, seq, &sc, &qh, NET_WANT_ALL, &a.s, NULL) == 0);
     }
     CHECK(st.held == 2 && a.s.delta2_len > 0);
 
     modes[1] = 4; /* species 1 has 3 modes */
     gale_err e;
     snap_init(&a);
-    CHECK(srv_stream_encode(&st, &h, 4, &sc, &qh, &a.s, &e) != 0);
+    CHECK(srv_stream_encode(&st, &h, 4, &sc, &qh, NET_WANT_ALL, &a.s, &e) != 0);
     CHECK_STR_HAS(e.msg, "wire_encode_keyframe: cur.n_modes[1]: expected <= 3");
     CHECK(st.held == 0);
     modes[1] = 3;
     snap_init(&a);
-    CHECK(srv_stream_encode(&st, &h, 5, &sc, &qh, &a.s, NULL) == 0);
+    CHECK(srv_stream_encode(&st, &h, 5, &sc, &qh, NET_WANT_ALL, &a.s, NULL) == 0);
     CHECK(a.s.key_len > 0 && a.s.delta1_len == 0 && a.s.delta2_len == 0);
     snap_init(&a);
-    CHECK(srv_stream_encode(&st, &h, 6, &sc, &qh, &a.s, NULL) == 0);
+    CHECK(srv_stream_encode(&st, &h, 6, &sc, &qh, NET_WANT_ALL, &a.s, NULL) == 0);
     CHECK(a.s.delta1_len > 0 && a.s.delta2_len == 0);
 
     srv_stream_skip(&st);
     snap_init(&a);
-    CHECK(srv_stream_encode(&st, &h, 8, &sc, &qh, &a.s, NULL) == 0);
+    CHECK(srv_stream_encode(&st, &h, 8, &sc, &qh, NET_WANT_ALL, &a.s, NULL) == 0);
     CHECK(a.s.key_len > 0 && a.s.delta1_len == 0 && a.s.delta2_len == 0);
 }
 
@@ -173,7 +174,7 @@ static void test_periodic_keyframe(void)
     for (uint32_t seq = 1; seq <= 13; seq++) {
         snap_bufs a;
         snap_init(&a);
-        CHECK(srv_stream_encode(&st, &h, seq, &sc, &qh, &a.s, NULL) == 0);
+        CHECK(srv_stream_encode(&st, &h, seq, &sc, &qh, NET_WANT_ALL, &a.s, NULL) == 0);
         /* seq 1 starts the stream; 4, 8, 12 are the periodic ones */
         uint32_t since = seq % 4 == 0 || seq == 1 ? 0 : seq < 4 ? seq - 1 : seq % 4;
         bool want1 = since >= 1, want2 = since >= 2;
@@ -184,9 +185,47 @@ static void test_periodic_keyframe(void)
     CHECK(key_only == 4);
 }
 
+/* Frames on demand: delta2 always once the stream holds two; the keyframe when wanted or
+ * when the stream holds none (a start, a periodic seq), delta1 when wanted or when it
+ * holds one; a frame not encoded has length 0 and the others their bytes with all wanted. */
+static void test_frames_wanted(void)
+{
+    wire_scene sc = make_scene();
+    int16_t q[3][N * STRIDE];
+    for (int k = 0; k < 3; k++) {
+        fill_q(q[k], k);
+    }
+    srv_qhist qh = { .q = { q[0], q[1], q[2] }, .n_trees = N, .stride = STRIDE };
+    wire_header h = { .tick = 2 };
+    for (unsigned want = 0; want <= NET_WANT_ALL; want++) {
+        srv_stream st, all;
+        srv_stream_start(&st, 0, full_modes, 6);
+        srv_stream_start(&all, 0, full_modes, 6);
+        int bad = 0;
+        for (uint32_t seq = 1; seq <= 8; seq++) {
+            const int held = st.held;
+            snap_bufs a, b;
+            snap_init(&a);
+            snap_init(&b);
+            CHECK(srv_stream_encode(&st, &h, seq, &sc, &qh, want, &a.s, NULL) == 0);
+            CHECK(srv_stream_encode(&all, &h, seq, &sc, &qh, NET_WANT_ALL, &b.s, NULL) == 0);
+            const bool key = held == 0 || seq % 6 == 0 || (want & NET_WANT_KEY);
+            const bool d1 = seq % 6 && (held == 1 || (held >= 1 && (want & NET_WANT_DELTA1)));
+            const bool d2 = seq % 6 && held >= 2;
+            bad += (a.s.key_len > 0) != key || (a.s.delta1_len > 0) != d1 ||
+                   (a.s.delta2_len > 0) != d2;
+            bad += key && (a.s.key_len != b.s.key_len || memcmp(a.key, b.key, a.s.key_len));
+            bad += d1 && (a.s.delta1_len != b.s.delta1_len || memcmp(a.d1, b.d1, a.s.delta1_len));
+            bad += d2 && (a.s.delta2_len != b.s.delta2_len || memcmp(a.d2, b.d2, a.s.delta2_len));
+        }
+        CHECK(bad == 0);
+    }
+}
+
 int main(void)
 {
     RUN(test_shared_equals_view);
+    RUN(test_frames_wanted);
     RUN(test_failure_and_skip);
     RUN(test_periodic_keyframe);
     return check_report();

@@ -119,9 +119,13 @@ static const metric_row net_rows[] = {
       METRIC_GAUGE, 0 },
     { "gale_decimations_total", NULL, "Times a slow reader's snapshot rate was lowered.",
       METRIC_COUNTER, 0 },
+    { "gale_frame_waits_total", NULL,
+      "Snapshots a connection skipped as they lacked the state frame it needed (encoded on "
+      "demand).",
+      METRIC_COUNTER, 0 },
 };
 #define NET_N_ROWS ((int)(sizeof net_rows / sizeof net_rows[0]))
-_Static_assert(NET_N_ROWS == 12 + NET_ROLE_COUNT, "one gale_clients row per role");
+_Static_assert(NET_N_ROWS == 13 + NET_ROLE_COUNT, "one gale_clients row per role");
 
 static void net_fill(void *ctx, double *v)
 {
@@ -142,6 +146,7 @@ static void net_fill(void *ctx, double *v)
     }
     v[10 + NET_ROLE_COUNT] = (double)atomic_load(&m->decimated);
     v[11 + NET_ROLE_COUNT] = (double)atomic_load(&m->decimations);
+    v[12 + NET_ROLE_COUNT] = (double)atomic_load(&m->frame_waits);
 }
 
 int net_metrics_register(net_server *s, metric_reg *r, gale_err *err)
@@ -430,6 +435,14 @@ net_snap *net_snap_acquire(net_server *s)
     }
     atomic_fetch_add(&s->pool_exhausted, 1);
     return NULL;
+}
+
+unsigned net_frames_wanted(net_server *s)
+{
+    if (s->d.published) {
+        return NET_WANT_ALL;
+    }
+    return atomic_load(&s->want_standing) | atomic_exchange(&s->want_asked, 0u);
 }
 
 void net_publish(net_server *s, net_snap *p)

@@ -140,6 +140,7 @@ typedef struct net_metrics {
     atomic_int clients[NET_ROLE_COUNT];
     atomic_int decimated;           /* connections sent fewer snapshots than published now */
     atomic_ullong decimations;      /* times a connection's snapshot rate was lowered */
+    atomic_ullong frame_waits;      /* snapshots a connection skipped, lacking its frame */
 } net_metrics;
 
 /* The connection limits net_create settled on. */
@@ -175,6 +176,18 @@ size_t net_snap_buffer_cap(size_t snap_cap, size_t extra_cap);
 /* Any thread: at the next delivery every connection follows the shared stream (0) and
  * gets a keyframe (the publisher's streams started over: a relay's server restarted). */
 void net_reset_streams(net_server *s);
+
+/* The state frames a snapshot's connections may need besides delta2 (which a connection
+ * holding the two snapshots before it takes): NET_WANT_KEY when one joins, resyncs, follows
+ * a new stream, lost its chain or is sent one snapshot in several (a slow reader);
+ * NET_WANT_DELTA1 when one holds only the last (it took a keyframe). */
+enum { NET_WANT_KEY = 1u, NET_WANT_DELTA1 = 2u, NET_WANT_ALL = 3u };
+/* Simulation thread, once per snapshot: the frames wanted now (the connections' standing
+ * needs as the service thread last saw them, and any asked for since the last call);
+ * NET_WANT_ALL with a net_desc.published bridge (a relay's clients may need any). A
+ * connection whose frame a snapshot lacks skips that snapshot and asks again (SERVER.md
+ * "Frames on demand"). */
+unsigned net_frames_wanted(net_server *s);
 
 /* Simulation thread: a free snapshot from the pool to fill (refs set to 1), or NULL when
  * all are still in flight (counted; the caller skips publishing this one). */

@@ -113,6 +113,9 @@ struct net_server {
     net_snap **batch; /* owned [pub_cap], service thread */
     int pub_n, pub_cap;
     atomic_int reset_streams; /* net_reset_streams asked; the service thread acts */
+    /* net_frames_wanted: the connections' needs at the last delivery, and those asked
+       for since the publisher's last call */
+    atomic_uint want_standing, want_asked;
     atomic_ullong pool_exhausted;
     atomic_ullong pub_overflow;
     /* rate limit of the bad-input log */

@@ -265,6 +265,10 @@ static void deliver_one(net_server *s, net_conn *c, net_snap *p, uint64_t now)
         p->seq - c->queued_seq < (uint32_t)c->decim) {
         return; /* not its turn */
     }
+    if (c->decim > 1 && !p->key_len) {
+        atomic_fetch_or(&s->want_asked, NET_WANT_KEY);
+        return; /* its turn comes with the next keyframe */
+    }
     const int waiting = c->q.count + (c->cur != NULL);
     if (!waiting) {
         c->take_ns = now; /* idle, not stalled */
@@ -331,6 +335,19 @@ void net_deliver_published(net_server *s)
         }
         net_snap_unref(p); /* the publisher's reference */
     }
+    /* what the connections will need of the next snapshots (net_frames_wanted) */
+    unsigned want = 0;
+    for (net_conn *c = s->conns; c; c = c->next) {
+        if (c->role == NET_ROLE_NONE || c->close_code) {
+            continue;
+        }
+        if (c->decim > 1 || c->resync || c->chain == 0 || c->stream != c->last_stream) {
+            want |= NET_WANT_KEY;
+        } else if (c->chain == 1) {
+            want |= NET_WANT_DELTA1;
+        }
+    }
+    atomic_store(&s->want_standing, want);
 }
 
 static int ws_write(net_server *s, net_conn *c, uint8_t *data, size_t len,
@@ -380,18 +397,31 @@ int net_ws_writeable(net_server *s, net_conn *c)
     int rc;
     if (c->cur_part == 0) {
         c->cur_key = false;
-        bool next = !c->resync && c->chain > 0 && p->seq == c->last_seq + 1u &&
-                    p->stream == c->last_stream;
+        bool next =
+            !c->resync && c->chain > 0 && p->seq == c->last_seq + 1u && p->stream == c->last_stream;
         if (next && c->chain >= 2 && p->delta2_len) {
             rc = ws_write(s, c, p->delta2, p->delta2_len, LWS_WRITE_BINARY);
             c->chain = 2;
         } else if (next && p->delta1_len) {
             rc = ws_write(s, c, p->delta1, p->delta1_len, LWS_WRITE_BINARY);
             c->chain = 2;
-        } else {
+        } else if (p->key_len) {
             rc = ws_write(s, c, p->key, p->key_len, LWS_WRITE_BINARY);
             c->chain = 1;
             c->cur_key = true;
+            atomic_fetch_or(&s->want_asked, NET_WANT_DELTA1); /* its next snapshot's */
+        } else {
+            /* encoded without the frame this connection needs (frames are encoded on
+               demand, net_frames_wanted): skipped, and the next one asked to carry it */
+            atomic_fetch_or(&s->want_asked, NET_WANT_KEY);
+            atomic_fetch_add_explicit(&s->m.frame_waits, 1, memory_order_relaxed);
+            net_snap_unref(p);
+            c->cur = NULL;
+            c->take_ns = mono_ns(); /* the reader is not the one waiting */
+            if (c->q.count || c->ctl_n || c->close_code) {
+                lws_callback_on_writable(c->wsi);
+            }
+            return 0;
         }
         c->resync = false;
         c->last_seq = p->seq;
@@ -478,6 +508,9 @@ int net_ws_receive(net_server *s, net_conn *c, const void *in, size_t len)
         atomic_fetch_sub(&s->m.clients[c->role], 1);
         atomic_fetch_add(&s->m.clients[peer.role], 1);
         c->role = peer.role;
+    }
+    if (peer.role != NET_ROLE_NONE && (!c->queued_any || peer.resync || peer.stream != c->stream)) {
+        atomic_fetch_or(&s->want_asked, NET_WANT_KEY); /* for the very next snapshot */
     }
     c->resync = c->resync || peer.resync;
     c->stream = peer.stream; /* a frame of another stream than the last is a keyframe */

@@ -25,6 +25,9 @@
 #define SRV_LOD_MODES 4    /* modes sent for trees beyond a view's lod_m */
 #define SRV_WIND_EVERY 15  /* snapshots between coarse wind slices (2 per second at 30/s) */
 #define SRV_WIND_FACTOR 4  /* grid cells per coarse cell along each axis */
+/* Snapshots that carry a frame after it was last wanted (net_frames_wanted): a
+ * connection's queue may hold snapshots encoded before it asked. */
+#define SRV_WANT_HOLD 4
 #define SRV_LEAF_EVERY 3   /* snapshots between leaf frames (10 per second at 30/s): leaves
                               carry their spawn tick, so batching them costs no accuracy
                               and saves a WebSocket message per client per snapshot */
@@ -96,6 +99,8 @@ struct srv {
     int16_t *qbuf[3];            /* owned [n_trees * stride]: current, previous, before */
     int cur;                     /* index of the current buffer in qbuf */
     srv_stream shared;           /* the whole-scene stream (net_snap.stream 0) */
+    int want_hold[2];            /* snapshots still to carry the keyframe, delta1
+                                    (srv_publish.c frames_to_encode) */
     wire_lanes lanes;            /* the encoders' lanes on the scene's tick_threads */
     uint32_t seq;
     int ticks_per_snap;

@@ -43,7 +43,8 @@ static int encode_wind(srv *s, wire_header *h, net_snap *p, gale_err *e)
  * (view_select), the extras of the shared snapshot p copied. A stream whose
  * selection is new starts with a keyframe, and every stream sends only a keyframe on the
  * periodic seqs (srv_stream_start), the shared one and the views on the same snapshots. */
-static void publish_views(srv *s, const wire_header *h, const srv_qhist *qh, const net_snap *p)
+static void publish_views(srv *s, const wire_header *h, const srv_qhist *qh, unsigned want,
+                          const net_snap *p)
 {
     uint32_t streams[SRV_MAX_VIEWS];
     ctl_view views[SRV_MAX_VIEWS];
@@ -72,7 +73,7 @@ static void publish_views(srv *s, const wire_header *h, const srv_qhist *qh, con
             continue;
         }
         gale_err e;
-        int rc = srv_stream_encode(&vs->enc, h, p->seq, &s->wscene, qh, q, &e);
+        int rc = srv_stream_encode(&vs->enc, h, p->seq, &s->wscene, qh, want, q, &e);
         for (int x = 0; x < NET_SNAP_MAX_EXTRA && !rc; x++) {
             q->extra_len[x] = p->extra_len[x];
             memcpy(q->extra[x], p->extra[x], p->extra_len[x]);
@@ -96,6 +97,25 @@ static void skip_views(srv *s)
     for (int k = 0; k < SRV_MAX_VIEWS; k++) {
         srv_stream_skip(&s->vsel[k].enc);
     }
+}
+
+/* The frames this snapshot carries besides delta2 (srv_stream_encode): those the
+ * connections want now, and each for SRV_WANT_HOLD snapshots after it was last wanted. */
+static unsigned frames_to_encode(srv *s)
+{
+    const unsigned want = net_frames_wanted(s->net);
+    const unsigned bit[2] = { NET_WANT_KEY, NET_WANT_DELTA1 };
+    unsigned out = 0;
+    for (int b = 0; b < 2; b++) {
+        if (want & bit[b]) {
+            s->want_hold[b] = SRV_WANT_HOLD;
+        }
+        if (s->want_hold[b] > 0) {
+            s->want_hold[b]--;
+            out |= bit[b];
+        }
+    }
+    return out;
 }
 
 void srv_publish(srv *s, uint32_t tick)
@@ -122,7 +142,8 @@ void srv_publish(srv *s, uint32_t tick)
     if (p) {
         wire_header h = { .tick = tick, .server_time_us = mono_us() };
         gale_err e;
-        int rc = srv_stream_encode(&s->shared, &h, s->seq, &s->wscene, &qh, p, &e);
+        const unsigned want = frames_to_encode(s);
+        int rc = srv_stream_encode(&s->shared, &h, s->seq, &s->wscene, &qh, want, p, &e);
         if (!rc && s->coarse && s->seq % SRV_WIND_EVERY == 1) {
             rc = encode_wind(s, &h, p, &e);
         }
@@ -145,7 +166,7 @@ void srv_publish(srv *s, uint32_t tick)
             srv_stream_skip(&s->shared);
             skip_views(s);
         } else {
-            publish_views(s, &h, &qh, p);
+            publish_views(s, &h, &qh, want, p);
             net_publish(s->net, p);
         }
     } else {

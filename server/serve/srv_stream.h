@@ -36,15 +36,17 @@ typedef struct srv_stream {
 void srv_stream_start(srv_stream *st, uint32_t id, const uint8_t *n_modes, uint32_t key_every);
 
 /* Encodes snapshot seq (header h: tick and server time) of the stream into out, in one
- * pass over the snapshots (wire_encode_snapshot_lanes, on qh->lanes): the
- * keyframe, delta1 when the stream holds the previous snapshot, delta2 when it holds the
- * two previous (neither on a periodic keyframe's seq); sets out->seq and out->stream. The
- * stream then holds one more. Fails
- * with the wire_encode_* error in err; the stream then holds none (its clients see a gap
- * and get the next keyframe) and out's lengths mean nothing. */
+ * pass over the snapshots (wire_encode_snapshot_lanes, on qh->lanes): delta2 when the
+ * stream holds the two previous snapshots; delta1 when it holds the previous one and
+ * either not the one before or want has NET_WANT_DELTA1; the keyframe when it holds
+ * neither (a start, a periodic keyframe's seq) or want has NET_WANT_KEY (net_frames_wanted:
+ * no connection takes a frame not wanted, SERVER.md "Frames on demand"). A frame not
+ * encoded has length 0. Sets out->seq and out->stream; the stream then holds one more.
+ * Fails with the wire_encode_* error in err; the stream then holds none (its clients see
+ * a gap and get the next keyframe) and out's lengths mean nothing. */
 int srv_stream_encode(srv_stream *st, const wire_header *h, uint32_t seq,
-                      const wire_scene *scene, const srv_qhist *qh, net_snap *out,
-                      gale_err *err);
+                      const wire_scene *scene, const srv_qhist *qh, unsigned want,
+                      net_snap *out, gale_err *err);
 
 /* The stream's snapshot was not published (no free snapshot, or another message of it
  * failed): the stream holds none. */

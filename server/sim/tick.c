@@ -10,6 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <omp.h>
+
 struct tick_sim {
     tick_desc d;
     float dt_s;
@@ -273,8 +275,9 @@ void tick_set_balls(tick_sim *t, const wind_ball *balls, int n)
  * one step; none at k = 1), and no tick carries the whole read (SERVER.md "Loop"). The
  * first tick reads the whole grid at once. Each crown is independent, so the shares over
  * the threads change no float; one parallel region, as each costs a wake-up of the
- * threads. */
-static void sample_probe(tick_sim *t)
+ * threads. read: this tick's share of the grid; crowns: every crown's wind from the grid's
+ * part and the inflow's (tick_step does the two apart around a step it overlaps). */
+static void sample_probe(tick_sim *t, bool read, bool crowns)
 {
     const tick_wind *wd = t->d.wind;
     const int n = t->n_trees, nc = (n + SAMPLE_CHUNK - 1) / SAMPLE_CHUNK;
@@ -283,7 +286,7 @@ static void sample_probe(tick_sim *t)
     const int j = (int)(t->tick % (uint32_t)every);
     /* this tick's share of the crowns in the locality order, and where it goes */
     const int r0 = first ? 0 : (int)((int64_t)n * j / every);
-    const int r1 = first ? n : (int)((int64_t)n * (j + 1) / every);
+    const int r1 = !read ? r0 : first ? n : (int)((int64_t)n * (j + 1) / every);
     float *const dst = first ? t->vel_grid : t->vel_next;
     const int nr = (r1 - r0 + SAMPLE_CHUNK - 1) / SAMPLE_CHUNK;
 #pragma omp parallel num_threads(t->threads) if (nc > 1)
@@ -298,7 +301,7 @@ static void sample_probe(tick_sim *t)
             }
         }
 #pragma omp single
-        {
+        if (read) {
             if (first) {
                 /* both buffers: the shares still to come of this step read the same grid */
                 memcpy(t->vel_next, t->vel_grid, (size_t)n * 3 * sizeof(float));
@@ -308,7 +311,7 @@ static void sample_probe(tick_sim *t)
             }
         }
 #pragma omp for schedule(static)
-        for (int c = 0; c < nc; c++) {
+        for (int c = 0; c < (crowns ? nc : 0); c++) {
             const size_t i0 = (size_t)c * SAMPLE_CHUNK;
             const int m = (int)i0 + SAMPLE_CHUNK < n ? SAMPLE_CHUNK : n - (int)i0;
             memcpy(&t->vel[3 * i0], &t->vel_grid[3 * i0], 3 * sizeof(float) * (size_t)m);
@@ -317,7 +320,7 @@ static void sample_probe(tick_sim *t)
             }
         }
     }
-    t->grid_read = true;
+    t->grid_read = t->grid_read || read;
 }
 
 /* The log-law profile alone (no grid): U(z) = U10 ln(z/z0) / ln(10/z0), z clamped below
@@ -353,23 +356,44 @@ int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
     }
 
     /* 1. wind */
+    bool updated = false;
     if (t->d.wind) {
         if (dirty) {
             t->d.wind->set_inflow(t->d.wind->ctx, &in);
         }
         int every = sc->wind_every > 0 ? sc->wind_every : 1;
         if (t->tick % (uint32_t)every == 0) {
-            wind_step_stats ws = { 0 };
-            double w0 = mono_ms();
             /* the scenario's Gaussian force balls act on each step (wind_add_ball) */
             for (int b = 0; b < t->n_balls && t->d.wind->add_ball; b++) {
                 t->d.wind->add_ball(t->d.wind->ctx, &t->balls[b]);
             }
-            if (t->d.wind->step(t->d.wind->ctx, t->dt_s * (float)every, &ws)) {
+            /* With the crowns on a grid read before this step (a probe read past its
+             * first tick, a step every 2 ticks or more: this tick reads the step's first
+             * share, and switches to no grid), the update needs nothing of the step: the
+             * solver, on one thread, and the update, on another, run side by side (the
+             * same floats; the update's own threads are then one). */
+            const bool overlap = t->probe && t->grid_read && every > 1 && t->threads > 1 &&
+                                 sc->wind_threads <= 1;
+            if (overlap) {
+                sample_probe(t, false, true);
+            }
+            wind_step_stats ws = { 0 };
+            int step_rc = 0;
+            double w0 = mono_ms();
+            /* the solver on thread 0, as on a tick without the update beside it: its rows'
+               scratch is the calling thread's (omp_get_thread_num) */
+#pragma omp parallel num_threads(2) if (overlap)
+            if (omp_get_thread_num() == 0) {
+                step_rc = t->d.wind->step(t->d.wind->ctx, t->dt_s * (float)every, &ws);
+                local.wind_ms = mono_ms() - w0;
+            } else {
+                modal_tick(t->m, t->vel, qsnap);
+            }
+            if (step_rc) {
                 return gale_errf(err, GALE_E_NUMERIC,
                                  "tick %u: wind step broke down (non-finite field)", t->tick);
             }
-            local.wind_ms = mono_ms() - w0;
+            updated = overlap;
             local.wind_stepped = true;
             local.wind_iters = ws.iterations;
             local.wind_div = ws.div_after;
@@ -382,7 +406,7 @@ int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
         }
         /* 2. sample the wind at every crown, in the grid's locality order */
         if (t->probe) {
-            sample_probe(t);
+            sample_probe(t, true, !updated);
         } else {
             t->d.wind->sample_many(t->d.wind->ctx, t->n_trees, t->crown_ordered,
                                    t->vel_ordered);
@@ -396,7 +420,9 @@ int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
     }
 
     /* 3. forces and the exact modal update (modal.h), quantised on snapshot ticks */
-    modal_tick(t->m, t->vel, qsnap);
+    if (!updated) {
+        modal_tick(t->m, t->vel, qsnap);
+    }
 
     /* 4. leaves: the shedding rate follows the wind speed at each crown */
     t->n_leaves = 0;
