@@ -189,9 +189,11 @@ static inline int spec_load(spec_file *f, const char *path)
             memcpy(cur->bytes, line, L + 1);
             cur->len = L;
         } else if (spec_hex_line(cur, line, why, sizeof why)) {
-            char w2[sizeof why];
+            /* room for the whole line, then cut to why's size */
+            char w2[sizeof why + SPEC_NAME_MAX + 16];
             snprintf(w2, sizeof w2, "vector %s: %s", cur->name, why);
-            memcpy(why, w2, sizeof why);
+            memcpy(why, w2, sizeof why - 1);
+            why[sizeof why - 1] = 0;
             rc = -1;
         }
     }
