@@ -390,9 +390,10 @@ static inline __attribute__((always_inline)) v4du pack_pair(v16su z, unsigned w0
  * tree's full rows against the first n_pred predictors (qa, qb NULL: zero), and their
  * widths wd[g][p]; *lo keeps the lanes' minimum of every value read, for the range
  * check. */
-static inline __attribute__((always_inline)) void pair_code(const int16_t *q, const int16_t *qa, const int16_t *qb,
-                             uint32_t k, int n_pred, v16su z[3], unsigned wd[2][3],
-                             v16si *lo)
+static inline __attribute__((always_inline)) void pair_code(const int16_t *q, const int16_t *qa,
+                                                            const int16_t *qb, uint32_t k,
+                                                            int n_pred, v16su z[3],
+                                                            unsigned wd[2][3], v16si *lo)
 {
     const v16si zero = { 0 };
     const v16si v = load16(q, k);
@@ -413,8 +414,9 @@ static inline __attribute__((always_inline)) void pair_code(const int16_t *q, co
 /* Groups g0 and g0 + 8 (k modes, 8 or 16) of one frame at p, each with the narrowest of
  * the frame's first n_pred predictors; returns the end. Writes past it as pack8 does
  * (FAST_SLACK). */
-static inline __attribute__((always_inline)) uint8_t *put_pair(uint8_t *p, const v16su z[3], const unsigned wd[2][3],
-                                uint32_t k, int n_pred)
+static inline __attribute__((always_inline)) uint8_t *put_pair(uint8_t *p, const v16su z[3],
+                                                               const unsigned wd[2][3],
+                                                               uint32_t k, int n_pred)
 {
     int best[2];
     const uint8_t gh[2] = { group_header(wd[0], n_pred, &best[0]),
