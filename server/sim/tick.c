@@ -370,8 +370,9 @@ int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
             /* With the crowns on a grid read before this step (a probe read past its
              * first tick, a step every 2 ticks or more: this tick reads the step's first
              * share, and switches to no grid), the update needs nothing of the step: the
-             * solver, on one thread, and the update, on another, run side by side (the
-             * same floats; the update's own threads are then one). */
+             * solver, on one thread, and the update, on the other, run side by side, the
+             * solver's thread taking its share of the update when the step is done (the
+             * same floats). */
             const bool overlap = t->probe && t->grid_read && every > 1 && t->threads > 1 &&
                                  sc->wind_threads <= 1;
             if (overlap) {
@@ -380,14 +381,18 @@ int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
             wind_step_stats ws = { 0 };
             int step_rc = 0;
             double w0 = mono_ms();
+            atomic_uint next_chunk = 0;
             /* the solver on thread 0, as on a tick without the update beside it: its rows'
                scratch is the calling thread's (omp_get_thread_num) */
 #pragma omp parallel num_threads(2) if (overlap)
-            if (omp_get_thread_num() == 0) {
-                step_rc = t->d.wind->step(t->d.wind->ctx, t->dt_s * (float)every, &ws);
-                local.wind_ms = mono_ms() - w0;
-            } else {
-                modal_tick(t->m, t->vel, qsnap);
+            {
+                if (omp_get_thread_num() == 0) {
+                    step_rc = t->d.wind->step(t->d.wind->ctx, t->dt_s * (float)every, &ws);
+                    local.wind_ms = mono_ms() - w0;
+                }
+                if (overlap) {
+                    modal_tick_shared(t->m, t->vel, qsnap, &next_chunk);
+                }
             }
             if (step_rc) {
                 return gale_errf(err, GALE_E_NUMERIC,
