@@ -363,14 +363,27 @@ static void g_add_subgrid(void *ctx, int n, const float *p, float *v)
     wind_add_subgrid(ctx, n, p, v);
 }
 
+static int g_publish(void *ctx)
+{
+    return wind_publish(ctx);
+}
+
+static void g_subgrid_inflow(void *ctx, const wind_inflow *in)
+{
+    wind_set_subgrid_inflow(ctx, in);
+}
+
 /* 9000 trees over identical subgrid-profile grids stepped every `every` ticks, the inflow
  * changing every tick, the tick reading the grid through the probe on 1 and on 2
  * threads: on every tick each crown gets, float for float, what sampling every crown of
  * a third grid gives (wind_sample_many, an independent path) when that grid has taken the
  * steps up to the tick every - 1 ticks back (the read is spread over the ticks between
  * steps: tick.c sample_probe), with this tick's inflow; both tick counts leave the same
- * snapshots. With every > 1 the lag shows: some ticks differ from the grid as it stands. */
-static void probe_case(int every)
+ * snapshots. With every > 1 the lag shows: some ticks differ from the grid as the samplers
+ * see it. ahead: the steps one step ahead (tick_wind.publish; on 2 threads beside the
+ * ticks, tick.c step_ahead), so each step after the first two is under the inflow of the
+ * step's tick before it, where without them it is under its own tick's. */
+static void probe_case(int every, bool ahead)
 {
     enum { N = 9000, MODES = 2, TICKS = 13 };
     float omega[MODES] = { 3, 11 }, gamma[MODES] = { 0.3f, 0.8f };
@@ -417,7 +430,9 @@ static void probe_case(int every)
         tw[j] = (tick_wind){ .ctx = g[j], .set_inflow = g_inflow, .step = g_step,
                              .sample_many = g_sample, .probe_create = g_probe_create,
                              .probe_destroy = g_probe_destroy, .probe_sample = g_probe_sample,
-                             .add_subgrid = g_add_subgrid };
+                             .add_subgrid = g_add_subgrid,
+                             .publish = ahead ? g_publish : NULL,
+                             .set_subgrid_inflow = ahead ? g_subgrid_inflow : NULL };
         t[j] = g[j] ? tick_create(&(tick_desc){ .sc = &s[j], .species = &sp, .wind = &tw[j] },
                                   NULL)
                     : NULL;
@@ -438,10 +453,12 @@ static void probe_case(int every)
             CHECK(tick_step(t[j], q[j], NULL, NULL) == 0);
         }
         /* the reference grid: every step up to tick n - (every - 1) (the first always),
-         * each under its own tick's inflow; sampled under this tick's */
+         * each under its own tick's inflow, or ahead the step's tick's before it (the
+         * first two under the first tick's); sampled under this tick's */
         const int upto = n - (every - 1) > 0 ? n - (every - 1) : 0;
         while (steps_ref * every <= upto) {
-            wind_set_inflow(g[2], &in[steps_ref * every]);
+            const int at = !ahead ? steps_ref : steps_ref > 0 ? steps_ref - 1 : 0;
+            wind_set_inflow(g[2], &in[at * every]);
             CHECK(wind_step(g[2], dt_s * (float)every, NULL) == 0);
             steps_ref++;
         }
@@ -468,9 +485,11 @@ static void probe_case(int every)
 
 static void test_probe_same_tick(void)
 {
-    probe_case(3);
-    probe_case(4);
-    probe_case(1);
+    for (int ahead = 0; ahead < 2; ahead++) {
+        probe_case(3, ahead);
+        probe_case(4, ahead);
+        probe_case(1, ahead);
+    }
 }
 
 int main(void)

@@ -107,6 +107,16 @@ static int w_coarse(void *ctx, int factor, float *out, int capacity, int dims[3]
     return wind_coarse(ctx, factor, out, capacity, dims);
 }
 
+static int w_publish(void *ctx)
+{
+    return wind_publish(ctx);
+}
+
+static void w_subgrid_inflow(void *ctx, const wind_inflow *in)
+{
+    wind_set_subgrid_inflow(ctx, in);
+}
+
 static void w_ball(void *ctx, const wind_ball *b)
 {
     wind_add_ball(ctx, b);
@@ -415,6 +425,7 @@ int main(int argc, char **argv)
                           .sample_many = w_sample, .coarse = w_coarse,
                           .probe_create = w_probe_create, .probe_destroy = w_probe_destroy,
                           .probe_sample = w_probe_sample, .add_subgrid = w_add_subgrid,
+                          .publish = w_publish, .set_subgrid_inflow = w_subgrid_inflow,
                           .add_ball = w_ball, .max_iterations = wd.max_iterations,
                           .div_reduction = wd.div_reduction };
     }

@@ -286,18 +286,6 @@ static void range_tick(modal *m, uint32_t t0, uint32_t t1, const float *wind_wor
 /* Trees per chunk a thread takes at a time. */
 #define TICK_CHUNK 512u
 
-void modal_tick_shared(modal *m, const float *wind_world, int16_t *qsnap, atomic_uint *next)
-{
-    for (;;) {
-        const uint32_t t0 = atomic_fetch_add(next, 1u) * TICK_CHUNK;
-        if (t0 >= m->n_trees) {
-            return;
-        }
-        range_tick(m, t0, t0 + TICK_CHUNK < m->n_trees ? t0 + TICK_CHUNK : m->n_trees,
-                   wind_world, qsnap);
-    }
-}
-
 void modal_tick(modal *m, const float *wind_world, int16_t *qsnap)
 {
     /* Trees are independent: the threads take chunks of 512 as they come free (on a busy

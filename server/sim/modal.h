@@ -5,7 +5,6 @@
 #ifndef GALE_MODAL_H
 #define GALE_MODAL_H
 
-#include <stdatomic.h>
 #include <stdint.h>
 
 #include "drag_law.h"
@@ -50,11 +49,6 @@ uint32_t modal_tree_modes(const modal *m, uint32_t t);
  * frame by -yaw; s the species' drag_law_scale, k_t the tree's drag factor), and qsnap[t * stride + i] receives the quantised q (when qsnap is not
  * NULL; entries beyond a tree's modes are written 0). Does not allocate. */
 void modal_tick(modal *m, const float *wind_world, int16_t *qsnap);
-/* modal_tick's chunks of trees taken from *next (0 at the start of the tick) as the
- * calling thread comes free, on that thread alone: threads that call it with one counter
- * share one tick (a thread busy with other work first joins when it is done); the same
- * floats as modal_tick. */
-void modal_tick_shared(modal *m, const float *wind_world, int16_t *qsnap, atomic_uint *next);
 
 /* Float state of tree t: q[n] and qdot[n] for n = its modes (either may be NULL);
  * returns n. */

@@ -3,6 +3,7 @@
 #include "mono.h"
 
 #include "modal.h"
+#include "wind_worker.h"
 
 #include <math.h>
 #include <pthread.h>
@@ -10,7 +11,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <omp.h>
 
 struct tick_sim {
     tick_desc d;
@@ -28,6 +28,10 @@ struct tick_sim {
                                probe), as the grid stood after a step (sample_probe) */
     float *vel_next;        /* owned [n_trees][3]: the same, of the last step, share by share */
     bool grid_read;         /* vel_grid holds a step's grid */
+    wind_worker *worker;    /* owned: the steps one step ahead (with d.wind->publish and a
+                               probe: step_ahead); NULL: each step on its own tick */
+    bool launched;          /* the worker holds a step */
+    bool step_inflow_stale; /* the inflow changed since the last step was launched */
     uint32_t *slots;        /* owned [n_trees]: leaf slots of each tree's species */
     int threads;            /* scene tick_threads */
     leaf_seed *leaves;      /* owned [max_leaves_per_tick] */
@@ -166,6 +170,17 @@ tick_sim *tick_create(const tick_desc *d, gale_err *err)
                        ? d->wind->probe_create(d->wind->ctx, t->n_trees, t->crown_ordered)
                        : NULL;
     }
+    if (t->probe && d->wind->publish && d->wind->set_subgrid_inflow &&
+        d->wind->publish(d->wind->ctx) == 0) {
+        /* A second tick thread means a second core: the step goes beside the ticks when
+         * the solver runs on one thread (a solver on several would take the tick's
+         * cores). Without memory or a thread for it each step runs on its own tick. */
+        const bool beside = t->threads > 1 && sc->wind_threads <= 1;
+        t->worker = wind_worker_create(d->wind->step, d->wind->ctx, beside, NULL);
+        if (!t->worker && beside) {
+            t->worker = wind_worker_create(d->wind->step, d->wind->ctx, false, NULL);
+        }
+    }
     t->m = modal_create(&(modal_desc){ .n_trees = (uint32_t)t->n_trees,
                                        .n_species = (uint32_t)sc->n_species,
                                        .species = ms,
@@ -232,6 +247,8 @@ void tick_destroy(tick_sim *t)
     if (!t) {
         return;
     }
+    /* a step in flight still writes the grid */
+    wind_worker_destroy(t->worker);
     modal_destroy(t->m);
     damage_destroy(t->dmg);
     if (t->probe) {
@@ -271,13 +288,13 @@ void tick_set_balls(tick_sim *t, const wind_ball *balls, int n)
 /* The wind at every crown from the probe: the grid's part, then each tick the term that
  * follows the inflow. With a step every k ticks, the step's tick and each of the k - 1
  * after it read a k-th of the crowns into a second buffer, the last switching all crowns
- * to that step's grid at once: the grid's part lags the grid by k - 1 ticks (less than
- * one step; none at k = 1), and no tick carries the whole read (SERVER.md "Loop"). The
+ * to that step's grid at once: the grid's part lags the field read (the grid, or its
+ * copy published by step_ahead) by k - 1 ticks (less than one step; none at k = 1), and
+ * no tick carries the whole read (SERVER.md "Loop"). The
  * first tick reads the whole grid at once. Each crown is independent, so the shares over
  * the threads change no float; one parallel region, as each costs a wake-up of the
- * threads. read: this tick's share of the grid; crowns: every crown's wind from the grid's
- * part and the inflow's (tick_step does the two apart around a step it overlaps). */
-static void sample_probe(tick_sim *t, bool read, bool crowns)
+ * threads. */
+static void sample_probe(tick_sim *t)
 {
     const tick_wind *wd = t->d.wind;
     const int n = t->n_trees, nc = (n + SAMPLE_CHUNK - 1) / SAMPLE_CHUNK;
@@ -286,7 +303,7 @@ static void sample_probe(tick_sim *t, bool read, bool crowns)
     const int j = (int)(t->tick % (uint32_t)every);
     /* this tick's share of the crowns in the locality order, and where it goes */
     const int r0 = first ? 0 : (int)((int64_t)n * j / every);
-    const int r1 = !read ? r0 : first ? n : (int)((int64_t)n * (j + 1) / every);
+    const int r1 = first ? n : (int)((int64_t)n * (j + 1) / every);
     float *const dst = first ? t->vel_grid : t->vel_next;
     const int nr = (r1 - r0 + SAMPLE_CHUNK - 1) / SAMPLE_CHUNK;
 #pragma omp parallel num_threads(t->threads) if (nc > 1)
@@ -301,17 +318,15 @@ static void sample_probe(tick_sim *t, bool read, bool crowns)
             }
         }
 #pragma omp single
-        if (read) {
-            if (first) {
-                /* both buffers: the shares still to come of this step read the same grid */
-                memcpy(t->vel_next, t->vel_grid, (size_t)n * 3 * sizeof(float));
-            } else if (j == every - 1) {
-                t->vel_next = t->vel_grid;
-                t->vel_grid = dst;
-            }
+        if (first) {
+            /* both buffers: the shares still to come of this step read the same grid */
+            memcpy(t->vel_next, t->vel_grid, (size_t)n * 3 * sizeof(float));
+        } else if (j == every - 1) {
+            t->vel_next = t->vel_grid;
+            t->vel_grid = dst;
         }
 #pragma omp for schedule(static)
-        for (int c = 0; c < (crowns ? nc : 0); c++) {
+        for (int c = 0; c < nc; c++) {
             const size_t i0 = (size_t)c * SAMPLE_CHUNK;
             const int m = (int)i0 + SAMPLE_CHUNK < n ? SAMPLE_CHUNK : n - (int)i0;
             memcpy(&t->vel[3 * i0], &t->vel_grid[3 * i0], 3 * sizeof(float) * (size_t)m);
@@ -320,7 +335,7 @@ static void sample_probe(tick_sim *t, bool read, bool crowns)
             }
         }
     }
-    t->grid_read = t->grid_read || read;
+    t->grid_read = true;
 }
 
 /* The log-law profile alone (no grid): U(z) = U10 ln(z/z0) / ln(10/z0), z clamped below
@@ -337,6 +352,75 @@ static void sample_profile(tick_sim *t, const wind_inflow *in)
         t->vel[3 * k + 1] = u * cy + gust[1];
         t->vel[3 * k + 2] = gust[2];
     }
+}
+
+/* The scenario's force balls, for the next step (wind_add_ball). */
+static void add_balls(tick_sim *t)
+{
+    for (int b = 0; b < t->n_balls && t->d.wind->add_ball; b++) {
+        t->d.wind->add_ball(t->d.wind->ctx, &t->balls[b]);
+    }
+}
+
+static int step_failed(const tick_sim *t, gale_err *err)
+{
+    return gale_errf(err, GALE_E_NUMERIC, "tick %u: wind step broke down (non-finite field)",
+                     t->tick);
+}
+
+/* A step's figures into the tick's stats. */
+static void step_stats(const tick_sim *t, const wind_step_stats *ws, tick_stats *local)
+{
+    local->wind_stepped = true;
+    local->wind_iters = ws->iterations;
+    local->wind_div = ws->div_after;
+    local->wind_residual = ws->residual;
+    /* the solve stops at max_iterations or once the residual is within 1/div_reduction of
+     * the start (wind.h wind_desc) */
+    local->wind_unconverged = t->d.wind->max_iterations > 0 &&
+                              ws->iterations >= t->d.wind->max_iterations &&
+                              ws->residual * (double)t->d.wind->div_reduction > 1.0;
+}
+
+/* A step's tick with the steps one step ahead: the step launched on the last step's tick
+ * is taken and its field published to the samplers, and the next is launched from it
+ * under this tick's inflow and balls, to run beside the ticks up to the next step's tick
+ * (wind_worker.h). The crowns read the published field as ever (sample_probe), so its
+ * part of their wind lags the inflow one step more than a step on its own tick would:
+ * 4 ticks (67 ms) at a step every 4. The first tick launches and takes a step of its
+ * own first, so the crowns start on a stepped field. */
+static int step_ahead(tick_sim *t, const wind_inflow *in, int every, tick_stats *local,
+                      gale_err *err)
+{
+    const tick_wind *wd = t->d.wind;
+    const float dt_s = t->dt_s * (float)every;
+    if (!t->launched) {
+        wd->set_inflow(wd->ctx, in);
+        add_balls(t);
+        wind_worker_launch(t->worker, dt_s);
+        t->step_inflow_stale = false;
+    }
+    wind_step_stats ws = { 0 };
+    double ms = 0.0;
+    const int rc = wind_worker_join(t->worker, &ws, &ms);
+    t->launched = false;
+    if (rc) {
+        return step_failed(t, err);
+    }
+    step_stats(t, &ws, local);
+    const double p0 = mono_ms();
+    if (wd->publish(wd->ctx)) {
+        return gale_errf(err, GALE_E_NOMEM, "tick %u: no memory for the wind's copy", t->tick);
+    }
+    if (t->step_inflow_stale) {
+        wd->set_inflow(wd->ctx, in);
+        t->step_inflow_stale = false;
+    }
+    add_balls(t);
+    wind_worker_launch(t->worker, dt_s);
+    t->launched = true;
+    local->wind_ms = ms + (mono_ms() - p0);
+    return 0;
 }
 
 int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
@@ -356,65 +440,41 @@ int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
     }
 
     /* 1. wind */
-    bool updated = false;
     if (t->d.wind) {
-        if (dirty) {
-            t->d.wind->set_inflow(t->d.wind->ctx, &in);
-        }
+        const tick_wind *wd = t->d.wind;
         int every = sc->wind_every > 0 ? sc->wind_every : 1;
-        if (t->tick % (uint32_t)every == 0) {
-            /* the scenario's Gaussian force balls act on each step (wind_add_ball) */
-            for (int b = 0; b < t->n_balls && t->d.wind->add_ball; b++) {
-                t->d.wind->add_ball(t->d.wind->ctx, &t->balls[b]);
+        const bool step_tick = t->tick % (uint32_t)every == 0;
+        if (t->worker) {
+            if (dirty) {
+                /* the subgrid term follows the inflow at once, the grid at the next launch */
+                wd->set_subgrid_inflow(wd->ctx, &in);
+                t->step_inflow_stale = true;
             }
-            /* With the crowns on a grid read before this step (a probe read past its
-             * first tick, a step every 2 ticks or more: this tick reads the step's first
-             * share, and switches to no grid), the update needs nothing of the step: the
-             * solver, on one thread, and the update, on the other, run side by side, the
-             * solver's thread taking its share of the update when the step is done (the
-             * same floats). */
-            const bool overlap = t->probe && t->grid_read && every > 1 && t->threads > 1 &&
-                                 sc->wind_threads <= 1;
-            if (overlap) {
-                sample_probe(t, false, true);
+            const int rc = step_tick ? step_ahead(t, &in, every, &local, err) : 0;
+            if (rc) {
+                return rc;
             }
-            wind_step_stats ws = { 0 };
-            int step_rc = 0;
-            double w0 = mono_ms();
-            atomic_uint next_chunk = 0;
-            /* the solver on thread 0, as on a tick without the update beside it: its rows'
-               scratch is the calling thread's (omp_get_thread_num) */
-#pragma omp parallel num_threads(2) if (overlap)
-            {
-                if (omp_get_thread_num() == 0) {
-                    step_rc = t->d.wind->step(t->d.wind->ctx, t->dt_s * (float)every, &ws);
-                    local.wind_ms = mono_ms() - w0;
+        } else {
+            if (dirty) {
+                wd->set_inflow(wd->ctx, &in);
+            }
+            if (step_tick) {
+                add_balls(t);
+                wind_step_stats ws = { 0 };
+                double w0 = mono_ms();
+                const int step_rc = wd->step(wd->ctx, t->dt_s * (float)every, &ws);
+                local.wind_ms = mono_ms() - w0;
+                if (step_rc) {
+                    return step_failed(t, err);
                 }
-                if (overlap) {
-                    modal_tick_shared(t->m, t->vel, qsnap, &next_chunk);
-                }
+                step_stats(t, &ws, &local);
             }
-            if (step_rc) {
-                return gale_errf(err, GALE_E_NUMERIC,
-                                 "tick %u: wind step broke down (non-finite field)", t->tick);
-            }
-            updated = overlap;
-            local.wind_stepped = true;
-            local.wind_iters = ws.iterations;
-            local.wind_div = ws.div_after;
-            local.wind_residual = ws.residual;
-            /* the solve stops at max_iterations or once the residual is within
-             * 1/div_reduction of the start (wind.h wind_desc) */
-            local.wind_unconverged = t->d.wind->max_iterations > 0 &&
-                                     ws.iterations >= t->d.wind->max_iterations &&
-                                     ws.residual * (double)t->d.wind->div_reduction > 1.0;
         }
         /* 2. sample the wind at every crown, in the grid's locality order */
         if (t->probe) {
-            sample_probe(t, true, !updated);
+            sample_probe(t);
         } else {
-            t->d.wind->sample_many(t->d.wind->ctx, t->n_trees, t->crown_ordered,
-                                   t->vel_ordered);
+            wd->sample_many(wd->ctx, t->n_trees, t->crown_ordered, t->vel_ordered);
             for (int i = 0; i < t->n_trees; i++) {
                 memcpy(&t->vel[3 * (size_t)t->order[i]], &t->vel_ordered[3 * (size_t)i],
                        3 * sizeof(float));
@@ -425,9 +485,7 @@ int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
     }
 
     /* 3. forces and the exact modal update (modal.h), quantised on snapshot ticks */
-    if (!updated) {
-        modal_tick(t->m, t->vel, qsnap);
-    }
+    modal_tick(t->m, t->vel, qsnap);
 
     /* 4. leaves: the shedding rate follows the wind speed at each crown */
     t->n_leaves = 0;

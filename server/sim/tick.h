@@ -52,6 +52,13 @@ typedef struct tick_wind {
     void (*probe_destroy)(void *probe);
     void (*probe_sample)(void *ctx, const void *probe, int i0, int i1, float *v);
     void (*add_subgrid)(void *ctx, int n, const float *p, float *v);
+    /* Optional, both or neither (with the probe): wind_publish, the samplers' copy of the
+     * field, and wind_set_subgrid_inflow, the inflow of the subgrid term alone. With them
+     * each step is launched one step ahead of the ticks that read it, and runs on a
+     * thread of its own beside the ticks between (wind_worker.h) while the samplers read
+     * the copy made when the step before it was taken (tick.c step_ahead). */
+    int (*publish)(void *ctx);
+    void (*set_subgrid_inflow)(void *ctx, const wind_inflow *in);
     /* the pressure solve's budget and required divergence reduction (wind_get_desc), to
      * tell a solve that ran out of iterations; 0 → unknown, no solve counts as one */
     int max_iterations;
@@ -67,8 +74,10 @@ typedef struct tick_desc {
 
 typedef struct tick_stats {
     double ms;             /* wall time of this tick */
-    double wind_ms;        /* of which the wind step */
-    bool wind_stepped;     /* the wind grid stepped this tick (the wind fields below are set) */
+    double wind_ms;        /* of which the wind step: running it, or waiting for the one
+                              beside the ticks, and copying its field */
+    bool wind_stepped;     /* the wind grid stepped this tick, or a step beside the ticks was
+                              taken (the wind fields below are set, of that step) */
     int wind_iters;        /* pressure iterations of the wind step, 0 if none this tick */
     double wind_div;       /* divergence after projection */
     double wind_residual;  /* relative residual ||b - A p|| / ||b|| of the pressure solve */

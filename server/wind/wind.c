@@ -164,7 +164,8 @@ static void subgrid_resolve(wind_grid *w)
     }
 }
 
-static void inflow_resolve(wind_grid *w, const wind_inflow *in)
+/* The inflow with its defaults in place of unset or non-finite fields. */
+static wind_inflow inflow_clean(const wind_inflow *in)
 {
     wind_inflow f = *in;
     if (!(f.z0_m > 0.0f) || !isfinite(f.z0_m)) {
@@ -187,10 +188,23 @@ static void inflow_resolve(wind_grid *w, const wind_inflow *in)
             f.gust[a] = 0.0f;
         }
     }
-    w->inflow = f;
+    return f;
+}
+
+/* What the samplers read of the inflow: its direction and the subgrid table. The step
+ * reads neither, so this may change while another thread steps the grid. */
+static void inflow_sampled(wind_grid *w, const wind_inflow *f)
+{
+    w->inflow = *f;
     if (w->d.subgrid_profile) {
         subgrid_resolve(w);
     }
+}
+
+static void inflow_resolve(wind_grid *w, const wind_inflow *in)
+{
+    const wind_inflow f = inflow_clean(in);
+    inflow_sampled(w, &f);
     const float cx = cosf(f.dir_rad), cy = sinf(f.dir_rad);
     const float ln10 = logf(10.0f / f.z0_m);
     for (int a = 0; a < 3; a++) {
@@ -315,6 +329,7 @@ void wind_destroy(wind_grid *w)
     for (int a = 0; a < 3; a++) {
         free(w->c[a].d);
         free(w->c[a].tmp);
+        free(w->c[a].pub);
         free(w->inflow_z[a]);
     }
     wind_mg_free(w);
@@ -335,6 +350,26 @@ wind_desc wind_get_desc(const wind_grid *w)
 void wind_set_inflow(wind_grid *w, const wind_inflow *in)
 {
     inflow_resolve(w, in);
+}
+
+void wind_set_subgrid_inflow(wind_grid *w, const wind_inflow *in)
+{
+    const wind_inflow f = inflow_clean(in);
+    inflow_sampled(w, &f);
+}
+
+int wind_publish(wind_grid *w)
+{
+    for (int a = 0; a < 3; a++) {
+        wind_comp *c = &w->c[a];
+        if (!c->pub && !(c->pub = malloc(c->count * sizeof(float)))) {
+            return GALE_E_NOMEM;
+        }
+    }
+    for (int a = 0; a < 3; a++) {
+        memcpy(w->c[a].pub, w->c[a].d, w->c[a].count * sizeof(float));
+    }
+    return 0;
 }
 
 void wind_add_ball(wind_grid *w, const wind_ball *b)
@@ -737,7 +772,7 @@ static inline float sample_comp(const wind_comp *c, float x, float y, float z)
         i[a] = q;
         t[a] = v - (float)q;
     }
-    const float *q = c->d + wind_idx(c->sy, c->sz, i[0], i[1], i[2]);
+    const float *q = wind_comp_read(c) + wind_idx(c->sy, c->sz, i[0], i[1], i[2]);
     const ptrdiff_t sy = c->sy, sz = c->sz;
     float c00 = q[0] + t[0] * (q[1] - q[0]);
     float c10 = q[sy] + t[0] * (q[sy + 1] - q[sy]);
@@ -791,7 +826,7 @@ typedef struct comp_view {
 
 static comp_view comp_view_of(const wind_comp *c)
 {
-    comp_view v = { .d = c->d, .sy = c->sy, .sz = c->sz };
+    comp_view v = { .d = wind_comp_read(c), .sy = c->sy, .sz = c->sz };
     for (int a = 0; a < 3; a++) {
         v.nm1[a] = c->n[a] - 1;
         v.hi[a] = c->n[a] > 1 ? c->n[a] - 2 : 0;
@@ -914,6 +949,7 @@ int wind_coarse(const wind_grid *w, int factor, float *out, int capacity, int di
         return GALE_E_RANGE;
     }
     const wind_comp *cu = &w->c[0], *cv = &w->c[1], *cw = &w->c[2];
+    const float *du = wind_comp_read(cu), *dv = wind_comp_read(cv), *dw = wind_comp_read(cw);
     for (int K = 0; K < dims[2]; K++) {
         for (int J = 0; J < dims[1]; J++) {
             for (int I = 0; I < dims[0]; I++) {
@@ -925,9 +961,9 @@ int wind_coarse(const wind_grid *w, int factor, float *out, int capacity, int di
                             size_t u = wind_idx(cu->sy, cu->sz, i, j, k);
                             size_t v = wind_idx(cv->sy, cv->sz, i, j, k);
                             size_t q = wind_idx(cw->sy, cw->sz, i, j, k);
-                            s[0] += 0.5 * ((double)cu->d[u] + (double)cu->d[u + 1]);
-                            s[1] += 0.5 * ((double)cv->d[v] + (double)cv->d[v + (size_t)cv->sy]);
-                            s[2] += 0.5 * ((double)cw->d[q] + (double)cw->d[q + (size_t)cw->sz]);
+                            s[0] += 0.5 * ((double)du[u] + (double)du[u + 1]);
+                            s[1] += 0.5 * ((double)dv[v] + (double)dv[v + (size_t)cv->sy]);
+                            s[2] += 0.5 * ((double)dw[q] + (double)dw[q + (size_t)cw->sz]);
                             cnt++;
                         }
                     }

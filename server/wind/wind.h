@@ -73,6 +73,15 @@ wind_desc wind_get_desc(const wind_grid *w);
 
 /* Sets the inflow used from the next step on. */
 void wind_set_inflow(wind_grid *w, const wind_inflow *in);
+/* Sets only what the samplers' subgrid term reads of the inflow (desc.subgrid_profile:
+ * the direction and the table), at once; the step keeps the inflow wind_set_inflow gave
+ * it. Touches nothing wind_step reads, so it may run while another thread steps. */
+void wind_set_subgrid_inflow(wind_grid *w, const wind_inflow *in);
+/* Copies the field for the samplers (wind_sample, wind_sample_many, wind_probe_sample,
+ * wind_coarse): from the first call on they read the field as it stood at the last,
+ * while wind_step may advance it on another thread; before it, the field itself.
+ * GALE_E_NOMEM when the copy cannot be allocated (the samplers' copy is left as it was). */
+int wind_publish(wind_grid *w);
 /* Adds a force ball applied in the next step only. */
 void wind_add_ball(wind_grid *w, const wind_ball *b);
 /* Advances the field by dt_s; fills *st when not NULL. Fails only on a numerical
@@ -106,8 +115,9 @@ wind_probe *wind_probe_create(const wind_grid *w, int n, const float *p, gale_er
 void wind_probe_destroy(wind_probe *pr);
 /* The grid's part of the wind (wind_sample without the subgrid profile) at the probe's
  * points [i0, i1) into v[3 * i0 .. 3 * i1): the same floats as wind_sample gives there
- * with desc.subgrid_profile 0. One thread; callers split the points. The grid changes
- * only in wind_step and wind_fill_inflow, so between those this needs no repeating. */
+ * with desc.subgrid_profile 0. One thread; callers split the points. What it reads
+ * changes only in wind_step and wind_fill_inflow (once published, only in wind_publish),
+ * so between those this needs no repeating. */
 void wind_probe_sample(const wind_grid *w, const wind_probe *pr, int i0, int i1, float *v);
 /* Adds the subgrid profile's term of the current inflow (desc.subgrid_profile) at n
  * points p[3n] to v[3n]; nothing without it. The grid's part from wind_probe_sample

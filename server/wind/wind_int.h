@@ -37,11 +37,18 @@ enum { WIND_SIDE_XLO, WIND_SIDE_XHI, WIND_SIDE_YLO, WIND_SIDE_YHI, WIND_NSIDES }
 typedef struct wind_comp {
     float *d;      /* owned: padded samples */
     float *tmp;    /* owned: advection target, swapped with d */
+    float *pub;    /* owned: the samplers' copy of d (wind_publish); NULL: they read d */
     int n[3];      /* samples per axis without ghosts */
     int sy, sz;    /* strides of the padded array (sx = 1) */
     size_t count;  /* padded sample count */
     float off[3];  /* position of sample (0,0,0) in cell units */
 } wind_comp;
+
+/* The samples the samplers read: the copy wind_publish made last, else the field. */
+static inline const float *wind_comp_read(const wind_comp *c)
+{
+    return c->pub ? c->pub : c->d;
+}
 
 /* c ? a : b for floats, by a bit mask: both operands are evaluated, so when they are
  * loads gcc cannot sink them into the arms, and a loop using it vectorises without masked

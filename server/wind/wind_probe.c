@@ -111,7 +111,7 @@ void wind_probe_sample(const wind_grid *w, const wind_probe *pr, int i0, int i1,
     i1 = i1 > pr->n ? pr->n : i1;
     for (int a = 0; a < 3; a++) {
         const wind_comp *c = &w->c[a];
-        probe_comp(c->d, c->sy, c->sz, pr->o[a], pr->t[a][0], pr->t[a][1], pr->t[a][2], i0,
-                   i1, v + a);
+        probe_comp(wind_comp_read(c), c->sy, c->sz, pr->o[a], pr->t[a][0], pr->t[a][1],
+                   pr->t[a][2], i0, i1, v + a);
     }
 }

@@ -1,0 +1,34 @@
+/* The wind step one step ahead of the ticks that read it (server/SERVER.md "Loop"): a
+ * tick launches a step (wind_worker_launch) and a later tick takes it (wind_worker_join).
+ * With a thread of its own the step runs beside the ticks between, at idle priority
+ * (SCHED_IDLE), in the time they leave idle, so no tick carries it; without one the join
+ * runs it. Either gives the same floats: the step's
+ * inputs are the grid's at the launch, and nothing else steps or writes the grid until
+ * the join. */
+#ifndef GALE_WIND_WORKER_H
+#define GALE_WIND_WORKER_H
+
+#include <stdbool.h>
+
+#include "err.h"
+#include "wind.h"
+
+typedef struct wind_worker wind_worker;
+
+/* The step function and its context, borrowed for the worker's life; own_thread: run
+ * steps on a thread of the worker's. NULL on failure with err filled (no memory, no
+ * thread). */
+wind_worker *wind_worker_create(int (*step)(void *ctx, float dt_s, wind_step_stats *st),
+                                void *ctx, bool own_thread, gale_err *err);
+/* Waits for a step in flight, then stops the thread. NULL is a no-op. */
+void wind_worker_destroy(wind_worker *w);
+
+/* Starts a step of dt_s (on the worker's thread, or due at the join). One at a time:
+ * join the last first. */
+void wind_worker_launch(wind_worker *w, float dt_s);
+/* Waits for the step launched last (or runs it); fills *st with its stats (when not
+ * NULL) and returns its return code: 0 when none was launched. *ms: how long this call
+ * took. */
+int wind_worker_join(wind_worker *w, wind_step_stats *st, double *ms);
+
+#endif
