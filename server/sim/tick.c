@@ -170,15 +170,19 @@ tick_sim *tick_create(const tick_desc *d, gale_err *err)
                        ? d->wind->probe_create(d->wind->ctx, t->n_trees, t->crown_ordered)
                        : NULL;
     }
-    if (t->probe && d->wind->publish && d->wind->set_subgrid_inflow &&
-        d->wind->publish(d->wind->ctx) == 0) {
+    if (t->probe && d->wind->publish && d->wind->set_subgrid_inflow) {
         /* A second tick thread means a second core: the step goes beside the ticks when
          * the solver runs on one thread (a solver on several would take the tick's
-         * cores). Without memory or a thread for it each step runs on its own tick. */
+         * cores). Without a thread for it the step's tick runs it; without memory for
+         * the worker or the field's copy each step runs on its own tick. */
         const bool beside = t->threads > 1 && sc->wind_threads <= 1;
         t->worker = wind_worker_create(d->wind->step, d->wind->ctx, beside, NULL);
         if (!t->worker && beside) {
             t->worker = wind_worker_create(d->wind->step, d->wind->ctx, false, NULL);
+        }
+        if (t->worker && d->wind->publish(d->wind->ctx) != 0) {
+            wind_worker_destroy(t->worker);
+            t->worker = NULL;
         }
     }
     t->m = modal_create(&(modal_desc){ .n_trees = (uint32_t)t->n_trees,

@@ -360,10 +360,22 @@ void wind_set_subgrid_inflow(wind_grid *w, const wind_inflow *in)
 
 int wind_publish(wind_grid *w)
 {
-    for (int a = 0; a < 3; a++) {
-        wind_comp *c = &w->c[a];
-        if (!c->pub && !(c->pub = malloc(c->count * sizeof(float)))) {
+    if (!w->c[0].pub) {
+        /* all three or none: a sampler never reads one component's copy beside another's
+           field */
+        float *pub[3];
+        bool ok = true;
+        for (int a = 0; a < 3; a++) {
+            ok = (pub[a] = malloc(w->c[a].count * sizeof(float))) != NULL && ok;
+        }
+        if (!ok) {
+            for (int a = 0; a < 3; a++) {
+                free(pub[a]);
+            }
             return GALE_E_NOMEM;
+        }
+        for (int a = 0; a < 3; a++) {
+            w->c[a].pub = pub[a];
         }
     }
     for (int a = 0; a < 3; a++) {
