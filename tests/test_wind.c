@@ -551,6 +551,80 @@ static void test_probe(void)
     }
 }
 
+/* wind_publish: the samplers (wind_sample, wind_probe_sample, wind_coarse) read the field
+ * as it stood at the last publish while the grid steps on, float for float what a twin
+ * grid stepped only that far gives; wind_set_subgrid_inflow moves the subgrid term at once
+ * and leaves the step's inflow as wind_set_inflow gave it. */
+static void test_publish(void)
+{
+    const wind_desc d = { .nx = 12, .ny = 10, .nz = 3, .cell_m = 4.0f, .origin = { -24, -20, 0 },
+                          .subgrid_profile = 1, .threads = 1, .seed = 5 };
+    wind_grid *a = wind_create(&d, NULL), *b = wind_create(&d, NULL);
+    CHECK(a && b);
+    if (!a || !b) {
+        wind_destroy(a);
+        wind_destroy(b);
+        return;
+    }
+    enum { NP = 500 };
+    static float pts[3 * NP], va[3 * NP], vb[3 * NP];
+    for (int n = 0; n < NP; n++) {
+        pts[3 * n + 0] = -24.0f + frand() * 48.0f;
+        pts[3 * n + 1] = -20.0f + frand() * 40.0f;
+        pts[3 * n + 2] = frand() * 12.0f;
+    }
+    wind_probe *pr = wind_probe_create(a, NP, pts, NULL);
+    CHECK(pr != NULL);
+    const wind_inflow x = { .dir_rad = 0.4f, .u10_ms = 12.0f, .gust = { 1.0f, -0.5f, 0 } };
+    const wind_inflow y = { .dir_rad = 1.3f, .u10_ms = 21.0f };
+    const wind_inflow z = { .dir_rad = 2.6f, .u10_ms = 7.0f };
+    float ca[3 * 3 * 3 * 1], cb[3 * 3 * 3 * 1];
+    int dims[3];
+    for (int round = 0; round < 2 && pr; round++) {
+        /* a: stepped under x (then y), published, stepped again under y, the subgrid
+           term then z's; b: the steps up to the publish only, the subgrid term z's */
+        wind_set_inflow(a, round ? &y : &x);
+        wind_set_inflow(b, round ? &y : &x);
+        CHECK(wind_step(a, 0.2f, NULL) == 0 && wind_step(b, 0.2f, NULL) == 0);
+        CHECK(wind_publish(a) == 0);
+        wind_set_inflow(a, &y);
+        CHECK(wind_step(a, 0.2f, NULL) == 0);
+        wind_set_subgrid_inflow(a, &z);
+        wind_set_subgrid_inflow(b, &z);
+        int bad = 0;
+        for (int n = 0; n < NP; n++) {
+            wind_sample(a, pts + 3 * n, va + 3 * n);
+            wind_sample(b, pts + 3 * n, vb + 3 * n);
+        }
+        bad += memcmp(va, vb, sizeof va) != 0;
+        wind_probe_sample(a, pr, 0, NP, va);
+        wind_add_subgrid(a, NP, pts, va);
+        bad += memcmp(va, vb, sizeof va) != 0;
+        CHECK(wind_coarse(a, 4, ca, 27, dims) == 27 && wind_coarse(b, 4, cb, 27, dims) == 27);
+        bad += memcmp(ca, cb, sizeof ca) != 0;
+        CHECK(bad == 0);
+        /* b's next step is a's last: only a publish shows it, and then exactly */
+        wind_set_inflow(b, &y);
+        CHECK(wind_step(b, 0.2f, NULL) == 0);
+        wind_set_subgrid_inflow(b, &z);
+        wind_sample_many(a, NP, pts, va);
+        wind_sample_many(b, NP, pts, vb);
+        CHECK(memcmp(va, vb, sizeof va) != 0);
+        CHECK(wind_publish(a) == 0);
+        wind_sample_many(a, NP, pts, va);
+        CHECK(memcmp(va, vb, sizeof va) == 0);
+        /* both one step on, a under the inflow its last wind_set_inflow gave (y: the
+           subgrid inflow since must not reach the step), b under y given afresh */
+        wind_set_inflow(b, &y);
+        CHECK(wind_step(b, 0.2f, NULL) == 0);
+        CHECK(wind_step(a, 0.2f, NULL) == 0);
+        CHECK(wind_publish(a) == 0);
+    }
+    wind_probe_destroy(pr);
+    wind_destroy(a);
+    wind_destroy(b);
+}
+
 static void test_coarse(void)
 {
     gale_err err = { 0 };
@@ -616,6 +690,7 @@ int main(void)
     RUN(test_ball_direction);
     RUN(test_sampling);
     RUN(test_probe);
+    RUN(test_publish);
     RUN(test_coarse);
     RUN(test_bad_desc);
     return check_report();
