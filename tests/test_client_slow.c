@@ -1,7 +1,7 @@
 /* A client that draws a frame a second (gale-client --headless --max-fps 1, as a software
  * renderer on a modest kiosk) against the real gale-server on a loopback port, with a
- * stream of 300 trees × 16 modes (tests/data/slow_client_scene.json, ~4 KB a snapshot
- * at 30 a second): its network thread takes the snapshots as they come, so it stays on
+ * stream of 300 trees × 16 modes (tests/data/slow_client_scene.json, 30 snapshots a
+ * second): its network thread takes the snapshots as they come, so it stays on
  * its one connection, the server never closes it, it decodes most of the snapshots
  * published (a client that read only between its frames would be sent one a second or
  * so: server/SERVER.md "Slow readers"; the server may still lower its rate a while when
@@ -109,8 +109,12 @@ static void test_one_frame_a_second(void)
     CHECK(drew_s >= FRAMES - 2.0); /* paced: about a frame a second, or slower */
     CHECK(conns == 1);
     CHECK(closed == 0);
+    /* The stream is no trickle: a reader lowered to the 1 Hz floor would decode about one
+     * snapshot a drawn frame. Counted against what the server published, not against the
+     * clock or the bytes: a starved server publishes fewer, and deltas of a calm moment
+     * are a fraction of a keyframe. */
     CHECK(got >= 0.7 * snaps);
-    CHECK(bytes > FRAMES * 30 * 1000.0); /* the stream is no trickle: > 30 KB a second */
+    CHECK(got >= 3.0 * FRAMES);
     CHECK_STR_HAS(log, "bad 0, gaps 0");
     CHECK_STR_HAS(log, "connects 1");
     CHECK_STR_HAS(log, "hud: Wind ");
