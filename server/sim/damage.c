@@ -9,6 +9,7 @@
 #include "hash.h"
 
 #define DAMAGE_LOG_MAX 65536u /* broken branches remembered for the whole-state frame */
+#define DAMAGE_PREFETCH_TREES 8u /* trees ahead whose state lane_run asks the cache for */
 
 typedef struct damage_tree_st {
     float strength;     /* seeded multiplier of every capacity of the tree */
@@ -517,6 +518,12 @@ static int lane_run(damage_sim *s, damage_lane *l, modal *m, const float *wind_w
     int lost = 0;
     for (uint32_t i = i0; i < i1; i++) {
         const uint32_t t = first + i * DAMAGE_EVERY;
+        /* about half the trees of a gusty day pass the screen and read their state, which
+         * the modal update has long since pushed out of the near caches: asked for a few
+         * trees ahead, its lines arrive while the trees between are checked */
+        if (i + DAMAGE_PREFETCH_TREES < i1) {
+            modal_prefetch(m, t + DAMAGE_PREFETCH_TREES * DAMAGE_EVERY);
+        }
         const damage_table *tb = s->table[s->species[t]];
         damage_tree_st *ts = &s->tree[t];
         if (!tb || ts->fallen) {

@@ -317,6 +317,17 @@ uint32_t modal_get(const modal *m, uint32_t t, float *q, float *qdot)
     return nm;
 }
 
+void modal_prefetch(const modal *m, uint32_t t)
+{
+    if (t < m->n_trees) {
+        const char *st = (const char *)(m->state + (size_t)t * 2 * m->pad);
+        const size_t bytes = m->pad * sizeof(float);
+        for (size_t at = 0; at < bytes; at += 64) {
+            __builtin_prefetch(st + at, 0, 3);
+        }
+    }
+}
+
 void modal_set_drag_mult(modal *m, uint32_t t, float mult)
 {
     if (t < m->n_trees && mult >= 0.0f && isfinite(mult)) {

@@ -53,6 +53,9 @@ void modal_tick(modal *m, const float *wind_world, int16_t *qsnap);
 /* Float state of tree t: q[n] and qdot[n] for n = its modes (either may be NULL);
  * returns n. */
 uint32_t modal_get(const modal *m, uint32_t t, float *q, float *qdot);
+/* Asks the cache for tree t's q ahead of a modal_get (a hint: nothing is read for t out of
+ * range, nothing changes). */
+void modal_prefetch(const modal *m, uint32_t t);
 /* Tree t's drag factor (default 1): every modal force of the tree is multiplied by it,
  * e.g. by the leaf area and branches a storm has left (damage.h). Ignored for t out of range or a negative or
  * non-finite value. */
