@@ -518,11 +518,14 @@ static int lane_run(damage_sim *s, damage_lane *l, modal *m, const float *wind_w
     int lost = 0;
     for (uint32_t i = i0; i < i1; i++) {
         const uint32_t t = first + i * DAMAGE_EVERY;
-        /* about half the trees of a gusty day pass the screen and read their state, which
-         * the modal update has long since pushed out of the near caches: asked for a few
-         * trees ahead, its lines arrive while the trees between are checked */
+        /* every due tree reads its own record, and about half those of a gusty day pass
+         * the screen and read their state, which the modal update has long since pushed
+         * out of the near caches: asked for a few trees ahead, their lines arrive while
+         * the trees between are checked */
         if (i + DAMAGE_PREFETCH_TREES < i1) {
-            modal_prefetch(m, t + DAMAGE_PREFETCH_TREES * DAMAGE_EVERY);
+            const uint32_t ahead = t + DAMAGE_PREFETCH_TREES * DAMAGE_EVERY;
+            modal_prefetch(m, ahead);
+            __builtin_prefetch(&s->tree[ahead], 1, 3);
         }
         const damage_table *tb = s->table[s->species[t]];
         damage_tree_st *ts = &s->tree[t];
