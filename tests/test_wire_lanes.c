@@ -1,7 +1,7 @@
 /* The state encoders in lanes (wire_encode_keyframe_lanes, wire_encode_delta_lanes): the
  * frames of 2, 3, 7 and 16 lanes on real threads, and of lanes run in reverse order, are
  * byte for byte those of one lane, for keyframes, deltas on one and two snapshots, trees
- * out of view, LOD, species of different mode counts and residuals of every width 0..18;
+ * out of view, LOD, species of different mode counts and groups of every width 0..16;
  * each frame decodes to the snapshot it was made from; a buffer too small for the lanes'
  * layout still gets the one-lane bytes, one byte short of the frame fails, and a bad state
  * is named as without lanes; a snapshot's three frames encoded in one pass
@@ -73,6 +73,9 @@ typedef struct snap {
 static uint8_t species[NT];
 static snap hist[3];          /* cur, prev, prev2 */
 static int widths_seen[19];
+/* The widest group a frame holds: the zero predictor's zigzag of |q| <= WIRE_QMAX is below
+ * 2^16, so a wider residual (up to 18 bits) is never the narrowest. */
+#define WIDEST 16
 
 /* Snapshot k: smooth motion from the last one with noise of a width that varies by tree,
  * some trees out of view, some at a lower LOD, a few jumping to extremes. */
@@ -112,6 +115,92 @@ static void note_widths(const uint8_t *v, const uint8_t *end, const snap *s)
             v += 1 + (k * w + 7) / 8;
         }
     }
+}
+
+/* Snapshot k for the reference test: most trees move within [-8192, 8191] (the fast
+ * coder's 16-bit lanes), some sit on that range's edges or just past them or swing from
+ * edge to edge, some jump over the whole of [-QMAX, QMAX]; whole and partial groups,
+ * trees out of view. */
+static void make_edge_snap(const wire_scene *sc, snap *s, const snap *last)
+{
+    static const int16_t edge[] = { -8193, -8192, 8191, 8192, 0, -1, 1 };
+    for (uint32_t t = 0; t < NT; t++) {
+        const uint32_t full = sc->n_modes[species[t]];
+        const uint32_t r = rnd() % 16;
+        uint32_t n = r == 0 ? 0 : r < 3 ? 1 + rnd() % full : r < 8 ? (rnd() % 5 + 1) * 8 : full;
+        s->n_modes[t] = (uint8_t)(n > full ? full : n);
+        const uint32_t kind = rnd() % 8;
+        const unsigned bits = rnd() % 15;
+        for (uint32_t m = 0; m < STRIDE; m++) {
+            int32_t base = last ? last->q[t * STRIDE + m] : 0;
+            int32_t noise = bits ? (int32_t)(rnd() % (1u << bits)) - (int32_t)(1u << (bits - 1)) : 0;
+            int32_t v = base + noise;
+            if (kind < 6) {
+                v = v > 8191 ? 8191 - (int32_t)(rnd() % 64) : v < -8192 ? -8192 + (int32_t)(rnd() % 64) : v;
+            } else if (kind == 6 && t % 4 < 2) {
+                v = edge[rnd() % (sizeof edge / sizeof edge[0])];
+            } else if (kind == 6) {
+                /* a swing from L - 1 to -L and back: the linear residual 4 L - 2, which
+                   wraps to -2 in 16 bits for L = 16384 */
+                const int32_t lim = t % 4 == 2 ? 8192 : 16384;
+                v = base >= 0 ? -lim : lim - 1;
+            } else {
+                v = (int32_t)(rnd() % (2u * WIRE_QMAX + 1)) - WIRE_QMAX;
+            }
+            s->q[t * STRIDE + m] = (int16_t)v;
+        }
+    }
+}
+
+/* The values section of a frame as PROTOCOL.md "State frames" defines it, value by value:
+ * each tree in view, each group of up to 8 of its modes, the zigzag residuals against the
+ * first n_pred predictors (zero; the previous snapshot; twice the previous less the one
+ * before), history rows read as 0 past what they sent; the narrowest (the first of equal
+ * widths), its header byte pred << 5 | width, then the group's residuals of that width,
+ * least significant bit first, from a byte boundary. Returns the bytes written. */
+static size_t ref_values(const snap *cur, const snap *prev, const snap *prev2, int n_pred,
+                         uint8_t *out)
+{
+    size_t len = 0;
+    for (uint32_t t = 0; t < NT; t++) {
+        const uint32_t n = cur->n_modes[t];
+        for (uint32_t g0 = 0; g0 < n; g0 += 8) {
+            const uint32_t k = n - g0 < 8 ? n - g0 : 8;
+            uint32_t z[3][8];
+            unsigned width[3] = { 0, 0, 0 };
+            for (uint32_t i = 0; i < k; i++) {
+                const uint32_t m = g0 + i;
+                const int32_t v = cur->q[t * STRIDE + m];
+                const int32_t a = prev && m < prev->n_modes[t] ? prev->q[t * STRIDE + m] : 0;
+                const int32_t b = prev2 && m < prev2->n_modes[t] ? prev2->q[t * STRIDE + m] : 0;
+                const int32_t r[3] = { v, v - a, v - (2 * a - b) };
+                for (int p = 0; p < 3; p++) {
+                    z[p][i] = r[p] >= 0 ? 2u * (uint32_t)r[p] : 2u * (uint32_t)(-r[p]) - 1u;
+                    unsigned w = 0;
+                    while (w < 32 && z[p][i] >> w) {
+                        w++;
+                    }
+                    width[p] = w > width[p] ? w : width[p];
+                }
+            }
+            int best = 0;
+            for (int p = 1; p < n_pred; p++) {
+                best = width[p] < width[best] ? p : best;
+            }
+            const unsigned w = width[best];
+            out[len++] = (uint8_t)(best << 5 | (int)w);
+            const size_t nbytes = (k * w + 7) / 8;
+            memset(out + len, 0, nbytes);
+            for (uint32_t i = 0; i < k; i++) {
+                for (unsigned bit = 0; bit < w; bit++) {
+                    const size_t at = (size_t)i * w + bit;
+                    out[len + at / 8] |= (uint8_t)((z[best][i] >> bit & 1u) << (at % 8));
+                }
+            }
+            len += nbytes;
+        }
+    }
+    return len;
 }
 
 static uint8_t one[1 << 22], many[1 << 22];
@@ -155,7 +244,11 @@ static void test_lanes_same_bytes(void)
             gale_err err;
             size_t len1 = 0;
             CHECK(encode(kind, &sc, NULL, one, sizeof one, &len1, &err) == 0);
-            note_widths(one, one + len1, &hist[0]);
+            static uint8_t ref[1 << 22];
+            const size_t n_ref = ref_values(&hist[0], kind ? &hist[1] : NULL,
+                                            kind == 2 ? &hist[2] : NULL, kind + 1, ref);
+            CHECK(len1 > n_ref && memcmp(one + len1 - n_ref, ref, n_ref) == 0);
+            note_widths(ref, ref + n_ref, &hist[0]);
             const int ns[] = { 2, 3, 7, 16 };
             for (int i = 0; i < 5; i++) {
                 const wire_lanes l = i < 4 ? (wire_lanes){ ns[i], run_threads, NULL }
@@ -270,7 +363,7 @@ static void test_lanes_same_bytes(void)
     }
     wire_decoder_destroy(dec);
     CHECK(frames == 18);
-    for (int w = 0; w <= 18; w++) {
+    for (int w = 0; w <= WIDEST; w++) {
         if (!widths_seen[w]) {
             fprintf(stderr, "width %d never coded\n", w);
         }
@@ -345,9 +438,68 @@ static void test_lanes_bad_state(void)
     }
 }
 
+/* Every frame's values are the reference coder's bytes, with and without lanes, alone and
+ * in the one-pass snapshot, for trees whose values lie in, on the edges of and past the
+ * fast coder's 16-bit range; every width 0..16 is coded. */
+static void test_values_reference(void)
+{
+    wire_scene sc = { .n_trees = NT, .n_species = 3, .species = species };
+    const uint8_t nm[3] = { 32, 40, 13 };
+    for (uint32_t s = 0; s < 3; s++) {
+        sc.n_modes[s] = nm[s];
+        for (uint32_t m = 0; m < nm[s]; m++) {
+            sc.step[s][m] = 1e-4f * (float)(1 + m);
+        }
+    }
+    for (uint32_t t = 0; t < NT; t++) {
+        species[t] = (uint8_t)(rnd() % 3);
+    }
+    memset(widths_seen, 0, sizeof widths_seen);
+    static uint8_t ref[1 << 22], fused[3][1 << 22];
+    make_edge_snap(&sc, &hist[2], NULL);
+    make_edge_snap(&sc, &hist[1], &hist[2]);
+    for (int round = 0; round < 8; round++) {
+        make_edge_snap(&sc, &hist[0], &hist[1]);
+        if (round % 2) {
+            memcpy(hist[0].n_modes, hist[1].n_modes, NT);
+        }
+        const wire_lanes l = { 3, run_threads, NULL };
+        const wire_header h = { .tick = 77, .server_time_us = 123456789ull };
+        const wire_state cur = state_of(&hist[0]), prev = state_of(&hist[1]),
+                         prev2 = state_of(&hist[2]);
+        wire_frame_out out[3];
+        gale_err err;
+        for (int f = 0; f < 3; f++) {
+            out[f] = (wire_frame_out){ fused[f], sizeof fused[f], 0, &err };
+        }
+        CHECK(wire_encode_snapshot_lanes(&h, 9, &sc, &cur, &prev, &prev2, &l, out) == 0);
+        for (int kind = 0; kind < 3; kind++) {
+            const size_t n_ref = ref_values(&hist[0], kind ? &hist[1] : NULL,
+                                            kind == 2 ? &hist[2] : NULL, kind + 1, ref);
+            for (int li = 0; li < 2; li++) {
+                size_t len = 0;
+                CHECK(encode(kind, &sc, li ? &l : NULL, one, sizeof one, &len, &err) == 0);
+                CHECK(len > n_ref && memcmp(one + len - n_ref, ref, n_ref) == 0);
+            }
+            CHECK(out[kind].len > n_ref &&
+                  memcmp(fused[kind] + out[kind].len - n_ref, ref, n_ref) == 0);
+            note_widths(ref, ref + n_ref, &hist[0]);
+        }
+        hist[2] = hist[1];
+        hist[1] = hist[0];
+    }
+    for (int w = 0; w <= WIDEST; w++) {
+        if (!widths_seen[w]) {
+            fprintf(stderr, "width %d never coded\n", w);
+        }
+        CHECK(widths_seen[w] > 0);
+    }
+}
+
 int main(void)
 {
     RUN(test_lanes_same_bytes);
+    RUN(test_values_reference);
     RUN(test_lanes_bad_state);
     return check_report();
 }
