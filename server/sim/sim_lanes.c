@@ -1,4 +1,4 @@
-/* The encoders' lanes on OpenMP threads: see sim_lanes.h. */
+/* The encoders' lanes and the tick's shares on OpenMP threads: see sim_lanes.h. */
 #include "sim_lanes.h"
 
 #include <stdint.h>
@@ -24,4 +24,11 @@ wire_lanes sim_lanes(int n_threads)
     int n = n_threads * LANES_PER_THREAD;
     n = n > (int)WIRE_MAX_LANES ? (int)WIRE_MAX_LANES : n;
     return (wire_lanes){ .n = n, .run = run_omp, .ctx = (void *)(intptr_t)n_threads };
+}
+
+int sim_shares(int n, int n_threads)
+{
+    const int threads = n_threads > 1 ? n_threads : 1;
+    const int by_size = n > 0 ? (n + SIM_SHARE_MAX - 1) / SIM_SHARE_MAX : 1;
+    return (by_size + threads - 1) / threads * threads;
 }

@@ -3,6 +3,7 @@
 #include "mono.h"
 
 #include "modal.h"
+#include "sim_lanes.h"
 #include "wind_worker.h"
 
 #include <math.h>
@@ -286,9 +287,6 @@ void tick_set_balls(tick_sim *t, const wind_ball *balls, int n)
     t->n_balls = balls ? n : 0;
 }
 
-/* Crowns per share of the sampling on the tick's threads. */
-#define SAMPLE_CHUNK 4096
-
 /* The wind at every crown from the probe: the grid's part, then each tick the term that
  * follows the inflow. With a step every k ticks, the step's tick and each of the k - 1
  * after it read a k-th of the crowns into a second buffer, the last switching all crowns
@@ -301,7 +299,7 @@ void tick_set_balls(tick_sim *t, const wind_ball *balls, int n)
 static void sample_probe(tick_sim *t)
 {
     const tick_wind *wd = t->d.wind;
-    const int n = t->n_trees, nc = (n + SAMPLE_CHUNK - 1) / SAMPLE_CHUNK;
+    const int n = t->n_trees, nc = sim_shares(n, t->threads), per = (n + nc - 1) / nc;
     const int every = t->d.sc->wind_every > 1 ? t->d.sc->wind_every : 1;
     const bool first = !t->grid_read;
     const int j = (int)(t->tick % (uint32_t)every);
@@ -309,12 +307,15 @@ static void sample_probe(tick_sim *t)
     const int r0 = first ? 0 : (int)((int64_t)n * j / every);
     const int r1 = first ? n : (int)((int64_t)n * (j + 1) / every);
     float *const dst = first ? t->vel_grid : t->vel_next;
-    const int nr = (r1 - r0 + SAMPLE_CHUNK - 1) / SAMPLE_CHUNK;
-#pragma omp parallel num_threads(t->threads) if (nc > 1)
+    const int nr = sim_shares(r1 - r0, t->threads), per_r = (r1 - r0 + nr - 1) / nr;
+#pragma omp parallel num_threads(t->threads) if (n > SIM_SHARE_MAX)
     {
 #pragma omp for schedule(static)
         for (int c = 0; c < nr; c++) {
-            const int a = r0 + c * SAMPLE_CHUNK, b = a + SAMPLE_CHUNK < r1 ? a + SAMPLE_CHUNK : r1;
+            const int a = r0 + c * per_r, b = a + per_r < r1 ? a + per_r : r1;
+            if (a >= b) {
+                continue; /* more shares than crowns */
+            }
             wd->probe_sample(wd->ctx, t->probe, a, b, t->vel_ordered);
             for (int i = a; i < b; i++) {
                 memcpy(&dst[3 * (size_t)t->order[i]], &t->vel_ordered[3 * (size_t)i],
@@ -331,8 +332,11 @@ static void sample_probe(tick_sim *t)
         }
 #pragma omp for schedule(static)
         for (int c = 0; c < nc; c++) {
-            const size_t i0 = (size_t)c * SAMPLE_CHUNK;
-            const int m = (int)i0 + SAMPLE_CHUNK < n ? SAMPLE_CHUNK : n - (int)i0;
+            const size_t i0 = (size_t)c * (size_t)per;
+            const int m = (int)i0 + per < n ? per : n - (int)i0;
+            if (m <= 0) {
+                continue;
+            }
             memcpy(&t->vel[3 * i0], &t->vel_grid[3 * i0], 3 * sizeof(float) * (size_t)m);
             if (wd->add_subgrid) {
                 wd->add_subgrid(wd->ctx, m, &t->crown[3 * i0], &t->vel[3 * i0]);
