@@ -781,6 +781,39 @@ static bool states_ok(const wire_scene *sc, const wire_state *st, uint32_t t0, u
     return lo >= -WIRE_QMAX;
 }
 
+/* Moves down, in order, the lanes that have run from the first not yet moved, stopping
+ * at one that has not run or went bad (lanes_join takes over from there). Lane k's bytes
+ * go where the lanes before it end, which is below where lane k + 1 writes (each lane's
+ * bytes fit its trees' worst case), so the lanes still running are untouched. One thread
+ * moves at a time; a lane that finishes while another moves is taken by it, as the
+ * mover looks again after letting go (sequentially consistent, so the finishing lane's
+ * store and the mover's look cannot both miss). A lane missed all the same is moved by
+ * lanes_join. */
+static void lanes_settle(lane_job *j)
+{
+    for (;;) {
+        if (atomic_exchange(&j->moving, 1u)) {
+            return; /* the mover looks again when it lets go */
+        }
+        uint32_t k = j->n_moved;
+        while (k < j->n_lanes && atomic_load(&j->done[k]) && !j->bad[k]) {
+            for (int f = 0; f < j->nf; f++) {
+                const size_t len = (size_t)(j->end[f][k] - j->at[f][k]);
+                if (j->to[f] != j->at[f][k]) {
+                    memmove(j->to[f], j->at[f][k], len);
+                }
+                j->to[f] += len;
+            }
+            k++;
+        }
+        j->n_moved = k;
+        atomic_store(&j->moving, 0u);
+        if (k >= j->n_lanes || !atomic_load(&j->done[k]) || j->bad[k]) {
+            return;
+        }
+    }
+}
+
 static void lane_run(void *arg, int lane)
 {
     lane_job *j = arg;
@@ -796,12 +829,15 @@ static void lane_run(void *arg, int lane)
         j->bad[i] = j->bad[i] || w[f].bad;
         j->end[f][i] = w[f].p;
     }
+    atomic_store(&j->done[i], 1u);
+    lanes_settle(j);
 }
 
 /* The lanes' layout for the values of nf frames whose fixed parts are already in w[f]
  * (frame f coded with n_pred[f] predictors): the trees split into lanes->n contiguous
  * shares, each share's bytes written at the worst-case offset of its first tree (so the
- * lanes never overlap) and moved down after the lanes before it (lanes_join). The bytes
+ * lanes never overlap) and moved down after the lanes before it (lanes_settle as the lanes
+ * finish, lanes_join for those left). The bytes
  * are those of one lane, whatever the split. With too little room for that layout, or no
  * lanes, one lane on the caller's thread. */
 static void lanes_layout(lane_job *j, wire_writer *const *w, const int *n_pred, int nf,
@@ -831,9 +867,15 @@ static void lanes_layout(lane_job *j, wire_writer *const *w, const int *n_pred, 
     /* a lane not run writes nothing (a defined frame, short of its trees) */
     for (uint32_t i = 0; i < j->n_lanes; i++) {
         j->bad[i] = false;
+        atomic_init(&j->done[i], 0u);
         for (int f = 0; f < nf; f++) {
             j->end[f][i] = j->at[f][i];
         }
+    }
+    atomic_init(&j->moving, 0u);
+    j->n_moved = 0;
+    for (int f = 0; f < nf; f++) {
+        j->to[f] = w[f]->p;
     }
 }
 
@@ -861,8 +903,9 @@ static void lanes_run(lane_job *j, const wire_lanes *lanes, int i0, int i1)
     }
 }
 
-/* After every lane ran: the shares moved together. Returns non-zero when a state breaks
- * a rule (the caller's checks then name it); a short buffer sets that frame's bad. */
+/* After every lane ran: the shares not yet moved down moved together. Returns non-zero
+ * when a state breaks a rule (the caller's checks then name it); a short buffer sets that
+ * frame's bad. */
 static int lanes_join(lane_job *j, wire_writer *const *w)
 {
     const int nf = j->nf;
@@ -881,8 +924,8 @@ static int lanes_join(lane_job *j, wire_writer *const *w)
         }
     }
     for (int f = 0; f < nf; f++) {
-        uint8_t *p = w[f]->p;
-        for (uint32_t i = 0; i < j->n_lanes; i++) {
+        uint8_t *p = j->to[f];
+        for (uint32_t i = j->n_moved; i < j->n_lanes; i++) {
             const size_t len = (size_t)(j->end[f][i] - j->at[f][i]);
             if (p != j->at[f][i]) {
                 memmove(p, j->at[f][i], len);

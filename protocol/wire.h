@@ -6,6 +6,7 @@
 #ifndef GALE_WIRE_H
 #define GALE_WIRE_H
 
+#include <stdatomic.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -184,6 +185,11 @@ typedef struct wire_lane_job {
     uint8_t *at[3][WIRE_MAX_LANES + 1];  /* lane i writes frame f in [at[f][i], at[f][i + 1]) */
     uint8_t *end[3][WIRE_MAX_LANES];     /* where lane i's values of frame f ended */
     bool bad[WIRE_MAX_LANES];            /* lane i found a bad state or ran out of room */
+    /* lanes moved down in order as they finish, by the thread of whichever finishes */
+    _Atomic uint8_t done[WIRE_MAX_LANES]; /* lane i has run */
+    _Atomic uint32_t moving;             /* a lane's thread is moving lanes down */
+    uint32_t n_moved;                    /* lanes moved, under moving */
+    uint8_t *to[3];                      /* where the next lane's frame f goes, under moving */
 } wire_lane_job;
 
 /* wire_encode_snapshot_lanes in three calls, so that its lanes can run over several

@@ -7,7 +7,9 @@
  * is named as without lanes; a snapshot's three frames encoded in one pass
  * (wire_encode_snapshot_lanes) are those of the three calls, and so are they when the
  * pass runs in stages, its lanes split over two turns (wire_snapshot_begin, _run,
- * _finish). */
+ * _finish); and every frame's values are those of a reference coder written value by
+ * value from PROTOCOL.md, for values inside, on the edges of and past the range the
+ * encoder codes in 16-bit lanes. */
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
