@@ -219,7 +219,8 @@ static int encode(int kind, const wire_scene *sc, const wire_lanes *l, uint8_t *
                                                l, buf, cap, len, err);
 }
 
-static void test_lanes_same_bytes(void)
+/* A scene of three species of 32, 40 and 13 modes, the trees' species drawn at random. */
+static wire_scene three_species(void)
 {
     wire_scene sc = { .n_trees = NT, .n_species = 3, .species = species };
     const uint8_t nm[3] = { 32, 40, 13 };
@@ -232,6 +233,12 @@ static void test_lanes_same_bytes(void)
     for (uint32_t t = 0; t < NT; t++) {
         species[t] = (uint8_t)(rnd() % 3);
     }
+    return sc;
+}
+
+static void test_lanes_same_bytes(void)
+{
+    const wire_scene sc = three_species();
     wire_decoder *dec = wire_decoder_create(&(wire_decoder_desc){ .max_trees = NT }, NULL);
     CHECK(dec != NULL);
     make_snap(&sc, &hist[2], NULL);
@@ -445,17 +452,7 @@ static void test_lanes_bad_state(void)
  * fast coder's 16-bit range; every width 0..16 is coded. */
 static void test_values_reference(void)
 {
-    wire_scene sc = { .n_trees = NT, .n_species = 3, .species = species };
-    const uint8_t nm[3] = { 32, 40, 13 };
-    for (uint32_t s = 0; s < 3; s++) {
-        sc.n_modes[s] = nm[s];
-        for (uint32_t m = 0; m < nm[s]; m++) {
-            sc.step[s][m] = 1e-4f * (float)(1 + m);
-        }
-    }
-    for (uint32_t t = 0; t < NT; t++) {
-        species[t] = (uint8_t)(rnd() % 3);
-    }
+    const wire_scene sc = three_species();
     memset(widths_seen, 0, sizeof widths_seen);
     static uint8_t ref[1 << 22], fused[3][1 << 22];
     make_edge_snap(&sc, &hist[2], NULL);
