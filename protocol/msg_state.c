@@ -4,6 +4,7 @@
  * the two previous); PROTOCOL.md "State frames" has the byte table. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "wire.h"
@@ -448,150 +449,62 @@ static inline __attribute__((always_inline)) uint8_t *put_pair(uint8_t *p, const
     return p;
 }
 
-/* Four groups at a time in 16-bit lanes: a whole 32-mode row in one AVX-512 register.
- * Exact while every value read lies in [-QUAD_LIMIT, QUAD_LIMIT - 1]: then the linear
- * residual v - 2a + b is within +-4 QUAD_LIMIT <= 2^15 and its zigzag fits 16 bits. */
-#define QUAD_LIMIT 8192u
-#define QUAD_MODES (4u * GROUP)
+/* Rows coded in 16-bit lanes (msg_state_rows.h): exact while every value read lies in
+ * [-ROWS_LIMIT, ROWS_LIMIT - 1]. Four groups a register for AVX-512 (rows4_row), two for
+ * AVX2 (rows2_row). */
+#define ROWS_LIMIT 8192u
 
-typedef int16_t v32hi __attribute__((vector_size(64)));
-typedef uint16_t v32hu __attribute__((vector_size(64)));
-typedef float v16sf __attribute__((vector_size(64)));
+#define ROWS_GROUPS 4
+#define ROWS_NAME(x) rows4_##x
+#define ROWS_SWAP 1, 0, 3, 2, 5, 4, 7, 6
+#define ROWS_EVEN_ODD 0, 9, 2, 11, 4, 13, 6, 15
+#define ROWS_WIDTHS 0, 2, 4, 6, 1, 3, 5, 7, 8, 10, 12, 14, 8, 10, 12, 14
+#define ROWS_PREV 4, 5, 6, 7, 4, 5, 6, 7, 4, 5, 6, 7, 4, 5, 6, 7
+#define ROWS_LINEAR 8, 9, 10, 11, 8, 9, 10, 11, 8, 9, 10, 11, 8, 9, 10, 11
+#define ROWS_SPREAD 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3
+#define ROWS_BYTE_AT 0, 8, 16, 24, 0, 8, 16, 24, 0, 8, 16, 24, 0, 8, 16, 24
+#define ROWS_FOLD(hw)                                                                       \
+    ((hw) |= __builtin_shufflevector(hw, hw, 2, 3, 0, 1, 6, 7, 4, 5, 10, 11, 8, 9, 14, 15,  \
+                                     12, 13),                                               \
+     (hw) |= __builtin_shufflevector(hw, hw, 1, 0, 3, 2, 5, 4, 7, 6, 9, 8, 11, 10, 13, 12,  \
+                                     15, 14))
+#include "msg_state_rows.h"
 
-#define PERMUTE8(z, ...) __builtin_shufflevector(z, z, __VA_ARGS__)
-#define SHUFFLE(a, b, ...) __builtin_shufflevector(a, b, __VA_ARGS__)
+#define ROWS_GROUPS 2
+#define ROWS_NAME(x) rows2_##x
+#define ROWS_SWAP 1, 0, 3, 2
+#define ROWS_EVEN_ODD 0, 5, 2, 7
+#define ROWS_WIDTHS 0, 2, 1, 3, 4, 6, 4, 6
+#define ROWS_PREV 2, 3, 2, 3, 2, 3, 2, 3
+#define ROWS_LINEAR 4, 5, 4, 5, 4, 5, 4, 5
+#define ROWS_SPREAD 0, 0, 0, 0, 1, 1, 1, 1
+#define ROWS_BYTE_AT 0, 8, 0, 8, 0, 8, 0, 8
+#define ROWS_FOLD(hw) ((hw) |= __builtin_shufflevector(hw, hw, 1, 0, 3, 2, 5, 4, 7, 6))
+#include "msg_state_rows.h"
 
-/* Lanes 0 .. k - 1 (k 8, 16, 24 or 32) from p, the rest zero. */
-static inline __attribute__((always_inline)) v32hu load32(const int16_t *p, uint32_t k)
+/* Groups a register of the 16-bit path put_values takes: 4 where the CPU has AVX-512
+ * (put_values' x86-64-v4 clone), 2 where it has AVX2 (the v3 clone), 0 (the 32-bit pairs
+ * alone) otherwise. One lane, one DELTA of 100 000 trees x 32 modes: built for AVX-512,
+ * 2.6-2.7 ms with 4 groups, 3.5 with 2, 4.0-4.4 in pairs; for AVX2, 4.1 ms with 2 groups
+ * (25 with 4, whose 64-byte vectors split badly) against 13.7 in pairs; for SSE4.2 alone,
+ * whose shifts of lanes by lanes go lane by lane, 10.6-10.8 ms in pairs against 17 and 22
+ * in 16-bit lanes. GALE_WIRE_ROWS=4, 2 or 0 chooses instead: every choice writes the same
+ * bytes on any CPU (for tests and comparisons). */
+static int rows_groups(void)
 {
-    v32hu h = { 0 };
-    switch (k) {
-    case QUAD_MODES:
-        memcpy(&h, p, QUAD_MODES * sizeof *p);
-        break;
-    case 3 * GROUP:
-        memcpy(&h, p, 3 * GROUP * sizeof *p);
-        break;
-    case 2 * GROUP:
-        memcpy(&h, p, 2 * GROUP * sizeof *p);
-        break;
-    default:
-        memcpy(&h, p, GROUP * sizeof *p);
-        break;
+    const char *force = getenv("GALE_WIRE_ROWS");
+    if (force && (!strcmp(force, "4") || !strcmp(force, "2") || !strcmp(force, "0"))) {
+        return force[0] - '0';
     }
-    return h;
-}
-
-static inline __attribute__((always_inline)) v32hu zigzag32(v32hu r)
-{
-    return (r << 1) ^ (v32hu)((v32hi)r >> 15);
-}
-
-/* The residuals of one row's four groups from mode g0 (k modes read) against the first
- * n_pred predictors, and their widths: lanes 0-3 of wd are groups 0-3 against the zero
- * predictor, 4-7 against the previous snapshot, 8-11 against the linear one. A value out
- * of range sets bit 14 or 15 of its lane in every residual, so its group's width is 15 or
- * more whichever predictor is chosen (quad_put then falls back). */
-static inline __attribute__((always_inline)) void quad_code(const int16_t *q, const int16_t *qa,
-                                                            const int16_t *qb, uint32_t k,
-                                                            int n_pred, v32hu z[3], v16si *wd)
-{
-    const v32hu zero = { 0 };
-    const v32hu v = load32(q, k), a = qa ? load32(qa, k) : zero, b = qb ? load32(qb, k) : zero;
-    const v32hu out = ((v + QUAD_LIMIT) | (a + QUAD_LIMIT) | (b + QUAD_LIMIT)) &
-                      (uint16_t)~(2u * QUAD_LIMIT - 1u);
-    /* unsigned lanes wrap; in range the difference is the signed residual */
-    z[PRED_ZERO] = zigzag32(v) | out;
-    z[PRED_PREV] = n_pred > PRED_PREV ? zigzag32(v - a) | out : zero;
-    z[PRED_LINEAR] = n_pred > PRED_LINEAR ? zigzag32(v - a - a + b) | out : zero;
-    /* the OR of each group's 8 lanes: the halves of a group joined, then its 4 words */
-    v8du x0 = (v8du)z[PRED_ZERO], x1 = (v8du)z[PRED_PREV], x2 = (v8du)z[PRED_LINEAR];
-    x0 |= PERMUTE8(x0, 1, 0, 3, 2, 5, 4, 7, 6);
-    x1 |= PERMUTE8(x1, 1, 0, 3, 2, 5, 4, 7, 6);
-    x2 |= PERMUTE8(x2, 1, 0, 3, 2, 5, 4, 7, 6);
-    v8du m = SHUFFLE(x0, x1, 0, 9, 2, 11, 4, 13, 6, 15); /* zero, previous per group */
-    m |= m >> 32;
-    m |= m >> 16;
-    x2 |= x2 >> 32;
-    x2 |= x2 >> 16;
-    const v8su m8 = __builtin_convertvector(m & 0xffffu, v8su);
-    const v8su l8 = __builtin_convertvector(x2 & 0xffffu, v8su);
-    const v16su ors = SHUFFLE(m8, l8, 0, 2, 4, 6, 1, 3, 5, 7, 8, 10, 12, 14, 8, 10, 12, 14);
-    /* the width of x < 2^24 is its float's exponent less 126; 0 for x = 0 */
-    const v16si e = ((v16si)__builtin_convertvector((v16si)ors, v16sf) >> 23) - 126;
-    *wd = e & ~(e >> 31);
-}
-
-/* One row's four groups (k modes, 8 to 32) of one frame at *p with the narrowest of its
- * first n_pred predictors (the first of equal widths), as put_pair writes them. Returns
- * false, writing nothing, when a group would be 15 bits wide or more: a value out of
- * quad_code's range, or a residual too wide for these lanes. */
-static inline __attribute__((always_inline)) bool quad_put(uint8_t **pp, const v32hu z[3],
-                                                           v16si wd, uint32_t k, int n_pred)
-{
-    v16si wb = wd, best = { 0 };
-    if (n_pred > PRED_PREV) {
-        const v16si w1 = PERMUTE16(wd, 4, 5, 6, 7, 4, 5, 6, 7, 4, 5, 6, 7, 4, 5, 6, 7);
-        const v16si lt = w1 < wb;
-        wb = (w1 & lt) | (wb & ~lt);
-        best = lt & PRED_PREV;
-    }
-    if (n_pred > PRED_LINEAR) {
-        const v16si w2 = PERMUTE16(wd, 8, 9, 10, 11, 8, 9, 10, 11, 8, 9, 10, 11, 8, 9, 10, 11);
-        const v16si lt = w2 < wb;
-        wb = (w2 & lt) | (wb & ~lt);
-        best = (lt & PRED_LINEAR) | (best & ~lt);
-    }
-    /* the four header bytes in one word: each lane's moved to its byte, then joined */
-    const v16su byte_at = { 0, 8, 16, 24, 0, 8, 16, 24, 0, 8, 16, 24, 0, 8, 16, 24 };
-    v16su hw = (v16su)(best << 5 | wb) << byte_at;
-    hw |= PERMUTE16(hw, 2, 3, 0, 1, 6, 7, 4, 5, 10, 11, 8, 9, 14, 15, 12, 13);
-    hw |= PERMUTE16(hw, 1, 0, 3, 2, 5, 4, 7, 6, 9, 8, 11, 10, 13, 12, 15, 14);
-    const uint32_t heads = hw[0];
-    /* a width of 15-18 plus 113 reaches bit 7 */
-    if ((((heads & 0x1f1f1f1fu) + 0x71717171u) & 0x80808080u) != 0) {
-        return false;
-    }
-    /* each group's residuals from its chosen predictor, then packed as pack_pair packs:
-     * neighbouring words joined, then neighbouring pairs, then the two 4w-bit halves */
-    const v16si bg = PERMUTE16(best, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3);
-    const v16su s1 = (v16su)PERMUTE16(wb, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3);
-    const v16su m1 = (v16su)(bg == PRED_PREV), m2 = (v16su)(bg == PRED_LINEAR);
-    v16su zs = (v16su)z[PRED_ZERO];
-    zs = ((v16su)z[PRED_PREV] & m1) | (zs & ~m1);
-    zs = ((v16su)z[PRED_LINEAR] & m2) | (zs & ~m2);
-    zs = (zs & 0xffffu) | (zs >> 16) << s1; /* 2w <= 32 bits a lane */
-    v8du y = (v8du)zs;
-    const v8du s2 = ((v8du)s1 & 0xffffffffu) * 2u;
-    y = (y & 0xffffffffu) | (y >> 32) << s2; /* 4w <= 64 bits a lane */
-    /* y0 | y1 << 4w as two words; each shift split in two of 2w <= 32, as a shift by the
-     * lane's width or more is undefined */
-    const v8du yo = PERMUTE8(y, 1, 0, 3, 2, 5, 4, 7, 6);
-    const v8du lo = y | (yo << s2) << s2;
-    const v8du hi = (y >> (32 - s2)) >> (32 - s2);
-    const v8du bits = SHUFFLE(lo, hi, 0, 9, 2, 11, 4, 13, 6, 15);
-    uint8_t *p = *pp;
-    for (unsigned g = 0; g < k / GROUP; g++) {
-        const uint8_t gh = (uint8_t)(heads >> (8 * g));
-        *p = gh;
-        memcpy(p + 1, (const uint8_t *)&bits + 16 * g, 16);
-        p += 1 + (gh & 0x1fu); /* a full group of width w is w bytes */
-    }
-    *pp = p;
-    return true;
-}
-
-/* Whether rows take the 16-bit path: where AVX-512 runs it (put_values' x86-64-v4 clone;
- * the sanitizer builds, which have no clones, too, so that the tests cover it). Split into
- * AVX2 halves or SSE quarters, its 64-byte vectors took 2.2 and 1.4 times as long as the
- * 32-bit pairs (one lane, one DELTA of 100 000 trees x 32 modes). */
-static bool quad_lanes(void)
-{
 #if defined(__GNUC__) && defined(__x86_64__)
-    return __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512vl");
-#else
-    return false;
+    if (__builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512vl")) {
+        return 4;
+    }
+    if (__builtin_cpu_supports("avx2")) {
+        return 2;
+    }
 #endif
+    return 0;
 }
 
 /* The smallest of q[m0..m1) (0 when empty). */
@@ -652,7 +565,7 @@ static bool put_values(wire_writer *const *w, const int *n_pred, int nf, const w
                      *const prev2 = prev2_in ? &bs : NULL;
     const uint8_t *const species = sc->species;
     const uint32_t n_species = sc->n_species;
-    const bool quad_ok = quad_lanes();
+    const int groups = rows_groups();
     for (uint32_t t = t0; t < t1 && !bad; t++) {
         if (species[t] >= n_species || !counts_ok(sc, cur, t) || !counts_ok(sc, prev, t) ||
             !counts_ok(sc, prev2, t)) {
@@ -688,34 +601,22 @@ static bool put_values(wire_writer *const *w, const int *n_pred, int nf, const w
             fast[f] = (size_t)(lim[f] - pos[f]) >= tree_bound(n) + FAST_SLACK;
             all_fast = all_fast && fast[f];
         }
-        /* Whole groups of every row, straight into memory: read from the rows four groups
-         * at a time in 16-bit lanes (quad_code, quad_put), or two at a time in 32-bit ones
-         * where a value or a residual is too wide for those (pair_code, put_pair). */
+        /* Whole groups of every row, straight into memory: read from the rows several
+         * groups at a time, in 16-bit lanes (rows4_row, rows2_row), or two at a time in
+         * 32-bit ones where a value or a residual is too wide for those or the CPU has
+         * no AVX2 (pair_code, put_pair). */
         const bool rows = n % GROUP == 0 && (!prev || na >= n) && (!prev2 || nb >= n);
         if (rows && all_fast && LITTLE_ENDIAN_LANES) {
-            for (uint32_t q0 = 0; q0 < n; q0 += QUAD_MODES) {
-                const uint32_t kq = n - q0 < QUAD_MODES ? n - q0 : QUAD_MODES;
-                if (quad_ok) {
-                    v32hu z32[3];
-                    v16si wd4;
-                    quad_code(q + q0, qa ? qa + q0 : NULL, qb ? qb + q0 : NULL, kq, max_pred,
-                              z32, &wd4);
-                    /* every frame's groups or none (the frames' bytes stay in step) */
-                    uint8_t *at[3];
-                    bool quad = true;
-                    for (int f = 0; f < nf && quad; f++) {
-                        at[f] = pos[f];
-                        quad = quad_put(&at[f], z32, wd4, kq, n_pred[f]);
-                    }
-                    if (quad) {
-                        for (int f = 0; f < nf; f++) {
-                            pos[f] = at[f];
-                        }
-                        continue;
-                    }
+            const uint32_t span = groups ? (uint32_t)groups * GROUP : 2 * GROUP;
+            for (uint32_t r0 = 0; r0 < n; r0 += span) {
+                const uint32_t kr = n - r0 < span ? n - r0 : span;
+                const int16_t *ra = qa ? qa + r0 : NULL, *rb = qb ? qb + r0 : NULL;
+                if ((groups == 4 && rows4_row(pos, nf, n_pred, max_pred, q + r0, ra, rb, kr)) ||
+                    (groups == 2 && rows2_row(pos, nf, n_pred, max_pred, q + r0, ra, rb, kr))) {
+                    continue;
                 }
-                for (uint32_t g0 = q0; g0 < q0 + kq; g0 += 2 * GROUP) {
-                    const uint32_t k = q0 + kq - g0 < 2 * GROUP ? q0 + kq - g0 : 2 * GROUP;
+                for (uint32_t g0 = r0; g0 < r0 + kr; g0 += 2 * GROUP) {
+                    const uint32_t k = r0 + kr - g0 < 2 * GROUP ? r0 + kr - g0 : 2 * GROUP;
                     v16su z16[3];
                     unsigned wd2[2][3];
                     pair_code(q + g0, qa ? qa + g0 : NULL, qb ? qb + g0 : NULL, k, max_pred,

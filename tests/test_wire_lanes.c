@@ -9,7 +9,7 @@
  * pass runs in stages, its lanes split over two turns (wire_snapshot_begin, _run,
  * _finish); and every frame's values are those of a reference coder written value by
  * value from PROTOCOL.md, for values inside, on the edges of and past the range the
- * encoder codes in 16-bit lanes. */
+ * encoder codes in 16-bit lanes, on each of its paths (GALE_WIRE_ROWS 4, 2 and 0). */
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -498,7 +498,15 @@ static void test_values_reference(void)
 int main(void)
 {
     RUN(test_lanes_same_bytes);
-    RUN(test_values_reference);
-    RUN(test_lanes_bad_state);
+    /* each path of the encoder (msg_state.c rows_groups): 16-bit lanes four and two
+       groups a register, and the 32-bit pairs alone */
+    static const char *const rows[] = { "4", "2", "0" };
+    for (size_t i = 0; i < sizeof rows / sizeof rows[0]; i++) {
+        CHECK(setenv("GALE_WIRE_ROWS", rows[i], 1) == 0);
+        fprintf(stderr, "GALE_WIRE_ROWS=%s\n", rows[i]);
+        RUN(test_values_reference);
+        RUN(test_lanes_bad_state);
+    }
+    unsetenv("GALE_WIRE_ROWS");
     return check_report();
 }
