@@ -233,11 +233,12 @@ typedef struct tick_in {
  * (server/sim/tick.c). */
 static void sample_grid(const tick_in *in, int i0, int i1, float *dst)
 {
-    const int nc = sim_shares(i1 - i0, in->threads), per = (i1 - i0 + nc - 1) / nc;
+    const int nc = sim_shares(i1 - i0, in->threads);
 #pragma omp parallel for schedule(static) num_threads(in->threads) if (i1 - i0 > SIM_SHARE_MAX)
     for (int c = 0; c < nc; c++) {
-        const int a = i0 + c * per, b = a + per < i1 ? a + per : i1;
-        wind_probe_sample(in->wg, in->probe, a, b, dst);
+        int a, b;
+        sim_share(i1 - i0, nc, c, &a, &b);
+        wind_probe_sample(in->wg, in->probe, i0 + a, i0 + b, dst);
     }
 }
 

@@ -32,3 +32,9 @@ int sim_shares(int n, int n_threads)
     const int by_size = n > 0 ? (n + SIM_SHARE_MAX - 1) / SIM_SHARE_MAX : 1;
     return (by_size + threads - 1) / threads * threads;
 }
+
+void sim_share(int n, int shares, int k, int *i0, int *i1)
+{
+    *i0 = (int)((int64_t)n * k / shares);
+    *i1 = (int)((int64_t)n * (k + 1) / shares);
+}

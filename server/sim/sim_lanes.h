@@ -12,9 +12,12 @@ wire_lanes sim_lanes(int n_threads);
 
 /* Shares of n independent items for a static loop over n_threads threads: enough that
  * none holds more than SIM_SHARE_MAX items, and a multiple of the threads, so that each
- * thread gets as many (share k: items [k * per, (k + 1) * per), per = ceil(n / shares)).
- * At least 1. */
+ * thread gets as many. At least 1. */
 #define SIM_SHARE_MAX 4096
 int sim_shares(int n, int n_threads);
+
+/* Share k of n items cut into `shares` (sim_shares): items [*i0, *i1), the shares' sizes
+ * differing by one at most (empty only when there are fewer items than shares). */
+void sim_share(int n, int shares, int k, int *i0, int *i1);
 
 #endif

@@ -299,7 +299,7 @@ void tick_set_balls(tick_sim *t, const wind_ball *balls, int n)
 static void sample_probe(tick_sim *t)
 {
     const tick_wind *wd = t->d.wind;
-    const int n = t->n_trees, nc = sim_shares(n, t->threads), per = (n + nc - 1) / nc;
+    const int n = t->n_trees, nc = sim_shares(n, t->threads);
     const int every = t->d.sc->wind_every > 1 ? t->d.sc->wind_every : 1;
     const bool first = !t->grid_read;
     const int j = (int)(t->tick % (uint32_t)every);
@@ -307,15 +307,15 @@ static void sample_probe(tick_sim *t)
     const int r0 = first ? 0 : (int)((int64_t)n * j / every);
     const int r1 = first ? n : (int)((int64_t)n * (j + 1) / every);
     float *const dst = first ? t->vel_grid : t->vel_next;
-    const int nr = sim_shares(r1 - r0, t->threads), per_r = (r1 - r0 + nr - 1) / nr;
+    const int nr = sim_shares(r1 - r0, t->threads);
 #pragma omp parallel num_threads(t->threads) if (n > SIM_SHARE_MAX)
     {
 #pragma omp for schedule(static)
         for (int c = 0; c < nr; c++) {
-            const int a = r0 + c * per_r, b = a + per_r < r1 ? a + per_r : r1;
-            if (a >= b) {
-                continue; /* more shares than crowns */
-            }
+            int a, b;
+            sim_share(r1 - r0, nr, c, &a, &b);
+            a += r0;
+            b += r0;
             wd->probe_sample(wd->ctx, t->probe, a, b, t->vel_ordered);
             for (int i = a; i < b; i++) {
                 memcpy(&dst[3 * (size_t)t->order[i]], &t->vel_ordered[3 * (size_t)i],
@@ -332,11 +332,10 @@ static void sample_probe(tick_sim *t)
         }
 #pragma omp for schedule(static)
         for (int c = 0; c < nc; c++) {
-            const size_t i0 = (size_t)c * (size_t)per;
-            const int m = (int)i0 + per < n ? per : n - (int)i0;
-            if (m <= 0) {
-                continue;
-            }
+            int a, b;
+            sim_share(n, nc, c, &a, &b);
+            const size_t i0 = (size_t)a;
+            const int m = b - a;
             memcpy(&t->vel[3 * i0], &t->vel_grid[3 * i0], 3 * sizeof(float) * (size_t)m);
             if (wd->add_subgrid) {
                 wd->add_subgrid(wd->ctx, m, &t->crown[3 * i0], &t->vel[3 * i0]);
