@@ -109,7 +109,7 @@ static void test_same_as_knuth(void)
 
 /* leaf_shed_trees (which screens trees in blocks before leaf_shed's draw) sheds what
  * leaf_shed gives tree by tree, in tree order, on 1 and 2 threads: winds from calm to a
- * storm, trees without slots, a leaf cap that overflows, and a rate high enough that a
+ * storm, trees without slots, NaN and infinite samples, a leaf cap that overflows, and a rate high enough that a
  * screen too strict or too loose by a rounding would show. */
 static void test_trees_same_as_one_by_one(void)
 {
@@ -125,6 +125,10 @@ static void test_trees_same_as_one_by_one(void)
         wind[3 * t + 2] = 0.01f * (float)(t % 5);
         slots[t] = t % 13 == 0 ? 0 : 200 + t % 3000;
     }
+    /* samples a broken field could give: no leaf, and the largest speed ignores a NaN */
+    wind[3 * 5] = NAN;
+    wind[3 * 6 + 1] = -NAN;
+    wind[3 * 19999] = INFINITY;
     int diff = 0, total = 0;
     for (int threads = 1; threads <= 2; threads++) {
         for (uint32_t tick = 0; tick < 6; tick++) {

@@ -64,37 +64,57 @@ int leaf_shed(const leaf_desc *d, uint32_t instance, uint32_t n_slots, double sp
     return lost;
 }
 
-/* Trees screened at once by may_shed. */
+/* Trees screened at once by may_shed: a fixed trip count, a whole number of vectors, so
+ * that the loops vectorise at -O2 with no remainder. */
 #define SCREEN_BLOCK 256
 
-/* Trees [t0, t0 + k): the wind speed at each crown, and whether leaf_shed may draw a leaf
- * for it this tick: its first uniform p is not below 1 - mean, leaf_shed's own test,
- * computed here for a block at once so that the hashes vectorise, with a margin of 1e-12
- * over roundings that may differ (the mean's, at most ~32 * 2^-52; p is exact), so a tree
- * it screens out is one leaf_shed would return from without a leaf: the draws are
- * leaf_shed's, tree for tree. Cloned for AVX-512 (64-bit multiplies in vector) and AVX2. */
+/* Trees [t0, t0 + SCREEN_BLOCK), their wind wb[3 i + k] and leaf slots ns[i] (0: none, as
+ * for the lanes past the last tree): the wind speed at each crown, and whether leaf_shed
+ * may draw a leaf for it this tick. leaf_shed draws none when its first uniform p is below
+ * 1 - mean; the screen asks p >= thr = 1 - mean (1 + 1e-9) - 1e-15 - 1e-12, with a margin
+ * of 1e-12 over the roundings that may differ (the mean's, at most ~32 * 2^-52; p is
+ * exact). It compares in integers: p's 52 high bits (h >> 12, which is floor(2^52 p))
+ * against the mantissa of 1 + thr (2^52 thr rounded, thr in [0, 1)), which the margin
+ * keeps conservative (2^-52 << 1e-12). So a tree it screens out is one leaf_shed would
+ * return from without a leaf: the draws are leaf_shed's, tree for tree. Returns the
+ * largest speed as float bits (non-negative floats order as their bits; NaN counts 0).
+ * Cloned for AVX-512 (64-bit multiplies in vector) and AVX2. */
 __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-static void may_shed(const leaf_desc *d, uint32_t t0, uint32_t k, const float *wind,
-                     const uint32_t *slots, uint32_t slots_all, uint32_t tick, double dt_s,
-                     float *restrict speed, uint8_t *restrict maybe)
+static uint32_t may_shed(const leaf_desc *d, uint32_t t0, const float *restrict wb,
+                         const uint32_t *restrict ns, uint32_t tick, double dt_s,
+                         float *restrict speed, uint8_t *restrict maybe)
 {
     const double calm = (double)d->calm_ms, ref = (double)d->ref_ms, rate = (double)d->rate_hz;
     const bool on = rate > 0 && ref > calm;
     const double inv = on ? 1.0 / (ref - calm) : 0.0;
-    for (uint32_t i = 0; i < k; i++) {
-        const uint32_t t = t0 + i;
-        const float *v = &wind[3 * (size_t)t];
+    /* the bar each draw's 52 high bits must reach: 0 where thr < 0, past every draw where
+     * no leaf can fall */
+    uint64_t bar[SCREEN_BLOCK];
+    uint32_t top = 0;
+    for (uint32_t i = 0; i < SCREEN_BLOCK; i++) {
+        const float *v = wb + 3 * (size_t)i;
         const float sp = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
         speed[i] = sp;
-        const uint32_t ns = slots ? slots[t] : slots_all;
         const double x = ((double)sp - calm) * inv;
-        double mean = rate * x * x * (double)ns * dt_s;
-        mean = mean > 32 ? 32 : mean;
-        uint64_t st = hash64_final(d->seed ^ hash64_final(((uint64_t)t << 32) | tick));
-        const double p = (double)(hash64_splitmix(&st) >> 11) * (1.0 / 9007199254740992.0);
-        maybe[i] = (uint8_t)(on & ((double)sp > calm) & (ns > 0) &
-                             (p >= 1.0 - mean * (1.0 + 1e-9) - 1e-15 - 1e-12));
+        const double mean = rate * x * x * (double)ns[i] * dt_s;
+        const double thr = 1.0 - mean * (1.0 + 1e-9) - 1e-15 - 1e-12;
+        const double y = thr + 1.0;
+        uint64_t yb;
+        memcpy(&yb, &y, sizeof yb);
+        yb = thr < 0 ? 0 : yb & 0xfffffffffffffull;
+        bar[i] = on & ((double)sp > calm) & (ns[i] > 0) ? yb : UINT64_MAX;
     }
+    for (uint32_t i = 0; i < SCREEN_BLOCK; i++) {
+        uint32_t bits;
+        memcpy(&bits, &speed[i], sizeof bits);
+        bits &= -(uint32_t)(bits <= 0x7f800000u); /* NaN (either sign) counts 0 */
+        top = bits > top ? bits : top;
+    }
+    for (uint32_t i = 0; i < SCREEN_BLOCK; i++) {
+        uint64_t st = hash64_final(d->seed ^ hash64_final(((uint64_t)(t0 + i) << 32) | tick));
+        maybe[i] = (uint8_t)((hash64_splitmix(&st) >> 12) >= bar[i]);
+    }
+    return top;
 }
 
 /* Trees [t0, t1) into out[0..cap) from *n on. */
@@ -103,21 +123,40 @@ static int shed_range(const leaf_desc *d, uint32_t t0, uint32_t t1, const float 
                       leaf_seed *out, int cap, int *n, float *max_ms)
 {
     int lost = 0;
-    float vmax = 0.0f;
+    uint32_t top = 0;
     float speed[SCREEN_BLOCK];
-    uint8_t maybe[SCREEN_BLOCK];
+    uint32_t ns[SCREEN_BLOCK];
+    _Alignas(8) uint8_t maybe[SCREEN_BLOCK];
+    float tail[3 * SCREEN_BLOCK]; /* the last block's wind, padded */
     for (uint32_t b = t0; b < t1; b += SCREEN_BLOCK) {
         const uint32_t k = t1 - b < SCREEN_BLOCK ? t1 - b : SCREEN_BLOCK;
-        may_shed(d, b, k, wind, slots, slots_all, tick, dt_s, speed, maybe);
+        const float *wb = &wind[3 * (size_t)b];
         for (uint32_t i = 0; i < k; i++) {
-            vmax = speed[i] > vmax ? speed[i] : vmax;
-            if (maybe[i]) {
-                lost += leaf_shed(d, b + i, slots ? slots[b + i] : slots_all, (double)speed[i],
-                                  tick, dt_s, out, cap, n);
+            ns[i] = slots ? slots[b + i] : slots_all;
+        }
+        if (k < SCREEN_BLOCK) {
+            memset(ns + k, 0, (SCREEN_BLOCK - k) * sizeof *ns);
+            memcpy(tail, wb, 3 * sizeof(float) * k);
+            memset(tail + 3 * k, 0, 3 * sizeof(float) * (SCREEN_BLOCK - k));
+            wb = tail;
+        }
+        const uint32_t block_top = may_shed(d, b, wb, ns, tick, dt_s, speed, maybe);
+        top = block_top > top ? block_top : top;
+        /* most trees shed nothing: skip eight at a time */
+        for (uint32_t i = 0; i < k; i += 8) {
+            uint64_t any;
+            memcpy(&any, &maybe[i], sizeof any);
+            if (!any) {
+                continue;
+            }
+            for (uint32_t j = i; j < i + 8 && j < k; j++) {
+                if (maybe[j]) {
+                    lost += leaf_shed(d, b + j, ns[j], (double)speed[j], tick, dt_s, out, cap, n);
+                }
             }
         }
     }
-    *max_ms = vmax;
+    memcpy(max_ms, &top, sizeof top);
     return lost;
 }
 
