@@ -109,8 +109,8 @@ static void test_same_as_knuth(void)
 
 /* leaf_shed_trees (which screens trees in blocks before leaf_shed's draw) sheds what
  * leaf_shed gives tree by tree, in tree order, on 1 and 2 threads: winds from calm to a
- * storm, trees without slots, NaN and infinite samples, a leaf cap that overflows, and a rate high enough that a
- * screen too strict or too loose by a rounding would show. */
+ * storm, trees without slots, NaN and infinite samples, a leaf cap that overflows, and a
+ * rate high enough that a screen too strict by a rounding would show. */
 static void test_trees_same_as_one_by_one(void)
 {
     enum { N = 20000, CAP = 3000 };
