@@ -21,6 +21,7 @@ static void test_defaults(void)
     CHECK(parse(&s, "{" SP ", \"trees\": [{\"species\": \"oak\", \"pos\": [1, 2]}]}", &e) == 0);
     CHECK_NEAR(s.tick_hz, 60, 0);
     CHECK_NEAR(s.snapshot_hz, 30, 0);
+    CHECK(s.tick_threads == 2 && s.tick_rt_priority == 0);
     CHECK(s.n_trees == 1 && s.n_species == 1);
     CHECK_STR_HAS(s.species[0].file, "/base/oak.json");
     CHECK(s.species[0].modes == 32);
@@ -81,6 +82,9 @@ static void test_errors(void)
     check_err("{" SP ", \"tick_hz\": 0, \"trees\": [{\"species\": \"oak\", \"pos\": [0,0]}]}",
               "t.json: tick_hz: expected a number in [1, 1000], got 0");
     check_err("{" SP ", \"tik_hz\": 5}", "tik_hz");
+    check_err("{" SP ", \"tick_rt_priority\": 100, \"trees\": [{\"species\": \"oak\", "
+              "\"pos\": [0,0]}]}",
+              "t.json: tick_rt_priority: expected an integer in [0, 99], got 100");
     check_err("{" SP ", \"trees\": [{\"species\": \"elm\", \"pos\": [0,0]}]}",
               "trees[0].species: expected one of the names in species[], got \"elm\"");
     check_err("{" SP ", \"trees\": [{\"species\": \"oak\", \"pos\": \"x\"}]}", "trees[0].pos");

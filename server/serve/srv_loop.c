@@ -3,6 +3,7 @@
  * simulation's metrics, and the overrun policy: a late tick is counted and logged but
  * never skipped, so simulated time stays exact. */
 #include "srv_int.h"
+#include "sim_team.h"
 #include "svc_notify.h"
 
 #include <stdio.h>
@@ -31,6 +32,17 @@ void *srv_loop(void *arg)
     sim_metrics *mt = &s->simm;
     const double dt = 1.0 / s->d.sc->tick_hz;
     const uint64_t period_ns = (uint64_t)(dt * 1e9);
+    const int rt_priority = s->d.sc->tick_rt_priority;
+    if (rt_priority > 0) {
+        gale_err e;
+        if (sim_team_set_priority(s->d.sc->tick_threads, rt_priority, &e)) {
+            fprintf(stderr, "gale-server: %s; they run at the fair scheduler's priority\n",
+                    e.msg);
+        } else {
+            fprintf(stderr, "gale-server: %d tick threads at SCHED_FIFO priority %d\n",
+                    s->d.sc->tick_threads, rt_priority);
+        }
+    }
     struct timespec next;
     clock_gettime(CLOCK_MONOTONIC, &next);
     /* systemd's watchdog is pinged from here, so a wedged simulation trips it (SERVER.md

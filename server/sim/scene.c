@@ -630,7 +630,7 @@ int scene_parse(scene *s, const char *name, const char *text, size_t len, const 
     static const char *const keys[] = { "name",     "tick_hz", "snapshot_hz", "kiosk_token",
                                         "scenario", "wind",    "leaves",      "species",
                                         "obstacles", "trees",  "forest",      "playlist",
-                                        "tick_threads",
+                                        "tick_threads", "tick_rt_priority",
                                         NULL };
     memset(s, 0, sizeof *s);
     gale_err_clear(err_out);
@@ -664,6 +664,11 @@ int scene_parse(scene *s, const char *name, const char *text, size_t len, const 
         goto fail;
     }
     s->tick_threads = (int)tick_threads;
+    long long rt_priority = 0;
+    if ((rc = cfg_int(&d, r, "", "tick_rt_priority", false, 0, 0, 99, &rt_priority, err))) {
+        goto fail;
+    }
+    s->tick_rt_priority = (int)rt_priority;
     if (s->n_playlist > 0 && scen[0]) {
         rc = gale_errf(err, GALE_E_PARSE, "%s: scenario: not used with a playlist (the "
                        "playlist's first entry starts): expected one of the two", d.name);

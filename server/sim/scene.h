@@ -52,6 +52,8 @@ typedef struct scene {
     int tick_threads;             /* threads of the wind's reading at the crowns, the modal
                                      update, damage, leaf shedding and the snapshot
                                      encoders' lanes; default 2, [1, 64] */
+    int tick_rt_priority;         /* SCHED_FIFO priority of those threads (sim_team.h);
+                                     default 0: the fair scheduler's, [0, 99] */
     char kiosk_token[SCENE_KIOSK_TOKEN_MAX + 1]; /* a kiosk's hello must carry it; "" =
                                                     kiosks refused (scene_kiosk_token_resolve) */
     char scenario[SCENE_PATH_MAX];/* wind scenario file, "" = steady inflow only */
