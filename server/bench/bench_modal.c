@@ -234,7 +234,7 @@ typedef struct tick_in {
 static void sample_grid(const tick_in *in, int i0, int i1, float *dst)
 {
     const int nc = sim_shares(i1 - i0, in->threads);
-#pragma omp parallel for schedule(static) num_threads(in->threads) if (i1 - i0 > SIM_SHARE_MAX)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(in->threads) if (i1 - i0 > SIM_SHARE_MAX)
     for (int c = 0; c < nc; c++) {
         int a, b;
         sim_share(i1 - i0, nc, c, &a, &b);

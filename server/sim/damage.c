@@ -26,9 +26,9 @@ typedef struct damage_tree_st {
                            starts */
 } damage_tree_st;
 
-/* One thread's share of a damage step: its scratch, and for every lane after the first
- * the events and stripped leaves of its trees, merged after the first lane's in tree
- * order (the first lane writes straight to the step's outputs). */
+/* One lane of a damage step (a contiguous share of the trees due): its scratch, and for
+ * every lane after the first the events and stripped leaves of its trees, merged after
+ * the first lane's in tree order (the first lane writes straight to the step's outputs). */
 typedef struct damage_lane {
     float *q;                   /* owned [DAMAGE_MAX_GROUPS + 1][DAMAGE_GROUP_MODES] scratch: x */
     float *moments;             /* owned [damage_bound_lanes(the most branches)] scratch:
@@ -50,6 +50,7 @@ struct damage_sim {
     uint32_t words;
     damage_lane *lane;          /* owned [n_lanes] */
     int n_lanes;
+    int n_threads;
     wire_damage *ev;            /* owned [max_events] this tick's events */
     int n_ev;
     wire_damage *log;           /* owned [DAMAGE_LOG_MAX] broken branches, in order */
@@ -124,9 +125,10 @@ damage_sim *damage_create(const damage_desc *d, gale_err *err)
     s->sin_yaw = malloc(sizeof(float) * d->n_trees);
     s->tree = calloc(d->n_trees, sizeof *s->tree);
     s->bits = calloc((size_t)d->n_trees * s->words, sizeof(uint64_t));
-    s->n_lanes = d->n_threads > 1 ? (d->n_threads < DAMAGE_MAX_THREADS ? d->n_threads
-                                                                        : DAMAGE_MAX_THREADS)
-                                  : 1;
+    s->n_threads = d->n_threads > 1 ? (d->n_threads < DAMAGE_MAX_THREADS ? d->n_threads
+                                                                          : DAMAGE_MAX_THREADS)
+                                    : 1;
+    s->n_lanes = s->n_threads > 1 ? s->n_threads * DAMAGE_LANES_PER_THREAD : 1;
     s->lane = calloc((size_t)s->n_lanes, sizeof *s->lane);
     s->ev = calloc((size_t)s->d.max_events, sizeof *s->ev);
     s->log = calloc(DAMAGE_LOG_MAX, sizeof *s->log);
@@ -563,11 +565,16 @@ int damage_step(damage_sim *s, modal *m, const float *wind_world, uint32_t tick,
     const uint32_t first = (DAMAGE_EVERY - tick % DAMAGE_EVERY) % DAMAGE_EVERY;
     const uint32_t n_due =
         first < s->d.n_trees ? (s->d.n_trees - first + DAMAGE_EVERY - 1) / DAMAGE_EVERY : 0;
-    /* trees are independent: each lane takes a contiguous share of the due trees (its
-     * events and leaves then follow the lanes before it), and a small forest one lane */
+    /* Trees are independent: each lane takes a contiguous share of the due trees (its
+     * events and leaves then follow the lanes before it), a small forest fewer lanes.
+     * More lanes than threads, taken as threads come free: a thread that loses its core
+     * for a while leaves its lanes still to come to the other, so the step waits for at
+     * most the lane it holds rather than for its whole share. */
     const uint32_t min_trees = s->d.lane_min_trees ? s->d.lane_min_trees : DAMAGE_LANE_MIN_TREES;
-    const int nl = n_due >= (uint32_t)s->n_lanes * min_trees ? s->n_lanes : 1;
-#pragma omp parallel for schedule(static, 1) num_threads(nl) if (nl > 1) reduction(+ : lost)
+    const uint32_t fit = n_due / min_trees;
+    const int nl = fit >= (uint32_t)s->n_lanes ? s->n_lanes : fit > 1 ? (int)fit : 1;
+    const int nt = nl < s->n_threads ? nl : s->n_threads;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nt) if (nt > 1) reduction(+ : lost)
     for (int k = 0; k < nl; k++) {
         damage_lane *l = &s->lane[k];
         const uint32_t i0 = (uint32_t)((uint64_t)n_due * (uint32_t)k / (uint32_t)nl);

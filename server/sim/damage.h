@@ -22,9 +22,12 @@
  * is checked at 15 Hz, several samples per period of the modes that load branches. */
 #define DAMAGE_EVERY 4
 
-/* Threads a step uses at most; a step gives each at least DAMAGE_LANE_MIN_TREES of the
- * trees due (fewer: the caller's thread alone, no team to start for a small forest). */
+/* Threads a step uses at most. A step cuts the trees due into DAMAGE_LANES_PER_THREAD
+ * lanes a thread, taken as threads come free, each of at least DAMAGE_LANE_MIN_TREES
+ * trees (fewer trees: fewer lanes, down to the caller's thread alone, no team to start
+ * for a small forest). */
 #define DAMAGE_MAX_THREADS 64
+#define DAMAGE_LANES_PER_THREAD 4
 #define DAMAGE_LANE_MIN_TREES 1024u
 /* The default of damage_desc.max_leaves: the tick's own leaves per tick. */
 #define DAMAGE_MAX_LEAVES 4096
@@ -44,7 +47,7 @@ typedef struct damage_desc {
                                          cap); 0 → DAMAGE_MAX_LEAVES */
     int n_threads;                    /* threads of a step (the modal update's); 0, 1: the
                                          caller's alone */
-    uint32_t lane_min_trees;          /* due trees a thread takes at least; 0 →
+    uint32_t lane_min_trees;          /* due trees a lane takes at least; 0 →
                                          DAMAGE_LANE_MIN_TREES */
 } damage_desc;
 

@@ -1,7 +1,7 @@
 /* The state encoders' lanes (wire.h wire_lanes) on the simulation's OpenMP threads: more
  * lanes than threads, taken as threads come free, so a thread descheduled on a busy
- * machine does not hold the frame back by a whole share; and the even shares of the
- * tick's static loops. */
+ * machine does not hold the frame back by a whole share; and the shares of the tick's
+ * loops over the crowns. */
 #ifndef GALE_SIM_LANES_H
 #define GALE_SIM_LANES_H
 
@@ -10,9 +10,9 @@
 /* Lanes for n_threads threads (1: one lane on the caller's thread). */
 wire_lanes sim_lanes(int n_threads);
 
-/* Shares of n independent items for a static loop over n_threads threads: enough that
- * none holds more than SIM_SHARE_MAX items, and a multiple of the threads, so that each
- * thread gets as many. At least 1. */
+/* Shares of n independent items for a loop over n_threads threads: enough that none
+ * holds more than SIM_SHARE_MAX items, and a multiple of the threads, so that each
+ * thread gets as many when none is held up. At least 1. */
 #define SIM_SHARE_MAX 4096
 int sim_shares(int n, int n_threads);
 

@@ -294,8 +294,9 @@ void tick_set_balls(tick_sim *t, const wind_ball *balls, int n)
  * copy published by step_ahead) by k - 1 ticks (less than one step; none at k = 1), and
  * no tick carries the whole read (SERVER.md "Loop"). The
  * first tick reads the whole grid at once. Each crown is independent, so the shares over
- * the threads change no float; one parallel region, as each costs a wake-up of the
- * threads. */
+ * the threads change no float; they are taken as threads come free, so a thread that
+ * loses its core leaves the shares still to come to the other; one parallel region, as
+ * each costs a wake-up of the threads. */
 static void sample_probe(tick_sim *t)
 {
     const tick_wind *wd = t->d.wind;
@@ -310,7 +311,7 @@ static void sample_probe(tick_sim *t)
     const int nr = sim_shares(r1 - r0, t->threads);
 #pragma omp parallel num_threads(t->threads) if (n > SIM_SHARE_MAX)
     {
-#pragma omp for schedule(static)
+#pragma omp for schedule(dynamic, 1)
         for (int c = 0; c < nr; c++) {
             int a, b;
             sim_share(r1 - r0, nr, c, &a, &b);
@@ -330,7 +331,7 @@ static void sample_probe(tick_sim *t)
             t->vel_next = t->vel_grid;
             t->vel_grid = dst;
         }
-#pragma omp for schedule(static)
+#pragma omp for schedule(dynamic, 1)
         for (int c = 0; c < nc; c++) {
             int a, b;
             sim_share(n, nc, c, &a, &b);
