@@ -109,15 +109,20 @@ static void test_same_as_knuth(void)
 
 /* leaf_shed_trees (which screens trees in blocks before leaf_shed's draw) sheds what
  * leaf_shed gives tree by tree, in tree order, on 1 and 2 threads: winds from calm to a
- * storm, trees without slots, NaN and infinite samples, a leaf cap that overflows, and a
- * rate high enough that a screen too strict by a rounding would show. */
+ * storm, trees without slots, NaN and infinite samples, a leaf cap that overflows, a
+ * rate high enough that a screen too strict by a rounding would show, and one whose
+ * leaves come from every share and fit. */
 static void test_trees_same_as_one_by_one(void)
 {
     enum { N = 20000, CAP = 3000 };
     static float wind[3 * N];
     static uint32_t slots[N];
-    static leaf_seed got[CAP], want[CAP], scratch[CAP];
+    static leaf_seed got[CAP], want[CAP], scratch[(2 * LEAF_SHARES_PER_THREAD - 1) * CAP];
+    CHECK(leaf_scratch_seeds(2, CAP) <= sizeof scratch / sizeof scratch[0]);
+    CHECK(leaf_scratch_seeds(1, CAP) == 0);
     const leaf_desc hot = { .rate_hz = 0.3f, .calm_ms = 3, .ref_ms = 20, .seed = 5 };
+    /* many leaves from every share, all within the cap: the merge's order shows */
+    const leaf_desc warm = { .rate_hz = 0.0008f, .calm_ms = 3, .ref_ms = 20, .seed = 9 };
     for (uint32_t t = 0; t < N; t++) {
         const float sp = (float)(t % 211) * 0.27f; /* 0 to 57 m/s */
         wind[3 * t] = sp * 0.6f;
@@ -129,10 +134,10 @@ static void test_trees_same_as_one_by_one(void)
     wind[3 * 5] = NAN;
     wind[3 * 6 + 1] = -NAN;
     wind[3 * 19999] = INFINITY;
-    int diff = 0, total = 0;
+    int diff = 0, total = 0, within_cap = 0;
     for (int threads = 1; threads <= 2; threads++) {
         for (uint32_t tick = 0; tick < 6; tick++) {
-            const leaf_desc *d = tick % 2 ? &hot : &D;
+            const leaf_desc *d = tick % 3 == 0 ? &D : tick % 3 == 1 ? &hot : &warm;
             int n = 0, m = 0, lost_want = 0;
             float vmax = 0, want_max = 0;
             int lost = leaf_shed_trees(d, N, wind, slots, 0, tick, 1.0 / 60, threads, scratch,
@@ -147,12 +152,14 @@ static void test_trees_same_as_one_by_one(void)
                 }
             }
             total += m;
+            within_cap += d == &warm && m > CAP / 4 && lost_want == 0;
             diff += n != m || lost != lost_want || vmax != want_max ||
                     memcmp(got, want, sizeof(leaf_seed) * (size_t)m) != 0;
         }
     }
     CHECK(diff == 0);
     CHECK(total > 2000);
+    CHECK(within_cap == 4);
 }
 
 int main(void)

@@ -136,7 +136,7 @@ typedef struct variant {
     damage_sim *sim;
     int16_t *snap, *prev;
     uint8_t *enc;
-    leaf_seed *leaves, *leaf_scratch; /* [LEAF_CAP], [(threads - 1) * LEAF_CAP] */
+    leaf_seed *leaves, *leaf_scratch; /* [LEAF_CAP], [leaf_scratch_seeds(threads, LEAF_CAP)] */
     double *t_total, *t_cpu, *t_sample, *t_modal, *t_damage, *t_leaf, *t_enc, *t_nosnap;
     bool *read; /* [ticks]: the tick read the grid (a share of the trees) */
     long n_shed, enc_bytes;
@@ -177,8 +177,8 @@ static int variant_init(variant *v, bool damage, const modal_desc *md, int n_mod
     v->prev = calloc(n * (size_t)n_modes, sizeof(int16_t));
     v->enc = malloc(enc_cap);
     v->leaves = malloc(LEAF_CAP * sizeof *v->leaves);
-    v->leaf_scratch = malloc((size_t)(md->n_threads > 1 ? md->n_threads - 1 : 1) * LEAF_CAP *
-                             sizeof *v->leaf_scratch);
+    const size_t scratch_seeds = leaf_scratch_seeds(md->n_threads, LEAF_CAP);
+    v->leaf_scratch = malloc((scratch_seeds > 0 ? scratch_seeds : 1) * sizeof *v->leaf_scratch);
     double **t[] = { &v->t_total, &v->t_cpu, &v->t_sample, &v->t_modal,
                      &v->t_damage, &v->t_leaf, &v->t_enc, &v->t_nosnap };
     v->read = calloc(nt, sizeof *v->read);

@@ -160,18 +160,37 @@ static int shed_range(const leaf_desc *d, uint32_t t0, uint32_t t1, const float 
     return lost;
 }
 
+enum { MAX_SHARES = 64, SHARE_MIN_TREES = 4096 };
+
+/* The most shares on n_threads threads. */
+static int max_shares(int n_threads)
+{
+    if (n_threads <= 1) {
+        return 1;
+    }
+    const int64_t k = (int64_t)n_threads * LEAF_SHARES_PER_THREAD;
+    return k > MAX_SHARES ? MAX_SHARES : (int)k;
+}
+
+size_t leaf_scratch_seeds(int n_threads, int cap)
+{
+    return (size_t)(max_shares(n_threads) - 1) * (size_t)(cap > 0 ? cap : 0);
+}
+
 int leaf_shed_trees(const leaf_desc *d, uint32_t n_trees, const float *wind,
                     const uint32_t *slots, uint32_t slots_all, uint32_t tick, double dt_s,
                     int n_threads, leaf_seed *scratch, leaf_seed *out, int cap, int *n,
                     float *max_ms)
 {
-    enum { MAX_SHARES = 64 };
-    int shares = n_threads < 1 || !scratch ? 1 : n_threads > MAX_SHARES ? MAX_SHARES : n_threads;
-    shares = n_trees < 4096u ? 1 : shares; /* below a few thousand trees a fork costs more */
+    /* below a few thousand trees a share, a fork costs more than it saves */
+    const uint32_t fit = n_trees / SHARE_MIN_TREES;
+    int shares = scratch ? max_shares(n_threads) : 1;
+    shares = fit < (uint32_t)shares ? (fit > 1 ? (int)fit : 1) : shares;
+    const int team = shares < n_threads ? shares : n_threads;
     int got[MAX_SHARES] = { 0 }, lost[MAX_SHARES] = { 0 };
     float vmax[MAX_SHARES] = { 0 };
     const int n0 = *n;
-#pragma omp parallel for schedule(static, 1) num_threads(shares) if (shares > 1)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(team) if (team > 1)
     for (int i = 0; i < shares; i++) {
         const uint32_t t0 = (uint32_t)((uint64_t)n_trees * (uint32_t)i / (uint32_t)shares);
         const uint32_t t1 = (uint32_t)((uint64_t)n_trees * (uint32_t)(i + 1) / (uint32_t)shares);

@@ -6,6 +6,7 @@
 #ifndef GALE_LEAF_H
 #define GALE_LEAF_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 typedef struct leaf_desc {
@@ -34,10 +35,19 @@ double leaf_rate(const leaf_desc *d, double speed_ms);
 int leaf_shed(const leaf_desc *d, uint32_t instance, uint32_t n_slots, double speed_ms,
               uint32_t tick, double dt_s, leaf_seed *out, int cap, int *n);
 
+/* Shares of the trees a thread of leaf_shed_trees: taken as threads come free, so a
+ * thread late to its core holds the call up by one share, not by its whole part. */
+#define LEAF_SHARES_PER_THREAD 4
+
+/* The seeds of scratch leaf_shed_trees needs on n_threads threads at a cap of cap (0 on
+ * one thread). */
+size_t leaf_scratch_seeds(int n_threads, int cap);
+
 /* The leaves of every tree for one tick: tree t has slots[t] slots (slots NULL: every
  * tree slots_all) and the wind wind[3 t..3 t + 2] [m/s] at its crown. The trees split
- * into n_threads contiguous shares, each drawn on its own thread, the first into out, the
- * others into scratch[(n_threads - 1) * cap], then merged after it in tree order under
+ * into contiguous shares (LEAF_SHARES_PER_THREAD a thread, each of 4096 trees or more)
+ * drawn on n_threads threads, the first into out, the others into
+ * scratch[leaf_scratch_seeds(n_threads, cap)], then merged after it in tree order under
  * the cap: the seeds, their order and the count lost are those of one thread. *max_ms
  * gets the strongest wind (may be NULL). Returns the number drawn that did not fit. */
 int leaf_shed_trees(const leaf_desc *d, uint32_t n_trees, const float *wind,

@@ -36,7 +36,7 @@ struct tick_sim {
     uint32_t *slots;        /* owned [n_trees]: leaf slots of each tree's species */
     int threads;            /* scene tick_threads */
     leaf_seed *leaves;      /* owned [max_leaves_per_tick] */
-    leaf_seed *leaf_scratch;/* owned [(threads - 1) * max_leaves_per_tick] */
+    leaf_seed *leaf_scratch;/* owned [leaf_scratch_seeds(threads, max_leaves_per_tick)] */
     int n_leaves;
     uint32_t tick;
     leaf_desc leaf;
@@ -135,8 +135,8 @@ tick_sim *tick_create(const tick_desc *d, gale_err *err)
     t->crown_ordered = malloc((size_t)t->n_trees * 3 * sizeof(float));
     t->vel_ordered = malloc((size_t)t->n_trees * 3 * sizeof(float));
     t->slots = malloc((size_t)t->n_trees * sizeof *t->slots);
-    t->leaf_scratch = t->threads > 1 ? calloc((size_t)(t->threads - 1) *
-                                                  (size_t)t->d.max_leaves_per_tick,
+    t->leaf_scratch = t->threads > 1 ? calloc(leaf_scratch_seeds(t->threads,
+                                                                 t->d.max_leaves_per_tick),
                                               sizeof *t->leaf_scratch)
                                      : NULL;
     if (!species || !yaw || !t->crown || !t->vel || !t->leaves || !t->order ||
