@@ -186,7 +186,7 @@ int leaf_shed_trees(const leaf_desc *d, uint32_t n_trees, const float *wind,
     const uint32_t fit = n_trees / SHARE_MIN_TREES;
     int shares = scratch ? max_shares(n_threads) : 1;
     shares = fit < (uint32_t)shares ? (fit > 1 ? (int)fit : 1) : shares;
-    const int team = shares < n_threads ? shares : n_threads;
+    const int team = shares < n_threads ? shares : n_threads > 1 ? n_threads : 1;
     int got[MAX_SHARES] = { 0 }, lost[MAX_SHARES] = { 0 };
     float vmax[MAX_SHARES] = { 0 };
     const int n0 = *n;
