@@ -46,10 +46,14 @@ try {
     const shown = await page.evaluate(() => ({ msg: !document.getElementById('attract').hidden, panel: !document.getElementById('panel').hidden,
         text: document.getElementById('attract').textContent }));
     assert.ok(shown.msg && !shown.panel, `attract mode shows its line, not the panel: ${JSON.stringify(shown)}`);
-    const tour0 = await camOf(page);
+    // the camera moves on the page's animation frames, which come seconds apart on a
+    // loaded machine: the second reading waits for frames drawn after the interval
+    const tour0 = await camOf(page), tour0_ms = Date.now();
     await new Promise((r) => setTimeout(r, 1500));
+    const drawn = await page.evaluate(() => window.gale.framesDrawn);
+    await waitFor(page, (d) => window.gale.framesDrawn >= d + 2, drawn, 60, 'frames drawn on the tour');
     const tour1 = await camOf(page);
-    out.tour_yaw_rad_per_s = (tour1.yaw - tour0.yaw) / 1.5;
+    out.tour_yaw_rad_per_s = (tour1.yaw - tour0.yaw) / ((Date.now() - tour0_ms) / 1000);
     assert.notDeepEqual(tour0, own, 'the tour moved the camera from the kiosk\'s');
     assert.ok(tour1.yaw > tour0.yaw, 'the tour turns');
     await page.screenshot({ path: path.join(work, 'attract.png') });
