@@ -208,15 +208,13 @@ uint32_t modal_tree_modes(const modal *m, uint32_t t)
     return t < m->n_trees ? m->sp[m->tree_species[t]].n_modes : 0;
 }
 
-/* One group of MODE_PAD modes of one tree: forces, exact update, quantisation. A fixed
- * trip count and restrict parameters let the compiler vectorise it at -O2. */
-static inline float modes_step(const modal_sp *sp, uint32_t g, float vx, float vy, float vz,
-                               float sv, float *restrict q, float *restrict v,
-                               int16_t *restrict qq)
+/* One group of MODE_PAD modes of one tree: forces, exact update, quantisation; q² added
+ * lane by lane into sq. A fixed trip count and restrict parameters let the compiler
+ * vectorise it at -O2. */
+static inline void modes_step(const modal_sp *sp, uint32_t g, float vx, float vy, float vz,
+                              float sv, float *restrict q, float *restrict v,
+                              int16_t *restrict qq, float *restrict sq)
 {
-    /* q² per lane, summed after the loop: an in-loop float sum would keep the loop from
-     * vectorising (no reassociation without -ffast-math) */
-    float sq[MODE_PAD];
     const float *restrict a11 = sp->a11 + g, *restrict a12 = sp->a12 + g;
     const float *restrict a21 = sp->a21 + g, *restrict a22 = sp->a22 + g;
     const float *restrict b1 = sp->b1 + g, *restrict b2 = sp->b2 + g;
@@ -231,13 +229,24 @@ static inline float modes_step(const modal_sp *sp, uint32_t g, float vx, float v
         q[i] = q1;
         v[i] = v1;
         qq[i] = wire_quantize(q1, inv[i]);
-        sq[i] = q1 * q1;
+        sq[i] += q1 * q1;
     }
-    float n2 = 0.0f;
-    for (uint32_t i = 0; i < MODE_PAD; i++) {
-        n2 += sq[i];
+}
+
+/* Σ sq[i] over the MODE_PAD lanes, halving: lane i takes lane i + h for h = 8, 4, 2, 1.
+ * A running sum would be a chain of dependent adds, the update's longest path; this
+ * order is fixed, so every clone and thread count sums alike. */
+static inline float lanes_sum(const float *restrict sq)
+{
+    _Static_assert(MODE_PAD == 16, "lanes_sum halves 16 lanes");
+    float s8[8], s4[4];
+    for (uint32_t i = 0; i < 8; i++) {
+        s8[i] = sq[i] + sq[i + 8];
     }
-    return n2;
+    for (uint32_t i = 0; i < 4; i++) {
+        s4[i] = s8[i] + s8[i + 4];
+    }
+    return (s4[0] + s4[2]) + (s4[1] + s4[3]);
 }
 
 /* Trees [t0, t1): wind into the tree frame, then each group of modes. Cloned for AVX-512
@@ -271,11 +280,11 @@ static void range_tick(modal *m, uint32_t t0, uint32_t t1, const float *wind_wor
         /* When the row is exactly the padded modes (16, 32, 64), quantise straight into
          * the snapshot; otherwise into qq and copy the row's part. */
         int16_t *out = qsnap && pad == stride ? qsnap + (size_t)t * stride : qq;
-        float n2 = 0.0f;
+        float sq[MODE_PAD] = { 0 };
         for (uint32_t g = 0; g < pad; g += MODE_PAD) {
-            n2 += modes_step(sp, g, vx, vy, wz, sv, q + g, q + pad + g, out + g);
+            modes_step(sp, g, vx, vy, wz, sv, q + g, q + pad + g, out + g, sq);
         }
-        m->qnorm2[t] = n2;
+        m->qnorm2[t] = lanes_sum(sq);
         m->force_scale[t] = sv;
         if (qsnap && out == qq) {
             memcpy(qsnap + (size_t)t * stride, qq, stride * sizeof(int16_t));
