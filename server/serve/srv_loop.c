@@ -1,9 +1,10 @@
 /* The fixed-step loop on the simulation thread (server/SERVER.md "Loop"): scenario →
  * inflow, one tick, leaf seeds gathered, a snapshot every ticks_per_snap ticks, the
- * simulation's metrics, and the overrun policy: a late tick is counted and logged but
- * never skipped, so simulated time stays exact. */
+ * simulation's metrics, and the overrun policy (step_clock.h): a late tick is counted and
+ * logged but never skipped, so simulated time stays exact. */
 #include "srv_int.h"
 #include "sim_team.h"
+#include "step_clock.h"
 #include "svc_notify.h"
 
 #include <stdio.h>
@@ -43,16 +44,12 @@ void *srv_loop(void *arg)
                     s->d.sc->tick_threads, rt_priority);
         }
     }
-    struct timespec next;
-    clock_gettime(CLOCK_MONOTONIC, &next);
+    step_clock clock;
+    step_clock_init(&clock, period_ns);
     /* systemd's watchdog is pinged from here, so a wedged simulation trips it (SERVER.md
      * "Debian service"): four pings per interval */
     const uint64_t wd_us = svc_watchdog_us() / 4u;
     uint64_t wd_next_us = 0;
-    /* The first tick warms up: it takes the first wind step, starts the tick's threads and
-     * touches most of the state's memory for the first time (tens of ms on a large scene).
-     * The schedule starts when it ends, and it is no overrun. */
-    bool warm = false;
     while (!atomic_load(&s->stop)) {
         if (wd_us && mono_us() >= wd_next_us) {
             svc_notify("WATCHDOG=1");
@@ -122,25 +119,12 @@ void *srv_loop(void *arg)
         if (snap) {
             srv_publish(s, tick + 1);
         }
-        struct timespec now;
-        clock_gettime(CLOCK_MONOTONIC, &now);
+        const uint64_t now_ns = mono_ns();
         uint64_t ns = sim_metrics_tick(mt, tick + 1, &ts);
-        if (!warm) {
-            next = now;
-        }
-        /* the next tick is due one period after this one was */
-        next.tv_nsec += (long)period_ns;
-        while (next.tv_nsec >= 1000000000L) {
-            next.tv_nsec -= 1000000000L;
-            next.tv_sec++;
-        }
-        int64_t late_ns = (int64_t)(now.tv_sec - next.tv_sec) * 1000000000LL +
-                          (now.tv_nsec - next.tv_nsec);
-        if (warm && (late_ns > (int64_t)period_ns || ns > period_ns)) {
-            /* Overrun: the tick's work took longer than a period, or the loop fell a whole
-             * period behind. The tick is still run (ticks are never skipped, simulated
-             * time stays exact); the loop catches up back to back, and a schedule more
-             * than 0.25 s behind restarts from now. */
+        const step_verdict v = step_clock_end(&clock, now_ns, ns);
+        if (v.overrun) {
+            /* The tick is still run (ticks are never skipped, simulated time stays exact);
+             * the loop catches up back to back (step_clock.h). */
             unsigned long long k = sim_metrics_overrun(mt);
             time_t sec = time(NULL);
             if (sec != s->olog_sec) {
@@ -152,16 +136,14 @@ void *srv_loop(void *arg)
                         "gale-server: tick %u overran: work %.2f ms (wind %.2f ms, %d pressure "
                         "iterations) of a %.2f ms budget, finished %.2f ms after the next tick "
                         "was due; %llu overruns\n",
-                        tick, ts.ms, ts.wind_ms, ts.wind_iters, dt * 1e3, (double)late_ns * 1e-6,
+                        tick, ts.ms, ts.wind_ms, ts.wind_iters, dt * 1e3, (double)v.late_ns * 1e-6,
                         k);
             }
-            if (late_ns > 250000000LL) {
-                next = now;
-            }
         }
-        warm = true;
-        if (late_ns <= 0) {
-            clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next, NULL);
+        if (v.wait) {
+            const struct timespec due = { .tv_sec = (time_t)(clock.due_ns / 1000000000u),
+                                          .tv_nsec = (long)(clock.due_ns % 1000000000u) };
+            clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &due, NULL);
         }
     }
     return NULL;
