@@ -30,6 +30,7 @@
 #include "modal.h"
 #include "quant_steps.h"
 #include "sim_lanes.h"
+#include "sim_team.h"
 #include "species.h"
 #include "wind.h"
 #include "wire.h"
@@ -231,15 +232,25 @@ typedef struct tick_in {
 
 /* The grid at trees [i0, i1) into dst, in shares over the tick's threads
  * (server/sim/tick.c). */
+typedef struct grid_job {
+    const tick_in *in;
+    int i0, n, shares;
+    float *dst;
+} grid_job;
+
+static void grid_share(void *ctx, int c)
+{
+    const grid_job *g = ctx;
+    int a, b;
+    sim_share(g->n, g->shares, c, &a, &b);
+    wind_probe_sample(g->in->wg, g->in->probe, g->i0 + a, g->i0 + b, g->dst);
+}
+
 static void sample_grid(const tick_in *in, int i0, int i1, float *dst)
 {
-    const int nc = sim_shares(i1 - i0, in->threads);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(in->threads) if (i1 - i0 > SIM_SHARE_MAX)
-    for (int c = 0; c < nc; c++) {
-        int a, b;
-        sim_share(i1 - i0, nc, c, &a, &b);
-        wind_probe_sample(in->wg, in->probe, i0 + a, i0 + b, dst);
-    }
+    grid_job g = { .in = in, .i0 = i0, .n = i1 - i0, .shares = sim_shares(i1 - i0, in->threads),
+                   .dst = dst };
+    sim_team_run(i1 - i0 > SIM_SHARE_MAX ? in->threads : 1, g.shares, grid_share, &g);
 }
 
 /* Tick k (k < 0: warm-up, not recorded) of v: sampling (the grid at trees [r0, r1) into

@@ -7,6 +7,7 @@
 
 #include "damage_strip.h"
 #include "hash.h"
+#include "sim_team.h"
 
 #define DAMAGE_LOG_MAX 65536u /* broken branches remembered for the whole-state frame */
 #define DAMAGE_PREFETCH_TREES 8u /* trees ahead whose state lane_run asks the cache for */
@@ -38,6 +39,7 @@ typedef struct damage_lane {
     int n_ev, cap_ev;
     leaf_seed *leaves;          /* owned [cap_leaves] its stripped leaves this step */
     int n_leaves, cap_leaves;
+    int lost;                   /* its leaves over the caps this step */
 } damage_lane;
 
 struct damage_sim {
@@ -556,6 +558,36 @@ static int lane_run(damage_sim *s, damage_lane *l, modal *m, const float *wind_w
     return lost;
 }
 
+/* One damage step's lanes. */
+typedef struct step_job {
+    damage_sim *s;
+    modal *m;
+    const float *wind_world;
+    uint32_t tick, first, n_due;
+    int nl;
+    leaf_seed *leaves;
+    int cap;
+    int *n_leaves;
+} step_job;
+
+static void step_lane(void *ctx, int k)
+{
+    const step_job *j = ctx;
+    damage_lane *l = &j->s->lane[k];
+    const uint32_t i0 = (uint32_t)((uint64_t)j->n_due * (uint32_t)k / (uint32_t)j->nl);
+    const uint32_t i1 = (uint32_t)((uint64_t)j->n_due * (uint32_t)(k + 1) / (uint32_t)j->nl);
+    if (k == 0) {
+        /* the first lane writes straight to the step's outputs */
+        l->lost = lane_run(j->s, l, j->m, j->wind_world, j->tick, j->first, i0, i1, j->leaves,
+                           j->cap, j->n_leaves);
+    } else {
+        l->n_ev = 0;
+        l->n_leaves = 0;
+        l->lost = lane_run(j->s, l, j->m, j->wind_world, j->tick, j->first, i0, i1, l->leaves,
+                           l->cap_leaves, &l->n_leaves);
+    }
+}
+
 int damage_step(damage_sim *s, modal *m, const float *wind_world, uint32_t tick,
                 leaf_seed *leaves, int cap, int *n_leaves)
 {
@@ -574,19 +606,12 @@ int damage_step(damage_sim *s, modal *m, const float *wind_world, uint32_t tick,
     const uint32_t fit = n_due / min_trees;
     const int nl = fit >= (uint32_t)s->n_lanes ? s->n_lanes : fit > 1 ? (int)fit : 1;
     const int nt = nl < s->n_threads ? nl : s->n_threads;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(nt) if (nt > 1) reduction(+ : lost)
+    step_job j = { .s = s, .m = m, .wind_world = wind_world, .tick = tick, .first = first,
+                   .n_due = n_due, .nl = nl, .leaves = leaves, .cap = cap,
+                   .n_leaves = n_leaves };
+    sim_team_run(nt, nl, step_lane, &j);
     for (int k = 0; k < nl; k++) {
-        damage_lane *l = &s->lane[k];
-        const uint32_t i0 = (uint32_t)((uint64_t)n_due * (uint32_t)k / (uint32_t)nl);
-        const uint32_t i1 = (uint32_t)((uint64_t)n_due * (uint32_t)(k + 1) / (uint32_t)nl);
-        if (k == 0) {
-            lost += lane_run(s, l, m, wind_world, tick, first, i0, i1, leaves, cap, n_leaves);
-        } else {
-            l->n_ev = 0;
-            l->n_leaves = 0;
-            lost += lane_run(s, l, m, wind_world, tick, first, i0, i1, l->leaves,
-                             l->cap_leaves, &l->n_leaves);
-        }
+        lost += s->lane[k].lost;
     }
     /* the later lanes' events and leaves after the first's, in tree order, under the same
      * caps as one lane would meet them */

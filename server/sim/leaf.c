@@ -2,6 +2,7 @@
  * stream, so the order trees are visited in does not change the result. */
 #include "leaf.h"
 #include "hash.h"
+#include "sim_team.h"
 
 #include <math.h>
 #include <stdbool.h>
@@ -177,6 +178,32 @@ size_t leaf_scratch_seeds(int n_threads, int cap)
     return (size_t)(max_shares(n_threads) - 1) * (size_t)(cap > 0 ? cap : 0);
 }
 
+/* One leaf_shed_trees call's shares (each share's outputs its own). */
+typedef struct shed_job {
+    const leaf_desc *d;
+    uint32_t n_trees;
+    const float *wind;
+    const uint32_t *slots;
+    uint32_t slots_all, tick;
+    double dt_s;
+    leaf_seed *scratch, *out;
+    int cap, shares;
+    int *got, *lost;
+    float *vmax;
+} shed_job;
+
+static void shed_share(void *ctx, int i)
+{
+    const shed_job *j = ctx;
+    const uint32_t shares = (uint32_t)j->shares;
+    const uint32_t t0 = (uint32_t)((uint64_t)j->n_trees * (uint32_t)i / shares);
+    const uint32_t t1 = (uint32_t)((uint64_t)j->n_trees * (uint32_t)(i + 1) / shares);
+    /* the first share writes straight to out after what is there, the others to scratch */
+    leaf_seed *dst = i == 0 ? j->out : j->scratch + (size_t)(i - 1) * (size_t)j->cap;
+    j->lost[i] = shed_range(j->d, t0, t1, j->wind, j->slots, j->slots_all, j->tick, j->dt_s,
+                            dst, j->cap, &j->got[i], &j->vmax[i]);
+}
+
 int leaf_shed_trees(const leaf_desc *d, uint32_t n_trees, const float *wind,
                     const uint32_t *slots, uint32_t slots_all, uint32_t tick, double dt_s,
                     int n_threads, leaf_seed *scratch, leaf_seed *out, int cap, int *n,
@@ -189,21 +216,12 @@ int leaf_shed_trees(const leaf_desc *d, uint32_t n_trees, const float *wind,
     const int team = shares < n_threads ? shares : n_threads > 1 ? n_threads : 1;
     int got[MAX_SHARES] = { 0 }, lost[MAX_SHARES] = { 0 };
     float vmax[MAX_SHARES] = { 0 };
-    const int n0 = *n;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(team) if (team > 1)
-    for (int i = 0; i < shares; i++) {
-        const uint32_t t0 = (uint32_t)((uint64_t)n_trees * (uint32_t)i / (uint32_t)shares);
-        const uint32_t t1 = (uint32_t)((uint64_t)n_trees * (uint32_t)(i + 1) / (uint32_t)shares);
-        if (i == 0) {
-            got[0] = n0;
-            lost[0] = shed_range(d, t0, t1, wind, slots, slots_all, tick, dt_s, out, cap,
-                                 &got[0], &vmax[0]);
-        } else {
-            lost[i] = shed_range(d, t0, t1, wind, slots, slots_all, tick, dt_s,
-                                 scratch + (size_t)(i - 1) * (size_t)cap, cap, &got[i],
-                                 &vmax[i]);
-        }
-    }
+    got[0] = *n;
+    shed_job j = { .d = d, .n_trees = n_trees, .wind = wind, .slots = slots,
+                   .slots_all = slots_all, .tick = tick, .dt_s = dt_s, .scratch = scratch,
+                   .out = out, .cap = cap, .shares = shares, .got = got, .lost = lost,
+                   .vmax = vmax };
+    sim_team_run(team, shares, shed_share, &j);
     int total_lost = lost[0], at = got[0];
     float m = vmax[0];
     for (int i = 1; i < shares; i++) {

@@ -13,6 +13,7 @@
 
 #include "wire_limits.h"
 #include "oscillator.h"
+#include "sim_team.h"
 #include "wire.h"
 
 /* Modes per tree are padded to a multiple of this (one AVX-512 vector of floats). */
@@ -295,19 +296,27 @@ static void range_tick(modal *m, uint32_t t0, uint32_t t1, const float *wind_wor
 /* Trees per chunk a thread takes at a time. */
 #define TICK_CHUNK 512u
 
+typedef struct tick_job {
+    modal *m;
+    const float *wind_world;
+    int16_t *qsnap;
+} tick_job;
+
+static void chunk_tick(void *ctx, int c)
+{
+    const tick_job *j = ctx;
+    const uint32_t t0 = (uint32_t)c * TICK_CHUNK;
+    const uint32_t t1 = t0 + TICK_CHUNK < j->m->n_trees ? t0 + TICK_CHUNK : j->m->n_trees;
+    range_tick(j->m, t0, t1, j->wind_world, j->qsnap);
+}
+
 void modal_tick(modal *m, const float *wind_world, int16_t *qsnap)
 {
     /* Trees are independent: the threads take chunks of 512 as they come free (on a busy
-     * machine a descheduled thread does not hold the other back); libgomp allocates
-     * nothing per tick once its pool exists. */
-    const uint32_t chunk = TICK_CHUNK;
-    const int nc = (int)((m->n_trees + chunk - 1) / chunk);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(m->n_threads) if (nc > 2)
-    for (int c = 0; c < nc; c++) {
-        uint32_t t0 = (uint32_t)c * chunk;
-        uint32_t t1 = t0 + chunk < m->n_trees ? t0 + chunk : m->n_trees;
-        range_tick(m, t0, t1, wind_world, qsnap);
-    }
+     * machine a descheduled thread does not hold the other back; sim_team.h). */
+    const int nc = (int)((m->n_trees + TICK_CHUNK - 1) / TICK_CHUNK);
+    tick_job j = { .m = m, .wind_world = wind_world, .qsnap = qsnap };
+    sim_team_run(nc > 2 ? m->n_threads : 1, nc, chunk_tick, &j);
 }
 
 uint32_t modal_get(const modal *m, uint32_t t, float *q, float *qdot)

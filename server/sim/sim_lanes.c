@@ -1,5 +1,6 @@
-/* The encoders' lanes and the tick's shares on OpenMP threads: see sim_lanes.h. */
+/* The encoders' lanes and the tick's shares on the tick's team: see sim_lanes.h. */
 #include "sim_lanes.h"
+#include "sim_team.h"
 
 #include <stdint.h>
 
@@ -7,13 +8,9 @@
  * frame at the cost of one more move of a share's bytes (a memmove, ~0.1 ns a byte). */
 #define LANES_PER_THREAD 4
 
-static void run_omp(void *ctx, int n, wire_lane_fn job, void *arg)
+static void run_team(void *ctx, int n, wire_lane_fn job, void *arg)
 {
-    const int threads = (int)(intptr_t)ctx;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-    for (int i = 0; i < n; i++) {
-        job(arg, i);
-    }
+    sim_team_run((int)(intptr_t)ctx, n, job, arg);
 }
 
 wire_lanes sim_lanes(int n_threads)
@@ -23,7 +20,7 @@ wire_lanes sim_lanes(int n_threads)
     }
     int n = n_threads * LANES_PER_THREAD;
     n = n > (int)WIRE_MAX_LANES ? (int)WIRE_MAX_LANES : n;
-    return (wire_lanes){ .n = n, .run = run_omp, .ctx = (void *)(intptr_t)n_threads };
+    return (wire_lanes){ .n = n, .run = run_team, .ctx = (void *)(intptr_t)n_threads };
 }
 
 int sim_shares(int n, int n_threads)

@@ -1,4 +1,4 @@
-/* The state encoders' lanes (wire.h wire_lanes) on the simulation's OpenMP threads: more
+/* The state encoders' lanes (wire.h wire_lanes) on the tick's team (sim_team.h): more
  * lanes than threads, taken as threads come free, so a thread descheduled on a busy
  * machine does not hold the frame back by a whole share; and the shares of the tick's
  * loops over the crowns. */

@@ -4,6 +4,7 @@
 
 #include "modal.h"
 #include "sim_lanes.h"
+#include "sim_team.h"
 #include "wind_worker.h"
 
 #include <math.h>
@@ -287,6 +288,43 @@ void tick_set_balls(tick_sim *t, const wind_ball *balls, int n)
     t->n_balls = balls ? n : 0;
 }
 
+/* One share of a tick's read of the probe: crowns [r0, r0 + n) in the locality order. */
+typedef struct probe_job {
+    tick_sim *t;
+    int r0, n, shares;
+    float *dst;
+} probe_job;
+
+static void probe_share(void *ctx, int c)
+{
+    const probe_job *pj = ctx;
+    tick_sim *t = pj->t;
+    int a, b;
+    sim_share(pj->n, pj->shares, c, &a, &b);
+    a += pj->r0;
+    b += pj->r0;
+    t->d.wind->probe_sample(t->d.wind->ctx, t->probe, a, b, t->vel_ordered);
+    for (int i = a; i < b; i++) {
+        memcpy(&pj->dst[3 * (size_t)t->order[i]], &t->vel_ordered[3 * (size_t)i],
+               3 * sizeof(float));
+    }
+}
+
+/* One share of the crowns' wind: the grid's part plus the subgrid term. */
+static void crown_share(void *ctx, int c)
+{
+    tick_sim *t = ctx;
+    const tick_wind *wd = t->d.wind;
+    int a, b;
+    sim_share(t->n_trees, sim_shares(t->n_trees, t->threads), c, &a, &b);
+    const size_t i0 = (size_t)a;
+    const int m = b - a;
+    memcpy(&t->vel[3 * i0], &t->vel_grid[3 * i0], 3 * sizeof(float) * (size_t)m);
+    if (wd->add_subgrid) {
+        wd->add_subgrid(wd->ctx, m, &t->crown[3 * i0], &t->vel[3 * i0]);
+    }
+}
+
 /* The wind at every crown from the probe: the grid's part, then each tick the term that
  * follows the inflow. With a step every k ticks, the step's tick and each of the k - 1
  * after it read a k-th of the crowns into a second buffer, the last switching all crowns
@@ -295,11 +333,9 @@ void tick_set_balls(tick_sim *t, const wind_ball *balls, int n)
  * no tick carries the whole read (SERVER.md "Loop"). The
  * first tick reads the whole grid at once. Each crown is independent, so the shares over
  * the threads change no float; they are taken as threads come free, so a thread that
- * loses its core leaves the shares still to come to the other; one parallel region, as
- * each costs a wake-up of the threads. */
+ * loses its core leaves the shares still to come to the other (sim_team.h). */
 static void sample_probe(tick_sim *t)
 {
-    const tick_wind *wd = t->d.wind;
     const int n = t->n_trees, nc = sim_shares(n, t->threads);
     const int every = t->d.sc->wind_every > 1 ? t->d.sc->wind_every : 1;
     const bool first = !t->grid_read;
@@ -309,40 +345,17 @@ static void sample_probe(tick_sim *t)
     const int r1 = first ? n : (int)((int64_t)n * (j + 1) / every);
     float *const dst = first ? t->vel_grid : t->vel_next;
     const int nr = sim_shares(r1 - r0, t->threads);
-#pragma omp parallel num_threads(t->threads) if (n > SIM_SHARE_MAX)
-    {
-#pragma omp for schedule(dynamic, 1)
-        for (int c = 0; c < nr; c++) {
-            int a, b;
-            sim_share(r1 - r0, nr, c, &a, &b);
-            a += r0;
-            b += r0;
-            wd->probe_sample(wd->ctx, t->probe, a, b, t->vel_ordered);
-            for (int i = a; i < b; i++) {
-                memcpy(&dst[3 * (size_t)t->order[i]], &t->vel_ordered[3 * (size_t)i],
-                       3 * sizeof(float));
-            }
-        }
-#pragma omp single
-        if (first) {
-            /* both buffers: the shares still to come of this step read the same grid */
-            memcpy(t->vel_next, t->vel_grid, (size_t)n * 3 * sizeof(float));
-        } else if (j == every - 1) {
-            t->vel_next = t->vel_grid;
-            t->vel_grid = dst;
-        }
-#pragma omp for schedule(dynamic, 1)
-        for (int c = 0; c < nc; c++) {
-            int a, b;
-            sim_share(n, nc, c, &a, &b);
-            const size_t i0 = (size_t)a;
-            const int m = b - a;
-            memcpy(&t->vel[3 * i0], &t->vel_grid[3 * i0], 3 * sizeof(float) * (size_t)m);
-            if (wd->add_subgrid) {
-                wd->add_subgrid(wd->ctx, m, &t->crown[3 * i0], &t->vel[3 * i0]);
-            }
-        }
+    const int threads = n > SIM_SHARE_MAX ? t->threads : 1;
+    probe_job pj = { .t = t, .r0 = r0, .n = r1 - r0, .shares = nr, .dst = dst };
+    sim_team_run(threads, nr, probe_share, &pj);
+    if (first) {
+        /* both buffers: the shares still to come of this step read the same grid */
+        memcpy(t->vel_next, t->vel_grid, (size_t)n * 3 * sizeof(float));
+    } else if (j == every - 1) {
+        t->vel_next = t->vel_grid;
+        t->vel_grid = dst;
     }
+    sim_team_run(threads, nc, crown_share, t);
     t->grid_read = true;
 }
 
