@@ -41,7 +41,7 @@ struct team {
     _Atomic uint32_t gen;         /* the generation published (a futex word) */
     _Atomic uint32_t done;        /* jobs of the generation returned (a futex word) */
     _Atomic uint32_t sleepers;    /* helpers asleep on gen */
-    _Atomic uint32_t caller_asleep; /* the caller asleep on done */
+    _Atomic uint32_t caller_asleep; /* the caller asleep on done (0 or 1) */
     _Atomic(sim_job_fn) fn;       /* the generation's jobs */
     _Atomic(void *) ctx;
     _Atomic uint32_t n;
@@ -97,15 +97,17 @@ static void take_jobs(team *t, uint32_t g)
     }
 }
 
-/* A helper's wait for a generation after `seen` (or the stop). */
-static uint32_t await_gen(team *t, uint32_t seen)
+/* Waits until *word is no longer `value` and returns what it holds: spinning for SPIN_NS
+ * after the call or the last change, then asleep on the futex, counted in *asleep so the
+ * writer knows to wake it. */
+static uint32_t await_change(_Atomic uint32_t *word, uint32_t value, _Atomic uint32_t *asleep)
 {
     const uint64_t t0 = mono_ns();
     unsigned spins = 0;
     for (;;) {
-        const uint32_t g = atomic_load(&t->gen);
-        if (g != seen || atomic_load(&t->stop)) {
-            return g;
+        const uint32_t now = atomic_load(word);
+        if (now != value) {
+            return now;
         }
         if (++spins % 64 != 0) {
             cpu_relax();
@@ -116,11 +118,11 @@ static uint32_t await_gen(team *t, uint32_t seen)
             sched_yield();
             continue;
         }
-        atomic_fetch_add(&t->sleepers, 1);
-        if (atomic_load(&t->gen) == seen && !atomic_load(&t->stop)) {
-            futex_wait(&t->gen, seen);
+        atomic_fetch_add(asleep, 1);
+        if (atomic_load(word) == value) {
+            futex_wait(word, value);
         }
-        atomic_fetch_sub(&t->sleepers, 1);
+        atomic_fetch_sub(asleep, 1);
     }
 }
 
@@ -131,7 +133,8 @@ static void *helper_main(void *arg)
     /* not the generation now: the caller may have published the one it was started for */
     uint32_t seen = h->gen_at_start;
     for (;;) {
-        seen = await_gen(t, seen);
+        /* the stop moves the generation on too */
+        seen = await_change(&t->gen, seen, &t->sleepers);
         if (atomic_load(&t->stop)) {
             return NULL;
         }
@@ -195,32 +198,6 @@ static team *team_with(int helpers)
     return t;
 }
 
-/* The caller's wait for the jobs its helpers took. */
-static void await_done(team *t, uint32_t n)
-{
-    const uint64_t t0 = mono_ns();
-    unsigned spins = 0;
-    for (;;) {
-        const uint32_t d = atomic_load(&t->done);
-        if (d >= n) {
-            return;
-        }
-        if (++spins % 64 != 0) {
-            cpu_relax();
-            continue;
-        }
-        if (mono_ns() - t0 < SPIN_NS) {
-            sched_yield();
-            continue;
-        }
-        atomic_store(&t->caller_asleep, 1);
-        if (atomic_load(&t->done) == d) {
-            futex_wait(&t->done, d);
-        }
-        atomic_store(&t->caller_asleep, 0);
-    }
-}
-
 void sim_team_run(int n_threads, int n, sim_job_fn fn, void *ctx)
 {
     if (n <= 0) {
@@ -248,7 +225,10 @@ void sim_team_run(int n_threads, int n, sim_job_fn fn, void *ctx)
         futex_wake(&t->gen, INT_MAX);
     }
     take_jobs(t, g);
-    await_done(t, (uint32_t)n);
+    /* the jobs its helpers took; a helper wakes it only with the last job's return */
+    for (uint32_t d = atomic_load(&t->done); d < (uint32_t)n;
+         d = await_change(&t->done, d, &t->caller_asleep)) {
+    }
 }
 
 static int set_policy(pthread_t th, int priority)
