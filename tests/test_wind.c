@@ -1,7 +1,8 @@
 /* Wind field tests (Oliapuram & Kumar 2010 section 2): the projection meets its divergence
  * reduction on random and obstacle-rich fields, no flux through solid faces, uniform
  * inflow stays uniform, advection against closed-form displacements, determinism, force
- * ball direction, trilinear sampling, the coarse copy and bad descs. */
+ * ball direction, trilinear sampling, the probe's stencils and the lines they read, the
+ * coarse copy and bad descs. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -551,6 +552,85 @@ static void test_probe(void)
     }
 }
 
+/* wind_probe_lines: the distinct 64-byte lines the stencils read, against a count of its
+ * own (each point's eight samples per component found as ref_trilinear finds them,
+ * marked in a bitmap of each component's lines), for ranges of random points inside and
+ * beyond every side; a point read twice adds no line, an empty range reads none. */
+static void test_probe_lines(void)
+{
+    gale_err err = { 0 };
+    wind_grid *w = wind_create(&(wind_desc){ .nx = 40, .ny = 23, .nz = 5, .cell_m = 2.0f,
+                                             .origin = { -10, 4, 0 }, .threads = 1 },
+                               &err);
+    CHECK(w != NULL);
+    if (!w) {
+        return;
+    }
+    enum { NP = 400 };
+    static float pts[3 * 2 * NP];
+    for (int n = 0; n < NP; n++) {
+        pts[3 * n + 0] = -10.0f + (-0.2f + 1.4f * frand()) * 80.0f;
+        pts[3 * n + 1] = 4.0f + (-0.2f + 1.4f * frand()) * 46.0f;
+        pts[3 * n + 2] = (-0.2f + 1.4f * frand()) * 10.0f;
+    }
+    memcpy(pts + 3 * NP, pts, sizeof(float) * 3 * NP); /* the same points again */
+    wind_probe *pr = wind_probe_create(w, 2 * NP, pts, &err);
+    CHECK(pr != NULL);
+    if (!pr) {
+        wind_destroy(w);
+        return;
+    }
+    const int ranges[][2] = { { 0, NP }, { 0, 1 }, { 17, 18 }, { 5, 60 }, { 0, 2 * NP },
+                              { NP - 30, NP + 30 } };
+    for (size_t r = 0; r < sizeof ranges / sizeof ranges[0]; r++) {
+        size_t want = 0;
+        for (int a = 0; a < 3; a++) {
+            const wind_comp *c = &w->c[a];
+            const uintptr_t base = (uintptr_t)c->d / 64u;
+            const size_t n_lines = ((uintptr_t)(c->d + c->count) + 63u) / 64u - base;
+            unsigned char *seen = calloc(n_lines, 1);
+            CHECK(seen != NULL);
+            if (!seen) {
+                break;
+            }
+            for (int n = ranges[r][0]; n < ranges[r][1]; n++) {
+                const float *p = pts + 3 * n;
+                int i0[3];
+                for (int d = 0; d < 3; d++) {
+                    float f = (p[d] - w->d.origin[d]) / w->h - c->off[d];
+                    f = fminf(fmaxf(f, 0.0f), (float)(c->n[d] - 1));
+                    i0[d] = (int)floorf(f);
+                    i0[d] = i0[d] > c->n[d] - 2 ? c->n[d] - 2 : i0[d];
+                }
+                for (int q = 0; q < 8; q++) {
+                    const float *s = c->d + wind_idx(c->sy, c->sz, i0[0] + (q & 1),
+                                                     i0[1] + ((q >> 1) & 1),
+                                                     i0[2] + ((q >> 2) & 1));
+                    const size_t line = (uintptr_t)s / 64u - base;
+                    want += !seen[line];
+                    seen[line] = 1;
+                }
+            }
+            free(seen);
+        }
+        size_t got = 0;
+        CHECK(wind_probe_lines(w, pr, ranges[r][0], ranges[r][1], &got, &err) == 0);
+        CHECK(got == want);
+        /* one point reads four to eight lines a component (a pair along x may straddle) */
+        if (ranges[r][1] - ranges[r][0] == 1) {
+            CHECK(got >= 12 && got <= 24);
+        }
+    }
+    size_t all = 0, first = 0, none = 1;
+    CHECK(wind_probe_lines(w, pr, 0, 2 * NP, &all, &err) == 0);
+    CHECK(wind_probe_lines(w, pr, 0, NP, &first, &err) == 0);
+    CHECK(all == first && all > 0);
+    CHECK(wind_probe_lines(w, pr, 9, 9, &none, &err) == 0);
+    CHECK(none == 0);
+    wind_probe_destroy(pr);
+    wind_destroy(w);
+}
+
 /* wind_publish: the samplers (wind_sample, wind_probe_sample, wind_coarse) read the field
  * as it stood at the last publish while the grid steps on, float for float what a twin
  * grid stepped only that far gives; wind_set_subgrid_inflow moves the subgrid term at once
@@ -690,6 +770,7 @@ int main(void)
     RUN(test_ball_direction);
     RUN(test_sampling);
     RUN(test_probe);
+    RUN(test_probe_lines);
     RUN(test_publish);
     RUN(test_coarse);
     RUN(test_bad_desc);

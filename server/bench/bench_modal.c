@@ -64,9 +64,10 @@ static int cmp_cell(const void *a, const void *b)
 }
 
 /* Bytes one tick moves per tree at least, array by array (each read or written once per
- * pass; the species constants, the wind grid and the padding lanes' coefficients are a
- * few MB at most and stay in cache, so they are not counted; write-allocate is not
- * counted, as in the triad). modal.c keeps each tree's q and q' as 2 x pad floats, pad
+ * pass; the species constants and the padding lanes' coefficients are a few kB and stay
+ * in cache, so they are not counted; write-allocate is not counted, as in the triad).
+ * The grid lines the sampling reads are counted apart, per tick (wind_probe_lines): a
+ * 2 m grid over 2 km is ~100 MB, larger than the caches and rewritten by every step. modal.c keeps each tree's q and q' as 2 x pad floats, pad
  * the modes rounded up to its 16-lane groups (MODE_PAD):
  *   sampling (wind_probe_sample, each tree once in `every` ticks): the stencil 48 read, wind 12
  *   written, amortised over the ticks (the grid's lines not counted, as above);
@@ -318,13 +319,14 @@ static double median_of(const double *v, int n, double *scratch)
 
 /* Prints the figures of variant v as JSON members (no braces). */
 static void print_variant(const variant *v, int ticks, int n_trees, int n_modes,
-                          const modal_bytes *tb, double gbs, double *scratch)
+                          const modal_bytes *tb, double grid_bytes, double gbs, double *scratch)
 {
     double med_t = median_of(v->t_total, ticks, scratch);
     double p95_t = (memcpy(scratch, v->t_total, sizeof(double) * (size_t)ticks),
                     pct(scratch, ticks, 0.95));
     double enc_per_tick = (double)v->enc_bytes / ticks;
-    double tick_bytes = (tb->read + tb->written + 2.0 * n_modes) * n_trees + enc_per_tick;
+    double tick_bytes =
+        (tb->read + tb->written + 2.0 * n_modes) * n_trees + enc_per_tick + grid_bytes;
     double tick_gbs = med_t > 0.0 ? tick_bytes / (med_t * 1e-3) / 1e9 : 0.0;
     printf("\"damage\":%s,\"tick_ms_median\":%.3f,\"tick_ms_p95\":%.3f,"
            "\"cpu_ms_per_tick_median\":%.3f,\"sample_ms_median\":%.3f,"
@@ -531,6 +533,18 @@ int bench_modal(int argc, char **argv)
         fprintf(stderr, "gale-bench modal: %s\n", err.msg);
         return 1;
     }
+    /* the grid lines each tick's share of the trees reads (the shares of the tick loop
+       below), averaged over the shares: the grid's bytes a tick moves at least */
+    double grid_bytes = 0.0;
+    for (int phase = 0; phase < every; phase++) {
+        size_t lines = 0;
+        if (wind_probe_lines(wg, probe, (int)((int64_t)n_trees * phase / every),
+                             (int)((int64_t)n_trees * (phase + 1) / every), &lines, &err)) {
+            fprintf(stderr, "gale-bench modal: %s\n", err.msg);
+            return 1;
+        }
+        grid_bytes += 64.0 * (double)lines / every;
+    }
     tick_in in = { .wg = wg, .probe = probe, .n_trees = n_trees, .pos = pos, .wind = wind,
                          .wind_next = wind_next, .wsc = &wsc,
                          .nm = nm, .n_modes = n_modes, .enc_cap = enc_cap, .ld = &ld,
@@ -640,9 +654,9 @@ int bench_modal(int argc, char **argv)
                    "\"uproot\":%.1f},\"machine_gb_per_s\":%.2f,\"off\":{",
                    n_trees, n_modes, n_species, threads, ticks, (double)u10_ms, oak.t.n_branches, crit_b,
                    crit_snap, crit_up, gbs);
-            print_variant(&var[0], ticks, n_trees, n_modes, &tb, gbs, scratch);
+            print_variant(&var[0], ticks, n_trees, n_modes, &tb, grid_bytes, gbs, scratch);
             printf("},\"on\":{");
-            print_variant(&var[1], ticks, n_trees, n_modes, &tb, gbs, scratch);
+            print_variant(&var[1], ticks, n_trees, n_modes, &tb, grid_bytes, gbs, scratch);
             printf("},\"on_over_off_tick_ms_median\":%.3f,\"on_over_off_per_tick_median\":%.3f,"
                    "\"on_over_off_per_tick_p95\":%.3f,\"on_over_off_cpu_ms_median\":%.3f,"
                    "\"target_ratio\":1.10,\"wind_step_ms_mean\":%.1f,"
@@ -706,7 +720,8 @@ int bench_modal(int argc, char **argv)
         }
         /* the DELTA written and the previous snapshot read by the encoder come on top */
         const double enc_per_tick = (double)v->enc_bytes / ticks;
-        const double tick_bytes = (tb.read + tb.written + 2.0 * n_modes) * n_trees + enc_per_tick;
+        const double tick_bytes =
+            (tb.read + tb.written + 2.0 * n_modes) * n_trees + enc_per_tick + grid_bytes;
         const double upd_bytes = (ub.read + ub.written) * n_trees;
         const double tick_gbs = med_t > 0.0 ? tick_bytes / (med_t * 1e-3) / 1e9 : 0.0;
         const double upd_gbs = med_ns > 0.0 ? upd_bytes / (med_ns * 1e-3) / 1e9 : 0.0;
@@ -730,6 +745,7 @@ int bench_modal(int argc, char **argv)
                    "\"encode_ms_median\":%.3f,\"encoded_bytes_per_tick\":%.0f,"
                    "\"leaves_shed_per_tick\":%.1f,\"wind_step_ms_mean\":%.1f,"
                    "\"memory_floor_ms\":%.3f,\"tick_over_floor\":%.2f,\"tick_ms_p99\":%.3f,"
+                   "\"grid_line_bytes_per_tick\":%.0f,\"memory_floor_ms_without_grid\":%.3f,"
                    "\"grid_read\":{\"ticks\":%d,\"tick_ms_median\":%.3f,\"sample_ms_median\":%.3f},"
                    "\"no_grid_read\":{\"ticks\":%d,\"tick_ms_median\":%.3f},"
                    "\"loadavg\":[%.2f,%.2f,%.2f]}\n",
@@ -742,8 +758,9 @@ int bench_modal(int argc, char **argv)
                    wind_sum / ((ticks + every - 1) / every),
                    gbs > 0.0 ? tick_bytes / (gbs * 1e9) * 1e3 : 0.0,
                    gbs > 0.0 && tick_bytes > 0.0 ? med_t / (tick_bytes / (gbs * 1e9) * 1e3) : 0.0,
-                   p99_t, n_rd, rd_tick, rd_sample, n_other, other_tick, load[0], load[1],
-                   load[2]);
+                   p99_t, grid_bytes,
+                   gbs > 0.0 ? (tick_bytes - grid_bytes) / (gbs * 1e9) * 1e3 : 0.0, n_rd,
+                   rd_tick, rd_sample, n_other, other_tick, load[0], load[1], load[2]);
         } else {
             printf("modal: %d trees x %d modes, %d threads: tick median %.3f ms (sample %.3f, "
                    "update+quantise %.3f), p95 %.3f, max %.3f\n"

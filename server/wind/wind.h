@@ -6,6 +6,7 @@
 #ifndef GALE_WIND_H
 #define GALE_WIND_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "err.h"
@@ -119,6 +120,13 @@ void wind_probe_destroy(wind_probe *pr);
  * changes only in wind_step and wind_fill_inflow (once published, only in wind_publish),
  * so between those this needs no repeating. */
 void wind_probe_sample(const wind_grid *w, const wind_probe *pr, int i0, int i1, float *v);
+/* The distinct 64-byte lines of memory wind_probe_sample(w, pr, i0, i1, ...) reads from
+ * the grid now (the stencils' eight samples of each component, in the buffers it reads),
+ * into *lines: the least a pass over those points moves when the grid is not cached (a
+ * grid larger than the caches, rewritten by each step). Non-zero with err filled when
+ * there is no memory for the count. */
+int wind_probe_lines(const wind_grid *w, const wind_probe *pr, int i0, int i1, size_t *lines,
+                     gale_err *err);
 /* Adds the subgrid profile's term of the current inflow (desc.subgrid_profile) at n
  * points p[3n] to v[3n]; nothing without it. The grid's part from wind_probe_sample
  * plus this is wind_sample's result, float for float; the term follows wind_set_inflow

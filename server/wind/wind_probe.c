@@ -115,3 +115,48 @@ void wind_probe_sample(const wind_grid *w, const wind_probe *pr, int i0, int i1,
                    pr->t[a][2], i0, i1, v + a);
     }
 }
+
+static int cmp_uptr(const void *a, const void *b)
+{
+    const uintptr_t x = *(const uintptr_t *)a, y = *(const uintptr_t *)b;
+    return (x > y) - (x < y);
+}
+
+int wind_probe_lines(const wind_grid *w, const wind_probe *pr, int i0, int i1, size_t *lines,
+                     gale_err *err)
+{
+    i0 = i0 < 0 ? 0 : i0;
+    i1 = i1 > pr->n ? pr->n : i1;
+    *lines = 0;
+    if (i1 <= i0) {
+        return 0;
+    }
+    /* every sample's line, sorted, counted once each */
+    enum { READS = 3 * 8 };
+    const size_t n = (size_t)(i1 - i0) * READS;
+    uintptr_t *id = malloc(n * sizeof *id);
+    if (!id) {
+        return gale_errf(err, GALE_E_NOMEM, "wind_probe_lines: no memory for %zu reads", n);
+    }
+    size_t m = 0;
+    for (int a = 0; a < 3; a++) {
+        const wind_comp *c = &w->c[a];
+        const float *d = wind_comp_read(c);
+        const size_t at[8] = { 0, 1, (size_t)c->sy, (size_t)c->sy + 1, (size_t)c->sz,
+                               (size_t)c->sz + 1, (size_t)(c->sz + c->sy),
+                               (size_t)(c->sz + c->sy) + 1 };
+        for (int i = i0; i < i1; i++) {
+            for (int s = 0; s < 8; s++) {
+                id[m++] = (uintptr_t)(d + (size_t)pr->o[a][i] + at[s]) / 64u;
+            }
+        }
+    }
+    qsort(id, n, sizeof *id, cmp_uptr);
+    size_t count = 1;
+    for (size_t k = 1; k < n; k++) {
+        count += id[k] != id[k - 1];
+    }
+    free(id);
+    *lines = count;
+    return 0;
+}
