@@ -2,8 +2,9 @@
  * modal tick: the force grows as U^(2+B) between U_0 and the fit's top, as U² below U_0,
  * as U² again above the top with "hold"; a tree's drag factor scales its force; the
  * shipped species carry their Vogel exponents, and a bad "drag" section is refused by
- * key path. */
+ * key path. drag_pow against pow, and the tick's force scale against drag_law_scale. */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "check.h"
@@ -109,8 +110,82 @@ static void test_species_files(void)
     CHECK_STR_HAS(e.msg, "drag.fit_max_ms");
 }
 
+/* drag_pow against double pow: x from 1 to 2^16 (every float in [1, 1 + 2^-10], then a
+ * dense geometric sweep) and B over [-1.5, 0]: within 5e-7, exactly 1 at x = 1 or B = 0
+ * (continuous at U_0), and never rising with x for B < 0. */
+static void test_pow_accuracy(void)
+{
+    double worst = 0.0;
+    int bad_one = 0, rising = 0;
+    for (int kb = 0; kb <= 60; kb++) {
+        const float b = -1.5f * (float)kb / 60.0f;
+        float last = 2.0f;
+        for (int i = 0; i < 200000; i++) {
+            const float x = i < 8192 ? 1.0f + (float)i * 0x1p-23f
+                                     : (float)pow(2.0, 16.0 * (i - 8192) / (200000.0 - 8192.0));
+            const float got = drag_pow(x, b);
+            const double want = pow((double)x, (double)b);
+            worst = fmax(worst, fabs((double)got - want) / want);
+            rising += b < 0.0f && i != 8192 && got > last; /* the sweep starts again at 1 */
+            last = got;
+        }
+        bad_one += drag_pow(1.0f, b) != 1.0f;
+        bad_one += drag_pow(3.7f, 0.0f) != 1.0f;
+    }
+    CHECK(worst <= 5e-7);
+    CHECK(bad_one == 0);
+    CHECK(rising == 0);
+    fprintf(stderr, "  drag_pow: worst relative error %.2e, %d steps up\n", worst, rising);
+}
+
+/* The tick's force scale (the block's powers in vectors) is drag_law_scale's, float for
+ * float, for trees of two species over speeds across U_0 and the fit's top, in a count
+ * that leaves a partial block. */
+static void test_tick_scale(void)
+{
+    enum { NT = 203 };
+    const float omega[2] = { 3.0f, 4.0f }, gamma[2] = { 0.2f, 0.2f };
+    const float p[6] = { 0.7f, 0.1f, 0.0f, 0.5f, 0.2f, 0.1f }, step[2] = { 1e-4f, 1e-4f };
+    const modal_species sp[2] = { { .n_modes = 1, .omega = omega, .gamma = gamma,
+                                    .wind_basis = p, .qstep = step },
+                                  { .n_modes = 1, .omega = omega + 1, .gamma = gamma + 1,
+                                    .wind_basis = p + 3, .qstep = step + 1 } };
+    const drag_law dl[2] = { { .vogel_b = -0.85f, .u0_ms = 10.0f, .fit_max_ms = 25.0f,
+                               .hold_above_fit = 1 },
+                             { .vogel_b = -0.6f, .u0_ms = 8.0f, .fit_max_ms = 30.0f } };
+    uint8_t ts[NT];
+    static float wind[3 * NT];
+    for (int t = 0; t < NT; t++) {
+        ts[t] = (uint8_t)(t % 3 == 0);
+        const float u = 0.37f * (float)t;
+        wind[3 * t] = 0.8f * u;
+        wind[3 * t + 1] = -0.6f * u;
+        wind[3 * t + 2] = 0.01f * u;
+    }
+    gale_err e;
+    modal *m = modal_create(&(modal_desc){ .n_trees = NT, .n_species = 2, .species = sp,
+                                           .tree_species = ts, .species_drag = dl,
+                                           .dt_s = 0.01, .n_threads = 1 },
+                            &e);
+    CHECK(m != NULL);
+    if (!m) {
+        return;
+    }
+    modal_tick(m, wind, NULL);
+    int differ = 0;
+    for (int t = 0; t < NT; t++) {
+        const float *w = wind + 3 * t;
+        const float u = sqrtf(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+        differ += modal_force_scale(m, (uint32_t)t) != u * drag_law_scale(&dl[ts[t]], u);
+    }
+    CHECK(differ == 0);
+    modal_destroy(m);
+}
+
 int main(void)
 {
+    RUN(test_pow_accuracy);
+    RUN(test_tick_scale);
     RUN(test_exponent);
     RUN(test_rigid_below_u0_and_hold);
     RUN(test_tree_factor);

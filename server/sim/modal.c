@@ -43,7 +43,7 @@ struct modal {
     float *qnorm2;           /* owned: [n_trees] Σ q_i² after the last tick (damage.h screens
                                 with it without reading the state) */
     float *force_scale;      /* owned: [n_trees] s(U) k_t |v| of the last tick (damage.h forms
-                                the tick's force vector from it without a second powf) */
+                                the tick's force vector from it without a second power) */
 };
 
 modal *modal_create(const modal_desc *d, gale_err *err)
@@ -250,19 +250,23 @@ static inline float lanes_sum(const float *restrict sq)
     return (s4[0] + s4[2]) + (s4[1] + s4[3]);
 }
 
-/* Trees [t0, t1): wind into the tree frame, then each group of modes. Cloned for AVX-512
- * and AVX2 (chosen at load time by the CPU); the default build targets SSE4.2.
- * -std=c11 leaves floating-point contraction off, so every clone rounds alike. */
-__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-static void range_tick(modal *m, uint32_t t0, uint32_t t1, const float *wind_world,
-                       int16_t *qsnap)
+/* Trees whose wind a block turns into the tree frame and force scale before their modes. */
+#define FRAME_BLOCK 64u
+
+/* The wind of trees [t0, t1) (t1 - t0 <= FRAME_BLOCK) in each tree's frame (vx, vy, vz)
+ * and its force scale sv, and sv kept for damage.h: the drag law's powers of the whole
+ * block in one loop of float arithmetic, which vectorises (drag_pow). */
+static inline __attribute__((always_inline)) void
+    block_frame(modal *m, uint32_t t0, uint32_t t1, const float *wind_world, float *vx, float *vy,
+                float *vz, float *sv)
 {
-    const uint32_t pad = m->pad, stride = m->stride;
-    int16_t qq[WIRE_MAX_MODES];
-    for (uint32_t t = t0; t < t1; t++) {
-        float wx = wind_world[3 * (size_t)t];
-        float wy = wind_world[3 * (size_t)t + 1];
-        float wz = wind_world[3 * (size_t)t + 2];
+    float u[FRAME_BLOCK], x[FRAME_BLOCK], e[FRAME_BLOCK];
+    const uint32_t n = t1 - t0;
+    for (uint32_t b = 0; b < n; b++) {
+        const size_t t = (size_t)t0 + b;
+        float wx = wind_world[3 * t];
+        float wy = wind_world[3 * t + 1];
+        float wz = wind_world[3 * t + 2];
         /* A non-finite or absurd sample (> 1 km/s) would poison the state for good:
          * treat it as calm air for this tick. */
         if (!(wx * wx + wy * wy + wz * wz <= 1.0e6f)) {
@@ -270,25 +274,58 @@ static void range_tick(modal *m, uint32_t t0, uint32_t t1, const float *wind_wor
         }
         /* World -> tree frame: rotate by -yaw about z (the tree's yaw maps tree to world). */
         const float cy = m->cos_yaw[t], sy = m->sin_yaw[t];
-        const float vx = cy * wx + sy * wy;
-        const float vy = -sy * wx + cy * wy;
-        const float u = sqrtf(wx * wx + wy * wy + wz * wz);
-        const modal_sp *sp = &m->sp[m->tree_species[t]];
-        /* f_i = C_d(U)/C_d0 · mult · |v| v·p_i: the crown's streamlining (drag_law.h) and
-         * the tree's own factor (modal_set_drag_mult) scale the whole force */
-        const float sv = u * drag_law_scale(&sp->drag, u) * m->drag_mult[t];
-        float *q = m->state + (size_t)t * 2 * pad;
-        /* When the row is exactly the padded modes (16, 32, 64), quantise straight into
-         * the snapshot; otherwise into qq and copy the row's part. */
-        int16_t *out = qsnap && pad == stride ? qsnap + (size_t)t * stride : qq;
-        float sq[MODE_PAD] = { 0 };
-        for (uint32_t g = 0; g < pad; g += MODE_PAD) {
-            modes_step(sp, g, vx, vy, wz, sv, q + g, q + pad + g, out + g, sq);
-        }
-        m->qnorm2[t] = lanes_sum(sq);
-        m->force_scale[t] = sv;
-        if (qsnap && out == qq) {
-            memcpy(qsnap + (size_t)t * stride, qq, stride * sizeof(int16_t));
+        vx[b] = cy * wx + sy * wy;
+        vy[b] = -sy * wx + cy * wy;
+        vz[b] = wz;
+        u[b] = sqrtf(wx * wx + wy * wy + wz * wz);
+        drag_law_args(&m->sp[m->tree_species[t]].drag, u[b], &x[b], &e[b]);
+    }
+    for (uint32_t b = n; b < FRAME_BLOCK; b++) {
+        x[b] = 1.0f; /* a whole block, so the powers run in whole vectors */
+        e[b] = 0.0f;
+    }
+    for (uint32_t b = 0; b < FRAME_BLOCK; b++) {
+        x[b] = drag_pow(x[b], e[b]);
+    }
+    /* f_i = C_d(U)/C_d0 · mult · |v| v·p_i: the crown's streamlining (drag_law.h) and the
+     * tree's own factor (modal_set_drag_mult) scale the whole force */
+    const float *restrict mult = m->drag_mult + t0;
+    float *restrict kept = m->force_scale + t0;
+    for (uint32_t b = 0; b < n; b++) {
+        sv[b] = u[b] * x[b] * mult[b];
+        kept[b] = sv[b];
+    }
+}
+
+/* Trees [t0, t1), a block at a time: wind into the tree frame (block_frame), then each
+ * tree's groups of modes. Cloned for AVX-512 and AVX2 (chosen at load time by the CPU);
+ * the default build targets SSE4.2. -std=c11 leaves floating-point contraction off, so
+ * every clone rounds alike. */
+__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+static void range_tick(modal *m, uint32_t t0, uint32_t t1, const float *wind_world,
+                       int16_t *qsnap)
+{
+    const uint32_t pad = m->pad, stride = m->stride;
+    int16_t qq[WIRE_MAX_MODES];
+    float vx[FRAME_BLOCK], vy[FRAME_BLOCK], vz[FRAME_BLOCK], sv[FRAME_BLOCK];
+    for (uint32_t b0 = t0; b0 < t1; b0 += FRAME_BLOCK) {
+        const uint32_t b1 = t1 - b0 < FRAME_BLOCK ? t1 : b0 + FRAME_BLOCK;
+        block_frame(m, b0, b1, wind_world, vx, vy, vz, sv);
+        for (uint32_t t = b0; t < b1; t++) {
+            const uint32_t b = t - b0;
+            const modal_sp *sp = &m->sp[m->tree_species[t]];
+            float *q = m->state + (size_t)t * 2 * pad;
+            /* When the row is exactly the padded modes (16, 32, 64), quantise straight
+             * into the snapshot; otherwise into qq and copy the row's part. */
+            int16_t *out = qsnap && pad == stride ? qsnap + (size_t)t * stride : qq;
+            float sq[MODE_PAD] = { 0 };
+            for (uint32_t g = 0; g < pad; g += MODE_PAD) {
+                modes_step(sp, g, vx[b], vy[b], vz[b], sv[b], q + g, q + pad + g, out + g, sq);
+            }
+            m->qnorm2[t] = lanes_sum(sq);
+            if (qsnap && out == qq) {
+                memcpy(qsnap + (size_t)t * stride, qq, stride * sizeof(int16_t));
+            }
         }
     }
 }
