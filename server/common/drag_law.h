@@ -55,30 +55,34 @@ static inline float drag_pow(float x, float b)
     return y > -126.0 ? r : 0.0f;
 }
 
-/* The base x and exponent b with C_d(U) / C_d0 = drag_pow(x, b) at wind speed u_ms:
- * x = 1, b = 0 (a scale of exactly 1) for B = 0, a non-positive U_0 or U <= U_0. Apart
- * from drag_pow so a loop over many trees can take the powers in vectors. */
-static inline void drag_law_args(const drag_law *d, float u_ms, float *x, float *b)
+/* The terms of C_d(U) / C_d0 = drag_pow(drag_base(U, u0, cap), b) that do not depend on
+ * U: U_0, the cap on U (the fit's top with "hold", else none) and B; u0 = cap = 1, b = 0
+ * (a scale of exactly 1) for B = 0 or a non-positive U_0. */
+static inline void drag_law_terms(const drag_law *d, float *u0, float *cap, float *b)
 {
-    *x = 1.0f;
-    *b = 0.0f;
-    if (!(d->vogel_b < 0.0f) || !(d->u0_ms > 0.0f) || !(u_ms > d->u0_ms)) {
-        return;
-    }
-    float u = u_ms;
-    if (d->hold_above_fit && d->fit_max_ms > d->u0_ms && u > d->fit_max_ms) {
-        u = d->fit_max_ms;
-    }
-    *x = u / d->u0_ms;
-    *b = d->vogel_b;
+    const int on = d->vogel_b < 0.0f && d->u0_ms > 0.0f;
+    *u0 = on ? d->u0_ms : 1.0f;
+    *cap = !on ? 1.0f : d->hold_above_fit && d->fit_max_ms > d->u0_ms ? d->fit_max_ms : INFINITY;
+    *b = on ? d->vogel_b : 0.0f;
+}
+
+/* The base max(U, U_0) / U_0, U capped at cap: exactly 1 at U <= U_0 (and for a NaN U).
+ * A max and a min where branches would do, so a loop over many trees takes it in vectors:
+ * over a forest U crosses U_0 and the fit's top from tree to tree, and a branch on it is
+ * guessed wrong about as often as right. */
+static inline float drag_base(float u_ms, float u0, float cap)
+{
+    float u = u_ms > u0 ? u_ms : u0;
+    u = u < cap ? u : cap;
+    return u / u0;
 }
 
 /* C_d(U) / C_d0 at wind speed u_ms; 1 for B = 0 or a non-positive U_0. */
 static inline float drag_law_scale(const drag_law *d, float u_ms)
 {
-    float x, b;
-    drag_law_args(d, u_ms, &x, &b);
-    return drag_pow(x, b);
+    float u0, cap, b;
+    drag_law_terms(d, &u0, &cap, &b);
+    return drag_pow(drag_base(u_ms, u0, cap), b);
 }
 
 #endif

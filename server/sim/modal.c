@@ -28,6 +28,8 @@ typedef struct modal_sp {
     float *px, *py, *pz;                     /* wind basis p_i, tree frame */
     float *inv_step;                         /* 1 / quantisation step; 0 in padding */
     drag_law drag;                           /* streamlining (PHYSICS.md "Streamlining") */
+    float drag_u0, drag_cap, drag_b;         /* its terms that do not depend on U
+                                                (drag_law_terms) */
 } modal_sp;
 
 struct modal {
@@ -90,6 +92,7 @@ modal *modal_create(const modal_desc *d, gale_err *err)
         if (d->species_drag) {
             m->sp[s].drag = d->species_drag[s];
         }
+        drag_law_terms(&m->sp[s].drag, &m->sp[s].drag_u0, &m->sp[s].drag_cap, &m->sp[s].drag_b);
         m->stride = in->n_modes > m->stride ? in->n_modes : m->stride;
     }
     m->pad = (m->stride + MODE_PAD - 1) / MODE_PAD * MODE_PAD;
@@ -260,7 +263,7 @@ static inline __attribute__((always_inline)) void
     block_frame(modal *m, uint32_t t0, uint32_t t1, const float *wind_world, float *vx, float *vy,
                 float *vz, float *sv)
 {
-    float u[FRAME_BLOCK], x[FRAME_BLOCK], e[FRAME_BLOCK];
+    float u[FRAME_BLOCK], u0[FRAME_BLOCK], cap[FRAME_BLOCK], e[FRAME_BLOCK];
     const uint32_t n = t1 - t0;
     for (uint32_t b = 0; b < n; b++) {
         const size_t t = (size_t)t0 + b;
@@ -278,14 +281,18 @@ static inline __attribute__((always_inline)) void
         vy[b] = -sy * wx + cy * wy;
         vz[b] = wz;
         u[b] = sqrtf(wx * wx + wy * wy + wz * wz);
-        drag_law_args(&m->sp[m->tree_species[t]].drag, u[b], &x[b], &e[b]);
+        const modal_sp *sp = &m->sp[m->tree_species[t]];
+        u0[b] = sp->drag_u0;
+        cap[b] = sp->drag_cap;
+        e[b] = sp->drag_b;
     }
     for (uint32_t b = n; b < FRAME_BLOCK; b++) {
-        x[b] = 1.0f; /* a whole block, so the powers run in whole vectors */
+        u[b] = u0[b] = cap[b] = 1.0f; /* a whole block, so the powers run in whole vectors */
         e[b] = 0.0f;
     }
+    float x[FRAME_BLOCK];
     for (uint32_t b = 0; b < FRAME_BLOCK; b++) {
-        x[b] = drag_pow(x[b], e[b]);
+        x[b] = drag_pow(drag_base(u[b], u0[b], cap[b]), e[b]);
     }
     /* f_i = C_d(U)/C_d0 · mult · |v| v·p_i: the crown's streamlining (drag_law.h) and the
      * tree's own factor (modal_set_drag_mult) scale the whole force */
