@@ -67,10 +67,11 @@ static int cmp_cell(const void *a, const void *b)
  * pass; the species constants and the padding lanes' coefficients are a few kB and stay
  * in cache, so they are not counted; write-allocate is not counted, as in the triad).
  * The grid lines the sampling reads are counted apart, per tick (wind_probe_lines): a
- * 2 m grid over 2 km is ~100 MB, larger than the caches and rewritten by every step. modal.c keeps each tree's q and q' as 2 x pad floats, pad
- * the modes rounded up to its 16-lane groups (MODE_PAD):
+ * 2 m grid over 2 km is ~100 MB, larger than the caches and rewritten by every step.
+ * modal.c keeps each tree's q and q' as 2 x pad floats, pad the modes rounded up to its
+ * 16-lane groups (MODE_PAD):
  *   sampling (wind_probe_sample, each tree once in `every` ticks): the stencil 48 read, wind 12
- *   written, amortised over the ticks (the grid's lines not counted, as above);
+ *   written, amortised over the ticks (the grid's lines apart, as above);
  *   update (modal_tick): wind 12, cos/sin of the yaw 8, species index 1 and the state
  *   8 pad read; the state 8 pad written, and with a snapshot the int16 row 2 modes. */
 typedef struct modal_bytes {
@@ -89,6 +90,14 @@ static modal_bytes modal_tree_bytes(int n_modes, int sample_every, bool snapshot
         b.written += 12.0 / sample_every;
     }
     return b;
+}
+
+/* The tick's bytes at least: the trees' (tb), the previous snapshot the encoder reads (2
+ * bytes a mode), the DELTA it writes (enc_per_tick) and the grid's lines (grid_bytes). */
+static double tick_model_bytes(const modal_bytes *tb, int n_trees, int n_modes,
+                               double enc_per_tick, double grid_bytes)
+{
+    return (tb->read + tb->written + 2.0 * n_modes) * n_trees + enc_per_tick + grid_bytes;
 }
 
 static double pct(double *v, int n, double p)
@@ -325,8 +334,7 @@ static void print_variant(const variant *v, int ticks, int n_trees, int n_modes,
     double p95_t = (memcpy(scratch, v->t_total, sizeof(double) * (size_t)ticks),
                     pct(scratch, ticks, 0.95));
     double enc_per_tick = (double)v->enc_bytes / ticks;
-    double tick_bytes =
-        (tb->read + tb->written + 2.0 * n_modes) * n_trees + enc_per_tick + grid_bytes;
+    double tick_bytes = tick_model_bytes(tb, n_trees, n_modes, enc_per_tick, grid_bytes);
     double tick_gbs = med_t > 0.0 ? tick_bytes / (med_t * 1e-3) / 1e9 : 0.0;
     printf("\"damage\":%s,\"tick_ms_median\":%.3f,\"tick_ms_p95\":%.3f,"
            "\"cpu_ms_per_tick_median\":%.3f,\"sample_ms_median\":%.3f,"
@@ -723,10 +731,8 @@ int bench_modal(int argc, char **argv)
         for (int i = 0; i < n_trees * n_modes; i += 97) {
             check += v->snap[i];
         }
-        /* the DELTA written and the previous snapshot read by the encoder come on top */
         const double enc_per_tick = (double)v->enc_bytes / ticks;
-        const double tick_bytes =
-            (tb.read + tb.written + 2.0 * n_modes) * n_trees + enc_per_tick + grid_bytes;
+        const double tick_bytes = tick_model_bytes(&tb, n_trees, n_modes, enc_per_tick, grid_bytes);
         const double upd_bytes = (ub.read + ub.written) * n_trees;
         const double tick_gbs = med_t > 0.0 ? tick_bytes / (med_t * 1e-3) / 1e9 : 0.0;
         const double upd_gbs = med_ns > 0.0 ? upd_bytes / (med_ns * 1e-3) / 1e9 : 0.0;

@@ -27,9 +27,9 @@ typedef struct modal_sp {
     float *a11, *a12, *a21, *a22, *b1, *b2; /* osc_exact per mode */
     float *px, *py, *pz;                     /* wind basis p_i, tree frame */
     float *inv_step;                         /* 1 / quantisation step; 0 in padding */
-    drag_law drag;                           /* streamlining (PHYSICS.md "Streamlining") */
-    float drag_u0, drag_cap, drag_b;         /* its terms that do not depend on U
-                                                (drag_law_terms) */
+    float drag_u0, drag_cap, drag_b;         /* the streamlining's terms that do not depend
+                                                on U (drag_law_terms; PHYSICS.md
+                                                "Streamlining") */
 } modal_sp;
 
 struct modal {
@@ -89,10 +89,9 @@ modal *modal_create(const modal_desc *d, gale_err *err)
             goto fail;
         }
         m->sp[s].n_modes = in->n_modes;
-        if (d->species_drag) {
-            m->sp[s].drag = d->species_drag[s];
-        }
-        drag_law_terms(&m->sp[s].drag, &m->sp[s].drag_u0, &m->sp[s].drag_cap, &m->sp[s].drag_b);
+        const drag_law rigid = { 0 };
+        drag_law_terms(d->species_drag ? &d->species_drag[s] : &rigid, &m->sp[s].drag_u0,
+                       &m->sp[s].drag_cap, &m->sp[s].drag_b);
         m->stride = in->n_modes > m->stride ? in->n_modes : m->stride;
     }
     m->pad = (m->stride + MODE_PAD - 1) / MODE_PAD * MODE_PAD;
