@@ -1,7 +1,7 @@
 #!/bin/sh
 # /metrics of the real gale-server passes `promtool check metrics` (Prometheus's own
 # linter: base units, _total counters, histogram families), and carries the tick-time
-# histogram and gale_build_info (server/SERVER.md "Serving").
+# histogram, the recent ticks' summary and gale_build_info (server/SERVER.md "Serving").
 # Usage: test_metrics_promtool.sh GALE_SERVER PROMTOOL SOURCE_DIR (run in the build tree)
 set -eu
 server="$1"; promtool="$2"; src="$3"
@@ -27,5 +27,8 @@ curl -sf "http://127.0.0.1:$port/metrics" >promtool_metrics.txt
 "$promtool" check metrics <promtool_metrics.txt
 grep -q '^# TYPE gale_tick_seconds histogram$' promtool_metrics.txt
 grep -q '^gale_tick_seconds_bucket{le="+Inf"} [1-9]' promtool_metrics.txt
+grep -q '^# TYPE gale_tick_recent_seconds summary$' promtool_metrics.txt
+grep -q '^gale_tick_recent_seconds{quantile="0.99"} [0-9.]*$' promtool_metrics.txt
+grep -q '^gale_tick_recent_seconds_count [1-9]' promtool_metrics.txt
 grep -q '^gale_build_info{version="[0-9.]*",protocol="1"} 1$' promtool_metrics.txt
 echo "promtool: /metrics clean ($(grep -c '^gale_' promtool_metrics.txt) samples)"

@@ -1,6 +1,7 @@
 /* The metric registry (metric.h): Prometheus text byte for byte (HELP and TYPE once per
  * name, labels, fixed and significant digits, NaN and infinities), growth past the
- * first buffer, its limits; and the simulation's rows (sim_metrics.h) after a tick. */
+ * first buffer, its limits; and the simulation's rows (sim_metrics.h) after a tick, the
+ * recent ticks' quantiles over their window alone. */
 #include "check.h"
 #include "metric.h"
 #include "sim_metrics.h"
@@ -118,27 +119,79 @@ static void test_sim_rows(void)
     memset(&r, 0, sizeof r);
     CHECK(sim_metrics_register(&m, &r, NULL) == 0);
     tick_stats ts = { .ms = 2.5, .wind_stepped = true, .wind_iters = 30, .wind_residual = 0.0125,
-                      .wind_unconverged = true };
+                      .wind_unconverged = true, .wind_step_ms = 3.25, .wind_wait_ms = 0.5 };
     CHECK(sim_metrics_tick(&m, 1, &ts) == 2500000u);
     ts = (tick_stats){ .ms = 1.0 }; /* no wind step: the solver gauges keep the last one */
     CHECK(sim_metrics_tick(&m, 2, &ts) == 1000000u);
+    /* a step beside the ticks done before its tick: no wait */
+    ts = (tick_stats){ .ms = 4.0, .wind_stepped = true, .wind_iters = 30,
+                       .wind_residual = 0.0125, .wind_step_ms = 1.0 };
+    CHECK(sim_metrics_tick(&m, 3, &ts) == 4000000u);
     CHECK(sim_metrics_overrun(&m) == 1);
-    CHECK(atomic_load(&m.current_tick) == 2);
+    CHECK(atomic_load(&m.current_tick) == 3);
     size_t len = 0;
     char *t = metric_reg_render(&r, &len);
     CHECK(t != NULL);
     if (t) {
-        CHECK_STR_HAS(t, "# TYPE gale_ticks_total counter\ngale_ticks_total 2\n");
-        CHECK_STR_HAS(t, "\ngale_tick_seconds_sum 0.003500\n");
-        CHECK_STR_HAS(t, "# TYPE gale_tick_seconds_max gauge\ngale_tick_seconds_max 0.002500\n");
+        CHECK_STR_HAS(t, "# TYPE gale_ticks_total counter\ngale_ticks_total 3\n");
+        CHECK_STR_HAS(t, "\ngale_tick_seconds_sum 0.007500\n");
+        CHECK_STR_HAS(t, "# TYPE gale_tick_seconds_max gauge\ngale_tick_seconds_max 0.004000\n");
         CHECK_STR_HAS(t, "\ngale_tick_overruns_total 1\n");
         CHECK_STR_HAS(t, "# TYPE gale_wind_pressure_iterations gauge\n"
                          "gale_wind_pressure_iterations 30\n");
         CHECK_STR_HAS(t, "\ngale_wind_pressure_residual 0.0125\n");
         CHECK_STR_HAS(t, "# TYPE gale_wind_pressure_unconverged_total counter\n"
                          "gale_wind_pressure_unconverged_total 1\n");
+        /* three ticks in the window: nearest ranks 2 and 3 */
+        CHECK_STR_HAS(t, "# TYPE gale_tick_recent_seconds summary\n"
+                         "gale_tick_recent_seconds{quantile=\"0.5\"} 0.002500\n"
+                         "gale_tick_recent_seconds{quantile=\"0.9\"} 0.004000\n");
+        CHECK_STR_HAS(t, "\ngale_tick_recent_seconds_sum 0.007500\n"
+                         "gale_tick_recent_seconds_count 3\n");
+        CHECK_STR_HAS(t, "\ngale_wind_steps_total 2\n");
+        CHECK_STR_HAS(t, "\ngale_wind_step_seconds_total 0.004250\n");
+        CHECK_STR_HAS(t, "\ngale_wind_step_seconds_max 0.003250\n");
+        CHECK_STR_HAS(t, "\ngale_wind_step_waits_total 1\n");
+        CHECK_STR_HAS(t, "\ngale_wind_step_wait_seconds_total 0.000500\n");
     }
     free(t);
+}
+
+/* gale_tick_recent_seconds covers the last SIM_RECENT_TICKS ticks alone: 1400 slow ticks,
+ * then 3600 of 1..3600 ms in a shuffled order, give the second set's quantiles by nearest
+ * rank (the 1800th, 3240th, 3564th and 3597th smallest) and its sum, not the slow ones. */
+static void test_recent_window(void)
+{
+    CHECK(SIM_RECENT_TICKS == 3600);
+    sim_metrics *m = calloc(1, sizeof *m);
+    metric_reg r;
+    memset(&r, 0, sizeof r);
+    CHECK(m && sim_metrics_register(m, &r, NULL) == 0);
+    if (!m) {
+        return;
+    }
+    uint32_t tick = 0;
+    for (int i = 0; i < 1400; i++) {
+        sim_metrics_tick(m, ++tick, &(tick_stats){ .ms = 100000.0 });
+    }
+    for (int i = 0; i < 3600; i++) {
+        const int ms = (i * 7) % 3600 + 1; /* 7 is prime to 3600: each of 1..3600 once */
+        sim_metrics_tick(m, ++tick, &(tick_stats){ .ms = ms });
+    }
+    size_t len = 0;
+    char *t = metric_reg_render(&r, &len);
+    CHECK(t != NULL);
+    if (t) {
+        CHECK_STR_HAS(t, "gale_tick_recent_seconds{quantile=\"0.5\"} 1.800000\n"
+                         "gale_tick_recent_seconds{quantile=\"0.9\"} 3.240000\n"
+                         "gale_tick_recent_seconds{quantile=\"0.99\"} 3.564000\n"
+                         "gale_tick_recent_seconds{quantile=\"0.999\"} 3.597000\n"
+                         "gale_tick_recent_seconds_sum 6481.800000\n"
+                         "gale_tick_recent_seconds_count 3600\n");
+        CHECK_STR_HAS(t, "\ngale_ticks_total 5000\n");
+    }
+    free(t);
+    free(m);
 }
 
 int main(void)
@@ -146,5 +199,6 @@ int main(void)
     RUN(test_render);
     RUN(test_growth_and_limits);
     RUN(test_sim_rows);
+    RUN(test_recent_window);
     return check_report();
 }

@@ -3,9 +3,11 @@
  * above the calm threshold. */
 #include "check.h"
 #include "tick.h"
+#include "wind_worker.h"
 
 #include <math.h>
 #include <stdlib.h>
+#include <time.h>
 
 static scene one_tree(float yaw_rad, float u10)
 {
@@ -492,6 +494,45 @@ static void test_probe_same_tick(void)
     }
 }
 
+static int sleepy_step(void *ctx, float dt_s, wind_step_stats *st)
+{
+    (void)dt_s;
+    (void)st;
+    const long ms = *(const long *)ctx;
+    nanosleep(&(struct timespec){ .tv_sec = ms / 1000, .tv_nsec = ms % 1000 * 1000000L },
+              NULL);
+    return 0;
+}
+
+/* What a join reports: a step of at least 50 ms on the worker's thread joined at once is
+ * waited for, and one joined after it ended is not; either way the step's own time is
+ * at least its sleep. Run in the join (no thread), the step is the join's, not a wait. */
+static void test_worker_times(void)
+{
+    long step_ms = 50;
+    for (int own = 0; own < 2; own++) {
+        wind_worker *w = wind_worker_create(sleepy_step, &step_ms, own, NULL);
+        CHECK(w != NULL);
+        if (!w) {
+            continue;
+        }
+        wind_join_times jt = { 0 };
+        wind_worker_launch(w, 0.1f);
+        CHECK(wind_worker_join(w, NULL, &jt) == 0);
+        CHECK(jt.step_ms >= 49.0 && jt.ms >= jt.step_ms - 1.0);
+        CHECK(own ? jt.wait_ms > 25.0 && jt.wait_ms <= jt.ms : jt.wait_ms == 0.0);
+        wind_worker_launch(w, 0.1f);
+        nanosleep(&(struct timespec){ .tv_nsec = 150000000L }, NULL);
+        CHECK(wind_worker_join(w, NULL, &jt) == 0);
+        CHECK(jt.step_ms >= 49.0);
+        CHECK(jt.wait_ms == 0.0);
+        CHECK(own || jt.ms >= 49.0);
+        CHECK(wind_worker_join(w, NULL, &jt) == 0); /* none launched: nothing taken */
+        CHECK(jt.step_ms == 0.0 && jt.wait_ms == 0.0);
+        wind_worker_destroy(w);
+    }
+}
+
 int main(void)
 {
     RUN(test_step_response);
@@ -500,5 +541,6 @@ int main(void)
     RUN(test_leaves_and_errors);
     RUN(test_threads_same_tick);
     RUN(test_probe_same_tick);
+    RUN(test_worker_times);
     return check_report();
 }

@@ -55,6 +55,12 @@ static void put_value(metric_buf *m, double v, int digits)
     }
 }
 
+static int has_suffix(const char *s, const char *suffix)
+{
+    const size_t n = strlen(s), k = strlen(suffix);
+    return n > k && strcmp(s + n - k, suffix) == 0;
+}
+
 int metric_reg_add(metric_reg *r, const metric_row *rows, int n_rows, metric_fill_fn fill,
                    void *ctx, gale_err *err)
 {
@@ -89,18 +95,24 @@ char *metric_reg_render(const metric_reg *r, size_t *len)
         t->fill(t->ctx, v);
         for (int i = 0; i < t->n_rows; i++) {
             const metric_row *row = &t->rows[i];
-            /* a histogram's family is its rows' name less _bucket, _sum or _count */
+            /* a histogram's family is its rows' name less _bucket, _sum or _count; a
+               summary's, less _sum or _count (its quantiles carry the family's name) */
             size_t flen = strlen(row->name);
             if (row->type == METRIC_HISTOGRAM) {
                 const char *u = strrchr(row->name, '_');
                 flen = u ? (size_t)(u - row->name) : flen;
+            } else if (row->type == METRIC_SUMMARY) {
+                flen -= has_suffix(row->name, "_sum")     ? 4
+                        : has_suffix(row->name, "_count") ? 6
+                                                          : 0;
             }
             if (!family || strlen(family) != flen || strncmp(family, row->name, flen)) {
                 buf_printf(&m, "# HELP %.*s %s\n# TYPE %.*s %s\n", (int)flen, row->name,
                            row->help, (int)flen, row->name,
-                           row->type == METRIC_COUNTER ? "counter"
-                           : row->type == METRIC_GAUGE ? "gauge"
-                                                       : "histogram");
+                           row->type == METRIC_COUNTER     ? "counter"
+                           : row->type == METRIC_GAUGE     ? "gauge"
+                           : row->type == METRIC_HISTOGRAM ? "histogram"
+                                                           : "summary");
                 snprintf(family_buf, sizeof family_buf, "%.*s", (int)flen, row->name);
                 family = family_buf;
             }

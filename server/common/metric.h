@@ -12,9 +12,15 @@
 #define METRIC_MAX_ROWS 32   /* rows of one table (one fill call writes them all) */
 
 /* METRIC_HISTOGRAM: a row of a histogram family, named <family>_bucket (with an le label,
- * cumulative), <family>_sum or <family>_count; HELP and TYPE are written once for the
- * family. */
-typedef enum metric_type { METRIC_COUNTER, METRIC_GAUGE, METRIC_HISTOGRAM } metric_type;
+ * cumulative), <family>_sum or <family>_count; METRIC_SUMMARY: a row of a summary family,
+ * named <family> (with a quantile label), <family>_sum or <family>_count. HELP and TYPE
+ * are written once for the family. */
+typedef enum metric_type {
+    METRIC_COUNTER,
+    METRIC_GAUGE,
+    METRIC_HISTOGRAM,
+    METRIC_SUMMARY
+} metric_type;
 
 /* One sample. Rows of one name must follow each other: the first of them carries the
  * HELP and TYPE lines for all. */

@@ -133,11 +133,12 @@ void *srv_loop(void *arg)
             }
             if (s->olog_n++ < SRV_OVERRUN_LOG_PER_S) {
                 fprintf(stderr,
-                        "gale-server: tick %u overran: work %.2f ms (wind %.2f ms, %d pressure "
-                        "iterations) of a %.2f ms budget, finished %.2f ms after the next tick "
-                        "was due; %llu overruns\n",
-                        tick, ts.ms, ts.wind_ms, ts.wind_iters, dt * 1e3, (double)v.late_ns * 1e-6,
-                        k);
+                        "gale-server: tick %u overran: work %.2f ms (wind %.2f ms, of it %.2f "
+                        "waiting for the step beside the ticks; %d pressure iterations) of a "
+                        "%.2f ms budget, finished %.2f ms after the next tick was due; %llu "
+                        "overruns\n",
+                        tick, ts.ms, ts.wind_ms, ts.wind_wait_ms, ts.wind_iters, dt * 1e3,
+                        (double)v.late_ns * 1e-6, k);
             }
         }
         if (v.wait) {

@@ -1,8 +1,12 @@
 /* The simulation's metrics: see sim_metrics.h. */
 #include "sim_metrics.h"
 
+#include <math.h>
+#include <stdlib.h>
+
 const double sim_tick_bucket_s[SIM_TICK_BUCKETS - 1] = { 0.0005, 0.001, 0.002, 0.004,
                                                           0.008,  0.016, 0.032, 0.064 };
+const double sim_recent_quantile[SIM_RECENT_QUANTILES] = { 0.5, 0.9, 0.99, 0.999 };
 
 static const metric_row sim_rows[] = {
     { "gale_ticks_total", NULL, "Simulation ticks run.", METRIC_COUNTER, 0 },
@@ -19,8 +23,23 @@ static const metric_row sim_rows[] = {
     { "gale_tick_seconds_sum", NULL, "", METRIC_HISTOGRAM, 6 },
     { "gale_tick_seconds_count", NULL, "", METRIC_HISTOGRAM, 0 },
     { "gale_tick_seconds_max", NULL, "Longest tick.", METRIC_GAUGE, 6 },
+    { "gale_tick_recent_seconds", "quantile=\"0.5\"",
+      "Wall time of the last 3600 ticks' work (a minute at 60 Hz).", METRIC_SUMMARY, 6 },
+    { "gale_tick_recent_seconds", "quantile=\"0.9\"", "", METRIC_SUMMARY, 6 },
+    { "gale_tick_recent_seconds", "quantile=\"0.99\"", "", METRIC_SUMMARY, 6 },
+    { "gale_tick_recent_seconds", "quantile=\"0.999\"", "", METRIC_SUMMARY, 6 },
+    { "gale_tick_recent_seconds_sum", NULL, "", METRIC_SUMMARY, 6 },
+    { "gale_tick_recent_seconds_count", NULL, "", METRIC_SUMMARY, 0 },
     { "gale_tick_overruns_total", NULL, "Ticks that ended after the next one was due.",
       METRIC_COUNTER, 0 },
+    { "gale_wind_steps_total", NULL, "Wind grid steps taken.", METRIC_COUNTER, 0 },
+    { "gale_wind_step_seconds_total", NULL,
+      "Wall time of the wind steps, beside the ticks or in them.", METRIC_COUNTER, 6 },
+    { "gale_wind_step_seconds_max", NULL, "Longest wind step.", METRIC_GAUGE, 6 },
+    { "gale_wind_step_waits_total", NULL,
+      "Ticks held up by a wind step beside the ticks not yet done.", METRIC_COUNTER, 0 },
+    { "gale_wind_step_wait_seconds_total", NULL, "Time those ticks waited for it.",
+      METRIC_COUNTER, 6 },
     { "gale_wind_pressure_iterations", NULL,
       "Pressure solver iterations of the last wind step (0 without the wind grid).",
       METRIC_GAUGE, 0 },
@@ -31,6 +50,32 @@ static const metric_row sim_rows[] = {
       "Wind steps whose pressure solve ran out of its iteration budget above its tolerance.",
       METRIC_COUNTER, 0 },
 };
+
+static int cmp_u32(const void *a, const void *b)
+{
+    const uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* The recent ticks' quantiles (nearest rank), sum and count [s] into v[0..5]. */
+static void recent_fill(sim_metrics *m, double *v)
+{
+    uint32_t us[SIM_RECENT_TICKS];
+    const unsigned long long ticks = atomic_load(&m->ticks);
+    const int n = ticks < SIM_RECENT_TICKS ? (int)ticks : SIM_RECENT_TICKS;
+    double sum = 0.0;
+    for (int i = 0; i < n; i++) {
+        us[i] = atomic_load_explicit(&m->recent_us[i], memory_order_relaxed);
+        sum += us[i];
+    }
+    qsort(us, (size_t)n, sizeof us[0], cmp_u32);
+    for (int q = 0; q < SIM_RECENT_QUANTILES; q++) {
+        const int rank = (int)ceil(sim_recent_quantile[q] * n); /* 1-based */
+        v[q] = n ? (double)us[rank > 0 ? rank - 1 : 0] * 1e-6 : (double)NAN;
+    }
+    v[SIM_RECENT_QUANTILES] = sum * 1e-6;
+    v[SIM_RECENT_QUANTILES + 1] = n;
+}
 
 static void sim_fill(void *ctx, double *v)
 {
@@ -45,17 +90,27 @@ static void sim_fill(void *ctx, double *v)
     v[h] = (double)atomic_load(&m->tick_ns_sum) * 1e-9;
     v[h + 1] = below;
     v[h + 2] = (double)atomic_load(&m->tick_ns_max) * 1e-9;
-    v[h + 3] = (double)atomic_load(&m->overruns);
-    v[h + 4] = (double)atomic_load(&m->wind_iterations);
-    v[h + 5] = atomic_load(&m->wind_residual);
-    v[h + 6] = (double)atomic_load(&m->wind_unconverged);
+    recent_fill(m, &v[h + 3]);
+    const int o = h + 3 + SIM_RECENT_QUANTILES + 2;
+    v[o] = (double)atomic_load(&m->overruns);
+    v[o + 1] = (double)atomic_load(&m->wind_steps);
+    v[o + 2] = (double)atomic_load(&m->wind_step_ns_sum) * 1e-9;
+    v[o + 3] = (double)atomic_load(&m->wind_step_ns_max) * 1e-9;
+    v[o + 4] = (double)atomic_load(&m->wind_waits);
+    v[o + 5] = (double)atomic_load(&m->wind_wait_ns_sum) * 1e-9;
+    v[o + 6] = (double)atomic_load(&m->wind_iterations);
+    v[o + 7] = atomic_load(&m->wind_residual);
+    v[o + 8] = (double)atomic_load(&m->wind_unconverged);
 }
 
 uint64_t sim_metrics_tick(sim_metrics *m, uint32_t tick, const tick_stats *st)
 {
     uint64_t ns = (uint64_t)(st->ms * 1e6);
     atomic_store(&m->current_tick, tick);
-    atomic_fetch_add(&m->ticks, 1);
+    const unsigned long long k = atomic_fetch_add(&m->ticks, 1);
+    const double us = st->ms * 1e3 + 0.5;
+    atomic_store_explicit(&m->recent_us[k % SIM_RECENT_TICKS],
+                          us < 4e9 ? (uint32_t)us : UINT32_MAX, memory_order_relaxed);
     atomic_fetch_add(&m->tick_ns_sum, ns);
     int b = 0;
     while (b < SIM_TICK_BUCKETS - 1 && (double)ns * 1e-9 > sim_tick_bucket_s[b]) {
@@ -66,6 +121,16 @@ uint64_t sim_metrics_tick(sim_metrics *m, uint32_t tick, const tick_stats *st)
         atomic_store(&m->tick_ns_max, ns);
     }
     if (st->wind_stepped) {
+        const uint64_t step_ns = (uint64_t)(st->wind_step_ms * 1e6);
+        atomic_fetch_add(&m->wind_steps, 1);
+        atomic_fetch_add(&m->wind_step_ns_sum, step_ns);
+        if (step_ns > atomic_load(&m->wind_step_ns_max)) {
+            atomic_store(&m->wind_step_ns_max, step_ns);
+        }
+        if (st->wind_wait_ms > 0.0) {
+            atomic_fetch_add(&m->wind_waits, 1);
+            atomic_fetch_add(&m->wind_wait_ns_sum, (uint64_t)(st->wind_wait_ms * 1e6));
+        }
         atomic_store(&m->wind_iterations, st->wind_iters);
         atomic_store(&m->wind_residual, st->wind_residual);
         if (st->wind_unconverged) {

@@ -422,8 +422,8 @@ static int step_ahead(tick_sim *t, const wind_inflow *in, int every, tick_stats 
         t->step_inflow_stale = false;
     }
     wind_step_stats ws = { 0 };
-    double ms = 0.0;
-    const int rc = wind_worker_join(t->worker, &ws, &ms);
+    wind_join_times jt = { 0 };
+    const int rc = wind_worker_join(t->worker, &ws, &jt);
     t->launched = false;
     if (rc) {
         return step_failed(t, err);
@@ -440,7 +440,9 @@ static int step_ahead(tick_sim *t, const wind_inflow *in, int every, tick_stats 
     add_balls(t);
     wind_worker_launch(t->worker, dt_s);
     t->launched = true;
-    local->wind_ms = ms + (mono_ms() - p0);
+    local->wind_ms = jt.ms + (mono_ms() - p0);
+    local->wind_wait_ms = jt.wait_ms;
+    local->wind_step_ms = jt.step_ms;
     return 0;
 }
 
@@ -485,6 +487,7 @@ int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
                 double w0 = mono_ms();
                 const int step_rc = wd->step(wd->ctx, t->dt_s * (float)every, &ws);
                 local.wind_ms = mono_ms() - w0;
+                local.wind_step_ms = local.wind_ms;
                 if (step_rc) {
                     return step_failed(t, err);
                 }

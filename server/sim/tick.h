@@ -76,6 +76,9 @@ typedef struct tick_stats {
     double ms;             /* wall time of this tick */
     double wind_ms;        /* of which the wind step: running it, or waiting for the one
                               beside the ticks, and copying its field */
+    double wind_wait_ms;   /* of wind_ms: waiting for a step beside the ticks not yet done */
+    double wind_step_ms;   /* the step taken this tick: its own wall time, beside the ticks
+                              or in this one */
     bool wind_stepped;     /* the wind grid stepped this tick, or a step beside the ticks was
                               taken (the wind fields below are set, of that step) */
     int wind_iters;        /* pressure iterations of the wind step, 0 if none this tick */

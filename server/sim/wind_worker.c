@@ -19,6 +19,7 @@ struct wind_worker {
     bool running; /* launched and not yet done */
     bool quit;
     float dt_s;
+    double step_ms; /* the last step's wall time */
     int rc;
     wind_step_stats st;
 };
@@ -43,8 +44,11 @@ static void *worker_main(void *arg)
         const float dt_s = w->dt_s;
         pthread_mutex_unlock(&w->lock);
         wind_step_stats st = { 0 };
+        const double t0 = mono_ms();
         const int rc = w->step(w->ctx, dt_s, &st);
+        const double step_ms = mono_ms() - t0;
         pthread_mutex_lock(&w->lock);
+        w->step_ms = step_ms;
         w->st = st;
         w->rc = rc;
         w->running = false;
@@ -109,28 +113,39 @@ void wind_worker_launch(wind_worker *w, float dt_s)
     pthread_mutex_unlock(&w->lock);
 }
 
-int wind_worker_join(wind_worker *w, wind_step_stats *st, double *ms)
+int wind_worker_join(wind_worker *w, wind_step_stats *st, wind_join_times *times)
 {
     const double t0 = mono_ms();
     if (!w->own_thread && w->due) {
         w->due = false;
         w->st = (wind_step_stats){ 0 };
         w->rc = w->step(w->ctx, w->dt_s, &w->st);
+        w->step_ms = mono_ms() - t0;
         w->running = false;
     }
     pthread_mutex_lock(&w->lock);
-    while (w->running) {
-        pthread_cond_wait(&w->cond, &w->lock);
+    double wait_ms = 0.0;
+    if (w->running) {
+        const double w0 = mono_ms();
+        while (w->running) {
+            pthread_cond_wait(&w->cond, &w->lock);
+        }
+        wait_ms = mono_ms() - w0;
     }
     const int rc = w->rc;
     if (st) {
         *st = w->st;
     }
+    if (times) {
+        times->step_ms = w->step_ms;
+        times->wait_ms = wait_ms;
+    }
     w->rc = 0;
     w->st = (wind_step_stats){ 0 };
+    w->step_ms = 0.0;
     pthread_mutex_unlock(&w->lock);
-    if (ms) {
-        *ms = mono_ms() - t0;
+    if (times) {
+        times->ms = mono_ms() - t0;
     }
     return rc;
 }

@@ -26,9 +26,16 @@ void wind_worker_destroy(wind_worker *w);
 /* Starts a step of dt_s (on the worker's thread, or due at the join). One at a time:
  * join the last first. */
 void wind_worker_launch(wind_worker *w, float dt_s);
+/* What a join took [ms]. */
+typedef struct wind_join_times {
+    double ms;      /* the call */
+    double wait_ms; /* of which waiting for a step on the worker's thread not yet done */
+    double step_ms; /* the step's own wall time, on the worker's thread or in the call */
+} wind_join_times;
+
 /* Waits for the step launched last (or runs it); fills *st with its stats (when not
- * NULL) and returns its return code: 0 when none was launched. *ms: how long this call
- * took. */
-int wind_worker_join(wind_worker *w, wind_step_stats *st, double *ms);
+ * NULL) and returns its return code: 0 when none was launched. *times (when not NULL):
+ * what the call and the step took. */
+int wind_worker_join(wind_worker *w, wind_step_stats *st, wind_join_times *times);
 
 #endif
