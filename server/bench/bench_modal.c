@@ -10,7 +10,7 @@
  * encoding (wire_encode_delta_lanes), both on the tick's threads: all timed as the tick.
  * Prints JSON; medians over the ticks, with
  * the tick's byte model, the memory floor it implies and the machine's triad bandwidth
- * measured in the same run (bench_triad.c). The wind step itself is timed apart (and in
+ * measured in the same run, before and after the ticks (bench_triad.c). The wind step itself is timed apart (and in
  * gale-bench wind). --damage both runs the tick twice on each tick's wind, without and
  * with storm damage (damage.h) on separate states, alternating which goes first, and
  * prints both and their ratio (SERVER.md "Storm damage on the tick"). */
@@ -584,8 +584,12 @@ int bench_modal(int argc, char **argv)
             }
         }
     }
-    /* measured here, between the set-up and the ticks, on the threads the ticks use */
-    double gbs = bench_triad_gb_s(threads);
+    /* The machine's bandwidth on the threads the ticks use, measured on either side of
+     * the ticks, and the floor taken from their mean: a guest's memory speed drifts from
+     * minute to minute (one run read 51 GB/s where the runs beside it read 34-36), so one
+     * reading before the ticks can be another machine's than the ticks ran on. Both are
+     * printed; a drift past 10 % is said beside them. */
+    const double gbs_before = bench_triad_gb_s(threads);
     for (int k = -20; k < ticks; k++) { /* 20 warm-up ticks */
         double tw = 0.0;
         const bool stepped = (k + 20) % every == 0;
@@ -632,6 +636,15 @@ int bench_modal(int argc, char **argv)
             t_wind[k] = tw;
         }
     }
+    const double gbs_after = bench_triad_gb_s(threads);
+    const double gbs = gbs_before > 0.0 && gbs_after > 0.0 ? 0.5 * (gbs_before + gbs_after) : 0.0;
+    if (gbs > 0.0 && fabs(gbs_after - gbs_before) > 0.1 * gbs) {
+        fprintf(stderr,
+                "gale-bench modal: the machine's triad moved from %.2f GB/s before the ticks "
+                "to %.2f after: the memory floor (from their mean, %.2f) is uncertain by "
+                "%.0f %%\n",
+                gbs_before, gbs_after, gbs, 50.0 * fabs(gbs_after - gbs_before) / gbs);
+    }
     double wind_sum = 0.0;
     for (int k = 0; k < ticks; k++) {
         wind_sum += t_wind[k];
@@ -664,9 +677,10 @@ int bench_modal(int argc, char **argv)
                    "\"species\":%d,\"threads\":%d,\"ticks\":%d,\"u10_ms\":%.1f,"
                    "\"modal_species\":\"configs/species/oak.json baked\","
                    "\"oak_branches\":%u,\"oak_critical_mean_ms\":{\"first_branch\":%.1f,\"snap\":%.1f,"
-                   "\"uproot\":%.1f},\"machine_gb_per_s\":%.2f,\"off\":{",
+                   "\"uproot\":%.1f},\"machine_gb_per_s\":%.2f,\"machine_gb_per_s_before\":%.2f,"
+                   "\"machine_gb_per_s_after\":%.2f,\"off\":{",
                    n_trees, n_modes, n_species, threads, ticks, (double)u10_ms, oak.t.n_branches, crit_b,
-                   crit_snap, crit_up, gbs);
+                   crit_snap, crit_up, gbs, gbs_before, gbs_after);
             print_variant(&var[0], ticks, n_trees, n_modes, &tb, grid_bytes, gbs, scratch);
             printf("},\"on\":{");
             print_variant(&var[1], ticks, n_trees, n_modes, &tb, grid_bytes, gbs, scratch);
@@ -745,7 +759,8 @@ int bench_modal(int argc, char **argv)
                    "\"tick_ms_median\":%.3f,\"tick_ms_p95\":%.3f,\"tick_ms_max\":%.3f,"
                    "\"ns_per_tree_mode\":%.3f,\"cpu_ms_per_tick_median\":%.3f,"
                    "\"update_only_ms_median\":%.3f,\"loadavg_1min\":%.2f,\"target_ms\":3.0,"
-                   "\"machine_gb_per_s\":%.2f,\"bytes_per_tree_read\":%.0f,"
+                   "\"machine_gb_per_s\":%.2f,\"machine_gb_per_s_before\":%.2f,"
+                   "\"machine_gb_per_s_after\":%.2f,\"bytes_per_tree_read\":%.0f,"
                    "\"bytes_per_tree_written\":%.0f,\"bytes_per_tick_model\":%.0f,"
                    "\"tick_effective_gb_per_s\":%.2f,\"bandwidth_fraction\":%.3f,"
                    "\"update_only_bytes_per_tree\":%.0f,\"update_only_effective_gb_per_s\":%.2f,"
@@ -763,7 +778,7 @@ int bench_modal(int argc, char **argv)
                    n_trees, n_modes, n_species, threads, ticks, v->damage ? "true" : "false",
                    (double)u10_ms, med_s, med_m, med_t, p95_t, max_t,
                    med_t * 1e6 / ((double)n_trees * n_modes), med_cpu, med_ns, load[0], gbs,
-                   tb.read, tb.written, tick_bytes, tick_gbs, frac, ub.read + ub.written,
+                   gbs_before, gbs_after, tb.read, tb.written, tick_bytes, tick_gbs, frac, ub.read + ub.written,
                    upd_gbs, upd_frac, check, (double)cell_m, gxy, gxy, gz, every, in.slots,
                    (double)side, in.lanes.n > 1 ? in.lanes.n : 1, med_l, med_e, enc_per_tick, (double)v->n_shed / ticks,
                    wind_sum / ((ticks + every - 1) / every),
