@@ -1,7 +1,8 @@
 #!/bin/sh
 # /metrics of the real gale-server passes `promtool check metrics` (Prometheus's own
 # linter: base units, _total counters, histogram families), and carries the tick-time
-# histogram, the recent ticks' summary and gale_build_info (server/SERVER.md "Serving").
+# histogram, the recent ticks' summary and gale_build_info (server/SERVER.md "Serving");
+# the server's process keeps its name when it runs itself again.
 # Usage: test_metrics_promtool.sh GALE_SERVER PROMTOOL SOURCE_DIR (run in the build tree)
 set -eu
 server="$1"; promtool="$2"; src="$3"
@@ -10,7 +11,9 @@ cat >promtool_scene.json <<JSON
  "forest": [{"species": "palm", "count": 4, "area_min": [-20, -20], "area_max": [20, 20], "min_spacing_m": 3}],
  "wind": {"solver": false, "u10_ms": 12}}
 JSON
-"$server" --config promtool_scene.json --port 0 --cache promtool_cache >promtool_server.out 2>promtool_server.log &
+# without OMP_WAIT_POLICY the server runs itself again (srv_main.c omp_wait_passive): the
+# same process, which keeps its name
+env -u OMP_WAIT_POLICY "$server" --config promtool_scene.json --port 0 --cache promtool_cache >promtool_server.out 2>promtool_server.log &
 pid=$!
 trap 'kill -TERM $pid 2>/dev/null || true' EXIT
 port=""
@@ -23,6 +26,8 @@ while [ -z "$port" ] && [ $i -lt 900 ]; do
 done
 [ -n "$port" ] || { echo "server did not start"; exit 1; }
 sleep 0.5
+comm="$(cat /proc/$pid/comm)"
+[ "$comm" = "gale-server" ] || { echo "the server's process is named '$comm', not gale-server"; exit 1; }
 curl -sf "http://127.0.0.1:$port/metrics" >promtool_metrics.txt
 "$promtool" check metrics <promtool_metrics.txt
 grep -q '^# TYPE gale_tick_seconds histogram$' promtool_metrics.txt

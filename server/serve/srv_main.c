@@ -175,12 +175,21 @@ static void *wait_signal(void *arg)
  * region, and on a machine with as many cores as tick threads the spinning thread takes
  * the core the service thread, the wind step or the other tick thread needs (SERVER.md
  * "The tick at 100 000 trees": a wind step 20 times slower). libgomp reads the variable
- * once, as it loads, before main; so the server sets it and runs itself again. Where
- * that exec fails it runs on with libgomp's default. */
+ * once, as it loads, before main; so the server sets it and runs itself again, by the
+ * path /proc/self/exe points to, so that the process keeps its name (ps, top, pkill and
+ * systemd see "gale-server", not "exe"); by /proc/self/exe itself where that path is
+ * gone (the binary replaced under a running service). Where both fail it runs on with
+ * libgomp's default. */
 static void omp_wait_passive(char **argv)
 {
     if (getenv("OMP_WAIT_POLICY") || setenv("OMP_WAIT_POLICY", "passive", 1)) {
         return;
+    }
+    char path[4096];
+    const ssize_t n = readlink("/proc/self/exe", path, sizeof path - 1);
+    if (n > 0) {
+        path[n] = 0;
+        execv(path, argv);
     }
     execv("/proc/self/exe", argv);
     fprintf(stderr, "gale-server: cannot run again with OMP_WAIT_POLICY=passive (%s): "
