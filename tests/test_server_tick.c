@@ -6,6 +6,9 @@
 #include "wind_worker.h"
 
 #include <math.h>
+#include <pthread.h>
+#include <sched.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
 
@@ -494,14 +497,67 @@ static void test_probe_same_tick(void)
     }
 }
 
+typedef struct sleepy {
+    long ms;
+    int policy_at_start, policy_at_end; /* the step's scheduling policy */
+} sleepy;
+
 static int sleepy_step(void *ctx, float dt_s, wind_step_stats *st)
 {
     (void)dt_s;
     (void)st;
-    const long ms = *(const long *)ctx;
-    nanosleep(&(struct timespec){ .tv_sec = ms / 1000, .tv_nsec = ms % 1000 * 1000000L },
+    sleepy *z = ctx;
+    z->policy_at_start = sched_getscheduler(0);
+    nanosleep(&(struct timespec){ .tv_sec = z->ms / 1000, .tv_nsec = z->ms % 1000 * 1000000L },
               NULL);
+    z->policy_at_end = sched_getscheduler(0);
     return 0;
+}
+
+/* Whether this process may move a thread from SCHED_IDLE back to SCHED_OTHER (root, or
+ * an RLIMIT_NICE that allows nice 0), tried on a thread of its own. */
+static void *try_unidle(void *arg)
+{
+    int *ok = arg;
+    *ok = pthread_setschedparam(pthread_self(), SCHED_IDLE, &(struct sched_param){ 0 }) == 0 &&
+          pthread_setschedparam(pthread_self(), SCHED_OTHER, &(struct sched_param){ 0 }) == 0;
+    return NULL;
+}
+
+/* Beside ticks at the fair scheduler's priority the step runs at SCHED_IDLE; a join that
+ * waits for it lends it its own policy (SCHED_OTHER here) until it ends, and a join after
+ * it ended lends nothing. */
+static void test_worker_lends(void)
+{
+    int ok = 0;
+    pthread_t th;
+    if (pthread_create(&th, NULL, try_unidle, &ok) == 0) {
+        pthread_join(th, NULL);
+    }
+    if (!ok) {
+        printf("  (SCHED_IDLE to SCHED_OTHER not permitted here: lending not checked)\n");
+        return;
+    }
+    sleepy z = { .ms = 50 };
+    wind_worker *w = wind_worker_create(sleepy_step, &z, true, NULL);
+    CHECK(w != NULL);
+    if (!w) {
+        return;
+    }
+    /* joined at once: lent, whether the step had begun (then it began at SCHED_IDLE) or
+       not (then it began at the lent policy) */
+    wind_join_times jt = { 0 };
+    wind_worker_launch(w, 0.1f);
+    CHECK(wind_worker_join(w, NULL, &jt) == 0);
+    CHECK(jt.wait_ms > 0.0);
+    CHECK(z.policy_at_end == SCHED_OTHER);
+    /* the next step starts at SCHED_IDLE again, and joined after it ended is lent nothing */
+    wind_worker_launch(w, 0.1f);
+    nanosleep(&(struct timespec){ .tv_nsec = 150000000L }, NULL);
+    CHECK(wind_worker_join(w, NULL, &jt) == 0);
+    CHECK(jt.wait_ms == 0.0);
+    CHECK(z.policy_at_start == SCHED_IDLE && z.policy_at_end == SCHED_IDLE);
+    wind_worker_destroy(w);
 }
 
 /* What a join reports: a step of at least 50 ms on the worker's thread joined at once is
@@ -509,9 +565,9 @@ static int sleepy_step(void *ctx, float dt_s, wind_step_stats *st)
  * at least its sleep. Run in the join (no thread), the step is the join's, not a wait. */
 static void test_worker_times(void)
 {
-    long step_ms = 50;
+    sleepy z = { .ms = 50 };
     for (int own = 0; own < 2; own++) {
-        wind_worker *w = wind_worker_create(sleepy_step, &step_ms, own, NULL);
+        wind_worker *w = wind_worker_create(sleepy_step, &z, own, NULL);
         CHECK(w != NULL);
         if (!w) {
             continue;
@@ -542,5 +598,6 @@ int main(void)
     RUN(test_threads_same_tick);
     RUN(test_probe_same_tick);
     RUN(test_worker_times);
+    RUN(test_worker_lends);
     return check_report();
 }

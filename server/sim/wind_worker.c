@@ -19,19 +19,39 @@ struct wind_worker {
     bool running; /* launched and not yet done */
     bool quit;
     float dt_s;
+    bool tick_rt;   /* the launching thread ran at a real-time policy */
+    bool lent;      /* a join lent the step in flight its priority */
     double step_ms; /* the last step's wall time */
     int rc;
     wind_step_stats st;
 };
 
+static bool rt_policy(int policy)
+{
+    return policy == SCHED_FIFO || policy == SCHED_RR;
+}
+
+/* The step's own policy, set as each step starts, under the lock, unless a join lent it
+ * a priority already:
+ * - beside ticks at the fair scheduler's priority, SCHED_IDLE: the step takes a core only
+ *   while nothing else wants it, and a tick thread that wakes preempts it at once (a
+ *   niced thread keeps the core to the end of its slice, holding up a tick's parallel
+ *   region behind it);
+ * - beside ticks at a real-time priority, SCHED_OTHER: a waking tick thread preempts it
+ *   at once all the same, and it takes its fair share beside other programs. At
+ *   SCHED_IDLE any busy program starves it: two clients decoding the 2 km scene on the
+ *   server's 2 cores held 290 of 897 steps past their tick, 26 ms each (SERVER.md "The
+ *   2 km scene beside its clients").
+ * Where the change is refused the step keeps the policy it has. */
+static void step_policy(const wind_worker *w)
+{
+    (void)pthread_setschedparam(pthread_self(), w->tick_rt ? SCHED_OTHER : SCHED_IDLE,
+                                &(struct sched_param){ 0 });
+}
+
 static void *worker_main(void *arg)
 {
     wind_worker *w = arg;
-    /* SCHED_IDLE: the step takes a core only while nothing else wants it, and a tick
-     * thread that wakes preempts it at once (a niced thread keeps the core to the end of
-     * its slice, holding up a tick's parallel region behind it). Lowering one's own
-     * policy needs no privilege; where it fails the step runs at the tick's. */
-    (void)pthread_setschedparam(pthread_self(), SCHED_IDLE, &(struct sched_param){ 0 });
     pthread_mutex_lock(&w->lock);
     for (;;) {
         while (!w->due && !w->quit) {
@@ -42,6 +62,9 @@ static void *worker_main(void *arg)
         }
         w->due = false;
         const float dt_s = w->dt_s;
+        if (!w->lent) { /* a join may have lent it a priority before it began */
+            step_policy(w);
+        }
         pthread_mutex_unlock(&w->lock);
         wind_step_stats st = { 0 };
         const double t0 = mono_ms();
@@ -49,6 +72,7 @@ static void *worker_main(void *arg)
         const double step_ms = mono_ms() - t0;
         pthread_mutex_lock(&w->lock);
         w->step_ms = step_ms;
+        w->lent = false;
         w->st = st;
         w->rc = rc;
         w->running = false;
@@ -103,7 +127,11 @@ void wind_worker_destroy(wind_worker *w)
 
 void wind_worker_launch(wind_worker *w, float dt_s)
 {
+    int policy = SCHED_OTHER;
+    struct sched_param sp;
+    const bool rt = pthread_getschedparam(pthread_self(), &policy, &sp) == 0 && rt_policy(policy);
     pthread_mutex_lock(&w->lock);
+    w->tick_rt = rt;
     w->dt_s = dt_s;
     w->due = true;
     w->running = true;
@@ -126,6 +154,16 @@ int wind_worker_join(wind_worker *w, wind_step_stats *st, wind_join_times *times
     pthread_mutex_lock(&w->lock);
     double wait_ms = 0.0;
     if (w->running) {
+        /* The tick waits on the step: the step takes the waiting thread's policy and
+         * priority until it ends (priority inheritance), so no program between them in
+         * priority holds the tick up longer than the rest of the step takes; where that
+         * is refused it waits as it is. */
+        int policy;
+        struct sched_param sp;
+        if (w->own_thread && pthread_getschedparam(pthread_self(), &policy, &sp) == 0 &&
+            pthread_setschedparam(w->thread, policy, &sp) == 0) {
+            w->lent = true;
+        }
         const double w0 = mono_ms();
         while (w->running) {
             pthread_cond_wait(&w->cond, &w->lock);
