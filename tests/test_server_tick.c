@@ -5,13 +5,18 @@
 #include "tick.h"
 #include "wind_worker.h"
 
+#include <linux/capability.h>
 #include <math.h>
 #include <pthread.h>
 #include <sched.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <sys/wait.h>
 #include <time.h>
+#include <unistd.h>
 
 static scene one_tree(float yaw_rad, float u10)
 {
@@ -574,6 +579,71 @@ static void test_worker_lends(void)
     wind_worker_destroy(w);
 }
 
+/* CAP_SYS_NICE out of every set of this process (a forked child's), as a service user
+ * without capabilities has it; 0 on success. */
+static int drop_sys_nice(void)
+{
+    struct __user_cap_header_struct h = { .version = _LINUX_CAPABILITY_VERSION_3 };
+    struct __user_cap_data_struct d[2];
+    if (syscall(SYS_capget, &h, d) != 0) {
+        return -1;
+    }
+    const unsigned i = CAP_SYS_NICE / 32, bit = 1u << (CAP_SYS_NICE % 32);
+    d[i].effective &= ~bit;
+    d[i].permitted &= ~bit;
+    d[i].inheritable &= ~bit;
+    return (int)syscall(SYS_capset, &h, d);
+}
+
+/* In a child without CAP_SYS_NICE and with RLIMIT_NICE nice_rlim: the policy a step
+ * beside fair ticks starts at, as the exit status (0 SCHED_OTHER, 1 SCHED_IDLE, 2 other,
+ * 3 set-up failed). */
+static int unprivileged_policy(rlim_t nice_rlim)
+{
+    const pid_t pid = fork();
+    if (pid == 0) {
+        if (drop_sys_nice() != 0 ||
+            setrlimit(RLIMIT_NICE, &(struct rlimit){ nice_rlim, nice_rlim }) != 0) {
+            _exit(3);
+        }
+        sleepy z = { .ms = 5 };
+        wind_worker *w = wind_worker_create(sleepy_step, &z, true, NULL);
+        if (!w) {
+            _exit(3);
+        }
+        wind_worker_launch(w, 0.1f);
+        await_steps(&z, 1);
+        wind_worker_join(w, NULL, NULL);
+        wind_worker_destroy(w);
+        _exit(z.policy_at_start == SCHED_OTHER ? 0 : z.policy_at_start == SCHED_IDLE ? 1 : 2);
+    }
+    int status = 0;
+    if (pid < 0 || waitpid(pid, &status, 0) != pid || !WIFEXITED(status)) {
+        return 3;
+    }
+    return WEXITSTATUS(status);
+}
+
+/* Where the process may not leave SCHED_IDLE again (no CAP_SYS_NICE, RLIMIT_NICE 0: a
+ * plain user's default) no waiting tick could lend the step its priority, so the step runs
+ * at SCHED_OTHER; with RLIMIT_NICE 20 (nice 0 allowed: the service's LimitNICE=+0) at
+ * SCHED_IDLE. */
+static void test_worker_unprivileged(void)
+{
+    const int strict = unprivileged_policy(0), nice0 = unprivileged_policy(20);
+    if (strict == 3) {
+        printf("  (CAP_SYS_NICE not dropped here: the strict case not checked)\n");
+    } else {
+        CHECK(strict == 0);
+    }
+    if (nice0 == 3) {
+        /* raising the hard limit needs CAP_SYS_RESOURCE, which some containers lack */
+        printf("  (RLIMIT_NICE 20 not settable here: that case not checked)\n");
+    } else {
+        CHECK(nice0 == 1);
+    }
+}
+
 /* What a join reports: a step of at least 50 ms on the worker's thread joined at once is
  * waited for, and one joined after it ended is not; either way the step's own time is
  * at least its sleep. Run in the join (no thread), the step is the join's, not a wait. */
@@ -615,5 +685,6 @@ int main(void)
     RUN(test_probe_same_tick);
     RUN(test_worker_times);
     RUN(test_worker_lends);
+    RUN(test_worker_unprivileged);
     return check_report();
 }

@@ -20,6 +20,7 @@ struct wind_worker {
     bool quit;
     float dt_s;
     bool tick_rt;   /* the launching thread ran at a real-time policy */
+    bool idle_ok;   /* a thread of this process may leave SCHED_IDLE (unidle_permitted) */
     bool lent;      /* a join lent the step in flight its priority */
     double step_ms; /* the last step's wall time */
     int rc;
@@ -29,6 +30,28 @@ struct wind_worker {
 static bool rt_policy(int policy)
 {
     return policy == SCHED_FIFO || policy == SCHED_RR;
+}
+
+/* Whether a thread of this process may move from SCHED_IDLE back to SCHED_OTHER: root or
+ * CAP_SYS_NICE, or an RLIMIT_NICE that allows nice 0 (the Debian service sets LimitNICE=+0;
+ * a plain user's default of 0 does not). Tried on a thread of its own, which may be left
+ * at SCHED_IDLE. */
+static void *try_unidle(void *arg)
+{
+    bool *ok = arg;
+    *ok = pthread_setschedparam(pthread_self(), SCHED_IDLE, &(struct sched_param){ 0 }) == 0 &&
+          pthread_setschedparam(pthread_self(), SCHED_OTHER, &(struct sched_param){ 0 }) == 0;
+    return NULL;
+}
+
+static bool unidle_permitted(void)
+{
+    bool ok = false;
+    pthread_t th;
+    if (pthread_create(&th, NULL, try_unidle, &ok) == 0) {
+        pthread_join(th, NULL);
+    }
+    return ok;
 }
 
 /* The step's own policy, set as each step starts, under the lock, unless a join lent it
@@ -41,11 +64,16 @@ static bool rt_policy(int policy)
  *   at once all the same, and it takes its fair share beside other programs. At
  *   SCHED_IDLE any busy program starves it: two clients decoding the 2 km scene on the
  *   server's 2 cores held 290 of 897 steps past their tick, 26 ms each (SERVER.md "The
- *   2 km scene beside its clients").
+ *   2 km scene beside its clients");
+ * - SCHED_OTHER too where the process may not leave SCHED_IDLE again: a waiting tick
+ *   could not lend it its priority, and beside a busy program every step's tick would
+ *   wait for a step that gets almost no CPU (the town block ran at an eighth of real time
+ *   so).
  * Where the change is refused the step keeps the policy it has. */
 static void step_policy(const wind_worker *w)
 {
-    (void)pthread_setschedparam(pthread_self(), w->tick_rt ? SCHED_OTHER : SCHED_IDLE,
+    const bool idle = !w->tick_rt && w->idle_ok;
+    (void)pthread_setschedparam(pthread_self(), idle ? SCHED_IDLE : SCHED_OTHER,
                                 &(struct sched_param){ 0 });
 }
 
@@ -93,6 +121,7 @@ wind_worker *wind_worker_create(int (*step)(void *ctx, float dt_s, wind_step_sta
     w->step = step;
     w->ctx = ctx;
     w->own_thread = own_thread;
+    w->idle_ok = own_thread && unidle_permitted();
     pthread_mutex_init(&w->lock, NULL);
     pthread_cond_init(&w->cond, NULL);
     if (own_thread && pthread_create(&w->thread, NULL, worker_main, w)) {

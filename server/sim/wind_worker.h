@@ -2,8 +2,9 @@
  * tick launches a step (wind_worker_launch) and a later tick takes it (wind_worker_join).
  * With a thread of its own the step runs beside the ticks between, below them (at
  * SCHED_IDLE beside ticks at the fair scheduler's priority, at SCHED_OTHER beside
- * real-time ones), in the time they leave idle, so no tick carries it; a join that finds
- * it still running lends it the joining thread's priority until it ends. Without a
+ * real-time ones or where the process may not leave SCHED_IDLE again), in the time they
+ * leave idle, so no tick carries it; a join that finds it still running lends it the
+ * joining thread's priority until it ends. Without a
  * thread of its own the join runs it. Either gives the same floats: the step's
  * inputs are the grid's at the launch, and nothing else steps or writes the grid until
  * the join. */
