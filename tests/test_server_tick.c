@@ -7,7 +7,6 @@
 
 #include <linux/capability.h>
 #include <math.h>
-#include <pthread.h>
 #include <sched.h>
 #include <stdatomic.h>
 #include <stdio.h>
@@ -533,27 +532,12 @@ static void await_steps(sleepy *z, int steps)
     nanosleep(&(struct timespec){ .tv_nsec = 100000000L }, NULL);
 }
 
-/* Whether this process may move a thread from SCHED_IDLE back to SCHED_OTHER (root, or
- * an RLIMIT_NICE that allows nice 0), tried on a thread of its own. */
-static void *try_unidle(void *arg)
-{
-    int *ok = arg;
-    *ok = pthread_setschedparam(pthread_self(), SCHED_IDLE, &(struct sched_param){ 0 }) == 0 &&
-          pthread_setschedparam(pthread_self(), SCHED_OTHER, &(struct sched_param){ 0 }) == 0;
-    return NULL;
-}
-
 /* Beside ticks at the fair scheduler's priority the step runs at SCHED_IDLE; a join that
  * waits for it lends it its own policy (SCHED_OTHER here) until it ends, and a join after
  * it ended lends nothing. */
 static void test_worker_lends(void)
 {
-    int ok = 0;
-    pthread_t th;
-    if (pthread_create(&th, NULL, try_unidle, &ok) == 0) {
-        pthread_join(th, NULL);
-    }
-    if (!ok) {
+    if (!wind_worker_unidle_permitted()) {
         printf("  (SCHED_IDLE to SCHED_OTHER not permitted here: lending not checked)\n");
         return;
     }

@@ -10,8 +10,8 @@
  * encoding (wire_encode_delta_lanes), both on the tick's threads: all timed as the tick.
  * Prints JSON; medians over the ticks, with
  * the tick's byte model, the memory floor it implies and the machine's triad bandwidth
- * measured in the same run, before and after the ticks (bench_triad.c). The wind step itself is timed apart (and in
- * gale-bench wind). --damage both runs the tick twice on each tick's wind, without and
+ * measured in the same run, before and after the ticks (bench_triad.c). The wind step
+ * itself is timed apart (and in gale-bench wind). --damage both runs the tick twice on each tick's wind, without and
  * with storm damage (damage.h) on separate states, alternating which goes first, and
  * prints both and their ratio (SERVER.md "Storm damage on the tick"). */
 #include <math.h>
@@ -637,7 +637,8 @@ int bench_modal(int argc, char **argv)
         }
     }
     const double gbs_after = bench_triad_gb_s(threads);
-    const double gbs = gbs_before > 0.0 && gbs_after > 0.0 ? 0.5 * (gbs_before + gbs_after) : 0.0;
+    const double gbs =
+        gbs_before > 0.0 && gbs_after > 0.0 ? 0.5 * (gbs_before + gbs_after) : 0.0;
     if (gbs > 0.0 && fabs(gbs_after - gbs_before) > 0.1 * gbs) {
         fprintf(stderr,
                 "gale-bench modal: the machine's triad moved from %.2f GB/s before the ticks "
@@ -778,7 +779,8 @@ int bench_modal(int argc, char **argv)
                    n_trees, n_modes, n_species, threads, ticks, v->damage ? "true" : "false",
                    (double)u10_ms, med_s, med_m, med_t, p95_t, max_t,
                    med_t * 1e6 / ((double)n_trees * n_modes), med_cpu, med_ns, load[0], gbs,
-                   gbs_before, gbs_after, tb.read, tb.written, tick_bytes, tick_gbs, frac, ub.read + ub.written,
+                   gbs_before, gbs_after, tb.read, tb.written, tick_bytes, tick_gbs, frac,
+                   ub.read + ub.written,
                    upd_gbs, upd_frac, check, (double)cell_m, gxy, gxy, gz, every, in.slots,
                    (double)side, in.lanes.n > 1 ? in.lanes.n : 1, med_l, med_e, enc_per_tick, (double)v->n_shed / ticks,
                    wind_sum / ((ticks + every - 1) / every),

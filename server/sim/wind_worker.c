@@ -20,7 +20,7 @@ struct wind_worker {
     bool quit;
     float dt_s;
     bool tick_rt;   /* the launching thread ran at a real-time policy */
-    bool idle_ok;   /* a thread of this process may leave SCHED_IDLE (unidle_permitted) */
+    bool idle_ok;   /* a thread of this process may leave SCHED_IDLE again */
     bool lent;      /* a join lent the step in flight its priority */
     double step_ms; /* the last step's wall time */
     int rc;
@@ -32,10 +32,8 @@ static bool rt_policy(int policy)
     return policy == SCHED_FIFO || policy == SCHED_RR;
 }
 
-/* Whether a thread of this process may move from SCHED_IDLE back to SCHED_OTHER: root or
- * CAP_SYS_NICE, or an RLIMIT_NICE that allows nice 0 (the Debian service sets LimitNICE=+0;
- * a plain user's default of 0 does not). Tried on a thread of its own, which may be left
- * at SCHED_IDLE. */
+/* wind_worker_unidle_permitted's trial, on a thread of its own, which may be left at
+ * SCHED_IDLE. */
 static void *try_unidle(void *arg)
 {
     bool *ok = arg;
@@ -44,7 +42,7 @@ static void *try_unidle(void *arg)
     return NULL;
 }
 
-static bool unidle_permitted(void)
+bool wind_worker_unidle_permitted(void)
 {
     bool ok = false;
     pthread_t th;
@@ -121,7 +119,7 @@ wind_worker *wind_worker_create(int (*step)(void *ctx, float dt_s, wind_step_sta
     w->step = step;
     w->ctx = ctx;
     w->own_thread = own_thread;
-    w->idle_ok = own_thread && unidle_permitted();
+    w->idle_ok = own_thread && wind_worker_unidle_permitted();
     pthread_mutex_init(&w->lock, NULL);
     pthread_cond_init(&w->cond, NULL);
     if (own_thread && pthread_create(&w->thread, NULL, worker_main, w)) {

@@ -29,6 +29,12 @@ void wind_worker_destroy(wind_worker *w);
 /* Starts a step of dt_s (on the worker's thread, or due at the join). One at a time:
  * join the last first. */
 void wind_worker_launch(wind_worker *w, float dt_s);
+/* Whether a thread of this process may move from SCHED_IDLE back to SCHED_OTHER: root or
+ * CAP_SYS_NICE, or an RLIMIT_NICE that allows nice 0 (the Debian service sets
+ * LimitNICE=+0; a plain user's default of 0 does not). Where not, the step never runs at
+ * SCHED_IDLE: no waiting tick could lend it a priority. */
+bool wind_worker_unidle_permitted(void);
+
 /* What a join took [ms]. */
 typedef struct wind_join_times {
     double ms;      /* the call */
