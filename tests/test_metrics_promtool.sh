@@ -1,7 +1,7 @@
 #!/bin/sh
 # /metrics of the real gale-server passes `promtool check metrics` (Prometheus's own
 # linter: base units, _total counters, histogram families), and carries the tick-time
-# histogram, the recent ticks' summary and gale_build_info (server/SERVER.md "Serving");
+# histogram, the recent ticks' summary, the tick's phases and gale_build_info (server/SERVER.md "Serving");
 # the server's process keeps its name when it runs itself again.
 # Usage: test_metrics_promtool.sh GALE_SERVER PROMTOOL SOURCE_DIR (run in the build tree)
 set -eu
@@ -35,5 +35,11 @@ grep -q '^gale_tick_seconds_bucket{le="+Inf"} [1-9]' promtool_metrics.txt
 grep -q '^# TYPE gale_tick_recent_seconds summary$' promtool_metrics.txt
 grep -q '^gale_tick_recent_seconds{quantile="0.99"} [0-9.]*$' promtool_metrics.txt
 grep -q '^gale_tick_recent_seconds_count [1-9]' promtool_metrics.txt
+# the tick's phases, publishing among them, each with time in it
+for phase in sample modal leaves publish; do
+    grep -q "^gale_tick_phase_seconds_total{phase=\"$phase\"} [0-9.]*[1-9]" promtool_metrics.txt ||
+        { echo "no time in phase $phase"; exit 1; }
+done
+grep -q '^gale_tick_off_cpu_seconds_total [0-9.]*$' promtool_metrics.txt
 grep -q '^gale_build_info{version="[0-9.]*",protocol="1"} 1$' promtool_metrics.txt
 echo "promtool: /metrics clean ($(grep -c '^gale_' promtool_metrics.txt) samples)"

@@ -104,7 +104,7 @@ static void test_growth_and_limits(void)
 
     memset(&r, 0, sizeof r);
     CHECK(metric_reg_add(&r, long_row, 0, fill_one, NULL, &e) == GALE_E_RANGE);
-    CHECK_STR_HAS(e.msg, "metric_reg_add: rows: expected 1..32, got 0");
+    CHECK_STR_HAS(e.msg, "metric_reg_add: rows: expected 1..48, got 0");
     CHECK(metric_reg_add(&r, long_row, 1, NULL, NULL, &e) == GALE_E_ARG);
     t = metric_reg_render(&r, &len); /* empty registry: empty page */
     CHECK(t && len == 0 && !t[0]);
@@ -119,14 +119,19 @@ static void test_sim_rows(void)
     memset(&r, 0, sizeof r);
     CHECK(sim_metrics_register(&m, &r, NULL) == 0);
     tick_stats ts = { .ms = 2.5, .wind_stepped = true, .wind_iters = 30, .wind_residual = 0.0125,
-                      .wind_unconverged = true, .wind_step_ms = 3.25, .wind_wait_ms = 0.5 };
+                      .wind_unconverged = true, .wind_step_ms = 3.25, .wind_wait_ms = 0.5,
+                      .wind_ms = 0.75, .sample_ms = 0.25, .modal_ms = 1.0, .leaves_ms = 0.125,
+                      .damage_ms = 0.25, .cpu_ms = 1.5 };
     CHECK(sim_metrics_tick(&m, 1, &ts) == 2500000u);
+    sim_metrics_publish(&m, 0.5);
     ts = (tick_stats){ .ms = 1.0 }; /* no wind step: the solver gauges keep the last one */
     CHECK(sim_metrics_tick(&m, 2, &ts) == 1000000u);
     /* a step beside the ticks done before its tick: no wait */
     ts = (tick_stats){ .ms = 4.0, .wind_stepped = true, .wind_iters = 30,
-                       .wind_residual = 0.0125, .wind_step_ms = 1.0 };
+                       .wind_residual = 0.0125, .wind_step_ms = 1.0, .modal_ms = 2.0,
+                       .cpu_ms = 4.0 };
     CHECK(sim_metrics_tick(&m, 3, &ts) == 4000000u);
+    sim_metrics_publish(&m, 0.25);
     CHECK(sim_metrics_overrun(&m) == 1);
     CHECK(atomic_load(&m.current_tick) == 3);
     size_t len = 0;
@@ -153,8 +158,38 @@ static void test_sim_rows(void)
         CHECK_STR_HAS(t, "\ngale_wind_step_seconds_max 0.003250\n");
         CHECK_STR_HAS(t, "\ngale_wind_step_waits_total 1\n");
         CHECK_STR_HAS(t, "\ngale_wind_step_wait_seconds_total 0.000500\n");
+        /* the phases over the three ticks, publishing apart; off a CPU: 1.0 + 1.0 + 0 ms
+           (the second tick's stats say no CPU time at all) */
+        CHECK_STR_HAS(t, "# TYPE gale_tick_phase_seconds_total counter\n"
+                         "gale_tick_phase_seconds_total{phase=\"wind\"} 0.000750\n"
+                         "gale_tick_phase_seconds_total{phase=\"sample\"} 0.000250\n"
+                         "gale_tick_phase_seconds_total{phase=\"modal\"} 0.003000\n"
+                         "gale_tick_phase_seconds_total{phase=\"leaves\"} 0.000125\n"
+                         "gale_tick_phase_seconds_total{phase=\"damage\"} 0.000250\n"
+                         "gale_tick_phase_seconds_total{phase=\"publish\"} 0.000750\n");
+        CHECK_STR_HAS(t, "\ngale_tick_off_cpu_seconds_total 0.002000\n");
     }
     free(t);
+}
+
+/* The overrun line's account of a tick: each phase, what no phase accounts for, the
+ * publishing when there was one, and the time off a CPU. */
+static void test_describe(void)
+{
+    const tick_stats ts = { .ms = 20.0, .wind_ms = 1.5, .wind_wait_ms = 1.25, .sample_ms = 2.0,
+                            .modal_ms = 12.0, .leaves_ms = 0.5, .damage_ms = 3.0,
+                            .cpu_ms = 8.75 };
+    char buf[320];
+    sim_metrics_describe(buf, sizeof buf, &ts, 2.5);
+    CHECK_STR_HAS(buf, "wind 1.50 ms (of it 1.25 waiting for the step beside the ticks), "
+                       "sample 2.00, modal 12.00, leaves 0.50, damage 3.00, other 1.00; "
+                       "publishing 2.50; the sim thread off a CPU 11.25 ms of it");
+    sim_metrics_describe(buf, sizeof buf, &ts, -1.0);
+    CHECK(strstr(buf, "publishing") == NULL);
+    CHECK_STR_HAS(buf, "other 1.00; the sim thread off a CPU 11.25 ms");
+    char small[24];
+    const int n = sim_metrics_describe(small, sizeof small, &ts, 2.5);
+    CHECK(n > (int)sizeof small && strlen(small) == sizeof small - 1);
 }
 
 /* gale_tick_recent_seconds covers the last SIM_RECENT_TICKS ticks alone: 1400 slow ticks,
@@ -199,6 +234,7 @@ int main(void)
     RUN(test_render);
     RUN(test_growth_and_limits);
     RUN(test_sim_rows);
+    RUN(test_describe);
     RUN(test_recent_window);
     return check_report();
 }

@@ -179,6 +179,79 @@ static void test_balls(void)
     tick_destroy(t);
 }
 
+/* A sampler that takes ms of wall time, asleep or spinning on the CPU. */
+typedef struct slow_sampler {
+    double ms;
+    bool spin;
+} slow_sampler;
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+static int no_step(void *ctx, float dt_s, wind_step_stats *st)
+{
+    (void)ctx;
+    (void)dt_s;
+    (void)st;
+    return 0;
+}
+
+static void slow_sample(void *ctx, int n, const float *p, float *v)
+{
+    const slow_sampler *z = ctx;
+    const double until = now_ms() + z->ms;
+    if (z->spin) {
+        while (now_ms() < until) {
+        }
+    } else {
+        const long ns = (long)(z->ms * 1e6);
+        nanosleep(&(struct timespec){ .tv_sec = ns / 1000000000L, .tv_nsec = ns % 1000000000L },
+                  NULL);
+    }
+    fw_sample(ctx, n, p, v);
+}
+
+/* tick_stats puts a tick's time in its phase: a sampler that takes 20 ms shows in
+ * sample_ms and not in the others, the phases add up to the tick's time, and the time the
+ * thread slept in it shows as off a CPU (ms - cpu_ms) where the same 20 ms spun on one
+ * does not. */
+static void test_phases(void)
+{
+    float omega[1] = { 3 }, gamma[1] = { 0.3f }, basis[3] = { 1, 0, 0 }, qstep[1] = { 1e-4f };
+    tick_species sp = { .n_modes = 1, .omega = omega, .gamma = gamma, .wind_basis = basis,
+                        .qstep = qstep, .height_m = 10, .n_leaves = 100 };
+    scene s = one_tree(0, 5);
+    for (int spin = 0; spin < 2; spin++) {
+        slow_sampler z = { .ms = 20.0, .spin = spin };
+        tick_wind tw = { .ctx = &z, .set_inflow = fw_inflow, .step = no_step,
+                         .sample_many = slow_sample };
+        tick_sim *t = tick_create(&(tick_desc){ .sc = &s, .species = &sp, .wind = &tw }, NULL);
+        CHECK(t != NULL);
+        if (!t) {
+            continue;
+        }
+        tick_stats st;
+        CHECK(tick_step(t, NULL, &st, NULL) == 0);
+        CHECK(st.sample_ms >= 19.9);
+        CHECK(st.modal_ms < 5.0 && st.leaves_ms < 5.0 && st.damage_ms == 0.0 &&
+              st.wind_ms < 5.0);
+        const double phases = st.wind_ms + st.sample_ms + st.modal_ms + st.leaves_ms +
+                              st.damage_ms;
+        CHECK(phases <= st.ms + 1e-9 && phases >= st.ms - 1.0);
+        CHECK(st.cpu_ms >= 0.0 && st.cpu_ms <= st.ms + 0.5);
+        if (spin) {
+            CHECK(st.ms - st.cpu_ms < 10.0); /* on a CPU for most of its spin */
+        } else {
+            CHECK(st.ms - st.cpu_ms >= 19.0);
+        }
+        tick_destroy(t);
+    }
+}
+
 /* A wind grid stand-in whose pressure solve reports the iterations and residual set. */
 typedef struct solve_wind {
     int iterations;
@@ -665,6 +738,7 @@ int main(void)
     RUN(test_balls);
     RUN(test_unconverged);
     RUN(test_leaves_and_errors);
+    RUN(test_phases);
     RUN(test_threads_same_tick);
     RUN(test_probe_same_tick);
     RUN(test_worker_times);

@@ -9,7 +9,7 @@
 #include "err.h"
 
 #define METRIC_MAX_TABLES 8  /* owners in one registry (simulation, network, publisher...) */
-#define METRIC_MAX_ROWS 32   /* rows of one table (one fill call writes them all) */
+#define METRIC_MAX_ROWS 48   /* rows of one table (one fill call writes them all) */
 
 /* METRIC_HISTOGRAM: a row of a histogram family, named <family>_bucket (with an le label,
  * cumulative), <family>_sum or <family>_count; METRIC_SUMMARY: a row of a summary family,

@@ -3,6 +3,7 @@
  * simulation's metrics, and the overrun policy (step_clock.h): a late tick is counted and
  * logged but never skipped, so simulated time stays exact. */
 #include "srv_int.h"
+#include "host_steal.h"
 #include "sim_team.h"
 #include "step_clock.h"
 #include "svc_notify.h"
@@ -46,6 +47,10 @@ void *srv_loop(void *arg)
     }
     step_clock clock;
     step_clock_init(&clock, period_ns);
+    s->steal_s = mono_s();
+    if (host_steal_read(&s->steal_ms) != 0) {
+        s->steal_ms = -1.0; /* no /proc/stat: overrun lines say nothing of the host */
+    }
     /* systemd's watchdog is pinged from here, so a wedged simulation trips it (SERVER.md
      * "Debian service"): four pings per interval */
     const uint64_t wd_us = svc_watchdog_us() / 4u;
@@ -116,8 +121,12 @@ void *srv_loop(void *arg)
                                                     .seed = ls[i].variation };
         }
         srv_damage_gather(s);
+        double publish_ms = -1.0;
         if (snap) {
+            const double p0 = mono_ms();
             srv_publish(s, tick + 1);
+            publish_ms = mono_ms() - p0;
+            sim_metrics_publish(mt, publish_ms);
         }
         const uint64_t now_ns = mono_ns();
         uint64_t ns = sim_metrics_tick(mt, tick + 1, &ts);
@@ -132,14 +141,25 @@ void *srv_loop(void *arg)
                 s->olog_n = 0;
             }
             if (s->olog_n++ < SRV_OVERRUN_LOG_PER_S) {
+                char where[320], steal[96] = "";
+                sim_metrics_describe(where, sizeof where, &ts, publish_ms);
+                double steal_now;
+                if (s->steal_ms >= 0.0 && host_steal_read(&steal_now) == 0) {
+                    snprintf(steal, sizeof steal, "; the host took %.0f ms of the machine's "
+                             "CPUs in the last %.1f s", steal_now - s->steal_ms,
+                             mono_s() - s->steal_s);
+                }
                 fprintf(stderr,
-                        "gale-server: tick %u overran: work %.2f ms (wind %.2f ms, of it %.2f "
-                        "waiting for the step beside the ticks; %d pressure iterations) of a "
-                        "%.2f ms budget, finished %.2f ms after the next tick was due; %llu "
-                        "overruns\n",
-                        tick, ts.ms, ts.wind_ms, ts.wind_wait_ms, ts.wind_iters, dt * 1e3,
-                        (double)v.late_ns * 1e-6, k);
+                        "gale-server: tick %u overran: work %.2f ms of a %.2f ms budget "
+                        "(%s; %d pressure iterations), finished %.2f ms after the next tick "
+                        "was due; %llu overruns%s\n",
+                        tick, ts.ms, dt * 1e3, where, ts.wind_iters,
+                        (double)v.late_ns * 1e-6, k, steal);
             }
+        }
+        if (s->steal_ms >= 0.0 && mono_s() - s->steal_s >= 1.0) {
+            s->steal_s = mono_s();
+            s->steal_ms = host_steal_read(&s->steal_ms) == 0 ? s->steal_ms : -1.0;
         }
         if (v.wait) {
             const struct timespec due = { .tv_sec = (time_t)(clock.due_ns / 1000000000u),

@@ -2,6 +2,7 @@
 #include "sim_metrics.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 const double sim_tick_bucket_s[SIM_TICK_BUCKETS - 1] = { 0.0005, 0.001, 0.002, 0.004,
@@ -30,6 +31,21 @@ static const metric_row sim_rows[] = {
     { "gale_tick_recent_seconds", "quantile=\"0.999\"", "", METRIC_SUMMARY, 6 },
     { "gale_tick_recent_seconds_sum", NULL, "", METRIC_SUMMARY, 6 },
     { "gale_tick_recent_seconds_count", NULL, "", METRIC_SUMMARY, 0 },
+    { "gale_tick_phase_seconds_total", "phase=\"wind\"",
+      "Wall time of the ticks' work by phase: the wind step's part in the tick, sampling the "
+      "wind at the crowns, the modal update, leaf shedding and storm damage (together "
+      "gale_tick_seconds), and publishing each snapshot after its tick.",
+      METRIC_COUNTER, 6 },
+    { "gale_tick_phase_seconds_total", "phase=\"sample\"", "", METRIC_COUNTER, 6 },
+    { "gale_tick_phase_seconds_total", "phase=\"modal\"", "", METRIC_COUNTER, 6 },
+    { "gale_tick_phase_seconds_total", "phase=\"leaves\"", "", METRIC_COUNTER, 6 },
+    { "gale_tick_phase_seconds_total", "phase=\"damage\"", "", METRIC_COUNTER, 6 },
+    { "gale_tick_phase_seconds_total", "phase=\"publish\"", "", METRIC_COUNTER, 6 },
+    { "gale_tick_off_cpu_seconds_total", NULL,
+      "Of the ticks' work, wall time the simulation thread was off a CPU: waiting for a core "
+      "(another program, or the host), for a helper thread, or for the wind step beside the "
+      "ticks.",
+      METRIC_COUNTER, 6 },
     { "gale_tick_overruns_total", NULL, "Ticks that ended after the next one was due.",
       METRIC_COUNTER, 0 },
     { "gale_wind_steps_total", NULL, "Wind grid steps taken.", METRIC_COUNTER, 0 },
@@ -91,7 +107,12 @@ static void sim_fill(void *ctx, double *v)
     v[h + 1] = below;
     v[h + 2] = (double)atomic_load(&m->tick_ns_max) * 1e-9;
     recent_fill(m, &v[h + 3]);
-    const int o = h + 3 + SIM_RECENT_QUANTILES + 2;
+    const int ph = h + 3 + SIM_RECENT_QUANTILES + 2;
+    for (int k = 0; k < SIM_PHASES; k++) {
+        v[ph + k] = (double)atomic_load(&m->phase_ns[k]) * 1e-9;
+    }
+    v[ph + SIM_PHASES] = (double)atomic_load(&m->off_cpu_ns) * 1e-9;
+    const int o = ph + SIM_PHASES + 1;
     v[o] = (double)atomic_load(&m->overruns);
     v[o + 1] = (double)atomic_load(&m->wind_steps);
     v[o + 2] = (double)atomic_load(&m->wind_step_ns_sum) * 1e-9;
@@ -103,9 +124,21 @@ static void sim_fill(void *ctx, double *v)
     v[o + 8] = (double)atomic_load(&m->wind_unconverged);
 }
 
+/* ms as whole nanoseconds, 0 for a negative or not-a-number time. */
+static uint64_t ms_to_ns(double ms)
+{
+    return ms > 0.0 ? (uint64_t)(ms * 1e6) : 0u;
+}
+
 uint64_t sim_metrics_tick(sim_metrics *m, uint32_t tick, const tick_stats *st)
 {
     uint64_t ns = (uint64_t)(st->ms * 1e6);
+    const double phase_ms[SIM_PHASE_PUBLISH] = { st->wind_ms, st->sample_ms, st->modal_ms,
+                                                 st->leaves_ms, st->damage_ms };
+    for (int k = 0; k < SIM_PHASE_PUBLISH; k++) {
+        atomic_fetch_add(&m->phase_ns[k], ms_to_ns(phase_ms[k]));
+    }
+    atomic_fetch_add(&m->off_cpu_ns, ms_to_ns(st->ms - st->cpu_ms));
     atomic_store(&m->current_tick, tick);
     const unsigned long long k = atomic_fetch_add(&m->ticks, 1);
     const double us = st->ms * 1e3 + 0.5;
@@ -140,9 +173,34 @@ uint64_t sim_metrics_tick(sim_metrics *m, uint32_t tick, const tick_stats *st)
     return ns;
 }
 
+void sim_metrics_publish(sim_metrics *m, double publish_ms)
+{
+    atomic_fetch_add(&m->phase_ns[SIM_PHASE_PUBLISH], ms_to_ns(publish_ms));
+}
+
 unsigned long long sim_metrics_overrun(sim_metrics *m)
 {
     return atomic_fetch_add(&m->overruns, 1) + 1;
+}
+
+int sim_metrics_describe(char *buf, size_t cap, const tick_stats *st, double publish_ms)
+{
+    const double phases = st->wind_ms + st->sample_ms + st->modal_ms + st->leaves_ms +
+                          st->damage_ms;
+    const double rest = st->ms - phases, off = st->ms - st->cpu_ms;
+    int n = snprintf(buf, cap,
+                     "wind %.2f ms (of it %.2f waiting for the step beside the ticks), "
+                     "sample %.2f, modal %.2f, leaves %.2f, damage %.2f, other %.2f",
+                     st->wind_ms, st->wind_wait_ms, st->sample_ms, st->modal_ms, st->leaves_ms,
+                     st->damage_ms, rest > 0.0 ? rest : 0.0);
+    if (publish_ms >= 0.0 && n >= 0 && (size_t)n < cap) {
+        n += snprintf(buf + n, cap - (size_t)n, "; publishing %.2f", publish_ms);
+    }
+    if (n >= 0 && (size_t)n < cap) {
+        n += snprintf(buf + n, cap - (size_t)n, "; the sim thread off a CPU %.2f ms of it",
+                      off > 0.0 ? off : 0.0);
+    }
+    return n;
 }
 
 int sim_metrics_register(sim_metrics *m, metric_reg *r, gale_err *err)

@@ -7,6 +7,7 @@
 #define GALE_SIM_METRICS_H
 
 #include <stdatomic.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "err.h"
@@ -25,6 +26,19 @@ extern const double sim_tick_bucket_s[SIM_TICK_BUCKETS - 1];
 #define SIM_RECENT_QUANTILES 4
 extern const double sim_recent_quantile[SIM_RECENT_QUANTILES];
 
+/* The phases of a tick's work gale_tick_phase_seconds_total counts: the first five are
+ * tick_step's (tick_stats), which gale_tick_seconds counts whole; publishing the snapshot
+ * follows the tick on snapshot ticks (sim_metrics_publish). */
+enum {
+    SIM_PHASE_WIND,
+    SIM_PHASE_SAMPLE,
+    SIM_PHASE_MODAL,
+    SIM_PHASE_LEAVES,
+    SIM_PHASE_DAMAGE,
+    SIM_PHASE_PUBLISH,
+    SIM_PHASES
+};
+
 /* Caller-owned; zeroed is the start state. */
 typedef struct sim_metrics {
     atomic_ullong ticks;
@@ -42,6 +56,8 @@ typedef struct sim_metrics {
     atomic_ullong wind_step_ns_max;
     atomic_ullong wind_waits;       /* ticks held up by a step beside them not yet done */
     atomic_ullong wind_wait_ns_sum; /* how long they waited [ns] */
+    atomic_ullong phase_ns[SIM_PHASES]; /* wall time of each phase [ns] */
+    atomic_ullong off_cpu_ns;       /* of the ticks' work, time the sim thread was off a CPU */
     _Atomic uint32_t recent_us[SIM_RECENT_TICKS]; /* the last ticks' work [µs], a ring at
                                                      ticks % SIM_RECENT_TICKS */
 } sim_metrics;
@@ -49,11 +65,19 @@ typedef struct sim_metrics {
 /* Counts one tick that brought the simulation to tick `tick` (tick_now after it), with
  * the stats tick_step returned. Returns the tick's work time as counted [ns]. */
 uint64_t sim_metrics_tick(sim_metrics *m, uint32_t tick, const tick_stats *st);
+/* Counts the publishing of a snapshot after its tick, publish_ms of it. */
+void sim_metrics_publish(sim_metrics *m, double publish_ms);
 /* Counts an overrun of the fixed step; returns the count so far. */
 unsigned long long sim_metrics_overrun(sim_metrics *m);
 
+/* Where a tick's time went, for the overrun's log line: each phase of st (and publishing,
+ * publish_ms; negative: none this tick), the work no phase accounts for, and how long the
+ * sim thread was off a CPU, into buf (always terminated). Returns snprintf's count. */
+int sim_metrics_describe(char *buf, size_t cap, const tick_stats *st, double publish_ms);
+
 /* Adds the simulation's rows (gale_ticks_total, the gale_tick_seconds histogram and
- * _max, the gale_tick_recent_seconds summary, gale_tick_overruns_total,
+ * _max, the gale_tick_recent_seconds summary, gale_tick_phase_seconds_total by phase,
+ * gale_tick_off_cpu_seconds_total, gale_tick_overruns_total,
  * gale_wind_pressure_*, gale_wind_step_*) to r; m is borrowed for r's life.
  * Fails only when r is full (metric_reg_add). */
 int sim_metrics_register(sim_metrics *m, metric_reg *r, gale_err *err);

@@ -12,6 +12,7 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 
 struct tick_sim {
@@ -446,9 +447,18 @@ static int step_ahead(tick_sim *t, const wind_inflow *in, int every, tick_stats 
     return 0;
 }
 
+/* CPU time of the calling thread [ms]. */
+static double thread_cpu_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
 int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
 {
     tick_stats local = { 0 };
+    const double c0 = thread_cpu_ms();
     double t0 = mono_ms();
     const scene *sc = t->d.sc;
     wind_inflow in;
@@ -495,6 +505,7 @@ int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
             }
         }
         /* 2. sample the wind at every crown, in the grid's locality order */
+        const double s0 = mono_ms();
         if (t->probe) {
             sample_probe(t);
         } else {
@@ -504,19 +515,27 @@ int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
                        3 * sizeof(float));
             }
         }
+        local.sample_ms = mono_ms() - s0;
     } else {
+        const double s0 = mono_ms();
         sample_profile(t, &in);
+        local.sample_ms = mono_ms() - s0;
     }
 
     /* 3. forces and the exact modal update (modal.h), quantised on snapshot ticks */
+    const double m0 = mono_ms();
     modal_tick(t->m, t->vel, qsnap);
 
     /* 4. leaves: the shedding rate follows the wind speed at each crown */
+    const double l0 = mono_ms();
+    local.modal_ms = l0 - m0;
     t->n_leaves = 0;
     local.leaves_lost += leaf_shed_trees(&t->leaf, (uint32_t)t->n_trees, t->vel, t->slots, 0,
                                          t->tick, (double)t->dt_s, t->threads, t->leaf_scratch,
                                          t->leaves, t->d.max_leaves_per_tick, &t->n_leaves,
                                          &local.max_speed_ms);
+    const double d0 = mono_ms();
+    local.leaves_ms = d0 - l0;
     /* 5. storm damage from the new modal state (damage.h); stripped leaves fall too */
     if (t->dmg) {
         local.leaves_lost += damage_step(t->dmg, t->m, t->vel, t->tick, t->leaves,
@@ -524,7 +543,10 @@ int tick_step(tick_sim *t, int16_t *qsnap, tick_stats *st, gale_err *err)
     }
     local.leaves = t->n_leaves;
     t->tick++;
-    local.ms = mono_ms() - t0;
+    const double t1 = mono_ms();
+    local.damage_ms = t->dmg ? t1 - d0 : 0.0;
+    local.ms = t1 - t0;
+    local.cpu_ms = thread_cpu_ms() - c0;
     if (st) {
         *st = local;
     }

@@ -85,6 +85,15 @@ typedef struct tick_stats {
     double wind_div;       /* divergence after projection */
     double wind_residual;  /* relative residual ||b - A p|| / ||b|| of the pressure solve */
     bool wind_unconverged; /* the solve used its whole budget, still above 1/div_reduction */
+    double sample_ms;      /* sampling the wind at the crowns (the grid's share, or the
+                              profile) */
+    double modal_ms;       /* the modal update (and quantisation on snapshot ticks) */
+    double leaves_ms;      /* leaf shedding */
+    double damage_ms;      /* storm damage (0 without it) */
+    double cpu_ms;         /* CPU time of the calling thread over the tick: ms less this is
+                              the time it was off a CPU (waiting for a core, for a helper
+                              thread, or for the step beside the ticks; the host's steal is
+                              not counted as CPU time where the kernel accounts for it) */
     int leaves;            /* leaf seeds emitted */
     int leaves_lost;       /* shed but over the per-tick cap */
     float max_speed_ms;    /* strongest wind at a crown */
