@@ -34,7 +34,7 @@ typedef struct damage_lane {
     float *q;                   /* owned [DAMAGE_MAX_GROUPS + 1][DAMAGE_GROUP_MODES] scratch: x */
     float *moments;             /* owned [damage_bound_lanes(the most branches)] scratch:
                                    moment bounds */
-    uint8_t *pass;              /* owned [damage_bound_lanes(the most branches)] scratch:
+    uint32_t *pass;             /* owned [damage_bound_lanes(the most branches)] scratch:
                                    1 where a branch's bound passes */
     uint32_t *cand;             /* owned [the most branches] scratch: branches a bound passes */
     wire_damage *ev;            /* owned [cap_ev] its events this step, in tree order */
@@ -144,7 +144,7 @@ damage_sim *damage_create(const damage_desc *d, gale_err *err)
         damage_lane *l = &s->lane[k];
         l->q = calloc(DAMAGE_MAX_GROUPS * DAMAGE_GROUP_MODES + DAMAGE_GROUP_MODES, sizeof(float));
         l->moments = calloc(damage_bound_lanes(maxb), sizeof(float));
-        l->pass = calloc(damage_bound_lanes(maxb), 1);
+        l->pass = calloc(damage_bound_lanes(maxb), sizeof(uint32_t));
         l->cand = calloc((size_t)maxb, sizeof(uint32_t));
         if (k > 0) {
             /* room for every event a stream and the whole-state log can hold */
@@ -472,15 +472,14 @@ static void check_tree(damage_sim *s, damage_lane *l, modal *m, const damage_tab
      * itself; the draw of its own strength (a log, a cos and an exp) only for one that
      * might fail. 1e-3: lo's single-precision exp against the draws' double one */
     const float lo_branch = 0.999f * lo;
-    /* the few the bound passes, up to the last, eight lanes of pass flags a word: most
-     * words are zero (damage_bound_lanes pads the flags to whole words) */
+    /* the few the bound passes, up to the last, eight lanes of pass flags at a time: most
+     * eights are all zero (damage_bound_lanes pads the flags to whole eights) */
     const uint32_t hits =
         damage_branch_bounds(tb, xg, n_check, lo_branch, l->moments, l->pass);
     uint32_t n_cand = 0;
     for (uint32_t j0 = 0; n_cand < hits && j0 < n_check; j0 += 8) {
-        uint64_t word;
-        memcpy(&word, l->pass + j0, sizeof word);
-        if (word) {
+        const uint32_t *p8 = l->pass + j0;
+        if (p8[0] | p8[1] | p8[2] | p8[3] | p8[4] | p8[5] | p8[6] | p8[7]) {
             for (uint32_t j = j0; j < j0 + 8 && n_cand < hits; j++) {
                 l->cand[n_cand] = j;
                 n_cand += l->pass[j];

@@ -113,7 +113,7 @@ uint32_t damage_branches_within(const damage_table *t, float x, uint32_t hint)
  * its own to find that none of them reaches its capacity (the common case). */
 __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 uint32_t damage_branch_bounds(const damage_table *t, const float *xg, uint32_t n_check,
-                              float cap_mult, float *out, uint8_t *pass)
+                              float cap_mult, float *out, uint32_t *pass)
 {
     const uint32_t last = t->n_groups - 1, nv = damage_bound_lanes(n_check);
     const size_t stride = t->group_stride;
@@ -136,21 +136,21 @@ uint32_t damage_branch_bounds(const damage_table *t, const float *xg, uint32_t n
     }
     uint32_t hits = 0;
     const float *restrict cap = t->cap_by_order;
-    uint8_t *restrict ps = pass;
+    uint32_t *restrict ps = pass;
     if (last > 0) {
         const float x = xg[last];
         const float *restrict m = t->group_norm + last * stride;
 #pragma omp simd reduction(+ : hits)
         for (uint32_t j = 0; j < nv; j++) {
             o[j] += x * m[j];
-            const uint8_t p = (j < n_check) & (o[j] * 1.0001f > cap_mult * cap[j]);
+            const uint32_t p = (j < n_check) & (o[j] * 1.0001f > cap_mult * cap[j]);
             ps[j] = p;
             hits += p;
         }
     } else {
 #pragma omp simd reduction(+ : hits)
         for (uint32_t j = 0; j < nv; j++) {
-            const uint8_t p = (j < n_check) & (o[j] * 1.0001f > cap_mult * cap[j]);
+            const uint32_t p = (j < n_check) & (o[j] * 1.0001f > cap_mult * cap[j]);
             ps[j] = p;
             hits += p;
         }

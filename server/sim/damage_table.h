@@ -121,9 +121,10 @@ uint32_t damage_branches_within(const damage_table *t, float x, uint32_t hint);
  * n_check hold bounds of no use). Returns how many of them have out[j] · 1.0001 above
  * cap_mult · cap_by_order[j] (1e-4 for the bound's rounding): 0, and none can fail at
  * strength cap_mult. pass[damage_bound_lanes(n_check)] is written 1 for each of them and
- * 0 for every other lane, so a caller finds the few a word of lanes at a time. */
+ * 0 for every other lane (32-bit lanes, as wide as the bounds', so the loop stays in whole
+ * vectors of them), so a caller finds the few several lanes at a time. */
 uint32_t damage_branch_bounds(const damage_table *t, const float *xg, uint32_t n_check,
-                              float cap_mult, float *out, uint8_t *pass);
+                              float cap_mult, float *out, uint32_t *pass);
 
 /* |x_g| of each group of DAMAGE_GROUP_MODES columns of x (x zero past its columns up to
  * n_groups whole groups) into xg[n_groups]. */
