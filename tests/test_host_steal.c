@@ -1,6 +1,6 @@
 /* The host's steal time read from /proc/stat (server/serve/host_steal.c): the eighth field
  * of the cpu line in clock ticks, as milliseconds; a text without that line or field is
- * refused; the machine's own /proc/stat reads. */
+ * refused; the machine's own /proc/stat reads; the window of the last 1-2 s. */
 #include "check.h"
 #include "host_steal.h"
 
@@ -36,9 +36,34 @@ static void test_read(void)
     CHECK(ms >= 0.0);
 }
 
+/* The window keeps the last reading and the one before, a reading at most once a
+ * second, so the span it reports is 1-2 s once it has run that long. */
+static void test_window(void)
+{
+    host_steal_window w;
+    CHECK(host_steal_start(&w, 100.0) == 0);
+    CHECK(w.at_s[0] == 100.0 && w.at_s[1] == 100.0);
+    host_steal_advance(&w, 100.5); /* under a second: no reading */
+    CHECK(w.at_s[1] == 100.0);
+    host_steal_advance(&w, 101.25);
+    CHECK(w.at_s[0] == 100.0 && w.at_s[1] == 101.25);
+    host_steal_advance(&w, 102.5);
+    CHECK(w.at_s[0] == 101.25 && w.at_s[1] == 102.5);
+    double ms = -1.0, span_s = 0.0;
+    CHECK(host_steal_recent(&w, 103.0, &ms, &span_s) == 0);
+    CHECK_NEAR(span_s, 1.75, 1e-12);
+    CHECK(ms >= 0.0 && ms >= w.ms[1] - w.ms[0]);
+    /* off: nothing to report, nothing read */
+    w.ms[0] = w.ms[1] = -1.0;
+    host_steal_advance(&w, 200.0);
+    CHECK(w.at_s[1] == 102.5);
+    CHECK(host_steal_recent(&w, 200.0, &ms, &span_s) == -1);
+}
+
 int main(void)
 {
     RUN(test_parse);
     RUN(test_read);
+    RUN(test_window);
     return check_report();
 }

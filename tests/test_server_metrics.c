@@ -176,13 +176,14 @@ static void test_sim_rows(void)
  * publishing when there was one, and the time off a CPU. */
 static void test_describe(void)
 {
-    const tick_stats ts = { .ms = 20.0, .wind_ms = 1.5, .wind_wait_ms = 1.25, .sample_ms = 2.0,
-                            .modal_ms = 12.0, .leaves_ms = 0.5, .damage_ms = 3.0,
-                            .cpu_ms = 8.75 };
+    const tick_stats ts = { .ms = 20.0, .wind_ms = 1.5, .wind_wait_ms = 1.25, .wind_iters = 12,
+                            .sample_ms = 2.0, .modal_ms = 12.0, .leaves_ms = 0.5,
+                            .damage_ms = 3.0, .cpu_ms = 8.75 };
     char buf[320];
     sim_metrics_describe(buf, sizeof buf, &ts, 2.5);
-    CHECK_STR_HAS(buf, "wind 1.50 ms (of it 1.25 waiting for the step beside the ticks), "
-                       "sample 2.00, modal 12.00, leaves 0.50, damage 3.00, other 1.00; "
+    CHECK_STR_HAS(buf, "wind 1.50 ms (of it 1.25 waiting for the step beside the ticks; 12 "
+                       "pressure iterations), sample 2.00, modal 12.00, leaves 0.50, damage "
+                       "3.00, other 1.00; "
                        "publishing 2.50; the sim thread off a CPU 11.25 ms of it");
     sim_metrics_describe(buf, sizeof buf, &ts, -1.0);
     CHECK(strstr(buf, "publishing") == NULL);

@@ -1,6 +1,7 @@
 /* The host's steal time from /proc/stat: see host_steal.h. */
 #include "host_steal.h"
 
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -47,4 +48,37 @@ int host_steal_read(double *ms)
     const size_t n = fread(buf, 1, sizeof buf, f);
     fclose(f);
     return host_steal_parse(buf, n, sysconf(_SC_CLK_TCK), ms);
+}
+
+int host_steal_start(host_steal_window *w, double now_s)
+{
+    double ms;
+    const int rc = host_steal_read(&ms);
+    *w = (host_steal_window){ .ms = { rc ? -1.0 : ms, rc ? -1.0 : ms },
+                              .at_s = { now_s, now_s } };
+    return rc;
+}
+
+void host_steal_advance(host_steal_window *w, double now_s)
+{
+    if (w->ms[1] < 0.0 || now_s - w->at_s[1] < 1.0) {
+        return;
+    }
+    double ms;
+    const bool ok = host_steal_read(&ms) == 0;
+    w->ms[0] = ok ? w->ms[1] : -1.0;
+    w->at_s[0] = w->at_s[1];
+    w->ms[1] = ok ? ms : -1.0;
+    w->at_s[1] = now_s;
+}
+
+int host_steal_recent(const host_steal_window *w, double now_s, double *ms, double *span_s)
+{
+    double now_ms;
+    if (w->ms[0] < 0.0 || host_steal_read(&now_ms) != 0) {
+        return -1;
+    }
+    *ms = now_ms - w->ms[0];
+    *span_s = now_s - w->at_s[0];
+    return 0;
 }

@@ -15,4 +15,20 @@ int host_steal_parse(const char *text, size_t len, long ticks_per_s, double *ms)
 /* The same, read from /proc/stat now. Returns 0, or -1 where it cannot be read. */
 int host_steal_read(double *ms);
 
+/* The steal of the last 1-2 s (/proc/stat counts it in 10 ms ticks, so a shorter span
+ * says little): a reading taken once a second and the one before it. */
+typedef struct host_steal_window {
+    double ms[2];   /* [1] the last reading, [0] the one before; < 0: none (off) */
+    double at_s[2]; /* when they were taken (mono_s) */
+} host_steal_window;
+
+/* Starts the window with a reading at now_s. Returns -1, the window off, where
+ * /proc/stat cannot be read. */
+int host_steal_start(host_steal_window *w, double now_s);
+/* Takes a reading when the last is a second old or more (call it as often as wanted). */
+void host_steal_advance(host_steal_window *w, double now_s);
+/* The steal now since the older reading [ms] and how long ago that was [s]. Returns -1
+ * where the window is off or /proc/stat cannot be read. */
+int host_steal_recent(const host_steal_window *w, double now_s, double *ms, double *span_s);
+
 #endif

@@ -11,6 +11,7 @@
 
 #include "mono.h"
 #include "ctl.h"
+#include "host_steal.h"
 #include "kiosk_gate.h"
 #include "metric.h"
 #include "srv.h"
@@ -151,10 +152,7 @@ struct srv {
     /* log rate limits (sim thread) */
     time_t olog_sec;             /* overruns: the second being counted */
     int olog_n;                  /*           lines in it */
-    double steal_ms;             /* the host's steal (host_steal.h) at steal_s, read once a
-                                    second, so an overrun can name the last second's; < 0
-                                    where it cannot be read */
-    double steal_s;              /* when it was read (mono_s) */
+    host_steal_window steal;     /* the host's steal of the last 1-2 s, for overrun lines */
     wall_groups *walls;          /* display walls' groups (lws thread, srv_control.c) */
     double slog_next_s;          /* solves out of budget: next line no earlier [s, mono_s] */
     unsigned long long slog_n;   /* solves out of budget since that line */

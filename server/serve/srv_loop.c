@@ -3,7 +3,6 @@
  * simulation's metrics, and the overrun policy (step_clock.h): a late tick is counted and
  * logged but never skipped, so simulated time stays exact. */
 #include "srv_int.h"
-#include "host_steal.h"
 #include "sim_team.h"
 #include "step_clock.h"
 #include "svc_notify.h"
@@ -47,10 +46,7 @@ void *srv_loop(void *arg)
     }
     step_clock clock;
     step_clock_init(&clock, period_ns);
-    s->steal_s = mono_s();
-    if (host_steal_read(&s->steal_ms) != 0) {
-        s->steal_ms = -1.0; /* no /proc/stat: overrun lines say nothing of the host */
-    }
+    (void)host_steal_start(&s->steal, mono_s()); /* none: overrun lines say nothing of it */
     /* systemd's watchdog is pinged from here, so a wedged simulation trips it (SERVER.md
      * "Debian service"): four pings per interval */
     const uint64_t wd_us = svc_watchdog_us() / 4u;
@@ -143,24 +139,18 @@ void *srv_loop(void *arg)
             if (s->olog_n++ < SRV_OVERRUN_LOG_PER_S) {
                 char where[320], steal[96] = "";
                 sim_metrics_describe(where, sizeof where, &ts, publish_ms);
-                double steal_now;
-                if (s->steal_ms >= 0.0 && host_steal_read(&steal_now) == 0) {
+                double steal_ms, span_s;
+                if (host_steal_recent(&s->steal, mono_s(), &steal_ms, &span_s) == 0) {
                     snprintf(steal, sizeof steal, "; the host took %.0f ms of the machine's "
-                             "CPUs in the last %.1f s", steal_now - s->steal_ms,
-                             mono_s() - s->steal_s);
+                             "CPUs in the last %.1f s", steal_ms, span_s);
                 }
                 fprintf(stderr,
-                        "gale-server: tick %u overran: work %.2f ms of a %.2f ms budget "
-                        "(%s; %d pressure iterations), finished %.2f ms after the next tick "
-                        "was due; %llu overruns%s\n",
-                        tick, ts.ms, dt * 1e3, where, ts.wind_iters,
-                        (double)v.late_ns * 1e-6, k, steal);
+                        "gale-server: tick %u overran: work %.2f ms of a %.2f ms budget (%s), "
+                        "finished %.2f ms after the next tick was due; %llu overruns%s\n",
+                        tick, ts.ms, dt * 1e3, where, (double)v.late_ns * 1e-6, k, steal);
             }
         }
-        if (s->steal_ms >= 0.0 && mono_s() - s->steal_s >= 1.0) {
-            s->steal_s = mono_s();
-            s->steal_ms = host_steal_read(&s->steal_ms) == 0 ? s->steal_ms : -1.0;
-        }
+        host_steal_advance(&s->steal, mono_s());
         if (v.wait) {
             const struct timespec due = { .tv_sec = (time_t)(clock.due_ns / 1000000000u),
                                           .tv_nsec = (long)(clock.due_ns % 1000000000u) };

@@ -189,9 +189,11 @@ int sim_metrics_describe(char *buf, size_t cap, const tick_stats *st, double pub
                           st->damage_ms;
     const double rest = st->ms - phases, off = st->ms - st->cpu_ms;
     int n = snprintf(buf, cap,
-                     "wind %.2f ms (of it %.2f waiting for the step beside the ticks), "
-                     "sample %.2f, modal %.2f, leaves %.2f, damage %.2f, other %.2f",
-                     st->wind_ms, st->wind_wait_ms, st->sample_ms, st->modal_ms, st->leaves_ms,
+                     "wind %.2f ms (of it %.2f waiting for the step beside the ticks; %d "
+                     "pressure iterations), sample %.2f, modal %.2f, leaves %.2f, damage %.2f, "
+                     "other %.2f",
+                     st->wind_ms, st->wind_wait_ms, st->wind_iters, st->sample_ms, st->modal_ms,
+                     st->leaves_ms,
                      st->damage_ms, rest > 0.0 ? rest : 0.0);
     if (publish_ms >= 0.0 && n >= 0 && (size_t)n < cap) {
         n += snprintf(buf + n, cap - (size_t)n, "; publishing %.2f", publish_ms);

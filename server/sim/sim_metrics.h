@@ -70,7 +70,8 @@ void sim_metrics_publish(sim_metrics *m, double publish_ms);
 /* Counts an overrun of the fixed step; returns the count so far. */
 unsigned long long sim_metrics_overrun(sim_metrics *m);
 
-/* Where a tick's time went, for the overrun's log line: each phase of st (and publishing,
+/* Where a tick's time went, for the overrun's log line: each phase of st (the wind's
+ * with its pressure iterations, and publishing,
  * publish_ms; negative: none this tick), the work no phase accounts for, and how long the
  * sim thread was off a CPU, into buf (always terminated). Returns snprintf's count. */
 int sim_metrics_describe(char *buf, size_t cap, const tick_stats *st, double publish_ms);
