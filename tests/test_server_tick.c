@@ -179,18 +179,12 @@ static void test_balls(void)
     tick_destroy(t);
 }
 
-/* A sampler that takes ms of wall time, asleep or spinning on the CPU. */
+/* A sampler that sleeps ms of wall time, or spins until its thread has had ms of CPU
+ * time (however long that takes on a loaded machine). */
 typedef struct slow_sampler {
     double ms;
     bool spin;
 } slow_sampler;
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
-}
 
 static int no_step(void *ctx, float dt_s, wind_step_stats *st)
 {
@@ -203,10 +197,13 @@ static int no_step(void *ctx, float dt_s, wind_step_stats *st)
 static void slow_sample(void *ctx, int n, const float *p, float *v)
 {
     const slow_sampler *z = ctx;
-    const double until = now_ms() + z->ms;
     if (z->spin) {
-        while (now_ms() < until) {
-        }
+        struct timespec c;
+        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c);
+        const double until = (double)c.tv_sec * 1e3 + (double)c.tv_nsec * 1e-6 + z->ms;
+        do {
+            clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c);
+        } while ((double)c.tv_sec * 1e3 + (double)c.tv_nsec * 1e-6 < until);
     } else {
         const long ns = (long)(z->ms * 1e6);
         nanosleep(&(struct timespec){ .tv_sec = ns / 1000000000L, .tv_nsec = ns % 1000000000L },
@@ -216,9 +213,9 @@ static void slow_sample(void *ctx, int n, const float *p, float *v)
 }
 
 /* tick_stats puts a tick's time in its phase: a sampler that takes 20 ms shows in
- * sample_ms and not in the others, the phases add up to the tick's time, and the time the
- * thread slept in it shows as off a CPU (ms - cpu_ms) where the same 20 ms spun on one
- * does not. */
+ * sample_ms and not in the others, the phases add up to the tick's time, the time the
+ * thread slept in it shows as off a CPU (ms - cpu_ms), and 20 ms of CPU spent in it shows
+ * in cpu_ms. */
 static void test_phases(void)
 {
     float omega[1] = { 3 }, gamma[1] = { 0.3f }, basis[3] = { 1, 0, 0 }, qstep[1] = { 1e-4f };
@@ -237,14 +234,15 @@ static void test_phases(void)
         tick_stats st;
         CHECK(tick_step(t, NULL, &st, NULL) == 0);
         CHECK(st.sample_ms >= 19.9);
-        CHECK(st.modal_ms < 5.0 && st.leaves_ms < 5.0 && st.damage_ms == 0.0 &&
-              st.wind_ms < 5.0);
+        /* the others take microseconds; 15 ms leaves room for a loaded machine's turns */
+        CHECK(st.modal_ms < 15.0 && st.leaves_ms < 15.0 && st.damage_ms == 0.0 &&
+              st.wind_ms < 15.0);
         const double phases = st.wind_ms + st.sample_ms + st.modal_ms + st.leaves_ms +
                               st.damage_ms;
-        CHECK(phases <= st.ms + 1e-9 && phases >= st.ms - 1.0);
+        CHECK(phases <= st.ms + 1e-9 && phases >= st.ms - 5.0);
         CHECK(st.cpu_ms >= 0.0 && st.cpu_ms <= st.ms + 0.5);
         if (spin) {
-            CHECK(st.ms - st.cpu_ms < 10.0); /* on a CPU for most of its spin */
+            CHECK(st.cpu_ms >= 19.9);
         } else {
             CHECK(st.ms - st.cpu_ms >= 19.0);
         }
