@@ -41,7 +41,8 @@ static void test_read(void)
 static void test_window(void)
 {
     host_steal_window w;
-    CHECK(host_steal_start(&w, 100.0) == 0);
+    CHECK(host_steal_open(&w, 100.0) == 0);
+    CHECK(w.fd >= 0);
     CHECK(w.at_s[0] == 100.0 && w.at_s[1] == 100.0);
     host_steal_advance(&w, 100.5); /* under a second: no reading */
     CHECK(w.at_s[1] == 100.0);
@@ -53,11 +54,15 @@ static void test_window(void)
     CHECK(host_steal_recent(&w, 103.0, &ms, &span_s) == 0);
     CHECK_NEAR(span_s, 1.75, 1e-12);
     CHECK(ms >= 0.0 && ms >= w.ms[1] - w.ms[0]);
+    /* the descriptor read again from its start: the readings never go back */
+    CHECK(w.ms[1] >= w.ms[0] && w.ms[0] >= 0.0);
     /* off: nothing to report, nothing read */
-    w.ms[0] = w.ms[1] = -1.0;
+    host_steal_close(&w);
+    CHECK(w.fd == -1);
     host_steal_advance(&w, 200.0);
     CHECK(w.at_s[1] == 102.5);
     CHECK(host_steal_recent(&w, 200.0, &ms, &span_s) == -1);
+    host_steal_close(&w); /* closing an off window again is harmless */
 }
 
 int main(void)

@@ -1,6 +1,7 @@
 /* The host's steal time from /proc/stat: see host_steal.h. */
 #include "host_steal.h"
 
+#include <fcntl.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -38,34 +39,53 @@ int host_steal_parse(const char *text, size_t len, long ticks_per_s, double *ms)
     return 0;
 }
 
-int host_steal_read(double *ms)
+/* The steal from the descriptor fd of /proc/stat, read from its start. */
+static int read_fd(int fd, double *ms)
 {
-    FILE *f = fopen("/proc/stat", "r");
-    if (!f) {
-        return -1;
-    }
     char buf[512];
-    const size_t n = fread(buf, 1, sizeof buf, f);
-    fclose(f);
-    return host_steal_parse(buf, n, sysconf(_SC_CLK_TCK), ms);
+    const ssize_t n = pread(fd, buf, sizeof buf, 0);
+    return n > 0 ? host_steal_parse(buf, (size_t)n, sysconf(_SC_CLK_TCK), ms) : -1;
 }
 
-int host_steal_start(host_steal_window *w, double now_s)
+int host_steal_read(double *ms)
 {
-    double ms;
-    const int rc = host_steal_read(&ms);
-    *w = (host_steal_window){ .ms = { rc ? -1.0 : ms, rc ? -1.0 : ms },
-                              .at_s = { now_s, now_s } };
+    const int fd = open("/proc/stat", O_RDONLY | O_CLOEXEC);
+    if (fd < 0) {
+        return -1;
+    }
+    const int rc = read_fd(fd, ms);
+    close(fd);
     return rc;
+}
+
+int host_steal_open(host_steal_window *w, double now_s)
+{
+    *w = (host_steal_window){ .fd = open("/proc/stat", O_RDONLY | O_CLOEXEC),
+                              .ms = { -1.0, -1.0 }, .at_s = { now_s, now_s } };
+    double ms;
+    if (w->fd < 0 || read_fd(w->fd, &ms) != 0) {
+        host_steal_close(w);
+        return -1;
+    }
+    w->ms[0] = w->ms[1] = ms;
+    return 0;
+}
+
+void host_steal_close(host_steal_window *w)
+{
+    if (w->fd >= 0) {
+        close(w->fd);
+    }
+    w->fd = -1;
 }
 
 void host_steal_advance(host_steal_window *w, double now_s)
 {
-    if (w->ms[1] < 0.0 || now_s - w->at_s[1] < 1.0) {
+    if (w->fd < 0 || now_s - w->at_s[1] < 1.0) {
         return;
     }
     double ms;
-    const bool ok = host_steal_read(&ms) == 0;
+    const bool ok = read_fd(w->fd, &ms) == 0;
     w->ms[0] = ok ? w->ms[1] : -1.0;
     w->at_s[0] = w->at_s[1];
     w->ms[1] = ok ? ms : -1.0;
@@ -75,7 +95,7 @@ void host_steal_advance(host_steal_window *w, double now_s)
 int host_steal_recent(const host_steal_window *w, double now_s, double *ms, double *span_s)
 {
     double now_ms;
-    if (w->ms[0] < 0.0 || host_steal_read(&now_ms) != 0) {
+    if (w->fd < 0 || w->ms[0] < 0.0 || read_fd(w->fd, &now_ms) != 0) {
         return -1;
     }
     *ms = now_ms - w->ms[0];

@@ -16,19 +16,24 @@ int host_steal_parse(const char *text, size_t len, long ticks_per_s, double *ms)
 int host_steal_read(double *ms);
 
 /* The steal of the last 1-2 s (/proc/stat counts it in 10 ms ticks, so a shorter span
- * says little): a reading taken once a second and the one before it. */
+ * says little): a reading taken once a second and the one before it, through one
+ * descriptor of /proc/stat kept open (read again from its start each time), so the
+ * process's descriptors do not come and go with the readings. */
 typedef struct host_steal_window {
-    double ms[2];   /* [1] the last reading, [0] the one before; < 0: none (off) */
+    int fd;         /* /proc/stat, or -1: off */
+    double ms[2];   /* [1] the last reading, [0] the one before; < 0: none */
     double at_s[2]; /* when they were taken (mono_s) */
 } host_steal_window;
 
-/* Starts the window with a reading at now_s. Returns -1, the window off, where
- * /proc/stat cannot be read. */
-int host_steal_start(host_steal_window *w, double now_s);
+/* Opens /proc/stat and takes the first reading at now_s. Returns -1, the window off
+ * (fd -1), where it cannot be read. */
+int host_steal_open(host_steal_window *w, double now_s);
+/* Closes the descriptor; the window is off after. A window off already is left so. */
+void host_steal_close(host_steal_window *w);
 /* Takes a reading when the last is a second old or more (call it as often as wanted). */
 void host_steal_advance(host_steal_window *w, double now_s);
 /* The steal now since the older reading [ms] and how long ago that was [s]. Returns -1
- * where the window is off or /proc/stat cannot be read. */
+ * where the window is off or has no reading. */
 int host_steal_recent(const host_steal_window *w, double now_s, double *ms, double *span_s);
 
 #endif

@@ -34,6 +34,9 @@ srv *srv_create(const srv_desc *d, gale_err *err)
         return NULL;
     }
     s->d = *d;
+    /* opened here, before the server listens, so its descriptor is among the process's
+       from the start; none: overrun lines say nothing of the host */
+    (void)host_steal_open(&s->steal, mono_s());
     if (s->d.kiosk_idle_s == 0) {
         s->d.kiosk_idle_s = SRV_KIOSK_IDLE_S;
     }
@@ -253,6 +256,7 @@ void srv_destroy(srv *s)
         return;
     }
     net_destroy(s->net);
+    host_steal_close(&s->steal);
     wall_groups_destroy(s->walls);
     tick_destroy(s->tick);
     free(s->tree_species);

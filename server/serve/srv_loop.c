@@ -46,7 +46,6 @@ void *srv_loop(void *arg)
     }
     step_clock clock;
     step_clock_init(&clock, period_ns);
-    (void)host_steal_start(&s->steal, mono_s()); /* none: overrun lines say nothing of it */
     /* systemd's watchdog is pinged from here, so a wedged simulation trips it (SERVER.md
      * "Debian service"): four pings per interval */
     const uint64_t wd_us = svc_watchdog_us() / 4u;
