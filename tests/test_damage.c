@@ -401,13 +401,20 @@ static void test_cat4_replay(void)
         late_fallen += late.tree[i].fallen != 0;
     }
     CHECK(late_fallen == all);
-    /* heal: intact, and the heal's whole state (empty) heals a client */
+    /* heal: intact, each tree's strength its seeded draw as at the start, and the heal's
+       whole state (empty) heals a client */
+    float strength0[64];
+    CHECK(s.n_trees <= 64);
+    for (int i = 0; i < s.n_trees && i < 64; i++) {
+        strength0[i] = damage_strength(tick_damage(t), (uint32_t)i);
+    }
     tick_request_heal(t);
     tick_step(t, NULL, NULL, NULL);
     for (int i = 0; i < s.n_trees; i++) {
         float l;
         uint32_t b;
         CHECK(damage_tree(tick_damage(t), (uint32_t)i, &l, &b) == 0 && l == 1.0f && b == 0);
+        CHECK(i >= 64 || damage_strength(tick_damage(t), (uint32_t)i) == strength0[i]);
     }
     ns = damage_state(tick_damage(t), state, WIRE_MAX_DAMAGE);
     CHECK(ns == 0);
