@@ -350,8 +350,127 @@ static void test_threads_same(void)
     }
 }
 
+/* The spectral norm (damage_moment_norm) of hand tables against their closed forms: two
+ * equal moments in crossed planes have norm |M| (Frobenius: sqrt(2) |M|), two along one
+ * axis add in full, and a single column is its length. */
+static void test_moment_norm_closed_form(void)
+{
+    /* a bound: at or above the closed form, and above it by at most its rounding margin
+     * (1e-6 of the trace under the root, 1.5e-6 of it at most, and 1e-7) */
+    const float crossed[2][3] = { { 3.0f, 0.0f, 0.0f }, { 0.0f, 3.0f, 0.0f } };
+    const float along[2][3] = { { 3.0f, 0.0f, 0.0f }, { 4.0f, 0.0f, 0.0f } };
+    const float one[1][3] = { { 1.0f, 2.0f, 2.0f } };
+    /* [[2, 1], [0, 2]] (rows the moment's axes): σ² the larger root of λ² - 9λ + 16 */
+    const float tri[2][3] = { { 2.0f, 0.0f, 0.0f }, { 1.0f, 2.0f, 0.0f } };
+    const struct {
+        const float (*m)[3];
+        uint32_t n;
+        double want;
+    } cases[] = { { crossed, 2, 3.0 }, { along, 2, 5.0 }, { one, 1, 3.0 },
+                  { tri, 2, sqrt((9.0 + sqrt(17.0)) / 2.0) } };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        const double got = damage_moment_norm(cases[i].m, cases[i].n);
+        CHECK(got >= cases[i].want);
+        CHECK_NEAR(got, cases[i].want, 2e-6 * cases[i].want);
+    }
+    const float zero[2][3] = { { 0 } };
+    CHECK(damage_moment_norm(zero, 2) == 0.0f);
+}
+
+/* Every branch bound of the shipped species against its branch's moment, for random x
+ * (any x: a bound holds for all), and the pass flags of damage_branch_bounds, whose
+ * chunks are screened first, against each branch's own test over the whole prefix: the
+ * screen may save work, never drop a branch. */
+static void test_branch_bounds(void)
+{
+    if (bake_all()) {
+        CHECK(0);
+        return;
+    }
+    uint64_t seed = 99;
+    int passed = 0, edge_hits = 0, trials = 0, bound_fail = 0, flag_fail = 0;
+    static uint32_t pass[4096 + DAMAGE_BOUND_LANES];
+    for (int k = 0; k < N_SP; k++) {
+        const damage_table *tb = &tables[k];
+        const uint32_t nc = tb->n_cols;
+        CHECK(tb->n_branches <= 4096);
+        const int n_draws = 200 + 2 * (int)tb->n_groups;
+        for (int trial = 0; trial < n_draws && tb->n_branches <= 4096; trial++) {
+            float x[64 + DAMAGE_RES_COLS + DAMAGE_GROUP_MODES] = { 0 };
+            /* falling with the mode's index like a wind's response, at a scale that puts
+             * the prefix's bounds about their capacities; after the first 200, x in one
+             * group alone, where a chunk's screen is its largest branch's bound exactly */
+            const double scale = 0.02 * (double)(trial % 200 + 1) / (double)tb->q_screen;
+            const uint32_t only = trial < 200 ? UINT32_MAX : (uint32_t)(trial - 200) % tb->n_groups;
+            for (uint32_t c = 0; c < nc; c++) {
+                if (only != UINT32_MAX && c / DAMAGE_GROUP_MODES != only) {
+                    continue;
+                }
+                x[c] = (float)((2.0 * (double)(hash64_splitmix(&seed) >> 11) / 9007199254740992.0 - 1.0) *
+                               scale / (1.0 + 0.2 * (double)c));
+            }
+            float xg[DAMAGE_MAX_GROUPS] = { 0 };
+            damage_group_norms(x, tb->n_groups, xg);
+            for (uint32_t j = 0; j < tb->n_branches; j++) {
+                const uint32_t b = tb->order[j];
+                float bound = xg[0] * tb->group_norm[j];
+                for (uint32_t g = 1; g < tb->n_groups; g++) {
+                    bound += xg[g] * tb->group_norm[(size_t)g * tb->group_stride + j];
+                }
+                const float mom = damage_moment(
+                    (const float(*)[3])(tb->branch_moment + (size_t)b * nc * 3), x, nc, NULL);
+                bound_fail += !(bound * 1.0001f >= mom);
+            }
+            /* a fixed multiple, and one just below the largest bound over capacity, where a
+             * screen too tight drops the one branch that passes */
+            const uint32_t n_check = tb->n_branches - (uint32_t)trial % 17u;
+            float edge = 0.0f;
+            for (uint32_t j = 0; j < n_check; j++) {
+                float bound = xg[0] * tb->group_norm[j];
+                for (uint32_t g = 1; g < tb->n_groups; g++) {
+                    bound += xg[g] * tb->group_norm[(size_t)g * tb->group_stride + j];
+                }
+                const float r = bound * 1.0001f / tb->cap_by_order[j];
+                edge = r > edge ? r : edge;
+            }
+            const float cap_mults[2] = { 0.7f, edge * (1.0f - 1e-5f) };
+            for (int c = 0; c < 2; c++) {
+                const float cap_mult = cap_mults[c];
+                const uint32_t hits = damage_branch_bounds(tb, xg, n_check, cap_mult, pass);
+                uint32_t want_hits = 0;
+                for (uint32_t j = 0; j < damage_bound_lanes(n_check); j++) {
+                    uint32_t want = 0;
+                    if (j < n_check) {
+                        float bound = xg[0] * tb->group_norm[j];
+                        for (uint32_t g = 1; g < tb->n_groups; g++) {
+                            bound += xg[g] * tb->group_norm[(size_t)g * tb->group_stride + j];
+                        }
+                        want = bound * 1.0001f > cap_mult * tb->cap_by_order[j];
+                    }
+                    want_hits += want;
+                    flag_fail += pass[j] != want;
+                }
+                flag_fail += hits != want_hits;
+                passed += c == 0 && hits > 0;
+                edge_hits += c == 1 && hits > 0;
+            }
+            trials++;
+        }
+    }
+    fprintf(stderr, "  %d draws, %d with branches past the screen at 0.7, %d at their largest "
+                    "bound; %d bounds below the moment, %d flags wrong\n",
+            trials, passed, edge_hits, bound_fail, flag_fail);
+    CHECK(bound_fail == 0);
+    CHECK(flag_fail == 0);
+    /* the draws reach both sides of the screen */
+    CHECK(passed > trials / 10 && passed < trials - 100);
+    CHECK(edge_hits == trials);
+}
+
 int main(void)
 {
+    RUN(test_moment_norm_closed_form);
+    RUN(test_branch_bounds);
     RUN(test_events_equal_reference);
     RUN(test_threads_same);
     for (int k = 0; k < N_SP; k++) {

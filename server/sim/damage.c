@@ -32,8 +32,6 @@ typedef struct damage_tree_st {
  * the first lane's in tree order (the first lane writes straight to the step's outputs). */
 typedef struct damage_lane {
     float *q;                   /* owned [DAMAGE_MAX_GROUPS + 1][DAMAGE_GROUP_MODES] scratch: x */
-    float *moments;             /* owned [damage_bound_lanes(the most branches)] scratch:
-                                   moment bounds */
     uint32_t *pass;             /* owned [damage_bound_lanes(the most branches)] scratch:
                                    1 where a branch's bound passes */
     uint32_t *cand;             /* owned [the most branches] scratch: branches a bound passes */
@@ -148,7 +146,6 @@ damage_sim *damage_create(const damage_desc *d, gale_err *err)
     for (int k = 0; k < s->n_lanes; k++) {
         damage_lane *l = &s->lane[k];
         l->q = calloc(DAMAGE_MAX_GROUPS * DAMAGE_GROUP_MODES + DAMAGE_GROUP_MODES, sizeof(float));
-        l->moments = calloc(damage_bound_lanes(maxb), sizeof(float));
         l->pass = calloc(damage_bound_lanes(maxb), sizeof(uint32_t));
         l->cand = calloc((size_t)maxb, sizeof(uint32_t));
         if (k > 0) {
@@ -158,7 +155,7 @@ damage_sim *damage_create(const damage_desc *d, gale_err *err)
             l->ev = calloc((size_t)l->cap_ev, sizeof *l->ev);
             l->leaves = calloc((size_t)l->cap_leaves, sizeof *l->leaves);
         }
-        if (!l->q || !l->moments || !l->pass || !l->cand || (k > 0 && (!l->ev || !l->leaves))) {
+        if (!l->q || !l->pass || !l->cand || (k > 0 && (!l->ev || !l->leaves))) {
             goto nomem;
         }
     }
@@ -196,7 +193,6 @@ void damage_destroy(damage_sim *s)
     free(s->bits);
     for (int k = 0; s->lane && k < s->n_lanes; k++) {
         free(s->lane[k].q);
-        free(s->lane[k].moments);
         free(s->lane[k].pass);
         free(s->lane[k].cand);
         free(s->lane[k].ev);
@@ -364,9 +360,9 @@ static float force_vector(const damage_sim *s, const modal *m, uint32_t t, const
     return w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
 }
 
-/* A bound of |M(x)| for a moment table mm[n_cols] whose residual is a group of its own
- * (n_modes a multiple of DAMAGE_GROUP_MODES): the first group's and the residual's part
- * summed, the groups between them bounded by |x_g| |M_g| (gn[g * stride]), by the
+/* A bound of |M(x)| for a moment table mm[n_cols] whose residual starts a group of its
+ * own (n_modes a multiple of DAMAGE_GROUP_MODES): the first group's and the residual's
+ * part summed, the modes' groups between them bounded by |x_g| ||M_g|| (gn[g * stride]), by the
  * triangle inequality. The first group holds the lowest modes, which carry most of a
  * moment, so this bound is close to |M(x)| where the group bound alone is not. */
 static float lead_bound(const damage_table *tb, const float (*mm)[3], const float *q,
@@ -376,7 +372,7 @@ static float lead_bound(const damage_table *tb, const float (*mm)[3], const floa
     damage_moment(mm, q, DAMAGE_GROUP_MODES, a);
     damage_moment(mm + tb->n_modes, q + tb->n_modes, DAMAGE_RES_COLS, r);
     float rest = 0.0f;
-    for (uint32_t g = 1; g + 1 < tb->n_groups; g++) {
+    for (uint32_t g = 1; g < tb->n_modes / DAMAGE_GROUP_MODES; g++) {
         rest += xg[g] * gn[g * stride];
     }
     const float x = a[0] + r[0], y = a[1] + r[1], z = a[2] + r[2];
@@ -480,7 +476,7 @@ static void check_tree(damage_sim *s, damage_lane *l, modal *m, const damage_tab
     /* the few the bound passes, up to the last, eight lanes of pass flags at a time: most
      * eights are all zero (damage_bound_lanes pads the flags to whole eights) */
     const uint32_t hits =
-        damage_branch_bounds(tb, xg, n_check, lo_branch, l->moments, l->pass);
+        damage_branch_bounds(tb, xg, n_check, lo_branch, l->pass);
     uint32_t n_cand = 0;
     for (uint32_t j0 = 0; n_cand < hits && j0 < n_check; j0 += 8) {
         const uint32_t *p8 = l->pass + j0;

@@ -106,54 +106,58 @@ uint32_t damage_branches_within(const damage_table *t, float x, uint32_t hint)
     return lo;
 }
 
-/* Over whole vectors of lanes (damage_bound_lanes: the padded table has them, so no
- * scalar remainder runs): the lanes are independent (omp simd: -O2 alone leaves the loop
- * scalar), so the clones vectorise it and round alike (-std=c11: no contraction). The
- * first group sets the bounds and the last compares them, so the check needs no pass of
- * its own to find that none of them reaches its capacity (the common case). */
+/* Sixteen lanes of bounds, one vector of the widest (GCC vectors: the clones below split
+ * it into halves or quarters where the target's vectors are narrower). */
+typedef float bound_v __attribute__((vector_size(DAMAGE_BOUND_LANES * sizeof(float))));
+/* The same at any float's alignment, for the loads. */
+typedef float bound_v_u __attribute__((vector_size(DAMAGE_BOUND_LANES * sizeof(float)), aligned(4), may_alias));
+typedef int32_t bound_mask __attribute__((vector_size(DAMAGE_BOUND_LANES * sizeof(float))));
+
+/* Through a pointer, not by value: a vector this wide returned from a function would have
+ * a different ABI in each clone. */
+#define bound_load(p) (*(const bound_v_u *)(const void *)(p))
+
+/* Two levels, each a vector of sixteen lanes whose sums stay in a register over the
+ * groups (-std=c11: no contraction, so the clones round alike): first the chunks of
+ * sixteen branches against their screens, which rules out most of the prefix at the cost
+ * of one branch each; then the branches of each chunk left, against their own capacities.
+ * A chunk's screen is the largest |M_b,g| / cap_b of its branches, so Σ_g x_g screen_g
+ * bounds every branch's bound over its capacity; 2e-4 covers the quotient's and the sums'
+ * rounding, so a chunk ruled out holds no branch that its own test would pass. */
 __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 uint32_t damage_branch_bounds(const damage_table *t, const float *xg, uint32_t n_check,
-                              float cap_mult, float *out, uint32_t *pass)
+                              float cap_mult, uint32_t *pass)
 {
-    const uint32_t last = t->n_groups - 1, nv = damage_bound_lanes(n_check);
-    const size_t stride = t->group_stride;
-    float *restrict o = out;
-    {
-        const float x = xg[0];
-        const float *restrict m = t->group_norm;
-#pragma omp simd
-        for (uint32_t j = 0; j < nv; j++) {
-            o[j] = x * m[j];
+    const uint32_t ng = t->n_groups, n_chunks = (n_check + DAMAGE_BOUND_LANES - 1u) / DAMAGE_BOUND_LANES;
+    const size_t stride = t->group_stride, chunk_stride = t->chunk_stride;
+    const bound_v lane = { 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15 };
+    bound_mask hit_lanes = { 0 };
+    for (uint32_t c0 = 0; c0 < n_chunks; c0 += DAMAGE_BOUND_LANES) {
+        bound_v screen = xg[0] * bound_load(t->chunk_screen + c0);
+        for (uint32_t g = 1; g < ng; g++) {
+            screen += xg[g] * bound_load(t->chunk_screen + g * chunk_stride + c0);
         }
-    }
-    for (uint32_t g = 1; g < last; g++) {
-        const float x = xg[g];
-        const float *restrict m = t->group_norm + g * stride;
-#pragma omp simd
-        for (uint32_t j = 0; j < nv; j++) {
-            o[j] += x * m[j];
+        const bound_mask open = screen * 1.0002f > cap_mult;
+        const uint32_t c1 = n_chunks - c0 < DAMAGE_BOUND_LANES ? n_chunks : c0 + DAMAGE_BOUND_LANES;
+        for (uint32_t c = c0; c < c1; c++) {
+            const uint32_t j0 = c * DAMAGE_BOUND_LANES;
+            bound_mask p = { 0 };
+            if (open[c - c0]) {
+                bound_v m = xg[0] * bound_load(t->group_norm + j0);
+                for (uint32_t g = 1; g < ng; g++) {
+                    m += xg[g] * bound_load(t->group_norm + g * stride + j0);
+                }
+                const bound_v cap = cap_mult * bound_load(t->cap_by_order + j0);
+                p = (lane + (float)j0 < (float)n_check) & (m * 1.0001f > cap);
+                p &= 1;
+                hit_lanes += p;
+            }
+            memcpy(pass + j0, &p, sizeof p);
         }
     }
     uint32_t hits = 0;
-    const float *restrict cap = t->cap_by_order;
-    uint32_t *restrict ps = pass;
-    if (last > 0) {
-        const float x = xg[last];
-        const float *restrict m = t->group_norm + last * stride;
-#pragma omp simd reduction(+ : hits)
-        for (uint32_t j = 0; j < nv; j++) {
-            o[j] += x * m[j];
-            const uint32_t p = (j < n_check) & (o[j] * 1.0001f > cap_mult * cap[j]);
-            ps[j] = p;
-            hits += p;
-        }
-    } else {
-#pragma omp simd reduction(+ : hits)
-        for (uint32_t j = 0; j < nv; j++) {
-            const uint32_t p = (j < n_check) & (o[j] * 1.0001f > cap_mult * cap[j]);
-            ps[j] = p;
-            hits += p;
-        }
+    for (uint32_t k = 0; k < DAMAGE_BOUND_LANES; k++) {
+        hits += (uint32_t)hit_lanes[k];
     }
     return hits;
 }
@@ -176,14 +180,40 @@ void damage_group_norms(const float *x, uint32_t n_groups, float *xg)
     }
 }
 
-static float norm_modes(const float (*m)[3], uint32_t n)
+float damage_moment_norm(const float (*m)[3], uint32_t n)
 {
-    double s = 0.0;
+    /* σ_max² is the largest eigenvalue of the 3×3 Gram matrix G = Σ_c M_c M_cᵀ, in closed
+     * form (the trigonometric solution of its characteristic cubic) */
+    double g[3][3] = { { 0 } };
     for (uint32_t i = 0; i < n; i++) {
-        double x = m[i][0], y = m[i][1], z = m[i][2];
-        s += x * x + y * y + z * z;
+        for (int r = 0; r < 3; r++) {
+            for (int c = 0; c < 3; c++) {
+                g[r][c] += (double)m[i][r] * (double)m[i][c];
+            }
+        }
     }
-    return (float)sqrt(s);
+    const double tr = g[0][0] + g[1][1] + g[2][2];
+    const double off = g[0][1] * g[0][1] + g[0][2] * g[0][2] + g[1][2] * g[1][2];
+    double lmax;
+    if (!(tr > 0.0)) {
+        return 0.0f;
+    }
+    if (off == 0.0) {
+        lmax = fmax(g[0][0], fmax(g[1][1], g[2][2]));
+    } else {
+        const double q = tr / 3.0;
+        const double a = g[0][0] - q, b = g[1][1] - q, c = g[2][2] - q;
+        const double p = sqrt((a * a + b * b + c * c + 2.0 * off) / 6.0);
+        /* det((G - q I) / p) / 2, within [-1, 1] but for rounding */
+        const double det = a * (b * c - g[1][2] * g[1][2]) - g[0][1] * (g[0][1] * c - g[1][2] * g[0][2]) +
+                           g[0][2] * (g[0][1] * g[1][2] - b * g[0][2]);
+        double r = det / (2.0 * p * p * p);
+        r = r < -1.0 ? -1.0 : r > 1.0 ? 1.0 : r;
+        lmax = q + 2.0 * p * cos(acos(r) / 3.0);
+    }
+    /* the closed form's rounding (acos near ±1 loses digits) is far below 1e-6 of the trace,
+     * which keeps the result a bound */
+    return (float)(sqrt(lmax + 1e-6 * tr) * (1.0 + 1e-7));
 }
 
 /* Raises t's screen_q, screen_w by a moment table m[n_cols] against its capacity. */
@@ -192,8 +222,8 @@ static void screen(damage_table *t, const float (*m)[3], float cap_nm)
     if (!(cap_nm > 0.0f)) {
         return;
     }
-    const float a = norm_modes(m, t->n_modes) / cap_nm;
-    const float r = norm_modes(m + t->n_modes, DAMAGE_RES_COLS) / cap_nm;
+    const float a = damage_moment_norm(m, t->n_modes) / cap_nm;
+    const float r = damage_moment_norm(m + t->n_modes, DAMAGE_RES_COLS) / cap_nm;
     t->screen_q = a > t->screen_q ? a : t->screen_q;
     t->screen_w = r > t->screen_w ? r : t->screen_w;
 }
@@ -407,7 +437,7 @@ int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_
             element_moment(a, E_pa, i, q, c, m[i]);
         }
         residual(a, drag_c, p->leaf_drag_share, c, m);
-        t->branch[b].moment_norm = norm_modes((const float(*)[3])m, nc);
+        t->branch[b].moment_norm = damage_moment_norm((const float(*)[3])m, nc);
         if (t->branch[b].moment_norm > 0.0f) {
             float s = t->branch[b].cap_nm / t->branch[b].moment_norm;
             qs = s < qs ? s : qs;
@@ -428,7 +458,7 @@ int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_
         element_moment(a, E_pa, i, 0, s1, t->stem_moment[i]);
     }
     residual(a, drag_c, p->leaf_drag_share, s1, t->stem_moment);
-    t->stem_norm = norm_modes((const float(*)[3])t->stem_moment, nc);
+    t->stem_norm = damage_moment_norm((const float(*)[3])t->stem_moment, nc);
     t->stem_d_m = 2.0 * (double)a->radius[0];
     t->stem_mass_kg = mass * p->stem_density_kg_m3;
     /* Gardiner et al. 2000 / Hale et al. 2012 (ForestGALES) */
@@ -462,13 +492,15 @@ int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_
     for (uint32_t g = 0; g < t->n_groups; g++) {
         const uint32_t i0 = g * DAMAGE_GROUP_MODES;
         const uint32_t k = nc - i0 < DAMAGE_GROUP_MODES ? nc - i0 : DAMAGE_GROUP_MODES;
-        t->stem_group[g] = norm_modes((const float(*)[3])t->stem_moment + i0, k);
+        t->stem_group[g] = damage_moment_norm((const float(*)[3])t->stem_moment + i0, k);
     }
     t->group_stride = damage_bound_lanes(nb);
     t->ratio_by_order = malloc(sizeof(float) * (nb ? nb : 1));
     t->cap_by_order = malloc(sizeof(float) * t->group_stride);
     t->group_norm = calloc((size_t)t->n_groups * t->group_stride, sizeof(float));
-    if (!t->ratio_by_order || !t->cap_by_order || !t->group_norm) {
+    t->chunk_stride = damage_bound_lanes(t->group_stride / DAMAGE_BOUND_LANES);
+    t->chunk_screen = calloc((size_t)t->n_groups * t->chunk_stride, sizeof(float));
+    if (!t->ratio_by_order || !t->cap_by_order || !t->group_norm || !t->chunk_screen) {
         damage_table_fini(t);
         return gale_errf(err, GALE_E_NOMEM, "damage_table_build: no memory for %u branches", nb);
     }
@@ -483,11 +515,15 @@ int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_
         for (uint32_t g = 0; g < t->n_groups; g++) {
             const uint32_t i0 = g * DAMAGE_GROUP_MODES;
             const uint32_t k = nc - i0 < DAMAGE_GROUP_MODES ? nc - i0 : DAMAGE_GROUP_MODES;
-            const float gn = norm_modes(m + i0, k);
+            const float gn = damage_moment_norm(m + i0, k);
             t->group_norm[(size_t)g * t->group_stride + j] = gn;
-            if (b->cap_nm > 0.0f && gn / b->cap_nm > t->group_screen[g]) {
-                t->group_screen[g] = gn / b->cap_nm;
+            /* a branch without capacity keeps its chunk open */
+            const float per_cap = b->cap_nm > 0.0f ? gn / b->cap_nm : gn > 0.0f ? INFINITY : 0.0f;
+            if (b->cap_nm > 0.0f && per_cap > t->group_screen[g]) {
+                t->group_screen[g] = per_cap;
             }
+            float *cs = &t->chunk_screen[(size_t)g * t->chunk_stride + j / DAMAGE_BOUND_LANES];
+            *cs = per_cap > *cs ? per_cap : *cs;
         }
     }
     return GALE_OK;
@@ -505,6 +541,7 @@ void damage_table_fini(damage_table *t)
     free(t->ratio_by_order);
     free(t->cap_by_order);
     free(t->group_norm);
+    free(t->chunk_screen);
     free(t->slot_rank);
     memset(t, 0, sizeof *t);
 }

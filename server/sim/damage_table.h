@@ -21,10 +21,15 @@
  * twigs with the leaves; thinner twigs stay part of their branch. */
 #define DAMAGE_MIN_BRANCH_D_M 0.02f
 
-/* Modes per group of a branch's screening bound: |M_b(q)| <= Σ_g |q_g| |M_b,g| (the
- * triangle inequality over groups, Cauchy-Schwarz within one), one product per group
- * and branch instead of three per mode for the exact moment. */
-#define DAMAGE_GROUP_MODES 4u
+/* Modes per group of a branch's screening bound: |M_b(q)| <= Σ_g |q_g| ||M_b,g|| (the
+ * triangle inequality over groups, ||.|| the spectral norm within one,
+ * damage_moment_norm), one product per group and branch instead of three per mode for the
+ * exact moment. Two: a tree's modes come in pairs that sway it in crossed planes at
+ * nearly one frequency, whose moments at a branch no q of the pair adds in full, so a
+ * pair's norm is nearly its larger moment; wider groups sum unlike modes, and bounded
+ * 100,000 oaks at 25 m/s 1.3 times as slowly (server/SERVER.md "Storm damage on the
+ * tick"). */
+#define DAMAGE_GROUP_MODES 2u
 
 /* Columns after the modes in every moment table: the static residual of the truncated
  * modes (PHYSICS.md "Storm damage"), the moment per unit of κ w, w = s(U) k_t |v| v the
@@ -69,6 +74,12 @@ typedef struct damage_table {
                                 (groups of DAMAGE_GROUP_MODES columns of x): a check
                                 bounds the branches it needs, a prefix of the order,
                                 group by group in vector lanes */
+    float *chunk_screen;     /* owned [n_groups][chunk_stride] max over the branches
+                                j / DAMAGE_BOUND_LANES = c of group_norm[g][j] / their
+                                cap_nm at [g][c] (+inf for a branch without capacity, zero
+                                past the branches): a check rules out sixteen branches of
+                                its prefix at once */
+    uint32_t chunk_stride;   /* damage_bound_lanes(group_stride / DAMAGE_BOUND_LANES) */
     uint32_t n_groups;       /* ceil(n_cols / DAMAGE_GROUP_MODES) */
     uint32_t group_stride;   /* damage_bound_lanes(n_branches): group_norm's row length and
                                 cap_by_order's length, zero and +inf past the branches */
@@ -115,20 +126,27 @@ static inline uint32_t damage_bound_lanes(uint32_t n)
  * the last count of the same tree is the fast one). */
 uint32_t damage_branches_within(const damage_table *t, float x, uint32_t hint);
 
-/* Upper bounds of the bending moments of the first n_check branches in t's order from
- * |x_g| of each group (xg[n_groups], x = (q, κ w)): out[j] = Σ_g xg[g] |M_b,g| >= |M(x)|
- * of branch order[j] [N m], out[damage_bound_lanes(n_check)] written (the lanes past
- * n_check hold bounds of no use). Returns how many of them have out[j] · 1.0001 above
- * cap_mult · cap_by_order[j] (1e-4 for the bound's rounding): 0, and none can fail at
- * strength cap_mult. pass[damage_bound_lanes(n_check)] is written 1 for each of them and
- * 0 for every other lane (32-bit lanes, as wide as the bounds', so the loop stays in whole
- * vectors of them), so a caller finds the few several lanes at a time. */
+/* Which of the first n_check branches in t's order may fail at strength cap_mult, from
+ * |x_g| of each group (xg[n_groups], x = (q, κ w)): branch order[j] passes where its bound
+ * Σ_g xg[g] |M_b,g| >= |M(x)| [N m], times 1.0001 (for the bound's rounding), is above
+ * cap_mult · cap_by_order[j]. Returns how many pass: 0, and none can fail at strength
+ * cap_mult. pass[damage_bound_lanes(n_check)] is written 1 for each of them and 0 for every
+ * other lane (32-bit lanes, as wide as the bounds', so the loop stays in whole vectors of
+ * them), so a caller finds the few several lanes at a time. Chunks of DAMAGE_BOUND_LANES
+ * branches are screened first (chunk_screen) and only those open are bounded branch by
+ * branch. */
 uint32_t damage_branch_bounds(const damage_table *t, const float *xg, uint32_t n_check,
-                              float cap_mult, float *out, uint32_t *pass);
+                              float cap_mult, uint32_t *pass);
 
 /* |x_g| of each group of DAMAGE_GROUP_MODES columns of x (x zero past its columns up to
  * n_groups whole groups) into xg[n_groups]. */
 void damage_group_norms(const float *x, uint32_t n_groups, float *xg);
+
+/* The spectral norm of a moment table m[n][3] (the 3 × n matrix of its columns): the
+ * least σ with |Σ_c x_c m_c| <= σ |x| for every x, rounded up [N m per unit x]. At most
+ * the Frobenius norm sqrt(Σ_c |m_c|²) and down to 1/sqrt(3) of it: the modes of a tree
+ * come in pairs that bend a branch in crossed planes, whose moments no x adds in full. */
+float damage_moment_norm(const float (*m)[3], uint32_t n);
 
 /* κ of DAMAGE_RES_COLS for asset a: sqrt(Σ_i |p_i|² / ω_i⁴), 1 when that is 0 or the asset
  * has no omega or wind_basis [1/(m/s)²]. */
