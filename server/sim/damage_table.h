@@ -26,9 +26,9 @@
  * damage_moment_norm), one product per group and branch instead of three per mode for the
  * exact moment. Two: a tree's modes come in pairs that sway it in crossed planes at
  * nearly one frequency, whose moments at a branch no q of the pair adds in full, so a
- * pair's norm is nearly its larger moment; wider groups sum unlike modes, and bounded
- * 100,000 oaks at 25 m/s 1.3 times as slowly (server/SERVER.md "Storm damage on the
- * tick"). */
+ * pair's norm is nearly its larger moment. Wider groups sum unlike modes into one norm
+ * and pass more branches for fewer products (server/SERVER.md "Storm damage: bounds by
+ * mode pairs"). */
 #define DAMAGE_GROUP_MODES 2u
 
 /* Columns after the modes in every moment table: the static residual of the truncated
