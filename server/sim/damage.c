@@ -414,13 +414,13 @@ static void check_tree(damage_sim *s, damage_lane *l, modal *m, const damage_tab
         q[tb->n_modes + k] = kw * w[k];
     }
     const uint32_t n = tb->n_cols;
-    /* x zero up to whole groups, so each group sums four squares in the order a running
+    /* x zero up to whole groups, so each group sums its squares in the order a running
      * sum over its columns would (+0 is exact) */
     for (uint32_t i = 0; i + 1 < DAMAGE_GROUP_MODES; i++) {
         q[n + i] = 0.0f; /* stores, not a call: the buffer has room past any n_cols */
     }
-    /* |x_g| per group: Σ_g |x_g| |M_g| bounds a moment (triangle inequality over groups,
-     * Cauchy-Schwarz within one) */
+    /* |x_g| per group: Σ_g |x_g| ||M_g|| bounds a moment (triangle inequality over
+     * groups, the spectral norm within one) */
     float xg[DAMAGE_MAX_GROUPS] = { 0 }, sb = 0.0f, bb = 0.0f;
     damage_group_norms(q, tb->n_groups, xg);
     for (uint32_t g = 0; g < tb->n_groups; g++) {
@@ -492,9 +492,9 @@ static void check_tree(damage_sim *s, damage_lane *l, modal *m, const damage_tab
         const uint32_t b = tb->order[j];
         const damage_branch *br = &tb->branch[b];
         const float(*mm)[3] = (const float(*)[3])(tb->branch_moment + (size_t)b * n * 3);
-        /* with the residual a group of its own, the first group and the residual summed
-         * (7 columns) and the other modes bounded by their groups: tighter, at a fifth of
-         * the full sum's cost */
+        /* with the residual in groups of its own, the first group and the residual summed
+         * (5 columns) and the other modes bounded by their groups: tighter, at a seventh
+         * of the full sum's cost */
         if (res_alone &&
             lead_bound(tb, mm, q, xg, tb->group_norm + j, tb->group_stride) * 1.0001f <=
                 lo_branch * br->cap_nm) {

@@ -45,7 +45,7 @@ typedef struct damage_branch {
     uint32_t node;       /* first node of the branch: the end of its base element */
     int32_t up;          /* index of the branch it grows from; -1: from the stem */
     float cap_nm;        /* MOR · S, S = π r³ / 4 at the base node [N m] */
-    float moment_norm;   /* sqrt(Σ_c |M_c|²) over the n_cols columns: |M(x)| <= |x| ·
+    float moment_norm;   /* damage_moment_norm over the n_cols columns: |M(x)| <= |x| ·
                             moment_norm, x = (q, κ w) */
     float area_share;    /* its sub-tree's share of the tree's ∫ D ds, 0..1 */
     float leaf_share;    /* its sub-tree's share of the leaf slots, 0..1 */
@@ -70,7 +70,8 @@ typedef struct damage_table {
     float *ratio_by_order;   /* owned [n_branches] cap_nm / moment_norm of order[j], rising
                                 (+inf for a branch no mode loads) */
     float *cap_by_order;     /* owned [group_stride] cap_nm of order[j] */
-    float *group_norm;       /* owned [n_groups][group_stride] |M_b,g| of order[j] at [g][j]
+    float *group_norm;       /* owned [n_groups][group_stride] ||M_b,g|| (damage_moment_norm)
+                                of order[j] at [g][j]
                                 (groups of DAMAGE_GROUP_MODES columns of x): a check
                                 bounds the branches it needs, a prefix of the order,
                                 group by group in vector lanes */
@@ -83,13 +84,13 @@ typedef struct damage_table {
     uint32_t n_groups;       /* ceil(n_cols / DAMAGE_GROUP_MODES) */
     uint32_t group_stride;   /* damage_bound_lanes(n_branches): group_norm's row length and
                                 cap_by_order's length, zero and +inf past the branches */
-    float group_screen[DAMAGE_MAX_GROUPS]; /* max over branches of |M_b,g| / cap_b: no
+    float group_screen[DAMAGE_MAX_GROUPS]; /* max over branches of ||M_b,g|| / cap_b: no
                                 branch fails at strength 1 while Σ_g |x_g| group_screen[g]
                                 < 1 */
-    float stem_group[DAMAGE_MAX_GROUPS];   /* |stem_moment over group g| */
+    float stem_group[DAMAGE_MAX_GROUPS];   /* damage_moment_norm of stem_moment over group g */
     float stem_moment[64 + DAMAGE_RES_COLS][3]; /* base moment of the stem element per
                                 unit x_c, as branch_moment [N m] */
-    float stem_norm;         /* sqrt(Σ_c |stem_moment_c|²) */
+    float stem_norm;         /* damage_moment_norm of stem_moment */
     double stem_d_m;         /* stem diameter at the base [m] */
     double stem_mass_kg;     /* stem volume (root to top along the thickest children) x density */
     double m_break_nm;       /* (π/32) f_knot MOR d³ */
