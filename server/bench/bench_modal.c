@@ -333,16 +333,18 @@ static void print_variant(const variant *v, int ticks, int n_trees, int n_modes,
     double med_t = median_of(v->t_total, ticks, scratch);
     double p95_t = (memcpy(scratch, v->t_total, sizeof(double) * (size_t)ticks),
                     pct(scratch, ticks, 0.95));
+    double p99_t = (memcpy(scratch, v->t_total, sizeof(double) * (size_t)ticks),
+                    pct(scratch, ticks, 0.99));
     double enc_per_tick = (double)v->enc_bytes / ticks;
     double tick_bytes = tick_model_bytes(tb, n_trees, n_modes, enc_per_tick, grid_bytes);
     double tick_gbs = med_t > 0.0 ? tick_bytes / (med_t * 1e-3) / 1e9 : 0.0;
-    printf("\"damage\":%s,\"tick_ms_median\":%.3f,\"tick_ms_p95\":%.3f,"
+    printf("\"damage\":%s,\"tick_ms_median\":%.3f,\"tick_ms_p95\":%.3f,\"tick_ms_p99\":%.3f,"
            "\"cpu_ms_per_tick_median\":%.3f,\"sample_ms_median\":%.3f,"
            "\"update_quantise_ms_median\":%.3f,\"damage_ms_median\":%.3f,"
            "\"leaf_shed_ms_median\":%.3f,\"encode_ms_median\":%.3f,"
            "\"update_only_ms_median\":%.3f,\"ns_per_tree_mode\":%.3f,"
            "\"bandwidth_fraction\":%.3f,\"leaves_shed_per_tick\":%.1f",
-           v->damage ? "true" : "false", med_t, p95_t, median_of(v->t_cpu, ticks, scratch),
+           v->damage ? "true" : "false", med_t, p95_t, p99_t, median_of(v->t_cpu, ticks, scratch),
            median_of(v->t_sample, ticks, scratch), median_of(v->t_modal, ticks, scratch),
            median_of(v->t_damage, ticks, scratch), median_of(v->t_leaf, ticks, scratch),
            median_of(v->t_enc, ticks, scratch), median_of(v->t_nosnap, ticks, scratch),
