@@ -153,6 +153,33 @@ static void test_branch_breaks(void)
     CHECK(branch_breaks_at(1.01) == 1);
 }
 
+/* A branch without capacity (MOR 0) fails under any moment: damage_branch_bounds passes
+ * it whatever groups of x are zero (its chunk's screen is the largest float there, not
+ * +inf, whose product with a zero |x_g| would be NaN and close the chunk). */
+static void test_zero_capacity_passes(void)
+{
+    asset a;
+    hand_asset(&a, 0.0f);
+    float *rot = (float *)a.phi_rot;
+    rot[3 * 3 + 1] = 1e-3f;
+    damage_params p = damage_params_default();
+    p.mor_pa = 0.0;
+    damage_table t;
+    gale_err err;
+    CHECK(damage_table_build(&a, 1e10, 1.0, &p, &t, &err) == GALE_OK);
+    CHECK(t.n_branches == 1 && t.branch[0].cap_nm == 0.0f);
+    /* the residual's last group loads the branch, and x leaves it zero: the mode alone */
+    const uint32_t g_res = t.n_groups - 1;
+    CHECK(t.n_groups > g_res && t.group_norm[(size_t)g_res * t.group_stride] > 0.0f);
+    float x[2 * DAMAGE_MAX_GROUPS] = { 1.0f };
+    float xg[DAMAGE_MAX_GROUPS] = { 0 };
+    damage_group_norms(x, t.n_groups, xg);
+    CHECK(xg[0] > 0.0f && xg[g_res] == 0.0f);
+    uint32_t pass[DAMAGE_BOUND_LANES];
+    CHECK(damage_branch_bounds(&t, xg, 1, 1.0f, pass) == 1 && pass[0] == 1);
+    damage_table_fini(&t);
+}
+
 static void test_strip_hugo(void)
 {
     /* Hugo: nothing below 60 km/h gusts, the plateau from 130 km/h */
@@ -630,6 +657,7 @@ int main(void)
     RUN(test_branches_within);
     RUN(test_static_residual);
     RUN(test_branch_breaks);
+    RUN(test_zero_capacity_passes);
     RUN(test_strip_hugo);
     RUN(test_strip_leaves);
     RUN(test_steady_15);

@@ -4,6 +4,7 @@
  * statics of the tree (PHYSICS.md "Storm damage"). */
 #include "damage_table.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -517,8 +518,10 @@ int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_
             const uint32_t k = nc - i0 < DAMAGE_GROUP_MODES ? nc - i0 : DAMAGE_GROUP_MODES;
             const float gn = damage_moment_norm(m + i0, k);
             t->group_norm[(size_t)g * t->group_stride + j] = gn;
-            /* a branch without capacity keeps its chunk open */
-            const float per_cap = b->cap_nm > 0.0f ? gn / b->cap_nm : gn > 0.0f ? INFINITY : 0.0f;
+            /* a branch without capacity keeps its chunk open wherever its moment is not
+             * zero: the largest float, not +inf, whose product with an |x_g| of 0 would be
+             * NaN and close the chunk */
+            const float per_cap = b->cap_nm > 0.0f ? gn / b->cap_nm : gn > 0.0f ? FLT_MAX : 0.0f;
             if (b->cap_nm > 0.0f && per_cap > t->group_screen[g]) {
                 t->group_screen[g] = per_cap;
             }

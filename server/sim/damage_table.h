@@ -77,7 +77,7 @@ typedef struct damage_table {
                                 group by group in vector lanes */
     float *chunk_screen;     /* owned [n_groups][chunk_stride] max over the branches
                                 j / DAMAGE_BOUND_LANES = c of group_norm[g][j] / their
-                                cap_nm at [g][c] (+inf for a branch without capacity, zero
+                                cap_nm at [g][c] (FLT_MAX for a branch without capacity, zero
                                 past the branches): a check rules out sixteen branches of
                                 its prefix at once */
     uint32_t chunk_stride;   /* damage_bound_lanes(group_stride / DAMAGE_BOUND_LANES) */
