@@ -49,6 +49,14 @@ static void hand_asset(asset *a, float theta)
     snprintf(a->species, sizeof a->species, "hand");
 }
 
+/* The hand tree whose one mode turns its branch alone (node 3), the stem straight. */
+static void hand_branch_asset(asset *a)
+{
+    hand_asset(a, 0.0f);
+    float *rot = (float *)a->phi_rot;
+    rot[3 * 3 + 1] = 1e-3f;
+}
+
 static void test_critical_moments(void)
 {
     asset a;
@@ -98,9 +106,7 @@ static void test_critical_moments(void)
 static uint64_t branch_breaks_at(double load)
 {
     asset a;
-    hand_asset(&a, 0.0f);
-    float *rot = (float *)a.phi_rot;
-    rot[3 * 3 + 1] = 1e-3f;
+    hand_branch_asset(&a);
     damage_params p = damage_params_default();
     p.mor_pa = 50e6;
     p.strength_sd = 0.0;
@@ -159,9 +165,7 @@ static void test_branch_breaks(void)
 static void test_zero_capacity_passes(void)
 {
     asset a;
-    hand_asset(&a, 0.0f);
-    float *rot = (float *)a.phi_rot;
-    rot[3 * 3 + 1] = 1e-3f;
+    hand_branch_asset(&a);
     damage_params p = damage_params_default();
     p.mor_pa = 0.0;
     damage_table t;

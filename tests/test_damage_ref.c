@@ -406,8 +406,8 @@ static void test_branch_bounds(void)
                 if (only != UINT32_MAX && c / DAMAGE_GROUP_MODES != only) {
                     continue;
                 }
-                x[c] = (float)((2.0 * (double)(hash64_splitmix(&seed) >> 11) / 9007199254740992.0 - 1.0) *
-                               scale / (1.0 + 0.2 * (double)c));
+                const double u = (double)(hash64_splitmix(&seed) >> 11) / 9007199254740992.0;
+                x[c] = (float)((2.0 * u - 1.0) * scale / (1.0 + 0.2 * (double)c));
             }
             float xg[DAMAGE_MAX_GROUPS] = { 0 };
             damage_group_norms(x, tb->n_groups, xg);

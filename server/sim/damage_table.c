@@ -111,7 +111,8 @@ uint32_t damage_branches_within(const damage_table *t, float x, uint32_t hint)
  * it into halves or quarters where the target's vectors are narrower). */
 typedef float bound_v __attribute__((vector_size(DAMAGE_BOUND_LANES * sizeof(float))));
 /* The same at any float's alignment, for the loads. */
-typedef float bound_v_u __attribute__((vector_size(DAMAGE_BOUND_LANES * sizeof(float)), aligned(4), may_alias));
+typedef float bound_v_u
+    __attribute__((vector_size(DAMAGE_BOUND_LANES * sizeof(float)), aligned(4), may_alias));
 typedef int32_t bound_mask __attribute__((vector_size(DAMAGE_BOUND_LANES * sizeof(float))));
 
 /* Through a pointer, not by value: a vector this wide returned from a function would have
@@ -129,7 +130,8 @@ __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 uint32_t damage_branch_bounds(const damage_table *t, const float *xg, uint32_t n_check,
                               float cap_mult, uint32_t *pass)
 {
-    const uint32_t ng = t->n_groups, n_chunks = (n_check + DAMAGE_BOUND_LANES - 1u) / DAMAGE_BOUND_LANES;
+    const uint32_t ng = t->n_groups;
+    const uint32_t n_chunks = (n_check + DAMAGE_BOUND_LANES - 1u) / DAMAGE_BOUND_LANES;
     const size_t stride = t->group_stride, chunk_stride = t->chunk_stride;
     const bound_v lane = { 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15 };
     bound_mask hit_lanes = { 0 };
@@ -206,7 +208,8 @@ float damage_moment_norm(const float (*m)[3], uint32_t n)
         const double a = g[0][0] - q, b = g[1][1] - q, c = g[2][2] - q;
         const double p = sqrt((a * a + b * b + c * c + 2.0 * off) / 6.0);
         /* det((G - q I) / p) / 2, within [-1, 1] but for rounding */
-        const double det = a * (b * c - g[1][2] * g[1][2]) - g[0][1] * (g[0][1] * c - g[1][2] * g[0][2]) +
+        const double det = a * (b * c - g[1][2] * g[1][2]) -
+                           g[0][1] * (g[0][1] * c - g[1][2] * g[0][2]) +
                            g[0][2] * (g[0][1] * g[1][2] - b * g[0][2]);
         double r = det / (2.0 * p * p * p);
         r = r < -1.0 ? -1.0 : r > 1.0 ? 1.0 : r;
