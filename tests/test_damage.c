@@ -160,8 +160,8 @@ static void test_branch_breaks(void)
 }
 
 /* A branch without capacity (MOR 0) fails under any moment: damage_branch_bounds passes
- * it whatever groups of x are zero (its chunk's screen is the largest float there, not
- * +inf, whose product with a zero |x_g| would be NaN and close the chunk). */
+ * it whatever groups of x are zero (its cluster's screen is the largest float there, not
+ * +inf, whose product with a zero |x_g| would be NaN and close the cluster). */
 static void test_zero_capacity_passes(void)
 {
     asset a;
@@ -179,8 +179,11 @@ static void test_zero_capacity_passes(void)
     float xg[DAMAGE_MAX_GROUPS] = { 0 };
     damage_group_norms(x, t.n_groups, xg);
     CHECK(xg[0] > 0.0f && xg[g_res] == 0.0f);
-    uint32_t pass[DAMAGE_BOUND_LANES];
-    CHECK(damage_branch_bounds(&t, xg, 1, 1.0f, pass) == 1 && pass[0] == 1);
+    uint32_t cand[DAMAGE_CLUSTERS * DAMAGE_BOUND_LANES];
+    CHECK(t.cluster_stride <= DAMAGE_CLUSTERS * DAMAGE_BOUND_LANES);
+    const uint32_t open = damage_clusters_open(&t, xg, 1.0f);
+    CHECK(open != 0);
+    CHECK(damage_branch_bounds(&t, xg, open, 1, 1.0f, cand) == 1 && cand[0] == 0);
     damage_table_fini(&t);
 }
 

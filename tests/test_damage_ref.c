@@ -378,8 +378,8 @@ static void test_moment_norm_closed_form(void)
 }
 
 /* Every branch bound of the shipped species against its branch's moment, for random x
- * (any x: a bound holds for all), and the pass flags of damage_branch_bounds, whose
- * chunks are screened first, against each branch's own test over the whole prefix: the
+ * (any x: a bound holds for all), and the branches damage_branch_bounds passes, whose
+ * clusters are screened first, against each branch's own test over the whole prefix: the
  * screen may save work, never drop a branch. */
 static void test_branch_bounds(void)
 {
@@ -389,7 +389,7 @@ static void test_branch_bounds(void)
     }
     uint64_t seed = 99;
     int passed = 0, edge_hits = 0, trials = 0, bound_fail = 0, flag_fail = 0;
-    static uint32_t pass[4096 + DAMAGE_BOUND_LANES];
+    static uint32_t cand[4096 + DAMAGE_CLUSTERS * DAMAGE_BOUND_LANES];
     for (int k = 0; k < N_SP; k++) {
         const damage_table *tb = &tables[k];
         const uint32_t nc = tb->n_cols;
@@ -399,7 +399,7 @@ static void test_branch_bounds(void)
             float x[64 + DAMAGE_RES_COLS + DAMAGE_GROUP_MODES] = { 0 };
             /* falling with the mode's index like a wind's response, at a scale that puts
              * the prefix's bounds about their capacities; after the first 200, x in one
-             * group alone, where a chunk's screen is its largest branch's bound exactly */
+             * group alone, where a cluster's screen is its largest branch's bound exactly */
             const double scale = 0.02 * (double)(trial % 200 + 1) / (double)tb->q_screen;
             const uint32_t only = trial < 200 ? UINT32_MAX : (uint32_t)(trial - 200) % tb->n_groups;
             for (uint32_t c = 0; c < nc; c++) {
@@ -433,24 +433,26 @@ static void test_branch_bounds(void)
                 const float r = bound * 1.0001f / tb->cap_by_order[j];
                 edge = r > edge ? r : edge;
             }
-            const float cap_mults[2] = { 0.7f, edge * (1.0f - 1e-5f) };
-            for (int c = 0; c < 2; c++) {
+            /* and one far below, where nearly every branch passes: the prefix's end is
+             * what leaves the rest out */
+            const float cap_mults[3] = { 0.7f, edge * (1.0f - 1e-5f), edge * 1e-3f };
+            for (int c = 0; c < 3; c++) {
                 const float cap_mult = cap_mults[c];
-                const uint32_t hits = damage_branch_bounds(tb, xg, n_check, cap_mult, pass);
-                uint32_t want_hits = 0;
-                for (uint32_t j = 0; j < damage_bound_lanes(n_check); j++) {
-                    uint32_t want = 0;
-                    if (j < n_check) {
-                        float bound = xg[0] * tb->group_norm[j];
-                        for (uint32_t g = 1; g < tb->n_groups; g++) {
-                            bound += xg[g] * tb->group_norm[(size_t)g * tb->group_stride + j];
-                        }
-                        want = bound * 1.0001f > cap_mult * tb->cap_by_order[j];
+                const uint32_t open = damage_clusters_open(tb, xg, cap_mult);
+                const uint32_t hits = damage_branch_bounds(tb, xg, open, n_check, cap_mult, cand);
+                /* the j that pass, rising: the next one wanted is cand[at] */
+                uint32_t at = 0;
+                for (uint32_t j = 0; j < n_check; j++) {
+                    float bound = xg[0] * tb->group_norm[j];
+                    for (uint32_t g = 1; g < tb->n_groups; g++) {
+                        bound += xg[g] * tb->group_norm[(size_t)g * tb->group_stride + j];
                     }
-                    want_hits += want;
-                    flag_fail += pass[j] != want;
+                    const bool want = bound * 1.0001f > cap_mult * tb->cap_by_order[j];
+                    const bool got = at < hits && cand[at] == j;
+                    flag_fail += want != got;
+                    at += got;
                 }
-                flag_fail += hits != want_hits;
+                flag_fail += at != hits;
                 passed += c == 0 && hits > 0;
                 edge_hits += c == 1 && hits > 0;
             }
@@ -458,7 +460,7 @@ static void test_branch_bounds(void)
         }
     }
     fprintf(stderr, "  %d draws, %d with branches past the screen at 0.7, %d at their largest "
-                    "bound; %d bounds below the moment, %d flags wrong\n",
+                    "bound; %d bounds below the moment, %d branches wrong\n",
             trials, passed, edge_hits, bound_fail, flag_fail);
     CHECK(bound_fail == 0);
     CHECK(flag_fail == 0);

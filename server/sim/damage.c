@@ -32,9 +32,8 @@ typedef struct damage_tree_st {
  * the first lane's in tree order (the first lane writes straight to the step's outputs). */
 typedef struct damage_lane {
     float *q;                   /* owned [DAMAGE_MAX_GROUPS + 1][DAMAGE_GROUP_MODES] scratch: x */
-    uint32_t *pass;             /* owned [damage_bound_lanes(the most branches)] scratch:
-                                   1 where a branch's bound passes */
-    uint32_t *cand;             /* owned [the most branches] scratch: branches a bound passes */
+    uint32_t *cand;             /* owned [the most cluster_stride] scratch: branches a bound
+                                   passes */
     wire_damage *ev;            /* owned [cap_ev] its events this step, in tree order */
     int n_ev, cap_ev;
     leaf_seed *leaves;          /* owned [cap_leaves] its stripped leaves this step */
@@ -115,7 +114,7 @@ damage_sim *damage_create(const damage_desc *d, gale_err *err)
     if (s->d.max_events <= 0) {
         s->d.max_events = (int)WIRE_MAX_DAMAGE;
     }
-    uint32_t maxb = 1;
+    uint32_t maxb = 1, maxb_lanes = DAMAGE_BOUND_LANES;
     s->table = calloc(d->n_species, sizeof *s->table);
     if (!s->table) {
         goto nomem;
@@ -124,6 +123,9 @@ damage_sim *damage_create(const damage_desc *d, gale_err *err)
         s->table[k] = d->table[k];
         if (s->table[k] && s->table[k]->n_branches > maxb) {
             maxb = s->table[k]->n_branches;
+        }
+        if (s->table[k] && s->table[k]->cluster_stride > maxb_lanes) {
+            maxb_lanes = s->table[k]->cluster_stride;
         }
     }
     s->words = (maxb + 63) / 64;
@@ -146,8 +148,7 @@ damage_sim *damage_create(const damage_desc *d, gale_err *err)
     for (int k = 0; k < s->n_lanes; k++) {
         damage_lane *l = &s->lane[k];
         l->q = calloc(DAMAGE_MAX_GROUPS * DAMAGE_GROUP_MODES + DAMAGE_GROUP_MODES, sizeof(float));
-        l->pass = calloc(damage_bound_lanes(maxb), sizeof(uint32_t));
-        l->cand = calloc((size_t)maxb, sizeof(uint32_t));
+        l->cand = calloc((size_t)maxb_lanes, sizeof(uint32_t));
         if (k > 0) {
             /* room for every event a stream and the whole-state log can hold */
             l->cap_ev = s->d.max_events + (int)DAMAGE_LOG_MAX;
@@ -155,7 +156,7 @@ damage_sim *damage_create(const damage_desc *d, gale_err *err)
             l->ev = calloc((size_t)l->cap_ev, sizeof *l->ev);
             l->leaves = calloc((size_t)l->cap_leaves, sizeof *l->leaves);
         }
-        if (!l->q || !l->pass || !l->cand || (k > 0 && (!l->ev || !l->leaves))) {
+        if (!l->q || !l->cand || (k > 0 && (!l->ev || !l->leaves))) {
             goto nomem;
         }
     }
@@ -193,7 +194,6 @@ void damage_destroy(damage_sim *s)
     free(s->bits);
     for (int k = 0; s->lane && k < s->n_lanes; k++) {
         free(s->lane[k].q);
-        free(s->lane[k].pass);
         free(s->lane[k].cand);
         free(s->lane[k].ev);
         free(s->lane[k].leaves);
@@ -421,11 +421,10 @@ static void check_tree(damage_sim *s, damage_lane *l, modal *m, const damage_tab
     }
     /* |x_g| per group: Σ_g |x_g| ||M_g|| bounds a moment (triangle inequality over
      * groups, the spectral norm within one) */
-    float xg[DAMAGE_MAX_GROUPS] = { 0 }, sb = 0.0f, bb = 0.0f;
+    float xg[DAMAGE_MAX_GROUPS] = { 0 }, sb = 0.0f;
     damage_group_norms(q, tb->n_groups, xg);
     for (uint32_t g = 0; g < tb->n_groups; g++) {
         sb += xg[g] * tb->stem_group[g];
-        bb += xg[g] * tb->group_screen[g];
     }
     const float m_crit = (float)(tb->m_over_nm < tb->m_break_nm ? tb->m_over_nm : tb->m_break_nm);
     /* the stem's moment only where its bounds reach the lower critical moment: below it
@@ -459,8 +458,14 @@ static void check_tree(damage_sim *s, damage_lane *l, modal *m, const damage_tab
         return;
     }
     bool changed = false;
-    /* no branch can fail below its weakest multiplier (see lo_branch below) */
-    if (!(bb * 1.0001f > 0.999f * lo)) {
+    /* below the weakest multiplier a branch holds whatever its own strength: first on its
+     * cluster's screen, then on its bound (Σ_g |x_g| |M_b,g| in vector lanes, 1e-4 for
+     * its rounding), then on the moment itself; the draw of its own strength (a log, a
+     * cos and an exp) only for one that might fail. 1e-3: lo's single-precision exp
+     * against the draws' double one */
+    const float lo_branch = 0.999f * lo;
+    const uint32_t open = damage_clusters_open(tb, xg, lo_branch);
+    if (!open) {
         return;
     }
     /* branches by rising cap / norm: from the first that cannot fail at |q| no later one
@@ -468,25 +473,8 @@ static void check_tree(damage_sim *s, damage_lane *l, modal *m, const damage_tab
     const float r_max = qn / lo * 1.00001f;
     const uint32_t n_check = damage_branches_within(tb, r_max, ts->n_check);
     ts->n_check = n_check;
-    /* below the weakest multiplier a branch holds whatever its own strength: first on the
-     * bound (Σ_g |x_g| |M_b,g| in vector lanes, 1e-4 for its rounding), then on the moment
-     * itself; the draw of its own strength (a log, a cos and an exp) only for one that
-     * might fail. 1e-3: lo's single-precision exp against the draws' double one */
-    const float lo_branch = 0.999f * lo;
-    /* the few the bound passes, up to the last, eight lanes of pass flags at a time: most
-     * eights are all zero (damage_bound_lanes pads the flags to whole eights) */
-    const uint32_t hits =
-        damage_branch_bounds(tb, xg, n_check, lo_branch, l->pass);
-    uint32_t n_cand = 0;
-    for (uint32_t j0 = 0; n_cand < hits && j0 < n_check; j0 += 8) {
-        const uint32_t *p8 = l->pass + j0;
-        if (p8[0] | p8[1] | p8[2] | p8[3] | p8[4] | p8[5] | p8[6] | p8[7]) {
-            for (uint32_t j = j0; j < j0 + 8 && n_cand < hits; j++) {
-                l->cand[n_cand] = j;
-                n_cand += l->pass[j];
-            }
-        }
-    }
+    /* the few the bound passes, in order */
+    const uint32_t n_cand = damage_branch_bounds(tb, xg, open, n_check, lo_branch, l->cand);
     for (uint32_t c = 0; c < n_cand; c++) {
         const uint32_t j = l->cand[c];
         const uint32_t b = tb->order[j];

@@ -120,49 +120,68 @@ typedef int32_t bound_mask __attribute__((vector_size(DAMAGE_BOUND_LANES * sizeo
 #define bound_load(p) (*(const bound_v_u *)(const void *)(p))
 
 /* Two levels, each a vector of sixteen lanes whose sums stay in a register over the
- * groups (-std=c11: no contraction, so the clones round alike): first the chunks of
- * sixteen branches against their screens, which rules out most of the prefix at the cost
- * of one branch each; then the branches of each chunk left, against their own capacities.
- * A chunk's screen is the largest |M_b,g| / cap_b of its branches, so Σ_g x_g screen_g
+ * groups (-std=c11: no contraction, so the clones round alike): first the clusters
+ * against their screens, which rules out most of the branches at the cost of one branch
+ * each; then the branches of each cluster left, against their own capacities. A
+ * cluster's screen is the largest |M_b,g| / cap_b of its branches, so Σ_g x_g screen_g
  * bounds every branch's bound over its capacity; 2e-4 covers the quotient's and the sums'
- * rounding, so a chunk ruled out holds no branch that its own test would pass. */
+ * rounding, so a cluster ruled out holds no branch that its own test would pass. A
+ * branch's own bound sums its groups in the order the test of one branch would. */
 __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-uint32_t damage_branch_bounds(const damage_table *t, const float *xg, uint32_t n_check,
-                              float cap_mult, uint32_t *pass)
+uint32_t damage_clusters_open(const damage_table *t, const float *xg, float cap_mult)
+{
+    _Static_assert(DAMAGE_CLUSTERS == DAMAGE_BOUND_LANES, "one vector of cluster screens");
+    bound_v screen = xg[0] * bound_load(t->cluster_screen[0]);
+    for (uint32_t g = 1; g < t->n_groups; g++) {
+        screen += xg[g] * bound_load(t->cluster_screen[g]);
+    }
+    const bound_mask open = screen * 1.0002f > cap_mult;
+    uint32_t bits = 0;
+    for (uint32_t k = 0; k < DAMAGE_CLUSTERS; k++) {
+        bits |= ((uint32_t)open[k] & 1u) << k;
+    }
+    return bits;
+}
+
+__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+uint32_t damage_branch_bounds(const damage_table *t, const float *xg, uint32_t open,
+                              uint32_t n_check, float cap_mult, uint32_t *cand)
 {
     const uint32_t ng = t->n_groups;
-    const uint32_t n_chunks = (n_check + DAMAGE_BOUND_LANES - 1u) / DAMAGE_BOUND_LANES;
-    const size_t stride = t->group_stride, chunk_stride = t->chunk_stride;
-    const bound_v lane = { 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15 };
-    bound_mask hit_lanes = { 0 };
-    for (uint32_t c0 = 0; c0 < n_chunks; c0 += DAMAGE_BOUND_LANES) {
-        bound_v screen = xg[0] * bound_load(t->chunk_screen + c0);
-        for (uint32_t g = 1; g < ng; g++) {
-            screen += xg[g] * bound_load(t->chunk_screen + g * chunk_stride + c0);
+    const size_t stride = t->cluster_stride;
+    uint32_t n_cand = 0;
+    for (uint32_t k = 0; k < DAMAGE_CLUSTERS; k++) {
+        if (!(open >> k & 1u)) {
+            continue;
         }
-        const bound_mask open = screen * 1.0002f > cap_mult;
-        const uint32_t c1 = n_chunks - c0 < DAMAGE_BOUND_LANES ? n_chunks : c0 + DAMAGE_BOUND_LANES;
-        for (uint32_t c = c0; c < c1; c++) {
-            const uint32_t j0 = c * DAMAGE_BOUND_LANES;
-            bound_mask p = { 0 };
-            if (open[c - c0]) {
-                bound_v m = xg[0] * bound_load(t->group_norm + j0);
-                for (uint32_t g = 1; g < ng; g++) {
-                    m += xg[g] * bound_load(t->group_norm + g * stride + j0);
-                }
-                const bound_v cap = cap_mult * bound_load(t->cap_by_order + j0);
-                p = (lane + (float)j0 < (float)n_check) & (m * 1.0001f > cap);
-                p &= 1;
-                hit_lanes += p;
+        for (uint32_t i0 = t->cluster_start[k]; i0 < t->cluster_start[k + 1];
+             i0 += DAMAGE_BOUND_LANES) {
+            bound_v m = xg[0] * bound_load(t->cluster_norm + i0);
+            for (uint32_t g = 1; g < ng; g++) {
+                m += xg[g] * bound_load(t->cluster_norm + g * stride + i0);
             }
-            memcpy(pass + j0, &p, sizeof p);
+            const bound_v cap = cap_mult * bound_load(t->cluster_cap + i0);
+            const bound_mask p = m * 1.0001f > cap;
+            /* the lanes that pass and lie in the prefix, appended: each lane written, the
+             * count moved by its flag (cand has room for a whole vector past the last) */
+            for (uint32_t l = 0; l < DAMAGE_BOUND_LANES; l++) {
+                const uint32_t j = t->cluster_j[i0 + l];
+                cand[n_cand] = j;
+                n_cand += (uint32_t)(p[l] & 1) & (j < n_check);
+            }
         }
     }
-    uint32_t hits = 0;
-    for (uint32_t k = 0; k < DAMAGE_BOUND_LANES; k++) {
-        hits += (uint32_t)hit_lanes[k];
+    /* rising j, as one pass over the order would find them: a branch of a cluster after
+     * its parent's is then tested after it (insertion: there are few) */
+    for (uint32_t a = 1; a < n_cand; a++) {
+        const uint32_t j = cand[a];
+        uint32_t b = a;
+        for (; b > 0 && cand[b - 1] > j; b--) {
+            cand[b] = cand[b - 1];
+        }
+        cand[b] = j;
     }
-    return hits;
+    return n_cand;
 }
 
 /* Lanes over the groups (omp simd: the stride-4 loads become one shuffle per vector and
@@ -343,6 +362,126 @@ static void residual(const asset *a, double drag_c, double leaf_share, uint32_t 
     }
 }
 
+/* Branch j's group norms over its capacity (0 for a branch without capacity: it only
+ * places the branch; its screen is FLT_MAX, as in damage_branch_bounds). */
+static float per_capacity(const damage_table *t, uint32_t g, uint32_t j)
+{
+    const float cap = t->cap_by_order[j], gn = t->group_norm[(size_t)g * t->group_stride + j];
+    return cap > 0.0f ? gn / cap : 0.0f;
+}
+
+/* L1 distance of branch j's norms over capacity from a centre [n_groups]. */
+static double cluster_distance(const damage_table *t, uint32_t j, const double *centre)
+{
+    double d = 0.0;
+    for (uint32_t g = 0; g < t->n_groups; g++) {
+        d += fabs((double)per_capacity(t, g, j) - centre[g]);
+    }
+    return d;
+}
+
+/* The branches in DAMAGE_CLUSTERS clusters of like norms over capacity (k-means in the L1
+ * distance from centres at evenly spaced branches of the order, until no branch moves or
+ * for 64 rounds: the same clusters on every machine), each cluster's screen the largest
+ * norm over capacity of its branches per group, and its branches in lanes of their own.
+ * A branch's bound is large against its capacity in a few groups (those of the modes that
+ * bend it, and the residual); branches alike in which share a cluster, so a cluster's
+ * screen is near each of its branches' bounds, where the largest over all branches, per
+ * group, sums the worst of unlike branches. */
+static int build_clusters(damage_table *t)
+{
+    const uint32_t nb = t->n_branches, ng = t->n_groups;
+    uint8_t *of = calloc(nb ? nb : 1, 1);
+    double(*centre)[DAMAGE_MAX_GROUPS] = calloc(DAMAGE_CLUSTERS, sizeof *centre);
+    if (!of || !centre) {
+        free(of);
+        free(centre);
+        return GALE_E_NOMEM;
+    }
+    for (uint32_t k = 0; k < DAMAGE_CLUSTERS && nb > 0; k++) {
+        const uint32_t j = (uint32_t)((uint64_t)k * nb / DAMAGE_CLUSTERS);
+        for (uint32_t g = 0; g < ng; g++) {
+            centre[k][g] = (double)per_capacity(t, g, j);
+        }
+    }
+    bool moved = true;
+    for (int round = 0; round < 64 && moved; round++) {
+        moved = false;
+        for (uint32_t j = 0; j < nb; j++) {
+            uint32_t best = 0;
+            double best_d = cluster_distance(t, j, centre[0]);
+            for (uint32_t k = 1; k < DAMAGE_CLUSTERS; k++) {
+                const double d = cluster_distance(t, j, centre[k]);
+                if (d < best_d) {
+                    best_d = d;
+                    best = k;
+                }
+            }
+            moved = moved || (round > 0 && of[j] != best);
+            of[j] = (uint8_t)best;
+        }
+        uint32_t count[DAMAGE_CLUSTERS] = { 0 };
+        double sum[DAMAGE_CLUSTERS][DAMAGE_MAX_GROUPS] = { { 0 } };
+        for (uint32_t j = 0; j < nb; j++) {
+            count[of[j]]++;
+            for (uint32_t g = 0; g < ng; g++) {
+                sum[of[j]][g] += (double)per_capacity(t, g, j);
+            }
+        }
+        for (uint32_t k = 0; k < DAMAGE_CLUSTERS; k++) {
+            for (uint32_t g = 0; g < ng && count[k] > 0; g++) {
+                centre[k][g] = sum[k][g] / (double)count[k];
+            }
+        }
+        moved = moved || round == 0;
+    }
+    free(centre);
+    /* each cluster's branches in rising j, padded to whole vectors of lanes */
+    uint32_t at = 0;
+    for (uint32_t k = 0; k < DAMAGE_CLUSTERS; k++) {
+        t->cluster_start[k] = at;
+        uint32_t n = 0;
+        for (uint32_t j = 0; j < nb; j++) {
+            n += of[j] == k;
+        }
+        at += n ? damage_bound_lanes(n) : 0;
+    }
+    t->cluster_start[DAMAGE_CLUSTERS] = at;
+    t->cluster_stride = at ? at : DAMAGE_BOUND_LANES;
+    t->cluster_j = malloc(sizeof(uint32_t) * t->cluster_stride);
+    t->cluster_cap = malloc(sizeof(float) * t->cluster_stride);
+    t->cluster_norm = calloc((size_t)ng * t->cluster_stride, sizeof(float));
+    if (!t->cluster_j || !t->cluster_cap || !t->cluster_norm) {
+        free(of);
+        return GALE_E_NOMEM;
+    }
+    for (uint32_t i = 0; i < t->cluster_stride; i++) {
+        t->cluster_j[i] = UINT32_MAX; /* padding: past any prefix, no capacity reached */
+        t->cluster_cap[i] = INFINITY;
+    }
+    memset(t->cluster_screen, 0, sizeof t->cluster_screen);
+    uint32_t fill[DAMAGE_CLUSTERS];
+    memcpy(fill, t->cluster_start, sizeof fill);
+    for (uint32_t j = 0; j < nb; j++) {
+        const uint32_t k = of[j], i = fill[k]++;
+        t->cluster_j[i] = j;
+        t->cluster_cap[i] = t->cap_by_order[j];
+        for (uint32_t g = 0; g < ng; g++) {
+            const float gn = t->group_norm[(size_t)g * t->group_stride + j];
+            t->cluster_norm[(size_t)g * t->cluster_stride + i] = gn;
+            /* a branch without capacity keeps its cluster open wherever its moment is not
+             * zero: the largest float, not +inf, whose product with an |x_g| of 0 would be
+             * NaN and close the cluster */
+            const float cap = t->cap_by_order[j];
+            const float per_cap = cap > 0.0f ? gn / cap : gn > 0.0f ? FLT_MAX : 0.0f;
+            float *cs = &t->cluster_screen[g][k];
+            *cs = per_cap > *cs ? per_cap : *cs;
+        }
+    }
+    free(of);
+    return 0;
+}
+
 int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_params *p,
                        damage_table *t, gale_err *err)
 {
@@ -502,9 +641,7 @@ int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_
     t->ratio_by_order = malloc(sizeof(float) * (nb ? nb : 1));
     t->cap_by_order = malloc(sizeof(float) * t->group_stride);
     t->group_norm = calloc((size_t)t->n_groups * t->group_stride, sizeof(float));
-    t->chunk_stride = damage_bound_lanes(t->group_stride / DAMAGE_BOUND_LANES);
-    t->chunk_screen = calloc((size_t)t->n_groups * t->chunk_stride, sizeof(float));
-    if (!t->ratio_by_order || !t->cap_by_order || !t->group_norm || !t->chunk_screen) {
+    if (!t->ratio_by_order || !t->cap_by_order || !t->group_norm) {
         damage_table_fini(t);
         return gale_errf(err, GALE_E_NOMEM, "damage_table_build: no memory for %u branches", nb);
     }
@@ -519,20 +656,12 @@ int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_
         for (uint32_t g = 0; g < t->n_groups; g++) {
             const uint32_t i0 = g * DAMAGE_GROUP_MODES;
             const uint32_t k = nc - i0 < DAMAGE_GROUP_MODES ? nc - i0 : DAMAGE_GROUP_MODES;
-            const float gn = damage_moment_norm(m + i0, k);
-            t->group_norm[(size_t)g * t->group_stride + j] = gn;
-            /* a branch without capacity keeps its chunk open wherever its moment is not
-             * zero: the largest float, not +inf, whose product with an |x_g| of 0 would be
-             * NaN and close the chunk */
-            const float per_cap = b->cap_nm > 0.0f ? gn / b->cap_nm : gn > 0.0f ? FLT_MAX : 0.0f;
-            if (b->cap_nm > 0.0f && per_cap > t->group_screen[g]) {
-                t->group_screen[g] = per_cap;
-            }
-            float *cs = &t->chunk_screen[(size_t)g * t->chunk_stride + j / DAMAGE_BOUND_LANES];
-            *cs = per_cap > *cs ? per_cap : *cs;
+            t->group_norm[(size_t)g * t->group_stride + j] = damage_moment_norm(m + i0, k);
         }
     }
-    return GALE_OK;
+    return build_clusters(t) ? gale_errf(err, GALE_E_NOMEM,
+                                         "damage_table_build: no memory for %u branches", nb)
+                             : GALE_OK;
 }
 
 void damage_table_fini(damage_table *t)
@@ -547,7 +676,9 @@ void damage_table_fini(damage_table *t)
     free(t->ratio_by_order);
     free(t->cap_by_order);
     free(t->group_norm);
-    free(t->chunk_screen);
+    free(t->cluster_j);
+    free(t->cluster_cap);
+    free(t->cluster_norm);
     free(t->slot_rank);
     memset(t, 0, sizeof *t);
 }

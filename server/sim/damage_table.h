@@ -38,6 +38,12 @@
  * |q| in a steady wind, so that |x| |M| bounds both parts alike. */
 #define DAMAGE_RES_COLS 3u
 
+/* Clusters of a species' branches: one vector of screens (DAMAGE_BOUND_LANES lanes). A
+ * check screens the clusters first, each by the largest norms over capacity of its
+ * branches, and bounds branch by branch only those of a cluster left open
+ * (damage_branch_bounds; server/SERVER.md "Storm damage: branches screened by clusters"). */
+#define DAMAGE_CLUSTERS 16u
+
 /* Groups of x at most: 64 modes and the residual. */
 #define DAMAGE_MAX_GROUPS ((64u + DAMAGE_RES_COLS + DAMAGE_GROUP_MODES - 1u) / DAMAGE_GROUP_MODES)
 
@@ -71,22 +77,26 @@ typedef struct damage_table {
                                 (+inf for a branch no mode loads) */
     float *cap_by_order;     /* owned [group_stride] cap_nm of order[j] */
     float *group_norm;       /* owned [n_groups][group_stride] ||M_b,g|| (damage_moment_norm)
-                                of order[j] at [g][j]
-                                (groups of DAMAGE_GROUP_MODES columns of x): a check
-                                bounds the branches it needs, a prefix of the order,
-                                group by group in vector lanes */
-    float *chunk_screen;     /* owned [n_groups][chunk_stride] max over the branches
-                                j / DAMAGE_BOUND_LANES = c of group_norm[g][j] / their
-                                cap_nm at [g][c] (FLT_MAX for a branch without capacity, zero
-                                past the branches): a check rules out sixteen branches of
-                                its prefix at once */
-    uint32_t chunk_stride;   /* damage_bound_lanes(group_stride / DAMAGE_BOUND_LANES) */
+                                of order[j] at [g][j] (groups of DAMAGE_GROUP_MODES
+                                columns of x); the clusters' lanes hold copies */
+    float cluster_screen[DAMAGE_MAX_GROUPS][DAMAGE_CLUSTERS]; /* max over cluster k's
+                                branches of group_norm[g][j] / their cap_nm at [g][k]
+                                (FLT_MAX for a branch without capacity, zero for an empty
+                                cluster): a check rules out a whole cluster at once */
+    uint32_t cluster_start[DAMAGE_CLUSTERS + 1]; /* cluster k's lanes
+                                [cluster_start[k], cluster_start[k + 1]) of the arrays
+                                below, a whole number of DAMAGE_BOUND_LANES */
+    uint32_t cluster_stride; /* their length: cluster_start[DAMAGE_CLUSTERS] (at least one
+                                vector of lanes) */
+    uint32_t *cluster_j;     /* owned [cluster_stride] the j (order) of each lane's branch,
+                                rising within a cluster; UINT32_MAX in the padding */
+    float *cluster_cap;      /* owned [cluster_stride] cap_by_order of the lane's branch;
+                                +inf in the padding */
+    float *cluster_norm;     /* owned [n_groups][cluster_stride] group_norm of the lane's
+                                branch; zero in the padding */
     uint32_t n_groups;       /* ceil(n_cols / DAMAGE_GROUP_MODES) */
     uint32_t group_stride;   /* damage_bound_lanes(n_branches): group_norm's row length and
                                 cap_by_order's length, zero and +inf past the branches */
-    float group_screen[DAMAGE_MAX_GROUPS]; /* max over branches of ||M_b,g|| / cap_b: no
-                                branch fails at strength 1 while Σ_g |x_g| group_screen[g]
-                                < 1 */
     float stem_group[DAMAGE_MAX_GROUPS];   /* damage_moment_norm of stem_moment over group g */
     float stem_moment[64 + DAMAGE_RES_COLS][3]; /* base moment of the stem element per
                                 unit x_c, as branch_moment [N m] */
@@ -127,17 +137,21 @@ static inline uint32_t damage_bound_lanes(uint32_t n)
  * the last count of the same tree is the fast one). */
 uint32_t damage_branches_within(const damage_table *t, float x, uint32_t hint);
 
-/* Which of the first n_check branches in t's order may fail at strength cap_mult, from
- * |x_g| of each group (xg[n_groups], x = (q, κ w)): branch order[j] passes where its bound
- * Σ_g xg[g] |M_b,g| >= |M(x)| [N m], times 1.0001 (for the bound's rounding), is above
- * cap_mult · cap_by_order[j]. Returns how many pass: 0, and none can fail at strength
- * cap_mult. pass[damage_bound_lanes(n_check)] is written 1 for each of them and 0 for every
- * other lane (32-bit lanes, as wide as the bounds', so the loop stays in whole vectors of
- * them), so a caller finds the few several lanes at a time. Chunks of DAMAGE_BOUND_LANES
- * branches are screened first (chunk_screen) and only those open are bounded branch by
- * branch. */
-uint32_t damage_branch_bounds(const damage_table *t, const float *xg, uint32_t n_check,
-                              float cap_mult, uint32_t *pass);
+/* The clusters that may hold a branch failing at strength cap_mult, from |x_g| of each
+ * group (xg[n_groups], x = (q, κ w)): bit k set where cluster k's screen
+ * Σ_g xg[g] cluster_screen[g][k], times 1.0002 (for its rounding), is above cap_mult.
+ * 0: no branch can fail at strength cap_mult. */
+uint32_t damage_clusters_open(const damage_table *t, const float *xg, float cap_mult);
+
+/* Which of the first n_check branches in t's order, of the clusters open (bits of
+ * damage_clusters_open), may fail at strength cap_mult: branch order[j] passes where its
+ * bound Σ_g xg[g] |M_b,g| >= |M(x)| [N m], times 1.0001 (for the bound's rounding), is
+ * above cap_mult · cap_by_order[j]. Writes the j of each that passes, rising, to the
+ * front of cand[cluster_stride] (the rest of it is scratch) and returns how many. With
+ * every cluster that damage_clusters_open leaves out, these are all the branches of the
+ * prefix that pass. */
+uint32_t damage_branch_bounds(const damage_table *t, const float *xg, uint32_t open,
+                              uint32_t n_check, float cap_mult, uint32_t *cand);
 
 /* |x_g| of each group of DAMAGE_GROUP_MODES columns of x (x zero past its columns up to
  * n_groups whole groups) into xg[n_groups]. */
