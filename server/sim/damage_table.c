@@ -380,9 +380,10 @@ static double cluster_distance(const damage_table *t, uint32_t j, const double *
     return d;
 }
 
-/* The branches in DAMAGE_CLUSTERS clusters of like norms over capacity (k-means in the L1
- * distance from centres at evenly spaced branches of the order, until no branch moves or
- * for 64 rounds: the same clusters on every machine), each cluster's screen the largest
+/* The branches in DAMAGE_CLUSTERS clusters of like norms over capacity (Lloyd's rounds:
+ * each branch to the centre nearest in the L1 distance, each centre its branches' mean;
+ * from centres at evenly spaced branches of the order, until no branch moves or for 64
+ * rounds: the same clusters on every machine), each cluster's screen the largest
  * norm over capacity of its branches per group, and its branches in lanes of their own.
  * A branch's bound is large against its capacity in a few groups (those of the modes that
  * bend it, and the residual); branches alike in which share a cluster, so a cluster's
@@ -404,9 +405,8 @@ static int build_clusters(damage_table *t)
             centre[k][g] = (double)per_capacity(t, g, j);
         }
     }
-    bool moved = true;
-    for (int round = 0; round < 64 && moved; round++) {
-        moved = false;
+    for (int round = 0; round < 64; round++) {
+        bool moved = round == 0;
         for (uint32_t j = 0; j < nb; j++) {
             uint32_t best = 0;
             double best_d = cluster_distance(t, j, centre[0]);
@@ -417,8 +417,11 @@ static int build_clusters(damage_table *t)
                     best = k;
                 }
             }
-            moved = moved || (round > 0 && of[j] != best);
+            moved = moved || of[j] != best;
             of[j] = (uint8_t)best;
+        }
+        if (!moved) {
+            break;
         }
         uint32_t count[DAMAGE_CLUSTERS] = { 0 };
         double sum[DAMAGE_CLUSTERS][DAMAGE_MAX_GROUPS] = { { 0 } };
@@ -433,7 +436,6 @@ static int build_clusters(damage_table *t)
                 centre[k][g] = sum[k][g] / (double)count[k];
             }
         }
-        moved = moved || round == 0;
     }
     free(centre);
     /* each cluster's branches in rising j, padded to whole vectors of lanes */
@@ -659,9 +661,11 @@ int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_
             t->group_norm[(size_t)g * t->group_stride + j] = damage_moment_norm(m + i0, k);
         }
     }
-    return build_clusters(t) ? gale_errf(err, GALE_E_NOMEM,
-                                         "damage_table_build: no memory for %u branches", nb)
-                             : GALE_OK;
+    if (build_clusters(t)) {
+        damage_table_fini(t);
+        return gale_errf(err, GALE_E_NOMEM, "damage_table_build: no memory for %u branches", nb);
+    }
+    return GALE_OK;
 }
 
 void damage_table_fini(damage_table *t)
