@@ -163,7 +163,8 @@ uint32_t damage_branch_bounds(const damage_table *t, const float *xg, uint32_t o
             const bound_v cap = cap_mult * bound_load(t->cluster_cap + i0);
             const bound_mask p = m * 1.0001f > cap;
             /* the lanes that pass and lie in the prefix, appended: each lane written, the
-             * count moved by its flag (cand has room for a whole vector past the last) */
+             * count moved by its flag (the count stays below the lanes read, so every
+             * write lies within cand[cluster_stride]) */
             for (uint32_t l = 0; l < DAMAGE_BOUND_LANES; l++) {
                 const uint32_t j = t->cluster_j[i0 + l];
                 cand[n_cand] = j;
