@@ -10,10 +10,11 @@ int bench_modal(int argc, char **argv);
 int bench_wire(int argc, char **argv);
 
 /* The machine's memory bandwidth [GB/s]: a STREAM triad a = b + 3 c over three arrays of
- * 2^24 doubles (384 MiB, far past the caches) on `threads` threads, best of 5, counted as
- * 24 bytes per element (STREAM's convention: write-allocate traffic not counted, so a
- * benchmark's byte model leaves it out too). Allocates and frees its arrays; 0 when they
- * cannot be allocated. */
+ * 2^24 doubles (384 MiB, far past the caches) on `threads` threads, best of 5, on the
+ * pages the tick's streamed arrays get (big_alloc: huge where the kernel grants them),
+ * counted as 24 bytes per element (STREAM's convention: write-allocate traffic not
+ * counted, so a benchmark's byte model leaves it out too). Allocates and frees its
+ * arrays; 0 when they cannot be allocated. */
 double bench_triad_gb_s(int threads);
 
 /* The same triad over three arrays of bytes / 3 in all (at least 24 KiB): sized like a
@@ -25,7 +26,8 @@ double bench_triad_sized_gb_s(int threads, size_t bytes);
  *   ws: float arrays sized like the step's (`arrays` arrays of `cells` floats, swept in
  *   triples a = b + s c, one parallel region per sweep as the step's kernels fork, on its
  *   `threads` threads, first touched by them and warmed by one untimed pass);
- *   dram: the 384 MiB double triad of bench_triad_gb_s, on the same threads.
+ *   dram: a 384 MiB double triad like bench_triad_gb_s's, on the same threads and on
+ *   small pages, as the wind's arrays are.
  * llc_bytes: the last-level cache (sysconf, else /sys; 0 unknown). 12 bytes counted per
  * float triad element, 24 per double one (STREAM's convention). */
 typedef struct bench_triads {

@@ -24,6 +24,7 @@
 #include "mono.h"
 #include "bench.h"
 #include "bake.h"
+#include "big_alloc.h"
 #include "damage.h"
 #include "leaf.h"
 #include "lsystem.h"
@@ -184,8 +185,8 @@ static int variant_init(variant *v, bool damage, const modal_desc *md, int n_mod
             return GALE_E_NOMEM;
         }
     }
-    v->snap = calloc(n * (size_t)n_modes, sizeof(int16_t));
-    v->prev = calloc(n * (size_t)n_modes, sizeof(int16_t));
+    v->snap = big_alloc(n * (size_t)n_modes * sizeof(int16_t));
+    v->prev = big_alloc(n * (size_t)n_modes * sizeof(int16_t));
     v->enc = malloc(enc_cap);
     v->leaves = malloc(LEAF_CAP * sizeof *v->leaves);
     const size_t scratch_seeds = leaf_scratch_seeds(md->n_threads, LEAF_CAP);
@@ -327,6 +328,13 @@ static double median_of(const double *v, int n, double *scratch)
 }
 
 /* Prints the figures of variant v as JSON members (no braces). */
+/* The bytes a damage step reads at least: each due tree's q row and its wind (its record
+ * and the species' tables left out, so the floor stays a floor). */
+static double damage_model_bytes(int n_trees, int n_modes)
+{
+    return (double)n_trees / DAMAGE_EVERY * (4.0 * n_modes + 12.0);
+}
+
 static void print_variant(const variant *v, int ticks, int n_trees, int n_modes,
                           const modal_bytes *tb, double grid_bytes, double gbs, double *scratch)
 {
@@ -336,20 +344,23 @@ static void print_variant(const variant *v, int ticks, int n_trees, int n_modes,
     double p99_t = (memcpy(scratch, v->t_total, sizeof(double) * (size_t)ticks),
                     pct(scratch, ticks, 0.99));
     double enc_per_tick = (double)v->enc_bytes / ticks;
-    double tick_bytes = tick_model_bytes(tb, n_trees, n_modes, enc_per_tick, grid_bytes);
+    double tick_bytes = tick_model_bytes(tb, n_trees, n_modes, enc_per_tick, grid_bytes) +
+                        (v->damage ? damage_model_bytes(n_trees, n_modes) : 0.0);
     double tick_gbs = med_t > 0.0 ? tick_bytes / (med_t * 1e-3) / 1e9 : 0.0;
+    double floor_ms = gbs > 0.0 ? tick_bytes / (gbs * 1e9) * 1e3 : 0.0;
     printf("\"damage\":%s,\"tick_ms_median\":%.3f,\"tick_ms_p95\":%.3f,\"tick_ms_p99\":%.3f,"
            "\"cpu_ms_per_tick_median\":%.3f,\"sample_ms_median\":%.3f,"
            "\"update_quantise_ms_median\":%.3f,\"damage_ms_median\":%.3f,"
            "\"leaf_shed_ms_median\":%.3f,\"encode_ms_median\":%.3f,"
            "\"update_only_ms_median\":%.3f,\"ns_per_tree_mode\":%.3f,"
-           "\"bandwidth_fraction\":%.3f,\"leaves_shed_per_tick\":%.1f",
+           "\"bandwidth_fraction\":%.3f,\"memory_floor_ms\":%.3f,\"tick_over_floor\":%.2f,"
+           "\"leaves_shed_per_tick\":%.1f",
            v->damage ? "true" : "false", med_t, p95_t, p99_t, median_of(v->t_cpu, ticks, scratch),
            median_of(v->t_sample, ticks, scratch), median_of(v->t_modal, ticks, scratch),
            median_of(v->t_damage, ticks, scratch), median_of(v->t_leaf, ticks, scratch),
            median_of(v->t_enc, ticks, scratch), median_of(v->t_nosnap, ticks, scratch),
            med_t * 1e6 / ((double)n_trees * n_modes), gbs > 0.0 ? tick_gbs / gbs : 0.0,
-           (double)v->n_shed / ticks);
+           floor_ms, floor_ms > 0.0 ? med_t / floor_ms : 0.0, (double)v->n_shed / ticks);
     if (v->sim) {
         damage_counts *c = damage_get_counts(v->sim);
         printf(",\"branches_broken\":%llu,\"trees_snapped\":%llu,\"trees_uprooted\":%llu,"
@@ -638,6 +649,8 @@ int bench_modal(int argc, char **argv)
             t_wind[k] = tw;
         }
     }
+    /* the tick's arrays on huge pages, as the kernel granted them (big_alloc) */
+    const long long huge_bytes = big_alloc_huge_bytes();
     const double gbs_after = bench_triad_gb_s(threads);
     const double gbs =
         gbs_before > 0.0 && gbs_after > 0.0 ? 0.5 * (gbs_before + gbs_after) : 0.0;
@@ -681,9 +694,9 @@ int bench_modal(int argc, char **argv)
                    "\"modal_species\":\"configs/species/oak.json baked\","
                    "\"oak_branches\":%u,\"oak_critical_mean_ms\":{\"first_branch\":%.1f,\"snap\":%.1f,"
                    "\"uproot\":%.1f},\"machine_gb_per_s\":%.2f,\"machine_gb_per_s_before\":%.2f,"
-                   "\"machine_gb_per_s_after\":%.2f,\"off\":{",
+                   "\"machine_gb_per_s_after\":%.2f,\"huge_page_bytes\":%lld,\"off\":{",
                    n_trees, n_modes, n_species, threads, ticks, (double)u10_ms, oak.t.n_branches, crit_b,
-                   crit_snap, crit_up, gbs, gbs_before, gbs_after);
+                   crit_snap, crit_up, gbs, gbs_before, gbs_after, huge_bytes);
             print_variant(&var[0], ticks, n_trees, n_modes, &tb, grid_bytes, gbs, scratch);
             printf("},\"on\":{");
             print_variant(&var[1], ticks, n_trees, n_modes, &tb, grid_bytes, gbs, scratch);
@@ -763,7 +776,8 @@ int bench_modal(int argc, char **argv)
                    "\"ns_per_tree_mode\":%.3f,\"cpu_ms_per_tick_median\":%.3f,"
                    "\"update_only_ms_median\":%.3f,\"loadavg_1min\":%.2f,\"target_ms\":3.0,"
                    "\"machine_gb_per_s\":%.2f,\"machine_gb_per_s_before\":%.2f,"
-                   "\"machine_gb_per_s_after\":%.2f,\"bytes_per_tree_read\":%.0f,"
+                   "\"machine_gb_per_s_after\":%.2f,\"huge_page_bytes\":%lld,"
+                   "\"bytes_per_tree_read\":%.0f,"
                    "\"bytes_per_tree_written\":%.0f,\"bytes_per_tick_model\":%.0f,"
                    "\"tick_effective_gb_per_s\":%.2f,\"bandwidth_fraction\":%.3f,"
                    "\"update_only_bytes_per_tree\":%.0f,\"update_only_effective_gb_per_s\":%.2f,"
@@ -781,7 +795,7 @@ int bench_modal(int argc, char **argv)
                    n_trees, n_modes, n_species, threads, ticks, v->damage ? "true" : "false",
                    (double)u10_ms, med_s, med_m, med_t, p95_t, max_t,
                    med_t * 1e6 / ((double)n_trees * n_modes), med_cpu, med_ns, load[0], gbs,
-                   gbs_before, gbs_after, tb.read, tb.written, tick_bytes, tick_gbs, frac,
+                   gbs_before, gbs_after, huge_bytes, tb.read, tb.written, tick_bytes, tick_gbs, frac,
                    ub.read + ub.written,
                    upd_gbs, upd_frac, check, (double)cell_m, gxy, gxy, gz, every, in.slots,
                    (double)side, in.lanes.n > 1 ? in.lanes.n : 1, med_l, med_e, enc_per_tick, (double)v->n_shed / ticks,

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include "bench.h"
+#include "big_alloc.h"
 #include "mono.h"
 
 double bench_triad_gb_s(int threads)
@@ -17,7 +18,10 @@ double bench_triad_gb_s(int threads)
 double bench_triad_sized_gb_s(int threads, size_t bytes)
 {
     const size_t n = bytes / 24 > 1024 ? bytes / 24 : 1024;
-    double *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b), *c = malloc(n * sizeof *c);
+    /* on the pages the tick's streamed arrays get (big_alloc): huge ones where the kernel
+     * grants them, which move a triad faster than small ones */
+    double *a = big_alloc(n * sizeof *a), *b = big_alloc(n * sizeof *b),
+           *c = big_alloc(n * sizeof *c);
     if (!a || !b || !c) {
         free(a);
         free(b);
@@ -25,8 +29,9 @@ double bench_triad_sized_gb_s(int threads, size_t bytes)
         return 0.0;
     }
     const long nl = (long)n;
-    /* first touch by the same threads and schedule as the timed loop: each page sits
-     * where the thread that sweeps it runs */
+    /* written by the same threads and schedule as the timed loop, so each thread's share
+     * is in its caches' reach as the tick's arrays are after their first tick (big_alloc
+     * zeroed the pages: one thread places them, as it places the tick's) */
 #pragma omp parallel for schedule(static) num_threads(threads)
     for (long i = 0; i < nl; i++) {
         a[i] = 0.0;

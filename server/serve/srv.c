@@ -4,6 +4,7 @@
  * thread owns the tick state, the lws thread the connections; they meet in net_publish
  * (snapshots), the scenario lock (kiosk commands), the view lock and a few atomics. */
 #include "srv_int.h"
+#include "big_alloc.h"
 #include "sim_lanes.h"
 #include "damage_metrics.h"
 
@@ -85,13 +86,10 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     s->tree_species = calloc((size_t)n, 1);
     s->tree_modes = calloc((size_t)n, 1);
     for (int k = 0; k < 3; k++) {
-        /* written now, not left to calloc's lazy zero pages: the first snapshot ticks
-         * would fault them in (6.4 MB each at 100 000 trees, ~10 ms a tick) */
-        const size_t bytes = (size_t)n * (size_t)s->stride * sizeof(int16_t);
-        s->qbuf[k] = malloc(bytes > 0 ? bytes : 1);
-        if (s->qbuf[k]) {
-            memset(s->qbuf[k], 0, bytes);
-        }
+        /* written now (big_alloc), not left to calloc's lazy zero pages: the first
+         * snapshot ticks would fault them in (6.4 MB each at 100 000 trees, ~10 ms a
+         * tick) */
+        s->qbuf[k] = big_alloc((size_t)n * (size_t)s->stride * sizeof(int16_t));
     }
     s->leaves = calloc(WIRE_MAX_LEAVES, sizeof *s->leaves);
     s->dmg_ev = calloc(WIRE_MAX_DAMAGE, sizeof *s->dmg_ev);

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "big_alloc.h"
 #include "damage_strip.h"
 #include "hash.h"
 #include "sim_team.h"
@@ -132,7 +133,7 @@ damage_sim *damage_create(const damage_desc *d, gale_err *err)
     s->species = malloc(d->n_trees);
     s->cos_yaw = malloc(sizeof(float) * d->n_trees);
     s->sin_yaw = malloc(sizeof(float) * d->n_trees);
-    s->tree = calloc(d->n_trees, sizeof *s->tree);
+    s->tree = big_alloc((size_t)d->n_trees * sizeof *s->tree);
     s->bits = calloc((size_t)d->n_trees * s->words, sizeof(uint64_t));
     s->n_threads = d->n_threads > 1 ? (d->n_threads < DAMAGE_MAX_THREADS ? d->n_threads
                                                                           : DAMAGE_MAX_THREADS)

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "big_alloc.h"
 #include "wire_limits.h"
 #include "oscillator.h"
 #include "sim_team.h"
@@ -165,12 +166,10 @@ modal *modal_create(const modal_desc *d, gale_err *err)
     /* 64-byte aligned so a tree's state starts on a cache line when pad is a multiple
      * of 16 (the common 16 / 32 / 64 modes). */
     size_t bytes = (size_t)d->n_trees * 2 * m->pad * sizeof(float);
-    bytes = (bytes + 63) & ~(size_t)63;
-    m->state = aligned_alloc(64, bytes);
+    m->state = big_alloc(bytes);
     if (!m->state) {
         goto nomem;
     }
-    memset(m->state, 0, bytes);
     return m;
 nomem:
     gale_errf(err, GALE_E_NOMEM, "modal_create: out of memory for %u trees", d->n_trees);
