@@ -327,7 +327,6 @@ static double median_of(const double *v, int n, double *scratch)
     return pct(scratch, n, 0.5);
 }
 
-/* Prints the figures of variant v as JSON members (no braces). */
 /* The bytes a damage step reads at least: each due tree's q row and its wind (its record
  * and the species' tables left out, so the floor stays a floor). */
 static double damage_model_bytes(int n_trees, int n_modes)
@@ -335,6 +334,7 @@ static double damage_model_bytes(int n_trees, int n_modes)
     return (double)n_trees / DAMAGE_EVERY * (4.0 * n_modes + 12.0);
 }
 
+/* Prints the figures of variant v as JSON members (no braces). */
 static void print_variant(const variant *v, int ticks, int n_trees, int n_modes,
                           const modal_bytes *tb, double grid_bytes, double gbs, double *scratch)
 {

@@ -29,9 +29,8 @@ double bench_triad_sized_gb_s(int threads, size_t bytes)
         return 0.0;
     }
     const long nl = (long)n;
-    /* written by the same threads and schedule as the timed loop, so each thread's share
-     * is in its caches' reach as the tick's arrays are after their first tick (big_alloc
-     * zeroed the pages: one thread places them, as it places the tick's) */
+    /* values written by the same threads and schedule as the timed loop (big_alloc's
+     * zeroing placed the pages from one thread, as it places the tick's arrays) */
 #pragma omp parallel for schedule(static) num_threads(threads)
     for (long i = 0; i < nl; i++) {
         a[i] = 0.0;
