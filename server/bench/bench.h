@@ -21,6 +21,20 @@ double bench_triad_gb_s(int threads);
  * benchmark's working set it measures what the caches holding that set deliver. */
 double bench_triad_sized_gb_s(int threads, size_t bytes);
 
+/* The same triad kept open between measurements, so that a benchmark reads the machine's
+ * bandwidth in bursts among its own work, at the moments it runs (a guest's memory speed
+ * drifts from minute to minute): bench_triad_open allocates and writes the arrays (bytes
+ * in all; -1 when out of memory), bench_triad_burst times `reps` passes and returns the
+ * best in GB/s (0 for a closed triad), bench_triad_close frees them. */
+typedef struct bench_triad {
+    double *a, *b, *c;
+    size_t n;
+    int threads;
+} bench_triad;
+int bench_triad_open(bench_triad *t, int threads, size_t bytes);
+double bench_triad_burst(bench_triad *t, int reps);
+void bench_triad_close(bench_triad *t);
+
 /* The wind step's own triad beside the DRAM one, measured in alternating rounds (so a
  * busy moment of a shared machine hits both alike), best round of each:
  *   ws: float arrays sized like the step's (`arrays` arrays of `cells` floats, swept in

@@ -15,20 +15,19 @@ double bench_triad_gb_s(int threads)
     return bench_triad_sized_gb_s(threads, (size_t)3 << 27); /* 3 x 128 MiB */
 }
 
-double bench_triad_sized_gb_s(int threads, size_t bytes)
+int bench_triad_open(bench_triad *t, int threads, size_t bytes)
 {
     const size_t n = bytes / 24 > 1024 ? bytes / 24 : 1024;
     /* on the pages the tick's streamed arrays get (big_alloc): huge ones where the kernel
      * grants them, which move a triad faster than small ones */
-    double *a = big_alloc(n * sizeof *a), *b = big_alloc(n * sizeof *b),
-           *c = big_alloc(n * sizeof *c);
-    if (!a || !b || !c) {
-        free(a);
-        free(b);
-        free(c);
-        return 0.0;
+    *t = (bench_triad){ .a = big_alloc(n * sizeof(double)), .b = big_alloc(n * sizeof(double)),
+                        .c = big_alloc(n * sizeof(double)), .n = n, .threads = threads };
+    if (!t->a || !t->b || !t->c) {
+        bench_triad_close(t);
+        return -1;
     }
     const long nl = (long)n;
+    double *a = t->a, *b = t->b, *c = t->c;
     /* values written by the same threads and schedule as the timed loop (big_alloc's
      * zeroing placed the pages from one thread, as it places the tick's arrays) */
 #pragma omp parallel for schedule(static) num_threads(threads)
@@ -37,26 +36,51 @@ double bench_triad_sized_gb_s(int threads, size_t bytes)
         b[i] = 1.0;
         c[i] = 2.0;
     }
+    return 0;
+}
+
+double bench_triad_burst(bench_triad *t, int reps)
+{
+    if (!t->a) {
+        return 0.0;
+    }
+    const long nl = (long)t->n;
+    double *a = t->a, *b = t->b, *c = t->c;
     /* each timed pass sweeps about 256 MiB (at least once), so a small, cache-resident
        triad is timed over milliseconds, not microseconds */
-    const int sweeps = (int)((((size_t)1 << 28) + 24 * n - 1) / (24 * n));
+    const int sweeps = (int)((((size_t)1 << 28) + 24 * t->n - 1) / (24 * t->n));
     double best = 1e30;
-    for (int rep = 0; rep < 5; rep++) {
+    for (int rep = 0; rep < reps; rep++) {
         double t0 = mono_ms();
         for (int sw = 0; sw < sweeps; sw++) {
-#pragma omp parallel for schedule(static) num_threads(threads)
+#pragma omp parallel for schedule(static) num_threads(t->threads)
             for (long i = 0; i < nl; i++) {
                 a[i] = b[i] + 3.0 * c[i];
             }
         }
-        double t = (mono_ms() - t0) / sweeps;
-        best = t < best ? t : best;
+        double ms = (mono_ms() - t0) / sweeps;
+        best = ms < best ? ms : best;
     }
-    double check = a[n / 2];
-    free(a);
-    free(b);
-    free(c);
-    return check == 7.0 ? 24.0 * (double)n / (best * 1e-3) / 1e9 : 0.0;
+    return a[t->n / 2] == 7.0 ? 24.0 * (double)t->n / (best * 1e-3) / 1e9 : 0.0;
+}
+
+void bench_triad_close(bench_triad *t)
+{
+    free(t->a);
+    free(t->b);
+    free(t->c);
+    *t = (bench_triad){ 0 };
+}
+
+double bench_triad_sized_gb_s(int threads, size_t bytes)
+{
+    bench_triad t;
+    if (bench_triad_open(&t, threads, bytes) != 0) {
+        return 0.0;
+    }
+    const double gbs = bench_triad_burst(&t, 5);
+    bench_triad_close(&t);
+    return gbs;
 }
 
 /* The last-level cache: /sys first (some virtual machines' sysconf reports another
