@@ -6,8 +6,10 @@
  * grid of scene-scale cells, 2 m by default, over the trees' 2 km square, stepped by the
  * real solver every few ticks under a gusty inflow so the field evolves), forces
  * f_i = |v| v.p_i in the tree frame, exact update, quantisation into the snapshot buffer,
- * leaf shedding at each tree's wind speed (leaf_shed_trees) and the snapshot's DELTA
- * encoding (wire_encode_delta_lanes), both on the tick's threads: all timed as the tick.
+ * leaf shedding at each tree's wind speed (leaf_shed_trees), storm damage with --damage
+ * (damage_step, the stripped leaves in the room the shed ones leave under the server's
+ * cap, as tick.c orders them) and the snapshot's DELTA encoding
+ * (wire_encode_delta_lanes), all on the tick's threads: all timed as the tick.
  * Prints JSON; medians over the ticks, with
  * the tick's byte model, the memory floor it implies and the machine's triad bandwidth
  * measured in the same run, before and after the ticks (bench_triad.c). The wind step
@@ -140,7 +142,7 @@ static void damage_oak_fini(damage_oak *o)
     asset_fini(&o->a);
 }
 
-/* One simulation the bench times: A (no damage) or B (damage after each update), each
+/* One simulation the bench times: A (no damage) or B (damage each tick), each
  * with its own state, snapshot buffers and encoder output, driven by the same wind. */
 typedef struct variant {
     bool damage;
@@ -154,7 +156,9 @@ typedef struct variant {
     long n_shed, enc_bytes;
 } variant;
 
-enum { LEAF_CAP = 65536, DAMAGE_LEAF_CAP = 4096 };
+/* The leaves a tick keeps, shed and stripped together, as the server's tick keeps them
+ * (tick_desc.max_leaves_per_tick's default) */
+enum { LEAF_CAP = DAMAGE_MAX_LEAVES };
 
 static int variant_init(variant *v, bool damage, const modal_desc *md, int n_modes, int ticks,
                         size_t enc_cap, const damage_oak *oak, gale_err *err)
@@ -178,7 +182,7 @@ static int variant_init(variant *v, bool damage, const modal_desc *md, int n_mod
                                                .tree_yaw_rad = md->tree_yaw_rad,
                                                .seed = 1,
                                                .dt_s = 1.0 / 60,
-                                               .max_leaves = DAMAGE_LEAF_CAP,
+                                               .max_leaves = LEAF_CAP,
                                                .n_threads = md->n_threads },
                                err);
         if (!v->sim) {
@@ -265,14 +269,19 @@ static void sample_grid(const tick_in *in, int i0, int i1, float *dst)
 }
 
 /* Tick k (k < 0: warm-up, not recorded) of v: sampling (the grid at trees [r0, r1) into
- * dst), update (and damage), leaf shedding, DELTA encoding, timed as the tick; then an
- * update without quantisation. */
+ * dst), update, leaf shedding, damage, DELTA encoding, timed as the tick; then an update
+ * without quantisation. */
 static int variant_tick(variant *v, const tick_in *in, int k, int r0, int r1, float *dst,
                         gale_err *err)
 {
     const bool read_grid = r1 > r0;
     const size_t n = (size_t)in->n_trees;
-    memcpy(v->prev, v->snap, sizeof(int16_t) * n * (size_t)in->n_modes);
+    /* the last snapshot becomes the previous one and the update writes over the one before
+     * it, as the server turns its snapshot buffers (server/serve/srv_int.h qbuf): no copy,
+     * which would bring both into the cache ahead of the tick */
+    int16_t *const older = v->prev;
+    v->prev = v->snap;
+    v->snap = older;
     double c0 = cpu_ms();
     double t0 = mono_ms();
     if (read_grid) {
@@ -281,14 +290,16 @@ static int variant_tick(variant *v, const tick_in *in, int k, int r0, int r1, fl
     double t1 = mono_ms();
     modal_tick(v->m, in->wind, v->snap);
     double t1d = mono_ms();
-    if (v->sim) {
-        int nd = 0;
-        damage_step(v->sim, v->m, in->wind, (uint32_t)(k + 20), v->leaves, DAMAGE_LEAF_CAP, &nd);
-    }
-    double t2 = mono_ms();
+    /* leaves shed, then storm damage with the room they leave (server/sim/tick.c) */
     int nl = 0;
-    leaf_shed_trees(in->ld, (uint32_t)n, in->wind, NULL, in->slots, (uint32_t)(k + 20), 1.0 / 60,
-                    in->threads, v->leaf_scratch, v->leaves, LEAF_CAP, &nl, NULL);
+    const int shed_lost = leaf_shed_trees(in->ld, (uint32_t)n, in->wind, NULL, in->slots,
+                                          (uint32_t)(k + 20), 1.0 / 60, in->threads,
+                                          v->leaf_scratch, v->leaves, LEAF_CAP, &nl, NULL);
+    const int n_shed = nl + shed_lost;
+    double t2 = mono_ms();
+    if (v->sim) {
+        damage_step(v->sim, v->m, in->wind, (uint32_t)(k + 20), v->leaves, LEAF_CAP, &nl);
+    }
     double t2l = mono_ms();
     size_t len = 0;
     wire_header hdr = { .tick = (uint32_t)(k + 20) };
@@ -307,11 +318,11 @@ static int variant_tick(variant *v, const tick_in *in, int k, int r0, int r1, fl
     if (k >= 0) {
         v->t_sample[k] = t1 - t0;
         v->read[k] = read_grid;
-        v->t_modal[k] = t2 - t1;
-        v->t_damage[k] = t2 - t1d;
-        v->t_leaf[k] = t2l - t2;
+        v->t_modal[k] = (t1d - t1) + (t2l - t2);
+        v->t_damage[k] = t2l - t2;
+        v->t_leaf[k] = t2 - t1d;
         v->t_enc[k] = t2e - t2l;
-        v->n_shed += nl;
+        v->n_shed += n_shed;
         v->enc_bytes += (long)len;
         v->t_total[k] = t2e - t0;
         v->t_cpu[k] = c1 - c0;
@@ -410,7 +421,7 @@ int bench_modal(int argc, char **argv)
                                         "[--ticks K] [--threads T] [--cell-m 2] [--wind-every 4] "
                                         "[--u10 25] [--damage [off|on|both]] [--json]\n"
                                         "  --u10 MS       mean inflow at 10 m [m/s] (Cat 4: 62)\n"
-                                        "  --damage       storm damage after each update, every "
+                                        "  --damage       storm damage each tick (after the leaves), every "
                                         "species the shipped oak\n"
                                         "                 (its modes, drag and damage table); both: "
                                         "the tick with and\n"

@@ -112,7 +112,7 @@ tick_sim *tick_create(const tick_desc *d, gale_err *err)
     t->d = *d;
     const scene *sc = d->sc;
     if (!t->d.max_leaves_per_tick) {
-        t->d.max_leaves_per_tick = 4096;
+        t->d.max_leaves_per_tick = DAMAGE_MAX_LEAVES;
     }
     t->dt_s = (float)(1.0 / sc->tick_hz);
     t->n_trees = sc->n_trees;

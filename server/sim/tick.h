@@ -69,7 +69,7 @@ typedef struct tick_desc {
     const scene *sc;                /* borrowed for the simulation's life */
     const tick_species *species;    /* [sc->n_species], borrowed likewise */
     const tick_wind *wind;          /* borrowed; NULL → the steady inflow profile alone */
-    int max_leaves_per_tick;        /* 0 → 4096 */
+    int max_leaves_per_tick;        /* 0 → DAMAGE_MAX_LEAVES (4096) */
 } tick_desc;
 
 typedef struct tick_stats {
