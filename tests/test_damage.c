@@ -176,12 +176,11 @@ static void test_zero_capacity_passes(void)
     const uint32_t g_res = t.n_groups - 1;
     CHECK(t.n_groups > g_res && t.group_norm[(size_t)g_res * t.group_stride] > 0.0f);
     float x[2 * DAMAGE_MAX_GROUPS] = { 1.0f };
-    float xg[DAMAGE_MAX_GROUPS] = { 0 };
-    damage_group_norms(x, t.n_groups, xg);
+    float xg[DAMAGE_MAX_GROUPS] = { 0 }, sb;
+    const uint32_t open = damage_screen(&t, x, 1.0f, xg, &sb);
     CHECK(xg[0] > 0.0f && xg[g_res] == 0.0f);
     uint32_t cand[DAMAGE_CLUSTERS * DAMAGE_BOUND_LANES];
     CHECK(t.cluster_stride <= DAMAGE_CLUSTERS * DAMAGE_BOUND_LANES);
-    const uint32_t open = damage_clusters_open(&t, xg, 1.0f);
     CHECK(open != 0);
     CHECK(damage_branch_bounds(&t, xg, open, 1, 1.0f, cand) == 1 && cand[0] == 0);
     damage_table_fini(&t);
@@ -516,6 +515,46 @@ static void test_strip_leaves(void)
     damage_table_fini(&strong);
 }
 
+/* damage_first_rank against a count of the ranks below r, at every slot's rank, either
+ * side of it, at every bucket's edge and at the ends of the range. */
+static void test_first_rank(void)
+{
+    species sp;
+    asset a;
+    damage_table t;
+    CHECK(bake_shipped_species("oak", &sp, &a, &t) == 0);
+    const uint32_t n = t.n_leaves;
+    CHECK(n > 1000);
+    uint32_t wrong = 0, probes = 0;
+    for (uint64_t k = 0; k < 3ull * n + (2ull << DAMAGE_RANK_BITS) + 2 && wrong < 5; k++) {
+        uint64_t r;
+        if (k < 3ull * n) {
+            r = (t.slot_rank[k / 3] >> 32) + (k % 3) - 1; /* below, at and above a rank */
+        } else if (k < 3ull * n + (2ull << DAMAGE_RANK_BITS)) {
+            const uint64_t e = (k - 3ull * n) / 2, side = (k - 3ull * n) % 2;
+            r = (e << (32u - DAMAGE_RANK_BITS)) - side; /* a bucket's first rank, and the last
+                                                         of the bucket before it */
+        } else {
+            r = k == 3ull * n + (2ull << DAMAGE_RANK_BITS) ? 0 : 1ull << 32;
+        }
+        r = r > 1ull << 32 ? 1ull << 32 : r;
+        uint32_t want = 0;
+        for (uint32_t i = 0; i < n; i++) {
+            want += (t.slot_rank[i] >> 32) < r;
+        }
+        probes++;
+        if (damage_first_rank(&t, r) != want) {
+            fprintf(stderr, "  rank %llu: %u, want %u\n", (unsigned long long)r,
+                    damage_first_rank(&t, r), want);
+            wrong++;
+        }
+    }
+    fprintf(stderr, "  %u slots, %u ranks probed\n", n, probes);
+    CHECK(wrong == 0);
+    damage_table_fini(&t);
+    asset_fini(&a);
+}
+
 /* The critical speeds under streamlining: u² (u/U_0)^B = ratio has the closed form
  * u = U_0 (ratio / U_0²)^(1/(2+B)) above U_0; below it, and for rigid drag, sqrt(ratio);
  * "hold" above the fit's top: u² s(fit_max) = ratio. */
@@ -662,6 +701,7 @@ int main(void)
     RUN(test_critical_moments);
     RUN(test_speed_for);
     RUN(test_branches_within);
+    RUN(test_first_rank);
     RUN(test_static_residual);
     RUN(test_branch_breaks);
     RUN(test_zero_capacity_passes);

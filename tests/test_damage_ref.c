@@ -388,7 +388,7 @@ static void test_branch_bounds(void)
         return;
     }
     uint64_t seed = 99;
-    int passed = 0, edge_hits = 0, trials = 0, bound_fail = 0, flag_fail = 0;
+    int passed = 0, edge_hits = 0, trials = 0, bound_fail = 0, flag_fail = 0, stem_fail = 0;
     static uint32_t cand[4096 + DAMAGE_CLUSTERS * DAMAGE_BOUND_LANES];
     for (int k = 0; k < N_SP; k++) {
         const damage_table *tb = &tables[k];
@@ -409,8 +409,16 @@ static void test_branch_bounds(void)
                 const double u = (double)(hash64_splitmix(&seed) >> 11) / 9007199254740992.0;
                 x[c] = (float)((2.0 * u - 1.0) * scale / (1.0 + 0.2 * (double)c));
             }
-            float xg[DAMAGE_MAX_GROUPS] = { 0 };
-            damage_group_norms(x, tb->n_groups, xg);
+            float xg[DAMAGE_MAX_GROUPS] = { 0 }, sb = 0.0f;
+            (void)damage_screen(tb, x, 1.0f, xg, &sb);
+            /* the stem's group bound: the running sum over the groups, and a bound */
+            float sb_want = xg[0] * tb->stem_group[0];
+            for (uint32_t g = 1; g < tb->n_groups; g++) {
+                sb_want += xg[g] * tb->stem_group[g];
+            }
+            stem_fail += sb != sb_want ||
+                         !(sb * 1.0001f >= damage_moment((const float(*)[3])tb->stem_moment, x,
+                                                          nc, NULL));
             for (uint32_t j = 0; j < tb->n_branches; j++) {
                 const uint32_t b = tb->order[j];
                 float bound = xg[0] * tb->group_norm[j];
@@ -438,7 +446,7 @@ static void test_branch_bounds(void)
             const float cap_mults[3] = { 0.7f, edge * (1.0f - 1e-5f), edge * 1e-3f };
             for (int c = 0; c < 3; c++) {
                 const float cap_mult = cap_mults[c];
-                const uint32_t open = damage_clusters_open(tb, xg, cap_mult);
+                const uint32_t open = damage_screen(tb, x, cap_mult, xg, &sb);
                 const uint32_t hits = damage_branch_bounds(tb, xg, open, n_check, cap_mult, cand);
                 /* the j that pass, rising: the next one wanted is cand[at] */
                 uint32_t at = 0;
@@ -460,10 +468,11 @@ static void test_branch_bounds(void)
         }
     }
     fprintf(stderr, "  %d draws, %d with branches past the screen at 0.7, %d at their largest "
-                    "bound; %d bounds below the moment, %d branches wrong\n",
-            trials, passed, edge_hits, bound_fail, flag_fail);
+                    "bound; %d bounds below the moment, %d branches wrong, %d stem bounds wrong\n",
+            trials, passed, edge_hits, bound_fail, flag_fail, stem_fail);
     CHECK(bound_fail == 0);
     CHECK(flag_fail == 0);
+    CHECK(stem_fail == 0);
     /* the draws reach both sides of the screen */
     CHECK(passed > trials / 10 && passed < trials - 100);
     CHECK(edge_hits == trials);

@@ -143,9 +143,9 @@ static void test_batch_vs_reference(void)
             for (uint32_t i = 0; i < nmodes[s]; i++) {
                 n2 += (double)q[i] * (double)q[i];
             }
-            const double n2_got = modal_qnorm2(m1, (uint32_t)t);
+            const double n2_got = modal_get_rows(m1).qnorm2[t];
             max_n2_rel = fmax(max_n2_rel, fabs(n2_got - n2) / fmax(n2, 1e-30));
-            max_fs_rel = fmax(max_fs_rel, fabs((double)modal_force_scale(m1, (uint32_t)t) - speed) / speed);
+            max_fs_rel = fmax(max_fs_rel, fabs((double)modal_get_rows(m1).force_scale[t] - speed) / speed);
         }
     }
     /* float rotation vs double reference: ~1e-7 relative per step in f, carried forward

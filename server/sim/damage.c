@@ -58,6 +58,7 @@ struct damage_sim {
     wire_damage *log;           /* owned [DAMAGE_LOG_MAX] broken branches, in order */
     uint32_t n_log;
     damage_counts counts;
+    modal_rows rows;            /* the modal state's rows this step (damage_step) */
     float strip_decay;          /* damage_strip_decay of a tree's DAMAGE_EVERY ticks */
 };
 
@@ -276,21 +277,6 @@ static void recount(const damage_sim *s, const damage_table *tb, uint32_t t, dam
     ts->leaf_frac = l > 0.0f ? l : 0.0f;
 }
 
-/* First index of the species' sorted slot ranks at or above rank r. */
-static uint32_t first_rank(const damage_table *tb, uint64_t r)
-{
-    uint32_t i0 = 0, i1 = tb->n_leaves;
-    while (i0 < i1) {
-        uint32_t mid = i0 + (i1 - i0) / 2;
-        if ((tb->slot_rank[mid] >> 32) < r) {
-            i0 = mid + 1;
-        } else {
-            i1 = mid;
-        }
-    }
-    return i0;
-}
-
 /* Stripped leaves of tree t going from level a to b: the slots kept at a but not at b
  * (ranks in [b, a) 32nds of the range: one or two runs of the species' sorted slot ranks),
  * on branches still there, each shed as a falling leaf. */
@@ -310,7 +296,7 @@ static int strip_leaves(const damage_sim *s, const damage_table *tb, uint32_t t,
         if (from >= to) {
             continue;
         }
-        const uint32_t i0 = first_rank(tb, from), i1 = first_rank(tb, to);
+        const uint32_t i0 = damage_first_rank(tb, from), i1 = damage_first_rank(tb, to);
         for (uint32_t i = i0; i < i1; i++) {
             if (*n >= cap && !ts_broken) {
                 lost += (int)(i1 - i); /* over the per-tick cap: counted, not shed */
@@ -344,17 +330,17 @@ static uint8_t azimuth(const float *v)
 }
 
 /* The force vector of tree t this tick, w = s(U) k_t |v| v in the tree frame, from the
- * factor s(U) k_t |v| modal_tick applied (modal_force_scale: the same drag law, the same
+ * factor s(U) k_t |v| modal_tick applied (modal_rows.force_scale: the same drag law, the same
  * guard on absurd samples); returns |w|². */
-static float force_vector(const damage_sim *s, const modal *m, uint32_t t, const float *v,
-                          float w[3])
+static inline __attribute__((always_inline)) float
+    force_vector(const damage_sim *s, uint32_t t, const float *v, float w[3])
 {
     float wx = v[0], wy = v[1], wz = v[2];
     if (!(wx * wx + wy * wy + wz * wz <= 1.0e6f)) {
         wx = wy = wz = 0.0f;
     }
     const float cy = s->cos_yaw[t], sy = s->sin_yaw[t];
-    const float sv = modal_force_scale(m, t);
+    const float sv = s->rows.force_scale[t];
     w[0] = sv * (cy * wx + sy * wy);
     w[1] = sv * (-sy * wx + cy * wy);
     w[2] = sv * wz;
@@ -384,16 +370,17 @@ static float lead_bound(const damage_table *tb, const float (*mm)[3], const floa
  * falls breaks nothing more), then every branch still on it. Each moment is
  * Σ_i q_i M_i + R κ w: the modes and the static residual of those left out, over
  * x = (q, κ w) (damage_table.h). */
-static void check_tree(damage_sim *s, damage_lane *l, modal *m, const damage_table *tb,
+static inline __attribute__((always_inline)) void
+    check_tree(damage_sim *s, damage_lane *l, modal *m, const damage_table *tb,
                        uint32_t t, const float *v, uint32_t tick)
 {
     damage_tree_st *ts = &s->tree[t];
     float w[3];
     const float kw = tb->w_scale;
-    const float w2 = force_vector(s, m, t, v, w) * kw * kw;
-    /* |x| from |q| as the modal update left it (modal_qnorm2): the state itself is read
+    const float w2 = force_vector(s, t, v, w) * kw * kw;
+    /* |x| from |q| as the modal update left it (modal_rows.qnorm2): the state itself is read
      * only for a tree that might fail */
-    const float qm2 = modal_qnorm2(m, t), qm = sqrtf(qm2), wn = sqrtf(w2);
+    const float qm2 = s->rows.qnorm2[t], qm = sqrtf(qm2), wn = sqrtf(w2);
     const float qn = sqrtf(qm2 + w2);
     /* the weakest branch multiplier is exp(-sd) (normal3 is clamped to ±2, halved); two
      * bounds of every moment of the tree, either below its weakest capacity ends the
@@ -403,13 +390,17 @@ static void check_tree(damage_sim *s, damage_lane *l, modal *m, const damage_tab
         !((qm * tb->screen_q + wn * tb->screen_w) * 1.0001f >= lo)) {
         return;
     }
+    /* q from the state's row in whole vectors (zeros past the tree's modes; what a vector
+     * copies past the table's modes the residual and the pad below overwrite, or no group
+     * reads), zeros past the row */
     float *q = l->q;
-    uint32_t nq = modal_get(m, t, q, NULL);
-    if (nq > tb->n_modes) {
-        nq = tb->n_modes;
+    const float *row = s->rows.state + (size_t)t * s->rows.stride;
+    uint32_t mode = 0;
+    for (; mode < tb->n_modes && mode < s->rows.pad; mode += 16) {
+        memcpy(q + mode, row + mode, 16 * sizeof(float));
     }
-    for (uint32_t i = nq; i < tb->n_modes; i++) {
-        q[i] = 0.0f;
+    for (; mode < tb->n_modes; mode++) {
+        q[mode] = 0.0f;
     }
     for (uint32_t k = 0; k < DAMAGE_RES_COLS; k++) {
         q[tb->n_modes + k] = kw * w[k];
@@ -421,12 +412,12 @@ static void check_tree(damage_sim *s, damage_lane *l, modal *m, const damage_tab
         q[n + i] = 0.0f; /* stores, not a call: the buffer has room past any n_cols */
     }
     /* |x_g| per group: Σ_g |x_g| ||M_g|| bounds a moment (triangle inequality over
-     * groups, the spectral norm within one) */
-    float xg[DAMAGE_MAX_GROUPS] = { 0 }, sb = 0.0f;
-    damage_group_norms(q, tb->n_groups, xg);
-    for (uint32_t g = 0; g < tb->n_groups; g++) {
-        sb += xg[g] * tb->stem_group[g];
-    }
+     * groups, the spectral norm within one): the stem's (sb), and the clusters' screens.
+     * Below the weakest multiplier a branch holds whatever its own strength: 1e-3 for lo's
+     * single-precision exp against the draws' double one */
+    const float lo_branch = 0.999f * lo;
+    float xg[DAMAGE_MAX_GROUPS], sb;
+    const uint32_t open = damage_screen(tb, q, lo_branch, xg, &sb);
     const float m_crit = (float)(tb->m_over_nm < tb->m_break_nm ? tb->m_over_nm : tb->m_break_nm);
     /* the stem's moment only where its bounds reach the lower critical moment: below it
      * the tree stands, whatever the moment */
@@ -453,19 +444,16 @@ static void check_tree(damage_sim *s, damage_lane *l, modal *m, const damage_tab
         lane_emit(s, l, t, WIRE_DAMAGE_WHOLE, fall, ts->fall_az, tick);
         atomic_fetch_add(fall == WIRE_DAMAGE_SNAP ? &s->counts.snapped : &s->counts.uprooted, 1);
         /* a fallen tree lies still: no force, no motion */
-        memset(q, 0, sizeof(float) * nq);
+        memset(q, 0, sizeof(float) * WIRE_MAX_MODES);
         modal_set(m, t, q, q);
         modal_set_drag_mult(m, t, 0.0f);
         return;
     }
     bool changed = false;
-    /* below the weakest multiplier a branch holds whatever its own strength: first on its
-     * cluster's screen, then on its bound (Σ_g |x_g| |M_b,g| in vector lanes, 1e-4 for
-     * its rounding), then on the moment itself; the draw of its own strength (a log, a
-     * cos and an exp) only for one that might fail. 1e-3: lo's single-precision exp
-     * against the draws' double one */
-    const float lo_branch = 0.999f * lo;
-    const uint32_t open = damage_clusters_open(tb, xg, lo_branch);
+    /* a branch is bounded first on its cluster's screen (open), then on its own bound
+     * (Σ_g |x_g| |M_b,g| in vector lanes, 1e-4 for its rounding), then on the moment
+     * itself; the draw of its own strength (a log, a cos and an exp) only for one that
+     * might fail */
     if (!open) {
         return;
     }
@@ -515,7 +503,10 @@ static void check_tree(damage_sim *s, damage_lane *l, modal *m, const damage_tab
 
 /* The due trees [i0, i1) of this step (tree first + i DAMAGE_EVERY) on lane l: stripping,
  * then stresses, each tree in turn; stripped leaves to out[*n..cap). Returns the leaves
- * over cap. */
+ * over cap. Cloned for AVX-512 and AVX2 (the copies of a tree's q in whole vectors, the
+ * scalar floats in the same operations: -std=c11 contracts none, so every clone decides
+ * alike). */
+__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 static int lane_run(damage_sim *s, damage_lane *l, modal *m, const float *wind_world,
                     uint32_t tick, uint32_t first, uint32_t i0, uint32_t i1, leaf_seed *out,
                     int cap, int *n)
@@ -529,7 +520,10 @@ static int lane_run(damage_sim *s, damage_lane *l, modal *m, const float *wind_w
          * the trees between are checked */
         if (i + DAMAGE_PREFETCH_TREES < i1) {
             const uint32_t ahead = t + DAMAGE_PREFETCH_TREES * DAMAGE_EVERY;
-            modal_prefetch(m, ahead);
+            const char *row = (const char *)(s->rows.state + (size_t)ahead * s->rows.stride);
+            for (size_t at = 0; at < s->rows.pad * sizeof(float); at += 64) {
+                __builtin_prefetch(row + at, 0, 3);
+            }
             __builtin_prefetch(&s->tree[ahead], 1, 3);
         }
         const damage_table *tb = s->table[s->species[t]];
@@ -569,6 +563,7 @@ typedef struct step_job {
     leaf_seed *leaves;
     int cap;
     int *n_leaves;
+    int room; /* the step's room for leaves when it started */
 } step_job;
 
 static void step_lane(void *ctx, int k)
@@ -584,8 +579,13 @@ static void step_lane(void *ctx, int k)
     } else {
         l->n_ev = 0;
         l->n_leaves = 0;
+        /* of a later lane's leaves the merge keeps at most the first `room`: those past it
+         * are counted lost here instead of drawn (the same leaves kept, the same count
+         * lost; where the shed leaves have filled the tick's cap, as a storm's do, none is
+         * drawn) */
+        const int cap = l->cap_leaves < j->room ? l->cap_leaves : j->room;
         l->lost = lane_run(j->s, l, j->m, j->wind_world, j->tick, j->first, i0, i1, l->leaves,
-                           l->cap_leaves, &l->n_leaves);
+                           cap, &l->n_leaves);
     }
 }
 
@@ -593,6 +593,7 @@ int damage_step(damage_sim *s, modal *m, const float *wind_world, uint32_t tick,
                 leaf_seed *leaves, int cap, int *n_leaves)
 {
     s->n_ev = 0;
+    s->rows = modal_get_rows(m);
     int lost = 0;
     /* each tree on its own tick of DAMAGE_EVERY: (tick + t) % DAMAGE_EVERY == 0 */
     const uint32_t first = (DAMAGE_EVERY - tick % DAMAGE_EVERY) % DAMAGE_EVERY;
@@ -609,7 +610,7 @@ int damage_step(damage_sim *s, modal *m, const float *wind_world, uint32_t tick,
     const int nt = nl < s->n_threads ? nl : s->n_threads;
     step_job j = { .s = s, .m = m, .wind_world = wind_world, .tick = tick, .first = first,
                    .n_due = n_due, .nl = nl, .leaves = leaves, .cap = cap,
-                   .n_leaves = n_leaves };
+                   .n_leaves = n_leaves, .room = cap > *n_leaves ? cap - *n_leaves : 0 };
     sim_team_run(nt, nl, step_lane, &j);
     for (int k = 0; k < nl; k++) {
         lost += s->lane[k].lost;

@@ -73,6 +73,22 @@ static void element_moment(const asset *a, double E_pa, uint32_t i, uint32_t p, 
 /* Galloping out from hint: a tree's |x| moves little between two of its checks, so the
  * count is found in a step or two where a bisection of the whole array waits on eight or
  * nine loads in a row. */
+uint32_t damage_first_rank(const damage_table *t, uint64_t r)
+{
+    if (r >= 1ull << 32) {
+        return t->n_leaves;
+    }
+    /* every rank of bucket k lies in [k, k + 1) << (32 - bits): the answer lies between
+     * the bucket's start and the next one's */
+    const uint32_t k = (uint32_t)(r >> (32u - DAMAGE_RANK_BITS));
+    uint32_t i = t->rank_start[k];
+    const uint32_t end = t->rank_start[k + 1];
+    while (i < end && (t->slot_rank[i] >> 32) < r) {
+        i++;
+    }
+    return i;
+}
+
 uint32_t damage_branches_within(const damage_table *t, float x, uint32_t hint)
 {
     const float *r = t->ratio_by_order;
@@ -119,23 +135,51 @@ typedef int32_t bound_mask __attribute__((vector_size(DAMAGE_BOUND_LANES * sizeo
  * a different ABI in each clone. */
 #define bound_load(p) (*(const bound_v_u *)(const void *)(p))
 
-/* Two levels, each a vector of sixteen lanes whose sums stay in a register over the
- * groups (-std=c11: no contraction, so the clones round alike): first the clusters
- * against their screens, which rules out most of the branches at the cost of one branch
- * each; then the branches of each cluster left, against their own capacities. A
- * cluster's screen is the largest |M_b,g| / cap_b of its branches, so Σ_g x_g screen_g
- * bounds every branch's bound over its capacity; 2e-4 covers the quotient's and the sums'
- * rounding, so a cluster ruled out holds no branch that its own test would pass. A
- * branch's own bound sums its groups in the order the test of one branch would. */
+/* The group norms (lanes over the groups, omp simd: the stride-2 loads become shuffles
+ * and the square roots one instruction for 16 groups; each lane adds its group's squares
+ * in column order, so the clones round alike; damage_table.c builds with
+ * -fno-math-errno: a root of a sum of squares sets no errno), then the stem's bound as a
+ * running sum (a scalar chain beside the clusters' vector ones, so neither waits on the
+ * other), and the clusters' screens, the first of two levels each a vector of sixteen
+ * lanes whose sums stay in a register over the groups (-std=c11: no contraction, so the
+ * clones round alike): the clusters against their screens, which rules out most of the
+ * branches at the cost of one branch each; then (damage_branch_bounds) the branches of
+ * each cluster left, against their own capacities. A cluster's screen is the largest
+ * |M_b,g| / cap_b of its branches, so Σ_g x_g screen_g bounds every branch's bound over
+ * its capacity; 2e-4 covers the quotient's and the sums' rounding, so a cluster ruled out
+ * holds no branch that its own test would pass. A branch's own bound sums its groups in
+ * the order the test of one branch would. */
 __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-uint32_t damage_clusters_open(const damage_table *t, const float *xg, float cap_mult)
+uint32_t damage_screen(const damage_table *t, const float *x, float cap_mult, float *xg,
+                       float *stem_bound)
 {
-    _Static_assert(DAMAGE_CLUSTERS == DAMAGE_BOUND_LANES, "one vector of cluster screens");
-    bound_v screen = xg[0] * bound_load(t->cluster_screen[0]);
-    for (uint32_t g = 1; g < t->n_groups; g++) {
-        screen += xg[g] * bound_load(t->cluster_screen[g]);
+    const uint32_t ng = t->n_groups;
+#pragma omp simd
+    for (uint32_t g = 0; g < ng; g++) {
+        const float *p = x + (size_t)g * DAMAGE_GROUP_MODES;
+        float acc = p[0] * p[0];
+        for (uint32_t i = 1; i < DAMAGE_GROUP_MODES; i++) {
+            acc += p[i] * p[i];
+        }
+        xg[g] = sqrtf(acc);
     }
-    const bound_mask open = screen * 1.0002f > cap_mult;
+    /* the clusters' sums in two chains, the even groups' and the odd ones' (the screen's
+     * 2e-4 covers their rounding as it does one chain's) */
+    bound_v even = xg[0] * bound_load(t->cluster_screen[0]), odd = { 0 };
+    float sb = xg[0] * t->stem_group[0];
+    uint32_t g = 1;
+    for (; g + 1 < ng; g += 2) {
+        odd += xg[g] * bound_load(t->cluster_screen[g]);
+        even += xg[g + 1] * bound_load(t->cluster_screen[g + 1]);
+        sb += xg[g] * t->stem_group[g];
+        sb += xg[g + 1] * t->stem_group[g + 1];
+    }
+    if (g < ng) {
+        odd += xg[g] * bound_load(t->cluster_screen[g]);
+        sb += xg[g] * t->stem_group[g];
+    }
+    *stem_bound = sb;
+    const bound_mask open = (even + odd) * 1.0002f > cap_mult;
     uint32_t bits = 0;
     for (uint32_t k = 0; k < DAMAGE_CLUSTERS; k++) {
         bits |= ((uint32_t)open[k] & 1u) << k;
@@ -183,24 +227,6 @@ uint32_t damage_branch_bounds(const damage_table *t, const float *xg, uint32_t o
         cand[b] = j;
     }
     return n_cand;
-}
-
-/* Lanes over the groups (omp simd: the stride-4 loads become one shuffle per vector and
- * the square roots one instruction, where the scalar loop waits on each root in turn);
- * each lane adds its group's squares in column order, so the clones round alike.
- * damage_table.c builds with -fno-math-errno: a root of a sum of squares sets no errno. */
-__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-void damage_group_norms(const float *x, uint32_t n_groups, float *xg)
-{
-#pragma omp simd
-    for (uint32_t g = 0; g < n_groups; g++) {
-        const float *p = x + (size_t)g * DAMAGE_GROUP_MODES;
-        float acc = p[0] * p[0];
-        for (uint32_t i = 1; i < DAMAGE_GROUP_MODES; i++) {
-            acc += p[i] * p[i];
-        }
-        xg[g] = sqrtf(acc);
-    }
 }
 
 float damage_moment_norm(const float (*m)[3], uint32_t n)
@@ -619,7 +645,8 @@ int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_
     t->q_screen = qs;
     t->order = malloc(sizeof(uint32_t) * (nb ? nb : 1));
     t->slot_rank = malloc(sizeof(uint64_t) * (a->n_leaves ? a->n_leaves : 1));
-    if (!t->order || !t->slot_rank) {
+    t->rank_start = malloc(sizeof(uint32_t) * ((1u << DAMAGE_RANK_BITS) + 1u));
+    if (!t->order || !t->slot_rank || !t->rank_start) {
         damage_table_fini(t);
         return gale_errf(err, GALE_E_NOMEM, "damage_table_build: no memory for %u leaves",
                          a->n_leaves);
@@ -628,6 +655,12 @@ int damage_table_build(const asset *a, double E_pa, double drag_c, const damage_
         t->slot_rank[k] = (uint64_t)wire_damage_slot_rank(k) << 32 | k;
     }
     qsort(t->slot_rank, a->n_leaves, sizeof(uint64_t), cmp_u64);
+    for (uint32_t k = 0, i = 0; k <= 1u << DAMAGE_RANK_BITS; k++) {
+        while (i < a->n_leaves && (t->slot_rank[i] >> (64u - DAMAGE_RANK_BITS)) < k) {
+            i++;
+        }
+        t->rank_start[k] = i;
+    }
     for (uint32_t b = 0; b < nb; b++) {
         t->order[b] = b;
     }
@@ -685,6 +718,7 @@ void damage_table_fini(damage_table *t)
     free(t->cluster_cap);
     free(t->cluster_norm);
     free(t->slot_rank);
+    free(t->rank_start);
     memset(t, 0, sizeof *t);
 }
 

@@ -44,6 +44,10 @@
  * (damage_branch_bounds; server/SERVER.md "Storm damage: branches screened by clusters"). */
 #define DAMAGE_CLUSTERS 16u
 
+/* Bits of a slot rank that index damage_table.rank_start: 4096 buckets, about one slot
+ * each at the shipped species' 1500-5300 slots. */
+#define DAMAGE_RANK_BITS 12u
+
 /* Groups of x at most: 64 modes and the residual. */
 #define DAMAGE_MAX_GROUPS ((64u + DAMAGE_RES_COLS + DAMAGE_GROUP_MODES - 1u) / DAMAGE_GROUP_MODES)
 
@@ -71,6 +75,8 @@ typedef struct damage_table {
     uint32_t n_leaves;
     const uint32_t *leaf_node; /* [n_leaves] borrowed from the asset: the node of each slot */
     uint64_t *slot_rank;     /* owned [n_leaves] wire_damage_slot_rank << 32 | slot, sorted */
+    uint32_t *rank_start;    /* owned [2^DAMAGE_RANK_BITS + 1] the first index of slot_rank
+                                whose rank's top DAMAGE_RANK_BITS bits reach k, and n_leaves */
     uint32_t *order;         /* owned [n_branches] branches by cap_nm / moment_norm, rising:
                                 the first that cannot fail at |q| ends a check */
     float *ratio_by_order;   /* owned [n_branches] cap_nm / moment_norm of order[j], rising
@@ -137,25 +143,29 @@ static inline uint32_t damage_bound_lanes(uint32_t n)
  * the last count of the same tree is the fast one). */
 uint32_t damage_branches_within(const damage_table *t, float x, uint32_t hint);
 
-/* The clusters that may hold a branch failing at strength cap_mult, from |x_g| of each
- * group (xg[n_groups], x = (q, κ w)): bit k set where cluster k's screen
- * Σ_g xg[g] cluster_screen[g][k], times 1.0002 (for its rounding), is above cap_mult.
- * 0: no branch can fail at strength cap_mult. */
-uint32_t damage_clusters_open(const damage_table *t, const float *xg, float cap_mult);
+/* The first index of t's sorted slot ranks whose rank is r or more (r in [0, 2^32]; 2^32:
+ * n_leaves): from its bucket's start (rank_start), a step or two on, where a binary search
+ * over all the slots waits on a dozen dependent loads. */
+uint32_t damage_first_rank(const damage_table *t, uint64_t r);
+
+/* A check's screens of x = (q, κ w) (zero past its columns up to n_groups whole groups):
+ * |x_g| of each group of DAMAGE_GROUP_MODES columns into xg[n_groups]; the stem's group
+ * bound Σ_g xg[g] stem_group[g], summed as a running sum over g, into *stem_bound; and
+ * the clusters that may hold a branch failing at strength cap_mult, returned: bit k set
+ * where cluster k's screen Σ_g xg[g] cluster_screen[g][k], times 1.0002 (for its
+ * rounding), is above cap_mult (0: no branch can fail at strength cap_mult). */
+uint32_t damage_screen(const damage_table *t, const float *x, float cap_mult, float *xg,
+                       float *stem_bound);
 
 /* Which of the first n_check branches in t's order, of the clusters open (bits of
- * damage_clusters_open), may fail at strength cap_mult: branch order[j] passes where its
+ * damage_screen), may fail at strength cap_mult: branch order[j] passes where its
  * bound Σ_g xg[g] |M_b,g| >= |M(x)| [N m], times 1.0001 (for the bound's rounding), is
  * above cap_mult · cap_by_order[j]. Writes the j of each that passes, rising, to the
  * front of cand[cluster_stride] (the rest of it is scratch) and returns how many. With
- * every cluster that damage_clusters_open leaves out, these are all the branches of the
+ * every cluster that damage_screen leaves out, these are all the branches of the
  * prefix that pass. */
 uint32_t damage_branch_bounds(const damage_table *t, const float *xg, uint32_t open,
                               uint32_t n_check, float cap_mult, uint32_t *cand);
-
-/* |x_g| of each group of DAMAGE_GROUP_MODES columns of x (x zero past its columns up to
- * n_groups whole groups) into xg[n_groups]. */
-void damage_group_norms(const float *x, uint32_t n_groups, float *xg);
 
 /* The spectral norm of a moment table m[n][3] (the 3 × n matrix of its columns): the
  * least σ with |Σ_c x_c m_c| <= σ |x| for every x, rounded up [N m per unit x]. At most

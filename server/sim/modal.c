@@ -377,17 +377,6 @@ uint32_t modal_get(const modal *m, uint32_t t, float *q, float *qdot)
     return nm;
 }
 
-void modal_prefetch(const modal *m, uint32_t t)
-{
-    if (t < m->n_trees) {
-        const char *st = (const char *)(m->state + (size_t)t * 2 * m->pad);
-        const size_t bytes = m->pad * sizeof(float);
-        for (size_t at = 0; at < bytes; at += 64) {
-            __builtin_prefetch(st + at, 0, 3);
-        }
-    }
-}
-
 void modal_set_drag_mult(modal *m, uint32_t t, float mult)
 {
     if (t < m->n_trees && mult >= 0.0f && isfinite(mult)) {
@@ -415,12 +404,11 @@ void modal_set(modal *m, uint32_t t, const float *q, const float *qdot)
     }
 }
 
-float modal_qnorm2(const modal *m, uint32_t t)
+modal_rows modal_get_rows(const modal *m)
 {
-    return t < m->n_trees ? m->qnorm2[t] : 0.0f;
-}
-
-float modal_force_scale(const modal *m, uint32_t t)
-{
-    return t < m->n_trees ? m->force_scale[t] : 0.0f;
+    return (modal_rows){ .state = m->state,
+                         .stride = 2 * (size_t)m->pad,
+                         .pad = m->pad,
+                         .qnorm2 = m->qnorm2,
+                         .force_scale = m->force_scale };
 }

@@ -5,6 +5,7 @@
 #ifndef GALE_MODAL_H
 #define GALE_MODAL_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "drag_law.h"
@@ -53,9 +54,6 @@ void modal_tick(modal *m, const float *wind_world, int16_t *qsnap);
 /* Float state of tree t: q[n] and qdot[n] for n = its modes (either may be NULL);
  * returns n. */
 uint32_t modal_get(const modal *m, uint32_t t, float *q, float *qdot);
-/* Asks the cache for tree t's q ahead of a modal_get (a hint: nothing is read for t out of
- * range, nothing changes). */
-void modal_prefetch(const modal *m, uint32_t t);
 /* Tree t's drag factor (default 1): every modal force of the tree is multiplied by it,
  * e.g. by the leaf area and branches a storm has left (damage.h). Ignored for t out of range or a negative or
  * non-finite value. */
@@ -65,12 +63,20 @@ float modal_drag_mult(const modal *m, uint32_t t); /* 0 for t out of range */
 /* Sets tree t's state (tests, restore). */
 void modal_set(modal *m, uint32_t t, const float *q, const float *qdot);
 
-/* Σ_i q_i² of tree t after the last modal_tick (0 before any; modal_set does not update
- * it). */
-float modal_qnorm2(const modal *m, uint32_t t);
-
-/* s(|v|) k_t |v| of tree t's last modal_tick, the factor of its force vector
- * w = s k_t |v| v (0 before any, and for a sample the tick treated as calm air). */
-float modal_force_scale(const modal *m, uint32_t t);
+/* Read-only views of every tree's state and of what the last modal_tick kept per tree,
+ * for a reader that goes over many trees (damage.c) without a call for each: tree t's q
+ * is state[t * stride .. + pad) (its modes, then zeros up to pad, a whole number of
+ * 16-float vectors), qnorm2[t] its Σ_i q_i² after the last modal_tick (0 before any;
+ * modal_set leaves it), and force_scale[t] the factor s(|v|) k_t |v| of its force
+ * vector w = s k_t |v| v that tick (0 before any, and for a sample the tick treated as
+ * calm air). They stay valid until modal_destroy; modal_tick and modal_set change what
+ * they show. */
+typedef struct modal_rows {
+    const float *state;
+    size_t stride;
+    uint32_t pad;
+    const float *qnorm2, *force_scale;
+} modal_rows;
+modal_rows modal_get_rows(const modal *m);
 
 #endif
