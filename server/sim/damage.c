@@ -371,8 +371,8 @@ static float lead_bound(const damage_table *tb, const float (*mm)[3], const floa
  * Σ_i q_i M_i + R κ w: the modes and the static residual of those left out, over
  * x = (q, κ w) (damage_table.h). */
 static inline __attribute__((always_inline)) void
-    check_tree(damage_sim *s, damage_lane *l, modal *m, const damage_table *tb,
-                       uint32_t t, const float *v, uint32_t tick)
+    check_tree(damage_sim *s, damage_lane *l, modal *m, const damage_table *tb, uint32_t t,
+               const float *v, uint32_t tick)
 {
     damage_tree_st *ts = &s->tree[t];
     float w[3];

@@ -70,9 +70,6 @@ static void element_moment(const asset *a, double E_pa, uint32_t i, uint32_t p, 
     }
 }
 
-/* Galloping out from hint: a tree's |x| moves little between two of its checks, so the
- * count is found in a step or two where a bisection of the whole array waits on eight or
- * nine loads in a row. */
 uint32_t damage_first_rank(const damage_table *t, uint64_t r)
 {
     if (r >= 1ull << 32) {
@@ -89,6 +86,9 @@ uint32_t damage_first_rank(const damage_table *t, uint64_t r)
     return i;
 }
 
+/* Galloping out from hint: a tree's |x| moves little between two of its checks, so the
+ * count is found in a step or two where a bisection of the whole array waits on eight or
+ * nine loads in a row. */
 uint32_t damage_branches_within(const damage_table *t, float x, uint32_t hint)
 {
     const float *r = t->ratio_by_order;
@@ -153,6 +153,7 @@ __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 uint32_t damage_screen(const damage_table *t, const float *x, float cap_mult, float *xg,
                        float *stem_bound)
 {
+    _Static_assert(DAMAGE_CLUSTERS == DAMAGE_BOUND_LANES, "one vector of cluster screens");
     const uint32_t ng = t->n_groups;
 #pragma omp simd
     for (uint32_t g = 0; g < ng; g++) {
