@@ -22,15 +22,16 @@ typedef struct wire_writer {
     bool bad;
 } wire_writer;
 
+/* An empty buffer may come as NULL: no offset is added to it (NULL + 0 is undefined). */
 static inline wire_reader wire_reader_make(const uint8_t *buf, size_t len)
 {
-    wire_reader r = { buf, buf + len, false };
+    wire_reader r = { buf, buf ? buf + len : buf, false };
     return r;
 }
 
 static inline wire_writer wire_writer_make(uint8_t *buf, size_t cap)
 {
-    wire_writer w = { buf, buf + cap, false };
+    wire_writer w = { buf, buf ? buf + cap : buf, false };
     return w;
 }
 

@@ -39,6 +39,12 @@ static void test_cursor(void)
     w = wire_writer_make(b, 7);
     wire_put_u64(&w, 1);
     CHECK(w.bad && w.p == b);
+    /* An empty buffer may come as NULL (a zero-length frame nothing was read into). */
+    r = wire_reader_make(NULL, 0);
+    CHECK(wire_get_u8(&r) == 0 && r.bad);
+    w = wire_writer_make(NULL, 0);
+    wire_put_u8(&w, 1);
+    CHECK(w.bad && w.p == NULL);
 }
 
 static void test_varint(void)
@@ -538,6 +544,8 @@ static void test_corruption(void)
         }
     }
     CHECK(accepted > 0); /* value bits flip to other valid values */
+    wire_frame empty;
+    CHECK(wire_decode(d, NULL, 0, &empty, &e) != 0); /* a zero-length frame, as NULL */
     CHECK(wire_decode(d, buf, n, &(wire_frame){ 0 }, &e) == 0);
     float q[4];
     CHECK(wire_decoder_q(d, 1, q, 4) == 2);
