@@ -147,6 +147,10 @@ damage_sim *damage_create(const damage_desc *d, gale_err *err)
         !s->ev || !s->log) {
         goto nomem;
     }
+    /* check_tree copies a state row in whole 16-float vectors and clears a fallen tree's
+     * WIRE_MAX_MODES modes in this buffer */
+    _Static_assert(DAMAGE_MAX_GROUPS * DAMAGE_GROUP_MODES >= WIRE_MAX_MODES,
+                   "a lane's x holds a whole state row");
     for (int k = 0; k < s->n_lanes; k++) {
         damage_lane *l = &s->lane[k];
         l->q = calloc(DAMAGE_MAX_GROUPS * DAMAGE_GROUP_MODES + DAMAGE_GROUP_MODES, sizeof(float));
