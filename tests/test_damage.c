@@ -153,6 +153,32 @@ static uint64_t branch_breaks_at(double load)
     return broken;
 }
 
+/* damage_due: any DAMAGE_EVERY ticks in a row check every tree once, in contiguous
+ * shares in tree order, each a quarter of the trees give or take one, tree 0 on tick 0
+ * (the one tree of a small test is checked on its first tick). */
+static void test_due_shares(void)
+{
+    const uint32_t counts[] = { 0, 1, 2, 3, 4, 5, 7, 100000, 100003, UINT32_MAX };
+    const uint32_t bases[] = { 0, 4, 60, UINT32_MAX - (UINT32_MAX % DAMAGE_EVERY) - DAMAGE_EVERY };
+    for (size_t c = 0; c < sizeof counts / sizeof counts[0]; c++) {
+        const uint32_t n = counts[c];
+        for (size_t b = 0; b < sizeof bases / sizeof bases[0]; b++) {
+            uint32_t end = 0;
+            for (uint32_t k = 0; k < DAMAGE_EVERY; k++) {
+                uint32_t t0, t1;
+                damage_due(n, bases[b] + k, &t0, &t1);
+                CHECK(t0 == end && t1 >= t0);
+                CHECK(t1 - t0 == n / DAMAGE_EVERY || t1 - t0 == n / DAMAGE_EVERY + 1);
+                if (k == 0 && n > 0) {
+                    CHECK(t0 == 0 && t1 > 0);
+                }
+                end = t1;
+            }
+            CHECK(end == n);
+        }
+    }
+}
+
 static void test_branch_breaks(void)
 {
     CHECK(branch_breaks_at(0.99) == 0);
@@ -701,6 +727,7 @@ int main(void)
     RUN(test_branches_within);
     RUN(test_first_rank);
     RUN(test_static_residual);
+    RUN(test_due_shares);
     RUN(test_branch_breaks);
     RUN(test_zero_capacity_passes);
     RUN(test_strip_hugo);

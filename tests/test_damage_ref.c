@@ -229,8 +229,10 @@ static void events_equal_reference(int n_threads)
         stand_wind(tick, wind);
         modal_tick(m, wind, NULL);
         int n_want = 0;
-        for (uint32_t t = 0; t < N_TREES; t++) {
-            if ((tick + t) % DAMAGE_EVERY == 0 && !ref_fallen[t]) {
+        uint32_t due0, due1;
+        damage_due(N_TREES, tick, &due0, &due1);
+        for (uint32_t t = due0; t < due1; t++) {
+            if (!ref_fallen[t]) {
                 ref_check(d, m, t, sp[t], yaw[t], &wind[3 * t], tick, want, &n_want);
             }
         }

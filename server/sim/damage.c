@@ -505,7 +505,7 @@ static inline __attribute__((always_inline)) void
     }
 }
 
-/* The due trees [i0, i1) of this step (tree first + i DAMAGE_EVERY) on lane l: stripping,
+/* The due trees [i0, i1) of this step (tree first + i, damage_due) on lane l: stripping,
  * then stresses, each tree in turn; stripped leaves to out[*n..cap). Returns the leaves
  * over cap. Cloned for AVX-512 and AVX2 (the copies of a tree's q in whole vectors, the
  * scalar floats in the same operations: -std=c11 contracts none, so every clone decides
@@ -517,13 +517,13 @@ static int lane_run(damage_sim *s, damage_lane *l, modal *m, const float *wind_w
 {
     int lost = 0;
     for (uint32_t i = i0; i < i1; i++) {
-        const uint32_t t = first + i * DAMAGE_EVERY;
+        const uint32_t t = first + i;
         /* every due tree reads its own record, and about half those of a gusty day pass
          * the screen and read their state, which the modal update has long since pushed
          * out of the near caches: asked for a few trees ahead, their lines arrive while
          * the trees between are checked */
         if (i + DAMAGE_PREFETCH_TREES < i1) {
-            const uint32_t ahead = t + DAMAGE_PREFETCH_TREES * DAMAGE_EVERY;
+            const uint32_t ahead = t + DAMAGE_PREFETCH_TREES;
             const char *row = (const char *)(s->rows.state + (size_t)ahead * s->rows.stride);
             for (size_t at = 0; at < s->rows.pad * sizeof(float); at += 64) {
                 __builtin_prefetch(row + at, 0, 3);
@@ -599,10 +599,9 @@ int damage_step(damage_sim *s, modal *m, const float *wind_world, uint32_t tick,
     s->n_ev = 0;
     s->rows = modal_get_rows(m);
     int lost = 0;
-    /* each tree on its own tick of DAMAGE_EVERY: (tick + t) % DAMAGE_EVERY == 0 */
-    const uint32_t first = (DAMAGE_EVERY - tick % DAMAGE_EVERY) % DAMAGE_EVERY;
-    const uint32_t n_due =
-        first < s->d.n_trees ? (s->d.n_trees - first + DAMAGE_EVERY - 1) / DAMAGE_EVERY : 0;
+    uint32_t first, end;
+    damage_due(s->d.n_trees, tick, &first, &end);
+    const uint32_t n_due = end - first;
     /* Trees are independent: each lane takes a contiguous share of the due trees (its
      * events and leaves then follow the lanes before it), a small forest fewer lanes.
      * More lanes than threads, taken as threads come free: a thread that loses its core

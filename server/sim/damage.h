@@ -17,10 +17,21 @@
 #include "modal.h"
 #include "wire.h"
 
-/* Ticks between two checks of one tree's stresses: trees are checked in turn (tree t on
- * the ticks with (tick + t) % DAMAGE_EVERY == 0), which spreads the cost; at 60 Hz a tree
- * is checked at 15 Hz, several samples per period of the modes that load branches. */
+/* Ticks between two checks of one tree's stresses: trees are checked in turn, a quarter
+ * a tick (damage_due), which spreads the cost; at 60 Hz a tree is checked at 15 Hz,
+ * several samples per period of the modes that load branches. */
 #define DAMAGE_EVERY 4
+
+/* The trees [*t0, *t1) of n_trees checked on `tick`: the (tick % DAMAGE_EVERY)-th of
+ * DAMAGE_EVERY contiguous shares, so every tree once in DAMAGE_EVERY ticks. Contiguous,
+ * not every DAMAGE_EVERY-th tree: a step then reads whole cache lines of the per-tree
+ * arrays (records, wind, Σ q²) rather than a quarter of each. */
+static inline void damage_due(uint32_t n_trees, uint32_t tick, uint32_t *t0, uint32_t *t1)
+{
+    const uint64_t k = tick % DAMAGE_EVERY; /* shares rounded up: tree 0 on tick 0 */
+    *t0 = (uint32_t)(((uint64_t)n_trees * k + DAMAGE_EVERY - 1) / DAMAGE_EVERY);
+    *t1 = (uint32_t)(((uint64_t)n_trees * (k + 1) + DAMAGE_EVERY - 1) / DAMAGE_EVERY);
+}
 
 /* Threads a step uses at most. A step cuts the trees due into DAMAGE_LANES_PER_THREAD
  * lanes a thread, taken as threads come free, each of at least DAMAGE_LANE_MIN_TREES
