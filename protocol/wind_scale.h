@@ -9,7 +9,7 @@
 
 /* Saffir-Simpson classes, numbered from 0 upwards with the wind: a hurricane's category
  * number is its class - 1 (WIND_SCALE_CAT3 - 1 == 3). The HUD counts the same classes
- * from tropical storm = 0 (client/hud.h hud_saffir_simpson). */
+ * from tropical storm = 0 (client/hud/hud.h hud_saffir_simpson). */
 enum wind_scale_ss {
     WIND_SCALE_TD = 0,   /* tropical depression, <= 33 kt */
     WIND_SCALE_TS = 1,   /* tropical storm, 34-63 kt */

@@ -153,7 +153,7 @@ mat3 rot_z(float a)
 
 // Storm damage in u_trees slot 1 .z: the fall angle (0..π: a tumbling debris piece turns
 // upside down) plus 4 x the leaf levels lost, plus 256 on a snapped tree
-// (render_tree_code, client/render_internal.h).
+// (render_tree_code, client/render/render_internal.h).
 float tree_fall(float z)
 {
     return z - 4.0 * floor(z * 0.25);
@@ -163,7 +163,7 @@ bool tree_snapped(float z)
     return z >= 256.0;
 }
 
-// tip_fall_break_m (client/tip_fall.c), the same bits: the height [m, tree frame] where a
+// tip_fall_break_m (client/motion/tip_fall.c), the same bits: the height [m, tree frame] where a
 // snapped stem breaks; the stump stands below it (stump.vert), the rest tips about it.
 const float STUMP_MIN_M = 0.5;
 const float STUMP_SPAN_M = 1.0;

@@ -10,7 +10,7 @@
 // branch broken off there) and 1 elsewhere; pass 1 reads every texel up to the root anyway,
 // so the minimum along the way costs nothing: a node stays attached (.w 1) when no node
 // from it to the root is cut. A debris piece (keep-only) inverts it: only the sub-tree of
-// its listed node is drawn. The GLSL twin of damage_cut_mask (client/damage_cut.c), held
+// its listed node is drawn. The GLSL twin of damage_cut_mask (client/motion/damage_cut.c), held
 // to it by tests/test_render_damage.c.
 uniform GALE_BUF u_vw;   // [(m n_nodes + node) 2 + {0: v, 1: w}]
 uniform GALE_BUF u_node; // rest xyz, parent
@@ -19,7 +19,7 @@ uniform GALE_BUF u_node; // rest xyz, parent
 // snapshot's quantised values Q [tree stride + m] are a layer of u_qring, uploaded once,
 // and q = Σ_k u_qw[m][k] Q_k over the (up to four) snapshots of u_qlayer, u_qw the
 // Hermite weight of snapshot k times its step of mode m for this species (PROTOCOL.md
-// "Quantisation of q"): the sum client/jitter.c jitter_sample forms on the CPU.
+// "Quantisation of q"): the sum client/playout/jitter.c jitter_sample forms on the CPU.
 uniform highp isampler2DArray u_qring;
 uniform ivec4 u_qlayer;
 uniform vec4 u_qw[64];

@@ -1,4 +1,4 @@
-/* Attract mode's clock (client/attract.c): it starts once after the idle time without
+/* Attract mode's clock (client/kiosk/attract.c): it starts once after the idle time without
  * input (default 90 s), a touch during it wakes the kiosk (and is reported, so it is not
  * taken as a control), and input while awake keeps it awake. */
 #include "attract.h"

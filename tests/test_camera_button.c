@@ -1,4 +1,4 @@
-/* The kiosk's camera button (client/camera_button.c): its rectangle scales with the
+/* The kiosk's camera button (client/kiosk/camera_button.c): its rectangle scales with the
  * framebuffer height (twice the pixels at 4K as at 1080p, the same share of the screen),
  * sits in the right-hand corner on screen, is hit inside and missed outside in window
  * coordinates (also on a HiDPI window whose framebuffer is twice its size), and each press

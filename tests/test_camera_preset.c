@@ -1,4 +1,4 @@
-/* Camera presets (client/camera_preset.c): names, and where each puts the eye over a small
+/* Camera presets (client/kiosk/camera_preset.c): names, and where each puts the eye over a small
  * scene of palms (south) and oaks (north): street level 1.7 m up outside the planting
  * looking north at a palm, the garden view looking south at an oak, roof height about
  * 12 m, aerial high above; the tour moves to the next stop every CAMERA_TOUR_STOP_S; the

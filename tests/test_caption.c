@@ -1,4 +1,4 @@
-/* Caption tables (client/caption.c): the shipped English file equals the built-in table;
+/* Caption tables (client/kiosk/caption.c): the shipped English file equals the built-in table;
  * the caption of a wind follows its class (hurricane categories) or Beaufort force; a
  * broken table names file, line and key and leaves the table as it was. */
 #include <stdio.h>

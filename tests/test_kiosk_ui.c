@@ -1,4 +1,4 @@
-/* The kiosk's touch panel without GL (client/kiosk_ui.c, kiosk_ui_msg.c):
+/* The kiosk's touch panel without GL (client/kiosk/kiosk_ui.c, kiosk_ui_msg.c):
  * - at 1280x720, 1920x1080 and 3840x2160 (and 4:3 screens) every control lies inside the
  *   framebuffer, none overlaps or touches another or the camera button, each a touch target of
  *   at least 9 mm on a 24" panel (0.03 of the height);

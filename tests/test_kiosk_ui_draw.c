@@ -1,4 +1,4 @@
-/* The kiosk's touch panel drawn in GL (client/kiosk_ui_draw.c) over a cleared sky at
+/* The kiosk's touch panel drawn in GL (client/kiosk/kiosk_ui_draw.c) over a cleared sky at
  * 1280x720, 1920x1080 and 3840x2160, read back: the running scenario's button is lit in the
  * accent, a pressed button is lighter than the others, the dial's band of the streamed
  * wind carries its colour, the band labels and button faces have ink, and the sky above

@@ -1,6 +1,6 @@
 /* The kiosk's touch panel end to end: a headless gale-client kiosk (Xvfb + Mesa) on the
  * real gale-server is given synthetic touches (--touch) on the controls where
- * client/kiosk_ui.c lays them out for its framebuffer; what it sends is read back from its
+ * client/kiosk/kiosk_ui.c lays them out for its framebuffer; what it sends is read back from its
  * log ("kiosk sent {json}", decoded as the server decodes it), what the server did from
  * the WEATHER a viewer receives, and what the panel showed from the HUD text the client
  * prints:

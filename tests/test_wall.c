@@ -1,4 +1,4 @@
-/* Wall files and tile frusta (client/wall.h): the shipped walls parse; a CAVE2 cylinder
+/* Wall files and tile frusta (client/wall/wall.h): the shipped walls parse; a CAVE2 cylinder
  * tile's projection matches a closed form computed here from the cylinder itself (radius,
  * column angle, bezels), not from the file's centre/normal/up; its glass corners land on
  * the clip square's corners and points along eye rays keep their place; bad files are

@@ -7,7 +7,7 @@
  * 30 snapshots/s by the real encoder and decoded by the real decoder. Node error: the
  * client's decoded q against the server's float q, both through the reconstruction
  * u = rest + sum q~ v + q~^2 w, as a fraction of tree height; and what a client shows:
- * the decoded snapshots through the client's jitter buffer (client/jitter.c, 0.1 s
+ * the decoded snapshots through the client's jitter buffer (client/playout/jitter.c, 0.1 s
  * playout delay) and its Hermite interpolation at every 60 Hz display tick, against the
  * server's q at that render time. The stream counts every frame a viewer gets, by frame
  * type from the header (KEYFRAME, DELTA, LEAVES from leaf.c shedding, WIND slices, the

@@ -1,7 +1,7 @@
 /* gale-client's attract mode over a fixed scene, one JSON object a line, for
  * tests/web/test_attract_js.mjs to hold web/attract.js to: the camera tour's orbit at
- * times through every stop (client/camera_preset.c), and the idle clock's answers to a
- * sequence of ticks and touches (client/attract.c). */
+ * times through every stop (client/kiosk/camera_preset.c), and the idle clock's answers to a
+ * sequence of ticks and touches (client/kiosk/attract.c). */
 #include <math.h>
 #include <stdbool.h>
 #include <stdio.h>

@@ -1,11 +1,11 @@
 /* gale-client's storm damage and falling-leaf formulas as a table, one JSON object a line,
  * for tests/web/test_damage_js.mjs to hold web/damage.js and web/falling_path.js to: the
- * tip-over angle (client/tip_fall.c), the break height, the event clock
- * (client/damage_clock.c), the leaf slots a stripped crown keeps (protocol/wire.h), the
- * shared falling-leaf path sample by sample (client/falling_path.c), and leaves' variations,
+ * tip-over angle (client/motion/tip_fall.c), the break height, the event clock
+ * (client/motion/damage_clock.c), the leaf slots a stripped crown keeps (protocol/wire.h), the
+ * shared falling-leaf path sample by sample (client/motion/falling_path.c), and leaves' variations,
  * positions and landing times from seeds, the cut mask of broken branches
- * (client/damage_cut.c) and a broken branch's tumbling fall in a steady wind
- * (client/debris_path.c). */
+ * (client/motion/damage_cut.c) and a broken branch's tumbling fall in a steady wind
+ * (client/motion/debris_path.c). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>

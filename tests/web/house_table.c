@@ -1,4 +1,4 @@
-/* gale-client's house meshes (client/render_house.c) for a few boxes, one JSON object a
+/* gale-client's house meshes (client/render/render_house.c) for a few boxes, one JSON object a
  * line ({"box": [...], "mesh": [...]}), for tests/web/test_house_js.mjs to hold
  * web/house.js to. */
 #include <stdbool.h>

@@ -1,4 +1,4 @@
-/* gale-client's HUD lines of WEATHER (client/hud_format.c hud_format_weather), one JSON
+/* gale-client's HUD lines of WEATHER (client/hud/hud_format.c hud_format_weather), one JSON
  * object a line, for tests/web/test_hud_js.mjs to hold web/hud_text.js to: each line has
  * the WEATHER frame as hex (protocol/msg_weather.c's encoding, so the browser reads the
  * same float32s) and the lines gale-client's HUD shows for it. The cases sweep the wind

@@ -1,8 +1,8 @@
-/* gale-client's jitter buffer (client/jitter.c) over a fixed sequence of snapshots, one
+/* gale-client's jitter buffer (client/playout/jitter.c) over a fixed sequence of snapshots, one
  * JSON object a line, for tests/web/test_jitter_js.mjs to hold web/jitter.js and the
  * browser's blend of quantised snapshots (shaders/skel.frag GALE_Q_RING) to: each insert
  * with its quantised values Q, its steps and what the buffer answered, each sample with
- * the q the native client draws (Q dequantised as client/client_stream.c does, then
+ * the q the native client draws (Q dequantised as client/app/client_stream.c does, then
  * jitter_sample) and where it fell, the stats at the end. The sequence holds in order,
  * out of order, duplicate and late snapshots, evictions at capacity, holds before the
  * first and past the newest, a single snapshot, a reset and a change of steps (a new

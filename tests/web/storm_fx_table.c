@@ -1,4 +1,4 @@
-/* The storm look of client/storm_fx.c over a grid of winds, directions and qualities, one
+/* The storm look of client/render/storm_fx.c over a grid of winds, directions and qualities, one
  * JSON object a line, for tests/web/test_storm_fx_js.mjs to hold web/storm_fx.js to. */
 #include <math.h>
 #include <stdbool.h>
@@ -22,7 +22,7 @@ int main(int argc, char **argv)
         bool help = strcmp(argv[1], "--help") == 0;
         fprintf(help ? stdout : stderr,
                 "usage: gale-web-storm-table\n"
-                "  prints client/storm_fx.c's storm look for a grid of sustained winds [m/s],\n"
+                "  prints client/render/storm_fx.c's storm look for a grid of sustained winds [m/s],\n"
                 "  directions [deg from] and qualities (0 off, 1 low, 2 high), one JSON a line\n");
         return help ? 0 : 2;
     }

@@ -1,5 +1,5 @@
 // web/attract.js against gale-client's attract mode (gale-web-attract-table, built from
-// client/attract.c, camera.c and camera_preset.c by tests/web/CMakeLists.txt): over the
+// client/kiosk/attract.c, camera.c and camera_preset.c by tests/web/CMakeLists.txt): over the
 // same scene the tour's orbit agrees at times through every stop (target and distance
 // within 1e-4 of their size, angles within 1e-5 rad: the C code computes in float), and
 // the idle clock answers a sequence of ticks and touches the same.
@@ -25,7 +25,7 @@ for (const c of tours) {
     const near = (got, want, tol, what) => {
         const d = Math.abs(got - want);
         worst = Math.max(worst, d / tol);
-        assert.ok(d <= tol, `tour at ${c.t_s} s: ${what} is ${got} in the browser, ${want} in client/camera_preset.c`);
+        assert.ok(d <= tol, `tour at ${c.t_s} s: ${what} is ${got} in the browser, ${want} in client/kiosk/camera_preset.c`);
     };
     const size = Math.max(1, c.distance, ...c.target.map(Math.abs));
     for (let k = 0; k < 3; k++) near(js.target[k], c.target[k], 1e-4 * size, `target[${k}]`);

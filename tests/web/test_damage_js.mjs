@@ -1,5 +1,5 @@
 // web/damage.js and web/falling_path.js against gale-client's C (gale-web-damage-table,
-// built from client/tip_fall.c, damage_clock.c, falling_path.c and protocol/wire.h by
+// built from client/motion/tip_fall.c, damage_clock.c, falling_path.c and protocol/wire.h by
 // tests/web/CMakeLists.txt): the tip-over angle within 1e-12 rad (both in double), the
 // break height, the event clock and the kept leaf slots exactly, the shared falling-leaf
 // path sample by sample exactly (both in float32, every operation rounded alike), and each

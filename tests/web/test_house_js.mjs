@@ -1,5 +1,5 @@
 // web/house.js against gale-client's house mesh (gale-web-house-table, built from
-// client/render_house.c by tests/web/CMakeLists.txt): for boxes long in x, long in y, a
+// client/render/render_house.c by tests/web/CMakeLists.txt): for boxes long in x, long in y, a
 // thin slab (roof pitch capped), a square and a point, the same vertices in the same order,
 // every float within 1e-5 of the box's size (the C code computes in float).
 import assert from 'node:assert/strict';
@@ -22,7 +22,7 @@ for (const { box, mesh } of rows) {
     for (let k = 0; k < mesh.length; k++) {
         const d = Math.abs(js[k] - mesh[k]) / size;
         worst = Math.max(worst, d);
-        assert.ok(d <= 1e-5, `box ${box}: vertex ${Math.floor(k / HOUSE_FLOATS)} float ${k % HOUSE_FLOATS} is ${js[k]} in the browser, ${mesh[k]} in client/render_house.c`);
+        assert.ok(d <= 1e-5, `box ${box}: vertex ${Math.floor(k / HOUSE_FLOATS)} float ${k % HOUSE_FLOATS} is ${js[k]} in the browser, ${mesh[k]} in client/render/render_house.c`);
     }
 }
 const all = housesMesh(rows.map((r) => r.box));

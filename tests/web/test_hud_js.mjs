@@ -1,5 +1,5 @@
 // web/hud_text.js against gale-client's HUD (gale-web-hud-table, built from
-// client/hud_format.c by tests/web/CMakeLists.txt): for each WEATHER frame of the table,
+// client/hud/hud_format.c by tests/web/CMakeLists.txt): for each WEATHER frame of the table,
 // decoded by web/wire.js, the browser's HUD lines equal gale-client's, character for
 // character (one wording of the weather on every screen of an exhibit).
 import assert from 'node:assert/strict';

@@ -1,5 +1,5 @@
 // web/jitter.js and the browser's blend of quantised snapshots against gale-client's jitter
-// buffer (gale-web-jitter-table, built from client/jitter.c by tests/web/CMakeLists.txt):
+// buffer (gale-web-jitter-table, built from client/playout/jitter.c by tests/web/CMakeLists.txt):
 // over the same inserts (in order, out of order, duplicate, late, evicting, across a change
 // of steps and a reset) the buffer answers the same, samples fall between the same ticks,
 // the stats agree, and q blended from the quantised values with the shader's weights
@@ -56,7 +56,7 @@ for (const o of ops) {
             }
             const tol = 1e-6 * mag + 1e-12, d = Math.abs(v - o.q[i]);
             worst = Math.max(worst, d / tol);
-            assert.ok(d <= tol, `${where}: tree ${t} mode ${m}: ${v} blended, ${o.q[i]} in client/jitter.c`);
+            assert.ok(d <= tol, `${where}: tree ${t} mode ${m}: ${v} blended, ${o.q[i]} in client/playout/jitter.c`);
         }
     }
 }

@@ -1,5 +1,5 @@
-// web/storm_fx.js against client/storm_fx.c: the C function's look (gale-web-storm-table,
-// built from client/storm_fx.c by tests/web/CMakeLists.txt) for a grid of winds, directions
+// web/storm_fx.js against client/render/storm_fx.c: the C function's look (gale-web-storm-table,
+// built from client/render/storm_fx.c by tests/web/CMakeLists.txt) for a grid of winds, directions
 // and qualities, and the browser's for the same inputs, agree field by field within 2e-5
 // (the C code computes in float, the page in double: a few float ulps of values <= 200).
 import assert from 'node:assert/strict';
@@ -29,7 +29,7 @@ for (const c of rows) {
         for (let i = 0; i < want.length; i++) {
             const d = Math.abs(got[i] - want[i]) / scale;
             worst = Math.max(worst, d);
-            assert.ok(d <= TOL, `${where}: ${k}[${i}] is ${got[i]} in the browser, ${want[i]} in client/storm_fx.c`);
+            assert.ok(d <= TOL, `${where}: ${k}[${i}] is ${got[i]} in the browser, ${want[i]} in client/render/storm_fx.c`);
             compared++;
         }
     }

@@ -1,5 +1,5 @@
 // web/wall_view.js against gale-client's wall geometry (gale-web-wall-table, built from
-// client/wall.c by tests/web/CMakeLists.txt) for every wall file of configs/walls/ and
+// client/wall/wall.c by tests/web/CMakeLists.txt) for every wall file of configs/walls/ and
 // tests/data/wall_unnormalised.json (normals and ups not unit vectors, as wall_parse
 // accepts them, and a tour that starts late): each tile's corners, its view and Kooima projection for two camera views, and the tour's
 // camera at a few times, every float within 1e-4 of its size (the C code computes in
@@ -22,7 +22,7 @@ const near = (got, want, where) => {
     for (let k = 0; k < want.length; k++) {
         const d = Math.abs(got[k] - want[k]) / Math.max(1, Math.abs(want[k]));
         worst = Math.max(worst, d);
-        assert.ok(d <= 1e-4, `${where}[${k}] is ${got[k]} in the browser, ${want[k]} in client/wall.c`);
+        assert.ok(d <= 1e-4, `${where}[${k}] is ${got[k]} in the browser, ${want[k]} in client/wall/wall.c`);
     }
 };
 for (const r of rows) {

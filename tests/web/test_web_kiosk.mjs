@@ -108,7 +108,7 @@ try {
     out.cat4_fx = await page.evaluate(() => window.gale.r.fx);
     out.cat4_rain_share = await rainShare(page);
     // the storm look at Category 4: sky, light and fog of web/storm_fx.js (its numbers are
-    // client/storm_fx.c's, test_web_storm_fx); floors well inside what it draws (the sky
+    // client/render/storm_fx.c's, test_web_storm_fx); floors well inside what it draws (the sky
     // about 0.65 of calm's luma and 0.2 of its chroma, the kiosk's view 0.64 and 0.19, rain
     // on about 5 % of the pixels at 800×600)
     const [c, s] = [out.calm_picture, out.cat4_picture];

@@ -1,7 +1,7 @@
 // The browser's skeleton pass, which blends up to four snapshots' quantised values itself
 // (shaders/skel.frag GALE_Q_RING, web/render_gl.js setMix), against the same pass fed q the
 // native client's way (dequantised per snapshot, blended on the CPU in double, uploaded as
-// floats: client/client_stream.c, client/jitter.c), on a real gale-server's gusty clearing:
+// floats: client/app/client_stream.c, client/playout/jitter.c), on a real gale-server's gusty clearing:
 // at a time between two snapshots with a neighbour on each side, every drawn node stands
 // within 1e-5 m of where the float path puts it (f32 weights and sums over positions of a
 // few metres: a few units in the last place). The check can fail: the same nodes differ by

@@ -1,4 +1,4 @@
-/* gale-client's wall geometry (client/wall.c) for every wall file named: each tile's
+/* gale-client's wall geometry (client/wall/wall.c) for every wall file named: each tile's
  * corners, view and projection for two camera views, and the tour's camera at a few times,
  * one JSON object a line, for tests/web/test_wall_js.mjs to hold web/wall_view.js to. */
 #include <math.h>
@@ -36,7 +36,7 @@ int main(int argc, char **argv)
         bool help = argc >= 2;
         fprintf(help ? stdout : stderr,
                 "usage: gale-web-wall-table WALL.json...\n"
-                "  prints client/wall.c's corners, view and projection of every tile for two\n"
+                "  prints client/wall/wall.c's corners, view and projection of every tile for two\n"
                 "  camera views, and the tour's camera at a few times, one JSON a line\n");
         return help ? 0 : 2;
     }

@@ -64,7 +64,7 @@ static void uniform_wind(void *user, const float p[3], float out[3])
 }
 
 /* --storm-age: what gale-client draws age_s seconds after a storm struck this forest
- * (client/client_damage.c): falls in tip_fall's closed form, branches as debris_path
+ * (client/app/client_damage.c): falls in tip_fall's closed form, branches as debris_path
  * pieces. Which tree and branch fail is a fixed hash, not a model. */
 static int storm_damage(render *r, const asset *as, const render_instance *inst, uint32_t trees,
                         const float wind[3], float age_s, gale_err *err)

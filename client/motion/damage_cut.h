@@ -1,6 +1,6 @@
 /* Which nodes of a tree stay drawn when branches break off (PROTOCOL.md "DAMAGE" BRANCH:
  * the node named and its whole sub-tree go). Plain C, the reference of the skeleton pass's
- * flag (shaders/skel.frag, client/render_damage.c). */
+ * flag (shaders/skel.frag, client/render/render_damage.c). */
 #ifndef GALE_DAMAGE_CUT_H
 #define GALE_DAMAGE_CUT_H
 
