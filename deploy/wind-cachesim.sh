@@ -5,7 +5,7 @@
 # different step counts; the difference of the last-level misses (reads and write
 # allocations, 64-byte lines: STREAM's convention, write-backs not counted) over the
 # extra steps, per cell, by phase (inclusive costs of wind_advect, wind_mg_solve and
-# project; forces, borders and divergence are the rest of wind_step), is printed as JSON
+# wind_project; forces, borders and divergence are the rest of wind_step), is printed as JSON
 # with the model's figures.
 set -euo pipefail
 
@@ -76,7 +76,7 @@ def phases(path):
     step = inc.get("wind_step", 0)
     adv = inc.get("wind_advect", 0) + inc.get("wind_fill_ghosts", 0)
     solve = inc.get("wind_mg_solve", 0)
-    proj = max(inc.get("project", 0), inc.get("project._omp_fn.0", 0))
+    proj = max(inc.get("wind_project", 0), inc.get("wind_project._omp_fn.0", 0))
     return {"advect": adv, "pressure_solve": solve, "projection": proj,
             "forces_bc_divergence": step - adv - solve - proj}
 

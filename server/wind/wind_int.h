@@ -1,6 +1,8 @@
-/* Internal state of the wind grid shared by wind.c (API, boundaries, forces, sampling),
- * wind_advect.c (semi-Lagrangian advection, Oliapuram & Kumar 2010 eq. 4) and wind_mg.c
- * (pressure Poisson solve, eq. 9, by geometric multigrid). Not a public header. */
+/* Internal state of the wind grid shared by wind.c (creation, the step), wind_force.c
+ * (inflow, forces, boundaries), wind_advect.c (semi-Lagrangian advection, Oliapuram &
+ * Kumar 2010 eq. 4), wind_mg.c (pressure Poisson solve, eq. 9, by geometric multigrid),
+ * wind_project.c (divergence, projection, eq. 7), wind_sample.c and wind_probe.c
+ * (sampling). Not a public header. */
 #ifndef GALE_WIND_INT_H
 #define GALE_WIND_INT_H
 
@@ -140,9 +142,18 @@ struct wind_grid {
  * one stencil row (multigrid). */
 #define WIND_SCRATCH_ROW(w) ((size_t)3 * (size_t)((w)->nx + 4))
 
-/* wind.c: fills the ghost layer of the three components from the inflow (open sides)
- * and by free-slip reflection (ground, lid). */
+/* wind_force.c */
+/* Resolves an inflow (defaults for unset fields, the profile at every sample height, the
+ * subgrid table) and makes the borders it enters through inflow borders, rebuilding the
+ * solver's coefficients when a border changes type. */
+void wind_inflow_resolve(wind_grid *w, const wind_inflow *in);
+/* Fills the ghost layer of the three components from the inflow (open sides) and by
+ * free-slip reflection (ground, lid). */
 void wind_fill_ghosts(wind_grid *w);
+/* Adds a Gaussian force ball over dt (eq. 5) to the field. */
+void wind_apply_ball(wind_grid *w, const wind_ball *b, float dt);
+/* Boundary conditions on the face samples before projection (eq. 10). */
+void wind_apply_bc(wind_grid *w);
 
 /* wind_advect.c: advects the three components through themselves over dt (dt_over_h =
  * dt / h turns m/s into cells per step) into c[].tmp, then swaps d and tmp. */
@@ -159,5 +170,11 @@ void wind_mg_setup(wind_grid *w);
 int wind_mg_solve(wind_grid *w, double tol, int max_it, double *r_final);
 /* Sum of a per-row partial sum array in a fixed order. */
 double wind_sum_rows(const double *rows, int n);
+
+/* wind_project.c */
+/* Right-hand side of eq. 9 on level 0 from the field's divergence; returns ||b||_2. */
+double wind_divergence_rhs(wind_grid *w);
+/* Eq. 7: subtracts the gradient of level 0's pressure from the field. */
+void wind_project(wind_grid *w);
 
 #endif

@@ -57,7 +57,7 @@ wind_probe *wind_probe_create(const wind_grid *w, int n, const float *p, gale_er
         gale_errf(err, GALE_E_NOMEM, "wind_probe_create: no memory for %d points", n);
         return NULL;
     }
-    /* the clamps and the cell of wind.c's sample_comp, operation for operation, so the
+    /* the clamps and the cell of wind_sample.c's sample_comp, operation for operation, so the
        fractions are the floats it computes */
     const float inv = 1.0f / w->h;
     for (int i = 0; i < n; i++) {
