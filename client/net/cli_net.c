@@ -7,119 +7,21 @@
  * hands it to the handlers on the caller's thread: decoding, the decoder and the clock
  * belong to that thread. One mutex guards what both threads touch (the inbox, the send
  * ring, the stats, the fetch); the caller wakes the network thread with
- * lws_cancel_service, the one lws call safe from another thread. */
-#include "cli_net.h"
-#include "asset_cache.h"
+ * lws_cancel_service, the one lws call safe from another thread. This file: the network
+ * thread, and creating and ending it; cli_net_poll.c: the caller's side. */
+#include "cli_net_int.h"
 #include "mono.h"
-
-#include <libwebsockets.h>
 
 #include <errno.h>
 #include <math.h>
-#include <pthread.h>
 #include <stdarg.h>
-#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
 
-#define CLI_NET_TX_SLOTS 8
-#define CLI_NET_TX_BYTES CTL_MAX_CLIENT_BYTES
-#define CLI_NET_TICK_US 20000 /* the network thread's timer: pings, retries, timeouts */
-
-enum { TAG_WS = 1, TAG_HTTP = 2 };
-
-typedef struct cli_net_tag {
-    struct cli_net *n;
-    int kind;
-} cli_net_tag;
-
-typedef struct cli_net_tx {
-    uint8_t buf[LWS_PRE + CLI_NET_TX_BYTES];
-    size_t len;
-} cli_net_tx;
-
-/* What the network thread hands the poller, in arrival order. */
-enum {
-    MSG_CONNECT, /* a new connection attempt: a fresh decoder and clock */
-    MSG_TEXT,    /* a control message for the handlers (welcome, wall messages) */
-    MSG_BINARY,  /* a state, leaves, wind, weather, damage or BUNDLE frame */
-    MSG_PONG,    /* a pong: pong.* */
-    MSG_LOST,    /* the connection ended: code, data the reason */
-};
-
-typedef struct cli_net_msg {
-    struct cli_net_msg *next;
-    int kind;
-    int code;       /* MSG_LOST */
-    double recv_s;  /* local clock when its last byte arrived */
-    double pong[2]; /* MSG_PONG: client and server time [s] */
-    size_t len;
-    uint8_t data[]; /* len bytes and a NUL */
-} cli_net_msg;
-
-struct cli_net {
-    cli_net_desc d;
-    cli_net_handler h;
-    struct lws_context *ctx;
-    struct lws *ws;   /* the WebSocket, NULL when none */
-    struct lws *http; /* the HTTP fetch under way, NULL when none */
-    cli_net_tag ws_tag, http_tag;
-    char url[512]; /* parsed in place by lws_parse_uri */
-    char host[256];
-    char path[256];
-    int port;
-    char server_name[300];
-
-    pthread_t thread;
-    bool thread_on;
-    atomic_int stop;
-    pthread_mutex_t lock; /* everything below that both threads touch */
-    pthread_cond_t cond;  /* a fetch ended */
-    pthread_mutex_t log_lock;
-    lws_sorted_usec_list_t tick_sul;
-
-    /* network thread */
-    uint8_t *rx; /* owned: WIRE_MAX_FRAME_BYTES (+1 for a NUL) */
-    size_t rx_len, rx_cap;
-    bool rx_binary, rx_overflow;
-    double next_ping_s, backoff_s;
-    double attempt_s; /* when the current connection attempt began (CONNECTING, HELLO) */
-    uint32_t ping_id;
-
-    /* shared (lock) */
-    cli_net_msg *in_head, *in_tail; /* the inbox */
-    size_t in_bytes;
-    cli_net_tx tx[CLI_NET_TX_SLOTS]; /* ring of queued control messages */
-    uint32_t tx_head, tx_count;
-    uint64_t tx_sent; /* messages written */
-    bool kill; /* close the WebSocket at the next writeable */
-    bool destroying;
-    cli_net_stats st;
-    /* HTTP fetch: the poller asks (want_fetch), the network thread runs it */
-    bool want_fetch, fetch_abort;
-    bool http_open; /* the fetch's socket exists (until its WSI_DESTROY) */
-    char fetch_path[512];
-    uint8_t *fetch_buf; /* owned until handed to the caller */
-    size_t fetch_len, fetch_cap, fetch_max;
-    int fetch_status;
-    bool fetch_done, fetch_complete;
-    char fetch_err[160];
-
-    /* the poller's thread */
-    wire_decoder *dec; /* owned; recreated per connection */
-    jitter_clock clock;
-
-    /* the log's limit (log_lock) */
-    double last_log_s;
-    uint64_t suppressed_logs;
-};
-
-/* Rate-limited log line (at most one a second; the rest are counted). Any thread. */
-static void cli_net_log(cli_net *n, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void cli_net_log(cli_net *n, const char *fmt, ...)
+void cli_net_log(cli_net *n, const char *fmt, ...)
 {
     double now = mono_s();
     pthread_mutex_lock(&n->log_lock);
@@ -187,9 +89,7 @@ static void inbox_put(cli_net *n, int kind, int code, double recv_s, const void 
     n->in_bytes += len;
 }
 
-/* Queues a control message (lock held); the network thread writes it. on_net: the
- * caller is the network thread (inside lws), else it is woken. */
-static int queue_ctl(cli_net *n, const ctl_msg *m, bool on_net, gale_err *err)
+int cli_net_queue_ctl(cli_net *n, const ctl_msg *m, bool on_net, gale_err *err)
 {
     if (!n->ws) {
         return gale_errf(err, GALE_E_STATE, "%s: not connected", n->server_name);
@@ -334,7 +234,7 @@ static int ws_callback(cli_net *n, struct lws *wsi, enum lws_callback_reasons re
             snprintf(m.u.hello.token, sizeof m.u.hello.token, "%s", n->d.token);
         }
         gale_err err = { 0 };
-        if (queue_ctl(n, &m, true, &err) != 0) {
+        if (cli_net_queue_ctl(n, &m, true, &err) != 0) {
             cli_net_log(n, "%s: hello: %s", n->server_name, err.msg);
             return -1;
         }
@@ -566,7 +466,7 @@ static void net_work(cli_net *n)
         ctl_msg m = { .type = CTL_PING };
         m.u.ping.id = ++n->ping_id;
         m.u.ping.client_us = (uint64_t)(mono_s() * 1e6);
-        queue_ctl(n, &m, true, NULL);
+        cli_net_queue_ctl(n, &m, true, NULL);
         n->next_ping_s = now + n->d.ping_interval_s;
     }
     if (n->ws && (n->tx_count || n->kill)) {
@@ -765,254 +665,4 @@ void cli_net_destroy(cli_net *n)
 const char *cli_net_server_name(const cli_net *n)
 {
     return n->server_name;
-}
-
-/* --- the poller's side ----------------------------------------------------------------- */
-
-static void handle_text(cli_net *n, const char *text, size_t len)
-{
-    ctl_msg m;
-    int close_code = 0;
-    if (ctl_decode(text, len, CTL_MAX_SERVER_BYTES, &m, &close_code, NULL) != 0) {
-        return; /* the network thread decoded it already: not reached */
-    }
-    if (m.type == CTL_WELCOME && n->h.on_welcome) {
-        n->h.on_welcome(n->h.user, &m.u.welcome);
-    } else if (m.type != CTL_WELCOME && n->h.on_wall) {
-        n->h.on_wall(n->h.user, &m);
-    }
-    ctl_msg_fini(&m);
-}
-
-static void handle_binary(cli_net *n, const uint8_t *buf, size_t len, double recv_s)
-{
-    wire_frame f;
-    gale_err err = { 0 };
-    int rc = wire_decode(n->dec, buf, len, &f, &err);
-    if (rc == GALE_E_STATE) {
-        /* a delta whose base we lack: ask for a keyframe (once per gap) */
-        ctl_msg m = { .type = CTL_RESYNC };
-        m.u.resync_seq = wire_decoder_seq(n->dec);
-        pthread_mutex_lock(&n->lock);
-        n->st.frames_gap++;
-        queue_ctl(n, &m, false, NULL);
-        pthread_mutex_unlock(&n->lock);
-        cli_net_log(n, "%s: %s; keyframe requested", n->server_name, err.msg);
-        return;
-    }
-    pthread_mutex_lock(&n->lock);
-    if (rc != 0) {
-        n->st.frames_bad++;
-    } else {
-        n->st.frames_ok++;
-    }
-    pthread_mutex_unlock(&n->lock);
-    if (rc != 0) {
-        cli_net_log(n, "%s: frame of %zu bytes dropped: %s", n->server_name, len, err.msg);
-        return;
-    }
-    if (f.hdr.type == WIRE_MSG_KEYFRAME || f.hdr.type == WIRE_MSG_DELTA) {
-        jitter_clock_arrival(&n->clock, (double)f.hdr.server_time_us * 1e-6, recv_s);
-    }
-    if (n->h.on_frame) {
-        n->h.on_frame(n->h.user, &f, n->dec, recv_s);
-    }
-}
-
-void cli_net_poll(cli_net *n)
-{
-    pthread_mutex_lock(&n->lock);
-    cli_net_msg *m = n->in_head;
-    n->in_head = n->in_tail = NULL;
-    n->in_bytes = 0;
-    pthread_mutex_unlock(&n->lock);
-    while (m) {
-        cli_net_msg *next = m->next;
-        switch (m->kind) {
-        case MSG_CONNECT: {
-            /* a fresh decoder: the next keyframe starts the new stream */
-            gale_err err = { 0 };
-            wire_decoder *dec = wire_decoder_create(
-                &(wire_decoder_desc){ .max_trees = n->d.max_trees, .max_modes = n->d.max_modes },
-                &err);
-            if (dec) {
-                wire_decoder_destroy(n->dec);
-                n->dec = dec;
-            }
-            jitter_clock_init(&n->clock);
-            break;
-        }
-        case MSG_TEXT:
-            handle_text(n, (const char *)m->data, m->len);
-            break;
-        case MSG_BINARY:
-            handle_binary(n, m->data, m->len, m->recv_s);
-            break;
-        case MSG_PONG:
-            jitter_clock_pong(&n->clock, m->pong[0], m->pong[1], m->recv_s);
-            break;
-        case MSG_LOST:
-            if (n->h.on_lost) {
-                n->h.on_lost(n->h.user, m->code, (const char *)m->data);
-            }
-            break;
-        default:
-            break;
-        }
-        free(m);
-        m = next;
-    }
-}
-
-/* Queues m from the poller's thread once live. */
-static int send_live(cli_net *n, const ctl_msg *m, const char *what, char *text, size_t cap,
-                     gale_err *err)
-{
-    pthread_mutex_lock(&n->lock);
-    int rc;
-    if (n->st.state != CLI_NET_LIVE) {
-        rc = gale_errf(err, GALE_E_STATE, "%s: %s: not connected", n->server_name, what);
-    } else {
-        rc = queue_ctl(n, m, false, err);
-    }
-    if (rc == 0 && text && cap > 0) {
-        const cli_net_tx *t = &n->tx[(n->tx_head + n->tx_count - 1) % CLI_NET_TX_SLOTS];
-        size_t k = t->len < cap - 1 ? t->len : cap - 1;
-        memcpy(text, t->buf + LWS_PRE, k);
-        text[k] = '\0';
-    }
-    pthread_mutex_unlock(&n->lock);
-    return rc;
-}
-
-int cli_net_send_wall(cli_net *n, const ctl_msg *m, gale_err *err)
-{
-    return send_live(n, m, ctl_type_name(m->type) ? ctl_type_name(m->type) : "wall message",
-                     NULL, 0, err);
-}
-
-int cli_net_send_wind(cli_net *n, const ctl_wind *w, gale_err *err)
-{
-    ctl_msg m = { .type = CTL_WIND };
-    m.u.wind = *w;
-    return send_live(n, &m, "wind command", NULL, 0, err);
-}
-
-int cli_net_send_ctl(cli_net *n, const ctl_msg *m, char *text, size_t cap, gale_err *err)
-{
-    return send_live(n, m, ctl_type_name(m->type) ? ctl_type_name(m->type) : "control message",
-                     text, cap, err);
-}
-
-/* Waits on the fetch (lock held) until it ended and its socket is gone, or until_s. */
-static void fetch_wait(cli_net *n, double until_s)
-{
-    while (!(n->fetch_done && !n->http_open && !n->want_fetch) && mono_s() < until_s) {
-        struct timespec ts;
-        clock_gettime(CLOCK_MONOTONIC, &ts);
-        double t = (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9 + fmin(until_s - mono_s(), 0.05);
-        ts.tv_sec = (time_t)t;
-        ts.tv_nsec = (long)((t - (double)ts.tv_sec) * 1e9);
-        pthread_cond_timedwait(&n->cond, &n->lock, &ts);
-    }
-}
-
-int cli_net_fetch(cli_net *n, const char *path, size_t max_len, double timeout_s, uint8_t **out,
-              size_t *len, gale_err *err)
-{
-    *out = NULL;
-    *len = 0;
-    pthread_mutex_lock(&n->lock);
-    if (n->want_fetch || n->http_open) {
-        pthread_mutex_unlock(&n->lock);
-        return gale_errf(err, GALE_E_STATE, "%s%s: a fetch is already under way", n->server_name,
-                         path);
-    }
-    if (strlen(path) >= sizeof n->fetch_path) {
-        pthread_mutex_unlock(&n->lock);
-        return gale_errf(err, GALE_E_ARG, "%s%s: path longer than %zu bytes", n->server_name,
-                         path, sizeof n->fetch_path - 1);
-    }
-    snprintf(n->fetch_path, sizeof n->fetch_path, "%s", path);
-    n->fetch_len = 0;
-    n->fetch_max = max_len;
-    n->fetch_status = 0;
-    n->fetch_done = false;
-    n->fetch_complete = false;
-    n->fetch_err[0] = '\0';
-    n->want_fetch = true;
-    lws_cancel_service(n->ctx);
-    fetch_wait(n, mono_s() + timeout_s);
-    if (!n->fetch_done || n->want_fetch || n->http_open) {
-        /* past the time: the network thread drops the socket; wait for it to go */
-        const bool started = !n->want_fetch;
-        n->want_fetch = false;
-        n->fetch_abort = true;
-        lws_cancel_service(n->ctx);
-        if (!n->fetch_done) {
-            n->fetch_done = true;
-        }
-        fetch_wait(n, mono_s() + 2.0);
-        size_t got = n->fetch_len;
-        pthread_mutex_unlock(&n->lock);
-        return gale_errf(err, GALE_E_IO, "http://%s%s: timed out after %.1f s (%zu bytes%s)",
-                         n->server_name, path, timeout_s, got, started ? "" : ", not started");
-    }
-    int rc = 0;
-    if (!n->fetch_complete || n->fetch_err[0]) {
-        int code = strstr(n->fetch_err, "body over") ? GALE_E_RANGE : GALE_E_IO;
-        rc = gale_errf(err, code, "http://%s%s: %s", n->server_name, path,
-                       n->fetch_err[0] ? n->fetch_err : "incomplete");
-    } else {
-        *out = n->fetch_buf ? n->fetch_buf : malloc(1);
-        *len = n->fetch_len;
-        n->fetch_buf = NULL;
-        n->fetch_cap = 0;
-        n->fetch_len = 0;
-        rc = *out ? 0 : gale_errf(err, GALE_E_NOMEM, "cli_net_fetch: no memory");
-    }
-    pthread_mutex_unlock(&n->lock);
-    return rc;
-}
-
-int cli_net_fetch_asset(cli_net *n, const char *path, const char *hash_hex, size_t max_len,
-                        double timeout_s, uint8_t **out, size_t *len, gale_err *err)
-{
-    int rc = cli_net_fetch(n, path, max_len, timeout_s, out, len, err);
-    if (rc) {
-        return rc;
-    }
-    char what[400];
-    snprintf(what, sizeof what, "http://%s%s", n->server_name, path);
-    rc = asset_cache_verify(hash_hex, *out, *len, what, err);
-    if (rc) {
-        free(*out);
-        *out = NULL;
-        *len = 0;
-    }
-    return rc;
-}
-
-cli_net_stats cli_net_get_stats(const cli_net *n)
-{
-    cli_net *m = (cli_net *)n; /* the lock, not the state, changes */
-    pthread_mutex_lock(&m->lock);
-    cli_net_stats st = n->st;
-    pthread_mutex_unlock(&m->lock);
-    return st;
-}
-
-const jitter_clock *cli_net_clock(const cli_net *n)
-{
-    return &n->clock;
-}
-
-void cli_net_drop(cli_net *n)
-{
-    pthread_mutex_lock(&n->lock);
-    if (n->ws) {
-        n->kill = true;
-        lws_cancel_service(n->ctx);
-    }
-    pthread_mutex_unlock(&n->lock);
 }
