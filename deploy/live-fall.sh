@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Pictures of a tree falling, caught live (README.md "Pictures of a fall, live"): gale-server
+# Pictures of a tree falling, caught live (client/CLIENT.md "Pictures of a fall, live"): gale-server
 # on SCENE (default configs/scenes/clearing.json, a few trees in the open) in calm, a
 # headless gale-client that frames the first fall it sees begin (--fall-shots), and gale-ctl
 # dialling SPEED m/s (default 45: pines uproot, oaks and palms stand; server/PHYSICS.md

@@ -1,4 +1,4 @@
-/* Crowns against the storm sky (storm_fx.h; README, gale-client --storm-fx): a 1280x720
+/* Crowns against the storm sky (storm_fx.h; client/CLIENT.md, gale-client --storm-fx): a 1280x720
  * kiosk frame of a row of trees seen from the street, rendered under Mesa llvmpipe at a
  * breeze, 30 m/s and 50 m/s (Category 3), measures how far the crowns stand out from the sky
  * beside them, and that the 50 m/s frame still reads as a storm (darker than the calm one).

@@ -1,4 +1,4 @@
-/* --fall-shots: pictures of a fall caught live by a headless gale-client (README.md
+/* --fall-shots: pictures of a fall caught live by a headless gale-client (client/CLIENT.md
  * "Pictures of a fall, live"). Which tree falls is the server's: the first fall this client
  * sees begin (of those starting together, the one with the clearest view) is framed from
  * the side (camera_preset_fall) and shot at the chosen times after its stem gave way, on the
