@@ -1,5 +1,5 @@
 /* The row coder in 16-bit lanes, ROWS_GROUPS groups of 8 modes a register: included by
- * msg_state.c once per width, with ROWS_GROUPS, ROWS_NAME and the lane orders below
+ * msg_state_rows.c once per width, with ROWS_GROUPS, ROWS_NAME and the lane orders below
  * defined, and undefined again at the end.
  *
  * It codes up to ROWS_GROUPS groups of one row at once: the residuals against each

@@ -173,8 +173,8 @@ int wire_encode_snapshot_lanes(const wire_header *h, uint32_t seq, const wire_sc
                                const wire_state *prev2, const wire_lanes *lanes,
                                wire_frame_out *out);
 
-/* The lanes' layout of one pass (msg_state.c): lane i writes trees [t[i], t[i + 1]) of
- * frame f from at[f][i]. Private to msg_state.c. */
+/* The lanes' layout of one pass (msg_state_lanes.c): lane i writes trees [t[i], t[i + 1])
+ * of frame f from at[f][i]. Private to msg_state_lanes.c and msg_state_enc.c. */
 typedef struct wire_lane_job {
     const wire_scene *sc;
     const wire_state *cur, *prev, *prev2;
@@ -199,7 +199,7 @@ typedef struct wire_lane_job {
  * split and order), wire_snapshot_finish moves them together. The bytes, lengths and
  * error are wire_encode_snapshot_lanes's. Caller-owned, not moved between the calls; the
  * header is copied, the scene, states, lanes and out borrowed until finish. Fields
- * private to msg_state.c. */
+ * private to msg_state_enc.c. */
 typedef struct wire_snapshot_job {
     wire_header h;
     uint32_t seq;

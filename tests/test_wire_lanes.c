@@ -498,7 +498,7 @@ static void test_values_reference(void)
 int main(void)
 {
     RUN(test_lanes_same_bytes);
-    /* each path of the encoder (msg_state.c rows_groups): 16-bit lanes four and two
+    /* each path of the encoder (msg_state_rows.c rows_groups): 16-bit lanes four and two
        groups a register, and the 32-bit pairs alone */
     static const char *const rows[] = { "4", "2", "0" };
     for (size_t i = 0; i < sizeof rows / sizeof rows[0]; i++) {

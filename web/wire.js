@@ -181,7 +181,7 @@ export class Decoder {
         return f;
     }
 
-    // KEYFRAME / DELTA (PROTOCOL.md; wire_decode_state in protocol/msg_state.c).
+    // KEYFRAME / DELTA (PROTOCOL.md; wire_decode_state in protocol/msg_state_dec.c).
     state(h, r, commit) {
         const key = h.type === MSG.KEYFRAME;
         const where = r.where;
@@ -316,7 +316,7 @@ export class Decoder {
     }
 }
 
-// The values section (PROTOCOL.md "Values"; get_values in protocol/msg_state.c) from byte
+// The values section (PROTOCOL.md "Values"; get_values in protocol/msg_state_dec.c) from byte
 // p of b into q [n_trees × stride]; returns the byte after it. One pass over flat typed
 // arrays with the position in a local: this loop is most of a frame's decode. pq, pq2:
 // the snapshots a predictor 1 or 2 reads (any array when the history lacks them: a
