@@ -21,7 +21,7 @@ uniform vec3 u_wind_uniform;
 uniform vec4 u_storm;
 
 // Data indexed by one integer (per node, tree, leaf, mode): a buffer texture in GLSL 3.30;
-// GLSL ES 3.00 has none, so the browser client (web/render_gl.js) keeps the same texels
+// GLSL ES 3.00 has none, so the browser client (web/render_data.js) keeps the same texels
 // row by row in a 2D texture. Declared GALE_BUF, read with buf_fetch.
 #ifdef GL_ES
 #define GALE_BUF highp sampler2D

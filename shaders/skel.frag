@@ -15,7 +15,7 @@
 uniform GALE_BUF u_vw;   // [(m n_nodes + node) 2 + {0: v, 1: w}]
 uniform GALE_BUF u_node; // rest xyz, parent
 #ifdef GALE_Q_RING
-// The browser blends the interpolation here (web/render_gl.js, web/jitter.js): each
+// The browser blends the interpolation here (web/render_skel.js, web/jitter.js): each
 // snapshot's quantised values Q [tree stride + m] are a layer of u_qring, uploaded once,
 // and q = Σ_k u_qw[m][k] Q_k over the (up to four) snapshots of u_qlayer, u_qw the
 // Hermite weight of snapshot k times its step of mode m for this species (PROTOCOL.md

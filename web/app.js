@@ -7,7 +7,9 @@
 import { Connection } from './conn.js';
 import { fetchAsset } from './asset.js';
 import { Jitter, Clock, blendWeights } from './jitter.js';
-import { Renderer, WebGL2Missing, orbitEye } from './render_gl.js';
+import { Renderer } from './render_gl.js';
+import { WebGL2Missing } from './render_data.js';
+import { orbitEye } from './view_math.js';
 import { stormFxFromWeather, stormFxQualityParse, STORM_FX_LOW } from './storm_fx.js';
 import { DamageFx, DAMAGE } from './damage.js';
 import { weatherLines } from './hud_text.js';
@@ -198,7 +200,7 @@ export class App {
             const t_s = f.hdr.server_time_us * 1e-6;
             this.clock.arrival(t_s, now * 1e-3);
             // Q as decoded into the jitter buffer's copy, later once into the GPU's ring
-            // (web/jitter.js, render_gl.js setMix), dequantised and blended there per frame
+            // (web/jitter.js, render_skel.js setMix), dequantised and blended there per frame
             const t0 = performance.now();
             try {
                 this.jitter.insert(f.hdr.tick, t_s, st.q, st.scene);

@@ -19,7 +19,7 @@
 // rate=HZ (60), swap_lock=1, budget=MS (8), delay=MS (100), as gale-client's --rate,
 // --swap-lock, --budget and --delay; a later joiner takes the group's.
 import { App } from './app.js';
-import { lookAt, mul, orbitEye } from './render_gl.js';
+import { lookAt, mul, orbitEye } from './view_math.js';
 import { tileMatrices, tourAt } from './wall_view.js';
 
 const q = new URLSearchParams(location.search);

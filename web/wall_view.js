@@ -3,7 +3,7 @@
 // wall's eye (Kooima 2008, eqs. 1-10) and the wall's tour camera at a frame's instant.
 // tests/web/test_wall_js.mjs holds these to gale-client's own (tests/web/wall_table.c)
 // for every wall file of configs/walls/.
-import { mul } from './render_gl.js';
+import { mul } from './view_math.js';
 
 // near and far planes of every tile (client/client_frame.c's render_camera)
 export const WALL_Z_NEAR_M = 0.3;

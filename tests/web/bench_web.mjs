@@ -4,7 +4,7 @@
 // stages, median and p95 [ms]: decode (web/wire.js) and insert (the copy of the quantised
 // values into the jitter buffer, web/jitter.js), per snapshot; interp (the Hermite weights
 // and the skeleton pass's per-species weights: the GPU dequantises and blends) and upload
-// (of the snapshots a frame is the first to blend into the GPU's ring, web/render_gl.js
+// (of the snapshots a frame is the first to blend into the GPU's ring, web/render_skel.js
 // setMix), per drawn frame; page load to the first drawn frame; bytes fetched (pages,
 // shaders, assets over HTTP, the WebSocket stream). The draw itself is capped at the
 // --draw nearest trees (a software GPU draws a tree in tens of milliseconds); every tree

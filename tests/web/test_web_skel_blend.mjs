@@ -1,5 +1,5 @@
 // The browser's skeleton pass, which blends up to four snapshots' quantised values itself
-// (shaders/skel.frag GALE_Q_RING, web/render_gl.js setMix), against the same pass fed q the
+// (shaders/skel.frag GALE_Q_RING, web/render_skel.js setMix), against the same pass fed q the
 // native client's way (dequantised per snapshot, blended on the CPU in double, uploaded as
 // floats: client/app/client_stream.c, client/playout/jitter.c), on a real gale-server's gusty clearing:
 // at a time between two snapshots with a neighbour on each side, every drawn node stands
