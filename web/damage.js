@@ -9,19 +9,10 @@
 // azimuth, the broken branches' cut lists, and the pieces that broke off as tumbling debris
 // (web/debris_path.js). The formulas are the C's;
 // tests/web/test_damage_js.mjs holds them to the C (gale-web-damage-table).
-
-// hash_mix32 of protocol/hash.h (lowbias32), the same bits as shaders/common.glsl hash_u.
-export function hashMix32(x) {
-    x = (x ^ (x >>> 16)) >>> 0;
-    x = Math.imul(x, 0x7feb352d) >>> 0;
-    x = (x ^ (x >>> 15)) >>> 0;
-    x = Math.imul(x, 0x846ca68b) >>> 0;
-    return (x ^ (x >>> 16)) >>> 0;
-}
-
-export const DAMAGE = { BRANCH: 1, SNAP: 2, UPROOT: 3, STRIP: 4, LEVELS: 32 }; // protocol/wire.h
+import { hashMix32 } from './hash.js';
 import { DebrisPath, debrisFrameMatrix, debrisFrameAngles } from './debris_path.js';
 
+export const DAMAGE = { BRANCH: 1, SNAP: 2, UPROOT: 3, STRIP: 4, LEVELS: 32 }; // protocol/wire.h
 export const DAMAGE_RECENT_S = 3.0;          // client/damage_clock.h
 export const MAX_DEBRIS = 64;                // RENDER_MAX_DEBRIS (client/render.h)
 export const TIP_FALL = { G_MS2: 9.81, LEAN0_RAD: 0.05, LYING_RAD: 1.536, BREAK_MIN_M: 0.5, BREAK_SPAN_M: 1.0 }; // client/tip_fall.h

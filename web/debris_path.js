@@ -5,7 +5,7 @@
 // from a hash of (tree, node) and the motion is integrated in fixed steps from the moment
 // it broke, as in the C; tests/web/test_damage_js.mjs holds it to the C
 // (gale-web-damage-table). Matrices column-major 3×3, r[3 col + row].
-import { hashMix32 } from './damage.js';
+import { hashMix32 } from './hash.js';
 
 export const DEBRIS = { DT_S: 1 / 120, SETTLE_S: 0.6, LIE_S: 45, SINK_S: 6, MAX_FALL_S: 30 };
 

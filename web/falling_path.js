@@ -5,7 +5,7 @@
 // tests/web/test_damage_js.mjs holds it to the C (gale-web-damage-table) sample by sample.
 // Then a leaf's variation from its seed, the evaluation with path reuse, and the landing
 // time, as falling_path.c and shaders/fall.vert compute them.
-import { hashMix32 } from './damage.js';
+import { hashMix32 } from './hash.js';
 
 const f = Math.fround;
 export const FALL_MAX_POINTS = 8;

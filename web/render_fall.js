@@ -1,7 +1,7 @@
 // Falling leaves (client/render_fall.c): the shared falling-leaf path as a texture, the
 // ring of released leaves, each placed from its tree's pose and the streamed wind, and
 // their draw (fall.vert/.frag). Renderer (web/render_gl.js) takes these methods as its own.
-import { hashMix32 } from './damage.js';
+import { hashMix32 } from './hash.js';
 import { fallingPathBuild, fallingVar, fallingPathLandTime } from './falling_path.js';
 import { RU } from './render_data.js';
 import { LEAF_ASPECT } from './render_species.js';
