@@ -14,7 +14,7 @@ import { stormFxFromWeather, stormFxQualityParse, STORM_FX_LOW } from './storm_f
 import { DamageFx, DAMAGE } from './damage.js';
 import { weatherLines } from './hud_text.js';
 
-const LEAVES_PER_FRAME = 4096; // CLIENT_LEAVES_PER_FRAME (client/client.h): more are thinned
+const LEAVES_PER_FRAME = 4096; // CLIENT_LEAVES_PER_FRAME (client/app/client.h): more are thinned
 
 function percentile(a, p) {
     if (!a.length) return null;
@@ -111,7 +111,7 @@ export class App {
         const stride = Math.max(...w.species.map((s) => s.n_modes));
         this.stride = stride;
         this.clock.reset();
-        // the scene's centre and extent: the camera of client/client_scene.c
+        // the scene's centre and extent: the camera of client/app/client_scene.c
         const n = w.instances.length;
         const c = [0, 0, 0];
         for (const r of w.instances) for (let k = 0; k < 3; k++) c[k] += r[1 + k] / n;
@@ -234,7 +234,7 @@ export class App {
     }
 
     // LEAVES seeds released from the trees' pose now on screen, at their spawn time on the
-    // server clock (client/client_stream.c take_leaves).
+    // server clock (client/app/client_stream.c take_leaves).
     takeLeaves(f) {
         const hz = this.welcome.tick_hz > 0 ? this.welcome.tick_hz : 60, t_hdr = f.hdr.server_time_us * 1e-6;
         for (let i = 0; i < f.leaves.length; i++) {
@@ -286,7 +286,7 @@ export class App {
     camera() {
         if (this.o.camera) return this.o.camera(this);
         const c = this.cam;
-        // the orbit's subject: the point it turns about (client/client_frame.c)
+        // the orbit's subject: the point it turns about (client/app/client_frame.c)
         return { eye: orbitEye(c.target, c.distance, c.yaw, c.pitch), target: c.target, fov_y_deg: c.fov_y_deg, subject_m: c.distance };
     }
 

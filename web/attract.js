@@ -1,4 +1,4 @@
-// Attract mode of the kiosk page, as gale-client's (client/attract.c, camera_preset.c):
+// Attract mode of the kiosk page, as gale-client's (client/kiosk/attract.c, camera_preset.c):
 // after idle_s without a touch the page lets go of its dial (the scene's own scenarios
 // and playlist come back) and the camera tours the presets (street, garden, roof, aerial,
 // CAMERA_TOUR_STOP_S each, turning a degree a second); the next touch wakes it and is not

@@ -1,11 +1,11 @@
-// Storm damage in the browser, as gale-client shows it (client/client_damage.c; PROTOCOL.md
+// Storm damage in the browser, as gale-client shows it (client/app/client_damage.c; PROTOCOL.md
 // "DAMAGE"; server/PHYSICS.md "Storm damage"): the receiver's picture of the damage
 // (protocol/damage_view.c: per tree standing, snapped or uprooted, its fall azimuth and
 // leaf level, and the sorted set of broken branches), when an event happened on the server
-// clock and whether it is recent enough to animate (client/damage_clock.c), the stem tipping
-// over as a rigid pole (client/tip_fall.c) about the break of a snapped stem
+// clock and whether it is recent enough to animate (client/motion/damage_clock.c), the stem tipping
+// over as a rigid pole (client/motion/tip_fall.c) about the break of a snapped stem
 // (tip_fall_break_m) or the base of an uprooted one, and what the renderer is given: per
-// tree the code of u_trees slot 1 .z (render_tree_code, client/render_internal.h) and the
+// tree the code of u_trees slot 1 .z (render_tree_code, client/render/render_internal.h) and the
 // azimuth, the broken branches' cut lists, and the pieces that broke off as tumbling debris
 // (web/debris_path.js). The formulas are the C's;
 // tests/web/test_damage_js.mjs holds them to the C (gale-web-damage-table).
@@ -13,9 +13,9 @@ import { hashMix32 } from './hash.js';
 import { DebrisPath, debrisFrameMatrix, debrisFrameAngles } from './debris_path.js';
 
 export const DAMAGE = { BRANCH: 1, SNAP: 2, UPROOT: 3, STRIP: 4, LEVELS: 32 }; // protocol/wire.h
-export const DAMAGE_RECENT_S = 3.0;          // client/damage_clock.h
-export const MAX_DEBRIS = 64;                // RENDER_MAX_DEBRIS (client/render.h)
-export const TIP_FALL = { G_MS2: 9.81, LEAN0_RAD: 0.05, LYING_RAD: 1.536, BREAK_MIN_M: 0.5, BREAK_SPAN_M: 1.0 }; // client/tip_fall.h
+export const DAMAGE_RECENT_S = 3.0;          // client/motion/damage_clock.h
+export const MAX_DEBRIS = 64;                // RENDER_MAX_DEBRIS (client/render/render.h)
+export const TIP_FALL = { G_MS2: 9.81, LEAN0_RAD: 0.05, LYING_RAD: 1.536, BREAK_MIN_M: 0.5, BREAK_SPAN_M: 1.0 }; // client/motion/tip_fall.h
 
 // wire_damage_leaf_kept (protocol/wire.h): whether leaf slot `slot` of tree `tree` stays on a
 // crown with `level` of 32 left.
@@ -52,7 +52,7 @@ export function tipFallBreak_m(tree) {
     return Math.fround(TIP_FALL.BREAK_MIN_M + Math.fround(TIP_FALL.BREAK_SPAN_M * u));
 }
 
-// damage_cut_mask (client/damage_cut.c): out[i] 1 when no node from i up to the root is one
+// damage_cut_mask (client/motion/damage_cut.c): out[i] 1 when no node from i up to the root is one
 // of cut (keepOnly: the inverse, only the sub-trees of cut); parents come first.
 export function damageCutMask(parent, cut, keepOnly) {
     const n = parent.length, out = new Uint8Array(n);
@@ -62,7 +62,7 @@ export function damageCutMask(parent, cut, keepOnly) {
     return out;
 }
 
-// render_piece_shape (client/render_damage.c): the piece from `node` of asset a at rest: its
+// render_piece_shape (client/render/render_damage.c): the piece from `node` of asset a at rest: its
 // nodes' centroid, its axis from the break to the centroid, the farthest node's distance.
 export function pieceShape(a, node) {
     const m = damageCutMask(a.parent, [node], true);

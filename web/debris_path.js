@@ -1,4 +1,4 @@
-// A broken branch as tumbling debris, client/debris_path.c in the browser (PROTOCOL.md
+// A broken branch as tumbling debris, client/motion/debris_path.c in the browser (PROTOCOL.md
 // "DAMAGE" BRANCH): a rigid piece that leaves the tree where it broke, falls under gravity
 // with quadratic drag relative to the streamed wind (a = g + k |u - v| (u - v)), spins about
 // an axis of its own, lands, settles flat, lies, then sinks away. Everything random comes

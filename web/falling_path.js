@@ -1,4 +1,4 @@
-// The one shared falling-leaf path of client/falling_path.c (Vazquez 2008 sections
+// The one shared falling-leaf path of client/motion/falling_path.c (Vazquez 2008 sections
 // 3.2-4.2) in the browser: the same falling-plate simulation in float32 arithmetic, every
 // operation rounded as C rounds it (Math.fround of a double result is the correctly
 // rounded float of +, -, ×, ÷ and sqrt), so the page draws the path gale-client draws;

@@ -1,4 +1,4 @@
-// House meshes of the browser client, as gale-client's (client/render_house.c): an
+// House meshes of the browser client, as gale-client's (client/render/render_house.c): an
 // obstacle box of the welcome ([min x, y, z, max x, y, z], metres, z up) as walls up to
 // the eaves, gable ends and a pitched roof whose ridge runs along the longer side, in the
 // vertex layout of shaders/house.vert. tests/web/test_house_js.mjs holds it to the C mesh.

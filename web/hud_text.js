@@ -1,5 +1,5 @@
 // What the HUD says of the server's WEATHER, line for line what gale-client's HUD says
-// (client/hud_format.c hud_format_weather; tests/web/test_hud_js.mjs holds the two
+// (client/hud/hud_format.c hud_format_weather; tests/web/test_hud_js.mjs holds the two
 // together): wind with its gust, the Saffir-Simpson class (or the Beaufort force below
 // tropical storm, where "tropical depression" would mislabel a breeze), where it comes
 // from, and a replay's storm or a steady scenario's name.

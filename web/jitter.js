@@ -1,4 +1,4 @@
-// The jitter buffer and server clock of client/jitter.c, in JavaScript: snapshots held by
+// The jitter buffer and server clock of client/playout/jitter.c, in JavaScript: snapshots held by
 // server time and played out a fixed delay behind it, q interpolated by cubic Hermite with
 // tangents from the parabola through neighbouring snapshots (C1, exact for quadratic
 // motion); the clock offset from the pong of least round trip. The page does not blend the

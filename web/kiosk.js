@@ -1,4 +1,4 @@
-// The kiosk page (/kiosk): the scene with the touch panel of client/kiosk_ui.c as HTML
+// The kiosk page (/kiosk): the scene with the touch panel of client/kiosk/kiosk_ui.c as HTML
 // (PROTOCOL.md "The kiosk's touch panel"). The token is typed once on the setup screen
 // (or given in the URL fragment, #token=..., which never reaches the server) and kept in
 // this browser's localStorage: never in the query string or the page source. After

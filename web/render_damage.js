@@ -1,4 +1,4 @@
-// Storm damage on the GPU (client/render_damage.c): the trees' damage codes, the broken
+// Storm damage on the GPU (client/render/render_damage.c): the trees' damage codes, the broken
 // branches' cut lists, the debris pieces in the slots after the trees, and the root
 // plates and stumps drawn (plate.vert, stump.vert). Renderer (web/render_gl.js) takes
 // these methods as its own.
@@ -60,7 +60,7 @@ export class RendererDamage {
     }
 
     // Root plates of uprooted trees and stumps of snapped ones among the trees drawn
-    // (client/render.c build_lists, render_damage.c render_plates_draw, render_stumps_draw).
+    // (client/render/render.c build_lists, render_damage.c render_plates_draw, render_stumps_draw).
     drawDamage(drawn, t) {
         const gl = this.gl, plates = [], stumps = [];
         for (const i of drawn) {

@@ -1,4 +1,4 @@
-// Falling leaves (client/render_fall.c): the shared falling-leaf path as a texture, the
+// Falling leaves (client/render/render_fall.c): the shared falling-leaf path as a texture, the
 // ring of released leaves, each placed from its tree's pose and the streamed wind, and
 // their draw (fall.vert/.frag). Renderer (web/render_gl.js) takes these methods as its own.
 import { hashMix32 } from './hash.js';
@@ -6,10 +6,10 @@ import { fallingPathBuild, fallingVar, fallingPathLandTime } from './falling_pat
 import { RU } from './render_data.js';
 import { LEAF_ASPECT } from './render_species.js';
 
-const MAX_FALLING = 16384; // render_desc max_falling's default (client/render.c)
+const MAX_FALLING = 16384; // render_desc max_falling's default (client/render/render.c)
 const FALL_FLOATS = 21;    // rs_fall: start, var, drift, q0, look (4 each), shape
 
-// quaternion (x, y, z, w) of an orthonormal basis given as columns (client/render_fall.c)
+// quaternion (x, y, z, w) of an orthonormal basis given as columns (client/render/render_fall.c)
 function quatFromBasis(x, y, z) {
     const tr = x[0] + y[1] + z[2];
     if (tr > 0) {
@@ -30,7 +30,7 @@ function quatFromBasis(x, y, z) {
 
 export class RendererFall {
     // The shared falling-leaf path as a 2-row texture (positions, orientations) and the
-    // ring of released leaves in an instanced vertex buffer (client/render_fall.c).
+    // ring of released leaves in an instanced vertex buffer (client/render/render_fall.c).
     fallInit() {
         const gl = this.gl, p = this.path = fallingPathBuild();
         const px = new Float32Array(8 * p.n);
@@ -63,7 +63,7 @@ export class RendererFall {
     }
 
     // The last WIND slice (PROTOCOL.md "WIND"), as gale-client keeps it for a leaf's drift
-    // (client/client_stream.c take_wind, client/render_wind.c render_wind_at): the mean as
+    // (client/app/client_stream.c take_wind, client/render/render_wind.c render_wind_at): the mean as
     // the uniform wind, the cells on a grid one layer high.
     setWind(w) {
         const n = w.nx * w.ny, v = new Float32Array(3 * n), mean = [0, 0, 0];

@@ -6,10 +6,10 @@
 // on their nodes (leaf.vert/.frag), sky and ground (sky.frag), and in a storm the sky,
 // light, fog and wet crowns of web/storm_fx.js, the welcome's houses (web/house.js,
 // house.vert/.frag) with rain streaks over the frame
-// (rain.vert/.frag, client/render_rain.c), storm damage (trees tipped over or lying, their
+// (rain.vert/.frag, client/render/render_rain.c), storm damage (trees tipped over or lying, their
 // stumps and root plates, crowns stripped, branches gone: web/damage.js gives the trees'
-// codes and cut lists, client/render_damage.c draws the same) and falling leaves on the
-// shared path (web/falling_path.js, fall.vert/.frag, client/render_fall.c). The shaders are the files
+// codes and cut lists, client/render/render_damage.c draws the same) and falling leaves on the
+// shared path (web/falling_path.js, fall.vert/.frag, client/render/render_fall.c). The shaders are the files
 // of shaders/ (web/shaders.js). Here the Renderer with its scene, its offscreen picture and
 // the frame; its other jobs, whose methods it takes as its own, in modules of their own:
 // data textures and texture units (web/render_data.js), species (web/render_species.js),
@@ -219,7 +219,7 @@ export class Renderer {
         this.drawSky(t);
 
         // houses (both faces drawn: the mesh is closed, and thin boxes stay visible);
-        // gale-client's colours (client/render.c)
+        // gale-client's colours (client/render/render.c)
         if (this.houseVerts > 0 && !this.hideHouses) {
             const ph = this.p.house;
             this.setCommon(ph, t);

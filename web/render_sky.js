@@ -1,12 +1,12 @@
 // Sky, light, fog and rain, calm or in the storm's look (web/storm_fx.js): the uniforms
 // every pass shares, the sky and ground behind the scene (sky.frag) and the rain streaks
-// over the frame (rain.vert/.frag, client/render_rain.c). Renderer (web/render_gl.js)
+// over the frame (rain.vert/.frag, client/render/render_rain.c). Renderer (web/render_gl.js)
 // takes these methods as its own.
 import { rainUniforms } from './storm_fx.js';
 import { invert } from './view_math.js';
 import { RU } from './render_data.js';
 
-const FOG_DIST_M = 450; // the native renderer's default fog distance (client/render.c)
+const FOG_DIST_M = 450; // the native renderer's default fog distance (client/render/render.c)
 
 export class RendererSky {
     // Program p in use with what every pass reads: view, eye, sun, sky, ground, fog, storm,
@@ -44,7 +44,7 @@ export class RendererSky {
         gl.depthFunc(gl.LESS);
     }
 
-    // Rain streaks and spray over the frame (client/render_rain.c): one full-screen
+    // Rain streaks and spray over the frame (client/render/render_rain.c): one full-screen
     // triangle of rain.frag, blended, after the scene.
     drawRain(t) {
         const gl = this.gl, fx = this.fx, p = this.p.rain;

@@ -1,8 +1,8 @@
-// A species on the GPU (client/render_species.c): its extent, stump and crown from the
+// A species on the GPU (client/render/render_species.c): its extent, stump and crown from the
 // asset, its correction fields, nodes and leaves as data textures, and its bark mesh with
 // its LODs. Renderer (web/render_gl.js) takes these methods as its own.
 
-export const LEAF_ASPECT = [0.55, 0.16, 1.0]; // render_leaf_aspect, client/render_species.c
+export const LEAF_ASPECT = [0.55, 0.16, 1.0]; // render_leaf_aspect, client/render/render_species.c
 
 export class RendererSpecies {
     // One species (web/asset.js decodeAsset), at index i of the welcome's list.
@@ -26,7 +26,7 @@ export class RendererSpecies {
         s.height = h;
         s.crown_r = cr;
         // the stem at the base, for a snapped tree's stump: the root's radius, tapering as
-        // towards its thickest child (client/render_species.c)
+        // towards its thickest child (client/render/render_species.c)
         s.stem_r_m = a.radius[0];
         s.stem_taper = 0;
         for (let k = 1, best = 0; k < nn; k++) {

@@ -1,6 +1,6 @@
 // The shaders of shaders/, as served by gale-server at /shaders/, compiled for WebGL2:
 // the same sources the native client compiles, each stage given its own preamble here
-// ("#version 300 es" and default precisions) where client/render_shader.c gives
+// ("#version 300 es" and default precisions) where client/render/render_shader.c gives
 // "#version 330 core". common.glsl reads GL_ES to pick 2D textures for buffer data.
 export const PREAMBLE = '#version 300 es\nprecision highp float;\nprecision highp int;\n' +
     'precision highp sampler2D;\nprecision highp sampler3D;\n';
@@ -51,5 +51,5 @@ export async function loadProgram(gl, name, base = '', defines = '') {
     return { id: p, u, name };
 }
 
-// Every program of shaders/ (the list the native client links, client/render.c).
+// Every program of shaders/ (the list the native client links, client/render/render.c).
 export const PROGRAMS = ['skel', 'tree', 'leaf', 'fall', 'sky', 'bill', 'house', 'rain', 'plate', 'stump'];

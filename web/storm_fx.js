@@ -1,6 +1,6 @@
 // Storm look of the browser client: the streamed weather (sustained wind, its direction)
 // mapped to the sky, light, fog and rain the shared shaders take (common.glsl, rain.frag),
-// with the numbers of client/storm_fx.c (its header says what each field means);
+// with the numbers of client/render/storm_fx.c (its header says what each field means);
 // tests/web/test_storm_fx_js.mjs holds the two to the same values.
 
 // quality: off keeps the calm look at any wind; low one layer of rain streaks; high three
@@ -20,7 +20,7 @@ const CALM_ZENITH = [0.30, 0.50, 0.82];
 const CALM_HORIZON = [0.74, 0.82, 0.90];
 const CALM_GROUND = [0.30, 0.40, 0.17];
 // the darkest storm: a grey deck lighter overhead than wet foliage under it, a paler
-// horizon in rain, light through thick cloud (client/storm_fx.c gives the reasons)
+// horizon in rain, light through thick cloud (client/render/storm_fx.c gives the reasons)
 const STORM_SUN = [0.22, 0.23, 0.25];
 const STORM_ZENITH = [0.30, 0.32, 0.35];
 const STORM_HORIZON = [0.40, 0.42, 0.44];
@@ -73,7 +73,7 @@ export function stormFxQualityParse(s) {
     return k < 0 ? null : k;
 }
 
-// Rain streaks lean along the wind across the view (client/render_rain.c): a drop falling
+// Rain streaks lean along the wind across the view (client/render/render_rain.c): a drop falling
 // at about 9 m/s (Gunn & Kinzer 1949) is carried sideways at the wind speed.
 const RAIN_FALL_MS = 9.0;
 const RAIN_SLANT_MAX = 3.0;

@@ -44,7 +44,7 @@ export function invert(m) {
     return Float32Array.from(inv, (x) => x / det);
 }
 
-// The orbit camera of client/camera.c: yaw from +x, pitch up, looking at target.
+// The orbit camera of client/kiosk/camera.c: yaw from +x, pitch up, looking at target.
 export function orbitEye(target, distance, yaw, pitch) {
     const cp = Math.cos(pitch);
     const f = [cp * Math.cos(yaw), cp * Math.sin(yaw), Math.sin(pitch)];

@@ -1,6 +1,6 @@
 // A wall tile (/wall?file=NAME&tile=T): tile T of the wall file configs/walls/NAME.json
 // (served at /walls/), its view the generalized perspective projection of its glass from
-// the wall's eye (web/wall_view.js, as client/wall.c), in the wall's group (PROTOCOL.md
+// the wall's eye (web/wall_view.js, as client/wall/wall.c), in the wall's group (PROTOCOL.md
 // "Wall groups") as gale-client's client_wall_group.c: frame N shows server time epoch +
 // N period − delay on every tile, the camera is the wall's tour at frame N's instant or
 // the kiosk's wall_camera from its frame on.

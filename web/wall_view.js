@@ -1,11 +1,11 @@
-// A wall tile's view (client/wall.c in JavaScript): the tile's corners from a wall file
+// A wall tile's view (client/wall/wall.c in JavaScript): the tile's corners from a wall file
 // (configs/walls/README.md), the generalized perspective projection of its glass from the
 // wall's eye (Kooima 2008, eqs. 1-10) and the wall's tour camera at a frame's instant.
 // tests/web/test_wall_js.mjs holds these to gale-client's own (tests/web/wall_table.c)
 // for every wall file of configs/walls/.
 import { mul } from './view_math.js';
 
-// near and far planes of every tile (client/client_frame.c's render_camera)
+// near and far planes of every tile (client/app/client_frame.c's render_camera)
 export const WALL_Z_NEAR_M = 0.3;
 export const WALL_Z_FAR_M = 3000;
 
