@@ -2,7 +2,9 @@
  * tree ahead is kept, one behind the camera or far to the side is culled; near trees get
  * every mode and mesh LOD 0, distance lowers the mode count (never below 4) and raises the
  * mesh LOD, the billboard band fades in past 80 % of the billboard distance, and a
- * tree's scale stretches those distances. */
+ * tree's scale stretches those distances. The cone a client asks the server for holds
+ * every point of its frustum (PROTOCOL.md's cone rule, no margin), symmetric or off-axis,
+ * and is no wider than the frustum's diagonal. */
 #include <cglm/cglm.h>
 #include <math.h>
 #include <string.h>
@@ -135,6 +137,81 @@ static void test_dither_and_scale(void)
     CHECK(s.flags == (RENDER_LOD_FULL | RENDER_LOD_BILLBOARD));
 }
 
+/* PROTOCOL.md view "frustum": in the cone when out <= 0 and 0 <= along <= far_m. */
+static bool in_cone(const float e[3], const float axis[3], float fov_deg, float far_m,
+                    const float p[3], float slack_m)
+{
+    float r[3] = { p[0] - e[0], p[1] - e[1], p[2] - e[2] };
+    float d2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+    float along = r[0] * axis[0] + r[1] * axis[1] + r[2] * axis[2];
+    float across = sqrtf(fmaxf(d2 - along * along, 0.0f));
+    float h = 0.5f * fov_deg * (float)M_PI / 180.0f;
+    float out = across * cosf(h) - along * sinf(h);
+    return out <= slack_m && along >= -slack_m && along <= far_m + slack_m;
+}
+
+/* Points spread through the frustum of viewproj (clip-space grid mapped to the world). */
+static int frustum_points_outside(const mat4 vp, const float e[3], const float axis[3],
+                                  float fov_deg, float far_m)
+{
+    mat4 inv;
+    glm_mat4_inv((vec4 *)vp, inv);
+    int outside = 0;
+    for (int i = 0; i <= 8; i++) {
+        for (int j = 0; j <= 8; j++) {
+            for (int k = 0; k <= 8; k++) {
+                vec4 c = { -1.0f + 0.25f * (float)i, -1.0f + 0.25f * (float)j,
+                           -1.0f + 0.25f * (float)k, 1.0f }, w;
+                glm_mat4_mulv(inv, c, w);
+                float p[3] = { w[0] / w[3], w[1] / w[3], w[2] / w[3] };
+                /* float slack: 1e-4 of the distance */
+                float slack = 1e-4f * sqrtf((p[0] - e[0]) * (p[0] - e[0]) +
+                                            (p[1] - e[1]) * (p[1] - e[1]) +
+                                            (p[2] - e[2]) * (p[2] - e[2]));
+                outside += !in_cone(e, axis, fov_deg, far_m, p, slack);
+            }
+        }
+    }
+    return outside;
+}
+
+static void test_view_cone(void)
+{
+    /* symmetric: 50° vertical at 16:9, looking down the street and a little down */
+    vec3 e = { 3.0f, -40.0f, 1.75f }, tgt = { 10.0f, 30.0f, 0.0f }, up = { 0.0f, 0.0f, 1.0f };
+    mat4 view, proj, vp;
+    glm_lookat(e, tgt, up, view);
+    glm_perspective(glm_rad(50.0f), 16.0f / 9.0f, 0.3f, 3000.0f, proj);
+    glm_mat4_mul(proj, view, vp);
+    float axis[3], fov, far_m;
+    CHECK(render_cull_cone((float *)vp, e, axis, &fov, &far_m));
+    float th = tanf(glm_rad(25.0f)), tw = th * 16.0f / 9.0f;
+    float diag_deg = 2.0f * atanf(sqrtf(th * th + tw * tw)) * 180.0f / (float)M_PI;
+    CHECK_NEAR(fov, diag_deg, 0.01f);
+    vec3 fwd;
+    glm_vec3_sub(tgt, e, fwd);
+    glm_vec3_normalize(fwd);
+    CHECK_NEAR(axis[0] * fwd[0] + axis[1] * fwd[1] + axis[2] * fwd[2], 1.0f, 1e-5f);
+    /* the far plane, square to the axis (1e-3: the float inverse of a 0.3-3000 m depth) */
+    CHECK_NEAR(far_m, 3000.0f, 3.0f);
+    CHECK(frustum_points_outside(vp, e, axis, fov, far_m) == 0);
+    /* a cone a degree narrower leaves the frustum's edges out */
+    CHECK(frustum_points_outside(vp, e, axis, fov - 1.0f, far_m) > 0);
+
+    /* off-axis: a wall tile's frustum, its eye off the tile's centre */
+    mat4 off;
+    glm_frustum(-0.05f, 0.25f, -0.02f, 0.12f, 0.3f, 3000.0f, off);
+    glm_mat4_mul(off, view, vp);
+    CHECK(render_cull_cone((float *)vp, e, axis, &fov, &far_m));
+    CHECK(frustum_points_outside(vp, e, axis, fov, far_m) == 0);
+    CHECK(frustum_points_outside(vp, e, axis, fov - 1.0f, far_m) > 0);
+    CHECK(fov > 1.0f && fov < 179.0f);
+
+    /* no inverse: refused */
+    mat4 zero = { { 0 } };
+    CHECK(!render_cull_cone((float *)zero, e, axis, &fov, &far_m));
+}
+
 int main(void)
 {
     setup();
@@ -143,5 +220,6 @@ int main(void)
     RUN(test_mode_floor);
     RUN(test_billboard_band);
     RUN(test_dither_and_scale);
+    RUN(test_view_cone);
     return check_report();
 }

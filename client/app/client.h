@@ -37,6 +37,11 @@ _Static_assert(CLIENT_MAX_SPECIES <= RENDER_MAX_SPECIES,
  * time to find), more than its falling-leaf ring shows; past the budget seeds are left
  * out, so the frame's cost stays bounded however slowly it draws. */
 #define CLIENT_LEAVES_PER_FRAME 4096u
+/* The jitter buffer's snapshots: 64 on a small scene; on a large one as many as fit this
+ * budget (100,000 trees of 32 modes: 12.8 MB a snapshot, 20 held, 0.67 s at 30 Hz, well
+ * past the playout delay), never fewer than 4. */
+#define CLIENT_JITTER_SNAPSHOTS 64u
+#define CLIENT_JITTER_BYTES (256u << 20)
 
 typedef struct client_args {
     const char *url;
@@ -66,6 +71,7 @@ typedef struct client_args {
     const char *captions;   /* caption table file (caption.h); NULL = built-in English */
     double attract_s;       /* kiosk: idle seconds before attract mode; 0 = default 90 */
     int storm_fx;           /* enum storm_fx_quality: --storm-fx, default low */
+    bool view_all;          /* --view all: no view sent, the whole scene streamed */
     bool fullscreen;        /* --fullscreen: open on the primary monitor (F11 toggles) */
     const char *touch;      /* --touch SPEC: headless kiosk touches (client_kiosk.c) */
     /* --fall-shots T,T,...: headless pictures T s after a fall caught live
@@ -109,6 +115,15 @@ typedef struct client_species {
     char hash[17];
     int render_id; /* id in gale_render, -1 until loaded */
 } client_species;
+
+/* The view this client last asked for (PROTOCOL.md "view"): the cone around its frustum. */
+typedef struct client_view {
+    bool sent;         /* on the current connection */
+    uint32_t connects; /* cli_net_stats.connects when it was sent */
+    double sent_s;
+    float eye[3], axis[3], fov_deg, far_m, lod_m;
+    uint64_t n_sent; /* views sent this run */
+} client_view;
 
 typedef struct client {
     client_args a;
@@ -156,6 +171,8 @@ typedef struct client {
     struct client_damage_fx *dfx; /* owned: falls and debris under way (client_damage.c) */
 
     bool got_state;
+    double state_t0_s;        /* when the first state arrived */
+    uint64_t state_bytes0;    /* bytes received by then */
     bool live_since_welcome;  /* state taken since the last welcome */
     uint64_t frames_mismatch; /* state frames whose tree count disagreed with the scene */
     uint64_t leaves_bad;
@@ -177,7 +194,20 @@ typedef struct client {
     int n_touches, next_touch;
     bool touch_woke; /* the scripted touch down that woke the kiosk: its lift is no control */
     int win_pos[2], win_size[2];
+    client_view view; /* the view last sent (client_view.c) */
 } client;
+
+/* ---- client_view.c: the view sent as the camera moves ---- */
+
+/* At most 4 views a second, and one only when the eye moved, the view turned or its cone
+ * changed: a camera at rest costs nothing, one in motion a few hundred bytes a second. */
+#define CLIENT_VIEW_MIN_S 0.25
+#define CLIENT_VIEW_MOVE_M 1.0f
+#define CLIENT_VIEW_TURN_DEG 1.0f
+
+/* After a frame: sends the last frame's view when it differs enough from the one sent
+ * (or none was sent on this connection). Nothing with --view all. */
+void client_view_update(client *c, double now);
 
 /* ---- client_damage.c: storm damage on screen ---- */
 

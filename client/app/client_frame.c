@@ -64,6 +64,7 @@ int client_frame_draw(client *c, double now, gale_err *err)
     if (rc_frame != 0) {
         return rc_frame;
     }
+    client_view_update(c, now); /* the stream follows what this frame saw */
     cli_net_stats ns = cli_net_get_stats(c->net);
     double rtt = jitter_clock_rtt(cli_net_clock(c->net));
     hud_state hs = {

@@ -95,8 +95,11 @@ int client_scene_setup(client *c, gale_err *err)
     jitter_destroy(c->jit);
     free(c->snap);
     c->snap = calloc(c->n_values, sizeof(float));
+    size_t fit = CLIENT_JITTER_BYTES / ((size_t)c->n_values * sizeof(float));
+    uint32_t held = fit < CLIENT_JITTER_SNAPSHOTS ? (fit > 4 ? (uint32_t)fit : 4u)
+                                                  : CLIENT_JITTER_SNAPSHOTS;
     c->jit = jitter_create(
-        &(jitter_desc){ .n_values = c->n_values, .capacity = 64, .playout_delay_s = c->a.delay_s },
+        &(jitter_desc){ .n_values = c->n_values, .capacity = held, .playout_delay_s = c->a.delay_s },
         err);
     if (!c->snap || !c->jit) {
         return err && err->code ? err->code : GALE_E_NOMEM;

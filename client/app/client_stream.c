@@ -50,7 +50,7 @@ void client_stream_on_welcome(void *user, const ctl_welcome *w)
             w->n_species, w->n_instances, w->n_obstacles, (double)w->snapshot_hz);
 }
 
-static void take_state(client *c, const wire_frame *f, const wire_decoder *dec)
+static void take_state(client *c, const wire_frame *f, const wire_decoder *dec, double recv_s)
 {
     wire_state st = wire_decoder_state(dec);
     if (st.n_trees != c->w.n_instances) {
@@ -69,6 +69,11 @@ static void take_state(client *c, const wire_frame *f, const wire_decoder *dec)
     if (!c->live_since_welcome) {
         c->live_since_welcome = true;
         fprintf(stderr, "gale-client: receiving state from tick %u\n", f->hdr.tick);
+    }
+    if (!c->got_state) {
+        /* the stream's rate is measured from the first state on (main.c's summary) */
+        c->state_t0_s = recv_s;
+        c->state_bytes0 = cli_net_get_stats(c->net).bytes_rx;
     }
     c->got_state = true;
 }
@@ -130,7 +135,6 @@ static void take_wind(client *c, const wire_wind *w)
 void client_stream_on_frame(void *user, const wire_frame *f, const wire_decoder *dec, double recv_s)
 {
     client *c = user;
-    (void)recv_s;
     /* f->types: one frame, or every frame of a BUNDLE (PROTOCOL.md "BUNDLE") */
     if (f->types & (1u << WIRE_MSG_WIND)) {
         take_wind(c, &f->wind);
@@ -146,7 +150,7 @@ void client_stream_on_frame(void *user, const wire_frame *f, const wire_decoder 
         return; /* the decoder keeps its state; the jitter buffer starts once assets are in */
     }
     if (f->types & ((1u << WIRE_MSG_KEYFRAME) | (1u << WIRE_MSG_DELTA))) {
-        take_state(c, f, dec);
+        take_state(c, f, dec, recv_s);
     }
     if (f->types & (1u << WIRE_MSG_LEAVES)) {
         take_leaves(c, f);

@@ -68,6 +68,9 @@ static void usage(FILE *f)
             "                         roof, aerial, or tour (each in turn, for attract mode)\n"
             "  --storm-fx Q           storm look from the streamed weather: off, low (one layer\n"
             "                         of rain, the default) or high\n"
+            "  --view MODE            follow (the default): ask the server for the trees in\n"
+            "                         the camera's view only, few modes past the billboards;\n"
+            "                         all: the whole scene at full modes\n"
             "  --fullscreen           open fullscreen on the primary monitor (F11 toggles)\n"
             "  --touch SPEC           headless kiosk: touches on its panel, one a frame:\n"
             "                         \"tap X,Y; down X,Y; move X,Y; up X,Y; wait\" (pixels)\n"
@@ -82,7 +85,7 @@ static void usage(FILE *f)
             "      button, top right), kiosk: + / - dial the wind, touch the panel (wind dial,\n"
             "      direction, scenarios, replay, reset; the cursor is hidden), Esc quit.\n"
             "Exit status: 0 ok, 2 bad arguments, 3 no state received (headless), 4 kiosk\n"
-            "token refused by the server, 1 other.\n");
+            "token refused by the server, 5 the scene does not fit in memory, 1 other.\n");
 }
 
 /* --tile and --wall belong to wall tiles: refused with another role; --wall alone sets it. */
@@ -303,6 +306,12 @@ static int parse_args(int argc, char **argv, client_args *a)
                 return -1;
             }
             a->storm_fx = (int)q;
+        } else if (strcmp(o, "--view") == 0) {
+            if (strcmp(v, "follow") != 0 && strcmp(v, "all") != 0) {
+                fprintf(stderr, "gale-client: --view: expected follow or all, got \"%s\"\n", v);
+                return -1;
+            }
+            a->view_all = strcmp(v, "all") == 0;
         } else {
             fprintf(stderr, "gale-client: unknown option \"%s\" (see --help)\n", o);
             return -1;
@@ -434,6 +443,16 @@ int main(int argc, char **argv)
         }
         if (c.scene_pending) {
             if (client_scene_setup(&c, &err) != 0) {
+                if (err.code == GALE_E_NOMEM) {
+                    /* the scene is past what this machine holds: a new connection would
+                       bring the same scene, so say so once and stop */
+                    fprintf(stderr,
+                            "gale-client: %s: the scene's %u trees do not fit in this "
+                            "machine's memory (%s); not retrying.\n",
+                            cli_net_server_name(c.net), c.w.n_instances, err.msg);
+                    status = 5;
+                    break;
+                }
                 fprintf(stderr, "gale-client: scene: %s\n", err.msg);
                 gale_err_clear(&err);
                 cli_net_drop(c.net); /* try again on the next connection */
@@ -548,14 +567,19 @@ int main(int argc, char **argv)
     }
     {
         cli_net_stats ns = cli_net_get_stats(c.net);
+        double since_s = mono_s() - c.state_t0_s;
+        double stream_bps = c.got_state && since_s > 0.0
+                                ? (double)(ns.bytes_rx - c.state_bytes0) / since_s
+                                : 0.0;
         fprintf(stderr,
                 "gale-client: frames ok %llu, bad %llu, gaps %llu, control bad %llu, "
                 "tree-count mismatches %llu, connects %u; frames left unread %llu, leaf "
-                "seeds left out %llu\n",
+                "seeds left out %llu; views sent %llu; stream %.0f bytes/s\n",
                 (unsigned long long)ns.frames_ok, (unsigned long long)ns.frames_bad,
                 (unsigned long long)ns.frames_gap, (unsigned long long)ns.ctl_bad,
                 (unsigned long long)c.frames_mismatch, ns.connects,
-                (unsigned long long)ns.inbox_dropped, (unsigned long long)c.leaves_thinned);
+                (unsigned long long)ns.inbox_dropped, (unsigned long long)c.leaves_thinned,
+                (unsigned long long)c.view.n_sent, stream_bps);
     }
 done:
     hud_destroy(c.hud);

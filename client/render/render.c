@@ -49,7 +49,7 @@ render *render_create(const render_desc *desc, gale_err *err)
         d->fog_dist = 450.0f;
     }
     if (d->width < 1 || d->height < 1 || d->width > 16384 || d->height > 16384 ||
-        d->max_trees > (1u << 22) || d->max_falling > (1u << 22) || !(d->lod_mode_dist > 0.0f) ||
+        d->max_trees > RENDER_MAX_TREES || d->max_falling > (1u << 22) || !(d->lod_mode_dist > 0.0f) ||
         !(d->lod_billboard_dist > 0.0f) || !(d->fog_dist > 0.0f)) {
         gale_errf(err, GALE_E_ARG,
                   "render_create: size %dx%d (1..16384), max_trees %u, "
@@ -473,6 +473,13 @@ int render_resize(render *r, int width, int height, gale_err *err)
     r->w = width;
     r->h = height;
     return render_target_create(r, err);
+}
+
+void render_last_view(const render *r, float viewproj[16], float eye[3], float *billboard_m)
+{
+    memcpy(viewproj, r->viewproj, 16 * sizeof(float));
+    memcpy(eye, r->eye, 3 * sizeof(float));
+    *billboard_m = r->desc.lod_billboard_dist;
 }
 
 void render_size(const render *r, int *width, int *height)

@@ -26,7 +26,7 @@ typedef struct render_desc {
     const char *title;         /* window title; NULL = "gale" */
     const char *shader_dir;    /* where the .vert/.frag files are read at run time;
                                   NULL = $GALE_SHADER_DIR, else GALE_SOURCE_DIR "/shaders" */
-    uint32_t max_trees;        /* capacity of instances; 0 = 8192 */
+    uint32_t max_trees;        /* instances held at first; 0 = 8192; grows to the scene */
     uint32_t max_falling;      /* ring of falling + landed leaves; 0 = 16384. The oldest
                                   record is reused when full (landed leaves kept up to this) */
     float lod_mode_dist;       /* distance [m] where the mode count starts to drop; 0 = 40 */
@@ -114,7 +114,9 @@ _Static_assert(RENDER_MAX_SPECIES >= WIRE_MAX_SPECIES,
 int render_add_species(render *r, const asset *a, gale_err *err);
 
 /* Sets the scene's trees (copied). Instance index = tree index for q and leaf seeds.
- * Resets q to zero and clears falling leaves. 0 or negative GALE_E_*. */
+ * Resets q to zero and clears falling leaves; the per-tree storage grows to n (at most
+ * RENDER_MAX_TREES). 0 or negative GALE_E_* (GALE_E_NOMEM: no scene is held then). */
+#define RENDER_MAX_TREES (1u << 22)
 int render_set_instances(render *r, uint32_t n, const render_instance *inst, gale_err *err);
 /* Storm damage of tree t, applied at the next render_trees_commit: tipped by fall_rad (a
  * snapped or uprooted tree lying on the ground) and its crown thinned to the leaf slots
@@ -231,6 +233,10 @@ void render_wind_sample(const render *r, const float p[3], float out[3]);
  * k - n_trees: out[n_nodes] 1 drawn, 0 hidden (a broken-off sub-tree; on a piece, every
  * node outside it), to compare with damage_cut_mask. */
 int render_read_attached(render *r, uint32_t k, uint8_t *out, gale_err *err);
+
+/* What the last frame saw: its view-projection matrix (column-major) and eye [m], and the
+ * distance [m, at unit scale] past which a tree is drawn as a billboard alone. */
+void render_last_view(const render *r, float viewproj[16], float eye[3], float *billboard_m);
 
 /* Counters of the last frame. */
 render_stats render_get_stats(const render *r);

@@ -65,3 +65,55 @@ render_tree_lod render_cull_tree(const float planes[6][4], const float eye[3],
     }
     return out;
 }
+
+bool render_cull_cone(const float viewproj[16], const float eye[3], float axis[3],
+                      float *fov_deg, float *far_m)
+{
+    mat4 vp, inv;
+    memcpy(vp, viewproj, sizeof vp);
+    if (!(fabsf(glm_mat4_det(vp)) > 0.0f)) {
+        return false;
+    }
+    glm_mat4_inv(vp, inv);
+    /* the frustum's corners, near (z = -1) and far (z = +1) in clip space, in the world */
+    float corner[8][3], dir[8][3];
+    float sum[3] = { 0.0f, 0.0f, 0.0f };
+    for (int k = 0; k < 8; k++) {
+        vec4 clip = { (k & 1) ? 1.0f : -1.0f, (k & 2) ? 1.0f : -1.0f, (k & 4) ? 1.0f : -1.0f,
+                      1.0f };
+        vec4 w;
+        glm_mat4_mulv(inv, clip, w);
+        if (!(fabsf(w[3]) > 0.0f)) {
+            return false;
+        }
+        float len2 = 0.0f;
+        for (int i = 0; i < 3; i++) {
+            corner[k][i] = w[i] / w[3];
+            dir[k][i] = corner[k][i] - eye[i];
+            len2 += dir[k][i] * dir[k][i];
+        }
+        float len = sqrtf(len2);
+        for (int i = 0; i < 3; i++) {
+            dir[k][i] = len > 0.0f ? dir[k][i] / len : 0.0f;
+            sum[i] += (k & 4) ? dir[k][i] : 0.0f; /* the far corners span the view */
+        }
+    }
+    float n = sqrtf(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
+    if (!(n > 0.0f)) {
+        return false;
+    }
+    float min_cos = 1.0f, depth = 0.0f;
+    for (int i = 0; i < 3; i++) {
+        axis[i] = sum[i] / n;
+    }
+    for (int k = 0; k < 8; k++) {
+        float c = dir[k][0] * axis[0] + dir[k][1] * axis[1] + dir[k][2] * axis[2];
+        float d = (corner[k][0] - eye[0]) * axis[0] + (corner[k][1] - eye[1]) * axis[1] +
+                  (corner[k][2] - eye[2]) * axis[2];
+        min_cos = fminf(min_cos, c);
+        depth = fmaxf(depth, d);
+    }
+    *fov_deg = 2.0f * acosf(fmaxf(-1.0f, fminf(1.0f, min_cos))) * (180.0f / (float)M_PI);
+    *far_m = depth;
+    return true;
+}

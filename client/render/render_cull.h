@@ -5,6 +5,7 @@
 #ifndef GALE_RENDER_CULL_H
 #define GALE_RENDER_CULL_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "render.h"
@@ -46,5 +47,13 @@ void render_cull_planes(const float viewproj[16], float planes[6][4]);
 render_tree_lod render_cull_tree(const float planes[6][4], const float eye[3],
                                  const render_instance *in, const render_cull_species *s,
                                  const render_lod_desc *d);
+
+/* The narrowest cone about the frustum's centre line that holds the whole frustum of a
+ * column-major view-projection matrix (symmetric or off-axis, OpenGL clip conventions),
+ * with its apex at eye: what a client asks the server for (PROTOCOL.md view "frustum", a
+ * cone). axis is a unit vector; fov_deg the full cone angle; far_m the greatest depth of
+ * the frustum along the axis. Returns false for a matrix without an inverse. */
+bool render_cull_cone(const float viewproj[16], const float eye[3], float axis[3],
+                      float *fov_deg, float *far_m);
 
 #endif

@@ -68,9 +68,9 @@ void render_trees_upload(render *r)
 
 int render_set_instances(render *r, uint32_t n, const render_instance *inst, gale_err *err)
 {
-    if (n > r->cap_trees) {
-        return gale_errf(err, GALE_E_RANGE, "render_set_instances: %u trees, max_trees %u", n,
-                         r->cap_trees);
+    if (n > RENDER_MAX_TREES) {
+        return gale_errf(err, GALE_E_RANGE, "render_set_instances: %u trees, at most %u", n,
+                         RENDER_MAX_TREES);
     }
     for (uint32_t i = 0; i < n; i++) {
         if (inst[i].species >= r->n_species) {
@@ -86,6 +86,17 @@ int render_set_instances(render *r, uint32_t n, const render_instance *inst, gal
                              "render_set_instances: tree %u: position, "
                              "yaw or scale not finite or scale < 0",
                              i);
+        }
+    }
+    if (n > r->cap_trees) {
+        /* storage follows the scene: what max_trees gave at create is where it starts; the
+           per-tree arrays are scratch or rewritten below, the GPU buffers grow on upload */
+        uint32_t cap = n + n / 4 < RENDER_MAX_TREES ? n + n / 4 : RENDER_MAX_TREES;
+        if (render_trees_alloc(r, cap, err) < 0) {
+            render_trees_alloc(r, 0, NULL);
+            r->n_trees = 0;
+            return gale_errf(err, GALE_E_NOMEM, "render_set_instances: no memory for %u trees",
+                             n);
         }
     }
     if (n > 0) { /* inst may be NULL for an empty scene */

@@ -1,0 +1,80 @@
+/* gale-client's view (PROTOCOL.md "view"): the cone around the last frame's frustum, sent
+ * as the camera moves, so the server streams the trees this client draws and no others.
+ * Past lod_m every tree is drawn as a billboard alone, which needs no modes: the server
+ * sends those its few (SERVER.md "Views and LOD"). lod_m is the billboard distance at the
+ * scene's largest scale, since the renderer measures that distance in tree units. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "client.h"
+#include "render_cull.h"
+
+static float scene_max_scale(const client *c)
+{
+    float s = 1.0f;
+    for (uint32_t i = 0; i < c->w.n_instances; i++) {
+        s = fmaxf(s, c->w_instances[i].scale);
+    }
+    return s;
+}
+
+static bool differs(const client_view *v, const float eye[3], const float axis[3], float fov_deg,
+                    float far_m)
+{
+    float dx = eye[0] - v->eye[0], dy = eye[1] - v->eye[1], dz = eye[2] - v->eye[2];
+    float turn = axis[0] * v->axis[0] + axis[1] * v->axis[1] + axis[2] * v->axis[2];
+    const float turn_cos = cosf(CLIENT_VIEW_TURN_DEG * (float)M_PI / 180.0f);
+    return dx * dx + dy * dy + dz * dz > CLIENT_VIEW_MOVE_M * CLIENT_VIEW_MOVE_M ||
+           turn < turn_cos || fabsf(fov_deg - v->fov_deg) > CLIENT_VIEW_TURN_DEG ||
+           fabsf(far_m - v->far_m) > CLIENT_VIEW_MOVE_M;
+}
+
+void client_view_update(client *c, double now)
+{
+    if (c->a.view_all || !c->scene_ready) {
+        return;
+    }
+    cli_net_stats ns = cli_net_get_stats(c->net);
+    if (ns.state != CLI_NET_LIVE) {
+        return;
+    }
+    client_view *v = &c->view;
+    if (!v->sent || ns.connects != v->connects) {
+        v->sent = false; /* a new connection streams the whole scene until told */
+    } else if (now - v->sent_s < CLIENT_VIEW_MIN_S) {
+        return;
+    }
+    float vp[16], eye[3], axis[3], fov_deg, far_m, billboard_m;
+    render_last_view(c->r, vp, eye, &billboard_m);
+    if (!render_cull_cone(vp, eye, axis, &fov_deg, &far_m)) {
+        return;
+    }
+    if (v->sent && !differs(v, eye, axis, fov_deg, far_m)) {
+        return;
+    }
+    ctl_msg m = { .type = CTL_VIEW };
+    if (fov_deg > 179.0f) {
+        m.u.view.kind = CTL_VIEW_ALL; /* wider than a cone can say: everything */
+    } else {
+        m.u.view = (ctl_view){ .kind = CTL_VIEW_FRUSTUM,
+                               .fov_deg = fmaxf(fov_deg, 1.0f),
+                               .far_m = fminf(fmaxf(far_m, 0.001f), 1e6f),
+                               .lod_m = billboard_m * scene_max_scale(c) };
+        memcpy(m.u.view.eye, eye, sizeof eye);
+        memcpy(m.u.view.dir, axis, sizeof axis);
+    }
+    gale_err err = { 0 };
+    if (cli_net_send_ctl(c->net, &m, NULL, 0, &err) != 0) {
+        return; /* the send queue is full or the connection went: the next frame retries */
+    }
+    v->sent = true;
+    v->connects = ns.connects;
+    v->sent_s = now;
+    memcpy(v->eye, eye, sizeof eye);
+    memcpy(v->axis, axis, sizeof axis);
+    v->fov_deg = fov_deg;
+    v->far_m = far_m;
+    v->lod_m = m.u.view.lod_m;
+    v->n_sent++;
+}
