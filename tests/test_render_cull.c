@@ -4,7 +4,8 @@
  * mesh LOD, the billboard band fades in past 80 % of the billboard distance, and a
  * tree's scale stretches those distances. The cone a client asks the server for holds
  * every point of its frustum (PROTOCOL.md's cone rule, no margin), symmetric or off-axis,
- * and is no wider than the frustum's diagonal. */
+ * and is no wider than the frustum's diagonal. Culling by cells keeps exactly the trees
+ * the test of each tree keeps, from cameras all over a scattered forest. */
 #include <cglm/cglm.h>
 #include <math.h>
 #include <string.h>
@@ -212,6 +213,73 @@ static void test_view_cone(void)
     CHECK(!render_cull_cone((float *)zero, e, axis, &fov, &far_m));
 }
 
+static uint32_t lcg(uint32_t *x)
+{
+    *x = *x * 1664525u + 1013904223u;
+    return *x >> 8;
+}
+
+static void test_cells_match_trees(void)
+{
+    enum { N = 5000 };
+    static render_instance inst[N];
+    const render_cull_species sps[2] = { sp, { .height_m = 22.0f, .crown_r_m = 5.0f,
+                                               .n_modes = 24, .n_lods = 2 } };
+    uint32_t x = 7;
+    for (uint32_t i = 0; i < N; i++) {
+        inst[i] = (render_instance){ .species = i % 2,
+                                     .pos = { (float)(lcg(&x) % 60000) * 0.01f - 300.0f,
+                                              (float)(lcg(&x) % 40000) * 0.01f - 100.0f,
+                                              (float)(lcg(&x) % 300) * 0.01f },
+                                     .scale = 0.7f + (float)(lcg(&x) % 60) * 0.01f };
+    }
+    render_cells g = { 0 };
+    CHECK(render_cells_build(&g, inst, N, sps) == 0);
+    CHECK(g.n_trees == N && g.n_cells > 16);
+    uint32_t in_cells = 0;
+    for (uint32_t c = 0; c < g.n_cells; c++) {
+        in_cells += g.cell[c].count;
+    }
+    CHECK(in_cells == N);
+    int mismatches = 0, kept_total = 0, inside_cells = 0, out_cells = 0;
+    static uint8_t by_cell[N];
+    for (int cam = 0; cam < 24; cam++) {
+        vec3 e = { (float)(lcg(&x) % 800) - 400.0f, (float)(lcg(&x) % 600) - 300.0f,
+                   1.5f + (float)(lcg(&x) % 200) };
+        vec3 t = { (float)(lcg(&x) % 600) - 300.0f, (float)(lcg(&x) % 400) - 100.0f, 0.0f };
+        vec3 up = { 0.0f, 0.0f, 1.0f };
+        mat4 view, proj, vp;
+        glm_lookat(e, t, up, view);
+        glm_perspective(glm_rad(30.0f + (float)(cam % 4) * 15.0f), 16.0f / 9.0f, 0.3f,
+                        cam % 3 == 0 ? 150.0f : 3000.0f, proj);
+        glm_mat4_mul(proj, view, vp);
+        float pl[6][4];
+        render_cull_planes((float *)vp, pl);
+        memset(by_cell, 0, sizeof by_cell);
+        for (uint32_t c = 0; c < g.n_cells; c++) {
+            int where = render_cell_test(&g.cell[c], pl);
+            inside_cells += where == RENDER_CELL_IN;
+            out_cells += where == RENDER_CELL_OUT;
+            for (uint32_t k = 0; k < g.cell[c].count && where != RENDER_CELL_OUT; k++) {
+                uint32_t i = g.tree[g.cell[c].first + k];
+                render_tree_lod l = render_cull_tree(where == RENDER_CELL_IN ? NULL : pl, e,
+                                                     &inst[i], &sps[inst[i].species], &ld);
+                by_cell[i] = l.flags ? 1 : 0;
+            }
+        }
+        for (uint32_t i = 0; i < N; i++) {
+            render_tree_lod l = render_cull_tree(pl, e, &inst[i], &sps[inst[i].species], &ld);
+            mismatches += (l.flags ? 1 : 0) != by_cell[i];
+            kept_total += by_cell[i];
+        }
+    }
+    CHECK(mismatches == 0);
+    /* the cameras saw some of the forest, some of it wholly, and missed some */
+    CHECK(kept_total > 0 && inside_cells > 0 && out_cells > 0);
+    render_cells_free(&g);
+    CHECK(g.cell == NULL && g.n_cells == 0);
+}
+
 int main(void)
 {
     setup();
@@ -221,5 +289,6 @@ int main(void)
     RUN(test_billboard_band);
     RUN(test_dither_and_scale);
     RUN(test_view_cone);
+    RUN(test_cells_match_trees);
     return check_report();
 }

@@ -4,6 +4,7 @@
  * and carries leaves (render_species.c); falling leaves follow one shared path (Vazquez
  * 2008 sections 3-4, render_fall.c). */
 #include "render_internal.h"
+#include "mono.h"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -184,6 +185,7 @@ void render_destroy(render *r)
     free(r->list);
     free(r->tree_row);
     free(r->tree_group);
+    render_cells_free(&r->cells);
     free(r->tree_lod);
     free(r->wind_v);
     free(r->ring);
@@ -246,18 +248,29 @@ static void build_lists(render *r)
     memset(r->grp_n, 0, sizeof r->grp_n);
     r->n_plates = 0;
     r->n_stumps = 0;
+    /* the cells first: a tree of a cell wholly outside is culled with it, one of a cell
+       wholly inside needs no test of its own (the trees stay in index order, which is the
+       order of their per-tree arrays) */
+    render_cells *cells = &r->cells;
+    for (uint32_t c = 0; c < cells->n_cells; c++) {
+        cells->where[c] = (uint8_t)render_cell_test(&cells->cell[c], planes);
+    }
     /* pass 1: classify and count */
     uint32_t rows = 0;
     const uint32_t n_drawn = r->n_trees + r->n_debris;
     for (uint32_t k = 0; k < n_drawn; k++) {
         const uint32_t i = render_slot_at(r, k);
+        const int where = k < r->n_trees ? cells->where[cells->cell_of[i]] : RENDER_CELL_CUT;
+        if (where == RENDER_CELL_OUT) {
+            r->tree_group[i] = 0;
+            r->stats.trees_culled++;
+            continue;
+        }
         const render_instance *in = &r->inst[i];
         const rs_species *s = &r->sp[in->species];
-        const render_cull_species cs = { .height_m = s->height,
-                                         .crown_r_m = s->crown_r,
-                                         .n_modes = s->n_modes,
-                                         .n_lods = s->n_lods };
-        render_tree_lod tl = render_cull_tree(planes, r->eye, in, &cs, &ld);
+        const render_cull_species cs = render_cull_species_of(s);
+        render_tree_lod tl =
+            render_cull_tree(where == RENDER_CELL_IN ? NULL : planes, r->eye, in, &cs, &ld);
         if (k >= r->n_trees) {
             tl.n_modes = 0.0f; /* a debris piece: its rest pose needs no modes */
         }
@@ -368,7 +381,9 @@ int render_frame(render *r, const render_camera *cam, double time_s, gale_err *e
                           (size_t)r->n_trees * r->q_stride * sizeof(float));
     }
     render_damage_upload(r);
+    const double cull_t0_s = mono_s();
     build_lists(r);
+    r->stats.cull_ms = (mono_s() - cull_t0_s) * 1e3;
     uint32_t rows = r->tree_row[r->cap_trees];
     int maxw = 1;
     for (uint32_t s = 0; s < r->n_species; s++) {
@@ -407,6 +422,7 @@ int render_frame(render *r, const render_camera *cam, double time_s, gale_err *e
         glBindVertexArray(r->house_vao);
         glDrawArrays(GL_TRIANGLES, 0, (GLsizei)r->house_verts);
         r->stats.draw_calls++;
+        r->stats.triangles += r->house_verts / 3u;
     }
     /* trunks and branches */
     glEnable(GL_CULL_FACE);
@@ -440,6 +456,7 @@ int render_frame(render *r, const render_camera *cam, double time_s, gale_err *e
         glBindVertexArray(r->vao_empty);
         glDrawArraysInstanced(GL_TRIANGLES, 0, 6, (GLsizei)n);
         r->stats.draw_calls++;
+        r->stats.triangles += 2u * (uint64_t)n;
     }
     /* falling and landed leaves */
     render_fall_draw(r, t);

@@ -88,6 +88,10 @@ typedef struct render_stats {
     uint32_t falling_live;     /* leaf records in the ring */
     uint64_t leaves_drawn;     /* attached leaves drawn */
     uint32_t stumps;           /* stumps of snapped trees drawn */
+    uint64_t triangles;        /* scene triangles drawn (trees, leaves, billboards, houses,
+                                  damage, falling leaves; not the skeleton pass's quads,
+                                  the sky's and the rain's full-screen triangle) */
+    double cull_ms;            /* CPU time culling and choosing levels of detail [ms] */
 } render_stats;
 
 /* Creates the GL context (window or offscreen) and all GPU state. NULL on failure with

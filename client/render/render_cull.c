@@ -6,6 +6,7 @@
 #include <cglm/cglm.h>
 #include <math.h>
 #include <stdbool.h>
+#include <stdlib.h>
 #include <string.h>
 
 void render_cull_planes(const float viewproj[16], float planes[6][4])
@@ -23,6 +24,120 @@ static float smooth01(float x)
     return x * x * (3.0f - 2.0f * x);
 }
 
+float render_cull_sphere(const render_instance *in, const render_cull_species *s, float c[3])
+{
+    float sc = in->scale > 0.0f ? in->scale : 1.0f;
+    c[0] = in->pos[0];
+    c[1] = in->pos[1];
+    c[2] = in->pos[2] + 0.5f * s->height_m * sc;
+    /* bound: the crown can sway by a good part of its height */
+    return sc * sqrtf(0.25f * s->height_m * s->height_m + s->crown_r_m * s->crown_r_m) * 1.3f;
+}
+
+void render_cells_free(render_cells *g)
+{
+    free(g->cell);
+    free(g->tree);
+    free(g->cell_of);
+    free(g->where);
+    *g = (render_cells){ 0 };
+}
+
+int render_cells_build(render_cells *g, const render_instance *inst, uint32_t n,
+                       const render_cull_species *sp)
+{
+    render_cells_free(g);
+    if (n == 0) {
+        return 0;
+    }
+    float lo[2] = { INFINITY, INFINITY }, hi[2] = { -INFINITY, -INFINITY };
+    for (uint32_t i = 0; i < n; i++) {
+        for (int k = 0; k < 2; k++) {
+            lo[k] = fminf(lo[k], inst[i].pos[k]);
+            hi[k] = fmaxf(hi[k], inst[i].pos[k]);
+        }
+    }
+    /* square cells holding RENDER_CELL_TREES trees on average, at most 1024 a side */
+    float w = fmaxf(hi[0] - lo[0], 1.0f), h = fmaxf(hi[1] - lo[1], 1.0f);
+    float side = sqrtf(w * h * (float)RENDER_CELL_TREES / (float)n);
+    uint32_t nx = (uint32_t)fminf(fmaxf(ceilf(w / side), 1.0f), 1024.0f);
+    uint32_t ny = (uint32_t)fminf(fmaxf(ceilf(h / side), 1.0f), 1024.0f);
+    uint32_t *start = calloc((size_t)nx * ny + 1, sizeof *start);
+    uint32_t *of = malloc((size_t)n * sizeof *of);
+    g->tree = malloc((size_t)n * sizeof *g->tree);
+    render_cell *all = calloc((size_t)nx * ny, sizeof *all);
+    if (!start || !of || !g->tree || !all) {
+        free(start);
+        free(of);
+        free(all);
+        render_cells_free(g);
+        return -1;
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t cx = (uint32_t)fminf((inst[i].pos[0] - lo[0]) / w * (float)nx, (float)(nx - 1));
+        uint32_t cy = (uint32_t)fminf((inst[i].pos[1] - lo[1]) / h * (float)ny, (float)(ny - 1));
+        of[i] = cy * nx + cx;
+        start[of[i] + 1]++;
+    }
+    for (uint32_t k = 0; k < nx * ny; k++) {
+        start[k + 1] += start[k];
+        all[k] = (render_cell){ .lo = { INFINITY, INFINITY, INFINITY },
+                                .hi = { -INFINITY, -INFINITY, -INFINITY },
+                                .first = start[k] };
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        render_cell *c = &all[of[i]];
+        g->tree[c->first + c->count++] = i;
+        float ctr[3];
+        float rad = render_cull_sphere(&inst[i], &sp[inst[i].species], ctr);
+        for (int k = 0; k < 3; k++) {
+            c->lo[k] = fminf(c->lo[k], ctr[k] - rad);
+            c->hi[k] = fmaxf(c->hi[k], ctr[k] + rad);
+        }
+    }
+    /* the empty cells left out: start[] becomes the grid's index of the kept ones */
+    uint32_t m = 0;
+    for (uint32_t k = 0; k < nx * ny; k++) {
+        start[k] = m;
+        if (all[k].count) {
+            all[m++] = all[k];
+        }
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        of[i] = start[of[i]];
+    }
+    free(start);
+    g->cell = all;
+    g->n_cells = m;
+    g->cell_of = of;
+    g->where = malloc(m);
+    g->n_trees = n;
+    if (!g->where) {
+        render_cells_free(g);
+        return -1;
+    }
+    return 0;
+}
+
+int render_cell_test(const render_cell *c, const float planes[6][4])
+{
+    bool cut = false;
+    for (int k = 0; k < 6; k++) {
+        const float *p = planes[k];
+        /* the box's corner farthest along the plane's normal, and the nearest */
+        float far_d = p[3], near_d = p[3];
+        for (int i = 0; i < 3; i++) {
+            far_d += p[i] * (p[i] >= 0.0f ? c->hi[i] : c->lo[i]);
+            near_d += p[i] * (p[i] >= 0.0f ? c->lo[i] : c->hi[i]);
+        }
+        if (far_d <= 0.0f) {
+            return RENDER_CELL_OUT;
+        }
+        cut |= near_d <= 0.0f;
+    }
+    return cut ? RENDER_CELL_CUT : RENDER_CELL_IN;
+}
+
 render_tree_lod render_cull_tree(const float planes[6][4], const float eye[3],
                                  const render_instance *in, const render_cull_species *s,
                                  const render_lod_desc *d)
@@ -31,11 +146,10 @@ render_tree_lod render_cull_tree(const float planes[6][4], const float eye[3],
     const float bill_end = d->billboard_dist_m, bill_start = 0.8f * bill_end;
     const float mode_d = d->mode_dist_m;
     float sc = in->scale > 0.0f ? in->scale : 1.0f;
-    float c[3] = { in->pos[0], in->pos[1], in->pos[2] + 0.5f * s->height_m * sc };
-    /* bound: the crown can sway by a good part of its height */
-    float rad = sc * sqrtf(0.25f * s->height_m * s->height_m + s->crown_r_m * s->crown_r_m) * 1.3f;
+    float c[3];
+    float rad = render_cull_sphere(in, s, c);
     bool vis = true;
-    for (int k = 0; k < 6 && vis; k++) {
+    for (int k = 0; planes && k < 6 && vis; k++) {
         vis = planes[k][0] * c[0] + planes[k][1] * c[1] + planes[k][2] * c[2] + planes[k][3] > -rad;
     }
     if (!vis) {

@@ -42,11 +42,48 @@ typedef struct render_tree_lod {
 void render_cull_planes(const float viewproj[16], float planes[6][4]);
 
 /* Culls one tree against the frustum (a bounding sphere around its crown, widened for
- * sway) and chooses its LOD from the distance [m, in tree units: divided by its scale]
- * from eye to the crown centre. A culled tree has flags 0 and the other fields zero. */
+ * sway; planes NULL: known inside) and chooses its LOD from the distance [m, in tree
+ * units: divided by its scale] from eye to the crown centre. A culled tree has flags 0
+ * and the other fields zero. */
 render_tree_lod render_cull_tree(const float planes[6][4], const float eye[3],
                                  const render_instance *in, const render_cull_species *s,
                                  const render_lod_desc *d);
+
+/* The sphere render_cull_tree tests: centre c [m] and radius [m]. */
+float render_cull_sphere(const render_instance *in, const render_cull_species *s, float c[3]);
+
+/* The scene's trees in cells of a 2D grid, each with the box that holds the culling
+ * spheres of its trees (render_cull_tree's), so a frame tests cells against the frustum
+ * and only the trees of cells the frustum cuts one by one: trees of a cell outside are
+ * culled with it, those of a cell inside all kept without their own test. */
+typedef struct render_cell {
+    float lo[3], hi[3];    /* box of the cell's trees' spheres [m] */
+    uint32_t first, count; /* its trees: tree[first .. first + count) */
+} render_cell;
+
+typedef struct render_cells {
+    render_cell *cell;  /* owned: [n_cells], the empty ones left out */
+    uint32_t n_cells;
+    uint32_t *tree;     /* owned: [n_trees] tree indices, cell by cell */
+    uint32_t *cell_of;  /* owned: [n_trees] each tree's cell */
+    uint8_t *where;     /* owned: [n_cells] scratch for a frame's render_cell_test */
+    uint32_t n_trees;
+} render_cells;
+
+/* About this many trees a cell: fewer cells to test against more trees tested alone. */
+#define RENDER_CELL_TREES 64u
+
+/* Buckets trees [0, n) of inst (species indexing sp) into cells. 0, or -1 out of memory
+ * (g then empty). Frees what g held before. */
+int render_cells_build(render_cells *g, const render_instance *inst, uint32_t n,
+                       const render_cull_species *sp);
+void render_cells_free(render_cells *g);
+
+enum { RENDER_CELL_OUT = 0, RENDER_CELL_CUT = 1, RENDER_CELL_IN = 2 };
+
+/* Where a cell's box lies against the six frustum planes: all outside one plane (OUT),
+ * inside all (IN), else CUT. */
+int render_cell_test(const render_cell *c, const float planes[6][4]);
 
 /* The narrowest cone about the frustum's centre line that holds the whole frustum of a
  * column-major view-projection matrix (symmetric or off-axis, OpenGL clip conventions),

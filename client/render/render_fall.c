@@ -212,6 +212,7 @@ void render_fall_draw(render *r, float time_rel)
         glBindVertexArray(r->fall_vao);
         glDrawArraysInstanced(GL_TRIANGLES, 0, 6, (GLsizei)r->ring_count);
         r->stats.draw_calls++;
+        r->stats.triangles += 2u * (uint64_t)r->ring_count;
     }
     r->stats.falling_live = r->ring_count;
 }

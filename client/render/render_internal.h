@@ -15,6 +15,7 @@
 #include "falling_path.h"
 #include "gl_ctx.h"
 #include "render.h"
+#include "render_cull.h"
 #include "storm_fx.h"
 #include "wire_limits.h"
 
@@ -89,6 +90,15 @@ typedef struct rs_species {
     int32_t *parent; /* [n_nodes], -1 at the root: the pose walks up it */
 } rs_species;
 
+/* What culling needs of a species on the GPU. */
+static inline render_cull_species render_cull_species_of(const rs_species *s)
+{
+    return (render_cull_species){ .height_m = s->height,
+                                  .crown_r_m = s->crown_r,
+                                  .n_modes = s->n_modes,
+                                  .n_lods = s->n_lods };
+}
+
 /* one falling-leaf record, the vertex layout of shaders/fall.vert */
 typedef struct rs_fall {
     float start[4], var[4], drift[4], q0[4], look[4], shape;
@@ -121,6 +131,7 @@ struct render {
     uint32_t list_cap;
     rs_buf list_buf;
     uint32_t *tree_row, *tree_group; /* scratch per tree */
+    render_cells cells;              /* the scene's trees in cells (render_set_instances) */
     float *tree_lod;                 /* scratch: packed modes / fades */
     uint32_t grp_base[RENDER_MAX_SPECIES][G_COUNT], grp_n[RENDER_MAX_SPECIES][G_COUNT];
 

@@ -105,6 +105,15 @@ int render_set_instances(render *r, uint32_t n, const render_instance *inst, gal
     memset(&r->inst[n], 0, (r->cap_trees - n) * sizeof *inst);
     r->inst[r->cap_trees].scale = 1.0f;
     r->n_trees = n;
+    render_cull_species cs[RENDER_MAX_SPECIES];
+    for (uint32_t k = 0; k < r->n_species; k++) {
+        cs[k] = render_cull_species_of(&r->sp[k]);
+    }
+    if (render_cells_build(&r->cells, r->inst, n, cs) < 0) {
+        r->n_trees = 0;
+        return gale_errf(err, GALE_E_NOMEM, "render_set_instances: no memory for the cells of "
+                         "%u trees", n);
+    }
     r->n_debris = 0;
     r->n_broken = 0;
     r->cut_dirty = true;

@@ -403,6 +403,7 @@ void render_draw_tree(render *r, const rs_species *s, uint32_t lod, uint32_t bas
     glDrawElementsInstanced(GL_TRIANGLES, (GLsizei)s->lod_count[lod], GL_UNSIGNED_INT,
                             (const void *)((size_t)s->lod_first[lod] * 4), (GLsizei)n);
     r->stats.draw_calls++;
+    r->stats.triangles += (uint64_t)(s->lod_count[lod] / 3u) * n;
 }
 
 /* expects render_set_common(r, &r->p_leaf, ...) */
@@ -425,4 +426,5 @@ void render_draw_leaves(render *r, const rs_species *s, uint32_t base, uint32_t 
     glDrawArraysInstanced(GL_TRIANGLES, 0, 6, (GLsizei)(n * s->n_leaves));
     r->stats.draw_calls++;
     r->stats.leaves_drawn += (uint64_t)n * s->n_leaves;
+    r->stats.triangles += 2u * (uint64_t)n * s->n_leaves;
 }

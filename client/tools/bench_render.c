@@ -154,6 +154,7 @@ int bench_render(int argc, char **argv)
     render_camera cam = { .eye = { 0.0f, -0.5f * ext - 20.0f, 12.0f },
                           .target = { 0.0f, -0.5f * ext + 30.0f, 4.0f } };
     double *ft = calloc(frames, sizeof *ft), *cpu = calloc(frames, sizeof *cpu);
+    double *cull = calloc(frames, sizeof *cull); /* the frame at the top level's culling */
     double *ft_lv[3], *cpu_lv[3];
     for (int l = 0; l < 3; l++) {
         ft_lv[l] = calloc(frames, sizeof(double));
@@ -186,11 +187,15 @@ int bench_render(int argc, char **argv)
             ft_lv[lv][k - 2] = 1e3 * (t2 - t0);
         }
         st = render_get_stats(r);
+        if (k >= 2 && lv == (all_fx ? (uint32_t)STORM_FX_LOW : 0u)) {
+            cull[k - 2] = st.cull_ms;
+        }
     }
     for (uint32_t l = 0; l < n_lv; l++) {
         qsort(ft_lv[l], frames, sizeof(double), cmp_d);
         qsort(cpu_lv[l], frames, sizeof(double), cmp_d);
     }
+    qsort(cull, frames, sizeof(double), cmp_d);
     const uint32_t top = all_fx ? (uint32_t)STORM_FX_LOW : 0;
     memcpy(ft, ft_lv[top], sizeof(double) * frames);
     memcpy(cpu, cpu_lv[top], sizeof(double) * frames);
@@ -210,13 +215,14 @@ int bench_render(int argc, char **argv)
            "\"size\":\"%dx%d\",\"frames\":%u,\"frame_ms_median\":%.3f,\"frame_ms_min\":%.3f,"
            "\"frame_ms_max\":%.3f,\"fps_median\":%.1f,\"cpu_submit_ms_median\":%.3f,"
            "\"trees_full\":%u,\"trees_billboard\":%u,\"culled\":%u,\"draw_calls\":%u,"
+           "\"triangles\":%llu,\"cull_ms_median\":%.3f,"
            "\"leaves_drawn\":%llu,\"falling\":%u,\"storm_ms\":%.1f,\"rain_layers\":%d,"
            "\"broken_branches\":%u,\"debris\":%u,"
            "\"loadavg\":[%.2f,%.2f,%.2f]",
            rend ? rend : "?", trees, a[0].n_nodes, modes, w, h, frames, ft[frames / 2], ft[0],
            ft[frames - 1], 1e3 / ft[frames / 2], cpu[frames / 2], st.trees_full,
            st.trees_billboard, st.trees_culled, st.draw_calls,
-           (unsigned long long)st.leaves_drawn, st.falling_live, (double)storm_ms,
+           (unsigned long long)st.triangles, cull[frames / 2], (unsigned long long)st.leaves_drawn, st.falling_live, (double)storm_ms,
            fx.rain_layers, n_broken, n_debris, la[0], la[1], la[2]);
     if (all_fx) {
         static const char *const lv_name[3] = { "off", "low", "high" };
@@ -238,6 +244,7 @@ int bench_render(int argc, char **argv)
         free(cpu_lv[l]);
     }
     free(ft);
+    free(cull);
     free(cpu);
     free(inst);
     for (int s = 0; s < nsp; s++) {
