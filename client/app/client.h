@@ -23,6 +23,7 @@
 #include "jitter.h"
 #include "kiosk_ui.h"
 #include "render.h"
+#include "governor.h"
 
 struct GLFWwindow;
 
@@ -40,6 +41,9 @@ _Static_assert(CLIENT_MAX_SPECIES <= RENDER_MAX_SPECIES,
 /* The jitter buffer's snapshots: 64 on a small scene; on a large one as many as fit this
  * budget (100,000 trees of 32 modes: 12.8 MB a snapshot, 20 held, 0.67 s at 30 Hz, well
  * past the playout delay), never fewer than 4. */
+/* The governor's frame time in a window: 30 frames a second. */
+#define CLIENT_FRAME_MS (1000.0 / 30.0)
+
 #define CLIENT_JITTER_SNAPSHOTS 64u
 #define CLIENT_JITTER_BYTES (256u << 20)
 
@@ -72,6 +76,7 @@ typedef struct client_args {
     double attract_s;       /* kiosk: idle seconds before attract mode; 0 = default 90 */
     int storm_fx;           /* enum storm_fx_quality: --storm-fx, default low */
     bool view_all;          /* --view all: no view sent, the whole scene streamed */
+    double governor_ms;     /* --governor: frame-time target [ms]; 0 off; < 0 the default */
     bool fullscreen;        /* --fullscreen: open on the primary monitor (F11 toggles) */
     const char *touch;      /* --touch SPEC: headless kiosk touches (client_kiosk.c) */
     /* --fall-shots T,T,...: headless pictures T s after a fall caught live
@@ -195,6 +200,7 @@ typedef struct client {
     bool touch_woke; /* the scripted touch down that woke the kiosk: its lift is no control */
     int win_pos[2], win_size[2];
     client_view view; /* the view last sent (client_view.c) */
+    governor gov;     /* the detail a frame-time budget affords (--governor) */
 } client;
 
 /* ---- client_view.c: the view sent as the camera moves ---- */

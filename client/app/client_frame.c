@@ -73,6 +73,7 @@ int client_frame_draw(client *c, double now, gale_err *err)
         .conn = hud_conn(c, &ns),
         .server = cli_net_server_name(c->net),
         .retry_in_s = fmax(ns.retry_at_s - now, 0.0),
+        .detail_step = c->gov.step,
         .attempt = ns.attempt,
         .fps = (float)c->fps,
         .latency_ms = rtt >= 0.0 ? (float)(rtt * 500.0) : -1.0f,

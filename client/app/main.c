@@ -71,6 +71,10 @@ static void usage(FILE *f)
             "  --view MODE            follow (the default): ask the server for the trees in\n"
             "                         the camera's view only, few modes past the billboards;\n"
             "                         all: the whole scene at full modes\n"
+            "  --governor MS|off      keep frames under MS by drawing less detail far off, in\n"
+            "                         steps (shown on the HUD's status line); default 33 in\n"
+            "                         a window (a software renderer starts 3 steps down),\n"
+            "                         off headless\n"
             "  --fullscreen           open fullscreen on the primary monitor (F11 toggles)\n"
             "  --touch SPEC           headless kiosk: touches on its panel, one a frame:\n"
             "                         \"tap X,Y; down X,Y; move X,Y; up X,Y; wait\" (pixels)\n"
@@ -160,7 +164,8 @@ static int parse_args(int argc, char **argv, client_args *a)
                         .rate_hz = 60.0f,
                         .budget_ms = 8,
                         .camera_preset = -1,
-                        .storm_fx = STORM_FX_LOW };
+                        .storm_fx = STORM_FX_LOW,
+                        .governor_ms = -1.0 };
     bool role_given = false;
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i];
@@ -306,6 +311,15 @@ static int parse_args(int argc, char **argv, client_args *a)
                 return -1;
             }
             a->storm_fx = (int)q;
+        } else if (strcmp(o, "--governor") == 0) {
+            char *end = NULL;
+            double ms = strcmp(v, "off") == 0 ? 0.0 : strtod(v, &end);
+            if (strcmp(v, "off") != 0 && (end == v || *end || !(ms > 0.0 && ms <= 10000.0))) {
+                fprintf(stderr, "gale-client: --governor: expected a frame time in ms "
+                                "(0, 10000] or off, got \"%s\"\n", v);
+                return -1;
+            }
+            a->governor_ms = ms;
         } else if (strcmp(o, "--view") == 0) {
             if (strcmp(v, "follow") != 0 && strcmp(v, "all") != 0) {
                 fprintf(stderr, "gale-client: --view: expected follow or all, got \"%s\"\n", v);
@@ -397,6 +411,14 @@ int main(int argc, char **argv)
     if (!c.r) {
         fprintf(stderr, "gale-client: render: %s\n", err.msg);
         goto done;
+    }
+    {
+        /* headless frames are pictures to compare: drawn at full detail unless asked */
+        double target_ms = c.a.governor_ms >= 0.0 ? c.a.governor_ms
+                                                  : (c.a.headless ? 0.0 : CLIENT_FRAME_MS);
+        const char *gl = (const char *)glGetString(GL_RENDERER);
+        governor_init(&c.gov, target_ms, governor_software_renderer(gl), mono_s());
+        render_set_lod_scale(c.r, governor_lod_scale(&c.gov));
     }
     float hud_px = client_wall_hud_px(&c, client_hud_px(c.a.height));
     c.hud_on = hud_px > 0.0f;
@@ -527,6 +549,13 @@ int main(int argc, char **argv)
             render_present(c.r);
             client_wall_group_after_present(&c);
             client_kiosk_touch_step(&c); /* --touch: the panel is laid out now */
+            /* the frame's work, from its start to its present (pacing sleeps left out) */
+            double done = mono_s();
+            if (governor_frame(&c.gov, 1e3 * (done - now), done)) {
+                render_set_lod_scale(c.r, governor_lod_scale(&c.gov));
+                fprintf(stderr, "gale-client: frame %.1f ms against %.1f: detail step %d\n",
+                        1e3 * (done - now), c.gov.target_ms, c.gov.step);
+            }
         }
         if (c.a.headless) {
             if (draw && ++frames_after_state >= c.a.frames) {

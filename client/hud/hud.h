@@ -84,6 +84,7 @@ typedef struct hud_state {
     float fps;
     float latency_ms;    /* one-way estimate (rtt/2); < 0 = unknown */
     float delay_ms;      /* playout delay */
+    int detail_step;     /* the frame-time governor's step down; 0 = full detail */
     uint64_t frames_bad; /* frames dropped as undecodable */
     const char *role;    /* "viewer", "kiosk", "wall-tile" (borrowed) */
     /* The server's weather (PROTOCOL.md "WEATHER"; borrowed, NULL = none yet): when set,

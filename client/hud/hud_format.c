@@ -163,8 +163,13 @@ int hud_format(const hud_state *s, char lines[HUD_MAX_LINES][HUD_LINE_CHARS])
     } else {
         snprintf(fps, sizeof fps, "\xE2\x80\x93");
     }
-    snprintf(lines[n++], HUD_LINE_CHARS, "%s fps \xC2\xB7 latency %s \xC2\xB7 delay %.0f ms", fps,
-             lat, (double)s->delay_ms);
+    /* the governor's step, when it draws less than full detail */
+    char detail[40] = "";
+    if (s->detail_step > 0) {
+        snprintf(detail, sizeof detail, " \xC2\xB7 detail \xE2\x88\x92%d", s->detail_step);
+    }
+    snprintf(lines[n++], HUD_LINE_CHARS, "%s fps \xC2\xB7 latency %s \xC2\xB7 delay %.0f ms%s",
+             fps, lat, (double)s->delay_ms, detail);
     if (s->frames_bad) {
         snprintf(lines[n++], HUD_LINE_CHARS, "%llu bad frames dropped",
                  (unsigned long long)s->frames_bad);

@@ -65,6 +65,7 @@ render *render_create(const render_desc *desc, gale_err *err)
     d->title = NULL;
     r->w = d->width;
     r->h = d->height;
+    r->lod_scale = 1.0f;
     storm_fx_calm(&r->fx);
     /* the shared falling path: a CPU simulation, done before any GPU state exists */
     if (falling_path_build(&r->path, NULL, err) < 0) {
@@ -243,8 +244,8 @@ static void build_lists(render *r)
 {
     float planes[6][4];
     render_cull_planes(r->viewproj, planes);
-    const render_lod_desc ld = { .mode_dist_m = r->desc.lod_mode_dist,
-                                 .billboard_dist_m = r->desc.lod_billboard_dist };
+    const render_lod_desc ld = { .mode_dist_m = r->desc.lod_mode_dist * r->lod_scale,
+                                 .billboard_dist_m = r->desc.lod_billboard_dist * r->lod_scale };
     memset(r->grp_n, 0, sizeof r->grp_n);
     r->n_plates = 0;
     r->n_stumps = 0;
@@ -492,11 +493,16 @@ int render_resize(render *r, int width, int height, gale_err *err)
     return render_target_create(r, err);
 }
 
+void render_set_lod_scale(render *r, float scale)
+{
+    r->lod_scale = scale > 0.0f && isfinite(scale) ? scale : 1.0f;
+}
+
 void render_last_view(const render *r, float viewproj[16], float eye[3], float *billboard_m)
 {
     memcpy(viewproj, r->viewproj, 16 * sizeof(float));
     memcpy(eye, r->eye, 3 * sizeof(float));
-    *billboard_m = r->desc.lod_billboard_dist;
+    *billboard_m = r->desc.lod_billboard_dist * r->lod_scale;
 }
 
 void render_size(const render *r, int *width, int *height)

@@ -238,6 +238,10 @@ void render_wind_sample(const render *r, const float p[3], float out[3]);
  * node outside it), to compare with damage_cut_mask. */
 int render_read_attached(render *r, uint32_t k, uint8_t *out, gale_err *err);
 
+/* Scales the level-of-detail distances (lod_mode_dist, lod_billboard_dist) from the next
+ * frame on: 1 as created, less draws more trees as billboards (governor.h). */
+void render_set_lod_scale(render *r, float scale);
+
 /* What the last frame saw: its view-projection matrix (column-major) and eye [m], and the
  * distance [m, at unit scale] past which a tree is drawn as a billboard alone. */
 void render_last_view(const render *r, float viewproj[16], float eye[3], float *billboard_m);

@@ -132,6 +132,7 @@ struct render {
     rs_buf list_buf;
     uint32_t *tree_row, *tree_group; /* scratch per tree */
     render_cells cells;              /* the scene's trees in cells (render_set_instances) */
+    float lod_scale;                 /* × the LOD distances (render_set_lod_scale) */
     float *tree_lod;                 /* scratch: packed modes / fades */
     uint32_t grp_base[RENDER_MAX_SPECIES][G_COUNT], grp_n[RENDER_MAX_SPECIES][G_COUNT];
 
