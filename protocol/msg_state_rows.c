@@ -350,6 +350,26 @@ static inline bool counts_ok(const wire_scene *sc, const wire_state *st, uint32_
     return n <= sc->n_modes[sc->species[t]] && n <= st->stride;
 }
 
+/* Trees t..t+7 of st (NULL: none) are all sent with 0 modes. */
+static inline bool unsent8(const wire_state *st, uint32_t t)
+{
+    uint64_t x = 0;
+    if (st) {
+        memcpy(&x, st->n_modes + t, sizeof x);
+    }
+    return x == 0;
+}
+
+/* Species sp[0..7] are all below n_species. */
+static inline bool species8_ok(const uint8_t *sp, uint32_t n_species)
+{
+    uint8_t hi = 0;
+    for (int i = 0; i < 8; i++) {
+        hi = sp[i] > hi ? sp[i] : hi;
+    }
+    return hi < n_species;
+}
+
 /* Values of trees [t0, t1) into the nf frames w[f], group by group with the narrowest of
  * each frame's first n_pred[f] predictors (the residuals computed once for all), checking
  * every state's counts and values on the way (one pass over the rows): each tree straight
@@ -385,6 +405,16 @@ static inline __attribute__((always_inline)) bool
     const uint32_t n_species = sc->n_species;
     const int groups = rows_groups();
     for (uint32_t t = t0; t < t1 && !bad; t++) {
+        /* trees no state sends, 8 at a time (only their species are checked): a view's
+         * stream sends a few trees of many, and their turn through the loop below cost it
+         * as much as a tenth of the whole state's */
+        while (t + 8 <= t1 && unsent8(cur, t) && unsent8(prev, t) && unsent8(prev2, t) &&
+               species8_ok(species + t, n_species)) {
+            t += 8;
+        }
+        if (t >= t1) {
+            break;
+        }
         if (species[t] >= n_species || !counts_ok(sc, cur, t) || !counts_ok(sc, prev, t) ||
             !counts_ok(sc, prev2, t)) {
             for (int f = 0; f < nf; f++) {
@@ -396,12 +426,16 @@ static inline __attribute__((always_inline)) bool
         const uint32_t na = prev ? prev->n_modes[t] : 0, nb = prev2 ? prev2->n_modes[t] : 0;
         const int16_t *q = cur->q + (size_t)t * cur->stride;
         if (t + PREFETCH_TREES < t1) {
+            /* only the rows read: a view's stream sends a few trees of many, and fetching
+             * every tree's rows cost it the whole state's memory traffic */
             const size_t ahead = (size_t)t + PREFETCH_TREES;
-            __builtin_prefetch(cur->q + ahead * cur->stride);
-            if (prev) {
+            if (cur->n_modes[ahead]) {
+                __builtin_prefetch(cur->q + ahead * cur->stride);
+            }
+            if (prev && prev->n_modes[ahead]) {
                 __builtin_prefetch(prev->q + ahead * prev->stride);
             }
-            if (prev2) {
+            if (prev2 && prev2->n_modes[ahead]) {
                 __builtin_prefetch(prev2->q + ahead * prev2->stride);
             }
         }
