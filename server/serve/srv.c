@@ -147,6 +147,9 @@ srv *srv_create(const srv_desc *d, gale_err *err)
                                       .yaw_rad = tr->yaw_rad,
                                       .scale = tr->scale };
     }
+    if (view_grid_build(&s->vgrid, (uint32_t)n, s->tree_pos, SRV_VIEW_CELL_M, err)) {
+        goto fail;
+    }
     srv_stream_start(&s->shared, 0, s->tree_modes, s->key_every);
     if (d->history > 0) {
         s->hist = calloc((size_t)d->history * (size_t)n * (size_t)s->stride, sizeof(float));
@@ -272,6 +275,7 @@ void srv_destroy(srv *s)
     free(s->hist_seq);
     free(s->coarse);
     free(s->slice);
+    view_grid_fini(&s->vgrid);
     free(s->tree_pos);
     for (int k = 0; k < SRV_MAX_VIEWS; k++) {
         free(s->vsel[k].modes);

@@ -17,12 +17,17 @@
 #include "srv.h"
 #include "scen_lib.h"
 #include "srv_stream.h"
+#include "view_select.h"
 #include "weather_gust.h"
 #include "wire.h"
 #include "wall_group.h"
 
-#define SRV_MAX_VIEWS 4    /* distinct client views encoded per snapshot; beyond them a
-                              connection's view is ignored (it gets the whole scene) */
+#define SRV_MAX_VIEWS 32   /* distinct client views encoded per snapshot; beyond them a
+                              connection's view is ignored (it gets the whole scene). Each
+                              costs the pool queue + 16 snapshots (SERVER.md "Views and
+                              LOD") and n_trees bytes of selection */
+#define SRV_VIEW_CELL_M 32.0f /* the view selection's grid cells (view_select.h): 25 trees
+                                 a cell on the 2 km scene */
 #define SRV_LOD_MODES 4    /* modes sent for trees beyond a view's lod_m */
 #define SRV_WIND_EVERY 15  /* snapshots between coarse wind slices (2 per second at 30/s) */
 #define SRV_WIND_FACTOR 4  /* grid cells per coarse cell along each axis */
@@ -136,6 +141,7 @@ struct srv {
     uint32_t next_stream;
     srv_vsel vsel[SRV_MAX_VIEWS]; /* sim thread: the encoder of each slot's stream */
     float *tree_pos;             /* owned [n_trees * 3] tree bases for view_select */
+    view_grid vgrid;             /* tree_pos bucketed for view_select_grid */
     float view_margin_m;         /* a tree counts as in view within this of the region */
     /* weather (sim thread, srv_weather.c): the last scenario state and its 3-s gust */
     scenario_state wx_state;

@@ -54,7 +54,6 @@ static void publish_views(srv *s, const wire_header *h, const srv_qhist *qh, uns
         views[k] = s->views[k].v;
     }
     pthread_mutex_unlock(&s->view_lock);
-    const uint32_t n = (uint32_t)s->d.sc->n_trees;
     for (int k = 0; k < SRV_MAX_VIEWS; k++) {
         srv_vsel *vs = &s->vsel[k];
         if (!streams[k]) {
@@ -63,8 +62,8 @@ static void publish_views(srv *s, const wire_header *h, const srv_qhist *qh, uns
         }
         uint64_t t0 = mono_us();
         if (vs->enc.id != streams[k]) {
-            view_select(&views[k], n, s->tree_pos, s->tree_modes, s->view_margin_m,
-                            SRV_LOD_MODES, vs->modes);
+            view_select_grid(&s->vgrid, &views[k], s->tree_modes, s->view_margin_m,
+                             SRV_LOD_MODES, vs->modes);
             srv_stream_start(&vs->enc, streams[k], vs->modes, s->key_every);
         }
         net_snap *q = net_snap_acquire(s->net);
