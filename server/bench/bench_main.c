@@ -16,6 +16,7 @@ static const bench_cmd bench_cmds[] = {
     { "wind", bench_wind, "wind solver ms/step, divergence reduction, bandwidth (JSON)" },
     { "modal", bench_modal, "per-tick modal update of many trees, bandwidth (JSON)" },
     { "wire", bench_wire, "state stream bytes per tree and node error, gusty run (JSON)" },
+    { "views", bench_views, "per-client view streams: selection and encode per snapshot (JSON)" },
 };
 
 static void usage(FILE *f)
