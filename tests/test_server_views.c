@@ -1,9 +1,9 @@
 /* Many views on loopback (server/SERVER.md "Views and LOD"): 20 raw clients, each with a
  * frustum view of its own (street, roof and aerial heights, with lod_m; half sent in the
  * hello, half in a view message after it), read their streams side by side. Each gets a
- * stream of its own: after its join keyframe only deltas, and its decoded trees and mode
- * counts are view_select's of its view (the rule tree by tree, PROTOCOL.md "view"), the
- * values within half a step of the server's. */
+ * stream of its own: from its first keyframe of the view on, every state it decodes has
+ * view_select's trees and mode counts for its view (the rule tree by tree, PROTOCOL.md
+ * "view"), the values within half a step of the server's. */
 #include "check.h"
 #include "server_wsraw.h"
 #include "ctl.h"
@@ -124,7 +124,8 @@ static void test_twenty_views(void)
     /* each reads its keyframe and then 20 frames more, the clients in turn so that none
      * falls behind; frames before its view took hold (the shared stream's, for a view sent
      * after the hello) are read past by waiting for a keyframe that matches */
-    int keys_after[N_CLIENTS] = { 0 }, bad_trees = 0, shown = 0, empty = 0, distinct = 0;
+    int keys_after[N_CLIENTS] = { 0 }, bad_states = 0, bad_trees = 0, shown = 0, empty = 0,
+        distinct = 0, keys = 0;
     bool matched[N_CLIENTS] = { false };
     uint32_t seq[N_CLIENTS] = { 0 };
     double worst = 0.0;
@@ -137,21 +138,22 @@ static void test_twenty_views(void)
                 continue;
             }
             seq[k] = f.seq;
-            if (!matched[k] && f.hdr.type == WIRE_MSG_KEYFRAME) {
-                int off = 0;
-                for (int t = 0; t < N_TREES; t++) {
-                    float q[N_MODES];
-                    off += wire_decoder_q(dec[k], (uint32_t)t, q, N_MODES) != want[k][t];
-                }
-                matched[k] = off == 0;
-            } else if (matched[k]) {
-                keys_after[k] += f.hdr.type == WIRE_MSG_KEYFRAME;
+            int off = 0;
+            for (int t = 0; t < N_TREES; t++) {
+                float q[N_MODES];
+                off += wire_decoder_q(dec[k], (uint32_t)t, q, N_MODES) != want[k][t];
             }
+            if (matched[k]) {
+                /* a gap (the server starved) brings a keyframe, of the same selection */
+                keys_after[k] += f.hdr.type == WIRE_MSG_KEYFRAME;
+                bad_states += off != 0;
+            }
+            matched[k] = matched[k] || (off == 0 && f.hdr.type == WIRE_MSG_KEYFRAME);
         }
     }
     for (int k = 0; k < N_CLIENTS; k++) {
         CHECK(matched[k]);
-        CHECK(keys_after[k] == 0); /* its own stream: deltas after the keyframe */
+        keys += keys_after[k];
         int in = 0;
         for (int t = 0; t < N_TREES; t++) {
             float qd[N_MODES], qs[N_MODES];
@@ -175,8 +177,9 @@ static void test_twenty_views(void)
         distinct += !same;
     }
     fprintf(stderr, "  %d clients: %d distinct selections, %.1f trees each of %d, %d empty; "
-                    "worst %.3f steps\n",
-            N_CLIENTS, distinct, (double)shown / N_CLIENTS, N_TREES, empty, worst);
+                    "%d keyframes after the first; worst %.3f steps\n",
+            N_CLIENTS, distinct, (double)shown / N_CLIENTS, N_TREES, empty, keys, worst);
+    CHECK(bad_states == 0);
     CHECK(bad_trees == 0);
     CHECK(distinct >= N_CLIENTS - 2); /* the views differ in what they select, too */
     CHECK(shown > 0 && shown < N_CLIENTS * N_TREES);
@@ -185,8 +188,11 @@ static void test_twenty_views(void)
     unsigned long long vn = atomic_load(&mt->view_snapshots);
     CHECK(vn >= 20ull * N_CLIENTS);
     if (vn) {
-        fprintf(stderr, "  %llu view snapshots, %.1f us each to encode (%d trees)\n", vn,
-                (double)atomic_load(&mt->view_encode_ns) * 1e-3 / (double)vn, N_TREES);
+        fprintf(stderr, "  %llu view snapshots, %.1f us each to encode (%d trees); %llu "
+                        "missed, %llu ticks held for the view thread\n", vn,
+                (double)atomic_load(&mt->view_encode_ns) * 1e-3 / (double)vn, N_TREES,
+                (unsigned long long)atomic_load(&mt->view_missed),
+                (unsigned long long)atomic_load(&mt->view_holds));
     }
     for (int k = 0; k < N_CLIENTS; k++) {
         wire_decoder_destroy(dec[k]);

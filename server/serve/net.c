@@ -309,6 +309,7 @@ net_server *net_create(const net_desc *desc, gale_err *err)
         s->d.extra_cap = 65536;
     }
     pthread_mutex_init(&s->pub_lock, NULL);
+    pthread_mutex_init(&s->bridge_lock, NULL);
     if (!s->d.control || !s->d.snap_cap) {
         gale_errf(err, GALE_E_ARG, "net_create: control callback and snap_cap are required");
         goto fail;
@@ -400,6 +401,7 @@ void net_destroy(net_server *s)
     free(s->pub);
     free(s->batch);
     pthread_mutex_destroy(&s->pub_lock);
+    pthread_mutex_destroy(&s->bridge_lock);
     free(s);
 }
 
@@ -451,7 +453,9 @@ void net_publish(net_server *s, net_snap *p)
         net_bundle(s, p);
     }
     if (s->d.published) {
+        pthread_mutex_lock(&s->bridge_lock);
         s->d.published(s->d.published_user, p);
+        pthread_mutex_unlock(&s->bridge_lock);
     }
     pthread_mutex_lock(&s->pub_lock);
     if (s->pub_n == s->pub_cap) {

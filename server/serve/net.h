@@ -110,7 +110,7 @@ typedef struct net_desc {
     int max_streams;          /* view streams published besides the shared one (sizes the
                                  snapshot pool and the hand-over queue); 0 → none */
     /* called by net_publish with every snapshot as it goes out (bundled), on the publishing
-     * thread; NULL: none (a broker bridge, server/relay/) */
+     * thread, one call at a time; NULL: none (a broker bridge, server/relay/) */
     void (*published)(void *user, const net_snap *snap);
     void *published_user;
     const metric_reg *metrics; /* the rows served at /metrics, borrowed and complete before
@@ -189,10 +189,11 @@ enum { NET_WANT_KEY = 1u, NET_WANT_DELTA1 = 2u, NET_WANT_ALL = 3u };
  * "Frames on demand"). */
 unsigned net_frames_wanted(net_server *s);
 
-/* Simulation thread: a free snapshot from the pool to fill (refs set to 1), or NULL when
- * all are still in flight (counted; the caller skips publishing this one). */
+/* Publishing threads (the simulation's, a view encoder's): a free snapshot from the pool
+ * to fill (refs set to 1), or NULL when all are still in flight (counted; the caller
+ * skips publishing this one). */
 net_snap *net_snap_acquire(net_server *s);
-/* Simulation thread: hands a filled snapshot to the service thread, which queues it on
+/* Publishing threads: hands a filled snapshot to the service thread, which queues it on
  * every ready connection and drops the caller's reference. Wakes the service loop. */
 void net_publish(net_server *s, net_snap *snap);
 

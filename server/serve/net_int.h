@@ -109,6 +109,7 @@ struct net_server {
     net_snap *pool;  /* owned [n_pool] */
     int n_pool;
     pthread_mutex_t pub_lock;
+    pthread_mutex_t bridge_lock; /* net_desc.published: one call at a time */
     net_snap **pub;   /* owned [pub_cap] */
     net_snap **batch; /* owned [pub_cap], service thread */
     int pub_n, pub_cap;

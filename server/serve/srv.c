@@ -45,6 +45,9 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     pthread_mutex_init(&s->hist_lock, NULL);
     pthread_mutex_init(&s->view_lock, NULL);
     pthread_mutex_init(&s->ctl_lock, NULL);
+    pthread_mutex_init(&s->vlock, NULL);
+    pthread_cond_init(&s->vpost, NULL);
+    pthread_cond_init(&s->vdone, NULL);
     kiosk_gate_init(&s->kgate);
     s->walls = wall_groups_create(srv_wall_send, s);
     if (!s->walls) {
@@ -69,6 +72,7 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     }
     s->stride = tick_stride(s->tick);
     s->lanes = sim_lanes(sc->tick_threads);
+    s->vlanes = sim_lanes(sc->tick_threads); /* the view thread's own team */
     weather_gust_init(&s->wx_gust);
     s->man_inflow = (wind_inflow){ .dir_rad = sc->wind_dir_deg * 0.017453292f,
                                    .u10_ms = sc->wind_u10_ms };
@@ -85,7 +89,7 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     /* wire scene: species per tree, modes and steps per species */
     s->tree_species = calloc((size_t)n, 1);
     s->tree_modes = calloc((size_t)n, 1);
-    for (int k = 0; k < 3; k++) {
+    for (int k = 0; k < SRV_QBUFS; k++) {
         /* written now (big_alloc), not left to calloc's lazy zero pages: the first
          * snapshot ticks would fault them in (6.4 MB each at 100 000 trees, ~10 ms a
          * tick) */
@@ -102,7 +106,7 @@ srv *srv_create(const srv_desc *d, gale_err *err)
         s->vsel[k].modes = calloc((size_t)n > 0 ? (size_t)n : 1, 1);
         vsel_ok = vsel_ok && s->vsel[k].modes;
     }
-    if (!vsel_ok || !s->tree_pos || !s->tree_species || !s->tree_modes || !s->qbuf[0] || !s->qbuf[1] || !s->qbuf[2] ||
+    if (!vsel_ok || !s->tree_pos || !s->tree_species || !s->tree_modes || !s->qbuf[0] || !s->qbuf[1] || !s->qbuf[2] || !s->qbuf[3] ||
         !s->leaves || !s->wspecies || !s->winst || !s->dmg_ev || !s->dmg_state) {
         gale_errf(err, GALE_E_NOMEM, "srv_create: no memory for %d trees", n);
         goto fail;
@@ -180,6 +184,15 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     }
     s->snap_cap = cap;
     s->extra_cap = extra;
+    for (int i = 0; i < SRV_VJOBS; i++) {
+        for (int x = 0; x < NET_SNAP_MAX_EXTRA; x++) {
+            s->vjob[i].extra[x] = malloc(extra);
+            if (!s->vjob[i].extra[x]) {
+                gale_errf(err, GALE_E_NOMEM, "srv_create: no memory for the view thread");
+                goto fail;
+            }
+        }
+    }
     s->net = net_create(&(net_desc){ .port = d->port,
                                      .iface = d->iface,
                                      .max_clients = d->max_clients,
@@ -234,14 +247,21 @@ fail:
 
 int srv_run(srv *s)
 {
+    gale_err e;
+    if (srv_views_start(s, &e)) {
+        fprintf(stderr, "%s\n", e.msg);
+        return GALE_E_STATE;
+    }
     if (pthread_create(&s->thread, NULL, srv_loop, s)) {
         fprintf(stderr, "gale-server: cannot start the simulation thread\n");
+        srv_views_stop(s);
         return GALE_E_STATE;
     }
     /* the close bound ends every connection; the grace is a backstop behind it */
     int rc = net_run(s->net, NET_CLOSE_BOUND_MS + 500);
     atomic_store(&s->stop, 1);
     pthread_join(s->thread, NULL);
+    srv_views_stop(s);
     return rc;
 }
 
@@ -256,13 +276,14 @@ void srv_destroy(srv *s)
     if (!s) {
         return;
     }
+    srv_views_stop(s);
     net_destroy(s->net);
     host_steal_close(&s->steal);
     wall_groups_destroy(s->walls);
     tick_destroy(s->tick);
     free(s->tree_species);
     free(s->tree_modes);
-    for (int k = 0; k < 3; k++) {
+    for (int k = 0; k < SRV_QBUFS; k++) {
         free(s->qbuf[k]);
     }
     free(s->leaves);
@@ -284,6 +305,14 @@ void srv_destroy(srv *s)
     pthread_mutex_destroy(&s->view_lock);
     pthread_mutex_destroy(&s->hist_lock);
     pthread_mutex_destroy(&s->ctl_lock);
+    for (int i = 0; i < SRV_VJOBS; i++) {
+        for (int x = 0; x < NET_SNAP_MAX_EXTRA; x++) {
+            free(s->vjob[i].extra[x]);
+        }
+    }
+    pthread_mutex_destroy(&s->vlock);
+    pthread_cond_destroy(&s->vpost);
+    pthread_cond_destroy(&s->vdone);
     free(s);
 }
 

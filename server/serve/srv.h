@@ -55,11 +55,15 @@ typedef struct srv_desc {
                                      0 → SRV_KEYFRAME_S (PROTOCOL.md "Sequence and gaps") */
 } srv_desc;
 
-/* The snapshot publisher's counters (the sim thread writes, any thread reads). */
+/* The snapshot publisher's counters (the sim and view threads write, any thread reads). */
 typedef struct srv_pub_counters {
     atomic_ullong leaves_shed;    /* leaf seeds gathered for LEAVES frames */
     atomic_ullong view_snapshots; /* view-stream snapshots encoded and published */
     atomic_ullong view_encode_ns; /* time spent encoding them [ns] */
+    atomic_ullong view_missed;    /* snapshots the view streams skipped: the view thread was
+                                     still busy with an earlier one */
+    atomic_ullong view_holds;     /* snapshot ticks that waited for the view thread */
+    atomic_ullong view_hold_ns;   /* their wait [ns] */
 } srv_pub_counters;
 
 typedef struct srv srv;

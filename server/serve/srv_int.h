@@ -59,11 +59,28 @@ typedef struct srv_view {
     int users;
 } srv_view;
 
-/* The sim thread's encoder for one view slot. */
+/* The view thread's encoder for one view slot. */
 typedef struct srv_vsel {
     srv_stream enc;  /* enc.id: the stream the modes below were selected for; 0 none */
     uint8_t *modes;  /* owned [n_trees]: view_select of the slot's view */
 } srv_vsel;
+
+#define SRV_QBUFS 4 /* snapshots of quantised q: the three a snapshot's deltas read, and the
+                       one the next snapshot's tick fills while the view thread still reads
+                       those three (srv_views.c) */
+#define SRV_VJOBS 2 /* snapshots queued for the view thread: it may lag one behind */
+
+/* A snapshot's view streams for the view thread: what the sim thread hands over. */
+typedef struct srv_vjob {
+    wire_header h;
+    uint32_t seq;
+    unsigned want;                       /* frames_to_encode's */
+    int qi[3];                           /* qbuf of this snapshot, the one before, before that */
+    uint8_t *extra[NET_SNAP_MAX_EXTRA];  /* owned [extra_cap]: the shared snapshot's extras */
+    size_t extra_len[NET_SNAP_MAX_EXTRA];
+    unsigned extra_key_only;
+    bool gap;                            /* the view streams missed a snapshot before it */
+} srv_vjob;
 
 struct srv {
     srv_desc d;
@@ -102,7 +119,8 @@ struct srv {
     wire_scene wscene;
     uint8_t *tree_species;       /* owned [n_trees] */
     uint8_t *tree_modes;         /* owned [n_trees] */
-    int16_t *qbuf[3];            /* owned [n_trees * stride]: current, previous, before */
+    int16_t *qbuf[SRV_QBUFS];    /* owned [n_trees * stride]: the current snapshot's (cur),
+                                    the one before (cur - 1), ... */
     int cur;                     /* index of the current buffer in qbuf */
     srv_stream shared;           /* the whole-scene stream (net_snap.stream 0) */
     int want_hold[2];            /* snapshots still to carry the keyframe, delta1
@@ -139,7 +157,20 @@ struct srv {
     pthread_mutex_t view_lock;   /* guards views (lws thread joins/leaves, sim thread reads) */
     srv_view views[SRV_MAX_VIEWS];
     uint32_t next_stream;
-    srv_vsel vsel[SRV_MAX_VIEWS]; /* sim thread: the encoder of each slot's stream */
+    srv_vsel vsel[SRV_MAX_VIEWS]; /* view thread: the encoder of each slot's stream */
+    /* the view thread (srv_views.c): encodes each snapshot's view streams beside the ticks */
+    pthread_t vthread;
+    bool vthread_on;
+    pthread_mutex_t vlock;       /* guards the fields below */
+    pthread_cond_t vpost;        /* a job posted, or vstop */
+    pthread_cond_t vdone;        /* a job done */
+    srv_vjob vjob[SRV_VJOBS];    /* a ring: vjob[vhead] the oldest queued (the view
+                                    thread's while it encodes it), vn_jobs queued */
+    int vhead, vn_jobs;
+    bool vgap;                   /* the view streams missed a snapshot since the last job
+                                    queued */
+    bool vstop;
+    wire_lanes vlanes;           /* the view thread's lanes, on its own team */
     float *tree_pos;             /* owned [n_trees * 3] tree bases for view_select */
     view_grid vgrid;             /* tree_pos bucketed for view_select_grid */
     float view_margin_m;         /* a tree counts as in view within this of the region */
@@ -178,8 +209,22 @@ void srv_on_closed(void *user, const net_peer *p);
 void srv_wall_send(void *user, uint32_t conn, const char *text, size_t len);
 
 /* srv_publish.c, sim thread: snapshot s->seq + 1 of tick `tick` from s->qbuf[s->cur]
- * (which tick_step just filled) to every stream; then rotates the buffers. */
+ * (which tick_step just filled) to the shared stream, the view streams' share to the view
+ * thread; then rotates the buffers. */
 void srv_publish(srv *s, uint32_t tick);
+
+/* srv_views.c: the view thread. srv_views_start starts it (srv_run), srv_views_stop ends
+ * it after its job (idempotent). Sim thread: srv_views_post queues snapshot seq for it
+ * (header h, the shared snapshot p for its extras, q in qbuf qi[0..2], frames want), or
+ * when SRV_VJOBS wait already marks a gap (its streams then send keyframes);
+ * srv_views_gap marks one for a snapshot not published; srv_views_hold waits, before a
+ * tick writes qbuf[qi], until no queued snapshot reads it. */
+int srv_views_start(srv *s, gale_err *err);
+void srv_views_stop(srv *s);
+void srv_views_post(srv *s, const wire_header *h, uint32_t seq, unsigned want,
+                    const net_snap *p, const int qi[3]);
+void srv_views_gap(srv *s);
+void srv_views_hold(srv *s, int qi);
 /* The publisher's rows (gale_leaves_shed_total, gale_view_*) into r. */
 int srv_publish_register(srv *s, metric_reg *r, gale_err *err);
 

@@ -1,8 +1,8 @@
-/* Publishing, on the sim thread: each snapshot through the shared stream's encoder and
- * each view stream's (srv_stream.h), the coarse wind and leaf frames beside them, handed
- * to net_publish; the float history tests compare with; the publisher's metrics. */
+/* Publishing, on the sim thread: each snapshot through the shared stream's encoder
+ * (srv_stream.h), the coarse wind and leaf frames beside it, handed to net_publish and,
+ * for the view streams, to the view thread (srv_views.c); the float history tests compare
+ * with; the publisher's metrics. */
 #include "srv_int.h"
-#include "view_select.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -39,65 +39,6 @@ static int encode_wind(srv *s, wire_header *h, net_snap *p, gale_err *e)
                             &p->extra_len[SRV_EXTRA_WIND], e);
 }
 
-/* One snapshot per view stream: the state encoded with the view's per-tree mode counts
- * (view_select), the extras of the shared snapshot p copied. A stream whose
- * selection is new starts with a keyframe, and every stream sends only a keyframe on the
- * periodic seqs (srv_stream_start), the shared one and the views on the same snapshots. */
-static void publish_views(srv *s, const wire_header *h, const srv_qhist *qh, unsigned want,
-                          const net_snap *p)
-{
-    uint32_t streams[SRV_MAX_VIEWS];
-    ctl_view views[SRV_MAX_VIEWS];
-    pthread_mutex_lock(&s->view_lock);
-    for (int k = 0; k < SRV_MAX_VIEWS; k++) {
-        streams[k] = s->views[k].stream;
-        views[k] = s->views[k].v;
-    }
-    pthread_mutex_unlock(&s->view_lock);
-    for (int k = 0; k < SRV_MAX_VIEWS; k++) {
-        srv_vsel *vs = &s->vsel[k];
-        if (!streams[k]) {
-            vs->enc.id = 0;
-            continue;
-        }
-        uint64_t t0 = mono_us();
-        if (vs->enc.id != streams[k]) {
-            view_select_grid(&s->vgrid, &views[k], s->tree_modes, s->view_margin_m,
-                             SRV_LOD_MODES, vs->modes);
-            srv_stream_start(&vs->enc, streams[k], vs->modes, s->key_every);
-        }
-        net_snap *q = net_snap_acquire(s->net);
-        if (!q) {
-            srv_stream_skip(&vs->enc); /* its connections see a gap and get a keyframe */
-            continue;
-        }
-        gale_err e;
-        int rc = srv_stream_encode(&vs->enc, h, p->seq, &s->wscene, qh, want, q, &e);
-        for (int x = 0; x < NET_SNAP_MAX_EXTRA && !rc; x++) {
-            q->extra_len[x] = p->extra_len[x];
-            memcpy(q->extra[x], p->extra[x], p->extra_len[x]);
-        }
-        q->extra_key_only = p->extra_key_only;
-        if (rc) {
-            fprintf(stderr, "gale-server: snapshot %u of view stream %u not sent: %s\n", p->seq,
-                    vs->enc.id, e.msg);
-            atomic_fetch_sub(&q->refs, 1);
-            continue;
-        }
-        atomic_fetch_add(&s->pubm.view_snapshots, 1);
-        atomic_fetch_add(&s->pubm.view_encode_ns, (mono_us() - t0) * 1000u);
-        net_publish(s->net, q);
-    }
-}
-
-/* Every view stream skips this snapshot (the shared one was not published). */
-static void skip_views(srv *s)
-{
-    for (int k = 0; k < SRV_MAX_VIEWS; k++) {
-        srv_stream_skip(&s->vsel[k].enc);
-    }
-}
-
 /* The frames this snapshot carries besides delta2 (srv_stream_encode): those the
  * connections want now, and each for SRV_WANT_HOLD snapshots after it was last wanted. */
 static unsigned frames_to_encode(srv *s)
@@ -132,8 +73,9 @@ void srv_publish(srv *s, uint32_t tick)
         pthread_mutex_unlock(&s->hist_lock);
     }
     /* qbuf[cur] was filled by tick_step (modal_tick quantised it) */
-    const srv_qhist qh = { .q = { s->qbuf[s->cur], s->qbuf[(s->cur + 2) % 3],
-                                  s->qbuf[(s->cur + 1) % 3] },
+    const int qi[3] = { s->cur, (s->cur + SRV_QBUFS - 1) % SRV_QBUFS,
+                        (s->cur + SRV_QBUFS - 2) % SRV_QBUFS };
+    const srv_qhist qh = { .q = { s->qbuf[qi[0]], s->qbuf[qi[1]], s->qbuf[qi[2]] },
                            .n_trees = (uint32_t)n,
                            .stride = (uint32_t)stride,
                            .lanes = &s->lanes };
@@ -163,20 +105,20 @@ void srv_publish(srv *s, uint32_t tick)
                     e.msg);
             atomic_fetch_sub(&p->refs, 1);
             srv_stream_skip(&s->shared);
-            skip_views(s);
+            srv_views_gap(s);
         } else {
-            publish_views(s, &h, &qh, want, p);
+            srv_views_post(s, &h, s->seq, want, p, qi); /* before net_publish bundles p */
             net_publish(s->net, p);
         }
     } else {
         srv_stream_skip(&s->shared);
-        skip_views(s);
+        srv_views_gap(s);
     }
     if (s->seq % SRV_LEAF_EVERY == 0) {
         atomic_fetch_add(&s->pubm.leaves_shed, s->n_leaves);
         s->n_leaves = 0;
     }
-    s->cur = (s->cur + 1) % 3;
+    s->cur = (s->cur + 1) % SRV_QBUFS;
 }
 
 /* --- metrics ---------------------------------------------------------------------------- */
@@ -186,6 +128,11 @@ static const metric_row pub_rows[] = {
     { "gale_view_snapshots_total", NULL, "Snapshots encoded for per-client views.",
       METRIC_COUNTER, 0 },
     { "gale_view_encode_seconds_total", NULL, "Time spent encoding them.", METRIC_COUNTER, 6 },
+    { "gale_view_snapshots_missed_total", NULL,
+      "Snapshots the view streams skipped, the view thread still busy.", METRIC_COUNTER, 0 },
+    { "gale_view_holds_total", NULL, "Snapshot ticks that waited for the view thread.",
+      METRIC_COUNTER, 0 },
+    { "gale_view_hold_seconds_total", NULL, "Their wait.", METRIC_COUNTER, 6 },
 };
 
 static void pub_fill(void *ctx, double *v)
@@ -194,6 +141,9 @@ static void pub_fill(void *ctx, double *v)
     v[0] = (double)atomic_load(&m->leaves_shed);
     v[1] = (double)atomic_load(&m->view_snapshots);
     v[2] = (double)atomic_load(&m->view_encode_ns) * 1e-9;
+    v[3] = (double)atomic_load(&m->view_missed);
+    v[4] = (double)atomic_load(&m->view_holds);
+    v[5] = (double)atomic_load(&m->view_hold_ns) * 1e-9;
 }
 
 int srv_publish_register(srv *s, metric_reg *r, gale_err *err)
