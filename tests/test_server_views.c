@@ -61,7 +61,7 @@ static int open_client(wsraw *c, const ctl_view *v, bool in_hello)
     wsraw_text(c, h);
     uint8_t *m;
     size_t n;
-    int op = wsraw_recv(c, &m, &n, 5000);
+    int op = wsraw_recv(c, &m, &n, 15000); /* generous: a sanitizer build on a busy machine */
     free(m);
     if (op != 1) {
         return -1;

@@ -3,7 +3,9 @@
  * each says hello, reads the welcome, then decodes every binary frame with the protocol
  * library, checking sequence and integrity. Reports connected, frames, bytes, decode
  * errors, disconnects and end-to-end latency (server timestamp to decode, both on this
- * host's CLOCK_MONOTONIC) percentiles. Loopback only; bounded in count and time. */
+ * host's CLOCK_MONOTONIC) percentiles. With --views each client asks in its hello for a
+ * view of its own (view_kinds.h: street, roof and aerial in turn, at seeded places) and
+ * the bytes each kind receives are reported. Loopback only; bounded in count and time. */
 #include <ctype.h>
 #include <inttypes.h>
 #include <pthread.h>
@@ -19,6 +21,7 @@
 
 #include "mono.h"
 #include "ctl.h"
+#include "view_kinds.h"
 #include "wire.h"
 
 #define LOAD_MAX_CLIENTS 5000
@@ -26,6 +29,7 @@
 #define LOAD_MAX_THREADS 16
 #define LAT_BUCKET_US 10          /* latency histogram resolution */
 #define LAT_BUCKETS 3000000       /* 10 µs x 3 000 000 = 30 s; slower goes to the last bucket */
+#define LOAD_VIEW_LOD_M 120.0f    /* --views: the views' lod_m, as a client's camera sends it */
 
 typedef struct load_conn {
     struct lws *wsi;
@@ -36,6 +40,7 @@ typedef struct load_conn {
     wire_decoder *dec;    /* owned, sized from the welcome */
     uint32_t last_seq;
     int close_code;
+    uint64_t bytes;       /* received */
 } load_conn;
 
 typedef struct load_run {
@@ -44,6 +49,7 @@ typedef struct load_run {
     int port, n, role;
     char token[CTL_MAX_TOKEN];
     double seconds;
+    double views_half_m;  /* --views: eyes within this of the origin; 0: no views */
     bool ending;
     load_conn *conns;     /* owned [n] */
     int connected, welcomed, open_now;
@@ -187,10 +193,15 @@ static int callback(struct lws *wsi, enum lws_callback_reasons reason, void *use
             break;
         }
         c->hello_sent = true;
-        char buf[LWS_PRE + 256];
+        char buf[LWS_PRE + 768];
         ctl_msg m = { .type = CTL_HELLO };
         m.u.hello.protocol = WIRE_PROTOCOL_VERSION;
         m.u.hello.role = r->role;
+        if (r->views_half_m > 0) {
+            uint64_t rng = 0x9e3779b97f4a7c15ull * (uint64_t)(c->index + 1);
+            m.u.hello.view = view_kind_make(c->index % VIEW_KINDS, &rng, r->views_half_m,
+                                            LOAD_VIEW_LOD_M);
+        }
         snprintf(m.u.hello.token, sizeof m.u.hello.token, "%s", r->token);
         size_t n = 0;
         if (ctl_encode_into(&m, buf + LWS_PRE, sizeof buf - LWS_PRE, &n, NULL) ||
@@ -224,6 +235,7 @@ static int callback(struct lws *wsi, enum lws_callback_reasons reason, void *use
             break;
         }
         r->bytes += c->rx_len;
+        c->bytes += c->rx_len;
         if (lws_frame_is_binary(wsi)) {
             on_binary(r, c, c->rx, c->rx_len);
         } else {
@@ -382,8 +394,12 @@ static int parse_url(load_run *r, const char *url)
 static void usage(FILE *f)
 {
     fprintf(f, "usage: gale-load --url ws://HOST:PORT --clients N --seconds S "
-               "[--role viewer|kiosk|wall-tile|load] [--token T] [--threads T] [--json]\n"
-               "  N in 1..%d, S in 1..%d; HOST must be loopback; -h, --help: this text\n",
+               "[--role viewer|kiosk|wall-tile|load] [--token T] [--threads T] [--views HALF_M] "
+               "[--json]\n"
+               "  N in 1..%d, S in 1..%d; HOST must be loopback; -h, --help: this text\n"
+               "  --views HALF_M: client i asks for a street, roof or aerial view (i mod 3) "
+               "with its eye\n"
+               "    at a seeded place within HALF_M of the origin, lod_m 120\n",
             LOAD_MAX_CLIENTS, LOAD_MAX_SECONDS);
 }
 
@@ -446,6 +462,13 @@ int main(int argc, char **argv)
                 return 2;
             }
             threads = (int)t;
+            i++;
+        } else if (!strcmp(a, "--views") && v) {
+            r.views_half_m = strtod(v, &end);
+            if (*end || !(r.views_half_m > 0 && r.views_half_m <= 1e6)) {
+                fprintf(stderr, "gale-load: --views: expected (0, 1e6] m, got \"%s\"\n", v);
+                return 2;
+            }
             i++;
         } else if (!strcmp(a, "--token") && v) {
             snprintf(r.token, sizeof r.token, "%s", v);
@@ -532,6 +555,16 @@ int main(int argc, char **argv)
         }
     }
 
+    /* bytes a second per client of each kind of view (--views) */
+    double kind_bytes[VIEW_KINDS] = { 0 };
+    int kind_n[VIEW_KINDS] = { 0 };
+    for (int i = 0; i < threads; i++) {
+        for (int j = 0; j < parts[i].n; j++) {
+            const int k = (parts[i].first + j) % VIEW_KINDS;
+            kind_bytes[k] += (double)parts[i].conns[j].bytes;
+            kind_n[k]++;
+        }
+    }
     double p50 = lat_pct(&r, 0.50), p95 = lat_pct(&r, 0.95), p99 = lat_pct(&r, 0.99);
     double maxms = (double)r.lat_max_us * 1e-3;
     if (json) {
@@ -549,6 +582,14 @@ int main(int argc, char **argv)
                r.connected ? (double)r.state_frames / r.connected / elapsed : 0.0,
                r.decode_errors, r.seq_gaps, r.skipped_seqs, r.disconnects, p50, p95, p99, maxms,
                r.lat_n);
+        if (r.views_half_m > 0) {
+            printf(", \"views_bytes_per_client_s\": {");
+            for (int k = 0; k < VIEW_KINDS; k++) {
+                printf("%s\"%s\": %.0f", k ? ", " : "", view_kind_name(k),
+                       kind_n[k] && elapsed > 0 ? kind_bytes[k] / kind_n[k] / elapsed : 0.0);
+            }
+            printf("}");
+        }
         printf(", \"close_codes\": [");
         for (int i = 0; i < r.n_close_codes; i++) {
             printf("%s%d", i ? ", " : "", r.close_codes[i]);
@@ -570,6 +611,14 @@ int main(int argc, char **argv)
                r.state_frames, r.keyframes, r.leaf_frames, r.wind_frames, r.bytes, r.decode_errors,
                r.seq_gaps,
                r.skipped_seqs, r.disconnects, p50, p95, p99, maxms, r.lat_n);
+        if (r.views_half_m > 0) {
+            printf("  bytes a second per client:");
+            for (int k = 0; k < VIEW_KINDS; k++) {
+                printf(" %s %.0f", view_kind_name(k),
+                       kind_n[k] && elapsed > 0 ? kind_bytes[k] / kind_n[k] / elapsed : 0.0);
+            }
+            printf("\n");
+        }
         if (r.first_error[0]) {
             printf("  first error: %s\n", r.first_error);
         }

@@ -1,7 +1,7 @@
 /* gale-bench views: the server's cost of per-client views on a scene's trees (by default
  * the 2 km landscape, configs/scenes/landscape-2km.json: 100,000 trees). N distinct
- * frustum views, street-, roof- and aerial-like in turn at seeded places over the scene,
- * with lod_m (SERVER.md "Views and LOD"), each a stream encoded by the server's encoder
+ * frustum views, street, roof and aerial in turn (view_kinds.h) at seeded places over the
+ * scene, with lod_m (SERVER.md "Views and LOD"), each a stream encoded by the server's encoder
  * (srv_stream_encode, on the tick's lanes) for every snapshot of a run, as the server
  * encodes them after a tick. Per view: the selection when the view changes (view_select,
  * the rule tree by tree, and view_select_grid, the server's), the encode of each
@@ -19,6 +19,7 @@
 #include "scene.h"
 #include "sim_lanes.h"
 #include "srv_stream.h"
+#include "view_kinds.h"
 #include "view_select.h"
 
 #define SRV_LOD_MODES_BENCH 4 /* the server's SRV_LOD_MODES */
@@ -38,35 +39,6 @@ static double pct(double *v, size_t n, double p)
     qsort(v, n, sizeof *v, cmp_double);
     size_t k = (size_t)(p * (double)(n - 1) + 0.5);
     return v[k < n ? k : n - 1];
-}
-
-static double rnd01(uint64_t *s)
-{
-    *s ^= *s >> 12;
-    *s ^= *s << 25;
-    *s ^= *s >> 27;
-    return (double)((*s * 0x2545f4914f6cdd1dull) >> 11) * 0x1.0p-53;
-}
-
-/* View k of the run: street (eye 1.75 m up, far 300 m), roof (12 m, 600 m) and aerial
- * (150 m, looking 30 degrees down, 2,000 m) in turn, at a seeded place and heading. */
-static ctl_view bench_view(int k, uint64_t *rng, float half_m, float lod_m)
-{
-    static const float eye_z[3] = { 1.75f, 12.0f, 150.0f };
-    static const float pitch_deg[3] = { 2.0f, -8.0f, -30.0f };
-    static const float far_m[3] = { 300.0f, 600.0f, 2000.0f };
-    const int kind = k % 3;
-    const double yaw = 2.0 * 3.14159265358979 * rnd01(rng);
-    const double pitch = (double)pitch_deg[kind] * 0.017453292519943295;
-    ctl_view v = { .kind = CTL_VIEW_FRUSTUM, .fov_deg = 60.0f, .far_m = far_m[kind],
-                   .lod_m = lod_m };
-    v.eye[0] = (float)((2.0 * rnd01(rng) - 1.0) * 0.9 * (double)half_m);
-    v.eye[1] = (float)((2.0 * rnd01(rng) - 1.0) * 0.9 * (double)half_m);
-    v.eye[2] = eye_z[kind];
-    v.dir[0] = (float)(cos(yaw) * cos(pitch));
-    v.dir[1] = (float)(sin(yaw) * cos(pitch));
-    v.dir[2] = (float)sin(pitch);
-    return v;
 }
 
 /* Snapshot seq's q: per mode m a sine of 0.3 + 0.1 m Hz and amplitude 400 / (1 + m)
@@ -207,7 +179,7 @@ int bench_views(int argc, char **argv)
             fprintf(stderr, "gale-bench views: out of memory\n");
             goto done_grid;
         }
-        const ctl_view v = bench_view(k, &rng, half_m, lod_m);
+        const ctl_view v = view_kind_make(k % VIEW_KINDS, &rng, 0.9 * (double)half_m, lod_m);
         /* best of 3 each: the selection runs once per view change, not per snapshot */
         sel_ref_us[k] = sel_grid_us[k] = 1e30;
         for (int r = 0; r < 3; r++) {
