@@ -170,6 +170,8 @@ struct srv {
     bool vgap;                   /* the view streams missed a snapshot since the last job
                                     queued */
     bool vstop;
+    atomic_bool vcut;            /* a snapshot tick waits: the view thread skips the rest of
+                                    the snapshot it encodes */
     wire_lanes vlanes;           /* the view thread's lanes, on its own team */
     float *tree_pos;             /* owned [n_trees * 3] tree bases for view_select */
     view_grid vgrid;             /* tree_pos bucketed for view_select_grid */
@@ -217,8 +219,9 @@ void srv_publish(srv *s, uint32_t tick);
  * it after its job (idempotent). Sim thread: srv_views_post queues snapshot seq for it
  * (header h, the shared snapshot p for its extras, q in qbuf qi[0..2], frames want), or
  * when SRV_VJOBS wait already marks a gap (its streams then send keyframes);
- * srv_views_gap marks one for a snapshot not published; srv_views_hold waits, before a
- * tick writes qbuf[qi], until no queued snapshot reads it. */
+ * srv_views_gap marks one for a snapshot not published; srv_views_hold, before a tick
+ * writes qbuf[qi], has the view thread skip the rest of a queued snapshot that reads it
+ * and waits for the stream it is encoding. */
 int srv_views_start(srv *s, gale_err *err);
 void srv_views_stop(srv *s);
 void srv_views_post(srv *s, const wire_header *h, uint32_t seq, unsigned want,

@@ -130,6 +130,8 @@ static const metric_row pub_rows[] = {
     { "gale_view_encode_seconds_total", NULL, "Time spent encoding them.", METRIC_COUNTER, 6 },
     { "gale_view_snapshots_missed_total", NULL,
       "Snapshots the view streams skipped, the view thread still busy.", METRIC_COUNTER, 0 },
+    { "gale_view_snapshots_cut_total", NULL,
+      "View-stream snapshots skipped as a snapshot tick needed their q.", METRIC_COUNTER, 0 },
     { "gale_view_holds_total", NULL, "Snapshot ticks that waited for the view thread.",
       METRIC_COUNTER, 0 },
     { "gale_view_hold_seconds_total", NULL, "Their wait.", METRIC_COUNTER, 6 },
@@ -142,8 +144,9 @@ static void pub_fill(void *ctx, double *v)
     v[1] = (double)atomic_load(&m->view_snapshots);
     v[2] = (double)atomic_load(&m->view_encode_ns) * 1e-9;
     v[3] = (double)atomic_load(&m->view_missed);
-    v[4] = (double)atomic_load(&m->view_holds);
-    v[5] = (double)atomic_load(&m->view_hold_ns) * 1e-9;
+    v[4] = (double)atomic_load(&m->view_cut);
+    v[5] = (double)atomic_load(&m->view_holds);
+    v[6] = (double)atomic_load(&m->view_hold_ns) * 1e-9;
 }
 
 int srv_publish_register(srv *s, metric_reg *r, gale_err *err)

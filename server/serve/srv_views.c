@@ -5,7 +5,10 @@
  * views take the cores the ticks leave. It may lag a snapshot behind (SRV_VJOBS queued);
  * a snapshot posted beyond that is skipped by every view stream (their connections see a
  * gap and get a keyframe). The q it reads stays put: SRV_QBUFS buffers, and a snapshot
- * tick that would write one a queued snapshot reads waits for it (srv_views_hold). */
+ * tick that would write one a queued snapshot still reads has the view thread skip that
+ * snapshot's remaining streams and waits only for the stream being encoded
+ * (srv_views_hold): a starved view thread costs its streams keyframes, not the ticks
+ * their time. */
 #include "srv_int.h"
 #include "view_select.h"
 
@@ -34,6 +37,11 @@ static void encode_views(srv *s, const srv_vjob *j)
         srv_vsel *vs = &s->vsel[k];
         if (!streams[k]) {
             vs->enc.id = 0;
+            continue;
+        }
+        if (atomic_load(&s->vcut)) {
+            srv_stream_skip(&vs->enc); /* a tick needs the q: its connections see a gap */
+            atomic_fetch_add(&s->pubm.view_cut, 1);
             continue;
         }
         uint64_t t0 = mono_us();
@@ -171,9 +179,11 @@ void srv_views_hold(srv *s, int qi)
     uint64_t t0 = 0;
     while (reads_buffer(s, qi)) {
         t0 = t0 ? t0 : mono_ns();
+        atomic_store(&s->vcut, true);
         pthread_cond_wait(&s->vdone, &s->vlock);
     }
     if (t0) {
+        atomic_store(&s->vcut, false);
         atomic_fetch_add(&s->pubm.view_holds, 1);
         atomic_fetch_add(&s->pubm.view_hold_ns, mono_ns() - t0);
     }
