@@ -4,9 +4,8 @@
 # for a view of its own (street, roof and aerial in turn, lod_m 120) for S seconds, on
 # this machine. /metrics is read before the clients come and after they leave: overruns,
 # the tick's p99 of the last minute, view snapshots encoded, their mean encode time per
-# snapshot of all views, snapshots the views missed or cut short, ticks held for the view
-# thread; the load client's bytes a second per client by kind of view. Prints one JSON
-# line.
+# snapshot of all views, snapshots the views missed; the load client's bytes a second per
+# client by kind of view. Prints one JSON line.
 # Usage: deploy/bench-views.sh [clients 20] [seconds 60]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -54,11 +53,10 @@ vsecs="$(d gale_view_encode_seconds_total)"
 snaps="$(d gale_snapshots_total)"
 publish="$(d 'gale_tick_phase_seconds_total{phase="publish"}')"
 p99="$(metric 'gale_tick_recent_seconds{quantile="0.99"}' out/bench-views-m1.txt)"
-printf '{"bench": "views", "clients": %s, "seconds": %s, "server": {"ticks": %.0f, "overruns": %.0f, "tick_p99_ms": %.2f, "publish_ms_per_snapshot": %.3f, "view_snapshots": %.0f, "view_encode_us_each": %.1f, "view_encode_ms_per_snapshot": %.2f, "view_missed": %.0f, "view_cut": %.0f, "view_holds": %.0f, "memory": %s}, "load": %s}\n' \
+printf '{"bench": "views", "clients": %s, "seconds": %s, "server": {"ticks": %.0f, "overruns": %.0f, "tick_p99_ms": %.2f, "publish_ms_per_snapshot": %.3f, "view_snapshots": %.0f, "view_encode_us_each": %.1f, "view_encode_ms_per_snapshot": %.2f, "view_missed": %.0f, "memory": %s}, "load": %s}\n' \
     "$clients" "$seconds" "$ticks" "$overruns" "$(awk -v x="$p99" 'BEGIN {print 1000 * x}')" \
     "$(awk -v p="$publish" -v n="$snaps" 'BEGIN {print n ? 1000 * p / n : 0}')" "$vsnaps" \
     "$(awk -v s="$vsecs" -v n="$vsnaps" 'BEGIN {print n ? 1e6 * s / n : 0}')" \
     "$(awk -v s="$vsecs" -v n="$snaps" 'BEGIN {print n ? 1000 * s / n : 0}')" \
-    "$(d gale_view_snapshots_missed_total)" "$(d gale_view_snapshots_cut_total)" \
-    "$(d gale_view_holds_total)" "$vm" \
+    "$(d gale_view_snapshots_missed_total)" "$vm" \
     "$(tr -d '\n' <out/bench-views.json)"

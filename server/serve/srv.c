@@ -89,12 +89,17 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     /* wire scene: species per tree, modes and steps per species */
     s->tree_species = calloc((size_t)n, 1);
     s->tree_modes = calloc((size_t)n, 1);
+    bool qbuf_ok = true;
     for (int k = 0; k < SRV_QBUFS; k++) {
         /* written now (big_alloc), not left to calloc's lazy zero pages: the first
          * snapshot ticks would fault them in (6.4 MB each at 100 000 trees, ~10 ms a
          * tick) */
         s->qbuf[k] = big_alloc((size_t)n * (size_t)s->stride * sizeof(int16_t));
+        qbuf_ok = qbuf_ok && s->qbuf[k];
     }
+    s->cur = 0; /* and the snapshots before the first are none: any two others */
+    s->qlast[0] = 1;
+    s->qlast[1] = 2;
     s->leaves = calloc(WIRE_MAX_LEAVES, sizeof *s->leaves);
     s->dmg_ev = calloc(WIRE_MAX_DAMAGE, sizeof *s->dmg_ev);
     s->dmg_state = calloc(WIRE_MAX_DAMAGE, sizeof *s->dmg_state);
@@ -106,7 +111,7 @@ srv *srv_create(const srv_desc *d, gale_err *err)
         s->vsel[k].modes = calloc((size_t)n > 0 ? (size_t)n : 1, 1);
         vsel_ok = vsel_ok && s->vsel[k].modes;
     }
-    if (!vsel_ok || !s->tree_pos || !s->tree_species || !s->tree_modes || !s->qbuf[0] || !s->qbuf[1] || !s->qbuf[2] || !s->qbuf[3] ||
+    if (!vsel_ok || !s->tree_pos || !s->tree_species || !s->tree_modes || !qbuf_ok ||
         !s->leaves || !s->wspecies || !s->winst || !s->dmg_ev || !s->dmg_state) {
         gale_errf(err, GALE_E_NOMEM, "srv_create: no memory for %d trees", n);
         goto fail;

@@ -62,9 +62,6 @@ typedef struct srv_pub_counters {
     atomic_ullong view_encode_ns; /* time spent encoding them [ns] */
     atomic_ullong view_missed;    /* snapshots the view streams skipped: the view thread was
                                      still busy with an earlier one */
-    atomic_ullong view_cut;       /* view-stream snapshots skipped as a tick needed the q */
-    atomic_ullong view_holds;     /* snapshot ticks that waited for the view thread */
-    atomic_ullong view_hold_ns;   /* their wait [ns] */
 } srv_pub_counters;
 
 typedef struct srv srv;

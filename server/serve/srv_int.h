@@ -65,10 +65,13 @@ typedef struct srv_vsel {
     uint8_t *modes;  /* owned [n_trees]: view_select of the slot's view */
 } srv_vsel;
 
-#define SRV_QBUFS 4 /* snapshots of quantised q: the three a snapshot's deltas read, and the
-                       one the next snapshot's tick fills while the view thread still reads
-                       those three (srv_views.c) */
-#define SRV_VJOBS 2 /* snapshots queued for the view thread: it may lag one behind */
+#define SRV_VJOBS 2 /* snapshots queued for the view thread: the one it encodes and the
+                       newest posted since */
+#define SRV_QBUFS 7 /* snapshots of quantised q (6.4 MB each at 100,000 trees): the last
+                       two (the next snapshot's deltas read them), the one more the newest
+                       queued snapshot reads, the three of the one the view thread encodes,
+                       however old, and one the next snapshot's tick fills
+                       (srv_views_next_buffer) */
 
 /* A snapshot's view streams for the view thread: what the sim thread hands over. */
 typedef struct srv_vjob {
@@ -119,9 +122,9 @@ struct srv {
     wire_scene wscene;
     uint8_t *tree_species;       /* owned [n_trees] */
     uint8_t *tree_modes;         /* owned [n_trees] */
-    int16_t *qbuf[SRV_QBUFS];    /* owned [n_trees * stride]: the current snapshot's (cur),
-                                    the one before (cur - 1), ... */
-    int cur;                     /* index of the current buffer in qbuf */
+    int16_t *qbuf[SRV_QBUFS];    /* owned [n_trees * stride] */
+    int cur;                     /* the qbuf the next snapshot tick fills */
+    int qlast[2];                /* the qbufs of the last snapshot and the one before */
     srv_stream shared;           /* the whole-scene stream (net_snap.stream 0) */
     int want_hold[2];            /* snapshots still to carry the keyframe, delta1
                                     (srv_publish.c frames_to_encode) */
@@ -170,8 +173,6 @@ struct srv {
     bool vgap;                   /* the view streams missed a snapshot since the last job
                                     queued */
     bool vstop;
-    atomic_bool vcut;            /* a snapshot tick waits: the view thread skips the rest of
-                                    the snapshot it encodes */
     wire_lanes vlanes;           /* the view thread's lanes, on its own team */
     float *tree_pos;             /* owned [n_trees * 3] tree bases for view_select */
     view_grid vgrid;             /* tree_pos bucketed for view_select_grid */
@@ -217,17 +218,19 @@ void srv_publish(srv *s, uint32_t tick);
 
 /* srv_views.c: the view thread. srv_views_start starts it (srv_run), srv_views_stop ends
  * it after its job (idempotent). Sim thread: srv_views_post queues snapshot seq for it
- * (header h, the shared snapshot p for its extras, q in qbuf qi[0..2], frames want), or
- * when SRV_VJOBS wait already marks a gap (its streams then send keyframes);
- * srv_views_gap marks one for a snapshot not published; srv_views_hold, before a tick
- * writes qbuf[qi], has the view thread skip the rest of a queued snapshot that reads it
- * and waits for the stream it is encoding. */
+ * (header h, the shared snapshot p for its extras, q in qbuf qi[0..2], frames want); when
+ * SRV_VJOBS are queued it takes the place of the newest, not yet started, which the
+ * streams miss (they then send keyframes);
+ * srv_views_gap marks one for a snapshot not published (and drops a snapshot waiting:
+ * the newest queued is always the last posted); srv_views_next_buffer gives the
+ * qbuf the next snapshot tick may fill: neither of s->qlast nor one a queued snapshot
+ * reads. */
 int srv_views_start(srv *s, gale_err *err);
 void srv_views_stop(srv *s);
 void srv_views_post(srv *s, const wire_header *h, uint32_t seq, unsigned want,
                     const net_snap *p, const int qi[3]);
 void srv_views_gap(srv *s);
-void srv_views_hold(srv *s, int qi);
+int srv_views_next_buffer(srv *s);
 /* The publisher's rows (gale_leaves_shed_total, gale_view_*) into r. */
 int srv_publish_register(srv *s, metric_reg *r, gale_err *err);
 

@@ -99,9 +99,6 @@ void *srv_loop(void *arg)
         tick_stats ts;
         gale_err e;
         bool snap = (tick + 1) % (uint32_t)s->ticks_per_snap == 0;
-        if (snap) {
-            srv_views_hold(s, s->cur); /* the view thread may still read it */
-        }
         if (tick_step(s->tick, snap ? s->qbuf[s->cur] : NULL, &ts, &e)) {
             fprintf(stderr, "gale-server: %s: stopping the simulation\n", e.msg);
             net_stop(s->net);

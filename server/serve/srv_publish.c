@@ -73,8 +73,7 @@ void srv_publish(srv *s, uint32_t tick)
         pthread_mutex_unlock(&s->hist_lock);
     }
     /* qbuf[cur] was filled by tick_step (modal_tick quantised it) */
-    const int qi[3] = { s->cur, (s->cur + SRV_QBUFS - 1) % SRV_QBUFS,
-                        (s->cur + SRV_QBUFS - 2) % SRV_QBUFS };
+    const int qi[3] = { s->cur, s->qlast[0], s->qlast[1] };
     const srv_qhist qh = { .q = { s->qbuf[qi[0]], s->qbuf[qi[1]], s->qbuf[qi[2]] },
                            .n_trees = (uint32_t)n,
                            .stride = (uint32_t)stride,
@@ -118,7 +117,9 @@ void srv_publish(srv *s, uint32_t tick)
         atomic_fetch_add(&s->pubm.leaves_shed, s->n_leaves);
         s->n_leaves = 0;
     }
-    s->cur = (s->cur + 1) % SRV_QBUFS;
+    s->qlast[1] = s->qlast[0];
+    s->qlast[0] = s->cur;
+    s->cur = srv_views_next_buffer(s);
 }
 
 /* --- metrics ---------------------------------------------------------------------------- */
@@ -130,11 +131,6 @@ static const metric_row pub_rows[] = {
     { "gale_view_encode_seconds_total", NULL, "Time spent encoding them.", METRIC_COUNTER, 6 },
     { "gale_view_snapshots_missed_total", NULL,
       "Snapshots the view streams skipped, the view thread still busy.", METRIC_COUNTER, 0 },
-    { "gale_view_snapshots_cut_total", NULL,
-      "View-stream snapshots skipped as a snapshot tick needed their q.", METRIC_COUNTER, 0 },
-    { "gale_view_holds_total", NULL, "Snapshot ticks that waited for the view thread.",
-      METRIC_COUNTER, 0 },
-    { "gale_view_hold_seconds_total", NULL, "Their wait.", METRIC_COUNTER, 6 },
 };
 
 static void pub_fill(void *ctx, double *v)
@@ -144,9 +140,6 @@ static void pub_fill(void *ctx, double *v)
     v[1] = (double)atomic_load(&m->view_snapshots);
     v[2] = (double)atomic_load(&m->view_encode_ns) * 1e-9;
     v[3] = (double)atomic_load(&m->view_missed);
-    v[4] = (double)atomic_load(&m->view_cut);
-    v[5] = (double)atomic_load(&m->view_holds);
-    v[6] = (double)atomic_load(&m->view_hold_ns) * 1e-9;
 }
 
 int srv_publish_register(srv *s, metric_reg *r, gale_err *err)

@@ -2,13 +2,13 @@
  * ticks rather than after them. The sim thread encodes the shared stream, hands the
  * snapshot to this thread and goes on; the ticks' threads run at a real-time priority
  * where the scene asks for it (SERVER.md "Loop") and this one at the normal one, so the
- * views take the cores the ticks leave. It may lag a snapshot behind (SRV_VJOBS queued);
- * a snapshot posted beyond that is skipped by every view stream (their connections see a
- * gap and get a keyframe). The q it reads stays put: SRV_QBUFS buffers, and a snapshot
- * tick that would write one a queued snapshot still reads has the view thread skip that
- * snapshot's remaining streams and waits only for the stream being encoded
- * (srv_views_hold): a starved view thread costs its streams keyframes, not the ticks
- * their time. */
+ * views take the cores the ticks leave. Beside the snapshot it encodes one more waits, the
+ * newest posted: a snapshot posted while one waits takes its place, and the one it
+ * replaces is skipped by every view stream (their connections see a gap and get a
+ * keyframe). The q it reads stays put without the ticks waiting for it: of SRV_QBUFS
+ * buffers a snapshot tick fills one that neither the next deltas nor a queued snapshot
+ * read (srv_views_next_buffer), so a starved view thread costs its streams keyframes, not
+ * the ticks their time. */
 #include "srv_int.h"
 #include "view_select.h"
 
@@ -37,11 +37,6 @@ static void encode_views(srv *s, const srv_vjob *j)
         srv_vsel *vs = &s->vsel[k];
         if (!streams[k]) {
             vs->enc.id = 0;
-            continue;
-        }
-        if (atomic_load(&s->vcut)) {
-            srv_stream_skip(&vs->enc); /* a tick needs the q: its connections see a gap */
-            atomic_fetch_add(&s->pubm.view_cut, 1);
             continue;
         }
         uint64_t t0 = mono_us();
@@ -128,14 +123,17 @@ void srv_views_post(srv *s, const wire_header *h, uint32_t seq, unsigned want,
                     const net_snap *p, const int qi[3])
 {
     pthread_mutex_lock(&s->vlock);
+    srv_vjob *j;
     if (s->vn_jobs == SRV_VJOBS) {
+        /* the newest waiting gives way (the view thread reads vjob[vhead] alone): the
+           streams miss it */
+        j = &s->vjob[(s->vhead + SRV_VJOBS - 1) % SRV_VJOBS];
         s->vgap = true;
         atomic_fetch_add(&s->pubm.view_missed, 1);
-        pthread_mutex_unlock(&s->vlock);
-        return;
+    } else {
+        j = &s->vjob[(s->vhead + s->vn_jobs) % SRV_VJOBS];
+        s->vn_jobs++;
     }
-    /* the slot no thread reads: the view thread reads vjob[vhead] only while it is queued */
-    srv_vjob *j = &s->vjob[(s->vhead + s->vn_jobs) % SRV_VJOBS];
     j->gap = s->vgap;
     s->vgap = false;
     j->h = *h;
@@ -149,7 +147,6 @@ void srv_views_post(srv *s, const wire_header *h, uint32_t seq, unsigned want,
         memcpy(j->extra[x], p->extra[x], p->extra_len[x]);
     }
     j->extra_key_only = p->extra_key_only;
-    s->vn_jobs++;
     pthread_cond_signal(&s->vpost);
     pthread_mutex_unlock(&s->vlock);
 }
@@ -157,6 +154,10 @@ void srv_views_post(srv *s, const wire_header *h, uint32_t seq, unsigned want,
 void srv_views_gap(srv *s)
 {
     pthread_mutex_lock(&s->vlock);
+    if (s->vn_jobs == SRV_VJOBS) {
+        s->vn_jobs--; /* the snapshot waiting goes too */
+        atomic_fetch_add(&s->pubm.view_missed, 1);
+    }
     s->vgap = true;
     pthread_mutex_unlock(&s->vlock);
 }
@@ -173,19 +174,27 @@ static bool reads_buffer(const srv *s, int qi)
     return false;
 }
 
-void srv_views_hold(srv *s, int qi)
+int srv_views_next_buffer(srv *s)
 {
+    /* the last two snapshots, the newest queued (the snapshot just posted, or the one it
+       replaced: its newest two are the last two) and the one being encoded read at most
+       2 + 1 + 3 buffers, so one is free */
+    _Static_assert(SRV_VJOBS == 2 && SRV_QBUFS >= 2 + 1 + 3 + 1, "a buffer is always free");
+    /* (a snapshot not published drops the one waiting, srv_views_gap, so the newest
+       queued is always the last snapshot) */
+    int free_qi = -1;
     pthread_mutex_lock(&s->vlock);
-    uint64_t t0 = 0;
-    while (reads_buffer(s, qi)) {
-        t0 = t0 ? t0 : mono_ns();
-        atomic_store(&s->vcut, true);
-        pthread_cond_wait(&s->vdone, &s->vlock);
-    }
-    if (t0) {
-        atomic_store(&s->vcut, false);
-        atomic_fetch_add(&s->pubm.view_holds, 1);
-        atomic_fetch_add(&s->pubm.view_hold_ns, mono_ns() - t0);
+    for (;;) {
+        for (int k = 0; k < SRV_QBUFS && free_qi < 0; k++) {
+            if (k != s->qlast[0] && k != s->qlast[1] && !reads_buffer(s, k)) {
+                free_qi = k;
+            }
+        }
+        if (free_qi >= 0) {
+            break;
+        }
+        pthread_cond_wait(&s->vdone, &s->vlock); /* not reached: see above */
     }
     pthread_mutex_unlock(&s->vlock);
+    return free_qi;
 }
