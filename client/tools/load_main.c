@@ -204,8 +204,12 @@ static int callback(struct lws *wsi, enum lws_callback_reasons reason, void *use
         }
         snprintf(m.u.hello.token, sizeof m.u.hello.token, "%s", r->token);
         size_t n = 0;
-        if (ctl_encode_into(&m, buf + LWS_PRE, sizeof buf - LWS_PRE, &n, NULL) ||
-            lws_write(wsi, (unsigned char *)buf + LWS_PRE, n, LWS_WRITE_TEXT) < (int)n) {
+        gale_err e = { 0 };
+        if (ctl_encode_into(&m, buf + LWS_PRE, sizeof buf - LWS_PRE, &n, &e)) {
+            note_error(r, "hello", e.msg);
+            return -1;
+        }
+        if (lws_write(wsi, (unsigned char *)buf + LWS_PRE, n, LWS_WRITE_TEXT) < (int)n) {
             return -1;
         }
         break;
