@@ -13,8 +13,32 @@ import { orbitEye } from './view_math.js';
 import { stormFxFromWeather, stormFxQualityParse, STORM_FX_LOW } from './storm_fx.js';
 import { DamageFx, DAMAGE } from './damage.js';
 import { weatherLines } from './hud_text.js';
+import { DATA_W } from './render_data.js';
+import { frustumCone, frustumView, ViewSender } from './view_stream.js';
+import { VIEW_FAR_M, VIEW_LOD_M } from './lod_policy.js';
 
 const LEAVES_PER_FRAME = 4096; // CLIENT_LEAVES_PER_FRAME (client/app/client.h): more are thinned
+// The modal state the page holds: every snapshot's quantised values (n_trees × stride
+// int16) once in the jitter buffer and once in the GPU's ring, up to Q_LAYERS_MAX
+// snapshots, as many as fit this many bytes (?hold_mb=N lowers it), never fewer than
+// Q_LAYERS_MIN (the blend takes up to four); a scene past that holds the motion of its first
+// trees only and draws the others at rest.
+const Q_HOLD_BYTES = 192 * 1048576;
+const Q_LAYERS_MAX = 32;
+const Q_LAYERS_MIN = 5;
+
+// How much of a scene of n trees × stride modes the page holds: { trees, layers }, within
+// hold_bytes and the GPU's texture height and array layers.
+export function qHold(n, stride, hold_bytes, max_rows, max_layers) {
+    const snap = Math.max(1, n * stride * 2);
+    let layers = Math.min(Q_LAYERS_MAX, max_layers, Math.floor(hold_bytes / snap));
+    let trees = Math.min(n, Math.floor(max_rows * DATA_W / stride));
+    if (layers < Q_LAYERS_MIN) {
+        layers = Math.min(Q_LAYERS_MIN, max_layers);
+        trees = Math.min(trees, Math.floor(hold_bytes / (layers * stride * 2)));
+    }
+    return { trees, layers };
+}
 
 function percentile(a, p) {
     if (!a.length) return null;
@@ -35,7 +59,7 @@ export class App {
         // JS CPU per stage: decode and insert (the copy into the jitter buffer) per
         // snapshot; interp (the blend's weights) and upload (of the snapshots a frame is
         // first to blend, into the GPU's ring) per drawn frame
-        this.perf = { decode: [], insert: [], interp: [], upload: [], draw: [] };
+        this.perf = { decode: [], insert: [], interp: [], upload: [], draw: [], cull: [] };
         this.bytesAssets = 0;
         this.t_load = performance.now();
         this.firstFrame_ms = null;
@@ -49,6 +73,14 @@ export class App {
             this.errors.push(`storm_fx=${sq}: expected off, low or high; low is used`);
         }
         this.cam = { yaw: 1.5707963 - 0.6108652, pitch: -0.5235988, distance: 60, target: [0, 0, 4], fov_y_deg: 50 };
+        const q = new URLSearchParams(location.search), mb = Number(q.get('hold_mb'));
+        // ?view=all: no view sent, the whole scene streamed (a reference for the stream's size)
+        this.followCamera = q.get('view') !== 'all';
+        this.holdBytes = mb > 0 ? Math.min(mb * 1048576, Q_HOLD_BYTES) : Q_HOLD_BYTES;
+        // the stream's view follows the camera (web/view_stream.js)
+        this.views = new ViewSender((m) => this.conn && this.conn.send(m));
+        this.bytesSeen = []; // [page time s, stream bytes] about every half second
+        this.treesSent = 0; // trees the last state frame carried
         window.gale = this;
     }
 
@@ -125,7 +157,13 @@ export class App {
         this.qTree = new Float32Array(stride);
         this.qwTree = new Float32Array(4 * stride);
         this.modes = new Uint8Array(n);
-        this.jitter = new Jitter(n * stride);
+        // the modal state held, from the welcome's size (the GPU's limits, the page's bytes)
+        const gl = this.r.gl, hold = qHold(n, stride, this.holdBytes, gl.getParameter(gl.MAX_TEXTURE_SIZE), gl.getParameter(gl.MAX_ARRAY_TEXTURE_LAYERS));
+        this.qTrees = hold.trees;
+        this.reduced = hold.trees < n ? `This scene has ${n} trees of up to ${stride} modes, more than this browser can hold: the first ${hold.trees} move, the others are drawn at rest.` : '';
+        this.jitter = new Jitter(hold.trees * stride, hold.layers);
+        this.r.q_trees = hold.trees;
+        this.views.reset(this.conn.o.view);
         // storm damage: a new picture per welcome; the keyframe's full DAMAGE fills it
         // (a reconnect heals what the server no longer holds)
         this.damage = new DamageFx(n, w.tick_hz, (t) => {
@@ -152,6 +190,10 @@ export class App {
         this.speciesHash = w.species.map((s) => s.hash);
         this.r.setInstances(w.instances, stride);
         this.r.setStride(stride, this.jitter.capacity);
+        if (this.reduced) {
+            this.errors.push(this.reduced);
+            this.say(this.reduced);
+        }
         try {
             this.r.setObstacles(w.obstacles || []);
         } catch (e) {
@@ -160,6 +202,10 @@ export class App {
         }
         this.ready = true;
         if (this.o.onWelcome) this.o.onWelcome(w);
+        // the view at once, before the first frame: the whole scene's stream would
+        // otherwise fill the queue a large scene's first frame waits behind
+        this.r.look(this.camera());
+        this.followView(performance.now() * 1e-3);
     }
 
     // An asset whose bytes do not hash to the welcome's hash is refused and fetched again
@@ -182,8 +228,8 @@ export class App {
         if (this.conn.lastDecode_ms !== undefined) this.perf.decode.push(this.conn.lastDecode_ms);
         if (f.state && this.jitter) {
             const st = f.state;
-            if (st.scene.stride !== this.stride || st.scene.n_trees * this.stride !== this.jitter.n_values) {
-                this.errors.push(`keyframe of ${st.scene.n_trees} trees × ${st.scene.stride} modes, welcome ${this.jitter.n_values / this.stride} × ${this.stride}`);
+            if (st.scene.stride !== this.stride || st.scene.n_trees !== this.welcome.instances.length) {
+                this.errors.push(`keyframe of ${st.scene.n_trees} trees × ${st.scene.stride} modes, welcome ${this.welcome.instances.length} × ${this.stride}`);
                 return;
             }
             // the skeleton pass dequantises with the steps of the scene's species, which
@@ -196,7 +242,12 @@ export class App {
                 }
                 this.sceneChecked = st.scene;
             }
+            // a tree the server stops sending (out of its view) has 0 modes: the decoder
+            // zeroes its values, so it is drawn at rest, never with stale ones
             this.modes.set(st.n_modes);
+            let sent = 0;
+            for (let t = 0; t < st.n_modes.length; t++) sent += st.n_modes[t] > 0;
+            this.treesSent = sent;
             const t_s = f.hdr.server_time_us * 1e-6;
             this.clock.arrival(t_s, now * 1e-3);
             // Q as decoded into the jitter buffer's copy, later once into the GPU's ring
@@ -253,7 +304,7 @@ export class App {
     // the first frame: at rest).
     treeQ(tree) {
         const w = this.shown_s === undefined ? null : this.jitter.weightsAt(this.shown_s);
-        if (!w || !(tree < this.welcome.instances.length)) return null;
+        if (!w || !(tree < this.qTrees)) return null;
         const qw = blendWeights(w, this.welcome.instances[tree][0], this.qwTree), b = tree * this.stride, out = this.qTree;
         for (let m = 0; m < out.length; m++) {
             let v = 0;
@@ -316,6 +367,8 @@ export class App {
             return;
         }
         const t3 = performance.now();
+        this.followView(t3 * 1e-3);
+        this.perf.cull.push(this.r.stats.cull_ms);
         this.perf.interp.push(t2 - t0 - this.r.stats.upload_ms);
         this.perf.upload.push(this.r.stats.upload_ms);
         this.perf.draw.push(t3 - t2);
@@ -323,6 +376,36 @@ export class App {
         this.framesDrawn++;
         if (this.firstFrame_ms === null) this.firstFrame_ms = performance.now(); // since navigation start
         if (this.o.afterFrame) this.o.afterFrame(this);
+    }
+
+    // The stream's view after each frame: the frustum drawn, its far and LOD distances the
+    // policy's as the frame's budget scaled them (web/lod_policy.js); the next hello carries
+    // the last one sent.
+    followView(now_s) {
+        const r = this.r;
+        if (!r.view || !this.conn) return;
+        const sc = r.stats.lod_scale || 1;
+        if (this.followCamera) this.views.update(frustumView(frustumCone(r.view, r.viewproj), VIEW_FAR_M * sc, VIEW_LOD_M * sc), now_s);
+        this.conn.o.view = this.views.sent;
+        const b = this.bytesSeen;
+        if (!b.length || now_s - b[b.length - 1][0] >= 0.5) {
+            b.push([now_s, this.conn.stats.bytes]);
+            if (b.length > 8) b.shift();
+        }
+    }
+
+    // What the frames cost and what the stream carries, for tests and the benchmark: the
+    // last frame's draw calls, triangles and vertices, trees drawn per level, the cull's CPU
+    // time, views sent, the stream's bytes a second over the last few seconds (page
+    // time: frames and views only advance while the page draws) and trees a snapshot.
+    lodStats() {
+        const s = this.r.stats, b = this.bytesSeen, now = performance.now() * 1e-3;
+        const bytes = this.conn ? this.conn.stats.bytes : 0;
+        return { draws: s.draws, triangles: s.triangles, vertices: s.vertices, trees_drawn: s.trees_drawn,
+            trees_per_level: { full: (s.levels || [])[0] || 0, thin: (s.levels || [])[1] || 0, sparse: (s.levels || [])[2] || 0 },
+            cull_ms: s.cull_ms, lod_scale: s.lod_scale, cells_in_view: s.cells_in_view, views_sent: this.views.count, view: this.views.sent,
+            stream_bytes_per_s: b.length && now > b[0][0] ? (bytes - b[0][1]) / (now - b[0][0]) : null,
+            trees_per_snapshot: this.treesSent, trees_held: this.qTrees, reduced: this.reduced };
     }
 
     // Holds the newest n snapshots from now on (the jitter buffer and the GPU's ring grow;

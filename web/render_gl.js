@@ -14,8 +14,9 @@
 // the frame; its other jobs, whose methods it takes as its own, in modules of their own:
 // data textures and texture units (web/render_data.js), species (web/render_species.js),
 // the modal state and the skeleton pass (web/render_skel.js), sky, fog and rain
-// (web/render_sky.js), falling leaves (web/render_fall.js) and storm damage
-// (web/render_damage.js); the matrices in web/view_math.js.
+// (web/render_sky.js), falling leaves (web/render_fall.js), storm damage
+// (web/render_damage.js) and the frame's draw list, the trees in view at their levels
+// (web/render_list.js); the matrices in web/view_math.js.
 import { loadProgram } from './shaders.js';
 import { stormFxCalm } from './storm_fx.js';
 import { housesMesh, HOUSE_FLOATS } from './house.js';
@@ -27,6 +28,8 @@ import { RendererSkel } from './render_skel.js';
 import { RendererSky } from './render_sky.js';
 import { RendererFall } from './render_fall.js';
 import { RendererDamage } from './render_damage.js';
+import { RendererList } from './render_list.js';
+import { LOD_BUDGET_TREES } from './lod_policy.js';
 
 export class Renderer {
     constructor(canvas) {
@@ -41,8 +44,10 @@ export class Renderer {
         this.n_trees = 0;
         this.skel_w = 0;
         this.skel_h = 0;
-        this.max_rows = 4096;
-        this.stats = { frames: 0, trees_drawn: 0, upload_ms: 0 };
+        this.max_rows = LOD_BUDGET_TREES; // trees posed a frame at most (the page's ?max_trees lowers it)
+        this.q_trees = Infinity; // trees whose motion the page holds (App: a scene past its memory)
+        this.stats = { frames: 0, trees_drawn: 0, upload_ms: 0, draws: 0, triangles: 0, vertices: 0 };
+        this.countDraws(gl);
         this.fx = stormFxCalm(); // web/storm_fx.js; the page sets it from WEATHER
         this.subject_m = 0;
     }
@@ -107,6 +112,7 @@ export class Renderer {
         });
         this.treeData = t;
         this.trees = this.dataTex(4, (rows.length + MAX_DEBRIS) * 2, t, this.trees);
+        this.setupCulling(rows);
         this.uprooted = new Uint8Array(rows.length);
         this.setCuts(new Float32Array(rows.length * 4), new Float32Array(1));
         this.setStride(stride);
@@ -137,6 +143,32 @@ export class Renderer {
         return fbo;
     }
 
+    // Every draw call of gl counted (calls, vertices, and triangles of gl.TRIANGLES) into
+    // this.drawCount, and a frame's into stats (frameCounted): for tests and the benchmark.
+    countDraws(gl) {
+        const c = this.drawCount = { calls: 0, vertices: 0, triangles: 0 };
+        const wrap = (name, count) => {
+            const f = gl[name].bind(gl);
+            gl[name] = (...x) => {
+                const v = count(x);
+                c.calls++;
+                c.vertices += v;
+                if (x[0] === gl.TRIANGLES) c.triangles += v / 3;
+                return f(...x);
+            };
+        };
+        wrap('drawArrays', (x) => x[2]);
+        wrap('drawElements', (x) => x[1]);
+        wrap('drawArraysInstanced', (x) => x[2] * x[3]);
+        wrap('drawElementsInstanced', (x) => x[1] * x[4]);
+    }
+
+    frameCounted() {
+        this.stats.draws = this.drawCount.calls;
+        this.stats.triangles = this.drawCount.triangles;
+        this.stats.vertices = this.drawCount.vertices;
+    }
+
     // The offscreen picture onto the canvas (false when there is none of the canvas's size).
     present() {
         const gl = this.gl, o = this.off;
@@ -148,66 +180,34 @@ export class Renderer {
         return true;
     }
 
+    // The view and view-projection of cam (below) on this canvas: this.view, this.viewproj.
+    look(cam) {
+        if (cam.viewproj) {
+            this.viewproj = cam.viewproj;
+            this.view = cam.view || null;
+        } else {
+            const proj = perspective(cam.fov_y_deg * Math.PI / 180, this.canvas.width / this.canvas.height, cam.near || 0.3, cam.far || 3000);
+            this.view = lookAt(cam.eye, cam.target, [0, 0, 1]);
+            this.viewproj = mul(proj, this.view);
+        }
+        this.eye = cam.eye;
+    }
+
     // cam: { eye, target, fov_y_deg, near, far, subject_m? } or { viewproj, eye } for a
     // wall tile (subject_m: how far along the view the camera's subject lies, 0 none);
     // modes: per tree mode count (0: not sent: drawn at rest with none); server_s: the
     // server time shown (falling leaves follow it), undefined: none drawn.
     draw(cam, t, modes, server_s) {
         const gl = this.gl, W = this.canvas.width, H = this.canvas.height;
-        if (cam.viewproj) {
-            this.viewproj = cam.viewproj;
-            this.view = cam.view || null;
-        } else {
-            const proj = perspective(cam.fov_y_deg * Math.PI / 180, W / H, cam.near || 0.3, cam.far || 3000);
-            this.view = lookAt(cam.eye, cam.target, [0, 0, 1]);
-            this.viewproj = mul(proj, this.view);
-        }
-        this.eye = cam.eye;
+        const c = this.drawCount;
+        c.calls = c.vertices = c.triangles = 0;
+        this.look(cam);
         if (this.t_base === undefined && Number.isFinite(server_s)) this.t_base = Math.floor(server_s);
         this.subject_m = cam.subject_m > 0 && Number.isFinite(cam.subject_m) && this.view ? cam.subject_m : 0;
-        // the draw list: per species, its trees nearest first, up to max_rows in all
-        const per = this.species.map(() => []);
-        const order = [];
-        for (let i = 0; i < this.n_trees; i++) {
-            const r = this.inst[i];
-            if (!this.species[r[0]]) continue;
-            order.push([Math.hypot(r[1] - cam.eye[0], r[2] - cam.eye[1], r[3] - cam.eye[2]), i]);
-        }
-        // the debris pieces in slots after the trees
-        const spOf = (i) => (i < this.n_trees ? this.inst[i][0] : this.debris[i - this.n_trees].species);
-        this.debris.forEach((d, k) => {
-            if (this.species[d.species]) order.push([Math.hypot(d.pos[0] - cam.eye[0], d.pos[1] - cam.eye[1], d.pos[2] - cam.eye[2]), this.n_trees + k]);
-        });
-        order.sort((a, b) => a[0] - b[0]);
-        const drawn = order.slice(0, this.max_rows).map(([, i]) => i);
-        for (const [d, i] of order.slice(0, this.max_rows)) per[spOf(i)].push([i, d]);
-        const list = new Float32Array(Math.max(1, order.length) * 4);
-        const groups = [];
-        let row = 0, maxw = 1;
-        per.forEach((trees, s) => {
-            const sp = this.species[s];
-            if (!sp || !trees.length) return;
-            maxw = Math.max(maxw, sp.n_nodes);
-            // nearer trees get the finer mesh LOD: one group per LOD, 30 m apart
-            const byLod = Array.from({ length: sp.n_lods }, () => []);
-            for (const [i, d] of trees) byLod[Math.min(sp.n_lods - 1, Math.floor(d / 30))].push(i);
-            const g = { s, base: row, lods: [] };
-            for (let l = 0; l < sp.n_lods; l++) {
-                g.lods.push([row, byLod[l].length]);
-                for (const i of byLod[l]) {
-                    // a debris piece: its rest pose needs no modes
-                    const nm = i >= this.n_trees ? 0 : modes ? Math.min(modes[i], sp.n_modes) : sp.n_modes;
-                    list.set([i, row, nm, 1], 4 * row);
-                    row++;
-                }
-            }
-            g.n = row - g.base;
-            groups.push(g);
-        });
-        this.stats.trees_drawn = row;
+        // the trees in view at their levels (web/render_list.js)
+        const { groups, drawn, rows } = this.drawList(cam, modes);
         this.groups = groups; // the skeleton rows drawn: for tests
-        this.list = this.dataTex(4, Math.max(1, row), list.subarray(0, Math.max(1, row) * 4), this.list);
-        this.ensureSkel(maxw, row);
+        this.ensureSkel(Math.max(1, ...groups.map((g) => this.species[g.s].n_nodes)), rows);
 
         this.poseSkeletons(groups);
 
@@ -232,6 +232,7 @@ export class Renderer {
 
         if (this.hideTrees) {
             this.stats.frames++;
+            this.frameCounted();
             return;
         }
         this.bindTex(RU.SKEL, gl.TEXTURE_2D, this.skelTex[0]);
@@ -246,11 +247,11 @@ export class Renderer {
             gl.uniform3fv(pt.u.u_bark, sp.bark);
             this.bindTex(RU.NODE, gl.TEXTURE_2D, sp.node.tex);
             gl.bindVertexArray(sp.vao);
-            g.lods.forEach(([base, n], l) => {
-                if (!n || !sp.lod_count[l]) return;
+            for (const [base, n, l] of g.bark) {
+                if (!sp.lod_count[l]) continue;
                 gl.uniform1i(pt.u.u_base, base);
                 gl.drawElementsInstanced(gl.TRIANGLES, sp.lod_count[l], gl.UNSIGNED_INT, sp.lod_first[l] * 4, n);
-            });
+            }
         }
         gl.disable(gl.CULL_FACE);
         this.drawDamage(drawn, t);
@@ -260,18 +261,24 @@ export class Renderer {
         for (const g of groups) {
             const sp = this.species[g.s];
             if (!sp.n_leaves) continue;
-            gl.uniform1i(pl.u.u_base, g.base);
-            gl.uniform1i(pl.u.u_nleaves, sp.n_leaves);
             gl.uniform1f(pl.u.u_aspect, LEAF_ASPECT[sp.leaf_shape]);
             gl.uniform2f(pl.u.u_crown, sp.crown_r, sp.height);
             gl.uniform3fv(pl.u.u_leafcol, sp.leaf_rgb);
             gl.uniform1i(pl.u.u_shape, sp.leaf_shape);
             this.bindTex(RU.NODE, gl.TEXTURE_2D, sp.node.tex);
-            this.bindTex(RU.LEAF, gl.TEXTURE_2D, sp.leaf.tex);
-            gl.drawArraysInstanced(gl.TRIANGLES, 0, 6, g.n * sp.n_leaves);
+            // each level its share of the leaves (web/render_list.js leafLevels)
+            for (const [base, n, l] of g.leaves) {
+                const lv = this.leafLevels(sp)[l];
+                if (!lv.n) continue;
+                gl.uniform1i(pl.u.u_base, base);
+                gl.uniform1i(pl.u.u_nleaves, lv.n);
+                this.bindTex(RU.LEAF, gl.TEXTURE_2D, lv.tex.tex);
+                gl.drawArraysInstanced(gl.TRIANGLES, 0, 6, n * lv.n);
+            }
         }
         this.drawFalling(server_s);
         this.drawRain(t);
+        this.frameCounted();
         // the first frames are checked (a check each frame would stall the pipeline)
         if (this.stats.frames++ < 3) {
             const e = gl.getError();
@@ -282,7 +289,7 @@ export class Renderer {
 
 // The methods of each job, kept in a module of its own, are Renderer's: copied as
 // defined (not enumerable, as a class's own).
-for (const part of [RendererData, RendererSpecies, RendererSkel, RendererSky, RendererFall, RendererDamage]) {
+for (const part of [RendererData, RendererSpecies, RendererSkel, RendererSky, RendererFall, RendererDamage, RendererList]) {
     for (const [name, d] of Object.entries(Object.getOwnPropertyDescriptors(part.prototype))) {
         if (name !== 'constructor') Object.defineProperty(Renderer.prototype, name, d);
     }

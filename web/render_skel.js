@@ -18,12 +18,14 @@ export class RendererSkel {
     }
 
     // The modal state's store: a ring of `layers` snapshots, each one's quantised values Q
-    // [n_trees × stride] (int16, as decoded) in a layer of an R16I texture array, DATA_W
+    // [q_trees × stride] (int16, as decoded) in a layer of an R16I texture array, DATA_W
     // texels a row, uploaded once, by the first frame that blends it (setMix): a page that
     // draws slower than snapshots come uploads only those it draws. The skeleton pass
     // blends the layers setMix names (shaders/skel.frag GALE_Q_RING).
     setStride(stride, layers = 32) {
-        const gl = this.gl, n = Math.max(1, this.n_trees * stride), w = Math.min(DATA_W, n), h = Math.ceil(n / w);
+        // the trees whose motion the page holds (App: q_trees), all of them unless a
+        // scene is past the page's memory
+        const gl = this.gl, n = Math.max(1, Math.min(this.n_trees, this.q_trees) * stride), w = Math.min(DATA_W, n), h = Math.ceil(n / w);
         this.q_stride = stride;
         this.mix = null;
         if (this.qring && this.qring.w === w && this.qring.h === h && this.qring.layers === layers) {
@@ -95,8 +97,10 @@ export class RendererSkel {
     ensureSkel(w, rows) {
         const gl = this.gl;
         if (w <= this.skel_w && rows <= this.skel_h) return;
+        // grown by doubling, never past the frame's budget of trees nor the GPU's largest
+        // texture (web/render_list.js)
         w = Math.max(w, this.skel_w);
-        rows = Math.max(rows, 2 * this.skel_h, 16);
+        rows = Math.min(Math.max(rows, 2 * this.skel_h, 16), Math.max(rows, Math.min(this.max_rows, this.maxSkelRows())));
         this.skelTex = this.skelTex || [gl.createTexture(), gl.createTexture()];
         this.skelFbo = this.skelFbo || [gl.createFramebuffer(), gl.createFramebuffer()];
         for (let k = 0; k < 2; k++) {

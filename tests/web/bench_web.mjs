@@ -1,29 +1,34 @@
 // Benchmark of the browser client (prints JSON; not a test): headless chromium (SwiftShader
 // WebGL2) on the viewer page of a real gale-server, for the town block (the embedded
-// default scene) and a generated scene of 4,000 trees. Per scene: JS CPU of the page's
+// default scene) and the 100,000-tree landscape (configs/scenes/landscape-2km.json), and
+// with --scenes also a generated forest of 4,000 trees. Per scene: JS CPU of the page's
 // stages, median and p95 [ms]: decode (web/wire.js) and insert (the copy of the quantised
 // values into the jitter buffer, web/jitter.js), per snapshot; interp (the Hermite weights
 // and the skeleton pass's per-species weights: the GPU dequantises and blends) and upload
 // (of the snapshots a frame is the first to blend into the GPU's ring, web/render_skel.js
 // setMix), per drawn frame; page load to the first drawn frame; bytes fetched (pages,
-// shaders, assets over HTTP, the WebSocket stream). The draw itself is capped at the
-// --draw nearest trees (a software GPU draws a tree in tens of milliseconds); every tree
-// is still decoded, copied and uploaded. js_cpu_per_frame_ms: the four stages' medians
-// (p95s, means) summed, a drawn frame that also took a snapshot in. ref_ms: the same
-// page's time for a fixed multiply-add over 4,000 × 32 floats, 100 times: the machine's
-// pace in this run.
+// shaders, assets over HTTP, the WebSocket stream). Per drawn frame, counted by a wrapper
+// of WebGL2's draw calls that the benchmark puts into the page (so that any build of the
+// page is measured alike): draw calls, triangles and vertices; and where the page reports
+// them (window.gale.lod): the cull's CPU time, trees per level, view messages sent. The
+// measured window runs --seconds after the first frame, and at least until --frames more
+// frames were drawn (a software GPU may take a minute a frame). --draw N: the viewer's
+// ?max_trees=N (0: none). js_cpu_per_frame_ms: the four stages' medians (p95s, means)
+// summed. ref_ms: the same page's time for a fixed multiply-add over 4,000 × 32 floats,
+// 100 times: the machine's pace in this run.
 //   GALE_WEB_DEPS=build/tests/web node tests/web/bench_web.mjs build/server/gale-server OUT_DIR
-//       [--seconds S] [--draw N]
+//       [--seconds S] [--frames N] [--draw N] [--scenes town,landscape,forest]
 import { writeFileSync, mkdirSync, readFileSync } from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { args, startServer, startBrowser, waitFor } from './harness.mjs';
 
-const a = args('usage: node bench_web.mjs GALE_SERVER OUT_DIR [--seconds S] [--draw N]');
+const a = args('usage: node bench_web.mjs GALE_SERVER OUT_DIR [--seconds S] [--frames N] [--draw N] [--scenes town,landscape,forest]');
 const [server, work] = a;
 const opt = (k, d) => (a.includes(k) ? Number(a[a.indexOf(k) + 1]) : d);
-const seconds = opt('--seconds', 20), draw = opt('--draw', 8);
+const seconds = opt('--seconds', 20), draw = opt('--draw', 0), frames = opt('--frames', 2);
+const scenes = (a.includes('--scenes') ? a[a.indexOf('--scenes') + 1] : 'town,landscape').split(',');
 const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
 mkdirSync(work, { recursive: true });
 
@@ -37,17 +42,42 @@ big.forest = def.species.map((s, i) => ({ species: s.name, count: i === 0 ? 1334
 const bigPath = path.join(work, 'forest-4000.json');
 writeFileSync(bigPath, JSON.stringify(big, null, 1));
 
+// Counts every draw call of WebGL2 in the page: calls, vertices and triangles (TRIANGLES
+// only), into window.__glDraws.
+function countDraws() {
+    const c = window.__glDraws = { calls: 0, vertices: 0, triangles: 0 };
+    const P = WebGL2RenderingContext.prototype;
+    const wrap = (name, count) => {
+        const f = P[name];
+        P[name] = function (...x) {
+            const v = count(x);
+            c.calls++;
+            c.vertices += v;
+            if (x[0] === 4) c.triangles += v / 3; // gl.TRIANGLES
+            return f.apply(this, x);
+        };
+    };
+    wrap('drawArrays', (x) => x[2]);
+    wrap('drawElements', (x) => x[1]);
+    wrap('drawArraysInstanced', (x) => x[2] * x[3]);
+    wrap('drawElementsInstanced', (x) => x[1] * x[4]);
+}
+
 async function run(name, extra) {
     const srv = await startServer(server, ['--cache', path.join(work, 'cache'), ...extra]);
     const ctx = await startBrowser(path.join(work, name), { width: 800, height: 600 });
     try {
         const page = await ctx.newPage();
-        await page.goto(`${srv.url}/?max_trees=${draw}`);
-        await waitFor(page, () => window.gale && window.gale.framesDrawn >= 1, null, 600, `${name}: first frame`);
-        await new Promise((r) => setTimeout(r, 2000));
+        await page.addInitScript(countDraws);
+        await page.goto(`${srv.url}/${draw > 0 ? `?max_trees=${draw}` : ''}`);
+        await waitFor(page, () => window.gale && window.gale.framesDrawn >= 1, null, 900, `${name}: first frame`);
         await page.evaluate(() => { for (const k of Object.keys(window.gale.perf)) window.gale.perf[k] = []; window.gale.ws0 = window.gale.conn.stats.bytes; window.gale.t0 = performance.now();
-            window.gale.up0 = window.gale.r.stats.uploads || 0; window.gale.j0 = { ...window.gale.jitter.stats }; });
+            window.gale.up0 = window.gale.r.stats.uploads || 0; window.gale.j0 = { ...window.gale.jitter.stats };
+            window.gale.f0 = window.gale.framesDrawn; window.gale.d0 = { ...window.__glDraws }; });
+        const t0 = Date.now();
         await new Promise((r) => setTimeout(r, seconds * 1000));
+        await waitFor(page, (n) => window.gale.framesDrawn - window.gale.f0 >= n, frames, 900, `${name}: ${frames} frames`);
+        const window_s = (Date.now() - t0) / 1000;
         const res = await page.evaluate(() => {
             const g = window.gale;
             const res = performance.getEntriesByType('resource');
@@ -58,13 +88,20 @@ async function run(name, extra) {
             for (let k = 0; k < 100; k++) for (let i = 0; i < x.length; i++) y[i] = y[i] * 0.5 + x[i] * 0.25;
             const ref = performance.now() - t;
             const ps = g.perfSummary(), sum = (k) => ['decode', 'insert', 'interp', 'upload'].reduce((a, s) => a + ps[s][k], 0);
+            const nf = g.framesDrawn - g.f0, d = window.__glDraws;
+            const lod = typeof g.lodStats === 'function' ? g.lodStats() : null;
             return { trees: g.welcome.instances.length, js_cpu_per_frame_ms: { median_sum: sum('median_ms'), p95_sum: sum('p95_ms'), mean_sum: sum('mean_ms') }, modes_max: g.stride, drawn_trees: g.r.stats.trees_drawn, perf: g.perfSummary(),
-                first_frame_ms: g.firstFrame_ms, frames_drawn_per_s: g.perf.interp.length / ((performance.now() - g.t0) / 1000),
+                first_frame_ms: g.firstFrame_ms, frames_drawn: nf, frames_drawn_per_s: nf / ((performance.now() - g.t0) / 1000),
+                per_frame: { draw_calls: (d.calls - g.d0.calls) / nf, triangles: (d.triangles - g.d0.triangles) / nf, vertices: (d.vertices - g.d0.vertices) / nf },
+                lod,
                 bytes: { http, page_html: nav ? nav.transferSize : null, assets: g.bytesAssets, ws_per_s: (g.conn.stats.bytes - g.ws0) / ((performance.now() - g.t0) / 1000) },
                 decode_errors: g.conn.stats.errors, ref_ms: ref,
                 snapshots_uploaded_per_frame: ((g.r.stats.uploads || 0) - g.up0) / Math.max(1, g.perf.interp.length),
                 jitter: Object.fromEntries(Object.entries(g.jitter.stats).map(([k, v]) => [k, v - (g.j0[k] || 0)])) };
         });
+        res.window_s = window_s;
+        // the picture (a software GPU may take minutes a frame: not waited for past 5 min)
+        await page.screenshot({ path: path.join(work, `${name}.png`), timeout: 300000 }).catch((e) => { res.screenshot_error = e.message.split('\n')[0]; });
         return res;
     } finally {
         await ctx.close();
@@ -72,8 +109,15 @@ async function run(name, extra) {
     }
 }
 
-const out = { seconds, draw_cap: draw, load_avg_before: os.loadavg(), scenes: {} };
-out.scenes.town_block = await run('town', []);
-out.scenes.forest_4000 = await run('forest', ['--config', bigPath]);
+const out = { seconds, frames, draw_cap: draw, load_avg_before: os.loadavg(), scenes: {} };
+const landscape = path.join(root, 'configs/scenes/landscape-2km.json');
+for (const sc of scenes) {
+    if (sc === 'town') out.scenes.town_block = await run('town', []);
+    else if (sc === 'landscape') out.scenes.landscape_2km = await run('landscape', ['--config', landscape]);
+    else if (sc === 'forest') out.scenes.forest_4000 = await run('forest', ['--config', bigPath]);
+    else throw new Error(`--scenes: ${sc}: expected town, landscape or forest`);
+    // each scene as it ends, on stderr: a long run cut short keeps what it measured
+    console.error(JSON.stringify({ [sc]: Object.values(out.scenes).at(-1) }));
+}
 out.load_avg_after = os.loadavg();
 console.log(JSON.stringify(out, null, 1));

@@ -1,0 +1,69 @@
+// The client's level-of-detail policy: which trees a frame draws and how finely, and what
+// the page asks the server to stream. One place for the numbers, so that the native client
+// can mirror them. Distances are from the eye to a tree's middle (its base raised by half
+// its height) [m]; a frame's budget pushes every distance in by one factor when the trees
+// in view would cost more (web/lod_select.js).
+
+// Levels, finest first. NONE: not drawn.
+export const LOD = { FULL: 0, THIN: 1, SPARSE: 2, NONE: 255 };
+export const LOD_LEVELS = 3;
+
+// Outer distance of each level [m]: every leaf and the finer bark meshes within FULL (the
+// clearing's and the town block's near trees look as they always did); past it a
+// deterministic subset of the leaves, each scaled up so the crown covers as much, on the
+// coarsest bark mesh; past THIN fewer leaves still and no bark (the coarsest bark mesh
+// costs more than the leaves: an oak's 4,024 triangles against 664 for a sixteenth of its
+// leaves, and at that range the crown hides the trunk); past SPARSE none.
+export const LOD_OUTER_M = [90, 250, 1400];
+
+// The share of a species' leaves drawn at each level (1 / a whole number), each drawn
+// √(1 / share) larger so that the leaves' area stays the crown's; whether its bark is.
+export const LOD_LEAF_SHARE = [1, 1 / 4, 1 / 16];
+export const LOD_BARK = [true, true, false];
+// The modes a tree of each level is posed with at most: past FULL the server's LOD count
+// (gale-server sends 4 past lod_m), also when it streams the whole scene; the skeleton
+// pass reads every mode of every node, so this is most of a far tree's cost.
+export const LOD_MODES_MAX = [64, 4, 4];
+
+// A tree moves to a coarser level only past its level's outer distance × (1 + this), and
+// back to a finer one only inside that level's outer distance × (1 − this): a camera
+// still at a boundary never makes a tree flip from frame to frame.
+export const LOD_HYSTERESIS = 0.08;
+
+// The bark mesh's own levels within FULL: one per this many metres (the asset's LODs,
+// as gale-client's render picks them); coarser levels take the asset's coarsest.
+export const LOD_MESH_STEP_M = 30;
+
+// A frame's hard budget (a 1920×1080 picture on a modest GPU): triangles of bark and leaves
+// together, trees posed by the skeleton pass (one row of each skeleton texture, as
+// wide as the largest species: 3,180 nodes × 2,048 rows of RGBA32F is 104 MB a texture).
+// Over either, every distance above is scaled down until the frame fits.
+export const LOD_BUDGET_TRIANGLES = 1000000;
+export const LOD_BUDGET_TREES = 2048;
+// and nodes posed (the skeleton pass's fragments, twice: 630 oaks of 3,180 nodes, 3,160
+// palms of 633)
+export const LOD_BUDGET_NODES = 2000000;
+// Draw calls a frame may issue; the draws are per species and level (a few dozen), and
+// web/render_gl.js counts them against this.
+export const LOD_BUDGET_DRAWS = 100;
+// The distances may grow back by this factor a frame once the view costs less (a
+// sudden jump would flood one frame).
+export const LOD_GROW_PER_FRAME = 1.25;
+
+// What the page asks of the server (PROTOCOL.md `view`): the draw distance is the stream's
+// far_m, and lod_m, past which trees are sent with the server's few modes, the FULL
+// level's outer distance (past it the crown is thinned and its sway is the coarse modes').
+export const VIEW_FAR_M = LOD_OUTER_M[LOD_LEVELS - 1];
+export const VIEW_LOD_M = LOD_OUTER_M[LOD.FULL];
+// A view message at most this often [s], only when the eye moved more than VIEW_MOVE_M or
+// the direction turned more than VIEW_TURN_DEG, and once more VIEW_SETTLE_S after the
+// camera stops (the last view is the one the server keeps).
+export const VIEW_MIN_INTERVAL_S = 0.25;
+export const VIEW_MOVE_M = 2;
+export const VIEW_TURN_DEG = 2;
+export const VIEW_SETTLE_S = 0.3;
+
+// The grid the trees are bucketed into at welcome: about this many trees a cell, cells no
+// smaller than VIEW_CELL_MIN_M across.
+export const CELL_TREES = 32;
+export const CELL_MIN_M = 8;

@@ -1,0 +1,135 @@
+// The frame's draw list: the trees in view (web/cull_grid.js) at their levels
+// (web/lod_select.js, the numbers of web/lod_policy.js) laid out for the draws, per
+// species its rows in level order (every leaf on the asset's bark meshes by distance, then
+// a share of the leaves on the coarsest mesh, then fewer leaves without bark), so that
+// each species' skeleton pass is two draws, its bark one draw per mesh and its leaves one
+// per level. A counting sort by species and level: never a sort of the trees by distance.
+// Renderer (web/render_gl.js) takes these methods as its own.
+import { CellGrid } from './cull_grid.js';
+import { LodSelect, meshLod } from './lod_select.js';
+import { LOD, LOD_LEVELS, LOD_LEAF_SHARE, LOD_BARK, LOD_MODES_MAX } from './lod_policy.js';
+
+export class RendererList {
+    // The welcome's trees into the grid (their heights from the species drawn, 0 for one
+    // not loaded); a new selection, none drawn yet.
+    setupCulling(rows) {
+        const h = new Float32Array(rows.length);
+        rows.forEach((r, t) => {
+            const sp = this.species[r[0]];
+            h[t] = sp ? sp.height * (r[5] > 0 ? r[5] : 1) : 0;
+        });
+        this.grid = new CellGrid(rows, h);
+        this.lod = new LodSelect(rows.length);
+        this.lodLevel = new Uint8Array(rows.length);
+        this.speciesOf = Uint8Array.from(rows, (r) => r[0]);
+    }
+
+    // A species' leaves at each level: the data texture of a deterministic share of them
+    // (every k-th, spread over the slots) with each leaf's size scaled by √k, and their
+    // count; level 0 is the asset's own. Triangles of one tree at each level and mesh LOD.
+    leafLevels(sp) {
+        if (sp.leafLevels) return sp.leafLevels;
+        const a = sp.a, n = a.n_leaves;
+        sp.leafLevels = LOD_LEAF_SHARE.map((share, l) => {
+            if (l === 0 || !n) return { tex: sp.leaf, n };
+            const k = Math.max(1, Math.round(n * share)), grow = Math.sqrt(n / k), d = new Float32Array(k * 8);
+            for (let i = 0; i < k; i++) {
+                const j = Math.min(n - 1, Math.floor((i + 0.5) * n / k));
+                d.set(a.leaf_offset.subarray(3 * j, 3 * j + 3), 8 * i);
+                d[8 * i + 3] = a.leaf_node[j];
+                d.set(a.leaf_normal.subarray(3 * j, 3 * j + 3), 8 * i + 4);
+                d[8 * i + 7] = a.leaf_size[j] * grow;
+            }
+            return { tex: this.dataTex(4, k * 2, d), n: k };
+        });
+        sp.lodCost = sp.leafLevels.map((lv, l) => Array.from({ length: sp.n_lods }, (_, m) =>
+            2 * lv.n + (LOD_BARK[l] ? sp.lod_count[l === LOD.FULL ? m : sp.n_lods - 1] / 3 : 0)));
+        return sp.leafLevels;
+    }
+
+    // The trees of view cam (eye; viewproj) at their levels into this.list; returns the
+    // groups the passes draw, each { s, base, n, bark: [[base, n, mesh lod]], leaves:
+    // [[base, n, level]] }, and the trees drawn (for the stumps and plates).
+    // modes: per tree mode count (0: not sent: drawn at rest with none).
+    drawList(cam, modes) {
+        const t0 = performance.now();
+        const ns = this.species.length, nl = Math.max(1, ...this.species.map((sp) => (sp ? sp.n_lods : 1)));
+        const cost = this.species.map((sp) => (sp ? (this.leafLevels(sp), sp.lodCost) : null));
+        const g = this.grid, o = g.gather(this.viewproj, cam.eye, this.lod.reach_m());
+        const budget = { trees: Math.min(this.max_rows, this.maxSkelRows()) };
+        const sel = this.lod.select(o.trees, o.dist, o.n, (t) => this.speciesOf[t], cost, this.lodLevel, budget,
+            this.species.map((sp) => (sp ? sp.n_nodes : 0)));
+        // keys: per species its FULL rows by mesh LOD, then THIN, then SPARSE
+        const K = nl + LOD_LEVELS - 1, count = new Int32Array(ns * K + 1);
+        const ex = cam.eye[0], ey = cam.eye[1], ez = cam.eye[2];
+        const base_m = (t) => Math.hypot(g.x[t] - ex, g.y[t] - ey, g.z[t] - ez);
+        const keyOf = (s, l, d) => s * K + (l === LOD.FULL ? meshLod(d, l, this.species[s].n_lods) : nl + l - 1);
+        const keys = this.listKeys && this.listKeys.length >= o.n + this.debris.length ? this.listKeys : (this.listKeys = new Int32Array(o.n + this.debris.length + 64));
+        let n = 0;
+        for (let i = 0; i < o.n; i++) {
+            const l = this.lodLevel[i];
+            if (l === LOD.NONE) { keys[i] = -1; continue; }
+            const t = o.trees[i], s = this.speciesOf[t];
+            keys[i] = keyOf(s, l, l === LOD.FULL ? base_m(t) : 0);
+            count[keys[i] + 1]++;
+            n++;
+        }
+        // the debris pieces, in the slots after the trees: every leaf, mesh by distance
+        this.debris.forEach((d, k) => {
+            const sp = this.species[d.species];
+            keys[o.n + k] = sp ? keyOf(d.species, LOD.FULL, Math.hypot(d.pos[0] - ex, d.pos[1] - ey, d.pos[2] - ez)) : -1;
+            if (sp) { count[keys[o.n + k] + 1]++; n++; }
+        });
+        for (let k = 0; k < ns * K; k++) count[k + 1] += count[k];
+        const start = count.slice(0, ns * K);
+        const list = this.listData && this.listData.length >= 4 * n ? this.listData : (this.listData = new Float32Array(4 * Math.max(16, 2 * n)));
+        const drawn = this.drawnTrees && this.drawnTrees.length >= n ? this.drawnTrees : (this.drawnTrees = new Int32Array(Math.max(16, 2 * n)));
+        const perLevel = [0, 0, 0];
+        for (let i = 0; i < o.n + this.debris.length; i++) {
+            if (keys[i] < 0) continue;
+            const row = start[keys[i]]++, debris = i >= o.n, t = debris ? this.n_trees + i - o.n : o.trees[i];
+            const s = debris ? this.debris[i - o.n].species : this.speciesOf[t], sp = this.species[s];
+            // a debris piece: its rest pose needs no modes; a tree past those whose motion
+            // the page holds (App: q_trees) is drawn at rest
+            // the trees past FULL with the few modes the server sends past lod_m
+            const nm = debris || t >= this.q_trees ? 0 : Math.min(modes ? modes[t] : sp.n_modes, sp.n_modes, LOD_MODES_MAX[this.lodLevel[i]]);
+            list[4 * row] = t;
+            list[4 * row + 1] = row;
+            list[4 * row + 2] = nm;
+            list[4 * row + 3] = 1;
+            drawn[row] = t;
+            if (!debris) perLevel[this.lodLevel[i]]++;
+        }
+        const groups = [];
+        for (let s = 0; s < ns; s++) {
+            const sp = this.species[s], a = count[s * K], e = count[(s + 1) * K];
+            if (!sp || a === e) continue;
+            const gr = { s, base: a, n: e - a, bark: [], leaves: [] };
+            const at = (k) => count[s * K + k];
+            // the bark: the FULL rows by mesh; the coarsest mesh's run goes on through the
+            // (empty) keys of meshes this species lacks and THIN's rows
+            for (let m = 0; m < sp.n_lods; m++) {
+                const b = at(m), c = (m === sp.n_lods - 1 ? at(nl + 1) : at(m + 1)) - b;
+                if (c) gr.bark.push([b, c, m]);
+            }
+            for (let l = 0; l < LOD_LEVELS; l++) {
+                const b = l === LOD.FULL ? at(0) : at(nl + l - 1), c = at(nl + l) - b;
+                if (c) gr.leaves.push([b, c, l]);
+            }
+            groups.push(gr);
+        }
+        this.stats.trees_drawn = n;
+        this.stats.levels = perLevel;
+        this.stats.lod_scale = sel.scale;
+        this.stats.cells_in_view = o.cells_in_view;
+        this.stats.cull_ms = performance.now() - t0;
+        this.list = this.dataTex(4, Math.max(1, n), list.subarray(0, Math.max(1, n) * 4), this.list);
+        return { groups, drawn: drawn.subarray(0, n), rows: n };
+    }
+
+    // The most rows the skeleton textures may have: the GPU's largest texture.
+    maxSkelRows() {
+        if (!this.maxTex) this.maxTex = this.gl.getParameter(this.gl.MAX_TEXTURE_SIZE);
+        return this.maxTex;
+    }
+}
