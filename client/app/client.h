@@ -127,6 +127,7 @@ typedef struct client_view {
     uint32_t connects; /* cli_net_stats.connects when it was sent */
     double sent_s;
     float eye[3], axis[3], fov_deg, far_m, lod_m;
+    float max_scale; /* the scene's largest tree scale (client_view_scene), at least 1 */
     uint64_t n_sent; /* views sent this run */
 } client_view;
 
@@ -214,6 +215,9 @@ typedef struct client {
 /* After a frame: sends the last frame's view when it differs enough from the one sent
  * (or none was sent on this connection). Nothing with --view all. */
 void client_view_update(client *c, double now);
+
+/* Takes a new scene's largest tree scale, which lod_m is measured at. */
+void client_view_scene(client *c);
 
 /* ---- client_damage.c: storm damage on screen ---- */
 

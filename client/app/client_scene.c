@@ -108,6 +108,7 @@ int client_scene_setup(client *c, gale_err *err)
         client_scene_reset_camera(c);
         c->camera_set = true;
     }
+    client_view_scene(c);
     c->scene_ready = true;
     client_damage_draw(c);
     fprintf(stderr, "gale-client: scene ready: %u species on the GPU, %u trees, %u q per tree\n",

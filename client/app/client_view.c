@@ -10,13 +10,14 @@
 #include "client.h"
 #include "render_cull.h"
 
-static float scene_max_scale(const client *c)
+void client_view_scene(client *c)
 {
     float s = 1.0f;
     for (uint32_t i = 0; i < c->w.n_instances; i++) {
         s = fmaxf(s, c->w_instances[i].scale);
     }
-    return s;
+    c->view.max_scale = s;
+    c->view.sent = false; /* a new scene: ask again */
 }
 
 static bool differs(const client_view *v, const float eye[3], const float axis[3], float fov_deg,
@@ -60,7 +61,7 @@ void client_view_update(client *c, double now)
         m.u.view = (ctl_view){ .kind = CTL_VIEW_FRUSTUM,
                                .fov_deg = fmaxf(fov_deg, 1.0f),
                                .far_m = fminf(fmaxf(far_m, 0.001f), 1e6f),
-                               .lod_m = billboard_m * scene_max_scale(c) };
+                               .lod_m = billboard_m * v->max_scale };
         memcpy(m.u.view.eye, eye, sizeof eye);
         memcpy(m.u.view.dir, axis, sizeof axis);
     }
