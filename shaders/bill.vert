@@ -1,9 +1,19 @@
-// Far trees as billboards (Singh section 2, Oliapuram LOD): a quad turned about the
-// vertical toward the camera, textured with the species' impostor rendered at rest.
+// Far trees as impostors (Singh section 2, Oliapuram LOD): a quad turned about the
+// vertical toward the camera, textured with the species' impostor rendered at rest, and
+// leaning with the tree's lowest modes so a far forest sways: a vertex at height z moves
+// by (z / z_c) Σ_k q̃_k c_k (a quad's two rows can only shear: the lean that puts the
+// crown's middle where the modes put it), c_k the crown's mean translation per unit q_k, z_c its height
+// (client/render/render_species.c impostor_sway; the page's impostors bend the same) and
+// q̃_k = a_k atan(b_k q_k) the pose's saturated coordinate (Diener 2008 eq. 16).
 uniform GALE_BUF u_list;  // per billboard: tree, share of its leaves left, 0, fade
 uniform GALE_BUF u_trees;
+uniform GALE_BUF u_q;     // [tree stride + m]
+uniform int u_qstride;
 uniform int u_base;
 uniform vec3 u_bsize;         // half width, height, bottom of the impostor [m, tree frame]
+uniform vec3 u_sway[2];       // c_k [m per unit q, tree frame]
+uniform float u_crown_z;      // z_c [m, tree frame]
+uniform vec2 u_ab[2];         // a_k, b_k of q̃_k (b = 0: q̃ = q)
 out vec2 v_uv;
 out vec3 v_wpos;
 flat out float v_fade;
@@ -20,8 +30,15 @@ void main()
     vec3 toc = u_eye - t0.xyz;
     vec2 f = normalize(toc.xy + vec2(1e-6, 0.0));
     vec3 right = vec3(-f.y, f.x, 0.0);
-    v_wpos = t0.xyz + t1.x * (right * ((s * 2.0 - 1.0) * u_bsize.x) +
-                              vec3(0.0, 0.0, u_bsize.z + t * u_bsize.y));
+    float z = u_bsize.z + t * u_bsize.y;
+    vec3 sway = vec3(0.0);
+    for (int k = 0; k < 2 && k < u_qstride; k++) {
+        float q = buf_fetch(u_q, tree * u_qstride + k).x;
+        sway += (u_ab[k].y != 0.0 ? u_ab[k].x * atan(u_ab[k].y * q) : q) * u_sway[k];
+    }
+    float bend = min(max(z, 0.0) / u_crown_z, 3.0);
+    v_wpos = t0.xyz + t1.x * (right * ((s * 2.0 - 1.0) * u_bsize.x) + vec3(0.0, 0.0, z) +
+                              bend * (rot_z(t0.w) * sway));
     v_uv = vec2(s, t);
     v_fade = e.w;
     v_leaf = e.y;

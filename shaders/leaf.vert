@@ -8,7 +8,9 @@ uniform GALE_BUF u_list;
 uniform GALE_BUF u_trees;
 uniform GALE_BUF u_leaf;  // per leaf: offset xyz, node; normal xyz, size
 uniform int u_base;
-uniform int u_nleaves;
+uniform int u_nleaves;         // leaves drawn per tree: every one, or THIN's share
+uniform int u_leaf_total;      // the species' leaves
+uniform float u_leaf_grow;     // each drawn leaf's size × this
 uniform float u_aspect;        // blade width / length for this species' shape
 uniform vec2 u_crown;          // crown radius, tree height [m, tree frame]
 out vec3 v_wpos;
@@ -21,7 +23,11 @@ flat out float v_ao;
 void main()
 {
     int ent = gl_InstanceID / u_nleaves;
-    int leaf = gl_InstanceID - ent * u_nleaves;
+    int slot = gl_InstanceID - ent * u_nleaves;
+    // a share of the leaves (lod_policy.h THIN): every (total / drawn)-th, spread over the
+    // slots, each grown by u_leaf_grow so the crown covers as much (the page's too)
+    int leaf = min(u_leaf_total - 1, int((float(slot) + 0.5) * float(u_leaf_total) / float(u_nleaves)));
+    float grow = u_leaf_grow;
     vec4 e = buf_fetch(u_list, u_base + ent);
     int tree = int(e.x), row = int(e.y);
     vec4 l0 = buf_fetch(u_leaf, leaf * 2), l1 = buf_fetch(u_leaf, leaf * 2 + 1);
@@ -76,7 +82,7 @@ void main()
     int id = gl_VertexID;
     float s = (id == 1 || id == 2 || id == 4) ? 1.0 : 0.0;
     float t = (id == 2 || id == 4 || id == 5) ? 0.5 : -0.5;
-    float len = l1.w * t1.x;
+    float len = l1.w * t1.x * grow;
     v_wpos = anchor + a * (s * len) + b * (t * len * u_aspect);
     v_nrm = n;
     v_uv = vec2(s, t * 2.0);

@@ -12,6 +12,7 @@
 
 #include "check.h"
 #include "render.h"
+#include "lod_policy.h"
 #include "render_demo.h"
 
 
@@ -364,7 +365,8 @@ static void test_dolly_no_pop(void)
     int cover[41];
     double col[41][3];
     render_instance one = { .species = 0, .pos = { 0.0f, 0.0f, 0.0f }, .scale = 1.0f };
-    /* billboard band is [0.8, 1.0] x 220 m by default, mesh LODs change before it */
+    /* the leaves thin over 72..90 m and the impostor fades in over 200..250 m
+       (lod_policy.h); mesh LODs change every 30 m before that */
     for (int f = 0; f <= n; f++) {
         float d = 60.0f + 200.0f * (float)f / (float)n;
         /* a lens that keeps the tree the same size on screen, so only LOD changes */
@@ -395,6 +397,76 @@ static void test_dolly_no_pop(void)
     CHECK(cover[0] > 800 && cover[n] > 400);
     CHECK(worst_n <= 0.03); /* a hard switch measures 4.3 %, 10 levels */
     CHECK(worst_c <= 8.0);
+}
+
+/* A far tree is an impostor that still sways: posed by a strong wind's q, its pixels move
+ * downwind by (z / z_c) Σ q̃_k c_k of the lowest two modes (q̃ saturated as the pose's),
+ * c_k and z_c computed here from
+ * the asset (the means of φ_k and of the rest height over the leaves' nodes). The
+ * centroid of the upper rows' pixels should move by that shift averaged over the calm
+ * pixels' heights: within 25 % (the tilt of a view 0.5 m up over 400 m, the rows'
+ * quantisation, pixels that leave or enter the upper half). */
+static void test_impostor_sways(void)
+{
+    const float d = 400.0f, half_m = 7.0f;
+    const float fov = 2.0f * atanf(half_m / d) * 57.29578f;
+    render_camera cam = { .eye = { 0.0f, -d, 4.0f }, .target = { 0.0f, 0.0f, 4.5f },
+                          .fov_y_deg = fov };
+    CHECK(render_set_wind(R, &(render_wind){ .uniform = { 0.0f, 0.0f, 0.0f } }, &err) == 0);
+    render_instance one = { .species = 0, .scale = 1.0f };
+    CHECK(render_set_instances(R, 0, &one, &err) == 0);
+    uint8_t *bg = shot(&cam, 0.0);
+    CHECK(render_set_instances(R, 1, &one, &err) == 0);
+    uint8_t *calm = shot(&cam, 0.0);
+    CHECK(render_get_stats(R).trees_billboard == 1 && render_get_stats(R).trees_full == 0);
+    float q[64];
+    render_demo_pose(&A[0], (const float[3]){ 32.0f, 0.0f, 0.0f }, 0.0f, 0, q);
+    CHECK(render_set_q(R, 0, q, A[0].n_modes, &err) == 0);
+    uint8_t *windy = shot(&cam, 0.0);
+    const asset *a = &A[0];
+    double sway_x_m = 0.0, crown_z_m = 0.0;
+    for (uint32_t l = 0; l < a->n_leaves; l++) {
+        crown_z_m += (double)a->rest[3 * a->leaf_node[l] + 2] / (double)a->n_leaves;
+    }
+    for (uint32_t m = 0; m < LOD_IMPOSTOR_MODES; m++) {
+        double c = 0.0;
+        for (uint32_t l = 0; l < a->n_leaves; l++) {
+            c += (double)a->phi[((size_t)m * a->n_nodes + a->leaf_node[l]) * 3];
+        }
+        sway_x_m += (double)asset_corr_qt(a->corr_a[m], a->corr_b[m], q[m]) * c /
+                    (double)a->n_leaves;
+    }
+    int nc, nw;
+    double cx = crown_centroid(calm, bg, &nc), wx = crown_centroid(windy, bg, &nw);
+    const double px_per_m = (double)H / (2.0 * (double)half_m);
+    /* the bend averaged over the calm crown's pixels, each at its row's height */
+    double bend = 0.0;
+    int nb = 0;
+    for (int y = 0; y < H / 2; y++) {
+        double z = 4.5 + ((double)H / 2.0 - (double)y - 0.5) / px_per_m;
+        for (int x = 0; x < W; x++) {
+            int p = 3 * (y * W + x), dd = 0;
+            for (int c = 0; c < 3; c++) {
+                dd += abs((int)calm[p + c] - (int)bg[p + c]);
+            }
+            if (dd > 40) {
+                bend += fmin(fmax(z, 0.0) / crown_z_m, 3.0);
+                nb++;
+            }
+        }
+    }
+    const double want_x_m = sway_x_m * (nb ? bend / nb : 0.0);
+    fprintf(stderr, "impostor at %.0f m: calm centroid x %.1f px (%d px), strong wind %.1f px, "
+            "want %+.2f m = %+.1f px\n", (double)d, cx, nc, wx, want_x_m,
+            want_x_m * px_per_m);
+    CHECK(nc > 300 && nw > 300);
+    CHECK(fabs(want_x_m * px_per_m) > 3.0); /* the check can tell */
+    CHECK(fabs((wx - cx) - want_x_m * px_per_m) < 0.25 * fabs(want_x_m * px_per_m));
+    stbi_write_png(GALE_TEST_DIR "/render_impostor_wind.png", W, H, 3, windy, W * 3);
+    stbi_write_png(GALE_TEST_DIR "/render_impostor_calm.png", W, H, 3, calm, W * 3);
+    free(bg);
+    free(calm);
+    free(windy);
 }
 
 static void test_bad_input(void)
@@ -545,6 +617,7 @@ int main(void)
     RUN(test_falling_in_air);
     RUN(test_wind_moves_crowns_downwind);
     RUN(test_dolly_no_pop);
+    RUN(test_impostor_sways);
     RUN(test_bad_input);
     RUN(test_house);
     render_destroy(R);

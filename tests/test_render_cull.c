@@ -1,8 +1,9 @@
 /* Culling and LOD without a GL context: with a camera at the origin looking along +y, a
  * tree ahead is kept, one behind the camera or far to the side is culled; near trees get
  * every mode and mesh LOD 0, distance lowers the mode count (never below 4) and raises the
- * mesh LOD, the billboard band fades in past 80 % of the billboard distance, and a
- * tree's scale stretches those distances. The cone a client asks the server for holds
+ * mesh LOD, the leaves thin past FULL and the impostor fades in past THIN over the last
+ * 20 % of each level (lod_policy.h), a tipped tree never turns into an impostor, and the
+ * frame's budget scale pulls the levels in so that what is drawn fits. The cone a client asks the server for holds
  * every point of its frustum (PROTOCOL.md's cone rule, no margin), symmetric or off-axis,
  * and is no wider than the frustum's diagonal. Culling by cells keeps exactly the trees
  * the test of each tree keeps, from cameras all over a scattered forest. */
@@ -18,7 +19,7 @@ static const float eye[3] = { 0.0f, 0.0f, 2.0f };
 static const render_cull_species sp = {
     .height_m = 10.0f, .crown_r_m = 3.0f, .n_modes = 32, .n_lods = 3
 };
-static const render_lod_desc ld = { .mode_dist_m = 40.0f, .billboard_dist_m = 220.0f };
+static const render_lod_desc ld = { .mode_dist_m = 40.0f, .scale = 1.0f };
 
 static void setup(void)
 {
@@ -50,38 +51,6 @@ static void test_frustum(void)
     CHECK(c.bill_t == 0.0f && c.n_modes == 0.0f && c.mesh_lod == 0);
 }
 
-static void test_lod_by_distance(void)
-{
-    render_tree_lod n = at(0.0f, 20.0f, 1.0f);
-    CHECK(n.flags == RENDER_LOD_FULL);
-    CHECK(n.n_modes == 32.0f); /* within mode_dist: every mode */
-    CHECK(n.mesh_lod == 0);
-    CHECK(n.bill_t == 0.0f);
-
-    /* 80 m (crown centre at 5 m height, eye at 2 m): modes as 32 x 40 / d */
-    render_tree_lod m = at(0.0f, 80.0f, 1.0f);
-    float d = sqrtf(80.0f * 80.0f + 3.0f * 3.0f);
-    CHECK(m.flags == RENDER_LOD_FULL);
-    CHECK_NEAR(m.n_modes, 32.0f * 40.0f / d, 1e-3);
-    /* mesh bands of 0.8 x 220 / 3 = 58.7 m: 80 m is in band 1 */
-    CHECK(m.mesh_lod == 1);
-
-    /* far past mode_dist: never fewer than 4 modes */
-    render_tree_lod f = at(0.0f, 170.0f, 1.0f);
-    CHECK(f.flags == RENDER_LOD_FULL);
-    CHECK(f.n_modes >= 4.0f && f.n_modes < 8.0f);
-    CHECK(f.mesh_lod == 2);
-    CHECK(f.mesh_fade == 0.0f); /* the last LOD dithers into nothing */
-
-    /* the billboard band (176..220 m): both drawn, then billboard only */
-    render_tree_lod b = at(0.0f, 200.0f, 1.0f);
-    CHECK(b.flags == (RENDER_LOD_FULL | RENDER_LOD_BILLBOARD));
-    CHECK(b.bill_t > 0.0f && b.bill_t < 1.0f);
-    render_tree_lod o = at(0.0f, 400.0f, 1.0f);
-    CHECK(o.flags == RENDER_LOD_BILLBOARD);
-    CHECK(o.bill_t == 1.0f);
-}
-
 static float smooth01(float x)
 {
     x = x < 0.0f ? 0.0f : x > 1.0f ? 1.0f : x;
@@ -94,13 +63,49 @@ static float crown_dist(float y)
     return sqrtf(y * y + 3.0f * 3.0f);
 }
 
+static void test_lod_by_distance(void)
+{
+    render_tree_lod n = at(0.0f, 20.0f, 1.0f);
+    CHECK(n.flags == RENDER_LOD_FULL && n.level == LOD_FULL);
+    CHECK(n.n_modes == 32.0f); /* within mode_dist: every mode */
+    CHECK(n.mesh_lod == 0);
+    CHECK(n.bill_t == 0.0f && n.thin_t == 0.0f);
+
+    /* 50 m (crown centre at 5 m height, eye at 2 m): modes as 32 x 40 / d; mesh steps of
+       30 m: band 1 */
+    render_tree_lod m = at(0.0f, 50.0f, 1.0f);
+    CHECK(m.flags == RENDER_LOD_FULL && m.level == LOD_FULL);
+    CHECK_NEAR(m.n_modes, 32.0f * 40.0f / crown_dist(50.0f), 1e-3);
+    CHECK(m.mesh_lod == 1);
+
+    /* THIN (90..250 m): the thinned leaves, the coarsest mesh, at most 4 modes */
+    render_tree_lod f = at(0.0f, 150.0f, 1.0f);
+    CHECK(f.flags == RENDER_LOD_FULL && f.level == LOD_THIN);
+    CHECK(f.thin_t == 1.0f && f.bill_t == 0.0f);
+    CHECK(f.n_modes == 4.0f);
+    CHECK(f.mesh_lod == 2 && f.mesh_fade == 0.0f);
+
+    /* the impostor band (200..250 m): both drawn, then the impostor alone */
+    render_tree_lod b = at(0.0f, 230.0f, 1.0f);
+    CHECK(b.flags == (RENDER_LOD_FULL | RENDER_LOD_BILLBOARD) && b.level == LOD_IMPOSTOR);
+    CHECK(b.bill_t > 0.0f && b.bill_t < 1.0f);
+    render_tree_lod o = at(0.0f, 400.0f, 1.0f);
+    CHECK(o.flags == RENDER_LOD_BILLBOARD);
+    CHECK(o.bill_t == 1.0f);
+    /* past the impostors' reach: nothing */
+    const render_cull_species cs = sp;
+    const render_lod_desc d1 = { .mode_dist_m = 40.0f, .scale = 1.0f };
+    CHECK(render_lod_pick(2499.0f, &cs, &d1, false).flags == RENDER_LOD_BILLBOARD);
+    CHECK(render_lod_pick(2501.0f, &cs, &d1, false).flags == 0);
+}
+
 static void test_mode_floor(void)
 {
-    /* 8 modes at 170 m would be 8 x 40 / 170 < 2: held at 4 */
+    /* 8 modes at 85 m would be 8 x 40 / 85 < 4: held at 4 */
     const render_cull_species s8 = {
         .height_m = 10.0f, .crown_r_m = 3.0f, .n_modes = 8, .n_lods = 3
     };
-    render_instance in = { .pos = { 0.0f, 170.0f, 0.0f }, .scale = 1.0f };
+    render_instance in = { .pos = { 0.0f, 85.0f, 0.0f }, .scale = 1.0f };
     CHECK(render_cull_tree(planes, eye, &in, &s8, &ld).n_modes == 4.0f);
     /* a species with fewer than 4 modes keeps all of them */
     const render_cull_species s2 = {
@@ -109,33 +114,92 @@ static void test_mode_floor(void)
     CHECK(render_cull_tree(planes, eye, &in, &s2, &ld).n_modes == 2.0f);
 }
 
-static void test_billboard_band(void)
+static void test_fade_bands(void)
 {
-    /* the band starts at 0.8 x 220 = 176 m: at 180 m the billboard fades in */
-    render_tree_lod b = at(0.0f, 180.0f, 1.0f);
+    /* FULL's last 20 % (72..90 m) dithers the leaves into THIN's */
+    for (float y = 60.0f; y < 100.0f; y += 4.0f) {
+        render_tree_lod t = at(0.0f, y, 1.0f);
+        CHECK_NEAR(t.thin_t, smooth01((crown_dist(y) - 72.0f) / 18.0f), 1e-6);
+        CHECK(t.bill_t == 0.0f);
+    }
+    /* THIN's last 20 % (200..250 m) dithers into the impostor */
+    render_tree_lod b = at(0.0f, 210.0f, 1.0f);
     CHECK(b.flags == (RENDER_LOD_FULL | RENDER_LOD_BILLBOARD));
-    CHECK_NEAR(b.bill_t, smooth01((crown_dist(180.0f) - 176.0f) / 44.0f), 1e-6);
-    CHECK(at(0.0f, 172.0f, 1.0f).flags == RENDER_LOD_FULL);
+    CHECK_NEAR(b.bill_t, smooth01((crown_dist(210.0f) - 200.0f) / 50.0f), 1e-6);
+    CHECK(at(0.0f, 195.0f, 1.0f).flags == RENDER_LOD_FULL);
+    /* a tipped or snapped tree is never an impostor: it stays THIN out to the reach */
+    const render_lod_desc d1 = { .mode_dist_m = 40.0f, .scale = 1.0f };
+    render_tree_lod p = render_lod_pick(1000.0f, &sp, &d1, true);
+    CHECK(p.flags == RENDER_LOD_FULL && p.level == LOD_THIN && p.bill_t == 0.0f);
+    CHECK(render_lod_pick(2600.0f, &sp, &d1, true).flags == 0);
 }
 
 static void test_dither_and_scale(void)
 {
-    /* band 0 is 0.8 x 220 / 3 m; its last 30 % fades toward LOD 1 */
-    const float band = 0.8f * 220.0f / 3.0f;
-    for (float y = 40.0f; y < 58.0f; y += 3.0f) {
+    /* mesh steps of 30 m; the last 30 % of each fades toward the next */
+    for (float y = 10.0f; y < 29.0f; y += 3.0f) {
         render_tree_lod t = at(0.0f, y, 1.0f);
-        float lf = crown_dist(y) / band;
+        float lf = crown_dist(y) / 30.0f;
         CHECK(t.mesh_lod == 0);
         CHECK_NEAR(t.mesh_fade, smooth01((lf - 0.7f) / 0.3f), 1e-6);
     }
-    /* end of band 0 (last 30 % of 58.7 m): fading toward LOD 1 */
-    render_tree_lod t = at(0.0f, 55.0f, 1.0f);
-    CHECK(t.mesh_lod == 0);
-    CHECK(t.mesh_fade > 0.0f && t.mesh_fade < 1.0f);
-    CHECK(at(0.0f, 30.0f, 1.0f).mesh_fade == 0.0f);
-    /* a tree twice the size counts as half as far: 400 m is then in the fade band */
-    render_tree_lod s = at(0.0f, 400.0f, 2.0f);
-    CHECK(s.flags == (RENDER_LOD_FULL | RENDER_LOD_BILLBOARD));
+    CHECK(at(0.0f, 15.0f, 1.0f).mesh_fade == 0.0f);
+    /* the frame's scale pulls FULL and THIN in: at scale 0.5, 150 m is an impostor */
+    const render_lod_desc half = { .mode_dist_m = 20.0f, .scale = 0.5f };
+    render_tree_lod s = render_lod_pick(150.0f, &sp, &half, false);
+    CHECK(s.flags == RENDER_LOD_BILLBOARD);
+    CHECK(render_lod_pick(60.0f, &sp, &half, false).level == LOD_THIN);
+}
+
+/* The budget: a frame of trees whose worst case fits at scale 1 keeps it; one over it
+ * gets the largest scale (within the bisection's step) that fits, and the cost there,
+ * counted tree by tree from render_lod_pick, stays within the budget. */
+static void test_budget(void)
+{
+    static uint32_t hist[RENDER_LOD_BINS];
+    const render_lod_cost cost = { .triangles = { 20000.0f, 5000.0f, 2.0f }, .nodes = 1000.0f };
+    /* 10 trees in every bin out to 500 m */
+    float dist[2000];
+    uint32_t n = 0;
+    for (float x = 1.0f; x < 500.0f; x += 0.5f) {
+        dist[n++] = x;
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        hist[render_lod_bin(dist[i])]++;
+    }
+    const render_lod_desc d1 = { .mode_dist_m = 40.0f, .scale = 1.0f };
+    double at1 = 0.0;
+    for (uint32_t i = 0; i < n; i++) {
+        render_tree_lod t = render_lod_pick(dist[i], &sp, &d1, false);
+        at1 += (t.flags & RENDER_LOD_FULL) ? (t.thin_t < 1.0f ? 20000.0 : 0.0) : 0.0;
+        at1 += (t.flags & RENDER_LOD_FULL) && t.thin_t > 0.0f ? 5000.0 : 0.0;
+        at1 += (t.flags & RENDER_LOD_BILLBOARD) ? 2.0 : 0.0;
+    }
+    /* a budget above the whole cost keeps scale 1 */
+    CHECK(render_lod_budget(hist, &cost, 1, 1.0f, 2.0 * at1, 1e12) == 1.0f);
+    /* a quarter of it: the scale drops, and what the frame then draws fits */
+    const double budget = 0.25 * at1;
+    float sc = render_lod_budget(hist, &cost, 1, 1.0f, budget, 1e12);
+    CHECK(sc > 0.05f && sc < 1.0f);
+    const render_lod_desc ds = { .mode_dist_m = 40.0f * sc, .scale = sc };
+    double drawn = 0.0;
+    for (uint32_t i = 0; i < n; i++) {
+        render_tree_lod t = render_lod_pick(dist[i], &sp, &ds, false);
+        drawn += (t.flags & RENDER_LOD_FULL) && t.thin_t < 1.0f ? 20000.0 : 0.0;
+        drawn += (t.flags & RENDER_LOD_FULL) && t.thin_t > 0.0f ? 5000.0 : 0.0;
+        drawn += (t.flags & RENDER_LOD_BILLBOARD) ? 2.0 : 0.0;
+    }
+    CHECK(drawn <= budget);
+    /* and not far below it: the scale 5 % larger would not fit the worst case */
+    CHECK(drawn > 0.5 * budget);
+    /* the nodes' budget binds the same way */
+    float sn = render_lod_budget(hist, &cost, 1, 1.0f, 1e12, 50.0 * 1000.0);
+    uint32_t posed = 0;
+    const render_lod_desc dn = { .mode_dist_m = 40.0f * sn, .scale = sn };
+    for (uint32_t i = 0; i < n; i++) {
+        posed += (render_lod_pick(dist[i], &sp, &dn, false).flags & RENDER_LOD_FULL) != 0;
+    }
+    CHECK(posed <= 50 && posed > 20);
 }
 
 /* PROTOCOL.md view "frustum": in the cone when out <= 0 and 0 <= along <= far_m. */
@@ -286,7 +350,8 @@ int main(void)
     RUN(test_frustum);
     RUN(test_lod_by_distance);
     RUN(test_mode_floor);
-    RUN(test_billboard_band);
+    RUN(test_fade_bands);
+    RUN(test_budget);
     RUN(test_dither_and_scale);
     RUN(test_view_cone);
     RUN(test_cells_match_trees);

@@ -127,7 +127,6 @@ typedef struct client_view {
     uint32_t connects; /* cli_net_stats.connects when it was sent */
     double sent_s;
     float eye[3], axis[3], fov_deg, far_m, lod_m;
-    float max_scale; /* the scene's largest tree scale (client_view_scene), at least 1 */
     uint64_t n_sent; /* views sent this run */
 } client_view;
 
@@ -216,7 +215,7 @@ typedef struct client {
  * (or none was sent on this connection). Nothing with --view all. */
 void client_view_update(client *c, double now);
 
-/* Takes a new scene's largest tree scale, which lod_m is measured at. */
+/* A new scene: the next frame sends its view anew. */
 void client_view_scene(client *c);
 
 /* ---- client_damage.c: storm damage on screen ---- */

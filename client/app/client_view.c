@@ -1,34 +1,34 @@
 /* gale-client's view (PROTOCOL.md "view"): the cone around the last frame's frustum, sent
  * as the camera moves, so the server streams the trees this client draws and no others.
- * Past lod_m every tree is drawn as a billboard alone, which needs no modes: the server
- * sends those its few (SERVER.md "Views and LOD"). lod_m is the billboard distance at the
- * scene's largest scale, since the renderer measures that distance in tree units. */
+ * Past lod_m a tree is drawn thinned or as an impostor (lod_policy.h), which pose with no
+ * more than the server's few modes (SERVER.md "Views and LOD"): lod_m is FULL's outer
+ * distance at the frame's budget scale, widened by VIEW_LOD_MARGIN since the renderer
+ * measures to a tree's middle and the server to its root; far_m the impostors' reach. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "client.h"
+#include "lod_policy.h"
 #include "render_cull.h"
+
+#define VIEW_LOD_MARGIN 1.1f
 
 void client_view_scene(client *c)
 {
-    float s = 1.0f;
-    for (uint32_t i = 0; i < c->w.n_instances; i++) {
-        s = fmaxf(s, c->w_instances[i].scale);
-    }
-    c->view.max_scale = s;
     c->view.sent = false; /* a new scene: ask again */
 }
 
 static bool differs(const client_view *v, const float eye[3], const float axis[3], float fov_deg,
-                    float far_m)
+                    float far_m, float lod_m)
 {
     float dx = eye[0] - v->eye[0], dy = eye[1] - v->eye[1], dz = eye[2] - v->eye[2];
     float turn = axis[0] * v->axis[0] + axis[1] * v->axis[1] + axis[2] * v->axis[2];
     const float turn_cos = cosf(CLIENT_VIEW_TURN_DEG * (float)M_PI / 180.0f);
     return dx * dx + dy * dy + dz * dz > CLIENT_VIEW_MOVE_M * CLIENT_VIEW_MOVE_M ||
            turn < turn_cos || fabsf(fov_deg - v->fov_deg) > CLIENT_VIEW_TURN_DEG ||
-           fabsf(far_m - v->far_m) > CLIENT_VIEW_MOVE_M;
+           fabsf(far_m - v->far_m) > CLIENT_VIEW_MOVE_M ||
+           fabsf(lod_m - v->lod_m) > 0.1f * v->lod_m; /* the budget's scale moved */
 }
 
 void client_view_update(client *c, double now)
@@ -46,12 +46,14 @@ void client_view_update(client *c, double now)
     } else if (now - v->sent_s < CLIENT_VIEW_MIN_S) {
         return;
     }
-    float vp[16], eye[3], axis[3], fov_deg, far_m, billboard_m;
-    render_last_view(c->r, vp, eye, &billboard_m);
+    float vp[16], eye[3], axis[3], fov_deg, far_m, full_m;
+    render_last_view(c->r, vp, eye, &full_m);
     if (!render_cull_cone(vp, eye, axis, &fov_deg, &far_m)) {
         return;
     }
-    if (v->sent && !differs(v, eye, axis, fov_deg, far_m)) {
+    far_m = fminf(far_m, VIEW_FAR_M * VIEW_LOD_MARGIN);
+    const float lod_m = full_m * VIEW_LOD_MARGIN;
+    if (v->sent && !differs(v, eye, axis, fov_deg, far_m, lod_m)) {
         return;
     }
     ctl_msg m = { .type = CTL_VIEW };
@@ -61,7 +63,7 @@ void client_view_update(client *c, double now)
         m.u.view = (ctl_view){ .kind = CTL_VIEW_FRUSTUM,
                                .fov_deg = fmaxf(fov_deg, 1.0f),
                                .far_m = fminf(fmaxf(far_m, 0.001f), 1e6f),
-                               .lod_m = billboard_m * v->max_scale };
+                               .lod_m = lod_m };
         memcpy(m.u.view.eye, eye, sizeof eye);
         memcpy(m.u.view.dir, axis, sizeof axis);
     }

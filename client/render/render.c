@@ -43,15 +43,12 @@ render *render_create(const render_desc *desc, gale_err *err)
     if (d->lod_mode_dist == 0.0f) {
         d->lod_mode_dist = 40.0f;
     }
-    if (d->lod_billboard_dist == 0.0f) {
-        d->lod_billboard_dist = 220.0f;
-    }
     if (d->fog_dist == 0.0f) {
         d->fog_dist = 450.0f;
     }
     if (d->width < 1 || d->height < 1 || d->width > 16384 || d->height > 16384 ||
         d->max_trees > RENDER_MAX_TREES || d->max_falling > (1u << 22) || !(d->lod_mode_dist > 0.0f) ||
-        !(d->lod_billboard_dist > 0.0f) || !(d->fog_dist > 0.0f)) {
+        !(d->fog_dist > 0.0f)) {
         gale_errf(err, GALE_E_ARG,
                   "render_create: size %dx%d (1..16384), max_trees %u, "
                   "max_falling %u (<= 4M), LOD and fog distances > 0",
@@ -66,6 +63,7 @@ render *render_create(const render_desc *desc, gale_err *err)
     r->w = d->width;
     r->h = d->height;
     r->lod_scale = 1.0f;
+    r->budget_scale = 1.0f;
     storm_fx_calm(&r->fx);
     /* the shared falling path: a CPU simulation, done before any GPU state exists */
     if (falling_path_build(&r->path, NULL, err) < 0) {
@@ -188,6 +186,7 @@ void render_destroy(render *r)
     free(r->tree_group);
     render_cells_free(&r->cells);
     free(r->tree_lod);
+    free(r->tree_dist);
     free(r->wind_v);
     free(r->ring);
     free(r->broken);
@@ -238,14 +237,31 @@ static void camera_matrices(render *r, const render_camera *cam)
     memcpy(r->viewproj, vp, sizeof vp);
 }
 
-/* Cull and choose LOD per tree (render_cull.c), and fill the draw list grouped by species
- * and kind. */
+/* What a tree of species s costs at each level (render_lod_budget): its finest bark mesh
+ * and every leaf, the coarsest mesh and the thinned leaves, an impostor. */
+static render_lod_cost species_cost(const rs_species *s)
+{
+    render_lod_cost c;
+    c.triangles[LOD_FULL] = (float)(s->lod_count[0] / 3u + 2u * s->n_leaves);
+    c.triangles[LOD_THIN] = (float)(s->lod_count[s->n_lods - 1] / 3u + 2u * s->leaves_thin);
+    c.triangles[LOD_IMPOSTOR] = 2.0f;
+    c.nodes = (float)s->n_nodes;
+    return c;
+}
+
+/* A tree an impostor of the standing species would misdraw: a debris piece (slot past the
+ * trees), a tipped or snapped tree. */
+static bool stays_posed(const render *r, uint32_t k, uint32_t i)
+{
+    return k >= r->n_trees || r->inst[i].fall_rad > 0.0f || render_slot_snapped(r, i);
+}
+
+/* Cull (render_cull.c), fit the frame's budget and choose each tree's LOD (render_lod.c),
+ * and fill the draw list grouped by species and kind. */
 static void build_lists(render *r)
 {
     float planes[6][4];
     render_cull_planes(r->viewproj, planes);
-    const render_lod_desc ld = { .mode_dist_m = r->desc.lod_mode_dist * r->lod_scale,
-                                 .billboard_dist_m = r->desc.lod_billboard_dist * r->lod_scale };
     memset(r->grp_n, 0, sizeof r->grp_n);
     r->n_plates = 0;
     r->n_stumps = 0;
@@ -256,31 +272,57 @@ static void build_lists(render *r)
     for (uint32_t c = 0; c < cells->n_cells; c++) {
         cells->where[c] = (uint8_t)render_cell_test(&cells->cell[c], planes);
     }
-    /* pass 1: classify and count */
-    uint32_t rows = 0;
+    /* pass 0: what is in view, how far, in the budget's histogram */
+    memset(r->lod_hist, 0, (size_t)r->n_species * RENDER_LOD_BINS * sizeof r->lod_hist[0]);
     const uint32_t n_drawn = r->n_trees + r->n_debris;
     for (uint32_t k = 0; k < n_drawn; k++) {
         const uint32_t i = render_slot_at(r, k);
         const int where = k < r->n_trees ? cells->where[cells->cell_of[i]] : RENDER_CELL_CUT;
-        if (where == RENDER_CELL_OUT) {
-            r->tree_group[i] = 0;
-            r->stats.trees_culled++;
-            continue;
+        const render_instance *in = &r->inst[i];
+        const render_cull_species cs = render_cull_species_of(&r->sp[in->species]);
+        float dist_m = -1.0f;
+        if (where == RENDER_CELL_OUT ||
+            !render_cull_visible(where == RENDER_CELL_IN ? NULL : planes, r->eye, in, &cs,
+                                 &dist_m)) {
+            dist_m = -1.0f;
+        } else {
+            uint32_t b = render_lod_bin(dist_m);
+            r->lod_hist[in->species * RENDER_LOD_BINS + (b < RENDER_LOD_BINS ? b : 0)] +=
+                b < RENDER_LOD_BINS;
         }
+        r->tree_dist[i] = dist_m;
+    }
+    render_lod_cost cost[RENDER_MAX_SPECIES];
+    for (uint32_t s = 0; s < r->n_species; s++) {
+        cost[s] = species_cost(&r->sp[s]);
+    }
+    /* the governor's scale caps the budget's, which grows back a step a frame */
+    float max_scale = fminf(r->lod_scale, r->budget_scale * LOD_GROW_PER_FRAME);
+    r->budget_scale = render_lod_budget(r->lod_hist, cost, r->n_species, max_scale,
+                                        LOD_BUDGET_TRIANGLES, LOD_BUDGET_NODES);
+    r->stats.lod_scale = r->budget_scale;
+    const render_lod_desc ld = { .mode_dist_m = r->desc.lod_mode_dist * r->budget_scale,
+                                 .scale = r->budget_scale };
+    /* pass 1: classify and count */
+    uint32_t rows = 0;
+    for (uint32_t k = 0; k < n_drawn; k++) {
+        const uint32_t i = render_slot_at(r, k);
         const render_instance *in = &r->inst[i];
         const rs_species *s = &r->sp[in->species];
         const render_cull_species cs = render_cull_species_of(s);
-        render_tree_lod tl =
-            render_cull_tree(where == RENDER_CELL_IN ? NULL : planes, r->eye, in, &cs, &ld);
+        render_tree_lod tl = { 0 };
+        if (r->tree_dist[i] >= 0.0f) {
+            tl = render_lod_pick(r->tree_dist[i], &cs, &ld, stays_posed(r, k, i));
+        }
         if (k >= r->n_trees) {
             tl.n_modes = 0.0f; /* a debris piece: its rest pose needs no modes */
         }
-        if (k >= r->n_trees || in->fall_rad > 0.0f) {
-            /* the impostor shows a whole standing tree: a piece or a fallen tree fades
-             * out where others turn into billboards */
-            tl.flags &= ~(uint32_t)RENDER_LOD_BILLBOARD;
-        }
         r->tree_group[i] = tl.flags;
+        r->tree_lod[i] = tl;
+        if (!tl.flags) {
+            r->stats.trees_culled++;
+            continue;
+        }
         if ((tl.flags & RENDER_LOD_FULL) && k < r->n_trees && in->uprooted != 0 &&
             in->fall_rad > 0.02f) {
             r->plates[r->n_plates++] = (float)i;
@@ -294,27 +336,19 @@ static void build_lists(render *r)
             memcpy(&e[4], s->bark, sizeof s->bark);
             e[7] = 0.0f;
         }
-        if (!tl.flags) {
-            r->stats.trees_culled++;
-            continue;
-        }
-        float *lod = &r->tree_lod[4 * i];
-        lod[0] = tl.bill_t;
+        uint32_t *gn = r->grp_n[in->species];
         if (tl.flags & RENDER_LOD_FULL) {
             r->tree_row[i] = rows++;
-            lod[1] = tl.n_modes;
-            lod[2] = (float)tl.mesh_lod;
-            lod[3] = tl.mesh_fade;
-            r->grp_n[in->species][G_SKEL]++;
-            r->grp_n[in->species][G_LEAF]++;
-            r->grp_n[in->species][G_MESH + tl.mesh_lod]++;
-            if (tl.mesh_fade > 0.0f) {
-                r->grp_n[in->species][G_MESH + tl.mesh_lod + 1]++;
-            }
+            gn[G_SKEL]++;
+            gn[G_LEAF] += tl.thin_t < 1.0f;
+            gn[G_LEAF_THIN] += tl.thin_t > 0.0f;
+            gn[G_MESH + tl.mesh_lod]++;
+            gn[G_MESH + tl.mesh_lod + 1] += tl.mesh_fade > 0.0f;
             r->stats.trees_full++;
+            r->stats.trees_thin += tl.level == LOD_THIN || (tl.level == LOD_IMPOSTOR);
         }
         if (tl.flags & RENDER_LOD_BILLBOARD) {
-            r->grp_n[in->species][G_BILL]++;
+            gn[G_BILL]++;
             r->stats.trees_billboard++;
         }
     }
@@ -326,7 +360,8 @@ static void build_lists(render *r)
             r->grp_n[s][g] = 0;
         }
     }
-    /* pass 2: fill */
+    /* pass 2: fill. Each fade draws both levels, complementary pixels of one dither: the
+       finer with keep share 1 - t, the coarser with -t (shaders/common.glsl dither_keep). */
     for (uint32_t d = 0; d < n_drawn; d++) {
         const uint32_t i = render_slot_at(r, d);
         uint32_t fl = r->tree_group[i];
@@ -334,8 +369,8 @@ static void build_lists(render *r)
             continue;
         }
         uint32_t sp = r->inst[i].species;
-        const float *lod = &r->tree_lod[4 * i];
-        float tb = lod[0];
+        const render_tree_lod *tl = &r->tree_lod[i];
+        const float tb = tl->bill_t, tt = tl->thin_t;
         float row = (float)r->tree_row[i];
 #define PUT(g, a, b, c, d)                                                 \
     do {                                                                   \
@@ -346,14 +381,19 @@ static void build_lists(render *r)
         e[3] = (d);                                                        \
     } while (0)
         if (fl & RENDER_LOD_FULL) {
-            float keep = 1.0f - tb; /* fading out toward the billboard */
-            PUT(G_SKEL, (float)i, row, lod[1], 1.0f);
-            PUT(G_LEAF, (float)i, row, 0.0f, keep);
-            uint32_t k = (uint32_t)lod[2];
-            float tt = lod[3];
+            float keep = 1.0f - tb; /* fading out toward the impostor */
+            PUT(G_SKEL, (float)i, row, tl->n_modes, 1.0f);
+            if (tt < 1.0f) {
+                PUT(G_LEAF, (float)i, row, 0.0f, tt > 0.0f ? 1.0f - tt : keep);
+            }
             if (tt > 0.0f) {
-                PUT(G_MESH + (int)k, (float)i, row, 0.0f, 1.0f - tt);
-                PUT(G_MESH + (int)k + 1, (float)i, row, 0.0f, -tt);
+                PUT(G_LEAF_THIN, (float)i, row, 0.0f, tt < 1.0f ? -tt : keep);
+            }
+            uint32_t k = tl->mesh_lod;
+            float mf = tl->mesh_fade;
+            if (mf > 0.0f) {
+                PUT(G_MESH + (int)k, (float)i, row, 0.0f, 1.0f - mf);
+                PUT(G_MESH + (int)k + 1, (float)i, row, 0.0f, -mf);
             } else {
                 PUT(G_MESH + (int)k, (float)i, row, 0.0f, keep);
             }
@@ -439,12 +479,16 @@ int render_frame(render *r, const render_camera *cam, double time_s, gale_err *e
     render_stumps_draw(r, t);
     render_set_common(r, &r->p_leaf, t, r->desc.fog_dist);
     for (uint32_t s = 0; s < r->n_species; s++) {
-        render_draw_leaves(r, &r->sp[s], r->grp_base[s][G_LEAF], r->grp_n[s][G_LEAF]);
+        render_draw_leaves(r, &r->sp[s], r->grp_base[s][G_LEAF], r->grp_n[s][G_LEAF], false);
+        render_draw_leaves(r, &r->sp[s], r->grp_base[s][G_LEAF_THIN], r->grp_n[s][G_LEAF_THIN],
+                           true);
     }
-    /* billboards */
+    /* impostors, swaying with each tree's lowest modes */
     render_set_common(r, &r->p_bill, t, r->desc.fog_dist);
     render_bind_buf(RU_LIST, &r->list_buf);
     render_bind_buf(RU_TREES, &r->trees);
+    render_bind_buf(RU_Q, &r->q);
+    glUniform1i(r->p_bill.u_qstride, (GLint)r->q_stride);
     for (uint32_t s = 0; s < r->n_species; s++) {
         uint32_t n = r->grp_n[s][G_BILL];
         if (n == 0) {
@@ -452,6 +496,9 @@ int render_frame(render *r, const render_camera *cam, double time_s, gale_err *e
         }
         glUniform1i(r->p_bill.u_base, (GLint)r->grp_base[s][G_BILL]);
         glUniform3fv(r->p_bill.u_bsize, 1, r->sp[s].bill);
+        glUniform3fv(r->p_bill.u_sway, LOD_IMPOSTOR_MODES, &r->sp[s].imp_sway[0][0]);
+        glUniform1f(r->p_bill.u_crown_z, r->sp[s].imp_crown_z);
+        glUniform2fv(r->p_bill.u_ab, LOD_IMPOSTOR_MODES, r->sp[s].ab);
         render_bind_tex(RU_IMP, GL_TEXTURE_2D, r->sp[s].imp_tex);
         render_bind_tex(RU_IMP_WOOD, GL_TEXTURE_2D, r->sp[s].imp_wood_tex);
         glBindVertexArray(r->vao_empty);
@@ -498,11 +545,11 @@ void render_set_lod_scale(render *r, float scale)
     r->lod_scale = scale > 0.0f && isfinite(scale) ? scale : 1.0f;
 }
 
-void render_last_view(const render *r, float viewproj[16], float eye[3], float *billboard_m)
+void render_last_view(const render *r, float viewproj[16], float eye[3], float *full_m)
 {
     memcpy(viewproj, r->viewproj, 16 * sizeof(float));
     memcpy(eye, r->eye, 3 * sizeof(float));
-    *billboard_m = r->desc.lod_billboard_dist * r->lod_scale;
+    *full_m = lod_outer_m[LOD_FULL] * r->budget_scale;
 }
 
 void render_size(const render *r, int *width, int *height)

@@ -30,7 +30,6 @@ typedef struct render_desc {
     uint32_t max_falling;      /* ring of falling + landed leaves; 0 = 16384. The oldest
                                   record is reused when full (landed leaves kept up to this) */
     float lod_mode_dist;       /* distance [m] where the mode count starts to drop; 0 = 40 */
-    float lod_billboard_dist;  /* distance [m] where trees become billboards; 0 = 220 */
     float fog_dist;            /* distance [m] of ~63 % fog; 0 = 450 */
 } render_desc;
 
@@ -82,7 +81,8 @@ typedef struct render_leaf_seed {
 
 typedef struct render_stats {
     uint32_t trees_full;       /* drawn as skinned meshes this frame */
-    uint32_t trees_billboard;  /* drawn as billboards this frame (some in both while fading) */
+    uint32_t trees_thin;       /* of trees_full, those with thinned leaves (some fading) */
+    uint32_t trees_billboard;  /* drawn as impostors this frame (some posed too while fading) */
     uint32_t trees_culled;
     uint32_t draw_calls;
     uint32_t falling_live;     /* leaf records in the ring */
@@ -92,6 +92,7 @@ typedef struct render_stats {
                                   damage, falling leaves; not the skeleton pass's quads,
                                   the sky's and the rain's full-screen triangle) */
     double cull_ms;            /* CPU time culling and choosing levels of detail [ms] */
+    float lod_scale;           /* the scale of FULL's and THIN's distances the budget took */
 } render_stats;
 
 /* Creates the GL context (window or offscreen) and all GPU state. NULL on failure with
@@ -238,13 +239,14 @@ void render_wind_sample(const render *r, const float p[3], float out[3]);
  * node outside it), to compare with damage_cut_mask. */
 int render_read_attached(render *r, uint32_t k, uint8_t *out, gale_err *err);
 
-/* Scales the level-of-detail distances (lod_mode_dist, lod_billboard_dist) from the next
- * frame on: 1 as created, less draws more trees as billboards (governor.h). */
+/* Caps the scale of the level-of-detail distances (lod_mode_dist, FULL's and THIN's of
+ * lod_policy.h) from the next frame on: 1 as created, less draws more trees thinned and
+ * as impostors (governor.h); the frame's budget may scale them further. */
 void render_set_lod_scale(render *r, float scale);
 
 /* What the last frame saw: its view-projection matrix (column-major) and eye [m], and the
- * distance [m, at unit scale] past which a tree is drawn as a billboard alone. */
-void render_last_view(const render *r, float viewproj[16], float eye[3], float *billboard_m);
+ * distance [m] past which no tree is drawn with every leaf (FULL's outer, scaled). */
+void render_last_view(const render *r, float viewproj[16], float eye[3], float *full_m);
 
 /* Counters of the last frame. */
 render_stats render_get_stats(const render *r);

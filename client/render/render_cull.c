@@ -1,6 +1,6 @@
-/* Frustum culling and distance LOD for gale_render (see render_cull.h): modes drop with
- * distance as in Diener 2008 section 5.1, mesh LODs share the distance up to the billboard
- * band. No GL here, so tests run it without a context. */
+/* Frustum culling for gale_render (see render_cull.h): a sphere per tree, cells of trees,
+ * and the cone a client asks the server for. No GL here, so tests run it without a
+ * context. */
 #include "render_cull.h"
 
 #include <cglm/cglm.h>
@@ -16,12 +16,6 @@ void render_cull_planes(const float viewproj[16], float planes[6][4])
     memcpy(vp, viewproj, sizeof vp);
     glm_frustum_planes(vp, pl);
     memcpy(planes, pl, sizeof pl);
-}
-
-static float smooth01(float x)
-{
-    x = x < 0.0f ? 0.0f : x > 1.0f ? 1.0f : x;
-    return x * x * (3.0f - 2.0f * x);
 }
 
 float render_cull_sphere(const render_instance *in, const render_cull_species *s, float c[3])
@@ -138,46 +132,31 @@ int render_cell_test(const render_cell *c, const float planes[6][4])
     return cut ? RENDER_CELL_CUT : RENDER_CELL_IN;
 }
 
+bool render_cull_visible(const float planes[6][4], const float eye[3],
+                         const render_instance *in, const render_cull_species *s, float *dist_m)
+{
+    float c[3];
+    float rad = render_cull_sphere(in, s, c);
+    for (int k = 0; planes && k < 6; k++) {
+        if (!(planes[k][0] * c[0] + planes[k][1] * c[1] + planes[k][2] * c[2] + planes[k][3] >
+              -rad)) {
+            return false;
+        }
+    }
+    float dx = c[0] - eye[0], dy = c[1] - eye[1], dz = c[2] - eye[2];
+    *dist_m = sqrtf(dx * dx + dy * dy + dz * dz);
+    return true;
+}
+
 render_tree_lod render_cull_tree(const float planes[6][4], const float eye[3],
                                  const render_instance *in, const render_cull_species *s,
                                  const render_lod_desc *d)
 {
-    render_tree_lod out = { 0 };
-    const float bill_end = d->billboard_dist_m, bill_start = 0.8f * bill_end;
-    const float mode_d = d->mode_dist_m;
-    float sc = in->scale > 0.0f ? in->scale : 1.0f;
-    float c[3];
-    float rad = render_cull_sphere(in, s, c);
-    bool vis = true;
-    for (int k = 0; planes && k < 6 && vis; k++) {
-        vis = planes[k][0] * c[0] + planes[k][1] * c[1] + planes[k][2] * c[2] + planes[k][3] > -rad;
+    float dist_m;
+    if (!render_cull_visible(planes, eye, in, s, &dist_m)) {
+        return (render_tree_lod){ 0 };
     }
-    if (!vis) {
-        return out;
-    }
-    float dx = c[0] - eye[0], dy = c[1] - eye[1], dz = c[2] - eye[2];
-    float dist = sqrtf(dx * dx + dy * dy + dz * dz) / sc;
-    float tb = smooth01((dist - bill_start) / (bill_end - bill_start));
-    out.bill_t = tb;
-    if (tb < 1.0f) {
-        out.flags |= RENDER_LOD_FULL;
-        /* modes: all up to mode_d, then fewer as 1/d, never below 4 (section 5.1) */
-        float nm = (float)s->n_modes;
-        if (dist > mode_d) {
-            nm = fmaxf(fminf(4.0f, nm), nm * mode_d / dist);
-        }
-        out.n_modes = nm;
-        /* mesh LODs share the distance up to the billboard band; the last 30 % of each
-           band dithers into the next */
-        float lf = fmaxf(dist, 0.0f) / (bill_start / (float)s->n_lods);
-        uint32_t k = (uint32_t)fminf(lf, (float)(s->n_lods - 1));
-        out.mesh_lod = k;
-        out.mesh_fade = k + 1 < s->n_lods ? smooth01((lf - (float)k - 0.7f) / 0.3f) : 0.0f;
-    }
-    if (tb > 0.0f) {
-        out.flags |= RENDER_LOD_BILLBOARD;
-    }
-    return out;
+    return render_lod_pick(dist_m, s, d, false);
 }
 
 bool render_cull_cone(const float viewproj[16], const float eye[3], float axis[3],

@@ -1,13 +1,14 @@
 /* Culling and level of detail for gale_render: the view frustum's planes, and per tree
- * whether it is drawn, as a skinned mesh (how many modes, which mesh LOD, dithering into
- * the next) and/or a billboard (fading in past 80 % of the billboard distance). Pure CPU
- * code: callable without a GL context. */
+ * whether it is drawn, and at which levels of lod_policy.h: posed (how many modes, which mesh
+ * LOD, every leaf or a share, dithering into the next) and/or an impostor. Pure CPU code:
+ * callable without a GL context. */
 #ifndef GALE_RENDER_CULL_H
 #define GALE_RENDER_CULL_H
 
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "lod_policy.h"
 #include "render.h"
 
 /* What culling needs of a species. */
@@ -18,21 +19,25 @@ typedef struct render_cull_species {
     uint32_t n_lods; /* mesh LODs, >= 1 */
 } render_cull_species;
 
-/* LOD distances, as in render_desc (resolved: both > 0). */
+/* How a frame scales the policy (lod_policy.h). */
 typedef struct render_lod_desc {
-    float mode_dist_m;      /* modes start to drop past this distance */
-    float billboard_dist_m; /* trees are billboards only past this distance */
+    float mode_dist_m; /* modes start to drop past this distance */
+    float scale;       /* × FULL's and THIN's outer distances and the mesh step (the frame's
+                          budget and the governor); the impostors' reach is kept */
 } render_lod_desc;
 
 enum {
-    RENDER_LOD_FULL = 1u,      /* drawn as skeleton, mesh and leaves */
-    RENDER_LOD_BILLBOARD = 2u, /* drawn as a billboard (with FULL while fading) */
+    RENDER_LOD_FULL = 1u,      /* posed: skeleton, bark and leaves (every leaf or thinned) */
+    RENDER_LOD_BILLBOARD = 2u, /* drawn as an impostor (with FULL while fading) */
 };
 
 typedef struct render_tree_lod {
     uint32_t flags;    /* 0 = culled, else RENDER_LOD_FULL and/or RENDER_LOD_BILLBOARD */
-    float bill_t;      /* 0 = full tree .. 1 = billboard only (smoothstep of distance) */
-    float n_modes;     /* modes reconstructed: all up to mode_dist_m, then ~1/d, >= 4 */
+    uint32_t level;    /* the coarsest level it is drawn at (LOD_FULL .. LOD_IMPOSTOR) */
+    float thin_t;      /* 0 = every leaf .. 1 = the thinned leaves alone (dithered between) */
+    float bill_t;      /* 0 = posed tree .. 1 = impostor alone (dithered between) */
+    float n_modes;     /* modes reconstructed: all up to mode_dist_m, then ~1/d, >= 4,
+                          at most the level's lod_modes_max */
     uint32_t mesh_lod; /* mesh LOD k < n_lods */
     float mesh_fade;   /* 0..1: dither from LOD k toward k + 1 */
 } render_tree_lod;
@@ -41,13 +46,38 @@ typedef struct render_tree_lod {
  * column-major view-projection matrix with OpenGL clip conventions. */
 void render_cull_planes(const float viewproj[16], float planes[6][4]);
 
-/* Culls one tree against the frustum (a bounding sphere around its crown, widened for
- * sway; planes NULL: known inside) and chooses its LOD from the distance [m, in tree
- * units: divided by its scale] from eye to the crown centre. A culled tree has flags 0
+/* Whether one tree is in the frustum (a bounding sphere around its crown, widened for
+ * sway; planes NULL: known inside), and its distance [m] from eye to the sphere's centre. */
+bool render_cull_visible(const float planes[6][4], const float eye[3],
+                         const render_instance *in, const render_cull_species *s,
+                         float *dist_m);
+
+/* The LOD of a tree at distance dist_m (lod_policy.h, scaled by d). stays_posed: a fallen,
+ * uprooted or snapped tree or a debris piece, which an impostor of the standing tree would
+ * misdraw: it stays THIN out to the impostors' reach. Past that reach, flags 0. */
+render_tree_lod render_lod_pick(float dist_m, const render_cull_species *s,
+                                const render_lod_desc *d, bool stays_posed);
+
+/* render_cull_visible, then render_lod_pick of a standing tree; a culled tree has flags 0
  * and the other fields zero. */
 render_tree_lod render_cull_tree(const float planes[6][4], const float eye[3],
                                  const render_instance *in, const render_cull_species *s,
                                  const render_lod_desc *d);
+
+/* The frame's budget (lod_policy.h LOD_BUDGET_*) without sorting the trees: their
+ * distances in a histogram per species (RENDER_LOD_BINS bins over the impostors' reach),
+ * the cost of one tree of each species at each level, and the largest scale <= max_scale
+ * whose worst case (a bin's trees at its near edge, both levels inside a fade band) fits. */
+#define RENDER_LOD_BINS 256u
+typedef struct render_lod_cost {
+    float triangles[LOD_LEVELS]; /* one tree at each level (FULL: its finest mesh) */
+    float nodes;                 /* skeleton nodes posed for one tree at FULL or THIN */
+} render_lod_cost;
+float render_lod_budget(const uint32_t *hist, const render_lod_cost *cost, uint32_t n_species,
+                        float max_scale, double budget_triangles, double budget_nodes);
+
+/* The histogram bin of distance dist_m; RENDER_LOD_BINS past the impostors' reach. */
+uint32_t render_lod_bin(float dist_m);
 
 /* The sphere render_cull_tree tests: centre c [m] and radius [m]. */
 float render_cull_sphere(const render_instance *in, const render_cull_species *s, float c[3]);

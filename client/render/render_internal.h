@@ -47,7 +47,9 @@ enum {
 };
 
 /* Groups of the per-frame draw list, per species. */
-enum { G_SKEL = 0, G_MESH = 1, G_LEAF = G_MESH + ASSET_MAX_LODS, G_BILL, G_COUNT };
+/* a species' draw groups: skeleton rows, bark by mesh LOD, every leaf, the thinned leaves
+ * (lod_policy.h THIN), impostors */
+enum { G_SKEL = 0, G_MESH = 1, G_LEAF = G_MESH + ASSET_MAX_LODS, G_LEAF_THIN, G_BILL, G_COUNT };
 
 /* A linked program and every uniform location any gale program uses, looked up once at
  * link time (-1 where this program lacks the uniform; glUniform* ignores -1). */
@@ -59,9 +61,9 @@ typedef struct render_prog {
     /* skel */
     GLint u_base, u_nodes, u_target, u_qstride, u_ab, u_pass;
     /* tree, leaf */
-    GLint u_bark, u_nleaves, u_aspect, u_crown, u_leafcol, u_shape;
+    GLint u_bark, u_nleaves, u_leaf_total, u_leaf_grow, u_aspect, u_crown, u_leafcol, u_shape;
     /* sky, house, bill */
-    GLint u_inv_viewproj, u_wall, u_roof, u_window, u_bsize;
+    GLint u_inv_viewproj, u_wall, u_roof, u_window, u_bsize, u_sway, u_crown_z;
     /* fall */
     GLint u_npath, u_pdt, u_ncont, u_cont, u_aspects;
     /* rain */
@@ -82,6 +84,10 @@ typedef struct rs_species {
     GLuint vao, vbo, ibo, imp_tex, imp_wood_tex; /* impostors: whole tree, wood alone */
     rs_buf vw, node, leaf;
     float bill[3]; /* half width, height, bottom [m] */
+    /* the impostor's sway (shaders/bill.vert): the crown's mean translation per unit q of
+     * its lowest modes, weighted by leaves [m], and the crown's height [m] */
+    float imp_sway[LOD_IMPOSTOR_MODES][3], imp_crown_z;
+    uint32_t leaves_thin; /* leaves drawn at THIN: n_leaves × lod_leaf_share[LOD_THIN] */
     float stem_r_m, stem_taper; /* stem radius at the base [m] and its change per metre up */
     /* CPU copies for releasing falling leaves (one node per leaf, never per frame) */
     float *rest, *corr_v, *corr_w, *leaf_offset, *leaf_normal, *leaf_size;
@@ -133,7 +139,10 @@ struct render {
     uint32_t *tree_row, *tree_group; /* scratch per tree */
     render_cells cells;              /* the scene's trees in cells (render_set_instances) */
     float lod_scale;                 /* × the LOD distances (render_set_lod_scale) */
-    float *tree_lod;                 /* scratch: packed modes / fades */
+    float budget_scale;              /* the last frame's scale under its budget */
+    render_tree_lod *tree_lod;       /* scratch: each tree's LOD this frame */
+    float *tree_dist;                /* scratch: its distance, < 0 culled */
+    uint32_t lod_hist[RENDER_MAX_SPECIES * RENDER_LOD_BINS]; /* render_lod_budget's */
     uint32_t grp_base[RENDER_MAX_SPECIES][G_COUNT], grp_n[RENDER_MAX_SPECIES][G_COUNT];
 
     /* storm damage drawn by the skeleton pass (render_damage.c, shaders/skel.frag) */
@@ -266,8 +275,11 @@ void render_species_free(rs_species *s);
 void render_draw_skeleton(render *r, const rs_species *s, uint32_t base, uint32_t n);
 /* Draws n trees of mesh LOD lod; expects render_set_common(r, &r->p_tree, ...). */
 void render_draw_tree(render *r, const rs_species *s, uint32_t lod, uint32_t base, uint32_t n);
+/* The leaves drawn of n_leaves at a level's share (lod_policy.h): round(n × share), at
+ * least 1; 0 for a share of 0. The page takes the same (web/render_list.js). */
+uint32_t render_leaves_at(uint32_t n_leaves, float share);
 /* Draws the leaves of n trees; expects render_set_common(r, &r->p_leaf, ...). */
-void render_draw_leaves(render *r, const rs_species *s, uint32_t base, uint32_t n);
+void render_draw_leaves(render *r, const rs_species *s, uint32_t base, uint32_t n, bool thin);
 
 /* ---- render_fall.c ---- */
 

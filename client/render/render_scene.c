@@ -17,6 +17,7 @@ int render_trees_alloc(render *r, uint32_t cap, gale_err *err)
     free(r->tree_row);
     free(r->tree_group);
     free(r->tree_lod);
+    free(r->tree_dist);
     free(r->plates);
     free(r->stumps);
     free(r->leaf_attached);
@@ -24,18 +25,20 @@ int render_trees_alloc(render *r, uint32_t cap, gale_err *err)
     const uint32_t slots = render_slots(r);
     r->inst = calloc(slots, sizeof *r->inst);
     r->q_stage = calloc((size_t)slots * r->q_stride, sizeof(float));
-    r->list_cap = 5 * slots;
+    r->list_cap = 6 * slots; /* skeleton, two leaf levels, two meshes, impostor */
     r->list = calloc((size_t)r->list_cap * 4, sizeof(float));
     r->tree_row = calloc(slots, sizeof(uint32_t));
     r->tree_group = calloc(slots, sizeof(uint32_t));
-    r->tree_lod = calloc((size_t)slots * 4, sizeof(float));
+    r->tree_lod = calloc(slots, sizeof *r->tree_lod);
+    r->tree_dist = calloc(slots, sizeof(float));
     r->plates = calloc(cap + 1, sizeof(float));
     r->stumps = calloc((size_t)(cap + 1) * 8, sizeof(float));
     r->leaf_attached = malloc((size_t)(cap + 1) * sizeof(float));
     for (uint32_t i = 0; r->leaf_attached && i <= cap; i++) {
         r->leaf_attached[i] = 1.0f;
     }
-    if (!r->plates || !r->stumps || !r->leaf_attached || !r->inst || !r->q_stage || !r->list || !r->tree_row || !r->tree_group || !r->tree_lod) {
+    if (!r->plates || !r->stumps || !r->leaf_attached || !r->inst || !r->q_stage || !r->list || !r->tree_row || !r->tree_group || !r->tree_lod ||
+        !r->tree_dist) {
         return gale_errf(err, GALE_E_NOMEM, "render: out of memory for %u trees", cap);
     }
     /* the rest-pose slot (index cap): origin, unit scale */

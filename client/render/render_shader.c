@@ -104,7 +104,8 @@ static const struct {
     PROG_U(u_wall),       PROG_U(u_roof),        PROG_U(u_window),      PROG_U(u_bsize),
     PROG_U(u_npath),      PROG_U(u_pdt),         PROG_U(u_ncont),       PROG_U(u_cont),
     PROG_U(u_aspects),    PROG_U(u_pass),        PROG_U(u_rain),        PROG_U(u_spray),
-    PROG_U(u_storm),      PROG_U(u_rain_clear),
+    PROG_U(u_storm),      PROG_U(u_rain_clear),  PROG_U(u_leaf_total),  PROG_U(u_sway),
+    PROG_U(u_crown_z),    PROG_U(u_leaf_grow),
 };
 #undef PROG_U
 

@@ -141,7 +141,7 @@ static GLuint impostor_draw(render *r, const rs_species *s, bool with_leaves)
     render_draw_tree(r, s, 0, 0, 1);
     if (with_leaves) {
         render_set_common(r, &r->p_leaf, 0.0f, 1e9f);
-        render_draw_leaves(r, s, 0, 1);
+        render_draw_leaves(r, s, 0, 1, false);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glDeleteFramebuffers(1, &fbo);
@@ -195,6 +195,55 @@ static int species_impostor(render *r, rs_species *s, uint32_t sid, gale_err *er
     return 0;
 }
 
+/* The impostor's sway (shaders/bill.vert): the crown's mean translation per unit q of
+ * each of the lowest modes, c_k = Σ_j w_j φ_k(j) / Σ_j w_j with w_j the leaves on node j
+ * (the highest node alone for a leafless species), and the crown's height z_c the same
+ * mean of the nodes' rest heights. A quad vertex at height z moves by (z / z_c) Σ q̃_k c_k:
+ * the lean that puts the crown's middle where the modes put it (Diener 2008 section 3). */
+static void impostor_sway(rs_species *s, const asset *a)
+{
+    const size_t nn = a->n_nodes;
+    double c[LOD_IMPOSTOR_MODES][3] = { { 0.0 } }, z = 0.0, w = 0.0;
+    for (uint32_t l = 0; l < a->n_leaves; l++) {
+        const size_t j = a->leaf_node[l];
+        for (uint32_t m = 0; m < LOD_IMPOSTOR_MODES && m < a->n_modes; m++) {
+            for (int k = 0; k < 3; k++) {
+                c[m][k] += (double)a->phi[(m * nn + j) * 3 + k];
+            }
+        }
+        z += (double)a->rest[3 * j + 2];
+        w += 1.0;
+    }
+    if (w == 0.0) {
+        size_t top = 0;
+        for (size_t j = 1; j < nn; j++) {
+            top = a->rest[3 * j + 2] > a->rest[3 * top + 2] ? j : top;
+        }
+        for (uint32_t m = 0; m < LOD_IMPOSTOR_MODES && m < a->n_modes; m++) {
+            for (int k = 0; k < 3; k++) {
+                c[m][k] = (double)a->phi[(m * nn + top) * 3 + k];
+            }
+        }
+        z = (double)a->rest[3 * top + 2];
+        w = 1.0;
+    }
+    for (int m = 0; m < LOD_IMPOSTOR_MODES; m++) {
+        for (int k = 0; k < 3; k++) {
+            s->imp_sway[m][k] = (float)(c[m][k] / w);
+        }
+    }
+    s->imp_crown_z = fmaxf((float)(z / w), 0.1f);
+}
+
+uint32_t render_leaves_at(uint32_t n_leaves, float share)
+{
+    if (n_leaves == 0 || !(share > 0.0f)) {
+        return 0;
+    }
+    uint32_t k = (uint32_t)lroundf((float)n_leaves * share);
+    return k < 1 ? 1 : k > n_leaves ? n_leaves : k;
+}
+
 int render_add_species(render *r, const asset *a, gale_err *err)
 {
     int rc = species_check(r, a, err);
@@ -237,6 +286,8 @@ int render_add_species(render *r, const asset *a, gale_err *err)
     }
     s->height = h;
     s->crown_r = cr;
+    impostor_sway(s, a);
+    s->leaves_thin = render_leaves_at(a->n_leaves, lod_leaf_share[LOD_THIN]);
     /* the stem at the base, for a snapped tree's stump: the root's radius, tapering as
        towards its thickest child */
     s->stem_r_m = a->radius[0];
@@ -407,14 +458,17 @@ void render_draw_tree(render *r, const rs_species *s, uint32_t lod, uint32_t bas
 }
 
 /* expects render_set_common(r, &r->p_leaf, ...) */
-void render_draw_leaves(render *r, const rs_species *s, uint32_t base, uint32_t n)
+void render_draw_leaves(render *r, const rs_species *s, uint32_t base, uint32_t n, bool thin)
 {
-    if (n == 0 || s->n_leaves == 0) {
+    const uint32_t k = thin ? s->leaves_thin : s->n_leaves;
+    if (n == 0 || k == 0) {
         return;
     }
     const render_prog *p = &r->p_leaf;
     glUniform1i(p->u_base, (GLint)base);
-    glUniform1i(p->u_nleaves, (GLint)s->n_leaves);
+    glUniform1i(p->u_nleaves, (GLint)k);
+    glUniform1i(p->u_leaf_total, (GLint)s->n_leaves);
+    glUniform1f(p->u_leaf_grow, lod_leaf_grow[thin ? LOD_THIN : LOD_FULL]);
     glUniform1f(p->u_aspect, render_leaf_aspect[s->leaf_shape]);
     glUniform2f(p->u_crown, s->crown_r, s->height);
     glUniform3fv(p->u_leafcol, 1, s->leaf_rgb);
@@ -423,8 +477,8 @@ void render_draw_leaves(render *r, const rs_species *s, uint32_t base, uint32_t 
     render_bind_buf(RU_LEAF, &s->leaf);
     glBindVertexArray(r->vao_empty);
     glDisable(GL_CULL_FACE);
-    glDrawArraysInstanced(GL_TRIANGLES, 0, 6, (GLsizei)(n * s->n_leaves));
+    glDrawArraysInstanced(GL_TRIANGLES, 0, 6, (GLsizei)(n * k));
     r->stats.draw_calls++;
-    r->stats.leaves_drawn += (uint64_t)n * s->n_leaves;
-    r->stats.triangles += 2u * (uint64_t)n * s->n_leaves;
+    r->stats.leaves_drawn += (uint64_t)n * k;
+    r->stats.triangles += 2u * (uint64_t)n * k;
 }
