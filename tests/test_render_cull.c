@@ -157,7 +157,8 @@ static void test_dither_and_scale(void)
 static void test_budget(void)
 {
     static uint32_t hist[RENDER_LOD_BINS];
-    const render_lod_cost cost = { .triangles = { 20000.0f, 5000.0f, 2.0f }, .nodes = 1000.0f };
+    const render_lod_cost cost = { .full_leaves = 20000.0f, .mesh = { 0.0f }, .n_lods = 1,
+                                   .thin = 5000.0f, .impostor = 2.0f, .nodes = 1000.0f };
     /* 10 trees in every bin out to 500 m */
     float dist[2000];
     uint32_t n = 0;

@@ -180,6 +180,12 @@ typedef struct client {
     uint64_t state_bytes0;    /* bytes received by then */
     bool live_since_welcome;  /* state taken since the last welcome */
     uint64_t frames_mismatch; /* state frames whose tree count disagreed with the scene */
+    /* the render's figures for the headless summary: the last frame's counters and every
+       frame's culling and LOD time [ms] (the first CLIENT_CULL_SAMPLES) */
+    render_stats last_stats;
+#define CLIENT_CULL_SAMPLES 4096
+    float cull_ms[CLIENT_CULL_SAMPLES];
+    uint32_t n_cull;
     uint64_t leaves_bad;
     uint32_t leaves_frame;    /* leaf seeds taken since the frame began (CLIENT_LEAVES_PER_FRAME) */
     uint64_t leaves_thinned;  /* seeds left out past that budget */

@@ -64,6 +64,10 @@ int client_frame_draw(client *c, double now, gale_err *err)
     if (rc_frame != 0) {
         return rc_frame;
     }
+    c->last_stats = render_get_stats(c->r);
+    if (c->n_cull < CLIENT_CULL_SAMPLES) {
+        c->cull_ms[c->n_cull++] = (float)c->last_stats.cull_ms;
+    }
     client_view_update(c, now); /* the stream follows what this frame saw */
     cli_net_stats ns = cli_net_get_stats(c->net);
     double rtt = jitter_clock_rtt(cli_net_clock(c->net));

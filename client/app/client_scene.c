@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "client.h"
+#include "lod_policy.h"
 
 void client_scene_reset_camera(client *c)
 {
@@ -82,6 +83,14 @@ int client_scene_setup(client *c, gale_err *err)
     }
     int rc = render_set_instances(c->r, n, inst, err);
     free(inst);
+    float lo[2] = { 0.0f, 0.0f }, hi[2] = { 0.0f, 0.0f };
+    for (uint32_t i = 0; i < n; i++) {
+        for (int k = 0; k < 2; k++) {
+            lo[k] = i == 0 || c->w_instances[i].pos[k] < lo[k] ? c->w_instances[i].pos[k] : lo[k];
+            hi[k] = i == 0 || c->w_instances[i].pos[k] > hi[k] ? c->w_instances[i].pos[k] : hi[k];
+        }
+    }
+    render_set_fog_dist(c->r, fog_for_scene(lo, hi));
     if (rc == 0) {
         rc = render_set_obstacles(c->r, c->w.n_obstacles, c->w_boxes, err);
     }

@@ -347,6 +347,20 @@ static int parse_args(int argc, char **argv, client_args *a)
     return 0;
 }
 
+/* The median of n samples (reordered); 0 for none. */
+static double median_ms(float *v, uint32_t n)
+{
+    for (uint32_t i = 1; i < n; i++) { /* insertion sort: a few thousand at most */
+        float x = v[i];
+        uint32_t j = i;
+        for (; j > 0 && v[j - 1] > x; j--) {
+            v[j] = v[j - 1];
+        }
+        v[j] = x;
+    }
+    return n ? (double)v[n / 2] : 0.0;
+}
+
 int main(int argc, char **argv)
 {
     client c;
@@ -585,6 +599,13 @@ int main(int argc, char **argv)
         for (int i = 0; i < c.hud_lines; i++) {
             printf("hud: %s\n", c.hud_text[i]);
         }
+        /* and what the last frame drew, the frames' median culling and LOD time */
+        const render_stats *st = &c.last_stats;
+        printf("render: draw_calls %u triangles %llu trees_full %u trees_thin %u impostors %u "
+               "culled %u lod_scale %.3f cull_ms_median %.3f\n",
+               st->draw_calls, (unsigned long long)st->triangles, st->trees_full,
+               st->trees_thin, st->trees_billboard, st->trees_culled, (double)st->lod_scale,
+               median_ms(c.cull_ms, c.n_cull));
         fflush(stdout);
         if (!c.got_state) {
             cli_net_stats ns = cli_net_get_stats(c.net);

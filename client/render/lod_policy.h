@@ -5,6 +5,8 @@
 #ifndef GALE_LOD_POLICY_H
 #define GALE_LOD_POLICY_H
 
+#include <math.h>
+
 /* Levels, finest first. FULL: every leaf on the asset's bark meshes by distance; THIN: a
  * deterministic share of the leaves, each grown so the crown covers as much, on the
  * coarsest bark mesh, posed with the few modes the server sends past lod_m; IMPOSTOR: a
@@ -58,5 +60,14 @@ static const int lod_modes_max[LOD_LEVELS] = { 64, 4, 2 };
  * is not all fog. */
 #define FOG_MIN_M 450.0f
 #define FOG_PER_SCENE_RADIUS_M 1.0f
+
+/* The calm fog's distance [m] of a scene whose trees' box in x, y is lo .. hi [m]. */
+static inline float fog_for_scene(const float lo[2], const float hi[2])
+{
+    float dx = hi[0] - lo[0], dy = hi[1] - lo[1];
+    float radius_m = 0.5f * sqrtf(dx * dx + dy * dy);
+    float fog_m = FOG_PER_SCENE_RADIUS_M * radius_m;
+    return fog_m > FOG_MIN_M ? fog_m : FOG_MIN_M;
+}
 
 #endif

@@ -237,15 +237,16 @@ static void camera_matrices(render *r, const render_camera *cam)
     memcpy(r->viewproj, vp, sizeof vp);
 }
 
-/* What a tree of species s costs at each level (render_lod_budget): its finest bark mesh
- * and every leaf, the coarsest mesh and the thinned leaves, an impostor. */
+/* What a tree of species s costs at each level (render_lod_budget): every leaf and its bark
+ * at each mesh LOD, the coarsest mesh and the thinned leaves, an impostor. */
 static render_lod_cost species_cost(const rs_species *s)
 {
-    render_lod_cost c;
-    c.triangles[LOD_FULL] = (float)(s->lod_count[0] / 3u + 2u * s->n_leaves);
-    c.triangles[LOD_THIN] = (float)(s->lod_count[s->n_lods - 1] / 3u + 2u * s->leaves_thin);
-    c.triangles[LOD_IMPOSTOR] = 2.0f;
-    c.nodes = (float)s->n_nodes;
+    render_lod_cost c = { .n_lods = s->n_lods, .impostor = 2.0f, .nodes = (float)s->n_nodes };
+    c.full_leaves = 2.0f * (float)s->n_leaves;
+    for (uint32_t l = 0; l < s->n_lods; l++) {
+        c.mesh[l] = (float)(s->lod_count[l] / 3u);
+    }
+    c.thin = c.mesh[s->n_lods - 1] + 2.0f * (float)s->leaves_thin;
     return c;
 }
 
@@ -278,11 +279,14 @@ static void build_lists(render *r)
     for (uint32_t k = 0; k < n_drawn; k++) {
         const uint32_t i = render_slot_at(r, k);
         const int where = k < r->n_trees ? cells->where[cells->cell_of[i]] : RENDER_CELL_CUT;
+        float dist_m = -1.0f;
+        if (where == RENDER_CELL_OUT) {
+            r->tree_dist[i] = -1.0f;
+            continue;
+        }
         const render_instance *in = &r->inst[i];
         const render_cull_species cs = render_cull_species_of(&r->sp[in->species]);
-        float dist_m = -1.0f;
-        if (where == RENDER_CELL_OUT ||
-            !render_cull_visible(where == RENDER_CELL_IN ? NULL : planes, r->eye, in, &cs,
+        if (!render_cull_visible(where == RENDER_CELL_IN ? NULL : planes, r->eye, in, &cs,
                                  &dist_m)) {
             dist_m = -1.0f;
         } else {
@@ -307,22 +311,24 @@ static void build_lists(render *r)
     uint32_t rows = 0;
     for (uint32_t k = 0; k < n_drawn; k++) {
         const uint32_t i = render_slot_at(r, k);
+        if (r->tree_dist[i] < 0.0f) {
+            r->tree_group[i] = 0;
+            r->stats.trees_culled++;
+            continue;
+        }
         const render_instance *in = &r->inst[i];
         const rs_species *s = &r->sp[in->species];
         const render_cull_species cs = render_cull_species_of(s);
-        render_tree_lod tl = { 0 };
-        if (r->tree_dist[i] >= 0.0f) {
-            tl = render_lod_pick(r->tree_dist[i], &cs, &ld, stays_posed(r, k, i));
-        }
+        render_tree_lod tl = render_lod_pick(r->tree_dist[i], &cs, &ld, stays_posed(r, k, i));
         if (k >= r->n_trees) {
             tl.n_modes = 0.0f; /* a debris piece: its rest pose needs no modes */
         }
         r->tree_group[i] = tl.flags;
-        r->tree_lod[i] = tl;
         if (!tl.flags) {
             r->stats.trees_culled++;
             continue;
         }
+        r->tree_lod[i] = tl;
         if ((tl.flags & RENDER_LOD_FULL) && k < r->n_trees && in->uprooted != 0 &&
             in->fall_rad > 0.02f) {
             r->plates[r->n_plates++] = (float)i;
@@ -538,6 +544,13 @@ int render_resize(render *r, int width, int height, gale_err *err)
     r->w = width;
     r->h = height;
     return render_target_create(r, err);
+}
+
+void render_set_fog_dist(render *r, float fog_m)
+{
+    if (fog_m > 0.0f && isfinite(fog_m)) {
+        r->desc.fog_dist = fog_m;
+    }
 }
 
 void render_set_lod_scale(render *r, float scale)

@@ -67,11 +67,16 @@ render_tree_lod render_cull_tree(const float planes[6][4], const float eye[3],
 /* The frame's budget (lod_policy.h LOD_BUDGET_*) without sorting the trees: their
  * distances in a histogram per species (RENDER_LOD_BINS bins over the impostors' reach),
  * the cost of one tree of each species at each level, and the largest scale <= max_scale
- * whose worst case (a bin's trees at its near edge, both levels inside a fade band) fits. */
+ * whose worst case (a bin's trees at its near edge, both levels inside a fade band, both
+ * meshes inside a mesh fade) fits. */
 #define RENDER_LOD_BINS 256u
 typedef struct render_lod_cost {
-    float triangles[LOD_LEVELS]; /* one tree at each level (FULL: its finest mesh) */
-    float nodes;                 /* skeleton nodes posed for one tree at FULL or THIN */
+    float full_leaves;              /* every leaf's triangles */
+    float mesh[ASSET_MAX_LODS];     /* the bark's triangles at each mesh LOD */
+    uint32_t n_lods;                /* mesh LODs, >= 1 */
+    float thin;                     /* the coarsest bark and the thinned leaves */
+    float impostor;                 /* 2 */
+    float nodes;                    /* skeleton nodes posed for one tree at FULL or THIN */
 } render_lod_cost;
 float render_lod_budget(const uint32_t *hist, const render_lod_cost *cost, uint32_t n_species,
                         float max_scale, double budget_triangles, double budget_nodes);

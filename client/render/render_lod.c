@@ -85,15 +85,21 @@ static void worst_case(const uint32_t *hist, const render_lod_cost *cost, uint32
             double t = 0.0;
             bool posed = false;
             if (d < full_m) {
-                t += (double)c->triangles[LOD_FULL];
+                /* the mesh LOD at d (render_lod_pick), and the next one inside its fade */
+                float lf = d / (LOD_MESH_STEP_M * sc);
+                uint32_t m = (uint32_t)fminf(lf, (float)(c->n_lods - 1));
+                t += (double)c->full_leaves + (double)c->mesh[m];
+                if (m + 1 < c->n_lods && lf - (float)m > 0.7f) {
+                    t += (double)c->mesh[m + 1];
+                }
                 posed = true;
             }
             if (d >= (1.0f - LOD_FADE_SHARE) * full_m && d < thin_m) {
-                t += (double)c->triangles[LOD_THIN];
+                t += (double)c->thin;
                 posed = true;
             }
             if (d >= (1.0f - LOD_FADE_SHARE) * thin_m) {
-                t += (double)c->triangles[LOD_IMPOSTOR];
+                t += (double)c->impostor;
             }
             *tris += (double)k * t;
             *nodes += posed ? (double)k * (double)c->nodes : 0.0;

@@ -214,15 +214,16 @@ int bench_render(int argc, char **argv)
     printf("{\"bench\":\"render\",\"renderer\":\"%s\",\"trees\":%u,\"nodes\":%u,\"modes\":%u,"
            "\"size\":\"%dx%d\",\"frames\":%u,\"frame_ms_median\":%.3f,\"frame_ms_min\":%.3f,"
            "\"frame_ms_max\":%.3f,\"fps_median\":%.1f,\"cpu_submit_ms_median\":%.3f,"
-           "\"trees_full\":%u,\"trees_billboard\":%u,\"culled\":%u,\"draw_calls\":%u,"
-           "\"triangles\":%llu,\"cull_ms_median\":%.3f,"
+           "\"trees_full\":%u,\"trees_thin\":%u,\"trees_billboard\":%u,\"culled\":%u,"
+           "\"draw_calls\":%u,\"triangles\":%llu,\"cull_ms_median\":%.3f,\"lod_scale\":%.3f,"
            "\"leaves_drawn\":%llu,\"falling\":%u,\"storm_ms\":%.1f,\"rain_layers\":%d,"
            "\"broken_branches\":%u,\"debris\":%u,"
            "\"loadavg\":[%.2f,%.2f,%.2f]",
            rend ? rend : "?", trees, a[0].n_nodes, modes, w, h, frames, ft[frames / 2], ft[0],
-           ft[frames - 1], 1e3 / ft[frames / 2], cpu[frames / 2], st.trees_full,
+           ft[frames - 1], 1e3 / ft[frames / 2], cpu[frames / 2], st.trees_full, st.trees_thin,
            st.trees_billboard, st.trees_culled, st.draw_calls,
-           (unsigned long long)st.triangles, cull[frames / 2], (unsigned long long)st.leaves_drawn, st.falling_live, (double)storm_ms,
+           (unsigned long long)st.triangles, cull[frames / 2], (double)st.lod_scale,
+           (unsigned long long)st.leaves_drawn, st.falling_live, (double)storm_ms,
            fx.rain_layers, n_broken, n_debris, la[0], la[1], la[2]);
     if (all_fx) {
         static const char *const lv_name[3] = { "off", "low", "high" };
