@@ -21,11 +21,14 @@ static void test_steps_down_and_up(void)
     governor_init(&g, 33.0, false, 0.0);
     CHECK(g.step == 0);
     CHECK_NEAR(governor_lod_scale(&g), 1.0f, 1e-6f);
+    CHECK_NEAR(governor_res_scale(&g), 1.0f, 1e-6f);
     double t = feed(&g, 80.0, 0.0, 3.5); /* well over: a step a second after the first */
     CHECK(g.step == 3);
     CHECK_NEAR(governor_lod_scale(&g), 0.421875f, 1e-6f);
+    CHECK_NEAR(governor_res_scale(&g), 0.7f, 1e-6f);
     t = feed(&g, 80.0, t, 10.0);
     CHECK(g.step == GOVERNOR_MAX_STEP);
+    CHECK_NEAR(governor_res_scale(&g), GOVERNOR_RES_MIN, 1e-6f); /* never below */
     /* well under: a step up once 8 frames say so, the next 4 s later */
     t = feed(&g, 10.0, t, 3.5);
     CHECK(g.step == GOVERNOR_MAX_STEP - 1);

@@ -433,6 +433,7 @@ int main(int argc, char **argv)
         const char *gl = (const char *)glGetString(GL_RENDERER);
         governor_init(&c.gov, target_ms, governor_software_renderer(gl), mono_s());
         render_set_lod_scale(c.r, governor_lod_scale(&c.gov));
+        render_set_res_scale(c.r, governor_res_scale(&c.gov));
     }
     float hud_px = client_wall_hud_px(&c, client_hud_px(c.a.height));
     c.hud_on = hud_px > 0.0f;
@@ -567,8 +568,11 @@ int main(int argc, char **argv)
             double done = mono_s();
             if (governor_frame(&c.gov, 1e3 * (done - now), done)) {
                 render_set_lod_scale(c.r, governor_lod_scale(&c.gov));
-                fprintf(stderr, "gale-client: frame %.1f ms against %.1f: detail step %d\n",
-                        1e3 * (done - now), c.gov.target_ms, c.gov.step);
+                render_set_res_scale(c.r, governor_res_scale(&c.gov));
+                fprintf(stderr, "gale-client: frame %.1f ms against %.1f: detail step %d "
+                        "(distances × %.2f, resolution × %.2f)\n",
+                        1e3 * (done - now), c.gov.target_ms, c.gov.step,
+                        (double)governor_lod_scale(&c.gov), (double)governor_res_scale(&c.gov));
             }
         }
         if (c.a.headless) {

@@ -44,6 +44,11 @@ float governor_lod_scale(const governor *g)
     return powf(GOVERNOR_LOD_FACTOR, (float)g->step);
 }
 
+float governor_res_scale(const governor *g)
+{
+    return fmaxf(GOVERNOR_RES_MIN, 1.0f - GOVERNOR_RES_STEP * (float)g->step);
+}
+
 bool governor_software_renderer(const char *gl_renderer)
 {
     return gl_renderer && (strstr(gl_renderer, "llvmpipe") || strstr(gl_renderer, "softpipe") ||

@@ -64,6 +64,7 @@ render *render_create(const render_desc *desc, gale_err *err)
     r->h = d->height;
     r->lod_scale = 1.0f;
     r->budget_scale = 1.0f;
+    r->res_scale = 1.0f;
     storm_fx_calm(&r->fx);
     /* the shared falling path: a CPU simulation, done before any GPU state exists */
     if (falling_path_build(&r->path, NULL, err) < 0) {
@@ -165,6 +166,11 @@ void render_destroy(render *r)
         }
         if (r->fbo_depth) {
             glDeleteRenderbuffers(1, &r->fbo_depth);
+        }
+        if (r->low_fbo) {
+            glDeleteFramebuffers(1, &r->low_fbo);
+            glDeleteTextures(1, &r->low_col);
+            glDeleteRenderbuffers(1, &r->low_depth);
         }
         if (r->fall_vao) {
             glDeleteVertexArrays(1, &r->fall_vao);
@@ -444,7 +450,10 @@ int render_frame(render *r, const render_camera *cam, double time_s, gale_err *e
         render_draw_skeleton(r, &r->sp[s], r->grp_base[s][G_SKEL], r->grp_n[s][G_SKEL]);
     }
 
-    render_target_bind(r);
+    rc = render_scene_bind(r, err);
+    if (rc < 0) {
+        return rc;
+    }
     glDisable(GL_BLEND);
     glEnable(GL_DEPTH_TEST);
     glDepthMask(GL_TRUE);
@@ -516,6 +525,7 @@ int render_frame(render *r, const render_camera *cam, double time_s, gale_err *e
     render_fall_draw(r, t);
     render_rain_draw(r, t);
     glBindVertexArray(0);
+    render_scene_present(r);
     /* leave the target bound for overlays */
     glDisable(GL_DEPTH_TEST);
     glEnable(GL_BLEND);
@@ -544,6 +554,11 @@ int render_resize(render *r, int width, int height, gale_err *err)
     r->w = width;
     r->h = height;
     return render_target_create(r, err);
+}
+
+void render_set_res_scale(render *r, float scale)
+{
+    r->res_scale = scale >= 0.25f && scale <= 1.0f ? scale : 1.0f;
 }
 
 void render_set_fog_dist(render *r, float fog_m)

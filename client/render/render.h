@@ -248,6 +248,10 @@ void render_set_lod_scale(render *r, float scale);
  * distance [m] past which no tree is drawn with every leaf (FULL's outer, scaled). */
 void render_last_view(const render *r, float viewproj[16], float eye[3], float *full_m);
 
+/* Draws the scene from the next frame on at this share of the target's width and height
+ * (0.25 .. 1; else 1), scaled up onto the target before overlays (governor.h). */
+void render_set_res_scale(render *r, float scale);
+
 /* The calm fog's distance [m] from the next frame on (> 0; the storm closes it in by its
  * own share). lod_policy.h's fog_for_scene gives a scene's. */
 void render_set_fog_dist(render *r, float fog_m);

@@ -81,6 +81,10 @@ typedef struct render_lod_cost {
 float render_lod_budget(const uint32_t *hist, const render_lod_cost *cost, uint32_t n_species,
                         float max_scale, double budget_triangles, double budget_nodes);
 
+/* The leaves drawn of n_leaves at a level's share (lod_policy.h): round(n × share), at
+ * least 1; 0 for a share of 0. The page takes the same (web/render_list.js). */
+uint32_t render_leaves_at(uint32_t n_leaves, float share);
+
 /* The histogram bin of distance dist_m; RENDER_LOD_BINS past the impostors' reach. */
 uint32_t render_lod_bin(float dist_m);
 

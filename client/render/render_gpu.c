@@ -170,3 +170,61 @@ int render_skel_ensure(render *r, int width, int rows, gale_err *err)
     r->skel_h = h;
     return 0;
 }
+
+/* The lower-resolution scene target: the target's size × res_scale, at least 16 px. */
+static int scene_low_ensure(render *r, gale_err *err)
+{
+    int w = (int)lroundf((float)r->w * r->res_scale), h = (int)lroundf((float)r->h * r->res_scale);
+    w = w < 16 ? 16 : w;
+    h = h < 16 ? 16 : h;
+    if (r->low_fbo && w == r->low_w && h == r->low_h) {
+        return 0;
+    }
+    if (!r->low_fbo) {
+        glGenFramebuffers(1, &r->low_fbo);
+        glGenTextures(1, &r->low_col);
+        glGenRenderbuffers(1, &r->low_depth);
+    }
+    glBindTexture(GL_TEXTURE_2D, r->low_col);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glBindRenderbuffer(GL_RENDERBUFFER, r->low_depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
+    glBindFramebuffer(GL_FRAMEBUFFER, r->low_fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, r->low_col, 0);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, r->low_depth);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+        return gale_errf(err, GALE_E_STATE, "render: scene framebuffer %dx%d incomplete", w, h);
+    }
+    r->low_w = w;
+    r->low_h = h;
+    return 0;
+}
+
+int render_scene_bind(render *r, gale_err *err)
+{
+    if (!(r->res_scale < 1.0f)) {
+        render_target_bind(r);
+        return 0;
+    }
+    int rc = scene_low_ensure(r, err);
+    if (rc < 0) {
+        return rc;
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, r->low_fbo);
+    glViewport(0, 0, r->low_w, r->low_h);
+    return 0;
+}
+
+void render_scene_present(render *r)
+{
+    if (!(r->res_scale < 1.0f)) {
+        return;
+    }
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, r->low_fbo);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->ctx.kind == GL_CTX_WINDOW ? 0 : r->fbo);
+    glBlitFramebuffer(0, 0, r->low_w, r->low_h, 0, 0, r->w, r->h, GL_COLOR_BUFFER_BIT,
+                      GL_LINEAR);
+    render_target_bind(r);
+}

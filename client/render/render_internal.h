@@ -116,6 +116,10 @@ struct render {
     char shader_dir[512];
     int w, h;
     GLuint fbo, fbo_col, fbo_depth; /* offscreen target (headless) */
+    /* the scene at a lower resolution (render_set_res_scale), scaled up onto the target */
+    float res_scale;
+    GLuint low_fbo, low_col, low_depth;
+    int low_w, low_h;
     GLuint vao_empty;
     render_prog p_skel, p_tree, p_leaf, p_fall, p_sky, p_bill, p_house, p_rain, p_plate;
     render_prog p_stump;
@@ -211,6 +215,10 @@ void render_bind_tex(int unit, GLenum target, GLuint tex);
 int render_target_create(render *r, gale_err *err);
 /* Binds the frame's target (window or offscreen) and its viewport. */
 void render_target_bind(render *r);
+/* Binds what the scene is drawn into: the target, or at res_scale < 1 the lower-resolution
+ * one (made or remade to size). render_scene_present then scales it onto the target. */
+int render_scene_bind(render *r, gale_err *err);
+void render_scene_present(render *r);
 /* Grows the skeleton texture to at least width x rows texels. GALE_E_RANGE past
  * GL_MAX_TEXTURE_SIZE, GALE_E_STATE when RGBA32F is not renderable. */
 int render_skel_ensure(render *r, int width, int rows, gale_err *err);
@@ -275,9 +283,6 @@ void render_species_free(rs_species *s);
 void render_draw_skeleton(render *r, const rs_species *s, uint32_t base, uint32_t n);
 /* Draws n trees of mesh LOD lod; expects render_set_common(r, &r->p_tree, ...). */
 void render_draw_tree(render *r, const rs_species *s, uint32_t lod, uint32_t base, uint32_t n);
-/* The leaves drawn of n_leaves at a level's share (lod_policy.h): round(n × share), at
- * least 1; 0 for a share of 0. The page takes the same (web/render_list.js). */
-uint32_t render_leaves_at(uint32_t n_leaves, float share);
 /* Draws the leaves of n trees; expects render_set_common(r, &r->p_leaf, ...). */
 void render_draw_leaves(render *r, const rs_species *s, uint32_t base, uint32_t n, bool thin);
 

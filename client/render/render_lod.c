@@ -4,6 +4,7 @@
  * each change a dithered cross-fade over the last LOD_FADE_SHARE of the level's outer
  * distance. The frame's budget scales FULL's and THIN's distances. No GL here. */
 #include <math.h>
+#include <stdbool.h>
 
 #include "render_cull.h"
 
@@ -57,6 +58,15 @@ render_tree_lod render_lod_pick(float dist_m, const render_cull_species *s,
         out.flags |= RENDER_LOD_BILLBOARD;
     }
     return out;
+}
+
+uint32_t render_leaves_at(uint32_t n_leaves, float share)
+{
+    if (n_leaves == 0 || !(share > 0.0f)) {
+        return 0;
+    }
+    uint32_t k = (uint32_t)lroundf((float)n_leaves * share);
+    return k < 1 ? 1 : k > n_leaves ? n_leaves : k;
 }
 
 uint32_t render_lod_bin(float dist_m)

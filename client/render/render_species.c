@@ -235,15 +235,6 @@ static void impostor_sway(rs_species *s, const asset *a)
     s->imp_crown_z = fmaxf((float)(z / w), 0.1f);
 }
 
-uint32_t render_leaves_at(uint32_t n_leaves, float share)
-{
-    if (n_leaves == 0 || !(share > 0.0f)) {
-        return 0;
-    }
-    uint32_t k = (uint32_t)lroundf((float)n_leaves * share);
-    return k < 1 ? 1 : k > n_leaves ? n_leaves : k;
-}
-
 int render_add_species(render *r, const asset *a, gale_err *err)
 {
     int rc = species_check(r, a, err);
