@@ -193,6 +193,7 @@ void render_destroy(render *r)
     render_cells_free(&r->cells);
     free(r->tree_lod);
     free(r->tree_dist);
+    free(r->vis);
     free(r->wind_v);
     free(r->ring);
     free(r->broken);
@@ -272,36 +273,43 @@ static void build_lists(render *r)
     memset(r->grp_n, 0, sizeof r->grp_n);
     r->n_plates = 0;
     r->n_stumps = 0;
-    /* the cells first: a tree of a cell wholly outside is culled with it, one of a cell
-       wholly inside needs no test of its own (the trees stay in index order, which is the
-       order of their per-tree arrays) */
+    /* the cells first: the trees of a cell wholly outside are culled with it, never
+       visited; one of a cell wholly inside needs no test of its own */
     render_cells *cells = &r->cells;
     for (uint32_t c = 0; c < cells->n_cells; c++) {
         cells->where[c] = (uint8_t)render_cell_test(&cells->cell[c], planes);
     }
-    /* pass 0: what is in view, how far, in the budget's histogram */
+    /* pass 0: what is in view (r->vis, cell by cell, then the debris pieces), how far, in
+       the budget's histogram */
     memset(r->lod_hist, 0, (size_t)r->n_species * RENDER_LOD_BINS * sizeof r->lod_hist[0]);
     const uint32_t n_drawn = r->n_trees + r->n_debris;
-    for (uint32_t k = 0; k < n_drawn; k++) {
-        const uint32_t i = render_slot_at(r, k);
-        const int where = k < r->n_trees ? cells->where[cells->cell_of[i]] : RENDER_CELL_CUT;
-        float dist_m = -1.0f;
-        if (where == RENDER_CELL_OUT) {
-            r->tree_dist[i] = -1.0f;
+    uint32_t n_vis = 0;
+    for (uint32_t c = 0; c <= cells->n_cells; c++) {
+        const bool debris = c == cells->n_cells;
+        if (!debris && cells->where[c] == RENDER_CELL_OUT) {
             continue;
         }
-        const render_instance *in = &r->inst[i];
-        const render_cull_species cs = render_cull_species_of(&r->sp[in->species]);
-        if (!render_cull_visible(where == RENDER_CELL_IN ? NULL : planes, r->eye, in, &cs,
-                                 &dist_m)) {
-            dist_m = -1.0f;
-        } else {
+        const bool inside = !debris && cells->where[c] == RENDER_CELL_IN;
+        const uint32_t first = debris ? r->n_trees : 0;
+        const uint32_t count = debris ? r->n_debris : cells->cell[c].count;
+        for (uint32_t t = 0; t < count; t++) {
+            const uint32_t k = debris ? first + t : cells->tree[cells->cell[c].first + t];
+            const uint32_t i = render_slot_at(r, k);
+            const render_instance *in = &r->inst[i];
+            const render_cull_species cs = render_cull_species_of(&r->sp[in->species]);
+            float dist_m;
+            if (!render_cull_visible(inside ? NULL : planes, r->eye, in, &cs, &dist_m)) {
+                continue;
+            }
             uint32_t b = render_lod_bin(dist_m);
-            r->lod_hist[in->species * RENDER_LOD_BINS + (b < RENDER_LOD_BINS ? b : 0)] +=
-                b < RENDER_LOD_BINS;
+            if (b < RENDER_LOD_BINS) {
+                r->lod_hist[in->species * RENDER_LOD_BINS + b]++;
+            }
+            r->tree_dist[i] = dist_m;
+            r->vis[n_vis++] = k;
         }
-        r->tree_dist[i] = dist_m;
     }
+    r->stats.trees_culled = n_drawn - n_vis;
     render_lod_cost cost[RENDER_MAX_SPECIES];
     for (uint32_t s = 0; s < r->n_species; s++) {
         cost[s] = species_cost(&r->sp[s]);
@@ -315,13 +323,8 @@ static void build_lists(render *r)
                                  .scale = r->budget_scale };
     /* pass 1: classify and count */
     uint32_t rows = 0;
-    for (uint32_t k = 0; k < n_drawn; k++) {
-        const uint32_t i = render_slot_at(r, k);
-        if (r->tree_dist[i] < 0.0f) {
-            r->tree_group[i] = 0;
-            r->stats.trees_culled++;
-            continue;
-        }
+    for (uint32_t v = 0; v < n_vis; v++) {
+        const uint32_t k = r->vis[v], i = render_slot_at(r, k);
         const render_instance *in = &r->inst[i];
         const rs_species *s = &r->sp[in->species];
         const render_cull_species cs = render_cull_species_of(s);
@@ -374,8 +377,8 @@ static void build_lists(render *r)
     }
     /* pass 2: fill. Each fade draws both levels, complementary pixels of one dither: the
        finer with keep share 1 - t, the coarser with -t (shaders/common.glsl dither_keep). */
-    for (uint32_t d = 0; d < n_drawn; d++) {
-        const uint32_t i = render_slot_at(r, d);
+    for (uint32_t v = 0; v < n_vis; v++) {
+        const uint32_t i = render_slot_at(r, r->vis[v]);
         uint32_t fl = r->tree_group[i];
         if (!fl) {
             continue;

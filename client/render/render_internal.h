@@ -145,7 +145,8 @@ struct render {
     float lod_scale;                 /* × the LOD distances (render_set_lod_scale) */
     float budget_scale;              /* the last frame's scale under its budget */
     render_tree_lod *tree_lod;       /* scratch: each tree's LOD this frame */
-    float *tree_dist;                /* scratch: its distance, < 0 culled */
+    float *tree_dist;                /* scratch: its distance (valid for those in vis) */
+    uint32_t *vis;                   /* scratch: the frame's trees in view (draw order k) */
     uint32_t lod_hist[RENDER_MAX_SPECIES * RENDER_LOD_BINS]; /* render_lod_budget's */
     uint32_t grp_base[RENDER_MAX_SPECIES][G_COUNT], grp_n[RENDER_MAX_SPECIES][G_COUNT];
 

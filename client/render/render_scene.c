@@ -18,6 +18,7 @@ int render_trees_alloc(render *r, uint32_t cap, gale_err *err)
     free(r->tree_group);
     free(r->tree_lod);
     free(r->tree_dist);
+    free(r->vis);
     free(r->plates);
     free(r->stumps);
     free(r->leaf_attached);
@@ -31,6 +32,7 @@ int render_trees_alloc(render *r, uint32_t cap, gale_err *err)
     r->tree_group = calloc(slots, sizeof(uint32_t));
     r->tree_lod = calloc(slots, sizeof *r->tree_lod);
     r->tree_dist = calloc(slots, sizeof(float));
+    r->vis = calloc(slots, sizeof(uint32_t));
     r->plates = calloc(cap + 1, sizeof(float));
     r->stumps = calloc((size_t)(cap + 1) * 8, sizeof(float));
     r->leaf_attached = malloc((size_t)(cap + 1) * sizeof(float));
@@ -38,7 +40,7 @@ int render_trees_alloc(render *r, uint32_t cap, gale_err *err)
         r->leaf_attached[i] = 1.0f;
     }
     if (!r->plates || !r->stumps || !r->leaf_attached || !r->inst || !r->q_stage || !r->list || !r->tree_row || !r->tree_group || !r->tree_lod ||
-        !r->tree_dist) {
+        !r->tree_dist || !r->vis) {
         return gale_errf(err, GALE_E_NOMEM, "render: out of memory for %u trees", cap);
     }
     /* the rest-pose slot (index cap): origin, unit scale */
