@@ -95,8 +95,8 @@ static void test_lod_by_distance(void)
     /* past the impostors' reach: nothing */
     const render_cull_species cs = sp;
     const render_lod_desc d1 = { .mode_dist_m = 40.0f, .scale = 1.0f };
-    CHECK(render_lod_pick(2499.0f, &cs, &d1, false).flags == RENDER_LOD_BILLBOARD);
-    CHECK(render_lod_pick(2501.0f, &cs, &d1, false).flags == 0);
+    CHECK(render_lod_pick(3999.0f, &cs, &d1, false).flags == RENDER_LOD_BILLBOARD);
+    CHECK(render_lod_pick(4001.0f, &cs, &d1, false).flags == 0);
 }
 
 static void test_mode_floor(void)
@@ -131,7 +131,7 @@ static void test_fade_bands(void)
     const render_lod_desc d1 = { .mode_dist_m = 40.0f, .scale = 1.0f };
     render_tree_lod p = render_lod_pick(1000.0f, &sp, &d1, true);
     CHECK(p.flags == RENDER_LOD_FULL && p.level == LOD_THIN && p.bill_t == 0.0f);
-    CHECK(render_lod_pick(2600.0f, &sp, &d1, true).flags == 0);
+    CHECK(render_lod_pick(4100.0f, &sp, &d1, true).flags == 0);
 }
 
 static void test_dither_and_scale(void)

@@ -39,7 +39,7 @@ int client_frame_draw(client *c, double now, gale_err *err)
     }
     int fb_w, fb_h;
     render_size(c->r, &fb_w, &fb_h);
-    render_camera rc = { .fov_y_deg = c->cam.fov_y_deg, .z_near = 0.3f, .z_far = 3000.0f };
+    render_camera rc = { .fov_y_deg = c->cam.fov_y_deg, .z_near = 0.3f, .z_far = 4500.0f };
     camera_eye(&c->cam, rc.eye);
     float f[3];
     camera_forward(&c->cam, f);

@@ -229,7 +229,7 @@ static void camera_matrices(render *r, const render_camera *cam)
         glm_lookat(eye, tgt, up, view);
         float fov = cam->fov_y_deg > 0.0f ? cam->fov_y_deg : 50.0f;
         float zn = cam->z_near > 0.0f ? cam->z_near : 0.3f;
-        float zf = cam->z_far > 0.0f ? cam->z_far : 3000.0f;
+        float zf = cam->z_far > 0.0f ? cam->z_far : 4500.0f;
         glm_perspective(glm_rad(fov), (float)r->w / (float)r->h, zn, zf, proj);
         memcpy(r->eye, cam->eye, sizeof r->eye);
     }

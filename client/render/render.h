@@ -51,7 +51,7 @@ typedef struct render_instance {
 typedef struct render_camera {
     float eye[3], target[3], up[3]; /* world; up zero = +z */
     float fov_y_deg;               /* vertical field of view; 0 = 50 */
-    float z_near, z_far;           /* [m]; 0 = 0.3, 3000 */
+    float z_near, z_far;           /* [m]; 0 = 0.3, 4500 (past the impostors' reach) */
     /* distance along the view of the camera's subject, the trees it looks at [m]; the storm
      * look keeps its fog and rain thin up to it (storm_fx.subject_clear); 0 = none */
     float subject_m;

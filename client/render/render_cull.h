@@ -65,7 +65,8 @@ render_tree_lod render_cull_tree(const float planes[6][4], const float eye[3],
                                  const render_lod_desc *d);
 
 /* The frame's budget (lod_policy.h LOD_BUDGET_*) without sorting the trees: their
- * distances in a histogram per species (RENDER_LOD_BINS bins over the impostors' reach),
+ * distances in a histogram per species (RENDER_LOD_BINS bins even in √d over the impostors'
+ * reach),
  * the cost of one tree of each species at each level, and the largest scale <= max_scale
  * whose worst case (a bin's trees at its near edge, both levels inside a fade band, both
  * meshes inside a mesh fade) fits. */

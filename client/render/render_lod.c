@@ -71,8 +71,17 @@ uint32_t render_leaves_at(uint32_t n_leaves, float share)
 
 uint32_t render_lod_bin(float dist_m)
 {
-    float b = dist_m * ((float)RENDER_LOD_BINS / lod_outer_m[LOD_IMPOSTOR]);
+    /* bins even in √d: fine near the eye, where a tree costs the most */
+    float u = dist_m / lod_outer_m[LOD_IMPOSTOR];
+    float b = u >= 0.0f ? sqrtf(u) * (float)RENDER_LOD_BINS : -1.0f;
     return b >= 0.0f && b < (float)RENDER_LOD_BINS ? (uint32_t)b : RENDER_LOD_BINS;
+}
+
+/* The near edge of bin b [m]. */
+static float bin_near_m(uint32_t b)
+{
+    float u = (float)b / (float)RENDER_LOD_BINS;
+    return u * u * lod_outer_m[LOD_IMPOSTOR];
 }
 
 /* The worst case of scale sc: each bin's trees at its near edge, in both levels inside a
@@ -80,7 +89,6 @@ uint32_t render_lod_bin(float dist_m)
 static void worst_case(const uint32_t *hist, const render_lod_cost *cost, uint32_t n_species,
                        float sc, double *tris, double *nodes)
 {
-    const float bin_m = lod_outer_m[LOD_IMPOSTOR] / (float)RENDER_LOD_BINS;
     const float full_m = lod_outer_m[LOD_FULL] * sc, thin_m = lod_outer_m[LOD_THIN] * sc;
     *tris = 0.0;
     *nodes = 0.0;
@@ -91,7 +99,7 @@ static void worst_case(const uint32_t *hist, const render_lod_cost *cost, uint32
             if (k == 0) {
                 continue;
             }
-            const float d = (float)b * bin_m;
+            const float d = bin_near_m(b);
             double t = 0.0;
             bool posed = false;
             if (d < full_m) {

@@ -62,7 +62,7 @@ int main(int argc, char **argv)
     const render_cull_species sp = { .height_m = 10.0f, .crown_r_m = 3.0f, .n_modes = 16,
                                      .n_lods = 3 };
     const render_lod_desc d = { .mode_dist_m = 40.0f, .scale = 1.0f };
-    static const float dist[] = { 1, 30, 60, 71, 95, 150, 199, 260, 1000, 2499, 2600 };
+    static const float dist[] = { 1, 30, 60, 71, 95, 150, 199, 260, 1000, 3999, 4100 };
     for (size_t i = 0; i < sizeof dist / sizeof dist[0]; i++) {
         render_tree_lod t = render_lod_pick(dist[i], &sp, &d, false);
         printf("%s[%.9g,%d]", i ? "," : "", (double)dist[i], t.flags ? (int)t.level : 255);
