@@ -214,6 +214,16 @@ static void test_format(void)
     CHECK_STR_HAS(lines[1], "Server lost \xC2\xB7 retry 3 in 1.5 s");
     CHECK_STR_HAS(lines[2], "latency \xE2\x80\x93");
     CHECK_STR_HAS(lines[3], "2 bad frames dropped");
+    /* every character a visitor may read is one the font bakes: the governor's step too */
+    s.detail_step = 2;
+    s.conn = HUD_CONN_LIVE;
+    s.have_wind = true;
+    n = hud_format(&s, lines);
+    CHECK_STR_HAS(lines[3], "detail \xE2\x88\x92" "2");
+    for (int i = 0; i < n; i++) {
+        CHECK(hud_font_has(lines[i]));
+    }
+    CHECK(!hud_font_has("\xE2\x86\x92")); /* an arrow is not baked: the check can tell */
 }
 
 /* A steady scenario's title is shown until a kiosk dials: then the dial's wind is what

@@ -22,7 +22,7 @@
 
 typedef struct hud_font hud_font;
 
-/* Reads a TrueType file and bakes printable ASCII plus ° · – — ± … × at px pixels (em height)
+/* Reads a TrueType file and bakes printable ASCII plus ° · – — ± … × − at px pixels (em height)
  * into a one-channel atlas. NULL with err on a missing or unreadable font. Free with
  * hud_font_unload. */
 hud_font *hud_font_load(const char *ttf_path, float px, gale_err *err);
@@ -31,6 +31,9 @@ void hud_font_unload(hud_font *f); /* NULL is a no-op */
 /* Pen advance of a UTF-8 string [px], kerning included; characters not in the atlas are
  * drawn (and measured) as '?'. Invalid UTF-8 bytes count as '?'. */
 float hud_text_width(const hud_font *f, const char *utf8);
+
+/* Whether every character of a UTF-8 string is among the baked ones (none drawn as '?'). */
+bool hud_font_has(const char *utf8);
 
 /* Ascent, descent (negative) and line advance [px]. */
 void hud_font_metrics(const hud_font *f, float *ascent, float *descent, float *line_gap);

@@ -15,8 +15,9 @@
 #define ATLAS_H    512
 #define OVERSAMPLE 2
 
+/* °, ·, ±, –, —, …, ×, and − (the governor's "detail −2") */
 static const int extra_codepoints[] = { 0x00B0, 0x00B7, 0x00B1, 0x2013, 0x2014, 0x2026,
-                                        0x00D7 };
+                                        0x00D7, 0x2212 };
 #define N_ASCII 95 /* 32..126 */
 #define N_EXTRA ((int)(sizeof extra_codepoints / sizeof extra_codepoints[0]))
 #define N_GLYPHS (N_ASCII + N_EXTRA)
@@ -205,6 +206,18 @@ static int glyph_index(int cp)
         }
     }
     return '?' - 32;
+}
+
+bool hud_font_has(const char *utf8)
+{
+    const unsigned char *s = (const unsigned char *)utf8;
+    while (*s) {
+        int cp = utf8_next(&s);
+        if (cp != '?' && glyph_index(cp) == '?' - 32) {
+            return false;
+        }
+    }
+    return true;
 }
 
 uint32_t hud_text_quads(const hud_font *f, float x, float y, const char *utf8, hud_quad *q,
