@@ -1,6 +1,7 @@
 /* gale-server's side of the NATS link (link.h, server/SERVER.md "Relays"): publishes every
  * snapshot net_publish sends once on its stream's subject, and answers the relays'
- * requests (control messages and closes of relayed connections, sizes and assets). */
+ * requests (control messages and closes of relayed connections, sizes, assets and the
+ * view rule a relay selects its clients' views with). */
 #ifndef GALE_LINK_SERVER_H
 #define GALE_LINK_SERVER_H
 
