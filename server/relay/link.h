@@ -1,7 +1,8 @@
 /* What gale-server and gale-relay say to each other over NATS (server/SERVER.md "Relays"):
  * the subjects and the byte layout of each message. The server publishes every encoded
- * snapshot once on its stream's subject; relays answer clients from those and forward
- * every control message to the server by request/reply. Little-endian, wire_cursor.h. */
+ * snapshot of its shared whole-scene stream once; relays answer clients from those,
+ * select their views themselves, and forward every other control message to the server
+ * by request/reply. Little-endian, wire_cursor.h. */
 #ifndef GALE_LINK_H
 #define GALE_LINK_H
 
@@ -11,7 +12,7 @@
 #include "err.h"
 #include "net.h"
 
-#define LINK_SUBJ_SNAP "gale.snap"     /* + ".<stream>": one net_snap per snapshot */
+#define LINK_SUBJ_SNAP "gale.snap"     /* + ".0": one net_snap per shared-stream snapshot */
 #define LINK_SUBJ_CTL "gale.ctl"       /* request: a client's control message; reply: verdict */
 #define LINK_SUBJ_CLOSED "gale.closed" /* a relayed connection that said hello closed */
 #define LINK_SUBJ_INFO "gale.info"     /* request: sizes and the asset list */

@@ -85,6 +85,9 @@ link_server *link_server_create(const char *url, gale_err *err)
 void link_server_publish(void *user, const net_snap *p)
 {
     link_server *l = user;
+    if (p->stream) {
+        return; /* the server's own clients' views: relays select theirs (relay_views.h) */
+    }
     size_t n = link_snap_size(p);
     if (n > l->buf_cap) {
         uint8_t *b = realloc(l->buf, n);
