@@ -225,6 +225,11 @@ void relay_views_publish(relay_views *v, net_server *net, const net_snap *p)
         n_streams += v->streams[k] != 0;
     }
     pthread_mutex_unlock(&v->lock);
+    if (!n_streams) {
+        v->last_seq = 0; /* no view to encode: no keyframe decoded (a view's stream starts
+                            with a keyframe of its own) */
+        return;
+    }
     wire_frame f;
     gale_err e = { 0 };
     int rc = wire_decode(v->dec, p->key, p->key_len, &f, &e);
@@ -247,16 +252,11 @@ void relay_views_publish(relay_views *v, net_server *net, const net_snap *p)
         v->last_seq = 0;
         return;
     }
-    /* the state joins the ring whether or not a view is followed now, so a view that
-       starts later finds the chain */
     const bool chain = v->last_seq && p->seq == v->last_seq + 1u;
     const int qi[3] = { (v->cur + 1) % 3, v->cur, (v->cur + 2) % 3 };
     memcpy(v->q[qi[0]], st.q, (size_t)st.n_trees * st.stride * sizeof(int16_t));
     v->cur = qi[0];
     v->last_seq = p->seq;
-    if (!n_streams) {
-        return;
-    }
     /* a shared snapshot without a delta (a start, a periodic keyframe) says nothing of the
        extras a delta carries: the views send their keyframe alone too */
     const bool restart = !chain || (!p->delta1_len && !p->delta2_len);
