@@ -98,7 +98,8 @@ static int relay_control(void *user, net_peer *p, const char *text, size_t len, 
     ctl_msg m;
     ctl_view hello_view = { .kind = CTL_VIEW_ALL };
     char *hello_text = NULL;
-    if (ctl_decode(text, len, CTL_MAX_CLIENT_BYTES, &m, NULL, NULL) == 0) {
+    gale_err e;
+    if (ctl_decode(text, len, CTL_MAX_CLIENT_BYTES, &m, NULL, &e) == 0) {
         if (m.type == CTL_VIEW && p->role != NET_ROLE_NONE) {
             /* the new stream's first frame is a keyframe (net.c: a stream change breaks
                the delta chain) */
@@ -110,7 +111,7 @@ static int relay_control(void *user, net_peer *p, const char *text, size_t len, 
             hello_view = m.u.hello.view;
             m.u.hello.view = (ctl_view){ .kind = CTL_VIEW_ALL };
             size_t n;
-            if (ctl_encode(&m, &hello_text, &n, NULL) == 0) {
+            if (ctl_encode(&m, &hello_text, &n, &e) == 0) {
                 text = hello_text;
                 len = n;
             } else {
