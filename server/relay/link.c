@@ -202,3 +202,61 @@ int link_info_decode(const uint8_t *buf, size_t len, link_info *out, gale_err *e
     }
     return 0;
 }
+
+size_t link_scene_size(uint32_t n_trees)
+{
+    return 8 + 4 * 4 + 4 * 2 + (size_t)n_trees * 12;
+}
+
+void link_scene_encode(const link_scene *sc, uint8_t *buf)
+{
+    const size_t n = link_scene_size(sc->n_trees);
+    wire_writer w = wire_writer_make(buf, n);
+    wire_put_u64(&w, n);
+    wire_put_u32(&w, sc->n_trees);
+    wire_put_u32(&w, sc->lod_modes);
+    wire_put_u32(&w, sc->key_every);
+    wire_put_u32(&w, sc->max_modes);
+    wire_put_f32(&w, sc->margin_m);
+    wire_put_f32(&w, sc->cell_m);
+    for (size_t i = 0; i < 3 * (size_t)sc->n_trees; i++) {
+        wire_put_f32(&w, sc->pos[i]);
+    }
+}
+
+uint64_t link_scene_total(const uint8_t *buf, size_t len)
+{
+    wire_reader r = wire_reader_make(buf, len);
+    uint64_t n = wire_get_u64(&r);
+    return r.bad ? 0 : n;
+}
+
+int link_scene_decode(const uint8_t *buf, size_t len, link_scene *sc, gale_err *err)
+{
+    wire_reader r = wire_reader_make(buf, len);
+    memset(sc, 0, sizeof *sc);
+    uint64_t total = wire_get_u64(&r);
+    sc->n_trees = wire_get_u32(&r);
+    sc->lod_modes = wire_get_u32(&r);
+    sc->key_every = wire_get_u32(&r);
+    sc->max_modes = wire_get_u32(&r);
+    sc->margin_m = wire_get_f32(&r);
+    sc->cell_m = wire_get_f32(&r);
+    if (r.bad || total != len || sc->n_trees > WIRE_MAX_TREES ||
+        len != link_scene_size(sc->n_trees) || sc->lod_modes < 1 ||
+        sc->lod_modes > WIRE_MAX_MODES ||
+        sc->max_modes < 1 || sc->max_modes > WIRE_MAX_MODES || !(sc->margin_m >= 0.0f) ||
+        !(sc->cell_m > 0.0f)) {
+        return gale_errf(err, GALE_E_FORMAT,
+                         "link: scene: malformed message of %zu bytes (%u trees)", len,
+                         sc->n_trees);
+    }
+    sc->pos = malloc(sc->n_trees ? (size_t)sc->n_trees * 12 : 1);
+    if (!sc->pos) {
+        return gale_errf(err, GALE_E_NOMEM, "link: scene: no memory for %u trees", sc->n_trees);
+    }
+    for (size_t i = 0; i < 3 * (size_t)sc->n_trees; i++) {
+        sc->pos[i] = wire_get_f32(&r);
+    }
+    return 0;
+}

@@ -15,8 +15,10 @@
 
 struct link_server {
     natsConnection *nc;
-    natsSubscription *sub[4];
+    natsSubscription *sub[5];
     srv *s;
+    uint8_t *scene; /* owned: the gale.scene message, encoded at attach */
+    size_t scene_len;
     uint64_t epoch; /* drawn at start (link.h) */
     uint8_t *buf; /* publishing thread: one snapshot message */
     size_t buf_cap;
@@ -83,6 +85,9 @@ link_server *link_server_create(const char *url, gale_err *err)
 void link_server_publish(void *user, const net_snap *p)
 {
     link_server *l = user;
+    if (p->stream) {
+        return; /* the server's own clients' views: relays select theirs (relay_views.h) */
+    }
     size_t n = link_snap_size(p);
     if (n > l->buf_cap) {
         uint8_t *b = realloc(l->buf, n);
@@ -203,13 +208,49 @@ static void on_asset(natsConnection *nc, natsSubscription *sub, natsMsg *msg, vo
     natsMsg_Destroy(msg);
 }
 
+/* Request: a u64 offset; reply: up to LINK_ASSET_CHUNK bytes of the gale.scene message
+ * from there (empty past its end). */
+static void on_scene(natsConnection *nc, natsSubscription *sub, natsMsg *msg, void *user)
+{
+    (void)sub;
+    link_server *l = user;
+    const char *to = natsMsg_GetReply(msg);
+    const void *data = "";
+    int dlen = 0;
+    if (to && natsMsg_GetDataLength(msg) == 8) {
+        wire_reader r = wire_reader_make((const uint8_t *)natsMsg_GetData(msg), 8);
+        uint64_t off = wire_get_u64(&r);
+        if (off < l->scene_len) {
+            size_t left = l->scene_len - (size_t)off;
+            data = l->scene + off;
+            dlen = (int)(left < LINK_ASSET_CHUNK ? left : LINK_ASSET_CHUNK);
+        }
+    }
+    if (to) {
+        natsConnection_Publish(nc, to, data, dlen);
+    }
+    natsMsg_Destroy(msg);
+}
+
 int link_server_attach(link_server *l, srv *s, gale_err *err)
 {
     l->s = s;
-    static const char *subj[4] = { LINK_SUBJ_CTL, LINK_SUBJ_CLOSED, LINK_SUBJ_INFO,
-                                   LINK_SUBJ_ASSET };
-    natsMsgHandler fn[4] = { on_ctl, on_closed, on_info, on_asset };
-    for (int i = 0; i < 4; i++) {
+    const srv_view_rule vr = srv_view_rule_get(s);
+    const link_scene sc = { .n_trees = vr.n_trees, .lod_modes = vr.lod_modes,
+                            .key_every = vr.key_every, .max_modes = vr.max_modes,
+                            .margin_m = vr.margin_m,
+                            .cell_m = vr.cell_m, .pos = (float *)vr.tree_pos };
+    l->scene_len = link_scene_size(sc.n_trees);
+    l->scene = malloc(l->scene_len);
+    if (!l->scene) {
+        return gale_errf(err, GALE_E_NOMEM, "nats: no memory for the %zu-byte scene message",
+                         l->scene_len);
+    }
+    link_scene_encode(&sc, l->scene);
+    static const char *subj[5] = { LINK_SUBJ_CTL, LINK_SUBJ_CLOSED, LINK_SUBJ_INFO,
+                                   LINK_SUBJ_ASSET, LINK_SUBJ_SCENE };
+    natsMsgHandler fn[5] = { on_ctl, on_closed, on_info, on_asset, on_scene };
+    for (int i = 0; i < 5; i++) {
         natsStatus st = natsConnection_Subscribe(&l->sub[i], l->nc, subj[i], fn[i], l);
         if (st != NATS_OK) {
             return gale_errf(err, GALE_E_IO, "nats: subscribe %s: %s", subj[i],
@@ -231,7 +272,7 @@ void link_server_destroy(link_server *l)
     if (!l) {
         return;
     }
-    for (int i = 0; i < 4; i++) {
+    for (int i = 0; i < 5; i++) {
         if (l->sub[i]) {
             natsSubscription_Unsubscribe(l->sub[i]);
             natsSubscription_Destroy(l->sub[i]);
@@ -239,5 +280,6 @@ void link_server_destroy(link_server *l)
     }
     natsConnection_Destroy(l->nc);
     free(l->buf);
+    free(l->scene);
     free(l);
 }

@@ -1,6 +1,7 @@
 /* gale-server's side of the NATS link (link.h, server/SERVER.md "Relays"): publishes every
- * snapshot net_publish sends once on its stream's subject, and answers the relays'
- * requests (control messages and closes of relayed connections, sizes and assets). */
+ * snapshot of the shared stream once, and answers the relays'
+ * requests (control messages and closes of relayed connections, sizes, assets and the
+ * view rule a relay selects its clients' views with). */
 #ifndef GALE_LINK_SERVER_H
 #define GALE_LINK_SERVER_H
 
@@ -15,7 +16,8 @@ typedef struct link_server link_server;
 /* Connects to the NATS server(s) at url (comma-separated list), retrying in the background
  * while none answers; NULL on a bad url. */
 link_server *link_server_create(const char *url, gale_err *err);
-/* net_desc.published: one NATS message per snapshot (publishing thread). */
+/* net_desc.published: one NATS message per shared-stream snapshot (publishing thread);
+ * the view streams' snapshots stay on the server (relays encode their clients' views). */
 void link_server_publish(void *user, const net_snap *p);
 /* Starts answering requests for s (which must outlive the link). */
 int link_server_attach(link_server *l, srv *s, gale_err *err);

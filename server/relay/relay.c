@@ -1,6 +1,8 @@
-/* gale-relay's edge: see relay.h. Three threads: lws (net_run: clients, and each client
- * control message forwarded synchronously to the server), the NATS library's delivery
- * thread (snapshots into the net pool: the publisher net.h expects), and main. */
+/* gale-relay's edge: see relay.h. Three threads: lws (net_run: clients, their views kept
+ * here and every other control message forwarded synchronously to the server), the NATS
+ * library's delivery thread (the shared stream's snapshots into the net pool, and the
+ * view streams encoded from them, relay_views.h: the publisher net.h expects), and
+ * main. */
 #include "relay.h"
 
 #include <nats/nats.h>
@@ -14,6 +16,7 @@
 #include "link_server.h"
 #include "mono.h"
 #include "net.h"
+#include "relay_views.h"
 #include "wire.h"
 #include "wire_cursor.h"
 
@@ -23,6 +26,7 @@ struct relay {
     natsConnection *nc;
     natsSubscription *snaps;
     net_server *net;
+    relay_views *views; /* the clients' views, selected here */
     link_info info;
     net_asset assets[64];
     uint8_t *bytes[64];
@@ -35,11 +39,12 @@ struct relay {
     atomic_ullong snaps_in, snaps_bad, snaps_unsent;
 };
 
-static int relay_control(void *user, net_peer *p, const char *text, size_t len, char **reply,
+/* Sends the control message to the server and applies its verdict to p (role, resync). */
+static int relay_forward(relay *r, net_peer *p, const char *text, size_t len, char **reply,
                          size_t *reply_len, char *why, size_t why_cap)
 {
-    relay *r = user;
     link_ctl c = { .peer = *p, .text = text, .text_len = len };
+    c.peer.stream = 0; /* the relay's streams are not the server's */
     uint8_t *req;
     size_t req_len;
     gale_err e;
@@ -66,7 +71,6 @@ static int relay_control(void *user, net_peer *p, const char *text, size_t len, 
     }
     p->role = v.peer.role;
     p->resync = v.peer.resync;
-    p->stream = v.peer.stream;
     if (v.text_len) {
         *reply = malloc(v.text_len);
         if (*reply) {
@@ -81,10 +85,56 @@ static int relay_control(void *user, net_peer *p, const char *text, size_t len, 
     return v.rc;
 }
 
+/* A client's control message. A view is the relay's own business (its streams are
+ * encoded here): a `view` after hello is taken without asking the server, and a hello's
+ * view is kept here while the hello, without it, goes to the server for the welcome and
+ * the token check. Everything else, and anything that does not decode (so the client
+ * gets the server's own close code and reason), goes to the server as it came. The
+ * server's verdict sets role and resync; the stream is the relay's. */
+static int relay_control(void *user, net_peer *p, const char *text, size_t len, char **reply,
+                         size_t *reply_len, char *why, size_t why_cap)
+{
+    relay *r = user;
+    ctl_msg m;
+    ctl_view hello_view = { .kind = CTL_VIEW_ALL };
+    char *hello_text = NULL;
+    gale_err e;
+    if (ctl_decode(text, len, CTL_MAX_CLIENT_BYTES, &m, NULL, &e) == 0) {
+        if (m.type == CTL_VIEW && p->role != NET_ROLE_NONE) {
+            /* the new stream's first frame is a keyframe (net.c: a stream change breaks
+               the delta chain) */
+            p->stream = relay_views_join(r->views, p->stream, &m.u.view);
+            ctl_msg_fini(&m);
+            return 0;
+        }
+        if (m.type == CTL_HELLO && m.u.hello.view.kind != CTL_VIEW_ALL) {
+            hello_view = m.u.hello.view;
+            m.u.hello.view = (ctl_view){ .kind = CTL_VIEW_ALL };
+            size_t n;
+            if (ctl_encode(&m, &hello_text, &n, &e) == 0) {
+                text = hello_text;
+                len = n;
+            } else {
+                hello_view.kind = CTL_VIEW_ALL; /* not reached: it decoded */
+            }
+        }
+        ctl_msg_fini(&m);
+    }
+    const int role_before = p->role;
+    int rc = relay_forward(r, p, text, len, reply, reply_len, why, why_cap);
+    free(hello_text);
+    if (!rc && role_before == NET_ROLE_NONE && p->role != NET_ROLE_NONE) {
+        p->stream = relay_views_join(r->views, p->stream, &hello_view);
+    }
+    return rc;
+}
+
 static void relay_closed(void *user, const net_peer *p)
 {
     relay *r = user;
+    relay_views_join(r->views, p->stream, NULL);
     link_ctl c = { .peer = *p };
+    c.peer.stream = 0; /* the server keeps no stream of a relayed connection */
     uint8_t *b;
     size_t n;
     if (link_ctl_encode(&c, &b, &n, NULL) == 0) {
@@ -104,15 +154,15 @@ static void put_seq(uint8_t *f, size_t len, uint32_t seq)
     }
 }
 
-/* A restarted server counts seq from 1 again: the relay goes on from where it was, and its
- * connections go back to the shared stream with a keyframe (the new server knows none of
- * the old view streams). */
+/* A restarted server counts seq from 1 again: the relay goes on from where it was, and
+ * its view streams start over with a keyframe (the views are the relay's: its
+ * connections keep them). */
 static void renumber(relay *r, net_snap *p, uint64_t epoch)
 {
     if (epoch != r->epoch) {
         if (r->epoch) {
             r->seq_offset = r->last_seq + 1u - p->seq;
-            net_reset_streams(r->net);
+            relay_views_restart(r->views);
             fprintf(stderr, "gale-relay: the server restarted: seq %u goes on as %u\n", p->seq,
                     p->seq + r->seq_offset);
         }
@@ -158,7 +208,10 @@ static void on_snap(natsConnection *nc, natsSubscription *sub, natsMsg *msg, voi
         atomic_store(&r->tick, wire_get_u32(&rd));
     }
     atomic_fetch_add(&r->snaps_in, 1);
+    atomic_fetch_add(&p->refs, 1); /* read on below while the clients are sent it */
     net_publish(r->net, p);
+    relay_views_publish(r->views, r->net, p);
+    atomic_fetch_sub(&p->refs, 1);
 }
 
 /* The server's sizes and every asset, over NATS; retries until d.wait_s runs out. */
@@ -215,6 +268,43 @@ static int fetch(relay *r, gale_err *err)
     return 0;
 }
 
+/* The view rule (gale.scene, link.h), in chunks, into r->views. */
+static int fetch_scene(relay *r, gale_err *err)
+{
+    uint8_t *buf = NULL;
+    size_t off = 0, total = 0;
+    do {
+        uint8_t q[8];
+        wire_writer w = wire_writer_make(q, sizeof q);
+        wire_put_u64(&w, off);
+        natsMsg *m = NULL;
+        natsStatus st = natsConnection_Request(&m, r->nc, LINK_SUBJ_SCENE, q, sizeof q, 5000);
+        const size_t got = st == NATS_OK ? (size_t)natsMsg_GetDataLength(m) : 0;
+        const uint8_t *d = st == NATS_OK ? (const uint8_t *)natsMsg_GetData(m) : NULL;
+        if (st == NATS_OK && off == 0) {
+            total = (size_t)link_scene_total(d, got);
+            buf = total >= got && total <= (size_t)1 << 32 ? malloc(total) : NULL;
+        }
+        if (st != NATS_OK || !got || !buf || off + got > total) {
+            natsMsg_Destroy(st == NATS_OK ? m : NULL);
+            free(buf);
+            return gale_errf(err, GALE_E_IO, "%s: at byte %zu of %zu: %s", LINK_SUBJ_SCENE, off,
+                             total, st != NATS_OK ? natsStatus_GetText(st) : "bad chunk");
+        }
+        memcpy(buf + off, d, got);
+        off += got;
+        natsMsg_Destroy(m);
+    } while (off < total);
+    link_scene sc;
+    int rc = link_scene_decode(buf, total, &sc, err);
+    free(buf);
+    if (rc) {
+        return rc;
+    }
+    r->views = relay_views_create(&sc, (int)r->info.max_streams, err);
+    return r->views ? 0 : GALE_E_NOMEM;
+}
+
 static const metric_row relay_rows[] = {
     { "gale_relay_snapshots_total", NULL, "Snapshots taken from NATS and relayed.",
       METRIC_COUNTER, 0 },
@@ -222,6 +312,13 @@ static const metric_row relay_rows[] = {
       METRIC_COUNTER, 0 },
     { "gale_relay_snapshots_unsent_total", NULL,
       "Snapshots dropped for want of a free pool snapshot.", METRIC_COUNTER, 0 },
+    { "gale_relay_view_snapshots_total", NULL,
+      "Snapshots encoded here for the clients' views.", METRIC_COUNTER, 0 },
+    { "gale_relay_view_encode_seconds_total", NULL, "Time spent encoding them.",
+      METRIC_COUNTER, 6 },
+    { "gale_relay_view_keyframes_bad_total", NULL,
+      "Shared snapshots whose keyframe the view selection could not decode.", METRIC_COUNTER,
+      0 },
 };
 
 static void relay_fill(void *ctx, double *v)
@@ -230,6 +327,11 @@ static void relay_fill(void *ctx, double *v)
     v[0] = (double)atomic_load(&r->snaps_in);
     v[1] = (double)atomic_load(&r->snaps_bad);
     v[2] = (double)atomic_load(&r->snaps_unsent);
+    unsigned long long n, ns, bad;
+    relay_views_counts(r->views, &n, &ns, &bad);
+    v[3] = (double)n;
+    v[4] = (double)ns * 1e-9;
+    v[5] = (double)bad;
 }
 
 relay *relay_create(const relay_desc *d, gale_err *err)
@@ -255,7 +357,7 @@ relay *relay_create(const relay_desc *d, gale_err *err)
         relay_destroy(r);
         return NULL;
     }
-    if (fetch(r, err)) {
+    if (fetch(r, err) || fetch_scene(r, err)) {
         relay_destroy(r);
         return NULL;
     }
@@ -275,19 +377,21 @@ relay *relay_create(const relay_desc *d, gale_err *err)
                                      .metrics = &r->reg,
                                      .tick = &r->tick },
                         err);
-    if (!r->net || metric_reg_add(&r->reg, relay_rows, 3, relay_fill, r, err) ||
+    const int n_rows = (int)(sizeof relay_rows / sizeof relay_rows[0]);
+    if (!r->net || metric_reg_add(&r->reg, relay_rows, n_rows, relay_fill, r, err) ||
         net_metrics_register(r->net, &r->reg, err)) {
         relay_destroy(r);
         return NULL;
     }
-    st = natsConnection_Subscribe(&r->snaps, r->nc, LINK_SUBJ_SNAP ".*", on_snap, r);
+    /* the shared stream only: the relay encodes its clients' views itself */
+    st = natsConnection_Subscribe(&r->snaps, r->nc, LINK_SUBJ_SNAP ".0", on_snap, r);
     if (st == NATS_OK) {
         /* a relay that falls this far behind drops snapshots (its clients see a gap and get
          * a keyframe) rather than grow; nats-server cuts a consumer slower than that */
         st = natsSubscription_SetPendingLimits(r->snaps, 64, 64 << 20);
     }
     if (st != NATS_OK) {
-        gale_errf(err, GALE_E_IO, "nats: subscribe %s.*: %s", LINK_SUBJ_SNAP,
+        gale_errf(err, GALE_E_IO, "nats: subscribe %s.0: %s", LINK_SUBJ_SNAP,
                   natsStatus_GetText(st));
         relay_destroy(r);
         return NULL;
@@ -322,6 +426,7 @@ void relay_destroy(relay *r)
     }
     natsConnection_Close(r->nc); /* joins the delivery thread before net goes */
     net_destroy(r->net);
+    relay_views_destroy(r->views);
     natsConnection_Destroy(r->nc);
     for (int i = 0; i < 64; i++) {
         free(r->bytes[i]);

@@ -1,8 +1,10 @@
-/* gale-relay: a stateless edge (server/SERVER.md "Relays"). It takes gale-server's
- * encoded snapshots from NATS (link.h) and serves WebSocket clients with the same network
- * layer as gale-server (net.h: handshake limits, close codes, per-connection queues that
- * pick keyframe or delta, BUNDLE, assets over HTTP from its cache), forwarding every
- * control message to the server by request/reply and applying its verdict. */
+/* gale-relay: an edge (server/SERVER.md "Relays"). It takes gale-server's encoded
+ * whole-scene snapshots from NATS (link.h) and serves WebSocket clients with the same
+ * network layer as gale-server (net.h: handshake limits, close codes, per-connection
+ * queues that pick keyframe or delta, BUNDLE, assets over HTTP from its cache); it
+ * selects and encodes its clients' views itself with the server's rule (relay_views.h)
+ * and forwards every other control message to the server by request/reply, applying its
+ * verdict. */
 #ifndef GALE_RELAY_H
 #define GALE_RELAY_H
 

@@ -26,8 +26,9 @@ static void usage(FILE *f)
                "  --iface ADDR  listen address (default 127.0.0.1; all or 0.0.0.0: every\n"
                "                interface)\n"
                "  --wait S      seconds to wait at start for gale-server on NATS (default 30)\n"
-               "Clients see exactly gale-server's protocol (protocol/PROTOCOL.md); control\n"
-               "messages go to the server over NATS, which checks tokens and answers.\n");
+               "Clients see exactly gale-server's protocol (protocol/PROTOCOL.md); the relay\n"
+               "selects their views itself with the server's rule, and every other control\n"
+               "message goes to the server over NATS, which checks tokens and answers.\n");
 }
 
 int main(int argc, char **argv)

@@ -84,6 +84,20 @@ int srv_remote_control(srv *s, net_peer *p, const char *text, size_t len, char *
 void srv_remote_closed(srv *s, const net_peer *p);
 const net_asset *srv_assets(const srv *s, int *n);
 void srv_snap_caps(const srv *s, size_t *snap_cap, size_t *extra_cap, int *max_streams);
+/* The view rule's parameters, for a relay that selects its clients' views itself
+ * (server/SERVER.md "Relays"): what view_select_grid reads besides the view and each
+ * tree's modes, and the view streams' periodic keyframe. tree_pos is borrowed for the
+ * server's life. */
+typedef struct srv_view_rule {
+    uint32_t n_trees;
+    const float *tree_pos; /* [n_trees * 3] tree bases */
+    float margin_m;        /* a tree counts as in view within this of the region */
+    float cell_m;          /* the selection grid's cell */
+    uint32_t lod_modes;    /* modes sent for a tree past the view's lod_m */
+    uint32_t key_every;    /* snapshots between a stream's periodic keyframes */
+    uint32_t max_modes;    /* the most modes of any species */
+} srv_view_rule;
+srv_view_rule srv_view_rule_get(const srv *s);
 
 int srv_port(const srv *s);
 /* The connection limits the network settled on (net_get_limits). */

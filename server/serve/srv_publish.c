@@ -1,7 +1,7 @@
 /* Publishing, on the sim thread: each snapshot through the shared stream's encoder
  * (srv_stream.h), the coarse wind and leaf frames beside it, handed to net_publish and,
  * for the view streams, to the view thread (srv_views.c); the float history tests compare
- * with; the publisher's metrics. */
+ * with; the view rule's parameters a relay selects views with; the publisher's metrics. */
 #include "srv_int.h"
 
 #include <math.h>
@@ -120,6 +120,20 @@ void srv_publish(srv *s, uint32_t tick)
     s->qlast[1] = s->qlast[0];
     s->qlast[0] = s->cur;
     s->cur = srv_views_next_buffer(s);
+}
+
+srv_view_rule srv_view_rule_get(const srv *s)
+{
+    uint32_t max_modes = 1;
+    for (uint32_t i = 0; i < s->wscene.n_species; i++) {
+        max_modes = s->wscene.n_modes[i] > max_modes ? s->wscene.n_modes[i] : max_modes;
+    }
+    return (srv_view_rule){ .max_modes = max_modes, .n_trees = (uint32_t)s->d.sc->n_trees,
+                            .tree_pos = s->tree_pos,
+                            .margin_m = s->view_margin_m,
+                            .cell_m = SRV_VIEW_CELL_M,
+                            .lod_modes = SRV_LOD_MODES,
+                            .key_every = s->key_every };
 }
 
 /* --- metrics ---------------------------------------------------------------------------- */
