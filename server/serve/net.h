@@ -16,6 +16,7 @@
 #include "metric.h"
 
 typedef struct net_server net_server;
+typedef struct net_shared net_shared; /* a text sent to many connections, below */
 
 /* Client roles (hello.role). */
 enum { NET_ROLE_NONE, NET_ROLE_VIEWER, NET_ROLE_KIOSK, NET_ROLE_WALL, NET_ROLE_LOAD,
@@ -65,7 +66,34 @@ typedef struct net_peer {
     uint32_t stream;      /* snapshot stream this connection follows (0 = shared); the
                              handler may change it (the first state frame of another stream
                              is always a keyframe) */
+    bool shared_ok;       /* set by net: the handler may answer with reply_shared (false for
+                             a relayed connection's, which needs its reply whole) */
+    net_shared *reply_shared; /* handler, with shared_ok and a *reply: the reply goes on with
+                                 this text, one message of *reply then it (one reference handed
+                                 to net) */
 } net_peer;
+
+/* A text message's tail built once and sent to many connections (the welcome's scene
+ * part, megabytes at 100,000 trees): reference-counted, and laid out in NET_SHARED_PIECE
+ * pieces each with LWS_PRE bytes of headroom before it, so every connection writes each
+ * piece as a fragment of its own message in place, without a copy of the text of its own
+ * (SERVER.md "The welcome"). The bytes never change after net_shared_create. */
+/* Bytes of a shared text per WebSocket fragment: what a 32 KiB send buffer (net_desc.sndbuf's
+ * default) takes in one write, so lws seldom has to keep a remainder. */
+#define NET_SHARED_PIECE 16384
+
+/* Any thread: a shared text holding a copy of the len bytes at text (len >= 1), with one
+ * reference for the caller; NULL when out of memory or len is 0. */
+net_shared *net_shared_create(const char *text, size_t len);
+/* Any thread: one more reference to t, which it returns. */
+net_shared *net_shared_ref(net_shared *t);
+/* Any thread: drops one reference; the last frees t. NULL is a no-op. */
+void net_shared_unref(net_shared *t);
+/* The text's length in bytes. */
+size_t net_shared_len(const net_shared *t);
+/* Copies the whole text to out[net_shared_len(t)] (a reply that cannot be shared: a
+ * relayed connection's). */
+void net_shared_copy(const net_shared *t, char *out);
 
 /* What the server does with a client's control (text) message, on the lws thread.
  * Return 0 to accept; *reply may be set to a malloc'd text of *reply_len bytes that net

@@ -117,10 +117,13 @@ static void conn_queue_owned(net_conn *c, uint8_t *b, size_t len)
     c->ctl_n++;
 }
 
-/* Queues a text message (copied with LWS_PRE headroom). */
-static int conn_queue_text(net_server *s, net_conn *c, const char *text, size_t len)
+/* Queues a text message (copied with LWS_PRE headroom), continued by tail when it is not
+ * NULL (the caller's reference to it is taken, also on failure). */
+static int conn_queue_text(net_server *s, net_conn *c, const char *text, size_t len,
+                           net_shared *tail)
 {
     if (c->ctl_n >= NET_CTL_MAX - 1) {
+        net_shared_unref(tail);
         /* one slot stays free for the error message a close sends */
         char why[100];
         snprintf(why, sizeof why, "too many messages: replies not read, expected <= %d in flight",
@@ -130,11 +133,13 @@ static int conn_queue_text(net_server *s, net_conn *c, const char *text, size_t 
     }
     uint8_t *b = malloc(LWS_PRE + len + 1);
     if (!b) {
+        net_shared_unref(tail);
         net_conn_close(s, c, LWS_CLOSE_STATUS_UNEXPECTED_CONDITION, "server out of memory");
         return -1;
     }
     memcpy(b + LWS_PRE, text, len);
     conn_queue_owned(c, b, len);
+    c->ctl[(c->ctl_head + c->ctl_n - 1) % NET_CTL_MAX].tail = tail;
     lws_callback_on_writable(c->wsi);
     return 0;
 }
@@ -143,7 +148,7 @@ int net_send_text(net_server *s, uint32_t conn, const char *text, size_t len)
 {
     for (net_conn *c = s->conns; c; c = c->next) {
         if (c->id == conn) {
-            return c->close_code ? -1 : conn_queue_text(s, c, text, len);
+            return c->close_code ? -1 : conn_queue_text(s, c, text, len, NULL);
         }
     }
     return -1;
@@ -186,7 +191,9 @@ void net_conn_free(net_server *s, net_conn *c)
     c->q.count = 0;
     sendq_fini(&c->q);
     for (int i = 0; i < c->ctl_n; i++) {
-        free(c->ctl[(c->ctl_head + i) % NET_CTL_MAX].data);
+        net_text *t = &c->ctl[(c->ctl_head + i) % NET_CTL_MAX];
+        free(t->data);
+        net_shared_unref(t->tail);
     }
     c->ctl_n = 0;
     free(c->rx);
@@ -363,21 +370,52 @@ static int ws_write(net_server *s, net_conn *c, uint8_t *data, size_t len,
     return 0;
 }
 
+/* Writes text message t, or with a tail its next fragment (its own part first, then the
+ * tail's pieces in place: net_shared.c); *done when its last fragment went out. */
+static int write_text(net_server *s, net_conn *c, net_text *t, bool *done)
+{
+    if (!t->tail) {
+        *done = true;
+        return ws_write(s, c, t->data + LWS_PRE, t->len, LWS_WRITE_TEXT);
+    }
+    *done = false;
+    if (!t->started && t->len) {
+        t->started = true;
+        return ws_write(s, c, t->data + LWS_PRE, t->len,
+                        (enum lws_write_protocol)(LWS_WRITE_TEXT | LWS_WRITE_NO_FIN));
+    }
+    const int first = t->started ? LWS_WRITE_CONTINUATION : LWS_WRITE_TEXT;
+    t->started = true;
+    size_t n;
+    uint8_t *piece = net_shared_piece(t->tail, t->tail_piece++, &n);
+    *done = t->tail_piece * NET_SHARED_PIECE >= t->tail->len;
+    return ws_write(s, c, piece, n,
+                    (enum lws_write_protocol)(first | (*done ? 0 : LWS_WRITE_NO_FIN)));
+}
+
 int net_ws_writeable(net_server *s, net_conn *c)
 {
-    if (c->close_code && !c->ctl_n) {
+    /* A close frame may go between the fragments of a message (RFC 6455 5.4), an error
+     * message may not: a connection closed in the middle of one gets the close alone. */
+    if (c->close_code && (!c->ctl_n || c->ctl[c->ctl_head].started)) {
         lws_close_reason(c->wsi, (enum lws_close_status)c->close_code,
                          (unsigned char *)c->close_reason, strlen(c->close_reason));
         return -1;
     }
     if (c->ctl_n) {
-        /* Control replies first: they are few and small, and a hello's scene comes before
-         * any state. */
-        net_text t = c->ctl[c->ctl_head];
-        c->ctl_head = (c->ctl_head + 1) % NET_CTL_MAX;
-        c->ctl_n--;
-        int rc = ws_write(s, c, t.data + LWS_PRE, t.len, LWS_WRITE_TEXT);
-        free(t.data);
+        /* Control replies first: they are few, and a hello's scene comes before any
+         * state. A welcome goes out a piece per writeable, so other connections' writes
+         * take turns with it. */
+        net_text *t = &c->ctl[c->ctl_head];
+        bool done = false;
+        int rc = write_text(s, c, t, &done);
+        if (done || rc) {
+            free(t->data);
+            net_shared_unref(t->tail);
+            *t = (net_text){ 0 };
+            c->ctl_head = (c->ctl_head + 1) % NET_CTL_MAX;
+            c->ctl_n--;
+        }
         if (rc) {
             return -1;
         }
@@ -495,12 +533,14 @@ int net_ws_receive(net_server *s, net_conn *c, const void *in, size_t len)
     char *reply = NULL, why[100];
     size_t reply_len = 0;
     why[0] = 0;
-    net_peer peer = { .id = c->id, .addr = c->peer, .role = c->role, .stream = c->stream };
+    net_peer peer = { .id = c->id, .addr = c->peer, .role = c->role, .stream = c->stream,
+                      .shared_ok = true };
     int code = s->d.control(s->d.control_user, &peer, (const char *)c->rx, c->rx_len, &reply,
                             &reply_len, why, sizeof why);
     c->rx_len = 0;
     if (code) {
         free(reply);
+        net_shared_unref(peer.reply_shared);
         bad_input(s, c, code, why[0] ? why : "rejected");
         return 0;
     }
@@ -515,8 +555,10 @@ int net_ws_receive(net_server *s, net_conn *c, const void *in, size_t len)
     c->resync = c->resync || peer.resync;
     c->stream = peer.stream; /* a frame of another stream than the last is a keyframe */
     if (reply) {
-        conn_queue_text(s, c, reply, reply_len);
+        conn_queue_text(s, c, reply, reply_len, peer.reply_shared);
         free(reply);
+    } else {
+        net_shared_unref(peer.reply_shared); /* a tail without its message: nothing to send */
     }
     return 0;
 }

@@ -141,11 +141,17 @@ struct srv {
     bool dmg_full_due;
     unsigned long long dmg_heals;/* heals seen (damage_counts.heals) */
     wire_damage *dmg_state;      /* owned [WIRE_MAX_DAMAGE] */
-    /* welcome template (lws thread) */
+    /* the welcome's scene part (srv_welcome.c), under ctl_lock: what it is built from,
+     * and the text built once per scene that every connection's welcome shares */
     ctl_species *wspecies;       /* owned [n_species] */
     ctl_instance *winst;         /* owned [n_trees] */
     ctl_scenario_info *wscen;    /* owned [n_wscen]: the library, as a kiosk chooses */
     uint32_t n_wscen;
+    net_shared *wbody;           /* one reference: the scene part's text; NULL before the
+                                    first build */
+    bool wstale;                 /* the scene changed since wbody was built */
+    unsigned long long wbuilds;  /* builds of wbody */
+    double wbuild_ms;            /* the last build's time [ms] */
     /* float history for tests */
     pthread_mutex_t hist_lock;
     float *hist;                 /* owned [history][n_trees * stride] */
@@ -203,6 +209,19 @@ struct srv {
 int srv_control_serial(void *user, net_peer *p, const char *text, size_t len, char **reply,
                        size_t *reply_len, char *why, size_t why_cap);
 void srv_closed_serial(void *user, const net_peer *p);
+
+/* srv_welcome.c, under s->ctl_lock (or before the server runs). srv_welcome_build encodes
+ * the welcome's scene part from wspecies, winst, wscen and the scene's obstacles into
+ * s->wbody, 0 or an error; srv_welcome_stale says they changed (a new scene), so the next
+ * hello's welcome is built anew; connections sending the old one finish it. srv_welcome
+ * answers connection p's hello: 0 with *reply (malloc'd, *len bytes) and, where
+ * p->shared_ok, *tail (one reference to the shared scene part, which the message goes on
+ * with), else the whole text in *reply; or WIRE_CLOSE_BAD_FIELD with why. */
+int srv_welcome_build(srv *s, gale_err *err);
+void srv_welcome_stale(srv *s);
+int srv_welcome(srv *s, const net_peer *p, int ctl_role, char **reply, size_t *len,
+                net_shared **tail, char *why, size_t why_cap);
+void srv_welcome_fini(srv *s);
 
 /* srv_control.c, lws thread: net_desc.control and net_desc.closed. */
 int srv_on_control(void *user, net_peer *p, const char *text, size_t len, char **reply,
