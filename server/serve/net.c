@@ -442,7 +442,7 @@ net_snap *net_snap_acquire(net_server *s)
 unsigned net_frames_wanted(net_server *s)
 {
     if (s->d.published) {
-        return NET_WANT_ALL;
+        return NET_WANT_ALL | NET_WANT_ALL << NET_WANT_VIEWS_SHIFT;
     }
     return atomic_load(&s->want_standing) | atomic_exchange(&s->want_asked, 0u);
 }

@@ -78,6 +78,13 @@ static void snap_release_cb(void *item, void *ctx)
 
 static void conn_queue_owned(net_conn *c, uint8_t *b, size_t len);
 
+/* Want bits (net.h NET_WANT_*) of a connection following stream, where the publisher
+ * reads them: the shared stream's in the low bits, the view streams' above. */
+static unsigned want_of(uint32_t stream, unsigned bits)
+{
+    return stream ? bits << NET_WANT_VIEWS_SHIFT : bits;
+}
+
 void net_conn_close(net_server *s, net_conn *c, int code, const char *reason)
 {
     if (c->close_code) {
@@ -273,7 +280,7 @@ static void deliver_one(net_server *s, net_conn *c, net_snap *p, uint64_t now)
         return; /* not its turn */
     }
     if (c->decim > 1 && !p->key_len) {
-        atomic_fetch_or(&s->want_asked, NET_WANT_KEY);
+        atomic_fetch_or(&s->want_asked, want_of(p->stream, NET_WANT_KEY));
         return; /* its turn comes with the next keyframe */
     }
     const int waiting = c->q.count + (c->cur != NULL);
@@ -348,10 +355,11 @@ void net_deliver_published(net_server *s)
         if (c->role == NET_ROLE_NONE || c->close_code) {
             continue;
         }
+        want |= want_of(c->stream, NET_WANT_ANY);
         if (c->decim > 1 || c->resync || c->chain == 0 || c->stream != c->last_stream) {
-            want |= NET_WANT_KEY;
+            want |= want_of(c->stream, NET_WANT_KEY);
         } else if (c->chain == 1) {
-            want |= NET_WANT_DELTA1;
+            want |= want_of(c->stream, NET_WANT_DELTA1);
         }
     }
     atomic_store(&s->want_standing, want);
@@ -447,11 +455,12 @@ int net_ws_writeable(net_server *s, net_conn *c)
             rc = ws_write(s, c, p->key, p->key_len, LWS_WRITE_BINARY);
             c->chain = 1;
             c->cur_key = true;
-            atomic_fetch_or(&s->want_asked, NET_WANT_DELTA1); /* its next snapshot's */
+            /* its next snapshot's */
+            atomic_fetch_or(&s->want_asked, want_of(p->stream, NET_WANT_DELTA1));
         } else {
             /* encoded without the frame this connection needs (frames are encoded on
                demand, net_frames_wanted): skipped, and the next one asked to carry it */
-            atomic_fetch_or(&s->want_asked, NET_WANT_KEY);
+            atomic_fetch_or(&s->want_asked, want_of(p->stream, NET_WANT_KEY));
             atomic_fetch_add_explicit(&s->m.frame_waits, 1, memory_order_relaxed);
             net_snap_unref(p);
             c->cur = NULL;
@@ -550,7 +559,8 @@ int net_ws_receive(net_server *s, net_conn *c, const void *in, size_t len)
         c->role = peer.role;
     }
     if (peer.role != NET_ROLE_NONE && (!c->queued_any || peer.resync || peer.stream != c->stream)) {
-        atomic_fetch_or(&s->want_asked, NET_WANT_KEY); /* for the very next snapshot */
+        /* for the very next snapshot */
+        atomic_fetch_or(&s->want_asked, want_of(peer.stream, NET_WANT_KEY | NET_WANT_ANY));
     }
     c->resync = c->resync || peer.resync;
     c->stream = peer.stream; /* a frame of another stream than the last is a keyframe */
