@@ -7,8 +7,9 @@
  * view of its own (view_kinds.h: street, roof and aerial in turn, at seeded places) and
  * the bytes each kind receives are reported; with --per-client each client's own figures
  * (its welcome's first byte and end after the hello, the bytes a second it received after
- * the welcome, its latency p50/p99, its close code). Loopback only; bounded in count and
- * time. */
+ * the welcome, its latency p50/p99, its close code). A welcome whose scene part another
+ * client of this process decoded is compared, not decoded again. Loopback only; bounded in
+ * count and time. */
 #include <ctype.h>
 #include <inttypes.h>
 #include <math.h>
@@ -148,12 +149,99 @@ static void on_binary(load_run *r, load_conn *c, const uint8_t *b, size_t len)
     }
 }
 
+/* The welcome's scene part (from its species on: the same bytes for every client of a
+ * server, SERVER.md "The welcome") as the first client decoded it, and the sizes it gave:
+ * a later client whose welcome ends in the same bytes compares them instead of decoding
+ * them again. Twenty clients each parsing megabytes of JSON on the cores the server runs
+ * on would measure this tool, where viewers each parse theirs on a machine of their own.
+ * While one thread decodes a welcome the others wait for it rather than decode theirs
+ * too (a thread waiting stalls only its own connections: --threads spreads them). */
+static struct {
+    pthread_mutex_t lock;
+    pthread_cond_t done; /* a decode claimed by `decoding` ended */
+    bool decoding;       /* a thread is decoding a welcome to keep here */
+    char *text;          /* owned [len]: the scene part */
+    size_t len;
+    uint32_t max_trees, max_modes;
+} known = { .lock = PTHREAD_MUTEX_INITIALIZER, .done = PTHREAD_COND_INITIALIZER };
+
+/* Where a welcome's scene part starts in t[len] (its head is a few hundred bytes), or 0. */
+static size_t scene_part_at(const char *t, size_t len)
+{
+    static const char key[] = ",\"species\":";
+    const size_t k = sizeof key - 1;
+    for (size_t i = 0; i + k <= len && i < 1024; i++) {
+        if (!memcmp(t + i, key, k)) {
+            return i;
+        }
+    }
+    return 0;
+}
+
+/* A decoder sized for a welcome t[len] whose scene part this process already decoded,
+ * else NULL: decode it, and when *claimed call known_done after (the other threads wait
+ * for that decode). */
+static wire_decoder *known_decoder(const char *t, size_t len, bool *claimed)
+{
+    *claimed = false;
+    const size_t at = scene_part_at(t, len);
+    if (!at || strncmp(t, "{\"type\":\"welcome\",", 19)) {
+        return NULL;
+    }
+    wire_decoder *dec = NULL;
+    pthread_mutex_lock(&known.lock);
+    while (known.decoding) {
+        pthread_cond_wait(&known.done, &known.lock);
+    }
+    if (known.text && known.len == len - at && !memcmp(known.text, t + at, known.len)) {
+        dec = wire_decoder_create(
+            &(wire_decoder_desc){ .max_trees = known.max_trees, .max_modes = known.max_modes },
+            NULL);
+    } else {
+        known.decoding = true;
+        *claimed = true;
+    }
+    pthread_mutex_unlock(&known.lock);
+    return dec;
+}
+
+/* Ends a decode known_decoder claimed; keeps the scene part of welcome t[len] with the
+ * sizes it gave when ok. */
+static void known_done(bool ok, const char *t, size_t len, uint32_t max_trees,
+                       uint32_t max_modes)
+{
+    const size_t at = scene_part_at(t, len);
+    pthread_mutex_lock(&known.lock);
+    known.decoding = false;
+    pthread_cond_broadcast(&known.done);
+    char *copy = ok && at ? malloc(len - at) : NULL;
+    if (copy) {
+        memcpy(copy, t + at, len - at);
+        free(known.text);
+        known.text = copy;
+        known.len = len - at;
+        known.max_trees = max_trees;
+        known.max_modes = max_modes;
+    }
+    pthread_mutex_unlock(&known.lock);
+}
+
 static void on_text(load_run *r, load_conn *c, const char *t, size_t len)
 {
     r->text_msgs++;
+    bool claimed = false;
+    if (!c->dec && (c->dec = known_decoder(t, len, &claimed))) {
+        c->welcomed = true;
+        c->welcome_us = mono_us();
+        r->welcomed++;
+        return;
+    }
     ctl_msg m;
     gale_err e;
     if (ctl_decode(t, len, CTL_MAX_SERVER_BYTES, &m, NULL, &e)) {
+        if (claimed) {
+            known_done(false, t, len, 0, 0);
+        }
         r->decode_errors++;
         note_error(r, "control", e.msg);
         return;
@@ -164,10 +252,13 @@ static void on_text(load_run *r, load_conn *c, const char *t, size_t len)
             modes = m.u.welcome.species[i].n_modes > modes ? m.u.welcome.species[i].n_modes
                                                             : modes;
         }
+        const uint32_t trees = m.u.welcome.n_instances ? m.u.welcome.n_instances : 1;
         c->dec = wire_decoder_create(
-            &(wire_decoder_desc){ .max_trees = m.u.welcome.n_instances ? m.u.welcome.n_instances : 1,
-                                  .max_modes = modes },
-            &e);
+            &(wire_decoder_desc){ .max_trees = trees, .max_modes = modes }, &e);
+        if (claimed) {
+            known_done(c->dec != NULL, t, len, trees, modes);
+            claimed = false;
+        }
         if (!c->dec) {
             note_error(r, "decoder", e.msg);
         } else {
@@ -177,6 +268,9 @@ static void on_text(load_run *r, load_conn *c, const char *t, size_t len)
         }
     } else if (m.type == CTL_ERROR) {
         note_error(r, "server error", m.u.error.message);
+    }
+    if (claimed) {
+        known_done(false, t, len, 0, 0);
     }
     ctl_msg_fini(&m);
 }
@@ -727,6 +821,7 @@ int main(int argc, char **argv)
         free(parts[i].conns);
         free(parts[i].lat);
     }
+    free(known.text);
     bool ok = r.connected == r.n && r.decode_errors == 0 && r.disconnects == 0;
     return ok ? 0 : 1;
 }
