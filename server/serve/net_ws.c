@@ -401,8 +401,25 @@ static int write_text(net_server *s, net_conn *c, net_text *t, bool *done)
                     (enum lws_write_protocol)(first | (*done ? 0 : LWS_WRITE_NO_FIN)));
 }
 
+/* Drops c's oldest queued text message. */
+static void text_pop(net_conn *c)
+{
+    net_text *t = &c->ctl[c->ctl_head];
+    free(t->data);
+    net_shared_unref(t->tail);
+    *t = (net_text){ 0 };
+    c->ctl_head = (c->ctl_head + 1) % NET_CTL_MAX;
+    c->ctl_n--;
+}
+
 int net_ws_writeable(net_server *s, net_conn *c)
 {
+    /* Closing, the megabytes of a welcome not yet begun are not worth the wait: the error
+     * message and the close go first. */
+    while (c->close_code && c->ctl_n && c->ctl[c->ctl_head].tail &&
+           !c->ctl[c->ctl_head].started) {
+        text_pop(c);
+    }
     /* A close frame may go between the fragments of a message (RFC 6455 5.4), an error
      * message may not: a connection closed in the middle of one gets the close alone. */
     if (c->close_code && (!c->ctl_n || c->ctl[c->ctl_head].started)) {
@@ -418,11 +435,7 @@ int net_ws_writeable(net_server *s, net_conn *c)
         bool done = false;
         int rc = write_text(s, c, t, &done);
         if (done || rc) {
-            free(t->data);
-            net_shared_unref(t->tail);
-            *t = (net_text){ 0 };
-            c->ctl_head = (c->ctl_head + 1) % NET_CTL_MAX;
-            c->ctl_n--;
+            text_pop(c);
         }
         if (rc) {
             return -1;
