@@ -208,22 +208,25 @@ void net_reset_streams(net_server *s);
 /* The state frames a snapshot's connections may need besides delta2 (which a connection
  * holding the two snapshots before it takes): NET_WANT_KEY when one joins, resyncs, follows
  * a new stream, lost its chain or is sent one snapshot in several (a slow reader);
- * NET_WANT_DELTA1 when one holds only the last (it took a keyframe); NET_WANT_ANY while
- * any connection follows (without it no connection takes even delta2). The wants of the
- * connections on the shared stream are the low bits, those on view streams the same bits
- * shifted by NET_WANT_VIEWS_SHIFT, so a stream nobody follows is not encoded. */
-enum { NET_WANT_KEY = 1u, NET_WANT_DELTA1 = 2u, NET_WANT_ANY = 4u, NET_WANT_ALL = 7u };
-#define NET_WANT_VIEWS_SHIFT 3
-/* The wants of the shared stream (NET_WANT_* bits) in a net_frames_wanted mask. */
-#define NET_WANT_SHARED(mask) ((mask) & NET_WANT_ALL)
-/* The wants of the view streams in a net_frames_wanted mask. */
-#define NET_WANT_VIEWS(mask) (((mask) >> NET_WANT_VIEWS_SHIFT) & NET_WANT_ALL)
-/* Simulation thread, once per snapshot: the frames wanted now (the connections' standing
- * needs as the service thread last saw them, and any asked for since the last call), of
- * the shared stream and the view streams (NET_WANT_SHARED, NET_WANT_VIEWS); everything with
- * a net_desc.published bridge (a relay's clients may need any). A connection whose frame
- * a snapshot lacks skips that snapshot and asks again (SERVER.md "Frames on demand"). */
+ * NET_WANT_DELTA1 when one holds only the last (it took a keyframe). */
+enum { NET_WANT_KEY = 1u, NET_WANT_DELTA1 = 2u, NET_WANT_ALL = 3u };
+/* Simulation thread, once per snapshot: the frames wanted now by any connection (the
+ * connections' standing needs as the service thread last saw them, and any asked for
+ * since the last call); NET_WANT_ALL with a net_desc.published bridge (a relay's clients
+ * may need any). A connection whose frame a snapshot lacks skips that snapshot and asks
+ * again (SERVER.md "Frames on demand"). */
 unsigned net_frames_wanted(net_server *s);
+/* net_frames_wanted's frames, of the shared stream and of the view streams apart, with
+ * NET_WANT_ANY while any connection follows (without it none takes even delta2), so a
+ * stream nobody follows need not be encoded: the shared stream's in the low bits
+ * (NET_WANT_SHARED), the view streams' shifted by NET_WANT_VIEWS_SHIFT (NET_WANT_VIEWS);
+ * everything with a bridge. Call one of the two per snapshot: each takes the asks. */
+#define NET_WANT_ANY 4u
+#define NET_WANT_BITS 7u
+#define NET_WANT_VIEWS_SHIFT 3
+#define NET_WANT_SHARED(mask) ((mask) & NET_WANT_BITS)
+#define NET_WANT_VIEWS(mask) (((mask) >> NET_WANT_VIEWS_SHIFT) & NET_WANT_BITS)
+unsigned net_frames_wanted_apart(net_server *s);
 
 /* Publishing threads (the simulation's, a view encoder's): a free snapshot from the pool
  * to fill (refs set to 1), or NULL when all are still in flight (counted; the caller

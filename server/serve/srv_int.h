@@ -34,7 +34,8 @@
 /* Snapshots that carry a frame after it was last wanted (net_frames_wanted): a
  * connection's queue may hold snapshots encoded before it asked. */
 #define SRV_WANT_HOLD 4
-#define SRV_WANT_BITS (2 * NET_WANT_VIEWS_SHIFT) /* the bits of a net_frames_wanted mask */
+#define SRV_WANT_BITS (2 * NET_WANT_VIEWS_SHIFT) /* the bits of a net_frames_wanted_apart
+                                                    mask */
 #define SRV_LEAF_EVERY 3   /* snapshots between leaf frames (10 per second at 30/s): leaves
                               carry their spawn tick, so batching them costs no accuracy
                               and saves a WebSocket message per client per snapshot */
@@ -128,7 +129,7 @@ struct srv {
     int qlast[2];                /* the qbufs of the last snapshot and the one before */
     srv_stream shared;           /* the whole-scene stream (net_snap.stream 0) */
     int want_hold[SRV_WANT_BITS]; /* snapshots still to carry each wanted frame, by bit of
-                                    a net_frames_wanted mask (srv_publish.c
+                                    a net_frames_wanted_apart mask (srv_publish.c
                                     frames_to_encode) */
     wire_lanes lanes;            /* the encoders' lanes on the scene's tick_threads */
     uint32_t seq;

@@ -40,11 +40,11 @@ static int encode_wind(srv *s, wire_header *h, net_snap *p, gale_err *e)
 }
 
 /* The frames this snapshot carries of the shared stream and the view streams (a
- * net_frames_wanted mask): those the connections want now, and each for SRV_WANT_HOLD
+ * net_frames_wanted_apart mask): those the connections want now, and each for SRV_WANT_HOLD
  * snapshots after it was last wanted. */
 static unsigned frames_to_encode(srv *s)
 {
-    const unsigned want = net_frames_wanted(s->net);
+    const unsigned want = net_frames_wanted_apart(s->net);
     unsigned out = 0;
     for (int b = 0; b < SRV_WANT_BITS; b++) {
         if (want & 1u << b) {
