@@ -73,16 +73,18 @@ typedef struct net_peer {
                                  to net) */
 } net_peer;
 
-/* A text message's tail built once and sent to many connections (the welcome's scene
- * part, megabytes at 100,000 trees): reference-counted, and laid out in NET_SHARED_PIECE
- * pieces each with LWS_PRE bytes of headroom before it, so every connection writes each
- * piece as a fragment of its own message in place, without a copy of the text of its own
- * (SERVER.md "The welcome"). The bytes never change after net_shared_create. */
 /* Bytes of a shared text per WebSocket fragment: what a 32 KiB send buffer (net_desc.sndbuf's
  * default) takes in one write, so lws seldom has to keep a remainder. */
 #define NET_SHARED_PIECE 16384
 
-/* Any thread: a shared text holding a copy of the len bytes at text (len >= 1), with one
+/* net_shared: a text message's tail built once and sent to many connections (the
+ * welcome's scene part, megabytes at 100,000 trees): reference-counted, and laid out in
+ * NET_SHARED_PIECE pieces each with LWS_PRE bytes of headroom before it, so every
+ * connection writes each piece as a fragment of its own message in place, without a copy
+ * of the text of its own (SERVER.md "The welcome"). The bytes never change after
+ * net_shared_create.
+ *
+ * Any thread: a shared text holding a copy of the len bytes at text (len >= 1), with one
  * reference for the caller; NULL when out of memory or len is 0. */
 net_shared *net_shared_create(const char *text, size_t len);
 /* Any thread: one more reference to t, which it returns. */
