@@ -5,9 +5,14 @@
  * errors, disconnects and end-to-end latency (server timestamp to decode, both on this
  * host's CLOCK_MONOTONIC) percentiles. With --views each client asks in its hello for a
  * view of its own (view_kinds.h: street, roof and aerial in turn, at seeded places) and
- * the bytes each kind receives are reported. Loopback only; bounded in count and time. */
+ * the bytes each kind receives are reported; with --per-client each client's own figures
+ * (its welcome's first byte and end after the hello, the bytes a second it received after
+ * the welcome, its latency p50/p99, its close code). A welcome whose scene part another
+ * client of this process decoded is compared, not decoded again. Loopback only; bounded in
+ * count and time. */
 #include <ctype.h>
 #include <inttypes.h>
+#include <math.h>
 #include <pthread.h>
 #include <signal.h>
 #include <stdbool.h>
@@ -30,6 +35,10 @@
 #define LAT_BUCKET_US 10          /* latency histogram resolution */
 #define LAT_BUCKETS 3000000       /* 10 µs x 3 000 000 = 30 s; slower goes to the last bucket */
 #define LOAD_VIEW_LOD_M 120.0f    /* --views: the views' lod_m, as a client's camera sends it */
+/* --per-client latency: a histogram per client whose buckets grow by 2 % from 10 µs to
+ * past 30 s, so 20 clients or 5000 cost kilobytes each, not a fine histogram each */
+#define CLIENT_LAT_GROWTH 1.02
+#define CLIENT_LAT_BUCKETS 760
 
 typedef struct load_conn {
     struct lws *wsi;
@@ -41,6 +50,12 @@ typedef struct load_conn {
     uint32_t last_seq;
     int close_code;
     uint64_t bytes;       /* received */
+    /* --per-client */
+    uint64_t hello_us;    /* mono_us when the hello went out */
+    uint64_t welcome_first_us; /* when the welcome's first bytes came (0: not yet) */
+    uint64_t welcome_us;  /* when the whole welcome was decoded (0: not yet) */
+    uint64_t stream_bytes; /* binary bytes received after the welcome */
+    uint32_t *lat;        /* owned [CLIENT_LAT_BUCKETS] with --per-client, else NULL */
 } load_conn;
 
 typedef struct load_run {
@@ -50,6 +65,8 @@ typedef struct load_run {
     char token[CTL_MAX_TOKEN];
     double seconds;
     double views_half_m;  /* --views: eyes within this of the origin; 0: no views */
+    bool per_client;      /* --per-client */
+    uint64_t end_us;      /* mono_us when the run's clients were told to end */
     bool ending;
     load_conn *conns;     /* owned [n] */
     int connected, welcomed, open_now;
@@ -119,6 +136,10 @@ static void on_binary(load_run *r, load_conn *c, const uint8_t *b, size_t len)
         }
         c->last_seq = f.seq;
         uint64_t lat = now > f.hdr.server_time_us ? now - f.hdr.server_time_us : 0;
+        if (c->lat) {
+            double kb = lat > 10 ? log((double)lat / 10.0) / log(CLIENT_LAT_GROWTH) : 0.0;
+            c->lat[kb < CLIENT_LAT_BUCKETS - 1 ? (int)kb : CLIENT_LAT_BUCKETS - 1]++;
+        }
         uint64_t k = lat / LAT_BUCKET_US;
         r->lat[k < LAT_BUCKETS ? k : LAT_BUCKETS - 1]++;
         r->lat_n++;
@@ -128,12 +149,99 @@ static void on_binary(load_run *r, load_conn *c, const uint8_t *b, size_t len)
     }
 }
 
+/* The welcome's scene part (from its species on: the same bytes for every client of a
+ * server, SERVER.md "The welcome") as the first client decoded it, and the sizes it gave:
+ * a later client whose welcome ends in the same bytes compares them instead of decoding
+ * them again. Twenty clients each parsing megabytes of JSON on the cores the server runs
+ * on would measure this tool, where viewers each parse theirs on a machine of their own.
+ * While one thread decodes a welcome the others wait for it rather than decode theirs
+ * too (a thread waiting stalls only its own connections: --threads spreads them). */
+static struct {
+    pthread_mutex_t lock;
+    pthread_cond_t done; /* a decode claimed by `decoding` ended */
+    bool decoding;       /* a thread is decoding a welcome to keep here */
+    char *text;          /* owned [len]: the scene part */
+    size_t len;
+    uint32_t max_trees, max_modes;
+} known = { .lock = PTHREAD_MUTEX_INITIALIZER, .done = PTHREAD_COND_INITIALIZER };
+
+/* Where a welcome's scene part starts in t[len] (its head is a few hundred bytes), or 0. */
+static size_t scene_part_at(const char *t, size_t len)
+{
+    static const char key[] = ",\"species\":";
+    const size_t k = sizeof key - 1;
+    for (size_t i = 0; i + k <= len && i < 1024; i++) {
+        if (!memcmp(t + i, key, k)) {
+            return i;
+        }
+    }
+    return 0;
+}
+
+/* A decoder sized for a welcome t[len] whose scene part this process already decoded,
+ * else NULL: decode it, and when *claimed call known_done after (the other threads wait
+ * for that decode). */
+static wire_decoder *known_decoder(const char *t, size_t len, bool *claimed)
+{
+    *claimed = false;
+    const size_t at = scene_part_at(t, len);
+    if (!at || strncmp(t, "{\"type\":\"welcome\",", 19)) {
+        return NULL;
+    }
+    wire_decoder *dec = NULL;
+    pthread_mutex_lock(&known.lock);
+    while (known.decoding) {
+        pthread_cond_wait(&known.done, &known.lock);
+    }
+    if (known.text && known.len == len - at && !memcmp(known.text, t + at, known.len)) {
+        dec = wire_decoder_create(
+            &(wire_decoder_desc){ .max_trees = known.max_trees, .max_modes = known.max_modes },
+            NULL);
+    } else {
+        known.decoding = true;
+        *claimed = true;
+    }
+    pthread_mutex_unlock(&known.lock);
+    return dec;
+}
+
+/* Ends a decode known_decoder claimed; keeps the scene part of welcome t[len] with the
+ * sizes it gave when ok. */
+static void known_done(bool ok, const char *t, size_t len, uint32_t max_trees,
+                       uint32_t max_modes)
+{
+    const size_t at = scene_part_at(t, len);
+    pthread_mutex_lock(&known.lock);
+    known.decoding = false;
+    pthread_cond_broadcast(&known.done);
+    char *copy = ok && at ? malloc(len - at) : NULL;
+    if (copy) {
+        memcpy(copy, t + at, len - at);
+        free(known.text);
+        known.text = copy;
+        known.len = len - at;
+        known.max_trees = max_trees;
+        known.max_modes = max_modes;
+    }
+    pthread_mutex_unlock(&known.lock);
+}
+
 static void on_text(load_run *r, load_conn *c, const char *t, size_t len)
 {
     r->text_msgs++;
+    bool claimed = false;
+    if (!c->dec && (c->dec = known_decoder(t, len, &claimed))) {
+        c->welcomed = true;
+        c->welcome_us = mono_us();
+        r->welcomed++;
+        return;
+    }
     ctl_msg m;
     gale_err e;
     if (ctl_decode(t, len, CTL_MAX_SERVER_BYTES, &m, NULL, &e)) {
+        if (claimed) {
+            known_done(false, t, len, 0, 0);
+        }
         r->decode_errors++;
         note_error(r, "control", e.msg);
         return;
@@ -144,18 +252,25 @@ static void on_text(load_run *r, load_conn *c, const char *t, size_t len)
             modes = m.u.welcome.species[i].n_modes > modes ? m.u.welcome.species[i].n_modes
                                                             : modes;
         }
+        const uint32_t trees = m.u.welcome.n_instances ? m.u.welcome.n_instances : 1;
         c->dec = wire_decoder_create(
-            &(wire_decoder_desc){ .max_trees = m.u.welcome.n_instances ? m.u.welcome.n_instances : 1,
-                                  .max_modes = modes },
-            &e);
+            &(wire_decoder_desc){ .max_trees = trees, .max_modes = modes }, &e);
+        if (claimed) {
+            known_done(c->dec != NULL, t, len, trees, modes);
+            claimed = false;
+        }
         if (!c->dec) {
             note_error(r, "decoder", e.msg);
         } else {
             c->welcomed = true;
+            c->welcome_us = mono_us();
             r->welcomed++;
         }
     } else if (m.type == CTL_ERROR) {
         note_error(r, "server error", m.u.error.message);
+    }
+    if (claimed) {
+        known_done(false, t, len, 0, 0);
     }
     ctl_msg_fini(&m);
 }
@@ -175,8 +290,11 @@ static int callback(struct lws *wsi, enum lws_callback_reasons reason, void *use
         break;
     case LWS_CALLBACK_CLIENT_ESTABLISHED: {
         /* A viewer-sized receive buffer: backlog stays in the server's bounded queue
-         * (newest wins) instead of seconds of frames in this socket. */
-        int fd = lws_get_socket_fd(wsi), rcv = 16384;
+         * (newest wins) instead of seconds of frames in this socket. Not smaller: set
+         * after the connection is made, a buffer whose window is below one loopback
+         * segment (32 KiB here) leaves the sender a segment per 200 ms persist timer,
+         * some 200 kB/s whatever the server does (a 4 MB welcome then takes 20 s). */
+        int fd = lws_get_socket_fd(wsi), rcv = 65536;
         setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &rcv, sizeof rcv);
         c->established = true;
         r->connected++;
@@ -212,6 +330,7 @@ static int callback(struct lws *wsi, enum lws_callback_reasons reason, void *use
         if (lws_write(wsi, (unsigned char *)buf + LWS_PRE, n, LWS_WRITE_TEXT) < (int)n) {
             return -1;
         }
+        c->hello_us = mono_us();
         break;
     }
     case LWS_CALLBACK_CLIENT_RECEIVE: {
@@ -235,11 +354,17 @@ static int callback(struct lws *wsi, enum lws_callback_reasons reason, void *use
         }
         memcpy(c->rx + c->rx_len, in, len);
         c->rx_len += len;
+        if (!c->welcome_first_us && !lws_frame_is_binary(wsi)) {
+            c->welcome_first_us = mono_us(); /* the first text is the hello's answer */
+        }
         if (!lws_is_final_fragment(wsi) || lws_remaining_packet_payload(wsi)) {
             break;
         }
         r->bytes += c->rx_len;
         c->bytes += c->rx_len;
+        if (c->dec && lws_frame_is_binary(wsi)) {
+            c->stream_bytes += c->rx_len;
+        }
         if (lws_frame_is_binary(wsi)) {
             on_binary(r, c, c->rx, c->rx_len);
         } else {
@@ -322,6 +447,7 @@ static void *run_part(void *arg)
         if (!r->ending && (double)(now - t_start) * 1e-6 >= r->seconds) {
             r->ending = true;
             t_end = now;
+            r->end_us = now;
             for (int i = 0; i < r->n; i++) {
                 load_conn *c = &r->conns[i];
                 if (c->wsi && c->established && !c->closed) {
@@ -359,6 +485,46 @@ static double lat_pct(const load_run *r, double p)
         }
     }
     return (double)r->lat_max_us * 1e-3;
+}
+
+/* Quantile p of client c's latency [ms]: the upper edge of its bucket; 0 without samples. */
+static double client_lat_pct(const load_conn *c, double p)
+{
+    uint64_t n = 0, acc = 0;
+    for (int k = 0; k < CLIENT_LAT_BUCKETS; k++) {
+        n += c->lat[k];
+    }
+    if (!n) {
+        return 0;
+    }
+    uint64_t want = (uint64_t)(p * (double)n + 0.5);
+    want = want < 1 ? 1 : want;
+    for (int k = 0; k < CLIENT_LAT_BUCKETS; k++) {
+        acc += c->lat[k];
+        if (acc >= want) {
+            return 10.0 * pow(CLIENT_LAT_GROWTH, k + 1) * 1e-3;
+        }
+    }
+    return 0;
+}
+
+/* One client's figures as a JSON object (--per-client). */
+static void client_json(const load_run *r, const load_conn *c)
+{
+    const double after_s = c->welcome_us && r->end_us > c->welcome_us
+                               ? (double)(r->end_us - c->welcome_us) * 1e-6
+                               : 0.0;
+    printf("{\"client\": %d", c->index);
+    if (r->views_half_m > 0) {
+        printf(", \"view\": \"%s\"", view_kind_name(c->index % VIEW_KINDS));
+    }
+    printf(", \"welcome_first_ms\": %.1f, \"welcome_ms\": %.1f, \"bytes_per_s\": %.0f, "
+           "\"latency_ms\": {\"p50\": %.2f, \"p99\": %.2f}, \"close_code\": %d}",
+           c->hello_us && c->welcome_first_us ? (double)(c->welcome_first_us - c->hello_us) * 1e-3
+                                              : -1.0,
+           c->hello_us && c->welcome_us ? (double)(c->welcome_us - c->hello_us) * 1e-3 : -1.0,
+           after_s > 0 ? (double)c->stream_bytes / after_s : 0.0, client_lat_pct(c, 0.50),
+           client_lat_pct(c, 0.99), c->closed && !c->closing ? c->close_code : 0);
 }
 
 static int parse_url(load_run *r, const char *url)
@@ -399,11 +565,13 @@ static void usage(FILE *f)
 {
     fprintf(f, "usage: gale-load --url ws://HOST:PORT --clients N --seconds S "
                "[--role viewer|kiosk|wall-tile|load] [--token T] [--threads T] [--views HALF_M] "
-               "[--json]\n"
+               "[--per-client] [--json]\n"
                "  N in 1..%d, S in 1..%d; HOST must be loopback; -h, --help: this text\n"
                "  --views HALF_M: client i asks for a street, roof or aerial view (i mod 3) "
                "with its eye\n"
-               "    at a seeded place within HALF_M of the origin, lod_m 120\n",
+               "    at a seeded place within HALF_M of the origin, lod_m 120\n"
+               "  --per-client: each client's welcome times, bytes a second after its welcome,\n"
+               "    latency p50/p99 and close code besides the totals\n",
             LOAD_MAX_CLIENTS, LOAD_MAX_SECONDS);
 }
 
@@ -425,6 +593,8 @@ int main(int argc, char **argv)
             return 0;
         } else if (!strcmp(a, "--json")) {
             json = true;
+        } else if (!strcmp(a, "--per-client")) {
+            r.per_client = true;
         } else if (!strcmp(a, "--url") && v) {
             url = v;
             i++;
@@ -514,6 +684,13 @@ int main(int argc, char **argv)
             fprintf(stderr, "gale-load: no memory\n");
             return 1;
         }
+        for (int j = 0; r.per_client && j < parts[i].n; j++) {
+            parts[i].conns[j].lat = calloc(CLIENT_LAT_BUCKETS, sizeof(uint32_t));
+            if (!parts[i].conns[j].lat) {
+                fprintf(stderr, "gale-load: no memory\n");
+                return 1;
+            }
+        }
     }
     for (int i = 0; i < threads; i++) {
         if (pthread_create(&tid[i], NULL, run_part, &parts[i])) {
@@ -594,6 +771,16 @@ int main(int argc, char **argv)
             }
             printf("}");
         }
+        if (r.per_client) {
+            printf(", \"per_client\": [");
+            for (int i = 0, k = 0; i < threads; i++) {
+                for (int j = 0; j < parts[i].n; j++, k++) {
+                    printf("%s", k ? ", " : "");
+                    client_json(&parts[i], &parts[i].conns[j]);
+                }
+            }
+            printf("]");
+        }
         printf(", \"close_codes\": [");
         for (int i = 0; i < r.n_close_codes; i++) {
             printf("%s%d", i ? ", " : "", r.close_codes[i]);
@@ -628,9 +815,13 @@ int main(int argc, char **argv)
         }
     }
     for (int i = 0; i < threads; i++) {
+        for (int j = 0; j < parts[i].n; j++) {
+            free(parts[i].conns[j].lat);
+        }
         free(parts[i].conns);
         free(parts[i].lat);
     }
+    free(known.text);
     bool ok = r.connected == r.n && r.decode_errors == 0 && r.disconnects == 0;
     return ok ? 0 : 1;
 }

@@ -444,6 +444,15 @@ unsigned net_frames_wanted(net_server *s)
     if (s->d.published) {
         return NET_WANT_ALL;
     }
+    const unsigned m = net_frames_wanted_apart(s);
+    return (NET_WANT_SHARED(m) | NET_WANT_VIEWS(m)) & NET_WANT_ALL;
+}
+
+unsigned net_frames_wanted_apart(net_server *s)
+{
+    if (s->d.published) {
+        return NET_WANT_BITS | NET_WANT_BITS << NET_WANT_VIEWS_SHIFT;
+    }
     return atomic_load(&s->want_standing) | atomic_exchange(&s->want_asked, 0u);
 }
 

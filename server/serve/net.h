@@ -16,6 +16,7 @@
 #include "metric.h"
 
 typedef struct net_server net_server;
+typedef struct net_shared net_shared; /* a text sent to many connections, below */
 
 /* Client roles (hello.role). */
 enum { NET_ROLE_NONE, NET_ROLE_VIEWER, NET_ROLE_KIOSK, NET_ROLE_WALL, NET_ROLE_LOAD,
@@ -65,7 +66,36 @@ typedef struct net_peer {
     uint32_t stream;      /* snapshot stream this connection follows (0 = shared); the
                              handler may change it (the first state frame of another stream
                              is always a keyframe) */
+    bool shared_ok;       /* set by net: the handler may answer with reply_shared (false for
+                             a relayed connection's, which needs its reply whole) */
+    net_shared *reply_shared; /* handler, with shared_ok and a *reply: the reply goes on with
+                                 this text, one message of *reply then it (one reference handed
+                                 to net) */
 } net_peer;
+
+/* Bytes of a shared text per WebSocket fragment: what a 32 KiB send buffer (net_desc.sndbuf's
+ * default) takes in one write, so lws seldom has to keep a remainder. */
+#define NET_SHARED_PIECE 16384
+
+/* net_shared: a text message's tail built once and sent to many connections (the
+ * welcome's scene part, megabytes at 100,000 trees): reference-counted, and laid out in
+ * NET_SHARED_PIECE pieces each with LWS_PRE bytes of headroom before it, so every
+ * connection writes each piece as a fragment of its own message in place, without a copy
+ * of the text of its own (SERVER.md "The welcome"). The bytes never change after
+ * net_shared_create.
+ *
+ * Any thread: a shared text holding a copy of the len bytes at text (len >= 1), with one
+ * reference for the caller; NULL when out of memory or len is 0. */
+net_shared *net_shared_create(const char *text, size_t len);
+/* Any thread: one more reference to t, which it returns. */
+net_shared *net_shared_ref(net_shared *t);
+/* Any thread: drops one reference; the last frees t. NULL is a no-op. */
+void net_shared_unref(net_shared *t);
+/* The text's length in bytes. */
+size_t net_shared_len(const net_shared *t);
+/* Copies the whole text to out[net_shared_len(t)] (a reply that cannot be shared: a
+ * relayed connection's). */
+void net_shared_copy(const net_shared *t, char *out);
 
 /* What the server does with a client's control (text) message, on the lws thread.
  * Return 0 to accept; *reply may be set to a malloc'd text of *reply_len bytes that net
@@ -182,12 +212,23 @@ void net_reset_streams(net_server *s);
  * a new stream, lost its chain or is sent one snapshot in several (a slow reader);
  * NET_WANT_DELTA1 when one holds only the last (it took a keyframe). */
 enum { NET_WANT_KEY = 1u, NET_WANT_DELTA1 = 2u, NET_WANT_ALL = 3u };
-/* Simulation thread, once per snapshot: the frames wanted now (the connections' standing
- * needs as the service thread last saw them, and any asked for since the last call);
- * NET_WANT_ALL with a net_desc.published bridge (a relay's clients may need any). A
- * connection whose frame a snapshot lacks skips that snapshot and asks again (SERVER.md
- * "Frames on demand"). */
+/* Simulation thread, once per snapshot: the frames wanted now by any connection (the
+ * connections' standing needs as the service thread last saw them, and any asked for
+ * since the last call); NET_WANT_ALL with a net_desc.published bridge (a relay's clients
+ * may need any). A connection whose frame a snapshot lacks skips that snapshot and asks
+ * again (SERVER.md "Frames on demand"). */
 unsigned net_frames_wanted(net_server *s);
+/* net_frames_wanted's frames, of the shared stream and of the view streams apart, with
+ * NET_WANT_ANY while any connection follows (without it none takes even delta2), so a
+ * stream nobody follows need not be encoded: the shared stream's in the low bits
+ * (NET_WANT_SHARED), the view streams' shifted by NET_WANT_VIEWS_SHIFT (NET_WANT_VIEWS);
+ * everything with a bridge. Call one of the two per snapshot: each takes the asks. */
+#define NET_WANT_ANY 4u
+#define NET_WANT_BITS 7u
+#define NET_WANT_VIEWS_SHIFT 3
+#define NET_WANT_SHARED(mask) ((mask) & NET_WANT_BITS)
+#define NET_WANT_VIEWS(mask) (((mask) >> NET_WANT_VIEWS_SHIFT) & NET_WANT_BITS)
+unsigned net_frames_wanted_apart(net_server *s);
 
 /* Publishing threads (the simulation's, a view encoder's): a free snapshot from the pool
  * to fill (refs set to 1), or NULL when all are still in flight (counted; the caller

@@ -41,10 +41,27 @@
 #define NET_RATE_DOWN_MS 500
 #define NET_RATE_UP_MS 3000
 
-/* One queued control (text) message; data has LWS_PRE bytes of headroom. */
+/* A text sent to many connections (net.h): see net_shared.c for the layout. */
+struct net_shared {
+    atomic_int refs;
+    size_t len;     /* text bytes */
+    uint8_t *data;  /* owned: the pieces, each after LWS_PRE bytes of headroom */
+};
+
+/* Piece k of t (k < the pieces of t->len): its payload, LWS_PRE bytes of headroom before
+ * it that a write may overwrite, and its length in *len (may be NULL). */
+uint8_t *net_shared_piece(const net_shared *t, size_t k, size_t *len);
+
+/* One queued control (text) message; data has LWS_PRE bytes of headroom. With a tail the
+ * message is data then the tail's text, written as fragments: data first, then the tail
+ * piece by piece (net_ws.c write_text). */
 typedef struct net_text {
-    uint8_t *data; /* owned */
+    uint8_t *data;     /* owned */
     size_t len;
+    net_shared *tail;  /* one reference, or NULL */
+    size_t tail_piece; /* the tail's next piece to write */
+    bool started;      /* data went out: the message is under way, nothing else may go
+                          between its fragments but a close */
 } net_text;
 
 /* Per-session data: one per WebSocket connection or HTTP transaction (lws allocates

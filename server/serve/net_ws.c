@@ -78,6 +78,13 @@ static void snap_release_cb(void *item, void *ctx)
 
 static void conn_queue_owned(net_conn *c, uint8_t *b, size_t len);
 
+/* Want bits (net.h NET_WANT_*) of a connection following stream, where the publisher
+ * reads them: the shared stream's in the low bits, the view streams' above. */
+static unsigned want_of(uint32_t stream, unsigned bits)
+{
+    return stream ? bits << NET_WANT_VIEWS_SHIFT : bits;
+}
+
 void net_conn_close(net_server *s, net_conn *c, int code, const char *reason)
 {
     if (c->close_code) {
@@ -117,10 +124,13 @@ static void conn_queue_owned(net_conn *c, uint8_t *b, size_t len)
     c->ctl_n++;
 }
 
-/* Queues a text message (copied with LWS_PRE headroom). */
-static int conn_queue_text(net_server *s, net_conn *c, const char *text, size_t len)
+/* Queues a text message (copied with LWS_PRE headroom), continued by tail when it is not
+ * NULL (the caller's reference to it is taken, also on failure). */
+static int conn_queue_text(net_server *s, net_conn *c, const char *text, size_t len,
+                           net_shared *tail)
 {
     if (c->ctl_n >= NET_CTL_MAX - 1) {
+        net_shared_unref(tail);
         /* one slot stays free for the error message a close sends */
         char why[100];
         snprintf(why, sizeof why, "too many messages: replies not read, expected <= %d in flight",
@@ -130,11 +140,13 @@ static int conn_queue_text(net_server *s, net_conn *c, const char *text, size_t 
     }
     uint8_t *b = malloc(LWS_PRE + len + 1);
     if (!b) {
+        net_shared_unref(tail);
         net_conn_close(s, c, LWS_CLOSE_STATUS_UNEXPECTED_CONDITION, "server out of memory");
         return -1;
     }
     memcpy(b + LWS_PRE, text, len);
     conn_queue_owned(c, b, len);
+    c->ctl[(c->ctl_head + c->ctl_n - 1) % NET_CTL_MAX].tail = tail;
     lws_callback_on_writable(c->wsi);
     return 0;
 }
@@ -143,7 +155,7 @@ int net_send_text(net_server *s, uint32_t conn, const char *text, size_t len)
 {
     for (net_conn *c = s->conns; c; c = c->next) {
         if (c->id == conn) {
-            return c->close_code ? -1 : conn_queue_text(s, c, text, len);
+            return c->close_code ? -1 : conn_queue_text(s, c, text, len, NULL);
         }
     }
     return -1;
@@ -186,7 +198,9 @@ void net_conn_free(net_server *s, net_conn *c)
     c->q.count = 0;
     sendq_fini(&c->q);
     for (int i = 0; i < c->ctl_n; i++) {
-        free(c->ctl[(c->ctl_head + i) % NET_CTL_MAX].data);
+        net_text *t = &c->ctl[(c->ctl_head + i) % NET_CTL_MAX];
+        free(t->data);
+        net_shared_unref(t->tail);
     }
     c->ctl_n = 0;
     free(c->rx);
@@ -266,7 +280,7 @@ static void deliver_one(net_server *s, net_conn *c, net_snap *p, uint64_t now)
         return; /* not its turn */
     }
     if (c->decim > 1 && !p->key_len) {
-        atomic_fetch_or(&s->want_asked, NET_WANT_KEY);
+        atomic_fetch_or(&s->want_asked, want_of(p->stream, NET_WANT_KEY));
         return; /* its turn comes with the next keyframe */
     }
     const int waiting = c->q.count + (c->cur != NULL);
@@ -341,10 +355,11 @@ void net_deliver_published(net_server *s)
         if (c->role == NET_ROLE_NONE || c->close_code) {
             continue;
         }
+        want |= want_of(c->stream, NET_WANT_ANY);
         if (c->decim > 1 || c->resync || c->chain == 0 || c->stream != c->last_stream) {
-            want |= NET_WANT_KEY;
+            want |= want_of(c->stream, NET_WANT_KEY);
         } else if (c->chain == 1) {
-            want |= NET_WANT_DELTA1;
+            want |= want_of(c->stream, NET_WANT_DELTA1);
         }
     }
     atomic_store(&s->want_standing, want);
@@ -363,21 +378,65 @@ static int ws_write(net_server *s, net_conn *c, uint8_t *data, size_t len,
     return 0;
 }
 
+/* Writes text message t, or with a tail its next fragment (its own part first, then the
+ * tail's pieces in place: net_shared.c); *done when its last fragment went out. */
+static int write_text(net_server *s, net_conn *c, net_text *t, bool *done)
+{
+    if (!t->tail) {
+        *done = true;
+        return ws_write(s, c, t->data + LWS_PRE, t->len, LWS_WRITE_TEXT);
+    }
+    *done = false;
+    if (!t->started && t->len) {
+        t->started = true;
+        return ws_write(s, c, t->data + LWS_PRE, t->len,
+                        (enum lws_write_protocol)(LWS_WRITE_TEXT | LWS_WRITE_NO_FIN));
+    }
+    const int first = t->started ? LWS_WRITE_CONTINUATION : LWS_WRITE_TEXT;
+    t->started = true;
+    size_t n;
+    uint8_t *piece = net_shared_piece(t->tail, t->tail_piece++, &n);
+    *done = t->tail_piece * NET_SHARED_PIECE >= t->tail->len;
+    return ws_write(s, c, piece, n,
+                    (enum lws_write_protocol)(first | (*done ? 0 : LWS_WRITE_NO_FIN)));
+}
+
+/* Drops c's oldest queued text message. */
+static void text_pop(net_conn *c)
+{
+    net_text *t = &c->ctl[c->ctl_head];
+    free(t->data);
+    net_shared_unref(t->tail);
+    *t = (net_text){ 0 };
+    c->ctl_head = (c->ctl_head + 1) % NET_CTL_MAX;
+    c->ctl_n--;
+}
+
 int net_ws_writeable(net_server *s, net_conn *c)
 {
-    if (c->close_code && !c->ctl_n) {
+    /* Closing, the megabytes of a welcome not yet begun are not worth the wait: the error
+     * message and the close go first. */
+    while (c->close_code && c->ctl_n && c->ctl[c->ctl_head].tail &&
+           !c->ctl[c->ctl_head].started) {
+        text_pop(c);
+    }
+    /* A close frame may go between the fragments of a message (RFC 6455 5.4), an error
+     * message may not: a connection closed in the middle of one gets the close alone. */
+    if (c->close_code && (!c->ctl_n || c->ctl[c->ctl_head].started)) {
         lws_close_reason(c->wsi, (enum lws_close_status)c->close_code,
                          (unsigned char *)c->close_reason, strlen(c->close_reason));
         return -1;
     }
     if (c->ctl_n) {
-        /* Control replies first: they are few and small, and a hello's scene comes before
-         * any state. */
-        net_text t = c->ctl[c->ctl_head];
-        c->ctl_head = (c->ctl_head + 1) % NET_CTL_MAX;
-        c->ctl_n--;
-        int rc = ws_write(s, c, t.data + LWS_PRE, t.len, LWS_WRITE_TEXT);
-        free(t.data);
+        /* Control replies first: they are few, and a hello's scene comes before any
+         * state. A welcome goes out a piece per writeable, so other connections' writes
+         * take turns with it. */
+        net_text *t = &c->ctl[c->ctl_head];
+        bool done = false;
+        int rc = write_text(s, c, t, &done);
+        if (done || rc) {
+            text_pop(c);
+        }
         if (rc) {
             return -1;
         }
@@ -409,11 +468,12 @@ int net_ws_writeable(net_server *s, net_conn *c)
             rc = ws_write(s, c, p->key, p->key_len, LWS_WRITE_BINARY);
             c->chain = 1;
             c->cur_key = true;
-            atomic_fetch_or(&s->want_asked, NET_WANT_DELTA1); /* its next snapshot's */
+            /* its next snapshot's */
+            atomic_fetch_or(&s->want_asked, want_of(p->stream, NET_WANT_DELTA1));
         } else {
             /* encoded without the frame this connection needs (frames are encoded on
                demand, net_frames_wanted): skipped, and the next one asked to carry it */
-            atomic_fetch_or(&s->want_asked, NET_WANT_KEY);
+            atomic_fetch_or(&s->want_asked, want_of(p->stream, NET_WANT_KEY));
             atomic_fetch_add_explicit(&s->m.frame_waits, 1, memory_order_relaxed);
             net_snap_unref(p);
             c->cur = NULL;
@@ -495,12 +555,14 @@ int net_ws_receive(net_server *s, net_conn *c, const void *in, size_t len)
     char *reply = NULL, why[100];
     size_t reply_len = 0;
     why[0] = 0;
-    net_peer peer = { .id = c->id, .addr = c->peer, .role = c->role, .stream = c->stream };
+    net_peer peer = { .id = c->id, .addr = c->peer, .role = c->role, .stream = c->stream,
+                      .shared_ok = true };
     int code = s->d.control(s->d.control_user, &peer, (const char *)c->rx, c->rx_len, &reply,
                             &reply_len, why, sizeof why);
     c->rx_len = 0;
     if (code) {
         free(reply);
+        net_shared_unref(peer.reply_shared);
         bad_input(s, c, code, why[0] ? why : "rejected");
         return 0;
     }
@@ -510,13 +572,16 @@ int net_ws_receive(net_server *s, net_conn *c, const void *in, size_t len)
         c->role = peer.role;
     }
     if (peer.role != NET_ROLE_NONE && (!c->queued_any || peer.resync || peer.stream != c->stream)) {
-        atomic_fetch_or(&s->want_asked, NET_WANT_KEY); /* for the very next snapshot */
+        /* for the very next snapshot */
+        atomic_fetch_or(&s->want_asked, want_of(peer.stream, NET_WANT_KEY | NET_WANT_ANY));
     }
     c->resync = c->resync || peer.resync;
     c->stream = peer.stream; /* a frame of another stream than the last is a keyframe */
     if (reply) {
-        conn_queue_text(s, c, reply, reply_len);
+        conn_queue_text(s, c, reply, reply_len, peer.reply_shared);
         free(reply);
+    } else {
+        net_shared_unref(peer.reply_shared); /* a tail without its message: nothing to send */
     }
     return 0;
 }

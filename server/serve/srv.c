@@ -160,6 +160,10 @@ srv *srv_create(const srv_desc *d, gale_err *err)
         goto fail;
     }
     srv_stream_start(&s->shared, 0, s->tree_modes, s->key_every);
+    /* built now, so the first hellos are answered as fast as the later ones */
+    if (srv_welcome_build(s, err)) {
+        goto fail;
+    }
     if (d->history > 0) {
         s->hist = calloc((size_t)d->history * (size_t)n * (size_t)s->stride, sizeof(float));
         s->hist_seq = calloc((size_t)d->history, sizeof *s->hist_seq);
@@ -240,9 +244,11 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     if (!d->quiet) {
         fprintf(stderr,
                 "gale-server: scene %s: %d trees, %d species, %d obstacles, %d modes max; tick "
-                "%g Hz, snapshot every %d ticks; wind %s; port %d\n",
+                "%g Hz, snapshot every %d ticks; wind %s; port %d; welcome %zu bytes, built "
+                "in %.0f ms\n",
                 sc->name, n, sc->n_species, sc->n_obstacles, s->stride, sc->tick_hz,
-                s->ticks_per_snap, d->wind ? "grid" : "log-law profile", net_port(s->net));
+                s->ticks_per_snap, d->wind ? "grid" : "log-law profile", net_port(s->net),
+                net_shared_len(s->wbody), s->wbuild_ms);
     }
     return s;
 fail:
@@ -294,6 +300,7 @@ void srv_destroy(srv *s)
     free(s->leaves);
     free(s->dmg_ev);
     free(s->dmg_state);
+    srv_welcome_fini(s);
     free(s->wspecies);
     free(s->winst);
     free(s->wscen);

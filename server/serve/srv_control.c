@@ -1,7 +1,7 @@
 /* The control protocol on the lws thread (ctl.h, protocol/PROTOCOL.md): hello and the
- * welcome it gets (a kiosk's through the token gate, kiosk_gate.h), the view a connection
- * follows (one snapshot stream per distinct view), kiosk wind commands into the scenario,
- * resync and ping, and display walls' groups (wall_group.h). */
+ * welcome it gets (srv_welcome.c; a kiosk's through the token gate, kiosk_gate.h), the
+ * view a connection follows (one snapshot stream per distinct view), kiosk wind commands
+ * into the scenario, resync and ping, and display walls' groups (wall_group.h). */
 #include "srv_int.h"
 
 #include <ctype.h>
@@ -9,48 +9,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-static int welcome(srv *s, const net_peer *p, int ctl_role, char **reply, size_t *len, char *why,
-                   size_t why_cap)
-{
-    ctl_msg m = { .type = CTL_WELCOME };
-    ctl_welcome *w = &m.u.welcome;
-    w->protocol = WIRE_PROTOCOL_VERSION;
-    w->client_id = p->id;
-    w->role = ctl_role;
-    w->tick_hz = (float)s->d.sc->tick_hz;
-    w->snapshot_hz = (float)(s->d.sc->tick_hz / s->ticks_per_snap);
-    w->server_us = mono_us();
-    w->tick = atomic_load(&s->simm.current_tick);
-    w->n_species = (uint32_t)s->d.sc->n_species;
-    w->species = s->wspecies;
-    w->n_instances = (uint32_t)s->d.sc->n_trees;
-    w->instances = s->winst;
-    w->n_scenarios = s->n_wscen;
-    w->scenarios = s->wscen;
-    /* The houses: every scene obstacle fits the wire. */
-    _Static_assert(SCENE_MAX_OBSTACLES <= WIRE_MAX_OBSTACLES, "scene obstacles exceed the wire");
-    const scene *sc = s->d.sc;
-    w->obstacles = sc->n_obstacles > 0 ? calloc((size_t)sc->n_obstacles, sizeof *w->obstacles)
-                                       : NULL;
-    if (sc->n_obstacles > 0 && !w->obstacles) {
-        snprintf(why, why_cap, "cannot encode the welcome: out of memory");
-        return WIRE_CLOSE_BAD_FIELD;
-    }
-    w->n_obstacles = (uint32_t)sc->n_obstacles;
-    for (int i = 0; i < sc->n_obstacles; i++) {
-        memcpy(w->obstacles[i].min, sc->obstacles[i].min, sizeof w->obstacles[i].min);
-        memcpy(w->obstacles[i].max, sc->obstacles[i].max, sizeof w->obstacles[i].max);
-    }
-    gale_err e;
-    int rc = ctl_encode(&m, reply, len, &e);
-    free(w->obstacles);
-    if (rc) {
-        snprintf(why, why_cap, "cannot encode the welcome: %s", e.msg);
-        return WIRE_CLOSE_BAD_FIELD;
-    }
-    return 0;
-}
 
 /* Moves a connection from stream `old` to the stream of view v (lws thread): an equal view
  * already encoded is shared, else a free slot takes it. Returns the new stream, 0 for the
@@ -291,7 +249,7 @@ int srv_on_control(void *user, net_peer *p, const char *text, size_t len, char *
         } else if (h->role == CTL_ROLE_KIOSK && (rc = kiosk_hello(s, p, h->token, why, why_cap))) {
             /* refused: rc and why are set */
         } else {
-            rc = welcome(s, p, h->role, reply, reply_len, why, why_cap);
+            rc = srv_welcome(s, p, h->role, reply, reply_len, &p->reply_shared, why, why_cap);
             if (!rc) {
                 p->role = h->role + 1; /* NET_ROLE_* follows ctl_role, shifted by NONE */
                 p->resync = true;

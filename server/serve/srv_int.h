@@ -34,6 +34,8 @@
 /* Snapshots that carry a frame after it was last wanted (net_frames_wanted): a
  * connection's queue may hold snapshots encoded before it asked. */
 #define SRV_WANT_HOLD 4
+#define SRV_WANT_BITS (2 * NET_WANT_VIEWS_SHIFT) /* the bits of a net_frames_wanted_apart
+                                                    mask */
 #define SRV_LEAF_EVERY 3   /* snapshots between leaf frames (10 per second at 30/s): leaves
                               carry their spawn tick, so batching them costs no accuracy
                               and saves a WebSocket message per client per snapshot */
@@ -126,8 +128,9 @@ struct srv {
     int cur;                     /* the qbuf the next snapshot tick fills */
     int qlast[2];                /* the qbufs of the last snapshot and the one before */
     srv_stream shared;           /* the whole-scene stream (net_snap.stream 0) */
-    int want_hold[2];            /* snapshots still to carry the keyframe, delta1
-                                    (srv_publish.c frames_to_encode) */
+    int want_hold[SRV_WANT_BITS]; /* snapshots still to carry each wanted frame, by bit of
+                                    a net_frames_wanted_apart mask (srv_publish.c
+                                    frames_to_encode) */
     wire_lanes lanes;            /* the encoders' lanes on the scene's tick_threads */
     uint32_t seq;
     int ticks_per_snap;
@@ -141,11 +144,17 @@ struct srv {
     bool dmg_full_due;
     unsigned long long dmg_heals;/* heals seen (damage_counts.heals) */
     wire_damage *dmg_state;      /* owned [WIRE_MAX_DAMAGE] */
-    /* welcome template (lws thread) */
+    /* the welcome's scene part (srv_welcome.c), under ctl_lock: what it is built from,
+     * and the text built once per scene that every connection's welcome shares */
     ctl_species *wspecies;       /* owned [n_species] */
     ctl_instance *winst;         /* owned [n_trees] */
     ctl_scenario_info *wscen;    /* owned [n_wscen]: the library, as a kiosk chooses */
     uint32_t n_wscen;
+    net_shared *wbody;           /* one reference: the scene part's text; NULL before the
+                                    first build */
+    bool wstale;                 /* the scene changed since wbody was built */
+    unsigned long long wbuilds;  /* builds of wbody */
+    double wbuild_ms;            /* the last build's time [ms] */
     /* float history for tests */
     pthread_mutex_t hist_lock;
     float *hist;                 /* owned [history][n_trees * stride] */
@@ -203,6 +212,19 @@ struct srv {
 int srv_control_serial(void *user, net_peer *p, const char *text, size_t len, char **reply,
                        size_t *reply_len, char *why, size_t why_cap);
 void srv_closed_serial(void *user, const net_peer *p);
+
+/* srv_welcome.c, under s->ctl_lock (or before the server runs). srv_welcome_build encodes
+ * the welcome's scene part from wspecies, winst, wscen and the scene's obstacles into
+ * s->wbody, 0 or an error; srv_welcome_stale says they changed (a new scene), so the next
+ * hello's welcome is built anew; connections sending the old one finish it. srv_welcome
+ * answers connection p's hello: 0 with *reply (malloc'd, *len bytes) and, where
+ * p->shared_ok, *tail (one reference to the shared scene part, which the message goes on
+ * with), else the whole text in *reply; or WIRE_CLOSE_BAD_FIELD with why. */
+int srv_welcome_build(srv *s, gale_err *err);
+void srv_welcome_stale(srv *s);
+int srv_welcome(srv *s, const net_peer *p, int ctl_role, char **reply, size_t *len,
+                net_shared **tail, char *why, size_t why_cap);
+void srv_welcome_fini(srv *s);
 
 /* srv_control.c, lws thread: net_desc.control and net_desc.closed. */
 int srv_on_control(void *user, net_peer *p, const char *text, size_t len, char **reply,

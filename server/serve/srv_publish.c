@@ -39,23 +39,39 @@ static int encode_wind(srv *s, wire_header *h, net_snap *p, gale_err *e)
                             &p->extra_len[SRV_EXTRA_WIND], e);
 }
 
-/* The frames this snapshot carries besides delta2 (srv_stream_encode): those the
- * connections want now, and each for SRV_WANT_HOLD snapshots after it was last wanted. */
+/* The frames this snapshot carries of the shared stream and the view streams (a
+ * net_frames_wanted_apart mask): those the connections want now, and each for SRV_WANT_HOLD
+ * snapshots after it was last wanted. */
 static unsigned frames_to_encode(srv *s)
 {
-    const unsigned want = net_frames_wanted(s->net);
-    const unsigned bit[2] = { NET_WANT_KEY, NET_WANT_DELTA1 };
+    const unsigned want = net_frames_wanted_apart(s->net);
     unsigned out = 0;
-    for (int b = 0; b < 2; b++) {
-        if (want & bit[b]) {
+    for (int b = 0; b < SRV_WANT_BITS; b++) {
+        if (want & 1u << b) {
             s->want_hold[b] = SRV_WANT_HOLD;
         }
         if (s->want_hold[b] > 0) {
             s->want_hold[b]--;
-            out |= bit[b];
+            out |= 1u << b;
         }
     }
     return out;
+}
+
+/* The shared stream's frames of this snapshot into p: none when no connection follows it
+ * (on a landscape whose viewers all send views, a whole-scene keyframe a snapshot would
+ * cost the ticks their time for nobody), the stream then starting over at the next. */
+static int encode_shared(srv *s, const wire_header *h, const srv_qhist *qh, unsigned want,
+                         net_snap *p, gale_err *e)
+{
+    if (!want) {
+        srv_stream_skip(&s->shared);
+        p->seq = s->seq;
+        p->stream = 0;
+        p->key_len = p->delta1_len = p->delta2_len = 0;
+        return 0;
+    }
+    return srv_stream_encode(&s->shared, h, s->seq, &s->wscene, qh, want, p, e);
 }
 
 void srv_publish(srv *s, uint32_t tick)
@@ -83,7 +99,7 @@ void srv_publish(srv *s, uint32_t tick)
         wire_header h = { .tick = tick, .server_time_us = mono_us() };
         gale_err e;
         const unsigned want = frames_to_encode(s);
-        int rc = srv_stream_encode(&s->shared, &h, s->seq, &s->wscene, &qh, want, p, &e);
+        int rc = encode_shared(s, &h, &qh, NET_WANT_SHARED(want), p, &e);
         if (!rc && s->coarse && s->seq % SRV_WIND_EVERY == 1) {
             rc = encode_wind(s, &h, p, &e);
         }
@@ -106,7 +122,8 @@ void srv_publish(srv *s, uint32_t tick)
             srv_stream_skip(&s->shared);
             srv_views_gap(s);
         } else {
-            srv_views_post(s, &h, s->seq, want, p, qi); /* before net_publish bundles p */
+            /* before net_publish bundles p */
+            srv_views_post(s, &h, s->seq, NET_WANT_VIEWS(want), p, qi);
             net_publish(s->net, p);
         }
     } else {
