@@ -2,7 +2,8 @@
 // hysteresis per tree, under the frame's hard budget. The budget is met without sorting
 // the trees: their distances go into a histogram per species, and the largest scale of
 // the policy's distances whose worst case (every tree at the finest level its hysteresis
-// could keep, at its bin's near edge) fits the budget is taken; the trees' levels are
+// could keep, at its bin's near edge) fits the budget is taken (FULL's and THIN's; the
+// impostors' reach only when they alone, 2 triangles a tree, would not fit); the trees' levels are
 // then chosen at that scale, each no finer than that worst case, so the frame never costs
 // more than the histogram said. Between THIN and IMPOSTOR a tree cross-fades over the last
 // LOD_FADE_SHARE of THIN's outer distance: a share of it in the impostor that grows with
@@ -15,10 +16,11 @@ const BINS = 512;
 const SCALE_STEP = 0.9; // the budget's search: the distances scaled down by this a try
 const SCALE_MIN = 1e-3;
 
-// The level of distance d at distance scale s (policy distances × s), NONE past the last.
-export function levelAt(d, s) {
-    for (let l = 0; l < LOD_LEVELS; l++) if (d < LOD_OUTER_M[l] * s) return l;
-    return LOD.NONE;
+// The level of distance d at distance scale s (the policy's distances × s) and the last
+// level's scale sf (its outer distance × sf), NONE past the last.
+export function levelAt(d, s, sf = 1) {
+    for (let l = 0; l < LOD_LEVELS - 1; l++) if (d < LOD_OUTER_M[l] * s) return l;
+    return d < LOD_OUTER_M[LOD_LEVELS - 1] * sf ? LOD_LEVELS - 1 : LOD.NONE;
 }
 
 // The bark mesh's level (the asset's LOD) of a tree at distance d drawn at level `level`.
@@ -29,8 +31,8 @@ export function meshLod(d, level, n_lods) {
 // The share of a tree at distance d in its impostor at distance scale s: 0 inside the last
 // LOD_FADE_SHARE of THIN's outer distance, rising linearly to 1 at that distance.
 export function impostorShare(d, s) {
-    const e = LOD_OUTER_M[LOD.THIN] * s, f = (d / e - (1 - LOD_FADE_SHARE)) / LOD_FADE_SHARE;
-    return f <= 0 ? 0 : f >= 1 ? 1 : f;
+    const e = LOD_OUTER_M[LOD.THIN] * s, e0 = e * (1 - LOD_FADE_SHARE);
+    return d <= e0 ? 0 : d >= e ? 1 : (d - e0) / (e - e0);
 }
 
 // Draw calls a frame's trees cost besides the per species ones: sky, houses, plates,
@@ -42,13 +44,14 @@ export class LodSelect {
         this.level = new Uint8Array(n_trees).fill(LOD.NONE); // each tree's level last frame it was in view
         this.seen = new Uint32Array(n_trees); // the frame it was last in view (0: never)
         this.frame = 0;
-        this.scale = 1; // the budget's scale of the policy's distances, last frame
+        this.scale = 1; // the budget's scale of FULL's and THIN's distances, last frame
+        this.scaleFar = 1; // and of the impostors' reach
         this.hist = null;
     }
 
     // The farthest distance the next frame may draw: the cull's far_m.
     reach_m() {
-        return LOD_OUTER_M[LOD_LEVELS - 1] * Math.min(1, this.scale * LOD_GROW_PER_FRAME) * (1 + LOD_HYSTERESIS);
+        return LOD_OUTER_M[LOD_LEVELS - 1] * Math.min(1, this.scaleFar * LOD_GROW_PER_FRAME) * (1 + LOD_HYSTERESIS);
     }
 
     // trees[0..n) in view at distances dist, of species speciesOf(t); cost[s][level][mesh
@@ -58,12 +61,13 @@ export class LodSelect {
     // THIN); lying[t]: 1 for a tree never drawn as an impostor (null: none). Writes each
     // tree's level into out[0..n) and its share in its impostor into share[0..n) (0 < share
     // < 1: drawn both at THIN and as an impostor; 1: as an impostor alone, also at THIN
-    // kept by the hysteresis), and returns { scale, and the worst
-    // case's triangles, trees, nodes, draws }.
+    // kept by the hysteresis), and returns { scale, scale_far (the impostors' reach's),
+    // and the worst case's triangles, trees, nodes, draws }.
     select(trees, dist, n, speciesOf, cost, out, budget = {}, nodes = [], lying = null, share = null) {
         const maxTris = budget.triangles ?? LOD_BUDGET_TRIANGLES, maxTrees = budget.trees ?? LOD_BUDGET_TREES;
         const maxNodes = budget.nodes ?? LOD_BUDGET_NODES, maxDraws = (budget.draws ?? LOD_BUDGET_DRAWS) - LOD_DRAWS_FIXED;
-        const sMax = Math.min(1, this.scale * LOD_GROW_PER_FRAME), reach = LOD_OUTER_M[LOD_LEVELS - 1] * sMax * (1 + LOD_HYSTERESIS);
+        const sMax = Math.min(1, this.scale * LOD_GROW_PER_FRAME), fMax = Math.min(1, this.scaleFar * LOD_GROW_PER_FRAME);
+        const reach = LOD_OUTER_M[LOD_LEVELS - 1] * fMax * (1 + LOD_HYSTERESIS);
         const ns = cost.length, w = reach / BINS;
         // the standing trees' bins, then the lying ones' (at most THIN)
         if (!this.hist || this.hist.length !== 2 * ns * BINS) this.hist = new Uint32Array(2 * ns * BINS);
@@ -80,7 +84,7 @@ export class LodSelect {
         // THIN's outer distance and an impostor from its fade on (the fade ignores the
         // hysteresis); the draws: per species the skeleton pass's two, a bark mesh and a
         // leaf level each, one for its impostors
-        const worst = (sc) => {
+        const worst = (sc, sf) => {
             let tris = 0, count = 0, posed = 0, draws = 0;
             const e = LOD_OUTER_M[LOD.THIN] * sc, e0 = e * (1 - LOD_FADE_SHARE);
             for (let s = 0; s < ns; s++) {
@@ -93,7 +97,7 @@ export class LodSelect {
                         const k = hist[(ly * ns + s) * BINS + b];
                         if (!k) continue;
                         const d = b * w;
-                        let l = levelAt(d, sc * (1 + LOD_HYSTERESIS));
+                        let l = levelAt(d, sc * (1 + LOD_HYSTERESIS), sf * (1 + LOD_HYSTERESIS));
                         if (l === LOD.NONE) break;
                         let thin = l === LOD.THIN, bill = false;
                         if (l === LOD.IMPOSTOR && ly) thin = true;
@@ -131,20 +135,29 @@ export class LodSelect {
         // grown when that fits; else last frame's scale when it still fits (a view at the
         // budget's edge keeps its distances); else down until it fits
         const over = (r) => r.tris > maxTris || r.count > maxTrees || r.posed > maxNodes || r.draws > maxDraws;
-        let sc = sMax, wc = worst(sc);
+        let sc = sMax, sf = fMax, wc = worst(sc, sf);
         if (over(wc) && sc > this.scale) {
             sc = this.scale;
-            wc = worst(sc);
+            wc = worst(sc, sf);
         }
         while (over(wc) && sc > SCALE_MIN) {
             sc *= SCALE_STEP;
-            wc = worst(sc);
+            wc = worst(sc, sf);
+        }
+        // the impostors alone over the budget (hundreds of thousands in view): their reach in
+        if (over(wc) && sf > this.scaleFar) {
+            sf = this.scaleFar;
+            wc = worst(sc, sf);
+        }
+        while (over(wc) && sf > SCALE_MIN) {
+            sf *= SCALE_STEP;
+            wc = worst(sc, sf);
         }
         // closer to the edge of the budget between a fitting scale and the step above it
         if (sc < this.scale || (sc < sMax && !over(wc))) {
             let hiS = Math.min(sMax, sc / SCALE_STEP);
             for (let k = 0; k < 4 && !over(wc); k++) {
-                const mid = 0.5 * (sc + hiS), wm = worst(mid);
+                const mid = 0.5 * (sc + hiS), wm = worst(mid, sf);
                 if (over(wm)) hiS = mid;
                 else {
                     sc = mid;
@@ -153,14 +166,15 @@ export class LodSelect {
             }
         }
         this.scale = sc;
-        const f = ++this.frame, lo = sc * (1 - LOD_HYSTERESIS), hi = sc * (1 + LOD_HYSTERESIS);
+        this.scaleFar = sf;
+        const f = ++this.frame, lo = 1 - LOD_HYSTERESIS, hi = 1 + LOD_HYSTERESIS;
         for (let i = 0; i < n; i++) {
             const t = trees[i], d = dist[i];
-            let l = levelAt(d, sc), sh = 0;
+            let l = levelAt(d, sc, sf), sh = 0;
             const p = this.seen[t] === f - 1 ? this.level[t] : LOD.NONE;
             if (!cost[speciesOf(t)] || Math.floor(d / w) >= BINS) l = LOD.NONE;
-            else if (p !== LOD.NONE && l > p) l = Math.max(p, levelAt(d, hi)); // coarser: only past the widened edge
-            else if (p !== LOD.NONE && l < p) l = Math.min(p, levelAt(d, lo)); // finer: only inside the narrowed edge
+            else if (p !== LOD.NONE && l > p) l = Math.max(p, levelAt(d, sc * hi, sf * hi)); // coarser: only past the widened edge
+            else if (p !== LOD.NONE && l < p) l = Math.min(p, levelAt(d, sc * lo, sf * lo)); // finer: only inside the narrowed edge
             if (l === LOD.THIN || l === LOD.IMPOSTOR) {
                 if (lying && lying[t]) l = LOD.THIN;
                 else {
@@ -176,6 +190,6 @@ export class LodSelect {
             this.level[t] = l;
             this.seen[t] = l === LOD.NONE ? 0 : f;
         }
-        return { scale: sc, triangles: wc.tris, trees: wc.count, nodes: wc.posed, draws: wc.draws + LOD_DRAWS_FIXED };
+        return { scale: sc, scale_far: sf, triangles: wc.tris, trees: wc.count, nodes: wc.posed, draws: wc.draws + LOD_DRAWS_FIXED };
     }
 }

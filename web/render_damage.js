@@ -2,7 +2,7 @@
 // branches' cut lists, the debris pieces in the slots after the trees, and the root
 // plates and stumps drawn (plate.vert, stump.vert). Renderer (web/render_gl.js) takes
 // these methods as its own.
-import { MAX_DEBRIS } from './damage.js';
+import { MAX_DEBRIS, damageCutMask } from './damage.js';
 import { RU } from './render_data.js';
 
 const PLATE_SEG = 24, STUMP_SEG = 12; // shaders/plate.vert, stump.vert

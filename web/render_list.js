@@ -161,6 +161,7 @@ export class RendererList {
         this.stats.levels = perLevel;
         this.stats.impostors = ni;
         this.stats.lod_scale = sel.scale;
+        this.stats.lod_scale_far = sel.scale_far;
         this.stats.lod_worst = sel;
         this.stats.cells_in_view = o.cells_in_view;
         this.stats.cull_ms = performance.now() - t0;
