@@ -101,47 +101,69 @@ const near = (a, b, tol, what) => assert.ok(Math.abs(a - b) <= tol, `${what}: ${
         treeData: new Float32Array(8 * N), dataTex: (c, n) => ({ w: n, n }) });
     r.setupCulling(rows);
     const w = 1280, h = 720, fovy = 50 * Math.PI / 180;
-    // above the square's south-west corner, looking across it to the north-east
-    const eye = [-1150, -1150, 600], target = [0, 0, 0];
-    const view = lookAt(eye, target, [0, 0, 1]), viewproj = mul(perspective(fovy, w / h, 0.3, 3000), view);
-    r.viewproj = viewproj;
-    const frames = [];
-    let out;
-    for (let k = 0; k < 8; k++) {
-        const t0 = performance.now();
-        out = r.drawList({ eye }, null);
-        frames.push(performance.now() - t0);
+    // above the square's south-west corner, looking across it to the north-east; then low
+    // over its middle (FULL and THIN near, fading, the budget's scale below 1, the
+    // impostors' reach whole)
+    for (const [name, eye, target] of [['aerial', [-1150, -1150, 600], [0, 0, 0]], ['low', [-100, -100, 40], [200, 150, 0]]]) {
+        const view = lookAt(eye, target, [0, 0, 1]), viewproj = mul(perspective(fovy, w / h, 0.3, 3000), view);
+        r.viewproj = viewproj;
+        const frames = [];
+        let out;
+        for (let k = 0; k < 8; k++) {
+            const t0 = performance.now();
+            out = r.drawList({ eye }, null);
+            frames.push(performance.now() - t0);
+        }
+        // in view by brute force: the box of half-side its height about its base not wholly
+        // outside a plane, its middle within IMPOSTOR's outer distance
+        const pl = frustumPlanes(viewproj);
+        let inView = 0;
+        for (let t = 0; t < N; t++) {
+            const [s, x, y, z, , sc] = rows[t], hh = species[s].height * sc;
+            const d = Math.hypot(x - eye[0], y - eye[1], z + hh / 2 - eye[2]);
+            if (d < LOD_OUTER_M[LOD.IMPOSTOR] && boxInFrustum(pl, x - hh, y - hh, z - hh, x + hh, y + hh, z + hh) >= 0) inView++;
+        }
+        const st = r.stats;
+        // the triangles and draws the passes issue (web/render_gl.js draw): per group its
+        // skeleton pass (2), a bark mesh and a leaf level each, per species its impostors
+        let tris = 0, draws = 8, rowsPosed = 0;
+        for (const g of out.groups) {
+            const sp = species[g.s], lvl = r.leafLevels(sp);
+            draws += 2 + g.bark.length + g.leaves.length;
+            rowsPosed += g.n;
+            for (const [, n, m] of g.bark) tris += n * sp.lod_count[m] / 3;
+            for (const [, n, l] of g.leaves) tris += n * 2 * lvl[l].n;
+        }
+        for (const g of out.imps) {
+            draws++;
+            tris += IMP_TRIANGLES * g.n;
+        }
+        const sorted = frames.slice(1).sort((a, b) => a - b);
+        console.log(JSON.stringify({ camera: name, trees: N, in_view: inView, drawn: st.trees_drawn, levels: st.levels, impostors: st.impostors, triangles: tris, draws,
+            scale: st.lod_scale, scale_far: st.lod_scale_far, cull_lod_ms: { first: frames[0], median: sorted[sorted.length >> 1], max: sorted[sorted.length - 1] } }));
+        assert.ok(inView > (name === 'aerial' ? 50000 : 5000), `${inView} trees in view: expected most of the square`);
+        assert.equal(st.trees_drawn, inView, `${name}: every tree in view drawn`);
+        assert.ok(st.impostors > 0.9 * inView, `${name}: ${st.impostors} impostors of ${inView} trees`);
+        assert.ok(tris <= LOD_BUDGET_TRIANGLES, `${name}: ${tris} triangles`);
+        assert.ok(draws <= LOD_BUDGET_DRAWS, `${name}: ${draws} draws`);
+        assert.ok(rowsPosed <= LOD_BUDGET_TREES, `${name}: ${rowsPosed} trees posed`);
+        if (name === 'low') assert.ok(st.levels[LOD.FULL] + st.levels[LOD.THIN] > 0 && st.lod_scale < 1, `${name}: ${st.levels} at scale ${st.lod_scale}`);
+        // a tree fading is drawn both ways, THIN keeping the pixels its impostor leaves
+        // (dither_keep: THIN 1 − share, the impostor −share)
+        const thinFade = new Map();
+        for (let row = 0; row < out.rows; row++) thinFade.set(r.listData[4 * row], r.listData[4 * row + 3]);
+        let fading = 0;
+        for (let e = 0; e < st.impostors; e++) {
+            const t = r.impData[4 * e], f = r.impData[4 * e + 3];
+            if (f === 1) {
+                assert.ok(!thinFade.has(t), `${name}: tree ${t} wholly an impostor also posed`);
+                continue;
+            }
+            fading++;
+            assert.ok(f < 0 && f > -1 && thinFade.has(t), `${name}: tree ${t} fading (${f}) without its THIN row`);
+            near(thinFade.get(t), 1 + f, 1e-6, `${name}: tree ${t}'s THIN fade`);
+        }
+        if (name === 'low') assert.ok(fading > 0, `${name}: no tree fading`);
     }
-    // in view by brute force: the box of half-side its height about its base not wholly
-    // outside a plane, its middle within IMPOSTOR's outer distance
-    const pl = frustumPlanes(viewproj);
-    let inView = 0;
-    for (let t = 0; t < N; t++) {
-        const [s, x, y, z, , sc] = rows[t], hh = species[s].height * sc;
-        const d = Math.hypot(x - eye[0], y - eye[1], z + hh / 2 - eye[2]);
-        if (d < LOD_OUTER_M[LOD.IMPOSTOR] && boxInFrustum(pl, x - hh, y - hh, z - hh, x + hh, y + hh, z + hh) >= 0) inView++;
-    }
-    const st = r.stats;
-    // the triangles and draws the passes issue (web/render_gl.js draw): per group its
-    // skeleton pass (2), a bark mesh and a leaf level each, per species its impostors
-    let tris = 0, draws = 8;
-    for (const g of out.groups) {
-        const sp = species[g.s], lvl = r.leafLevels(sp);
-        draws += 2 + g.bark.length + g.leaves.length;
-        for (const [, n, m] of g.bark) tris += n * sp.lod_count[m] / 3;
-        for (const [, n, l] of g.leaves) tris += n * 2 * lvl[l].n;
-    }
-    for (const g of out.imps) {
-        draws++;
-        tris += IMP_TRIANGLES * g.n;
-    }
-    const sorted = frames.slice(1).sort((a, b) => a - b);
-    console.log(JSON.stringify({ trees: N, in_view: inView, drawn: st.trees_drawn, levels: st.levels, impostors: st.impostors, triangles: tris, draws, scale: st.lod_scale,
-        cull_lod_ms: { first: frames[0], median: sorted[sorted.length >> 1], max: sorted[sorted.length - 1] } }));
-    assert.ok(inView > 50000, `${inView} trees in view: expected most of the square`);
-    assert.equal(st.trees_drawn, inView, 'every tree in view drawn');
-    assert.ok(st.impostors > 0.9 * inView, `${st.impostors} impostors of ${inView} trees`);
-    assert.ok(tris <= LOD_BUDGET_TRIANGLES, `${tris} triangles`);
-    assert.ok(draws <= LOD_BUDGET_DRAWS, `${draws} draws`);
 }
 console.log(JSON.stringify({ ok: true }));

@@ -85,6 +85,7 @@ try {
     assert.ok(posed <= LOD_BUDGET_TREES, `${posed} trees posed`);
     // the aerial frame: the trees past THIN as impostors, most of the forest in view
     assert.ok(s.lod.impostors > 10000 && s.lod.trees_drawn > 10000, `${s.lod.impostors} impostors, ${s.lod.trees_drawn} trees drawn`);
+    assert.ok(s.lod.triangles >= 2 * s.lod.impostors, `${s.lod.triangles} triangles drawn for ${s.lod.impostors} impostors`);
     out.first = s.lod;
     await waitFor(page, (n) => window.gale.framesDrawn >= n, 3, 120, 'three frames');
     const aerial = await page.evaluate(() => window.gale.still(true));
