@@ -35,6 +35,12 @@ export function impostorShare(d, s) {
     return d <= e0 ? 0 : d >= e ? 1 : (d - e0) / (e - e0);
 }
 
+function bitCount(x) {
+    let m = 0;
+    for (; x; x &= x - 1) m++;
+    return m;
+}
+
 // Draw calls a frame's trees cost besides the per species ones: sky, houses, plates,
 // stumps, falling leaves, rain, and a debris piece's meshes.
 export const LOD_DRAWS_FIXED = 8;
@@ -127,8 +133,7 @@ export class LodSelect {
                         }
                     }
                 }
-                const bits = (x) => { let m = 0; for (; x; x &= x - 1) m++; return m; };
-                draws += (levels ? 2 : 0) + bits(meshes) + bits(levels) + (imp ? 1 : 0);
+                draws += (levels ? 2 : 0) + bitCount(meshes) + bitCount(levels) + (imp ? 1 : 0);
             }
             return { tris, count, posed, draws };
         };
