@@ -4,7 +4,8 @@
 //   allowed), culled and levelled within the budget of web/lod_policy.js (draw calls,
 //   triangles, trees posed); its default camera is aerial (the forest's middle 1,040 m off,
 //   30° down), where every tree in view past THIN is an impostor: the frame draws most of
-//   the 20,000 trees, and its picture is saved as aerial.png in WORK_DIR; 350 m off, THIN
+//   the 20,000 trees, and its picture is saved as aerial.png in WORK_DIR; the impostors'
+//   quads sway as web/imp_sway.js computes (corners read back within 1 mm); 350 m off, THIN
 //   trees near, fading into their impostors, impostors beyond (aerial_low.png);
 // - it sends the server a view of its frustum; moved into a corner of the forest, looking
 //   across it, a new view, its eye the camera's, which the server follows: the stream
@@ -17,6 +18,7 @@ import path from 'node:path';
 import { writeFileSync } from 'node:fs';
 import zlib from 'node:zlib';
 import { args, startServer, startBrowser, waitFor } from './harness.mjs';
+import { impostorSwayCheck } from './imp_feedback.mjs';
 import { LOD_BUDGET_TRIANGLES, LOD_BUDGET_DRAWS, LOD_BUDGET_TREES } from '../../web/lod_policy.js';
 
 const [server, work, config] = args('usage: node test_web_large.mjs GALE_SERVER WORK_DIR SCENE.json');
@@ -89,6 +91,11 @@ try {
     out.first = s.lod;
     await waitFor(page, (n) => window.gale.framesDrawn >= n, 3, 120, 'three frames');
     const aerial = await page.evaluate(() => window.gale.still(true));
+    // the impostors sway as web/imp_sway.js says: the vertex stage's corners against the CPU's
+    out.sway = await impostorSwayCheck(page);
+    step(`impostor sway: ${JSON.stringify(out.sway)}`);
+    assert.ok(out.sway.length >= 3 && out.sway.some((c) => c.max_sway_m > 0.05), `the impostors checked hardly sway: ${JSON.stringify(out.sway)}`);
+    for (const c of out.sway) assert.ok(c.max_err_m < 1e-3, `impostor of tree ${c.tree}: a corner ${c.max_err_m} m off web/imp_sway.js (sway ${c.max_sway_m} m)`);
     await page.evaluate(() => { window.gale.frozen = false; });
     out.aerial_png = path.join(work, 'aerial.png');
     writeFileSync(out.aerial_png, png(aerial.w, aerial.h, Buffer.from(aerial.pixels, 'base64')));
