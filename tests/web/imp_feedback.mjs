@@ -1,11 +1,23 @@
 // The impostor's vertex stage (web/imp_shader.js) in a page against web/imp_sway.js: the
 // quad's six corners of the `count` impostors of the last frame whose trees' q is largest,
 // read back by transform feedback, beside the same corners on the CPU (the tree's q the
-// blend the page drew with, App.treeQ). For test_web_large; the page is left as it was
-// drawn (the caller freezes it first, so that q and the ring stay the frame's).
+// blend of the frame shown, formed on the CPU). For test_web_large, on a frozen page
+// (App.still).
 export async function impostorSwayCheck(page, count = 5) {
     return page.evaluate(async (count) => {
         const g = window.gale, r = g.r, gl = r.gl;
+        // the frame's blend once more, uploaded, and each tree's q from it on the CPU as the
+        // GPU forms it (snapshots that came since the frame may have taken a slot of the ring)
+        r.setMix(g.jitter.weights(g.shown_s));
+        const qOf = (t) => {
+            const w = r.mix, sp = r.species[r.inst[t][0]];
+            if (!w || t >= r.q_trees) return [0, 0];
+            return [0, 1].map((m) => {
+                let v = 0;
+                for (let k = 0; k < w.n; k++) v += sp.qw[4 * m + k] * w.snaps[k].q[t * r.q_stride + m];
+                return v;
+            });
+        };
         const { IMP_VERT } = await import('/web/imp_shader.js');
         const { PREAMBLE } = await import('/web/shaders.js');
         const { swayOffset } = await import('/web/imp_sway.js');
@@ -26,8 +38,8 @@ export async function impostorSwayCheck(page, count = 5) {
         const out = [];
         const ni = r.stats.impostors, cand = [];
         for (let e = 0; e < ni; e += Math.max(1, Math.floor(ni / 400))) {
-            const t = r.impData[4 * e], q = g.treeQ(t);
-            if (q) cand.push([Math.hypot(q[0], q[1]), t, [q[0], q[1]]]);
+            const t = r.impData[4 * e], q = qOf(t);
+            cand.push([Math.hypot(q[0], q[1]), t, q]);
         }
         cand.sort((a, b) => b[0] - a[0]);
         const tfb = gl.createTransformFeedback(), buf = gl.createBuffer();
