@@ -173,27 +173,31 @@ export class LodSelect {
         this.scale = sc;
         this.scaleFar = sf;
         const f = ++this.frame, lo = 1 - LOD_HYSTERESIS, hi = 1 + LOD_HYSTERESIS;
+        // the edges at this scale, inlined (levelAt), and the arrays read per tree held
+        // here: the loop runs over every tree in view (100,000 from over the landscape)
+        const eFull = LOD_OUTER_M[LOD.FULL] * sc, eThin = LOD_OUTER_M[LOD.THIN] * sc, eFar = LOD_OUTER_M[LOD.IMPOSTOR] * sf;
+        const eFade = eThin * (1 - LOD_FADE_SHARE), drawn = cost.map((c) => !!c), seen = this.seen, level = this.level;
         for (let i = 0; i < n; i++) {
             const t = trees[i], d = dist[i];
-            let l = levelAt(d, sc, sf), sh = 0;
-            const p = this.seen[t] === f - 1 ? this.level[t] : LOD.NONE;
-            if (!cost[speciesOf(t)] || Math.floor(d / w) >= BINS) l = LOD.NONE;
+            let l = d < eFull ? LOD.FULL : d < eThin ? LOD.THIN : d < eFar ? LOD.IMPOSTOR : LOD.NONE, sh = 0;
+            const p = seen[t] === f - 1 ? level[t] : LOD.NONE;
+            if (!drawn[speciesOf(t)] || d >= reach) l = LOD.NONE;
             else if (p !== LOD.NONE && l > p) l = Math.max(p, levelAt(d, sc * hi, sf * hi)); // coarser: only past the widened edge
             else if (p !== LOD.NONE && l < p) l = Math.min(p, levelAt(d, sc * lo, sf * lo)); // finer: only inside the narrowed edge
             if (l === LOD.THIN || l === LOD.IMPOSTOR) {
                 if (lying && lying[t]) l = LOD.THIN;
-                else {
+                else if (d > eFade) {
                     // inside THIN's outer distance THIN, fading; past it the hysteresis
                     // keeps a THIN tree's level, wholly in its impostor (share 1, no
                     // skeleton row), so a camera rocking there flips nothing
                     sh = impostorShare(d, sc);
                     if (sh < 1) l = LOD.THIN;
-                }
+                } else l = LOD.THIN;
             }
             out[i] = l;
             if (share) share[i] = sh;
-            this.level[t] = l;
-            this.seen[t] = l === LOD.NONE ? 0 : f;
+            level[t] = l;
+            seen[t] = l === LOD.NONE ? 0 : f;
         }
         return { scale: sc, scale_far: sf, triangles: wc.tris, trees: wc.count, nodes: wc.posed, draws: wc.draws + LOD_DRAWS_FIXED };
     }
