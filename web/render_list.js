@@ -83,9 +83,11 @@ export class RendererList {
         const base_m = (t) => Math.hypot(g.x[t] - ex, g.y[t] - ey, g.z[t] - ez);
         const keyOf = (s, l, d) => s * K + (l === LOD.FULL ? meshLod(d, l, this.species[s].n_lods) : nl);
         const keys = this.listKeys && this.listKeys.length >= o.n + this.debris.length ? this.listKeys : (this.listKeys = new Int32Array(o.n + this.debris.length + 64));
+        // the arrays read per tree held here: the loops run over every tree in view
+        const lodLevel = this.lodLevel, lodShare = this.lodShare, speciesOf = this.speciesOf, inView = o.trees;
         let n = 0, ni = 0, nt = 0;
         for (let i = 0; i < o.n; i++) {
-            const l = this.lodLevel[i], t = o.trees[i], s = this.speciesOf[t], sh = this.lodShare[i];
+            const l = lodLevel[i], t = inView[i], s = speciesOf[t], sh = lodShare[i];
             keys[i] = -1;
             if (l === LOD.NONE) continue;
             nt++;
@@ -111,32 +113,33 @@ export class RendererList {
         const imp = this.impData && this.impData.length >= 4 * ni ? this.impData : (this.impData = new Float32Array(4 * Math.max(16, 2 * ni)));
         const drawn = this.drawnTrees && this.drawnTrees.length >= n ? this.drawnTrees : (this.drawnTrees = new Int32Array(Math.max(16, 2 * n)));
         const perLevel = [0, 0, 0]; // skeleton rows at FULL and THIN, impostors (a fading tree in both)
+        const treeData = this.treeData, attached = this.leafAttached;
         for (let i = 0; i < o.n + this.debris.length; i++) {
-            const debris = i >= o.n, t = debris ? this.n_trees + i - o.n : o.trees[i];
-            const sh = debris ? 0 : this.lodShare[i];
+            const debris = i >= o.n, t = debris ? this.n_trees + i - o.n : inView[i];
+            const sh = debris ? 0 : lodShare[i];
             if (sh > 0) {
-                // the impostor: tree, its share of leaves left, 0, its fade in (dither_keep:
-                // −sh keeps the pixels that THIN's 1 − sh leaves)
-                const e = impStart[this.speciesOf[t]]++;
+                // the impostor: tree, its share of leaves left (leafLeft), 0, its fade in
+                // (dither_keep: −sh keeps the pixels that THIN's 1 − sh leaves)
+                const e = impStart[speciesOf[t]]++, z = treeData[8 * t + 6];
                 imp[4 * e] = t;
-                imp[4 * e + 1] = this.leafLeft(t);
+                imp[4 * e + 1] = z === 0 ? attached[t] : this.leafLeft(t);
                 imp[4 * e + 2] = 0;
                 imp[4 * e + 3] = sh < 1 ? -sh : 1;
                 perLevel[LOD.IMPOSTOR]++;
             }
             if (keys[i] < 0) continue;
             const row = start[keys[i]]++;
-            const s = debris ? this.debris[i - o.n].species : this.speciesOf[t], sp = this.species[s];
+            const s = debris ? this.debris[i - o.n].species : speciesOf[t], sp = this.species[s];
             // a debris piece: its rest pose needs no modes; a tree past those whose motion
             // the page holds (App: q_trees) is drawn at rest
             // the trees past FULL with the few modes the server sends past lod_m
-            const nm = debris || t >= this.q_trees ? 0 : Math.min(modes ? modes[t] : sp.n_modes, sp.n_modes, LOD_MODES_MAX[this.lodLevel[i]]);
+            const nm = debris || t >= this.q_trees ? 0 : Math.min(modes ? modes[t] : sp.n_modes, sp.n_modes, LOD_MODES_MAX[lodLevel[i]]);
             list[4 * row] = t;
             list[4 * row + 1] = row;
             list[4 * row + 2] = nm;
             list[4 * row + 3] = 1 - sh; // fading out into its impostor
             drawn[row] = t;
-            if (!debris) perLevel[this.lodLevel[i]]++;
+            if (!debris) perLevel[lodLevel[i]]++;
         }
         const groups = [], imps = [];
         for (let s = 0; s < ns; s++) {
