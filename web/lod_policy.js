@@ -22,6 +22,13 @@ export const LOD_OUTER_M = [90, 250, 2500];
 // impostor draws neither: its texture holds both.
 export const LOD_LEAF_SHARE = [1, 1 / 4, 0];
 export const LOD_BARK = [true, true, false];
+
+// The leaves drawn of a species of `count` at a level of share `share`: the share rounded,
+// at least one, none at a share of 0 (the impostor's).
+export function leavesAt(count, share) {
+    if (!count || !(share > 0)) return 0;
+    return Math.min(count, Math.max(1, Math.round(Math.fround(count * share))));
+}
 // The modes a tree of each level is posed with at most: past FULL the server's LOD count
 // (gale-server sends 4 past lod_m), also when it streams the whole scene; the skeleton
 // pass reads every mode of every node, so this is most of a posed tree's cost. An
@@ -40,6 +47,12 @@ export const LOD_FADE_SHARE = 0.2;
 // aerial view of the 2 km landscape is not all fog. A storm scales it (web/storm_fx.js).
 export const FOG_MIN_M = 450;
 export const FOG_PER_SCENE_RADIUS_M = 1.0;
+
+// The calm fog distance [m] of a scene whose trees' box in x, y is lo .. hi [m].
+export function fogForScene(lo, hi) {
+    const radius_m = 0.5 * Math.hypot(hi[0] - lo[0], hi[1] - lo[1]);
+    return Math.max(FOG_MIN_M, FOG_PER_SCENE_RADIUS_M * radius_m);
+}
 
 // A tree moves to a coarser level only past its level's outer distance × (1 + this), and
 // back to a finer one only inside that level's outer distance × (1 − this): a camera

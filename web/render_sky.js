@@ -5,12 +5,12 @@
 import { rainUniforms } from './storm_fx.js';
 import { invert } from './view_math.js';
 import { RU } from './render_data.js';
-import { FOG_MIN_M, FOG_PER_SCENE_RADIUS_M } from './lod_policy.js';
+import { FOG_MIN_M, fogForScene } from './lod_policy.js';
 
 // The calm fog distance [m] of a scene of instance rows [species, x, y, ...]
-// (web/lod_policy.js): max(FOG_MIN_M, FOG_PER_SCENE_RADIUS_M × half the diagonal of the
-// trees' bounding box in x, y).
+// (web/lod_policy.js fogForScene over the trees' bounding box in x, y).
 export function sceneFog_m(rows) {
+    if (!rows.length) return FOG_MIN_M;
     let x0 = Infinity, y0 = Infinity, x1 = -Infinity, y1 = -Infinity;
     for (const r of rows) {
         x0 = Math.min(x0, r[1]);
@@ -18,8 +18,7 @@ export function sceneFog_m(rows) {
         y0 = Math.min(y0, r[2]);
         y1 = Math.max(y1, r[2]);
     }
-    const radius_m = rows.length ? 0.5 * Math.hypot(x1 - x0, y1 - y0) : 0;
-    return Math.max(FOG_MIN_M, FOG_PER_SCENE_RADIUS_M * radius_m);
+    return fogForScene([x0, y0], [x1, y1]);
 }
 
 export class RendererSky {
