@@ -1,8 +1,9 @@
 // The client's level-of-detail policy: which trees a frame draws and how finely, and what
 // the page asks the server to stream. One place for the numbers, so that the native client
 // can mirror them. Distances are from the eye to a tree's middle (its base raised by half
-// its height) [m]; a frame's budget pushes every distance in by one factor when the trees
-// in view would cost more (web/lod_select.js).
+// its height) [m]; a frame's budget pushes FULL's and THIN's distances in by one factor
+// when the trees in view would cost more, the impostors' only when they alone would
+// (web/lod_select.js).
 
 // Levels, finest first. NONE: not drawn.
 export const LOD = { FULL: 0, THIN: 1, IMPOSTOR: 2, NONE: 255 };
@@ -29,6 +30,7 @@ export function leavesAt(count, share) {
     if (!count || !(share > 0)) return 0;
     return Math.min(count, Math.max(1, Math.round(Math.fround(count * share))));
 }
+
 // The modes a tree of each level is posed with at most: past FULL the server's LOD count
 // (gale-server sends 4 past lod_m), also when it streams the whole scene; the skeleton
 // pass reads every mode of every node, so this is most of a posed tree's cost. An
