@@ -384,8 +384,8 @@ export class App {
     followView(now_s) {
         const r = this.r;
         if (!r.view || !this.conn) return;
-        const sc = r.stats.lod_scale || 1;
-        if (this.followCamera) this.views.update(frustumView(frustumCone(r.view, r.viewproj), VIEW_FAR_M * sc, VIEW_LOD_M * sc), now_s);
+        const sc = r.stats.lod_scale || 1, sf = r.stats.lod_scale_far || 1;
+        if (this.followCamera) this.views.update(frustumView(frustumCone(r.view, r.viewproj), VIEW_FAR_M * sf, VIEW_LOD_M * sc), now_s);
         this.conn.o.view = this.views.sent;
         const b = this.bytesSeen;
         if (!b.length || now_s - b[b.length - 1][0] >= 0.5) {
@@ -395,15 +395,17 @@ export class App {
     }
 
     // What the frames cost and what the stream carries, for tests and the benchmark: the
-    // last frame's draw calls, triangles and vertices, trees drawn per level, the cull's CPU
+    // last frame's draw calls, triangles and vertices, trees drawn per level (a tree fading
+    // into its impostor in both THIN and impostor), impostors drawn, the cull's CPU
     // time, views sent, the stream's bytes a second over the last few seconds (page
     // time: frames and views only advance while the page draws) and trees a snapshot.
     lodStats() {
         const s = this.r.stats, b = this.bytesSeen, now = performance.now() * 1e-3;
         const bytes = this.conn ? this.conn.stats.bytes : 0;
         return { draws: s.draws, triangles: s.triangles, vertices: s.vertices, trees_drawn: s.trees_drawn,
-            trees_per_level: { full: (s.levels || [])[0] || 0, thin: (s.levels || [])[1] || 0, sparse: (s.levels || [])[2] || 0 },
-            cull_ms: s.cull_ms, lod_scale: s.lod_scale, cells_in_view: s.cells_in_view, views_sent: this.views.count, view: this.views.sent,
+            trees_per_level: { full: (s.levels || [])[0] || 0, thin: (s.levels || [])[1] || 0, impostor: (s.levels || [])[2] || 0 },
+            impostors: s.impostors || 0, lod_worst: s.lod_worst,
+            cull_ms: s.cull_ms, lod_scale: s.lod_scale, lod_scale_far: s.lod_scale_far, cells_in_view: s.cells_in_view, views_sent: this.views.count, view: this.views.sent,
             stream_bytes_per_s: b.length && now > b[0][0] ? (bytes - b[0][1]) / (now - b[0][0]) : null,
             trees_per_snapshot: this.treesSent, trees_held: this.qTrees, reduced: this.reduced };
     }

@@ -96,7 +96,11 @@ export function decodeAsset(bytes, name = 'asset') {
     a.n_modes = u32('n_modes');
     const nmn = a.n_modes * a.n_nodes;
     if (a.n_modes > 256 || nmn > (1 << 23)) fail('n_modes', p - 4, `count ${a.n_modes} over the limit`);
-    p = end; // omega, gamma, wind basis, phi: the server's; the pose uses CORR
+    // omega, gamma and the wind basis are the server's; the pose uses CORR, a far tree's
+    // impostor phi (its crown's sway, web/imp_sway.js); phi_rot is the server's
+    p += 4 * 5 * a.n_modes;
+    a.phi = f32s(3 * nmn, 'phi');
+    p = end;
     end = section('CORR');
     const has = u32('has_correction');
     if (has > 1) fail('has_correction', p - 4, `expected 0 or 1, got ${has}`);

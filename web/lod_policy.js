@@ -1,29 +1,60 @@
 // The client's level-of-detail policy: which trees a frame draws and how finely, and what
 // the page asks the server to stream. One place for the numbers, so that the native client
 // can mirror them. Distances are from the eye to a tree's middle (its base raised by half
-// its height) [m]; a frame's budget pushes every distance in by one factor when the trees
-// in view would cost more (web/lod_select.js).
+// its height) [m]; a frame's budget pushes FULL's and THIN's distances in by one factor
+// when the trees in view would cost more, the impostors' only when they alone would
+// (web/lod_select.js).
 
 // Levels, finest first. NONE: not drawn.
-export const LOD = { FULL: 0, THIN: 1, SPARSE: 2, NONE: 255 };
+export const LOD = { FULL: 0, THIN: 1, IMPOSTOR: 2, NONE: 255 };
 export const LOD_LEVELS = 3;
 
 // Outer distance of each level [m]: every leaf and the finer bark meshes within FULL (the
 // clearing's and the town block's near trees look as they always did); past it a
 // deterministic subset of the leaves, each scaled up so the crown covers as much, on the
-// coarsest bark mesh; past THIN fewer leaves still and no bark (the coarsest bark mesh
-// costs more than the leaves: an oak's 4,024 triangles against 664 for a sixteenth of its
-// leaves, and at that range the crown hides the trunk); past SPARSE none.
-export const LOD_OUTER_M = [90, 250, 1400];
+// coarsest bark mesh; past THIN the species' impostor (Singh section 2, Oliapuram LOD:
+// a quad turned about the vertical toward the eye, the tree at rest seen from the side),
+// two triangles a tree and no skeleton row, so that every tree of a 2 km landscape in
+// view can be drawn; past IMPOSTOR none.
+export const LOD_OUTER_M = [90, 250, 2500];
 
 // The share of a species' leaves drawn at each level (1 / a whole number), each drawn
-// √(1 / share) larger so that the leaves' area stays the crown's; whether its bark is.
-export const LOD_LEAF_SHARE = [1, 1 / 4, 1 / 16];
+// √(1 / share) larger so that the leaves' area stays the crown's; whether its bark is. An
+// impostor draws neither: its texture holds both.
+export const LOD_LEAF_SHARE = [1, 1 / 4, 0];
 export const LOD_BARK = [true, true, false];
+
+// The leaves drawn of a species of `count` at a level of share `share`: the share rounded,
+// at least one, none at a share of 0 (the impostor's).
+export function leavesAt(count, share) {
+    if (!count || !(share > 0)) return 0;
+    return Math.min(count, Math.max(1, Math.round(Math.fround(count * share))));
+}
+
 // The modes a tree of each level is posed with at most: past FULL the server's LOD count
 // (gale-server sends 4 past lod_m), also when it streams the whole scene; the skeleton
-// pass reads every mode of every node, so this is most of a far tree's cost.
-export const LOD_MODES_MAX = [64, 4, 4];
+// pass reads every mode of every node, so this is most of a posed tree's cost. An
+// impostor sways with its lowest LOD_IMPOSTOR_MODES (web/imp_sway.js).
+export const LOD_MODES_MAX = [64, 4, 2];
+export const LOD_IMPOSTOR_MODES = 2;
+
+// The last share of THIN's outer distance where a tree is drawn both ways, THIN dithered
+// out and its impostor dithered in (the screen door of shaders/common.glsl dither_keep:
+// the two keep complementary pixels), so that no tree pops as it crosses the edge.
+export const LOD_FADE_SHARE = 0.2;
+
+// The calm fog distance [m]: max(FOG_MIN_M, FOG_PER_SCENE_RADIUS_M × the scene's radius),
+// the radius half the diagonal of the trees' bounding box in x, y (web/render_sky.js), so
+// that the clearing keeps the native renderer's 450 m (client/render/render.c) and an
+// aerial view of the 2 km landscape is not all fog. A storm scales it (web/storm_fx.js).
+export const FOG_MIN_M = 450;
+export const FOG_PER_SCENE_RADIUS_M = 1.0;
+
+// The calm fog distance [m] of a scene whose trees' box in x, y is lo .. hi [m].
+export function fogForScene(lo, hi) {
+    const radius_m = 0.5 * Math.hypot(hi[0] - lo[0], hi[1] - lo[1]);
+    return Math.max(FOG_MIN_M, FOG_PER_SCENE_RADIUS_M * radius_m);
+}
 
 // A tree moves to a coarser level only past its level's outer distance × (1 + this), and
 // back to a finer one only inside that level's outer distance × (1 − this): a camera
@@ -34,8 +65,8 @@ export const LOD_HYSTERESIS = 0.08;
 // as gale-client's render picks them); coarser levels take the asset's coarsest.
 export const LOD_MESH_STEP_M = 30;
 
-// A frame's hard budget (a 1920×1080 picture on a modest GPU): triangles of bark and leaves
-// together, trees posed by the skeleton pass (one row of each skeleton texture, as
+// A frame's hard budget (a 1920×1080 picture on a modest GPU): triangles of bark, leaves and
+// impostors (2 a tree) together, trees posed by the skeleton pass (FULL and THIN only) (one row of each skeleton texture, as
 // wide as the largest species: 3,180 nodes × 2,048 rows of RGBA32F is 104 MB a texture).
 // Over either, every distance above is scaled down until the frame fits.
 export const LOD_BUDGET_TRIANGLES = 1000000;
@@ -43,8 +74,8 @@ export const LOD_BUDGET_TREES = 2048;
 // and nodes posed (the skeleton pass's fragments, twice: 630 oaks of 3,180 nodes, 3,160
 // palms of 633)
 export const LOD_BUDGET_NODES = 2000000;
-// Draw calls a frame may issue; the draws are per species and level (a few dozen), and
-// web/render_gl.js counts them against this.
+// Draw calls a frame may issue; the draws are per species and level (a few dozen: one a
+// species for all its impostors), and web/render_gl.js counts them against this.
 export const LOD_BUDGET_DRAWS = 100;
 // The distances may grow back by this factor a frame once the view costs less (a
 // sudden jump would flood one frame).

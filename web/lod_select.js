@@ -2,20 +2,25 @@
 // hysteresis per tree, under the frame's hard budget. The budget is met without sorting
 // the trees: their distances go into a histogram per species, and the largest scale of
 // the policy's distances whose worst case (every tree at the finest level its hysteresis
-// could keep, at its bin's near edge) fits the budget is taken; the trees' levels are
+// could keep, at its bin's near edge) fits the budget is taken (FULL's and THIN's; the
+// impostors' reach only when they alone, 2 triangles a tree, would not fit); the trees' levels are
 // then chosen at that scale, each no finer than that worst case, so the frame never costs
-// more than the histogram said.
+// more than the histogram said. Between THIN and IMPOSTOR a tree cross-fades over the last
+// LOD_FADE_SHARE of THIN's outer distance: a share of it in the impostor that grows with
+// its distance, 1 from that distance on, whatever its level. A tree that lies (fallen,
+// uprooted, snapped) is never an impostor, whose picture stands: it stays THIN.
 import { LOD, LOD_LEVELS, LOD_OUTER_M, LOD_HYSTERESIS, LOD_MESH_STEP_M, LOD_BUDGET_TRIANGLES, LOD_BUDGET_TREES,
-    LOD_BUDGET_NODES, LOD_GROW_PER_FRAME } from './lod_policy.js';
+    LOD_BUDGET_NODES, LOD_BUDGET_DRAWS, LOD_GROW_PER_FRAME, LOD_FADE_SHARE } from './lod_policy.js';
 
 const BINS = 512;
 const SCALE_STEP = 0.9; // the budget's search: the distances scaled down by this a try
 const SCALE_MIN = 1e-3;
 
-// The level of distance d at distance scale s (policy distances × s), NONE past the last.
-export function levelAt(d, s) {
-    for (let l = 0; l < LOD_LEVELS; l++) if (d < LOD_OUTER_M[l] * s) return l;
-    return LOD.NONE;
+// The level of distance d at distance scale s (the policy's distances × s) and the last
+// level's scale sf (its outer distance × sf), NONE past the last.
+export function levelAt(d, s, sf = 1) {
+    for (let l = 0; l < LOD_LEVELS - 1; l++) if (d < LOD_OUTER_M[l] * s) return l;
+    return d < LOD_OUTER_M[LOD_LEVELS - 1] * sf ? LOD_LEVELS - 1 : LOD.NONE;
 }
 
 // The bark mesh's level (the asset's LOD) of a tree at distance d drawn at level `level`.
@@ -23,75 +28,141 @@ export function meshLod(d, level, n_lods) {
     return level === LOD.FULL ? Math.min(n_lods - 1, Math.floor(d / LOD_MESH_STEP_M)) : n_lods - 1;
 }
 
+// The share of a tree at distance d in its impostor at distance scale s: 0 inside the last
+// LOD_FADE_SHARE of THIN's outer distance, rising linearly to 1 at that distance.
+export function impostorShare(d, s) {
+    const e = LOD_OUTER_M[LOD.THIN] * s, e0 = e * (1 - LOD_FADE_SHARE);
+    return d <= e0 ? 0 : d >= e ? 1 : (d - e0) / (e - e0);
+}
+
+function bitCount(x) {
+    let m = 0;
+    for (; x; x &= x - 1) m++;
+    return m;
+}
+
+// Draw calls a frame's trees cost besides the per species ones: sky, houses, plates,
+// stumps, falling leaves, rain, and a debris piece's meshes.
+export const LOD_DRAWS_FIXED = 8;
+
 export class LodSelect {
     constructor(n_trees) {
         this.level = new Uint8Array(n_trees).fill(LOD.NONE); // each tree's level last frame it was in view
         this.seen = new Uint32Array(n_trees); // the frame it was last in view (0: never)
         this.frame = 0;
-        this.scale = 1; // the budget's scale of the policy's distances, last frame
+        this.scale = 1; // the budget's scale of FULL's and THIN's distances, last frame
+        this.scaleFar = 1; // and of the impostors' reach
         this.hist = null;
     }
 
     // The farthest distance the next frame may draw: the cull's far_m.
     reach_m() {
-        return LOD_OUTER_M[LOD_LEVELS - 1] * Math.min(1, this.scale * LOD_GROW_PER_FRAME) * (1 + LOD_HYSTERESIS);
+        return LOD_OUTER_M[LOD_LEVELS - 1] * Math.min(1, this.scaleFar * LOD_GROW_PER_FRAME) * (1 + LOD_HYSTERESIS);
     }
 
     // trees[0..n) in view at distances dist, of species speciesOf(t); cost[s][level][mesh
-    // lod]: triangles of one tree of species s (null: a species not drawn); nodes[s]: its
-    // nodes posed; budget: { triangles, trees, nodes }. Writes each tree's level into
-    // out[0..n) and returns { scale, and the worst case's triangles, trees, nodes }.
-    select(trees, dist, n, speciesOf, cost, out, budget = {}, nodes = []) {
+    // lod]: triangles of one tree of species s at FULL and THIN, of its impostor at
+    // IMPOSTOR (null: a species not drawn); nodes[s]: its nodes posed; budget: { triangles,
+    // trees, nodes, draws } (trees and nodes: those the skeleton pass poses, FULL and
+    // THIN); lying[t]: 1 for a tree never drawn as an impostor (null: none). Writes each
+    // tree's level into out[0..n) and its share in its impostor into share[0..n) (0 < share
+    // < 1: drawn both at THIN and as an impostor; 1: as an impostor alone, also at THIN
+    // kept by the hysteresis), and returns { scale, scale_far (the impostors' reach's),
+    // and the worst case's triangles, trees, nodes, draws }.
+    select(trees, dist, n, speciesOf, cost, out, budget = {}, nodes = [], lying = null, share = null) {
         const maxTris = budget.triangles ?? LOD_BUDGET_TRIANGLES, maxTrees = budget.trees ?? LOD_BUDGET_TREES;
-        const maxNodes = budget.nodes ?? LOD_BUDGET_NODES;
-        const sMax = Math.min(1, this.scale * LOD_GROW_PER_FRAME), reach = LOD_OUTER_M[LOD_LEVELS - 1] * sMax * (1 + LOD_HYSTERESIS);
+        const maxNodes = budget.nodes ?? LOD_BUDGET_NODES, maxDraws = (budget.draws ?? LOD_BUDGET_DRAWS) - LOD_DRAWS_FIXED;
+        const sMax = Math.min(1, this.scale * LOD_GROW_PER_FRAME), fMax = Math.min(1, this.scaleFar * LOD_GROW_PER_FRAME);
+        const reach = LOD_OUTER_M[LOD_LEVELS - 1] * fMax * (1 + LOD_HYSTERESIS);
         const ns = cost.length, w = reach / BINS;
-        if (!this.hist || this.hist.length !== ns * BINS) this.hist = new Uint32Array(ns * BINS);
+        // the standing trees' bins, then the lying ones' (at most THIN)
+        if (!this.hist || this.hist.length !== 2 * ns * BINS) this.hist = new Uint32Array(2 * ns * BINS);
         const hist = this.hist;
         hist.fill(0);
         for (let i = 0; i < n; i++) {
-            const s = speciesOf(trees[i]);
+            const t = trees[i], s = speciesOf(t);
             if (!cost[s]) continue;
             const b = Math.floor(dist[i] / w);
-            if (b < BINS) hist[s * BINS + b]++;
+            if (b < BINS) hist[((lying && lying[t] ? ns : 0) + s) * BINS + b]++;
         }
         // the worst case at scale s: each bin's trees at the level of its near edge, the
-        // outer distances widened by the hysteresis
-        const worst = (sc) => {
-            let tris = 0, count = 0, posed = 0;
+        // outer distances widened by the hysteresis; a standing tree past FULL is THIN up to
+        // THIN's outer distance and an impostor from its fade on (the fade ignores the
+        // hysteresis); the draws: per species the skeleton pass's two, a bark mesh and a
+        // leaf level each, one for its impostors
+        const worst = (sc, sf) => {
+            let tris = 0, count = 0, posed = 0, draws = 0;
+            const e = LOD_OUTER_M[LOD.THIN] * sc, e0 = e * (1 - LOD_FADE_SHARE);
             for (let s = 0; s < ns; s++) {
                 const c = cost[s];
                 if (!c) continue;
                 const nl = c[0].length;
-                for (let b = 0; b < BINS; b++) {
-                    const k = hist[s * BINS + b];
-                    if (!k) continue;
-                    const d = b * w, l = levelAt(d, sc * (1 + LOD_HYSTERESIS));
-                    if (l === LOD.NONE) break;
-                    tris += k * c[l][meshLod(d, l, nl)];
-                    count += k;
-                    posed += k * (nodes[s] || 0);
+                let meshes = 0, levels = 0, imp = false;
+                for (let ly = 0; ly < 2; ly++) {
+                    for (let b = 0; b < BINS; b++) {
+                        const k = hist[(ly * ns + s) * BINS + b];
+                        if (!k) continue;
+                        const d = b * w;
+                        let l = levelAt(d, sc * (1 + LOD_HYSTERESIS), sf * (1 + LOD_HYSTERESIS));
+                        if (l === LOD.NONE) break;
+                        let thin = l === LOD.THIN, bill = false;
+                        if (l === LOD.IMPOSTOR && ly) thin = true;
+                        else if (!ly) {
+                            // (a FULL bin reaches the fade only at a tiny scale)
+                            if (l !== LOD.FULL) thin = d < e;
+                            bill = d + w > e0;
+                        }
+                        if (l === LOD.FULL) {
+                            const m = meshLod(d, l, nl);
+                            tris += k * c[l][m];
+                            meshes |= 1 << m;
+                            levels |= 1;
+                        }
+                        if (thin) {
+                            tris += k * c[LOD.THIN][nl - 1];
+                            meshes |= 1 << (nl - 1);
+                            levels |= 2;
+                        }
+                        if (l === LOD.FULL || thin) {
+                            count += k;
+                            posed += k * (nodes[s] || 0);
+                        }
+                        if (bill) {
+                            tris += k * c[LOD.IMPOSTOR][nl - 1];
+                            imp = true;
+                        }
+                    }
                 }
+                draws += (levels ? 2 : 0) + bitCount(meshes) + bitCount(levels) + (imp ? 1 : 0);
             }
-            return { tris, count, posed };
+            return { tris, count, posed, draws };
         };
         // grown when that fits; else last frame's scale when it still fits (a view at the
         // budget's edge keeps its distances); else down until it fits
-        const over = (r) => r.tris > maxTris || r.count > maxTrees || r.posed > maxNodes;
-        let sc = sMax, wc = worst(sc);
+        const over = (r) => r.tris > maxTris || r.count > maxTrees || r.posed > maxNodes || r.draws > maxDraws;
+        let sc = sMax, sf = fMax, wc = worst(sc, sf);
         if (over(wc) && sc > this.scale) {
             sc = this.scale;
-            wc = worst(sc);
+            wc = worst(sc, sf);
         }
         while (over(wc) && sc > SCALE_MIN) {
             sc *= SCALE_STEP;
-            wc = worst(sc);
+            wc = worst(sc, sf);
+        }
+        // the impostors alone over the budget (hundreds of thousands in view): their reach in
+        if (over(wc) && sf > this.scaleFar) {
+            sf = this.scaleFar;
+            wc = worst(sc, sf);
+        }
+        while (over(wc) && sf > SCALE_MIN) {
+            sf *= SCALE_STEP;
+            wc = worst(sc, sf);
         }
         // closer to the edge of the budget between a fitting scale and the step above it
         if (sc < this.scale || (sc < sMax && !over(wc))) {
             let hiS = Math.min(sMax, sc / SCALE_STEP);
             for (let k = 0; k < 4 && !over(wc); k++) {
-                const mid = 0.5 * (sc + hiS), wm = worst(mid);
+                const mid = 0.5 * (sc + hiS), wm = worst(mid, sf);
                 if (over(wm)) hiS = mid;
                 else {
                     sc = mid;
@@ -100,18 +171,34 @@ export class LodSelect {
             }
         }
         this.scale = sc;
-        const f = ++this.frame, lo = sc * (1 - LOD_HYSTERESIS), hi = sc * (1 + LOD_HYSTERESIS);
+        this.scaleFar = sf;
+        const f = ++this.frame, lo = 1 - LOD_HYSTERESIS, hi = 1 + LOD_HYSTERESIS;
+        // the edges at this scale, inlined (levelAt), and the arrays read per tree held
+        // here: the loop runs over every tree in view (100,000 from over the landscape)
+        const eFull = LOD_OUTER_M[LOD.FULL] * sc, eThin = LOD_OUTER_M[LOD.THIN] * sc, eFar = LOD_OUTER_M[LOD.IMPOSTOR] * sf;
+        const eFade = eThin * (1 - LOD_FADE_SHARE), drawn = cost.map((c) => !!c), seen = this.seen, level = this.level;
         for (let i = 0; i < n; i++) {
             const t = trees[i], d = dist[i];
-            let l = levelAt(d, sc);
-            const p = this.seen[t] === f - 1 ? this.level[t] : LOD.NONE;
-            if (!cost[speciesOf(t)] || Math.floor(d / w) >= BINS) l = LOD.NONE;
-            else if (p !== LOD.NONE && l > p) l = Math.max(p, levelAt(d, hi)); // coarser: only past the widened edge
-            else if (p !== LOD.NONE && l < p) l = Math.min(p, levelAt(d, lo)); // finer: only inside the narrowed edge
+            let l = d < eFull ? LOD.FULL : d < eThin ? LOD.THIN : d < eFar ? LOD.IMPOSTOR : LOD.NONE, sh = 0;
+            const p = seen[t] === f - 1 ? level[t] : LOD.NONE;
+            if (!drawn[speciesOf(t)] || d >= reach) l = LOD.NONE;
+            else if (p !== LOD.NONE && l > p) l = Math.max(p, levelAt(d, sc * hi, sf * hi)); // coarser: only past the widened edge
+            else if (p !== LOD.NONE && l < p) l = Math.min(p, levelAt(d, sc * lo, sf * lo)); // finer: only inside the narrowed edge
+            if (l === LOD.THIN || l === LOD.IMPOSTOR) {
+                if (lying && lying[t]) l = LOD.THIN;
+                else if (d > eFade) {
+                    // inside THIN's outer distance THIN, fading; past it the hysteresis
+                    // keeps a THIN tree's level, wholly in its impostor (share 1, no
+                    // skeleton row), so a camera rocking there flips nothing
+                    sh = impostorShare(d, sc);
+                    if (sh < 1) l = LOD.THIN;
+                } else l = LOD.THIN;
+            }
             out[i] = l;
-            this.level[t] = l;
-            this.seen[t] = l === LOD.NONE ? 0 : f;
+            if (share) share[i] = sh;
+            level[t] = l;
+            seen[t] = l === LOD.NONE ? 0 : f;
         }
-        return { scale: sc, triangles: wc.tris, trees: wc.count, nodes: wc.posed };
+        return { scale: sc, scale_far: sf, triangles: wc.tris, trees: wc.count, nodes: wc.posed, draws: wc.draws + LOD_DRAWS_FIXED };
     }
 }

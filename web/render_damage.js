@@ -2,7 +2,7 @@
 // branches' cut lists, the debris pieces in the slots after the trees, and the root
 // plates and stumps drawn (plate.vert, stump.vert). Renderer (web/render_gl.js) takes
 // these methods as its own.
-import { MAX_DEBRIS } from './damage.js';
+import { MAX_DEBRIS, damageCutMask } from './damage.js';
 import { RU } from './render_data.js';
 
 const PLATE_SEG = 24, STUMP_SEG = 12; // shaders/plate.vert, stump.vert
@@ -10,12 +10,15 @@ const PLATE_SEG = 24, STUMP_SEG = 12; // shaders/plate.vert, stump.vert
 export class RendererDamage {
     // Storm damage of every tree (web/damage.js DamageFx.update): u_trees slot 1 .z
     // (render_tree_code: fall angle + 4 x leaf levels lost + 256 when snapped) and .w (fall
-    // azimuth), and which trees lie on their root plate.
+    // azimuth), and which trees lie on their root plate; a tree tipping or lying (fallen,
+    // uprooted, snapped) is never drawn as an impostor, whose picture stands (this.lying).
     setDamage(code, az, uprooted) {
         const t = this.treeData;
         for (let i = 0; i < this.n_trees; i++) {
             t[8 * i + 6] = code[i];
             t[8 * i + 7] = az[i];
+            const fall = code[i] - 4 * Math.floor(code[i] * 0.25);
+            this.lying[i] = fall > 0 || code[i] >= 256 || uprooted[i] ? 1 : 0;
         }
         this.uprooted.set(uprooted.subarray(0, this.n_trees));
         this.trees = this.dataTex(4, (this.n_trees + MAX_DEBRIS) * 2, t, this.trees);
@@ -23,8 +26,20 @@ export class RendererDamage {
 
     // The broken branches' cut lists (render_damage_upload): per tree (first, count,
     // keep-only, 0) and the cut nodes; the debris slots' lists follow.
+    // Also each tree's share of its leaf slots whose node no broken branch takes, for its
+    // impostor (client/render/render_damage.c leaf_attached_update): only trees with broken
+    // branches cost anything.
     setCuts(head, nodes) {
         this.cutTrees = { head, nodes };
+        this.leafAttached.fill(1);
+        for (let t = 0; t < this.n_trees; t++) {
+            const nc = head[4 * t + 1], first = head[4 * t], sp = this.species[this.inst[t][0]];
+            if (!nc || !sp || !sp.n_leaves) continue;
+            const m = damageCutMask(sp.a.parent, Array.from(nodes.subarray(first, first + nc)), false);
+            let kept = 0;
+            for (let l = 0; l < sp.n_leaves; l++) kept += m[sp.a.leaf_node[l]];
+            this.leafAttached[t] = kept / sp.n_leaves;
+        }
         this.uploadCuts();
     }
 

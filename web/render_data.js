@@ -7,9 +7,11 @@ export class WebGL2Missing extends Error {}
 
 export const DATA_W = 2048;
 // texture units: the native client's (client/render/render_internal.h)
-export const RU = { SKEL: 0, NODE: 1, LIST: 2, TREES: 3, VW: 4, Q: 5, LEAF: 6, WIND: 7, PATH: 8, CUT: 10, CUTN: 11, PLATE: 12, STUMP: 13, SCRATCH: 15 }; // SCRATCH: uploads
+export const RU = { SKEL: 0, NODE: 1, LIST: 2, TREES: 3, VW: 4, Q: 5, LEAF: 6, WIND: 7, PATH: 8, CUT: 10, CUTN: 11, PLATE: 12, STUMP: 13, SCRATCH: 15,
+    IMP: 9, IMP_WOOD: 14 }; // SCRATCH: uploads; IMP, IMP_WOOD: the impostors' textures (web/render_imp.js)
 const SAMPLERS = { u_skel: RU.SKEL, u_node: RU.NODE, u_list: RU.LIST, u_trees: RU.TREES, u_vw: RU.VW,
-    u_q: RU.Q, u_qring: RU.Q, u_leaf: RU.LEAF, u_wind: RU.WIND, u_path: RU.PATH, u_cut: RU.CUT, u_cutn: RU.CUTN, u_plates: RU.PLATE, u_stumps: RU.STUMP };
+    u_q: RU.Q, u_qring: RU.Q, u_leaf: RU.LEAF, u_wind: RU.WIND, u_path: RU.PATH, u_cut: RU.CUT, u_cutn: RU.CUTN, u_plates: RU.PLATE, u_stumps: RU.STUMP,
+    u_imp: RU.IMP, u_imp_wood: RU.IMP_WOOD };
 
 export class RendererData {
     bindSamplers(p) {

@@ -15,8 +15,9 @@
 // data textures and texture units (web/render_data.js), species (web/render_species.js),
 // the modal state and the skeleton pass (web/render_skel.js), sky, fog and rain
 // (web/render_sky.js), falling leaves (web/render_fall.js), storm damage
-// (web/render_damage.js) and the frame's draw list, the trees in view at their levels
-// (web/render_list.js); the matrices in web/view_math.js.
+// (web/render_damage.js), the frame's draw list, the trees in view at their levels
+// (web/render_list.js), and the far trees' impostors (web/render_imp.js); the matrices in
+// web/view_math.js.
 import { loadProgram } from './shaders.js';
 import { stormFxCalm } from './storm_fx.js';
 import { housesMesh, HOUSE_FLOATS } from './house.js';
@@ -25,10 +26,11 @@ import { perspective, lookAt, mul } from './view_math.js';
 import { WebGL2Missing, DATA_W, RU, RendererData } from './render_data.js';
 import { RendererSpecies, LEAF_ASPECT } from './render_species.js';
 import { RendererSkel } from './render_skel.js';
-import { RendererSky } from './render_sky.js';
+import { RendererSky, sceneFog_m } from './render_sky.js';
 import { RendererFall } from './render_fall.js';
 import { RendererDamage } from './render_damage.js';
 import { RendererList } from './render_list.js';
+import { RendererImp } from './render_imp.js';
 import { LOD_BUDGET_TREES } from './lod_policy.js';
 
 export class Renderer {
@@ -46,7 +48,7 @@ export class Renderer {
         this.skel_h = 0;
         this.max_rows = LOD_BUDGET_TREES; // trees posed a frame at most (the page's ?max_trees lowers it)
         this.q_trees = Infinity; // trees whose motion the page holds (App: a scene past its memory)
-        this.stats = { frames: 0, trees_drawn: 0, upload_ms: 0, draws: 0, triangles: 0, vertices: 0 };
+        this.stats = { frames: 0, trees_drawn: 0, impostors: 0, upload_ms: 0, draws: 0, triangles: 0, vertices: 0 };
         this.countDraws(gl);
         this.fx = stormFxCalm(); // web/storm_fx.js; the page sets it from WEATHER
         this.subject_m = 0;
@@ -60,6 +62,7 @@ export class Renderer {
         const progs = await Promise.all(names.map((n) => loadProgram(gl, n, base, n === 'skel' ? '#define GALE_Q_RING 1\n' : '')));
         this.p = Object.fromEntries(names.map((n, i) => [n, progs[i]]));
         for (const p of progs) this.bindSamplers(p);
+        await this.impInit(base);
         this.vaoEmpty = gl.createVertexArray();
         this.wind = gl.createTexture();
         gl.bindTexture(gl.TEXTURE_3D, this.wind);
@@ -113,6 +116,7 @@ export class Renderer {
         this.treeData = t;
         this.trees = this.dataTex(4, (rows.length + MAX_DEBRIS) * 2, t, this.trees);
         this.setupCulling(rows);
+        this.fog_m = sceneFog_m(rows);
         this.uprooted = new Uint8Array(rows.length);
         this.setCuts(new Float32Array(rows.length * 4), new Float32Array(1));
         this.setStride(stride);
@@ -200,12 +204,13 @@ export class Renderer {
     draw(cam, t, modes, server_s) {
         const gl = this.gl, W = this.canvas.width, H = this.canvas.height;
         const c = this.drawCount;
+        this.ensureImpostors(); // a species' pictures, once, before the frame's counts
         c.calls = c.vertices = c.triangles = 0;
         this.look(cam);
         if (this.t_base === undefined && Number.isFinite(server_s)) this.t_base = Math.floor(server_s);
         this.subject_m = cam.subject_m > 0 && Number.isFinite(cam.subject_m) && this.view ? cam.subject_m : 0;
         // the trees in view at their levels (web/render_list.js)
-        const { groups, drawn, rows } = this.drawList(cam, modes);
+        const { groups, imps, drawn, rows } = this.drawList(cam, modes);
         this.groups = groups; // the skeleton rows drawn: for tests
         this.ensureSkel(Math.max(1, ...groups.map((g) => this.species[g.s].n_nodes)), rows);
 
@@ -276,6 +281,7 @@ export class Renderer {
                 gl.drawArraysInstanced(gl.TRIANGLES, 0, 6, n * lv.n);
             }
         }
+        this.drawImpostors(imps, t);
         this.drawFalling(server_s);
         this.drawRain(t);
         this.frameCounted();
@@ -289,7 +295,7 @@ export class Renderer {
 
 // The methods of each job, kept in a module of its own, are Renderer's: copied as
 // defined (not enumerable, as a class's own).
-for (const part of [RendererData, RendererSpecies, RendererSkel, RendererSky, RendererFall, RendererDamage, RendererList]) {
+for (const part of [RendererData, RendererSpecies, RendererSkel, RendererSky, RendererFall, RendererDamage, RendererList, RendererImp]) {
     for (const [name, d] of Object.entries(Object.getOwnPropertyDescriptors(part.prototype))) {
         if (name !== 'constructor') Object.defineProperty(Renderer.prototype, name, d);
     }

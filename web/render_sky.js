@@ -5,8 +5,21 @@
 import { rainUniforms } from './storm_fx.js';
 import { invert } from './view_math.js';
 import { RU } from './render_data.js';
+import { FOG_MIN_M, fogForScene } from './lod_policy.js';
 
-const FOG_DIST_M = 450; // the native renderer's default fog distance (client/render/render.c)
+// The calm fog distance [m] of a scene of instance rows [species, x, y, ...]
+// (web/lod_policy.js fogForScene over the trees' bounding box in x, y).
+export function sceneFog_m(rows) {
+    if (!rows.length) return FOG_MIN_M;
+    let x0 = Infinity, y0 = Infinity, x1 = -Infinity, y1 = -Infinity;
+    for (const r of rows) {
+        x0 = Math.min(x0, r[1]);
+        x1 = Math.max(x1, r[1]);
+        y0 = Math.min(y0, r[2]);
+        y1 = Math.max(y1, r[2]);
+    }
+    return fogForScene([x0, y0], [x1, y1]);
+}
 
 export class RendererSky {
     // Program p in use with what every pass reads: view, eye, sun, sky, ground, fog, storm,
@@ -22,10 +35,11 @@ export class RendererSky {
         gl.uniform3fv(u.u_sky_zenith, fx.sky_zenith);
         gl.uniform3fv(u.u_sky_horizon, fx.sky_horizon);
         gl.uniform3fv(u.u_ground_col, fx.ground_col);
-        gl.uniform1f(u.u_fog_dist, FOG_DIST_M * fx.fog_scale);
+        const fog_m = this.fog_m || FOG_MIN_M; // the scene's calm fog (sceneFog_m)
+        gl.uniform1f(u.u_fog_dist, fog_m * fx.fog_scale);
         // the storm fog is the calm one times fog_scale; up to the subject it is thinned
         // towards the calm fog (common.glsl fog_apply)
-        if (u.u_storm) gl.uniform4f(u.u_storm, fx.wet, this.subject_m, FOG_DIST_M, fx.subject_clear);
+        if (u.u_storm) gl.uniform4f(u.u_storm, fx.wet, this.subject_m, fog_m, fx.subject_clear);
         gl.uniform1f(u.u_time, t);
         gl.uniform3fv(u.u_wind_origin, [0, 0, 0]);
         gl.uniform3fv(u.u_wind_extent, [0, 0, 0]);

@@ -93,6 +93,13 @@ export class RendererSpecies {
         gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, ibo);
         gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, a.mesh_index, gl.STATIC_DRAW);
         gl.bindVertexArray(null);
+        // a species replaced (a new welcome's) gives back its impostors (web/render_imp.js);
+        // the new one's are drawn at the next frame
+        const old = this.species[i];
+        if (old && old.imp) {
+            gl.deleteTexture(old.imp);
+            gl.deleteTexture(old.impWood);
+        }
         this.species[i] = s;
     }
 }

@@ -25,17 +25,19 @@ function compile(gl, stage, name, common, body, defines) {
     if (!gl.getShaderParameter(sh, gl.COMPILE_STATUS)) {
         const log = gl.getShaderInfoLog(sh);
         gl.deleteShader(sh);
-        throw new Error(`shaders/${name} (after common.glsl): ${log}`);
+        throw new Error(`${name.includes('/') ? name : `shaders/${name}`} (after common.glsl): ${log}`);
     }
     return sh;
 }
 
 // Program `name` from shaders/name.vert and .frag; uniform locations in prog.u. defines:
-// lines after the preamble (e.g. '#define GALE_Q_RING 1\n', shaders/skel.frag).
-export async function loadProgram(gl, name, base = '', defines = '') {
-    const [common, vs, fs] = await Promise.all([text(base, 'common.glsl'), text(base, `${name}.vert`), text(base, `${name}.frag`)]);
+// lines after the preamble (e.g. '#define GALE_Q_RING 1\n', shaders/skel.frag). vert: a
+// vertex stage of the page's own in place of shaders/name.vert, its name and source
+// (web/imp_shader.js: the impostor's sway before shaders/bill.frag).
+export async function loadProgram(gl, name, base = '', defines = '', vert = null) {
+    const [common, vs, fs] = await Promise.all([text(base, 'common.glsl'), vert ? vert.source : text(base, `${name}.vert`), text(base, `${name}.frag`)]);
     const p = gl.createProgram();
-    gl.attachShader(p, compile(gl, gl.VERTEX_SHADER, `${name}.vert`, common, vs, defines));
+    gl.attachShader(p, compile(gl, gl.VERTEX_SHADER, vert ? vert.name : `${name}.vert`, common, vs, defines));
     gl.attachShader(p, compile(gl, gl.FRAGMENT_SHADER, `${name}.frag`, common, fs, defines));
     gl.linkProgram(p);
     if (!gl.getProgramParameter(p, gl.LINK_STATUS)) {

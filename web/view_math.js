@@ -4,6 +4,12 @@ export function perspective(fovy_rad, aspect, near, far) {
     const f = 1 / Math.tan(fovy_rad / 2), nf = 1 / (near - far);
     return new Float32Array([f / aspect, 0, 0, 0, 0, f, 0, 0, 0, 0, (far + near) * nf, -1, 0, 0, 2 * far * near * nf, 0]);
 }
+// glOrtho's matrix (cglm glm_ortho).
+export function ortho(left, right, bottom, top, near, far) {
+    const rl = 1 / (right - left), tb = 1 / (top - bottom), fn = -1 / (far - near);
+    return new Float32Array([2 * rl, 0, 0, 0, 0, 2 * tb, 0, 0, 0, 0, 2 * fn, 0,
+        -(right + left) * rl, -(top + bottom) * tb, (far + near) * fn, 1]);
+}
 export function lookAt(eye, target, up) {
     const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
     const norm = (a) => { const l = Math.hypot(...a); return a.map((x) => x / l); };

@@ -3,7 +3,7 @@
 //   (each tree's box, the cube of half-side its height about its base, against the
 //   frustum's planes by its eight corners, and its middle within far_m), for orbit
 //   cameras over a 20,000-tree scene and an off-axis wall tile's view, with their distances;
-// - the levels chosen never cost more than the budget (triangles, trees, nodes), and a camera
+// - the levels chosen never cost more than the budget (triangles, trees posed, nodes), and a camera
 //   rocking across a level's edge by less than the hysteresis flips no tree;
 // - the view cone holds the frustum: its half angle is atan √(tan²(hfov/2) + tan²(vfov/2))
 //   for a symmetric frustum, and every far corner of an off-axis one is inside it;
@@ -92,22 +92,26 @@ for (const c of cams) {
 }
 assert.ok(total > 1000, `the cameras see ${total} trees in all: expected many`);
 
-// levels under the budget: costs per species, level and mesh LOD (finer costs more)
-const cost = [[[60000, 30000, 15000], [7000, 7000, 7000], [700, 700, 700]], [[12000, 3000, 3000], [1200, 1200, 1200], [200, 200, 200]],
-    [[20000, 6000, 4000], [1600, 1600, 1600], [350, 350, 350]]];
+// levels under the budget: costs per species, level and mesh LOD (finer costs more; an
+// impostor its quad's 2 triangles, no skeleton row: a tree fading into it costs both)
+const cost = [[[60000, 30000, 15000], [7000, 7000, 7000], [2, 2, 2]], [[12000, 3000, 3000], [1200, 1200, 1200], [2, 2, 2]],
+    [[20000, 6000, 4000], [1600, 1600, 1600], [2, 2, 2]]];
 const meshOf = (d, l) => (l === LOD.FULL ? Math.min(2, Math.floor(d / 30)) : 2);
 const nodes = [3180, 633, 1135];
 for (const budget of [{ triangles: 1e6, trees: 2048, nodes: 2e6 }, { triangles: 2e5, trees: 300, nodes: 1e9 }, { triangles: 5e6, trees: 50, nodes: 1e9 },
     { triangles: 1e9, trees: 1e6, nodes: 3e5 }]) {
-    const sel = new LodSelect(N), lv = new Uint8Array(N);
+    const sel = new LodSelect(N), lv = new Uint8Array(N), share = new Float32Array(N);
     for (const c of cams) {
         for (let rep = 0; rep < 3; rep++) {
             const o = grid.gather(c.viewproj, c.eye, sel.reach_m());
-            const r = sel.select(o.trees, o.dist, o.n, (t) => rows[t][0], cost, lv, budget, nodes);
+            const r = sel.select(o.trees, o.dist, o.n, (t) => rows[t][0], cost, lv, budget, nodes, null, share);
             let tris = 0, trees = 0, posed = 0;
             for (let i = 0; i < o.n; i++) {
                 if (lv[i] === LOD.NONE) continue;
-                tris += cost[rows[o.trees[i]][0]][lv[i]][meshOf(o.dist[i], lv[i])];
+                const cs = cost[rows[o.trees[i]][0]];
+                if (share[i] > 0) tris += cs[LOD.IMPOSTOR][2];
+                if (share[i] >= 1) continue; // wholly its impostor, no skeleton row
+                tris += cs[lv[i]][meshOf(o.dist[i], lv[i])];
                 trees++;
                 posed += nodes[rows[o.trees[i]][0]];
             }
