@@ -1,7 +1,7 @@
 // The impostor's vertex stage in the page (web/render_imp.js compiles it before
 // shaders/bill.frag, whose inputs it writes): shaders/bill.vert's quad, turned about the
-// vertical toward the eye, bent by the crown's sway in the tree's lowest modes
-// (web/imp_sway.js swayOffset: min((max(z, 0) / z_c)², 4) Σ_k q_k c_k, turned by the
+// vertical toward the eye, leaning with the crown's sway in the tree's lowest modes
+// (web/imp_sway.js swayOffset: min(max(z, 0) / z_c, 3) Σ_k q̃_k c_k, turned by the
 // tree's yaw and scaled with it). q is read as the skeleton pass reads it
 // (shaders/skel.frag modal_q): blended from the snapshot ring, or the float path's q.
 import { LOD_IMPOSTOR_MODES } from './lod_policy.js';
@@ -16,6 +16,7 @@ uniform int u_base;
 uniform vec3 u_bsize;     // half width, height, bottom of the impostor [m, tree frame]
 uniform vec3 u_sway[${LOD_IMPOSTOR_MODES}];   // c_k, the crown's sway per unit q_k [m, tree frame]
 uniform float u_zc;       // the crown's height z_c [m, tree frame]
+uniform vec2 u_imp_ab[${LOD_IMPOSTOR_MODES}]; // a_k, b_k of q̃_k = a_k atan(b_k q_k) (b = 0: q)
 uniform int u_qstride;
 uniform int u_qtrees;     // trees whose q the page holds (the others stand at rest)
 #ifdef GALE_Q_RING
@@ -59,10 +60,11 @@ void main()
     vec3 sway = vec3(0.0);
     if (tree < u_qtrees) {
         for (int k = 0; k < ${LOD_IMPOSTOR_MODES}; k++) {
-            sway += modal_q(tree * u_qstride + k, k) * u_sway[k];
+            float q = modal_q(tree * u_qstride + k, k);
+            vec2 ab = u_imp_ab[k];
+            sway += (ab.y != 0.0 ? ab.x * atan(ab.y * q) : q) * u_sway[k];
         }
-        float r = max(z, 0.0) / max(u_zc, 1e-3);
-        sway *= min(r * r, ${IMP_SWAY_MAX.toFixed(1)});
+        sway *= min(max(z, 0.0) / max(u_zc, 1e-3), ${IMP_SWAY_MAX.toFixed(1)});
     }
     v_wpos = t0.xyz + t1.x * (right * ((s * 2.0 - 1.0) * u_bsize.x) + vec3(0.0, 0.0, z) +
                               rot_z(t0.w) * sway);

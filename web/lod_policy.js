@@ -15,13 +15,17 @@ export const LOD_LEVELS = 3;
 // coarsest bark mesh; past THIN the species' impostor (Singh section 2, Oliapuram LOD:
 // a quad turned about the vertical toward the eye, the tree at rest seen from the side),
 // two triangles a tree and no skeleton row, so that every tree of a 2 km landscape in
-// view can be drawn; past IMPOSTOR none.
-export const LOD_OUTER_M = [90, 250, 2500];
+// view can be drawn (the aerial camera is 2 km off, the landscape's far corner 3.4 km);
+// past IMPOSTOR none.
+export const LOD_OUTER_M = [90, 250, 4000];
 
-// The share of a species' leaves drawn at each level (1 / a whole number), each drawn
-// √(1 / share) larger so that the leaves' area stays the crown's; whether its bark is. An
-// impostor draws neither: its texture holds both.
+// The share of a species' leaves drawn at each level (1 / a whole number), and each drawn
+// leaf's size × LOD_LEAF_GROW: √(1 / share) would keep the leaves' area, but fewer larger
+// leaves overlap less, so a thinned crown covered 10 % more pixels than the whole one;
+// 0.9 of it keeps the coverage within 1 % (tests/test_render.c's dolly); whether its bark
+// is drawn. An impostor draws neither: its texture holds both.
 export const LOD_LEAF_SHARE = [1, 1 / 4, 0];
+export const LOD_LEAF_GROW = [1, 1.8, 0];
 export const LOD_BARK = [true, true, false];
 
 // The leaves drawn of a species of `count` at a level of share `share`: the share rounded,
@@ -46,9 +50,10 @@ export const LOD_FADE_SHARE = 0.2;
 // The calm fog distance [m]: max(FOG_MIN_M, FOG_PER_SCENE_RADIUS_M × the scene's radius),
 // the radius half the diagonal of the trees' bounding box in x, y (web/render_sky.js), so
 // that the clearing keeps the native renderer's 450 m (client/render/render.c) and an
-// aerial view of the 2 km landscape is not all fog. A storm scales it (web/storm_fx.js).
+// aerial view of the 2 km landscape is not all fog (2.8 km: its middle seen from the aerial
+// camera 57 % clear, its far corner 33 %). A storm scales it (web/storm_fx.js).
 export const FOG_MIN_M = 450;
-export const FOG_PER_SCENE_RADIUS_M = 1.0;
+export const FOG_PER_SCENE_RADIUS_M = 2.0;
 
 // The calm fog distance [m] of a scene whose trees' box in x, y is lo .. hi [m].
 export function fogForScene(lo, hi) {

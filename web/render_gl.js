@@ -190,7 +190,7 @@ export class Renderer {
             this.viewproj = cam.viewproj;
             this.view = cam.view || null;
         } else {
-            const proj = perspective(cam.fov_y_deg * Math.PI / 180, this.canvas.width / this.canvas.height, cam.near || 0.3, cam.far || 3000);
+            const proj = perspective(cam.fov_y_deg * Math.PI / 180, this.canvas.width / this.canvas.height, cam.near || 0.3, cam.far || 4500);
             this.view = lookAt(cam.eye, cam.target, [0, 0, 1]);
             this.viewproj = mul(proj, this.view);
         }

@@ -151,6 +151,7 @@ export class RendererImp {
             gl.uniform3fv(p.u.u_bsize, sp.bsize);
             gl.uniform3fv(p.u.u_sway, sp.sway.c);
             gl.uniform1f(p.u.u_zc, sp.sway.z_c_m);
+            gl.uniform2fv(p.u.u_imp_ab, sp.sway.ab);
             if (ring) {
                 if (!this.mix) sp.qw.fill(0); // at rest
                 gl.uniform4fv(p.u.u_qw, sp.qw.subarray(0, 4 * sp.sway.c.length / 3));

@@ -8,7 +8,7 @@
 // Renderer (web/render_gl.js) takes these methods as its own.
 import { CellGrid } from './cull_grid.js';
 import { LodSelect, meshLod } from './lod_select.js';
-import { LOD, LOD_LEAF_SHARE, LOD_BARK, LOD_MODES_MAX, leavesAt } from './lod_policy.js';
+import { LOD, LOD_LEAF_SHARE, LOD_LEAF_GROW, LOD_BARK, LOD_MODES_MAX, leavesAt } from './lod_policy.js';
 import { DAMAGE } from './damage.js';
 
 // Triangles of one impostor: its quad.
@@ -41,7 +41,7 @@ export class RendererList {
         const a = sp.a, n = a.n_leaves;
         sp.leafLevels = LOD_LEAF_SHARE.slice(0, LOD.IMPOSTOR).map((share, l) => {
             if (l === 0 || !n) return { tex: sp.leaf, n };
-            const k = leavesAt(n, share), grow = Math.sqrt(n / k), d = new Float32Array(k * 8);
+            const k = leavesAt(n, share), grow = LOD_LEAF_GROW[l], d = new Float32Array(k * 8);
             for (let i = 0; i < k; i++) {
                 const j = Math.min(n - 1, Math.floor((i + 0.5) * n / k));
                 d.set(a.leaf_offset.subarray(3 * j, 3 * j + 3), 8 * i);

@@ -7,7 +7,7 @@ import { mul } from './view_math.js';
 
 // near and far planes of every tile (client/app/client_frame.c's render_camera)
 export const WALL_Z_NEAR_M = 0.3;
-export const WALL_Z_FAR_M = 3000;
+export const WALL_Z_FAR_M = 4500;
 
 const sub = (a, b) => a.map((x, k) => x - b[k]);
 const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];

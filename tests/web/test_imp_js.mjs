@@ -36,11 +36,19 @@ const near = (a, b, tol, what) => assert.ok(Math.abs(a - b) <= tol, `${what}: ${
     }
     assert.equal(sw.c.length, 3 * LOD_IMPOSTOR_MODES);
     const q = [0.5, -2];
-    const s = [0, 1, 2].map((d) => q[0] * c0[d] + q[1] * c1[d]); // Σ_k q_k c_k
-    for (const [z, f] of [[-1, 0], [0, 0], [1.75, 0.25], [3.5, 1], [7, 4], [20, IMP_SWAY_MAX]]) {
+    const s = [0, 1, 2].map((d) => q[0] * c0[d] + q[1] * c1[d]); // Σ_k q_k c_k (no saturation)
+    // the lean: z / z_c, at most IMP_SWAY_MAX
+    for (const [z, f] of [[-1, 0], [0, 0], [1.75, 0.5], [3.5, 1], [7, 2], [20, IMP_SWAY_MAX]]) {
         const o = swayOffset(sw, q, z);
         for (let d = 0; d < 3; d++) near(o[d], f * s[d], 1e-6, `offset at z ${z} [${d}]`);
     }
+    // q saturated as the pose's, q̃ = a atan(b q) (Diener 2008 eq. 16): a = 1.2, b = 1 / 1.2
+    const sat = crownSway({ ...a, corr_a: new Float32Array([1.2, 1.2, 1.2]), corr_b: new Float32Array([1 / 1.2, 1 / 1.2, 1 / 1.2]) });
+    const qt = q.map((v) => Math.fround(1.2) * Math.atan(Math.fround(1 / 1.2) * v));
+    const st = [0, 1, 2].map((d) => qt[0] * c0[d] + qt[1] * c1[d]);
+    const os = swayOffset(sat, q, 3.5);
+    for (let d = 0; d < 3; d++) near(os[d], st[d], 1e-6, `saturated offset [${d}]`);
+    assert.ok(Math.abs(st[1]) < Math.abs(s[1]) - 0.05, 'the saturation can tell');
     // no leaves: the highest node alone
     const bare = crownSway({ ...a, n_leaves: 0, leaf_node: new Uint32Array(0) });
     near(bare.z_c_m, 5, 1e-6, 'z_c of a bare tree');

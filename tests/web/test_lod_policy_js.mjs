@@ -24,7 +24,7 @@ for (const [name, want] of Object.entries(c)) {
         for (const [k, v] of Object.entries(want)) assert.equal(got[k], v, `LOD.${k}`);
     } else if (Array.isArray(want)) {
         assert.equal(got.length, want.length, `${name}: length`);
-        want.forEach((v, i) => assert.equal(typeof v === 'number' ? f32(got[i]) : got[i], v, `${name}[${i}]`));
+        want.forEach((v, i) => assert.equal(typeof v === 'number' ? f32(got[i]) : got[i], typeof v === 'number' ? f32(v) : v, `${name}[${i}]`));
     } else {
         assert.equal(f32(got), f32(want), name);
     }

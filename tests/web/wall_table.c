@@ -54,7 +54,7 @@ int main(int argc, char **argv)
             for (int v = 0; v < 2; v++) {
                 float pa[3], pb[3], pc[3], view[16], proj[16];
                 wall_tile_corners(&w.tiles[i], pa, pb, pc);
-                wall_tile_matrices(&w, i, views[v], 0.3f, 3000.0f, view, proj);
+                wall_tile_matrices(&w, i, views[v], 0.3f, 4500.0f, view, proj);
                 printf("{\"file\":\"%s\",\"tile\":\"%s\"", argv[f], w.tiles[i].name);
                 vec("pa", pa, 3);
                 vec("pb", pb, 3);
