@@ -277,6 +277,9 @@ export class Renderer {
                 if (!lv.n) continue;
                 gl.uniform1i(pl.u.u_base, base);
                 gl.uniform1i(pl.u.u_nleaves, lv.n);
+                // the level's own leaf texture holds its share, grown: every slot, as drawn
+                gl.uniform1i(pl.u.u_leaf_total, lv.n);
+                gl.uniform1f(pl.u.u_leaf_grow, 1);
                 this.bindTex(RU.LEAF, gl.TEXTURE_2D, lv.tex.tex);
                 gl.drawArraysInstanced(gl.TRIANGLES, 0, 6, n * lv.n);
             }

@@ -106,6 +106,8 @@ export class RendererImp {
             calm(pl);
             gl.uniform1i(pl.u.u_base, 0);
             gl.uniform1i(pl.u.u_nleaves, sp.n_leaves);
+            gl.uniform1i(pl.u.u_leaf_total, sp.n_leaves);
+            gl.uniform1f(pl.u.u_leaf_grow, 1);
             gl.uniform1f(pl.u.u_aspect, LEAF_ASPECT[sp.leaf_shape]);
             gl.uniform2f(pl.u.u_crown, sp.crown_r, sp.height);
             gl.uniform3fv(pl.u.u_leafcol, sp.leaf_rgb);
