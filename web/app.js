@@ -13,6 +13,7 @@ import { orbitEye } from './view_math.js';
 import { stormFxFromWeather, stormFxQualityParse, STORM_FX_LOW } from './storm_fx.js';
 import { DamageFx, DAMAGE } from './damage.js';
 import { weatherLines } from './hud_text.js';
+import { Governor, softwareRenderer } from './governor.js';
 import { DATA_W } from './render_data.js';
 import { frustumCone, frustumView, ViewSender } from './view_stream.js';
 import { VIEW_FAR_M, VIEW_LOD_M } from './lod_policy.js';
@@ -74,6 +75,12 @@ export class App {
         }
         this.cam = { yaw: 1.5707963 - 0.6108652, pitch: -0.5235988, distance: 60, target: [0, 0, 4], fov_y_deg: 50 };
         const q = new URLSearchParams(location.search), mb = Number(q.get('hold_mb'));
+        // the frame-time governor (web/governor.js): ?governor=MS|off; by default 33 ms, off in
+        // a browser driven by automation (as gale-client's headless runs: their pictures compare)
+        const gq = q.get('governor');
+        this.governorMs = gq === 'off' ? 0 : Number(gq) > 0 ? Number(gq) : navigator.webdriver ? 0 : 33;
+        this.resScale = 1;
+        this.hudLines = [];
         // ?view=all: no view sent, the whole scene streamed (a reference for the stream's size)
         this.followCamera = q.get('view') !== 'all';
         this.holdBytes = mb > 0 ? Math.min(mb * 1048576, Q_HOLD_BYTES) : Q_HOLD_BYTES;
@@ -103,6 +110,10 @@ export class App {
             if (this.o.maxTrees > 0) this.r.max_rows = this.o.maxTrees;
             this.r.offscreen = !!this.o.offscreen; // a wall tile draws ahead, presents later
             await this.r.init();
+            const gl = this.r.gl, info = gl.getExtension('WEBGL_debug_renderer_info');
+            this.rendererName = info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER);
+            this.gov = new Governor(this.governorMs, softwareRenderer(this.rendererName), performance.now() * 1e-3);
+            this.applyGovernor();
         } catch (e) {
             this.fatal = e;
             this.say(e instanceof WebGL2Missing ? e.message : `The page could not start its renderer: ${e.message}`);
@@ -125,7 +136,7 @@ export class App {
     }
 
     resize() {
-        const dpr = Math.min(window.devicePixelRatio || 1, 2);
+        const dpr = Math.min(window.devicePixelRatio || 1, 2) * this.resScale;
         this.canvas.width = Math.max(1, Math.round(this.canvas.clientWidth * dpr));
         this.canvas.height = Math.max(1, Math.round(this.canvas.clientHeight * dpr));
     }
@@ -265,7 +276,8 @@ export class App {
             this.weather = f.weather;
             if (this.r) this.r.fx = stormFxFromWeather(f.weather.sustained_ms, f.weather.dir_from_deg, this.stormQuality);
             const lines = weatherLines(f.weather);
-            if (this.hudEl) this.hudEl.textContent = lines.join('\n');
+            this.hudLines = lines;
+            this.showHud();
             // a screen reader is told the class when it changes, not every replay second
             if (this.hudSaysEl && this.hudSaysEl.textContent !== lines[1]) this.hudSaysEl.textContent = lines[1];
             if (this.o.onWeather) this.o.onWeather(f.weather);
@@ -341,8 +353,29 @@ export class App {
         return { eye: orbitEye(c.target, c.distance, c.yaw, c.pitch), target: c.target, fov_y_deg: c.fov_y_deg, subject_m: c.distance };
     }
 
+    // The governor's step into the frame: the LOD cap, the canvas's resolution, the HUD.
+    applyGovernor() {
+        if (!this.gov) return;
+        this.resScale = this.gov.resScale();
+        this.resize();
+        if (this.r && this.r.lod) this.r.lod.cap = this.gov.lodScale();
+        this.showHud();
+    }
+
+    // The HUD: the weather's lines, and the governor's step when it draws less detail (as
+    // gale-client's status line: "detail −2").
+    showHud() {
+        if (!this.hudEl) return;
+        const step = this.gov ? this.gov.step : 0;
+        this.hudEl.textContent = this.hudLines.concat(step > 0 ? [`detail \u2212${step}`] : []).join('\n');
+    }
+
     frame(t_ms) {
         requestAnimationFrame((t) => this.frame(t));
+        // the governor takes the time between frames the browser gave (the whole frame's)
+        if (this.gov && this.lastFrame_ms !== undefined && this.ready && this.gov.frame(t_ms - this.lastFrame_ms, t_ms * 1e-3)) this.applyGovernor();
+        this.lastFrame_ms = t_ms;
+        if (this.r && this.r.lod && this.gov) this.r.lod.cap = this.gov.lodScale();
         if (this.frozen || !this.ready || !this.jitter || !this.jitter.snaps.length) return;
         const server = this.clock.serverTime(performance.now() * 1e-3);
         if (server === null) return;
@@ -407,6 +440,7 @@ export class App {
             impostors: s.impostors || 0, lod_worst: s.lod_worst,
             cull_ms: s.cull_ms, lod_scale: s.lod_scale, lod_scale_far: s.lod_scale_far, cells_in_view: s.cells_in_view, views_sent: this.views.count, view: this.views.sent,
             stream_bytes_per_s: b.length && now > b[0][0] ? (bytes - b[0][1]) / (now - b[0][0]) : null,
+            governor: this.gov ? { target_ms: this.gov.target_ms, step: this.gov.step, lod_scale: this.gov.lodScale(), res_scale: this.resScale, renderer: this.rendererName } : null,
             trees_per_snapshot: this.treesSent, trees_held: this.qTrees, reduced: this.reduced };
     }
 

@@ -51,6 +51,7 @@ export class LodSelect {
         this.seen = new Uint32Array(n_trees); // the frame it was last in view (0: never)
         this.frame = 0;
         this.scale = 1; // the budget's scale of FULL's and THIN's distances, last frame
+        this.cap = 1; // the frame-time governor's cap on that scale (web/governor.js)
         this.scaleFar = 1; // and of the impostors' reach
         this.hist = null;
     }
@@ -72,7 +73,7 @@ export class LodSelect {
     select(trees, dist, n, speciesOf, cost, out, budget = {}, nodes = [], lying = null, share = null) {
         const maxTris = budget.triangles ?? LOD_BUDGET_TRIANGLES, maxTrees = budget.trees ?? LOD_BUDGET_TREES;
         const maxNodes = budget.nodes ?? LOD_BUDGET_NODES, maxDraws = (budget.draws ?? LOD_BUDGET_DRAWS) - LOD_DRAWS_FIXED;
-        const sMax = Math.min(1, this.scale * LOD_GROW_PER_FRAME), fMax = Math.min(1, this.scaleFar * LOD_GROW_PER_FRAME);
+        const sMax = Math.min(this.cap, this.scale * LOD_GROW_PER_FRAME), fMax = Math.min(1, this.scaleFar * LOD_GROW_PER_FRAME);
         const reach = LOD_OUTER_M[LOD_LEVELS - 1] * fMax * (1 + LOD_HYSTERESIS);
         const ns = cost.length, w = reach / BINS;
         // the standing trees' bins, then the lying ones' (at most THIN)
