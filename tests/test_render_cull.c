@@ -127,11 +127,16 @@ static void test_fade_bands(void)
     CHECK(b.flags == (RENDER_LOD_FULL | RENDER_LOD_BILLBOARD));
     CHECK_NEAR(b.bill_t, smooth01((crown_dist(210.0f) - 200.0f) / 50.0f), 1e-6);
     CHECK(at(0.0f, 195.0f, 1.0f).flags == RENDER_LOD_FULL);
-    /* a tipped or snapped tree is never an impostor: it stays THIN out to the reach */
+    /* a tipped or snapped tree is never an impostor: THIN, fading out over THIN's band
+       with no impostor fading in, and past it not drawn */
     const render_lod_desc d1 = { .mode_dist_m = 40.0f, .scale = 1.0f };
-    render_tree_lod p = render_lod_pick(1000.0f, &sp, &d1, true);
+    render_tree_lod p = render_lod_pick(150.0f, &sp, &d1, true);
     CHECK(p.flags == RENDER_LOD_FULL && p.level == LOD_THIN && p.bill_t == 0.0f);
-    CHECK(render_lod_pick(4100.0f, &sp, &d1, true).flags == 0);
+    render_tree_lod pf = render_lod_pick(230.0f, &sp, &d1, true);
+    CHECK(pf.flags == RENDER_LOD_FULL && pf.level == LOD_THIN);
+    CHECK(pf.bill_t > 0.0f && pf.bill_t < 1.0f);
+    CHECK(render_lod_pick(260.0f, &sp, &d1, true).flags == 0);
+    CHECK(render_lod_pick(1000.0f, &sp, &d1, true).flags == 0);
 }
 
 static void test_dither_and_scale(void)

@@ -245,8 +245,8 @@ static void test_piece_frame(void)
     free(mask);
 }
 
-/* far away a standing tree is an impostor, a fallen one is not (the impostor stands): it
- * stays posed, thinned, lying as it lies */
+/* far away a standing tree is an impostor, a fallen one is not (the impostor stands): past
+ * THIN it is not drawn (a few pixels high), and within THIN it lies as it lies */
 static void test_fallen_no_billboard(void)
 {
     render_instance in = { .species = 0, .pos = { 0.0f, 400.0f, 0.0f }, .scale = 1.0f };
@@ -254,6 +254,13 @@ static void test_fallen_no_billboard(void)
     free(shot());
     render_stats st = render_get_stats(R);
     CHECK(st.trees_billboard == 1);
+    render_set_damage(R, 0, 1.536f, 0.0f, 0);
+    render_trees_commit(R);
+    free(shot());
+    st = render_get_stats(R);
+    CHECK(st.trees_billboard == 0 && st.trees_full == 0);
+    in.pos[1] = 150.0f;
+    CHECK(render_set_instances(R, 1, &in, &err) == 0);
     render_set_damage(R, 0, 1.536f, 0.0f, 0);
     render_trees_commit(R);
     free(shot());

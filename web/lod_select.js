@@ -8,7 +8,8 @@
 // more than the histogram said. Between THIN and IMPOSTOR a tree cross-fades over the last
 // LOD_FADE_SHARE of THIN's outer distance: a share of it in the impostor that grows with
 // its distance, 1 from that distance on, whatever its level. A tree that lies (fallen,
-// uprooted, snapped) is never an impostor, whose picture stands: it stays THIN.
+// uprooted, snapped) is never an impostor, whose picture stands: it is THIN within THIN's
+// distance and not drawn past it.
 import { LOD, LOD_LEVELS, LOD_OUTER_M, LOD_HYSTERESIS, LOD_MESH_STEP_M, LOD_BUDGET_TRIANGLES, LOD_BUDGET_TREES,
     LOD_BUDGET_NODES, LOD_BUDGET_DRAWS, LOD_GROW_PER_FRAME, LOD_FADE_SHARE } from './lod_policy.js';
 
@@ -107,7 +108,7 @@ export class LodSelect {
                         let l = levelAt(d, sc * (1 + LOD_HYSTERESIS), sf * (1 + LOD_HYSTERESIS));
                         if (l === LOD.NONE) break;
                         let thin = l === LOD.THIN, bill = false;
-                        if (l === LOD.IMPOSTOR && ly) thin = true;
+                        if (l === LOD.IMPOSTOR && ly) thin = false;
                         else if (!ly) {
                             // (a FULL bin reaches the fade only at a tiny scale)
                             if (l !== LOD.FULL) thin = d < e;
@@ -186,7 +187,9 @@ export class LodSelect {
             else if (p !== LOD.NONE && l > p) l = Math.max(p, levelAt(d, sc * hi, sf * hi)); // coarser: only past the widened edge
             else if (p !== LOD.NONE && l < p) l = Math.min(p, levelAt(d, sc * lo, sf * lo)); // finer: only inside the narrowed edge
             if (l === LOD.THIN || l === LOD.IMPOSTOR) {
-                if (lying && lying[t]) l = LOD.THIN;
+                // a lying tree past THIN is a few pixels high: not drawn (a storm's
+                // thousands posed out to the reach would cost ten times the budget)
+                if (lying && lying[t]) l = d < eThin ? LOD.THIN : LOD.NONE;
                 else if (d > eFade) {
                     // inside THIN's outer distance THIN, fading; past it the hysteresis
                     // keeps a THIN tree's level, wholly in its impostor (share 1, no

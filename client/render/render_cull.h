@@ -54,7 +54,10 @@ bool render_cull_visible(const float planes[6][4], const float eye[3],
 
 /* The LOD of a tree at distance dist_m (lod_policy.h, scaled by d). stays_posed: a fallen,
  * uprooted or snapped tree or a debris piece, which an impostor of the standing tree would
- * misdraw: it stays THIN out to the impostors' reach. Past that reach, flags 0. */
+ * misdraw: it is never an impostor, and over THIN's fade band it fades out (bill_t, with
+ * no impostor fading in): past THIN a lying tree is a few pixels high, and a storm's
+ * thousands of them posed out to the reach would cost ten times the frame's budget. Past
+ * the impostors' reach, flags 0. */
 render_tree_lod render_lod_pick(float dist_m, const render_cull_species *s,
                                 const render_lod_desc *d, bool stays_posed);
 

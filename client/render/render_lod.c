@@ -30,8 +30,13 @@ render_tree_lod render_lod_pick(float dist_m, const render_cull_species *s,
     const float sc = d->scale > 0.0f ? d->scale : 1.0f;
     const float full_m = lod_outer_m[LOD_FULL] * sc, thin_m = lod_outer_m[LOD_THIN] * sc;
     out.thin_t = fade_past(dist_m, full_m);
-    out.bill_t = stays_posed ? 0.0f : fade_past(dist_m, thin_m);
-    out.level = out.bill_t > 0.0f ? LOD_IMPOSTOR : out.thin_t > 0.0f ? LOD_THIN : LOD_FULL;
+    out.bill_t = fade_past(dist_m, thin_m);
+    if (stays_posed && out.bill_t >= 1.0f) {
+        return (render_tree_lod){ 0 }; /* lying past THIN: a few pixels high, not drawn */
+    }
+    out.level = out.bill_t > 0.0f && !stays_posed ? LOD_IMPOSTOR
+                : out.thin_t > 0.0f                ? LOD_THIN
+                                                   : LOD_FULL;
     if (out.bill_t < 1.0f) {
         out.flags |= RENDER_LOD_FULL;
         /* modes: all up to mode_dist_m, then fewer as 1/d, never below 4 (section 5.1),
@@ -54,7 +59,7 @@ render_tree_lod render_lod_pick(float dist_m, const render_cull_species *s,
             out.mesh_lod = s->n_lods - 1;
         }
     }
-    if (out.bill_t > 0.0f) {
+    if (out.bill_t > 0.0f && !stays_posed) {
         out.flags |= RENDER_LOD_BILLBOARD;
     }
     return out;

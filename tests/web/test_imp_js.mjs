@@ -3,7 +3,8 @@
 // - the crown's sway and the quad's offset against a hand computation on a tiny asset,
 //   and the quad's extent against client/render/render_species.c's numbers;
 // - a line of trees: FULL, THIN, fading (both), impostors past THIN's outer distance, none
-//   past IMPOSTOR's; a fallen tree stays THIN at any distance, never an impostor;
+//   past IMPOSTOR's; a fallen tree is THIN within THIN's distance, never an impostor, and
+//   not drawn past it;
 // - the 2 km landscape's scale: 100,000 trees in a 2 km square seen from the air draw every
 //   tree in view (the frustum and the draw distance by brute force), within the frame's
 //   budget of triangles and draw calls; the cull and levels' CPU time is printed.
@@ -70,8 +71,8 @@ const near = (a, b, tol, what) => assert.ok(Math.abs(a - b) <= tol, `${what}: ${
     const n = ds.length, trees = Int32Array.from(ds, (_, i) => i), dist = Float32Array.from(ds);
     const cost = [[[9000, 9000, 9000], [900, 900, 900], [2, 2, 2]]];
     const lying = new Uint8Array(n);
-    const fallen = ds.indexOf(1000), fallenFar = ds.indexOf(2200);
-    lying[fallen] = lying[fallenFar] = 1;
+    const fallenNear = ds.indexOf(150), fallen = ds.indexOf(1000), fallenFar = ds.indexOf(2200);
+    lying[fallenNear] = lying[fallen] = lying[fallenFar] = 1;
     const sel = new LodSelect(n), lv = new Uint8Array(n), share = new Float32Array(n);
     const r = sel.select(trees, dist, n, () => 0, cost, lv, { triangles: 1e12, trees: 1e9, nodes: 1e12 }, [100], lying, share);
     assert.equal(r.scale, 1);
@@ -81,7 +82,7 @@ const near = (a, b, tol, what) => assert.ok(Math.abs(a - b) <= tol, `${what}: ${
         let want = d < LOD_OUTER_M[LOD.FULL] ? LOD.FULL : d < LOD_OUTER_M[LOD.THIN] ? LOD.THIN : d < LOD_OUTER_M[LOD.IMPOSTOR] ? LOD.IMPOSTOR : LOD.NONE;
         let sh = want === LOD.THIN ? Math.max(0, (d - fade0) / (LOD_OUTER_M[LOD.THIN] - fade0)) : want === LOD.IMPOSTOR ? 1 : 0;
         if (lying[i]) {
-            want = LOD.THIN;
+            want = d < LOD_OUTER_M[LOD.THIN] ? LOD.THIN : LOD.NONE;
             sh = 0;
         }
         assert.equal(lv[i], want, `tree at ${d} m: level ${lv[i]}, expected ${want}`);
