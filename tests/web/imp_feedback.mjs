@@ -56,6 +56,7 @@ export async function impostorSwayCheck(page, count = 5) {
             gl.uniform3fv(u.u_bsize, sp.bsize);
             gl.uniform3fv(u.u_sway, sp.sway.c);
             gl.uniform1f(u.u_zc, sp.sway.z_c_m);
+            gl.uniform2fv(u.u_imp_ab, sp.sway.ab);
             gl.uniform4fv(u.u_qw, sp.qw.subarray(0, 8));
             gl.uniform1i(u.u_base, 0);
             gl.bindBuffer(gl.TRANSFORM_FEEDBACK_BUFFER, buf);

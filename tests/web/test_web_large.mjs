@@ -94,8 +94,10 @@ try {
     // the impostors sway as web/imp_sway.js says: the vertex stage's corners against the CPU's
     out.sway = await impostorSwayCheck(page);
     step(`impostor sway: ${JSON.stringify(out.sway)}`);
-    assert.ok(out.sway.length >= 3 && out.sway.some((c) => c.max_sway_m > 0.05), `the impostors checked hardly sway: ${JSON.stringify(out.sway)}`);
-    for (const c of out.sway) assert.ok(c.max_err_m < 1e-3, `impostor of tree ${c.tree}: a corner ${c.max_err_m} m off web/imp_sway.js (sway ${c.max_sway_m} m)`);
+    // (a breeze leans the 20 m trees' impostors 1-3 cm at their tops; the corners agree
+    // with the CPU's within 3e-5 m, so 2e-4 m holds them to a tenth of a centimetre's sway)
+    assert.ok(out.sway.length >= 3 && out.sway.some((c) => c.max_sway_m > 0.005), `the impostors checked hardly sway: ${JSON.stringify(out.sway)}`);
+    for (const c of out.sway) assert.ok(c.max_err_m < 2e-4, `impostor of tree ${c.tree}: a corner ${c.max_err_m} m off web/imp_sway.js (sway ${c.max_sway_m} m)`);
     await page.evaluate(() => { window.gale.frozen = false; });
     out.aerial_png = path.join(work, 'aerial.png');
     writeFileSync(out.aerial_png, png(aerial.w, aerial.h, Buffer.from(aerial.pixels, 'base64')));
