@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "camera_button.h"
+#include "lang.h"
 #include "camera_preset.h"
 #include "check.h"
 
@@ -55,11 +56,11 @@ static void test_cycle(void)
     }
     CHECK(camera_button_next(CAMERA_PRESET_COUNT) == CAMERA_PRESET_STREET);
     char buf[32];
-    camera_button_label(CAMERA_PRESET_AERIAL, buf, sizeof buf);
+    camera_button_label(LANG_EN, CAMERA_PRESET_AERIAL, buf, sizeof buf);
     CHECK(strcmp(buf, "Camera: aerial") == 0);
-    camera_button_label(-1, buf, sizeof buf);
+    camera_button_label(LANG_EN, -1, buf, sizeof buf);
     CHECK(strcmp(buf, "Camera") == 0);
-    camera_button_label(CAMERA_PRESET_TOUR, buf, sizeof buf);
+    camera_button_label(LANG_EN, CAMERA_PRESET_TOUR, buf, sizeof buf);
     CHECK(strcmp(buf, "Camera: tour") == 0);
 }
 

@@ -13,6 +13,7 @@
 
 #include "check.h"
 #include "hud.h"
+#include "lang.h"
 
 static hud_font *font36;
 
@@ -188,8 +189,8 @@ static void test_format(void)
                     .role = "kiosk" };
     int n = hud_format(&s, lines);
     CHECK(n == 4);
-    /* 50 m/s = 180 km/h = 111.85 mph = 97.2 kt (Category 3) */
-    CHECK_STR_HAS(lines[0], "Wind 50.0 m/s \xC2\xB7 180 km/h \xC2\xB7 112 mph");
+    /* 50 m/s = 180 km/h = 111.85 mph = 97.2 kt (Category 3): mph first in English */
+    CHECK_STR_HAS(lines[0], "Wind 112 mph \xC2\xB7 180 km/h");
     CHECK_STR_HAS(lines[1], "Category 3 hurricane");
     CHECK_STR_HAS(lines[2], "Live \xC2\xB7 127.0.0.1:9000 \xC2\xB7 kiosk");
     CHECK_STR_HAS(lines[3], "60 fps \xC2\xB7 latency 3.2 ms \xC2\xB7 delay 100 ms");
@@ -224,6 +225,27 @@ static void test_format(void)
         CHECK(hud_font_has(lines[i]));
     }
     CHECK(!hud_font_has("\xE2\x86\x92")); /* an arrow is not baked: the check can tell */
+    /* and every text of every language (configs/lang): Spanish's ñ ¿, Creole's ò */
+    int texts = 0;
+    for (int l = 0; l < LANG_COUNT; l++) {
+        for (int k = 0; k < L_KEY_COUNT; k++) {
+            if (!hud_font_has(lang_text(l, k))) {
+                fprintf(stderr, "%s %s: not every character is baked: %s\n", lang_code(l),
+                        lang_text(LANG_EN, k), lang_text(l, k));
+                CHECK(0);
+            }
+            texts++;
+        }
+    }
+    CHECK(texts == LANG_COUNT * L_KEY_COUNT);
+    /* the same HUD in Spanish: km/h first, its words */
+    s.lang = LANG_ES;
+    s.wind_ms = 50.0f;
+    s.detail_step = 0;
+    hud_format(&s, lines);
+    CHECK_STR_HAS(lines[0], "Viento 180 km/h \xC2\xB7 112 mph");
+    CHECK_STR_HAS(lines[1], "Hurac\xC3\xA1n de categor\xC3\xAD" "a 3");
+    CHECK_STR_HAS(lines[2], "En directo");
 }
 
 /* A steady scenario's title is shown until a kiosk dials: then the dial's wind is what

@@ -15,6 +15,7 @@
 #include "check.h"
 #include "ctl.h"
 #include "kiosk_ui.h"
+#include "lang.h"
 #include "wind_scale.h"
 
 static const char *const names[10] = { "calm", "gusty", "storm", "cat1", "cat2",
@@ -58,7 +59,7 @@ static void check_layout(int w, int h, bool replay)
     kiosk_ui ui;
     setup(&ui, replay);
     kiosk_ui_layout(&ui, w, h);
-    int want = 2 + 10 + 1 + 1 + (replay ? 2 + KIOSK_UI_SPEEDS : 0);
+    int want = 2 + 10 + 1 + 1 + LANG_COUNT + (replay ? 2 + KIOSK_UI_SPEEDS : 0);
     CHECK(ui.n == want);
     camera_button_rect cb = camera_button_layout(w, h);
     kiosk_ui_rect cam = { cb.x0, cb.y0, cb.x1, cb.y1 };
@@ -354,7 +355,8 @@ static void test_collapse(void)
     CHECK(a.act == KIOSK_UI_ACT_COLLAPSE && ui.collapsed);
     ctl_msg m;
     CHECK(kiosk_ui_message(&ui, &a, "tok", &m) == 1); /* the server is not told */
-    CHECK(ui.n == 1 && ui.c[0].kind == KIOSK_UI_COLLAPSE);
+    CHECK(ui.n == 1 + LANG_COUNT && ui.c[0].kind == KIOSK_UI_COLLAPSE);
+    CHECK(kiosk_ui_find(&ui, KIOSK_UI_LANG, LANG_HT) >= 0); /* a language, hidden or not */
     CHECK(ui.panel_y0 == 1080.0f);
     char line[256];
     kiosk_ui_describe(&ui, line, sizeof line);
@@ -362,6 +364,36 @@ static void test_collapse(void)
     centre(&ui, KIOSK_UI_COLLAPSE, 0, &x, &y);
     tap(&ui, x, y, &a);
     CHECK(!ui.collapsed && ui.n > 10);
+}
+
+/* The language buttons: each in its own language's name, a tap switches the panel's words
+ * (the client the rest: client_kiosk.c), and the server is not told. */
+static void test_language(void)
+{
+    kiosk_ui ui;
+    setup(&ui, true);
+    kiosk_ui_layout(&ui, 1280, 720);
+    char label[KIOSK_UI_NAME_CHARS];
+    int es = kiosk_ui_find(&ui, KIOSK_UI_LANG, LANG_ES);
+    CHECK(es >= 0);
+    kiosk_ui_label(&ui, &ui.c[es], label, sizeof label);
+    CHECK(strcmp(label, "Espa\xC3\xB1ol") == 0);
+    const float min_px = KIOSK_UI_MIN_TARGET_FRAC * 720.0f;
+    CHECK(ui.c[es].r.x1 - ui.c[es].r.x0 >= min_px && ui.c[es].r.y1 - ui.c[es].r.y0 >= min_px);
+    kiosk_ui_action a;
+    float x, y;
+    centre(&ui, KIOSK_UI_LANG, LANG_ES, &x, &y);
+    tap(&ui, x, y, &a);
+    CHECK(a.act == KIOSK_UI_ACT_LANG && a.index == LANG_ES && ui.lang == LANG_ES);
+    ctl_msg m;
+    CHECK(kiosk_ui_message(&ui, &a, "tok", &m) == 1);
+    kiosk_ui_label(&ui, &ui.c[kiosk_ui_find(&ui, KIOSK_UI_RESET, 0)], label, sizeof label);
+    CHECK(strcmp(label, "Reiniciar") == 0);
+    kiosk_ui_label(&ui, &ui.c[kiosk_ui_find(&ui, KIOSK_UI_SCENARIO, 1)], label, sizeof label);
+    CHECK(strcmp(label, "Tarde con rachas") == 0);
+    kiosk_ui_label(&ui, &ui.c[kiosk_ui_find(&ui, KIOSK_UI_SCENARIO, 8)], label, sizeof label);
+    CHECK(strcmp(label, "Andrew 1992") == 0);
+    CHECK(strcmp(kiosk_ui_band_name(LANG_HT, 0), "Kalm") == 0);
 }
 
 int main(void)
@@ -373,5 +405,6 @@ int main(void)
     RUN(test_compass_touch);
     RUN(test_buttons);
     RUN(test_collapse);
+    RUN(test_language);
     return check_report();
 }

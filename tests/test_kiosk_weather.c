@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "hud.h"
 #include "kiosk_fixture.h"
 #include "wind_scale.h"
 
@@ -79,8 +80,11 @@ static void test_dials(void)
         if (n < 3) {
             continue;
         }
+        /* the wind in the English HUD's first unit, within its class's mph range
+         * (client/hud/hud_units.c): the dialled speed's own mph, or the range's end */
         char wind[64];
-        snprintf(wind, sizeof wind, "Wind %.1f m/s", dials[i]);
+        snprintf(wind, sizeof wind, "Wind %ld mph",
+                 hud_unit_sustained((double)w.sustained_ms, HUD_UNIT_MPH, (int)w.ss_class));
         CHECK_STR_HAS(lines[0], wind);
         /* the class line is the server's class, by its title */
         CHECK(strcmp(lines[1], wind_scale_ss_title(w.ss_class)) == 0);

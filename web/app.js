@@ -13,10 +13,15 @@ import { orbitEye } from './view_math.js';
 import { stormFxFromWeather, stormFxQualityParse, STORM_FX_LOW } from './storm_fx.js';
 import { DamageFx, DAMAGE } from './damage.js';
 import { weatherLines } from './hud_text.js';
+import { setTexts, langFind, t } from './lang.js';
+import { LANG_CODES, TEXTS } from './lang_texts.js';
 import { Governor, softwareRenderer } from './governor.js';
 import { DATA_W } from './render_data.js';
 import { frustumCone, frustumView, ViewSender } from './view_stream.js';
 import { VIEW_FAR_M, VIEW_LOD_M } from './lod_policy.js';
+
+// the visitor's texts, built from configs/lang/*.po with gale-client's (client/lang)
+setTexts(LANG_CODES, TEXTS);
 
 const LEAVES_PER_FRAME = 4096; // CLIENT_LEAVES_PER_FRAME (client/app/client.h): more are thinned
 // The modal state the page holds: every snapshot's quantised values (n_trees × stride
@@ -81,6 +86,12 @@ export class App {
         this.governorMs = gq === 'off' ? 0 : Number(gq) > 0 ? Number(gq) : navigator.webdriver ? 0 : 33;
         this.resScale = 1;
         this.hudLines = [];
+        // the visitor's language: ?lang=en|es|ht (gale-client's --lang), English by default;
+        // a kiosk visitor may choose another (setLang), and idle returns to this one
+        const lq = q.get('lang');
+        this.langDefault = langFind(lq) || 'en';
+        if (lq !== null && !langFind(lq)) this.errors.push(`lang=${lq}: expected ${LANG_CODES.join(', ')}; en is used`);
+        this.lang = this.langDefault;
         // ?view=all: no view sent, the whole scene streamed (a reference for the stream's size)
         this.followCamera = q.get('view') !== 'all';
         this.holdBytes = mb > 0 ? Math.min(mb * 1048576, Q_HOLD_BYTES) : Q_HOLD_BYTES;
@@ -275,7 +286,7 @@ export class App {
         if (f.weather) {
             this.weather = f.weather;
             if (this.r) this.r.fx = stormFxFromWeather(f.weather.sustained_ms, f.weather.dir_from_deg, this.stormQuality);
-            const lines = weatherLines(f.weather);
+            const lines = weatherLines(f.weather, this.lang);
             this.hudLines = lines;
             this.showHud();
             // a screen reader is told the class when it changes, not every replay second
@@ -367,7 +378,20 @@ export class App {
     showHud() {
         if (!this.hudEl) return;
         const step = this.gov ? this.gov.step : 0;
-        this.hudEl.textContent = this.hudLines.concat(step > 0 ? [`detail \u2212${step}`] : []).join('\n');
+        const detail = step > 0 ? [t(this.lang, 'hud.detail', step).replace(/^ · /, '')] : [];
+        this.hudEl.textContent = this.hudLines.concat(detail).join('\n');
+    }
+
+    // The language the page speaks from the next line drawn (a code of lang_texts.js).
+    setLang(code) {
+        const l = langFind(code);
+        if (!l) return false;
+        this.lang = l;
+        document.documentElement.lang = l;
+        if (this.weather) this.hudLines = weatherLines(this.weather, l);
+        this.showHud();
+        if (this.o.onLang) this.o.onLang(l);
+        return true;
     }
 
     frame(t_ms) {

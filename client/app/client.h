@@ -21,6 +21,7 @@
 #include "err.h"
 #include "hud.h"
 #include "jitter.h"
+#include "lang.h"
 #include "kiosk_ui.h"
 #include "render.h"
 #include "governor.h"
@@ -72,7 +73,7 @@ typedef struct client_args {
     int budget_ms;          /* --budget: longest wait for the group's swap */
     const char *frame_log;  /* --frame-log FILE: "mono_us server_us_rendered frame_no" */
     int camera_preset;      /* enum camera_preset; -1 = fitted to the scene (camera_preset.h) */
-    const char *captions;   /* caption table file (caption.h); NULL = built-in English */
+    int lang;               /* --lang: the operator's language (lang.h), where idle returns */
     double attract_s;       /* kiosk: idle seconds before attract mode; 0 = default 90 */
     int storm_fx;           /* enum storm_fx_quality: --storm-fx, default low */
     bool view_all;          /* --view all: no view sent, the whole scene streamed */
@@ -165,7 +166,7 @@ typedef struct client {
     /* the server's weather (last WEATHER frame): what the HUD names */
     wire_weather wx;
     bool have_wx;
-    caption_table captions; /* what each class does to trees and houses */
+    int lang;               /* the language shown now: a kiosk visitor may choose another */
     /* the HUD text of the last frame drawn (headless runs print it) */
     char hud_text[HUD_MAX_LINES][HUD_LINE_CHARS];
     int hud_lines;

@@ -20,6 +20,27 @@ static int hud_conn(const client *c, const cli_net_stats *ns)
     }
 }
 
+/* A text centred across the screen at y [px from the top], broken into lines that fit 90 %
+ * of the width (a Spanish caption runs a third longer than the English). */
+static void draw_centred(client *c, const char *text, float y, int accent_line, int fb_w,
+                         int fb_h)
+{
+    const hud_font *f = hud_get_font(c->hud);
+    char lines[3][HUD_LINE_CHARS];
+    int n = hud_wrap(f, text, 0.9f * (float)fb_w, lines, 3);
+    const char *ptr[3];
+    float w = 0.0f, asc, desc, gap;
+    for (int i = 0; i < n; i++) {
+        ptr[i] = lines[i];
+        w = fmaxf(w, hud_text_width(f, lines[i]));
+    }
+    hud_font_metrics(f, &asc, &desc, &gap);
+    /* the block's last line where a single line stood */
+    float y0 = y - (float)(n - 1) * (asc - desc + gap);
+    hud_draw_lines(c->hud, ptr, n, accent_line, floorf(0.5f * ((float)fb_w - w) - 10.0f), y0,
+                   fb_w, fb_h);
+}
+
 int client_frame_draw(client *c, double now, gale_err *err)
 {
     double server_now = now;
@@ -84,6 +105,7 @@ int client_frame_draw(client *c, double now, gale_err *err)
         .delay_ms = (float)(c->a.delay_s * 1e3),
         .frames_bad = ns.frames_bad,
         .role = ctl_role_name(c->a.role),
+        .lang = c->lang,
         .wx = c->have_wx ? &c->wx : NULL,
         /* camera yaw is counter-clockwise from +x (east); a heading clockwise from north */
         .view_heading_deg = 90.0f - c->cam.yaw * 57.29578f,
@@ -101,10 +123,8 @@ int client_frame_draw(client *c, double now, gale_err *err)
         c->hud_lines = hud_drawn_lines(c->hud, c->hud_text); /* what the visitor reads */
         if (c->have_wx) {
             /* what this wind does, in plain words, along the bottom of the screen */
-            const char *cap = caption_for(&c->captions, c->wx.ss_class, c->wx.beaufort);
-            float w = hud_text_width(hud_get_font(c->hud), cap);
-            hud_draw_lines(c->hud, &cap, 1, -1, floorf(0.5f * ((float)fb_w - w) - 10.0f),
-                           cap_y, fb_w, fb_h);
+            const char *cap = caption_for(c->lang, c->wx.ss_class, c->wx.beaufort);
+            draw_centred(c, cap, cap_y, -1, fb_w, fb_h);
             if (c->hud_lines < HUD_MAX_LINES) {
                 snprintf(c->hud_text[c->hud_lines++], HUD_LINE_CHARS, "%s", cap);
             }
@@ -118,14 +138,19 @@ int client_frame_draw(client *c, double now, gale_err *err)
         kiosk_ui_describe(&c->kiosk, c->hud_text[c->hud_lines++], HUD_LINE_CHARS);
     }
     if (c->attract.active) {
-        const char *line = "Touch the screen to control the wind";
-        float w = hud_text_width(hud_get_font(c->hud), line);
-        hud_draw_lines(c->hud, &line, 1, 0, floorf(0.5f * ((float)fb_w - w) - 10.0f),
-                       cap_y - 0.12f * (float)fb_h, fb_w, fb_h);
+        /* the attract loop's cards in turn: the invitation to touch, and that water, not
+         * wind, takes most lives in a hurricane */
+        int card = attract_card(&c->attract, now);
+        const char *line =
+            lang_text(c->lang, card == ATTRACT_CARD_WATER ? L_ATTRACT_WATER : L_KIOSK_TOUCH);
+        draw_centred(c, line, cap_y - 0.12f * (float)fb_h, 0, fb_w, fb_h);
+        if (c->hud_lines < HUD_MAX_LINES) {
+            snprintf(c->hud_text[c->hud_lines++], HUD_LINE_CHARS, "%s", line);
+        }
     }
     if (c->got_state && hs.conn != HUD_CONN_LIVE) {
         /* the last picture stays, dimmed, under a calm word: never a crash or a desktop */
-        hud_draw_veil(c->hud, "Reconnecting to the exhibit\xE2\x80\xA6", fb_w, fb_h);
+        hud_draw_veil(c->hud, lang_text(c->lang, L_KIOSK_RECONNECTING), fb_w, fb_h);
     }
     return 0;
 }

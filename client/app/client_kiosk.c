@@ -88,7 +88,7 @@ void client_kiosk_draw_camera_button(client *c, int fb_w, int fb_h)
     }
     camera_button_rect r = camera_button_layout(fb_w, fb_h);
     char label[32];
-    camera_button_label(c->a.camera_preset, label, sizeof label);
+    camera_button_label(c->lang, c->a.camera_preset, label, sizeof label);
     hud_draw_button(c->hud, label, r.x0, r.y0, r.x1, r.y1, fb_w, fb_h);
 }
 
@@ -124,6 +124,13 @@ bool client_kiosk_touch(client *c, int phase, float x, float y)
     if (a.dragging) {
         c->kiosk_drag_sent_s = now;
     }
+    if (a.act == KIOSK_UI_ACT_LANG) {
+        /* the visitor's language: the next frame speaks it, until idle returns the
+         * operator's (main.c) */
+        c->lang = a.index;
+        fprintf(stderr, "gale-client: kiosk: language %s\n", lang_code(c->lang));
+        return took;
+    }
     if (a.act == KIOSK_UI_ACT_SPEED) {
         c->kiosk_speed_ms = a.value; /* the + / - keys go on from here */
     } else if (a.act == KIOSK_UI_ACT_SCENARIO || a.act == KIOSK_UI_ACT_RESET) {
@@ -141,6 +148,7 @@ void client_kiosk_draw_panel(client *c, int fb_w, int fb_h)
     if (c->have_wx) {
         kiosk_ui_set_weather(&c->kiosk, &c->wx);
     }
+    c->kiosk.lang = c->lang;
     kiosk_ui_layout(&c->kiosk, fb_w, fb_h);
     kiosk_ui_draw(c->hud, &c->kiosk);
 }

@@ -61,7 +61,9 @@ static void usage(FILE *f)
             "  --frame-log FILE       one line a presented frame: mono_us server_us_rendered\n"
             "                         frame_no (CLOCK_MONOTONIC at swap, the server time shown)\n"
             "  --cache DIR            asset cache (default $XDG_CACHE_HOME/gale)\n"
-            "  --captions FILE        caption table of another language (configs/captions/)\n"
+            "  --lang CODE            the visitor's language: en (default), es or ht (Haitian\n"
+            "                         Creole); a kiosk visitor may choose another, and idle\n"
+            "                         returns to this one\n"
             "  --attract S            kiosk: after S s without a touch (default 90) release the\n"
             "                         dial and tour the cameras; a touch wakes it\n"
             "  --camera NAME          street (beside the palms), garden (an oak close up),\n"
@@ -294,8 +296,12 @@ static int parse_args(int argc, char **argv, client_args *a)
             }
         } else if (strcmp(o, "--touch") == 0) {
             a->touch = v;
-        } else if (strcmp(o, "--captions") == 0) {
-            a->captions = v;
+        } else if (strcmp(o, "--lang") == 0) {
+            a->lang = lang_find(v);
+            if (a->lang < 0) {
+                fprintf(stderr, "gale-client: --lang: expected en, es or ht, got \"%s\"\n", v);
+                return -1;
+            }
         } else if (strcmp(o, "--camera") == 0) {
             a->camera_preset = camera_preset_find(v);
             if (a->camera_preset < 0) {
@@ -393,11 +399,7 @@ int main(int argc, char **argv)
 
     int status = 1;
     gale_err err = { 0 };
-    caption_table_english(&c.captions);
-    if (c.a.captions && caption_table_load(c.a.captions, &c.captions, &err) != 0) {
-        fprintf(stderr, "gale-client: --captions: %s\n", err.msg);
-        return 2;
-    }
+    c.lang = c.a.lang;
     c.wind_v = calloc((size_t)WIRE_MAX_WIND_SIDE * WIRE_MAX_WIND_SIDE * 3, sizeof(float));
     c.cache = asset_cache_create(&(asset_cache_desc){ .dir = c.a.cache_dir }, &err);
     if (!c.cache) {
@@ -517,8 +519,10 @@ int main(int argc, char **argv)
         }
         /* a window's kiosk, or a headless one a --touch script plays the visitor of */
         if ((win || c.a.touch) && c.a.role == CTL_ROLE_KIOSK && attract_tick(&c.attract, now)) {
-            /* nobody at the kiosk: let the scenario's wind return, tour the cameras */
+            /* nobody at the kiosk: let the scenario's wind return, tour the cameras, speak
+             * the operator's language again */
             client_kiosk_release(&c);
+            c.lang = c.a.lang;
             c.tour_t0_s = now;
         }
         if (c.attract.active && c.scene_ready) {

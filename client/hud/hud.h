@@ -8,6 +8,7 @@
 #define GALE_HUD_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "err.h"
@@ -22,7 +23,8 @@
 
 typedef struct hud_font hud_font;
 
-/* Reads a TrueType file and bakes printable ASCII plus ° · – — ± … × − at px pixels (em height)
+/* Reads a TrueType file and bakes printable ASCII plus ° · – — ± … × − “ ” ’ and the letters of
+ * Spanish and Haitian Creole (á é í ó ú ñ ü à è ò ç ¡ ¿ and capitals) at px pixels (em height)
  * into a one-channel atlas. NULL with err on a missing or unreadable font. Free with
  * hud_font_unload. */
 hud_font *hud_font_load(const char *ttf_path, float px, gale_err *err);
@@ -31,6 +33,12 @@ void hud_font_unload(hud_font *f); /* NULL is a no-op */
 /* Pen advance of a UTF-8 string [px], kerning included; characters not in the atlas are
  * drawn (and measured) as '?'. Invalid UTF-8 bytes count as '?'. */
 float hud_text_width(const hud_font *f, const char *utf8);
+
+/* Breaks a UTF-8 text into at most max_lines lines at spaces, each no wider than max_w
+ * [px] (a word wider than that alone on its line, cut at HUD_LINE_CHARS); returns the
+ * count. What does not fit in max_lines is left out. */
+int hud_wrap(const hud_font *f, const char *utf8, float max_w, char lines[][HUD_LINE_CHARS],
+             int max_lines);
 
 /* Whether every character of a UTF-8 string is among the baked ones (none drawn as '?'). */
 bool hud_font_has(const char *utf8);
@@ -90,6 +98,7 @@ typedef struct hud_state {
     int detail_step;     /* the frame-time governor's step down; 0 = full detail */
     uint64_t frames_bad; /* frames dropped as undecodable */
     const char *role;    /* "viewer", "kiosk", "wall-tile" (borrowed) */
+    int lang;            /* the language the HUD speaks (lang.h; 0 = English) */
     /* The server's weather (PROTOCOL.md "WEATHER"; borrowed, NULL = none yet): when set,
      * the wind lines, class and storm lines come from it (have_wind and wind_ms are
      * ignored) and hud_draw adds a wind arrow. */
@@ -98,13 +107,40 @@ typedef struct hud_state {
                                the wind relative to the view (up = straight ahead) */
 } hud_state;
 
-/* Compass point of a bearing [deg]: "N", "NNE", ... "NNW" (16 points). */
+/* Compass point of a bearing [deg]: "N", "NNE", ... "NNW" (16 points, English). */
 const char *hud_compass_point(float bearing_deg);
+/* The point's index 0..15 from north clockwise (-1 for a bearing that is not a number),
+ * and its name in a language (lang.h; "?" for -1). */
+int hud_compass_index(float bearing_deg);
+const char *hud_compass_text(int lang, float bearing_deg);
 
-/* The lines of the server's weather (at most 6): wind with its gust, class (or Beaufort
- * force below tropical storm), direction, and a replay's storm or a steady scenario's
- * name; the browser's HUD (web/hud_text.js) says the same. Returns the count. */
-int hud_format_weather(const wire_weather *w, char lines[HUD_MAX_LINES][HUD_LINE_CHARS]);
+/* The lines of the server's weather (at most 7) in a language (lang.h): wind in the
+ * language's units with its gust, class (or Beaufort force below tropical storm),
+ * direction, a replay's storm or a steady scenario's name, and the expert line (knots and
+ * m/s); the browser's HUD (web/hud_text.js) says the same. Returns the count. */
+int hud_format_weather(const wire_weather *w, int lang,
+                       char lines[HUD_MAX_LINES][HUD_LINE_CHARS]);
+
+/* ---- units (hud_units.c) -------------------------------------------------------------- */
+
+enum hud_unit { HUD_UNIT_MPH = 0, HUD_UNIT_KMH, HUD_UNIT_KT, HUD_UNIT_MS, HUD_UNIT_COUNT };
+#define HUD_UNIT_NO_TOP 1000000L /* the top of Category 5's range: none */
+
+/* A speed [m/s] in a unit, unrounded. */
+double hud_unit_value(double ms, int unit);
+/* Rounded to a whole unit, half up (a gust, or a wind with no class); 0 for <= 0 or NaN. */
+long hud_unit_round(double ms, int unit);
+/* NHC's Saffir-Simpson range of a class (wind_scale.h numbering) in a unit, whole units,
+ * both ends included (hi HUD_UNIT_NO_TOP for Category 5); -1 out of range. */
+int hud_unit_range(int ss_class, int unit, long *lo, long *hi);
+/* The whole number shown for a 1-minute sustained wind of class ss_class: rounded, then
+ * moved into the class's range in that unit, so it never contradicts the category. */
+long hud_unit_sustained(double ms, int unit, int ss_class);
+/* "120 mph · 193 km/h" in the language's order (mph first in English, km/h first in
+ * Spanish and Creole), each number kept in ss_class's range (ss_class < 0: none). */
+int hud_format_speed(int lang, double ms, int ss_class, char *out, size_t cap);
+/* The language's first unit alone, rounded: "150 mph" (a gust). */
+int hud_format_speed_first(int lang, double ms, char *out, size_t cap);
 
 /* Formats the HUD lines into lines[HUD_MAX_LINES][HUD_LINE_CHARS]; returns the count. */
 int hud_format(const hud_state *s, char lines[HUD_MAX_LINES][HUD_LINE_CHARS]);

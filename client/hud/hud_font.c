@@ -15,9 +15,15 @@
 #define ATLAS_H    512
 #define OVERSAMPLE 2
 
-/* °, ·, ±, –, —, …, ×, and − (the governor's "detail −2") */
-static const int extra_codepoints[] = { 0x00B0, 0x00B7, 0x00B1, 0x2013, 0x2014, 0x2026,
-                                        0x00D7, 0x2212 };
+/* °, ·, ±, –, —, …, ×, − (the governor's "detail −2"), the quotes of NHC's sentences
+ * (“ ” ’), and the letters Spanish and Haitian Creole need (configs/lang: ¡ ¿ á é í ó ú
+ * ñ ü à è ò ç and their capitals) */
+static const int extra_codepoints[] = {
+    0x00B0, 0x00B7, 0x00B1, 0x2013, 0x2014, 0x2026, 0x00D7, 0x2212, 0x201C, 0x201D, 0x2019,
+    0x00A1, 0x00BF, 0x00E1, 0x00E9, 0x00ED, 0x00F3, 0x00FA, 0x00F1, 0x00FC, 0x00E0, 0x00E8,
+    0x00F2, 0x00E7, 0x00C1, 0x00C9, 0x00CD, 0x00D3, 0x00DA, 0x00D1, 0x00DC, 0x00C0, 0x00C8,
+    0x00D2, 0x00C7,
+};
 #define N_ASCII 95 /* 32..126 */
 #define N_EXTRA ((int)(sizeof extra_codepoints / sizeof extra_codepoints[0]))
 #define N_GLYPHS (N_ASCII + N_EXTRA)
@@ -259,4 +265,45 @@ float hud_text_width(const hud_font *f, const char *utf8)
     float end;
     hud_text_quads(f, 0.0f, 0.0f, utf8, NULL, 0, &end);
     return end;
+}
+
+int hud_wrap(const hud_font *f, const char *utf8, float max_w, char lines[][HUD_LINE_CHARS],
+             int max_lines)
+{
+    int n = 0;
+    const char *s = utf8;
+    while (*s && n < max_lines) {
+        while (*s == ' ') {
+            s++;
+        }
+        /* the longest run of whole words that fits; a word alone that does not fit is
+         * cut at the line's size */
+        size_t best = 0, len = strlen(s);
+        char buf[HUD_LINE_CHARS];
+        for (size_t i = 0; i <= len && i < HUD_LINE_CHARS; i++) {
+            if (s[i] != ' ' && s[i] != '\0') {
+                continue;
+            }
+            memcpy(buf, s, i);
+            buf[i] = '\0';
+            if (best && hud_text_width(f, buf) > max_w) {
+                break;
+            }
+            best = i;
+            if (s[i] == '\0') {
+                break;
+            }
+        }
+        if (best == 0) {
+            best = len < HUD_LINE_CHARS - 1 ? len : HUD_LINE_CHARS - 1;
+            while (best > 0 && ((unsigned char)s[best] & 0xC0) == 0x80) {
+                best--; /* not inside a UTF-8 sequence */
+            }
+        }
+        memcpy(lines[n], s, best);
+        lines[n][best] = '\0';
+        n++;
+        s += best;
+    }
+    return n;
 }

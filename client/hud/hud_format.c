@@ -6,6 +6,7 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "lang.h"
 #include "wind_scale.h"
 
 int hud_saffir_simpson(float speed_ms)
@@ -31,14 +32,7 @@ const char *hud_beaufort_name(int force)
 
 const char *hud_compass_point(float bearing_deg)
 {
-    static const char *const pts[16] = { "N", "NNE", "NE", "ENE", "E", "ESE", "SE", "SSE",
-                                         "S", "SSW", "SW", "WSW", "W", "WNW", "NW", "NNW" };
-    if (!isfinite(bearing_deg)) {
-        return "?";
-    }
-    double b = fmod((double)bearing_deg, 360.0);
-    b = b < 0.0 ? b + 360.0 : b;
-    return pts[(int)floor(b / 22.5 + 0.5) % 16];
+    return hud_compass_text(LANG_EN, bearing_deg);
 }
 
 /* "HH:MM" of minutes since the epoch (UTC) plus an offset, and its date "YYYY-MM-DD". */
@@ -59,92 +53,129 @@ static void civil(long long min, char *date, size_t dcap, char *hm, size_t hcap)
     snprintf(hm, hcap, "%02lld:%02lld", rem / 60, rem % 60);
 }
 
-int hud_format_weather(const wire_weather *w, char lines[HUD_MAX_LINES][HUD_LINE_CHARS])
+int hud_compass_index(float bearing_deg)
+{
+    if (!isfinite(bearing_deg)) {
+        return -1;
+    }
+    double b = fmod((double)bearing_deg, 360.0);
+    b = b < 0.0 ? b + 360.0 : b;
+    return (int)floor(b / 22.5 + 0.5) % 16;
+}
+
+const char *hud_compass_text(int lang, float bearing_deg)
+{
+    int i = hud_compass_index(bearing_deg);
+    return i < 0 ? "?" : lang_text(lang, L_COMPASS_0 + i);
+}
+
+/* a whole number of a reading, half up (web/hud_text.js: Math.floor(x + 0.5)) */
+static int whole(double x)
+{
+    return isfinite(x) ? (int)floor(x + 0.5) : 0;
+}
+
+/* The wind's class line: its Saffir-Simpson class from tropical storm up, else its
+ * Beaufort force, where "tropical depression" would mislabel a breeze. */
+static void class_line(int lang, int ss_class, int beaufort, char *out, size_t cap)
+{
+    if (ss_class >= WIND_SCALE_TS && ss_class < WIND_SCALE_SS_COUNT) {
+        snprintf(out, cap, "%s", lang_text(lang, L_SS_0 + ss_class));
+    } else {
+        int b = beaufort >= 0 && beaufort <= 12 ? beaufort : 0;
+        lang_format(out, cap, lang, L_HUD_BEAUFORT, lang_text(lang, L_BFT_0 + b), b);
+    }
+}
+
+int hud_format_weather(const wire_weather *w, int lang, char lines[HUD_MAX_LINES][HUD_LINE_CHARS])
 {
     int n = 0;
     double v = (double)w->sustained_ms;
-    snprintf(lines[n++], HUD_LINE_CHARS,
-             "Wind %.1f m/s \xC2\xB7 %.0f km/h \xC2\xB7 %.0f mph \xC2\xB7 gusts %.0f m/s", v,
-             v * 3.6, v / 0.44704, (double)w->gust_ms);
     int cls = (int)w->ss_class; /* the server's class (wind_scale.h numbering) */
-    if (cls >= WIND_SCALE_TS) {
-        snprintf(lines[n++], HUD_LINE_CHARS, "%s", wind_scale_ss_title(cls));
-    } else {
-        snprintf(lines[n++], HUD_LINE_CHARS, "%s \xC2\xB7 Beaufort %d",
-                 wind_scale_beaufort_title(w->beaufort), (int)w->beaufort);
-    }
-    snprintf(lines[n++], HUD_LINE_CHARS, "From the %s (%.0f\xC2\xB0)%s",
-             hud_compass_point(w->dir_from_deg), (double)w->dir_from_deg,
-             (w->flags & WIRE_WEATHER_DIAL) ? " \xC2\xB7 dialled at the kiosk" : "");
+    char speed[96], gust[48];
+    hud_format_speed(lang, v, cls, speed, sizeof speed);
+    hud_format_speed_first(lang, (double)w->gust_ms, gust, sizeof gust);
+    lang_format(lines[n++], HUD_LINE_CHARS, lang, L_HUD_WIND, speed, gust);
+    class_line(lang, cls, (int)w->beaufort, lines[n++], HUD_LINE_CHARS);
+    char from[HUD_LINE_CHARS];
+    lang_format(from, sizeof from, lang, L_HUD_FROM, hud_compass_text(lang, w->dir_from_deg),
+                whole((double)w->dir_from_deg) % 360);
+    snprintf(lines[n++], HUD_LINE_CHARS, "%s%s", from,
+             (w->flags & WIRE_WEATHER_DIAL) ? lang_text(lang, L_HUD_DIALLED) : "");
     if (w->flags & WIRE_WEATHER_STORM) {
-        char clock[96] = "";
+        const char *name = w->name[0] ? w->name : lang_text(lang, L_HUD_STORM_DEFAULT);
         if (w->flags & WIRE_WEATHER_CLOCK) {
             char d[32], hm[24], ld[32], lhm[24];
             civil((long long)w->utc_min, d, sizeof d, hm, sizeof hm);
             civil((long long)w->utc_min + w->utc_offset_min, ld, sizeof ld, lhm, sizeof lhm);
-            snprintf(clock, sizeof clock, " \xC2\xB7 %s %s UTC (%s local)", d, hm, lhm);
-        }
-        snprintf(lines[n++], HUD_LINE_CHARS, "%s%s", w->name[0] ? w->name : "Storm", clock);
-        snprintf(lines[n++], HUD_LINE_CHARS,
-                 "Eye %.0f km %s \xC2\xB7 %.0f hPa \xC2\xB7 storm %s",
-                 (double)w->distance_km, hud_compass_point(w->bearing_deg),
-                 (double)w->central_hpa,
-                 w->storm_class < WIND_SCALE_SS_COUNT ? wind_scale_ss_abbrev(w->storm_class) : "?");
-        int pos = (int)w->replay_pos_s, len = (int)w->replay_len_s;
-        if (len > 0) {
-            snprintf(lines[n++], HUD_LINE_CHARS, "Replay %d:%02d / %d:%02d \xC2\xB7 \xC3\x97%.0f%s",
-                     pos / 60, pos % 60, len / 60, len % 60, (double)w->replay_speed,
-                     (w->flags & WIRE_WEATHER_FINISHED) ? " \xC2\xB7 ended" : "");
+            lang_format(lines[n++], HUD_LINE_CHARS, lang, L_HUD_STORM_CLOCK, name, d, hm, lhm);
         } else {
-            snprintf(lines[n++], HUD_LINE_CHARS, "Replay %d:%02d \xC2\xB7 \xC3\x97%.0f (looping)",
-                     pos / 60, pos % 60, (double)w->replay_speed);
+            snprintf(lines[n++], HUD_LINE_CHARS, "%s", name);
+        }
+        lang_format(lines[n++], HUD_LINE_CHARS, lang, L_HUD_EYE, whole((double)w->distance_km),
+                    hud_compass_text(lang, w->bearing_deg), whole((double)w->central_hpa),
+                    w->storm_class < WIND_SCALE_SS_COUNT
+                        ? lang_text(lang, L_SS_ABBREV_0 + w->storm_class)
+                        : "?");
+        int pos = (int)w->replay_pos_s, len = (int)w->replay_len_s;
+        int speed_x = whole((double)w->replay_speed);
+        if (len > 0) {
+            char rl[HUD_LINE_CHARS];
+            lang_format(rl, sizeof rl, lang, L_HUD_REPLAY, pos / 60, pos % 60, len / 60,
+                        len % 60, speed_x);
+            snprintf(lines[n++], HUD_LINE_CHARS, "%s%s", rl,
+                     (w->flags & WIRE_WEATHER_FINISHED) ? lang_text(lang, L_HUD_REPLAY_ENDED)
+                                                        : "");
+        } else {
+            lang_format(lines[n++], HUD_LINE_CHARS, lang, L_HUD_REPLAY_LOOP, pos / 60, pos % 60,
+                        speed_x);
         }
     } else if (w->name[0] && !(w->flags & WIRE_WEATHER_DIAL)) {
         /* a dial overrides a steady scenario: its title would contradict the wind above */
-        snprintf(lines[n++], HUD_LINE_CHARS, "%s", w->name);
+        snprintf(lines[n++], HUD_LINE_CHARS, "%s", lang_scenario_title(lang, w->name));
     }
+    /* the expert line, the one place knots appear: the class's own unit, and m/s */
+    lang_format(lines[n++], HUD_LINE_CHARS, lang, L_HUD_EXPERT,
+                (int)hud_unit_sustained(v, HUD_UNIT_KT, cls),
+                (int)hud_unit_sustained(v, HUD_UNIT_MS, cls),
+                (int)hud_unit_round((double)w->gust_ms, HUD_UNIT_KT),
+                (int)hud_unit_round((double)w->gust_ms, HUD_UNIT_MS));
     return n;
 }
 
 int hud_format(const hud_state *s, char lines[HUD_MAX_LINES][HUD_LINE_CHARS])
 {
     int n = 0;
+    const int lang = s->lang;
     if (s->wx) {
-        n = hud_format_weather(s->wx, lines);
+        n = hud_format_weather(s->wx, lang, lines);
     } else if (s->have_wind) {
-        float v = s->wind_ms;
-        snprintf(lines[n++], HUD_LINE_CHARS, "Wind %.1f m/s \xC2\xB7 %.0f km/h \xC2\xB7 %.0f mph",
-                 (double)v, (double)v * 3.6, (double)v / 0.44704);
-        int cls = hud_saffir_simpson(v);
-        if (cls >= 0) {
-            snprintf(lines[n++], HUD_LINE_CHARS, "%s", hud_category_name(cls));
-        } else {
-            int b = hud_beaufort(v);
-            snprintf(lines[n++], HUD_LINE_CHARS, "%s \xC2\xB7 Beaufort %d", hud_beaufort_name(b), b);
-        }
+        double v = (double)s->wind_ms;
+        int cls = wind_scale_ss_class(v);
+        char speed[96];
+        hud_format_speed(lang, v, cls, speed, sizeof speed);
+        lang_format(lines[n++], HUD_LINE_CHARS, lang, L_HUD_WIND_PLAIN, speed);
+        class_line(lang, cls, wind_scale_beaufort(v), lines[n++], HUD_LINE_CHARS);
     } else {
-        snprintf(lines[n++], HUD_LINE_CHARS, "Wind \xE2\x80\x93 (no wind data yet)");
+        snprintf(lines[n++], HUD_LINE_CHARS, "%s", lang_text(lang, L_HUD_WIND_NONE));
     }
     const char *srv = s->server ? s->server : "";
     switch (s->conn) {
     case HUD_CONN_LIVE:
-        snprintf(lines[n++], HUD_LINE_CHARS, "Live \xC2\xB7 %s \xC2\xB7 %s", srv,
-                 s->role ? s->role : "viewer");
+        lang_format(lines[n++], HUD_LINE_CHARS, lang, L_HUD_LIVE, srv,
+                    s->role ? s->role : "viewer");
         break;
     case HUD_CONN_WAIT_KEY:
-        snprintf(lines[n++], HUD_LINE_CHARS,
-                 "Connected \xC2\xB7 %s \xC2\xB7 waiting for a keyframe", srv);
+        lang_format(lines[n++], HUD_LINE_CHARS, lang, L_HUD_WAIT_KEY, srv);
         break;
     case HUD_CONN_RECONNECTING:
-        snprintf(lines[n++], HUD_LINE_CHARS,
-                 "Server lost \xC2\xB7 retry %u in %.1f s \xC2\xB7 showing last state", s->attempt,
-                 s->retry_in_s);
+        lang_format(lines[n++], HUD_LINE_CHARS, lang, L_HUD_LOST, s->attempt, s->retry_in_s);
         break;
     case HUD_CONN_FAILED:
-        snprintf(lines[n++], HUD_LINE_CHARS, "Disconnected \xC2\xB7 %s", srv);
+        lang_format(lines[n++], HUD_LINE_CHARS, lang, L_HUD_DISCONNECTED, srv);
         break;
     default:
-        snprintf(lines[n++], HUD_LINE_CHARS, "Connecting to %s\xE2\x80\xA6", srv);
+        lang_format(lines[n++], HUD_LINE_CHARS, lang, L_HUD_CONNECTING, srv);
         break;
     }
     char lat[48];
@@ -166,13 +197,13 @@ int hud_format(const hud_state *s, char lines[HUD_MAX_LINES][HUD_LINE_CHARS])
     /* the governor's step, when it draws less than full detail */
     char detail[40] = "";
     if (s->detail_step > 0) {
-        snprintf(detail, sizeof detail, " \xC2\xB7 detail \xE2\x88\x92%d", s->detail_step);
+        lang_format(detail, sizeof detail, lang, L_HUD_DETAIL, s->detail_step);
     }
-    snprintf(lines[n++], HUD_LINE_CHARS, "%s fps \xC2\xB7 latency %s \xC2\xB7 delay %.0f ms%s",
-             fps, lat, (double)s->delay_ms, detail);
+    lang_format(lines[n++], HUD_LINE_CHARS, lang, L_HUD_PERF, fps, lat, (double)s->delay_ms,
+                detail);
     if (s->frames_bad) {
-        snprintf(lines[n++], HUD_LINE_CHARS, "%llu bad frames dropped",
-                 (unsigned long long)s->frames_bad);
+        lang_format(lines[n++], HUD_LINE_CHARS, lang, L_HUD_BAD_FRAMES,
+                    (unsigned long long)s->frames_bad);
     }
     return n;
 }

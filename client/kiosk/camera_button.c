@@ -4,6 +4,7 @@
 #include <stdio.h>
 
 #include "camera_preset.h"
+#include "lang.h"
 
 camera_button_rect camera_button_layout(int fb_w, int fb_h)
 {
@@ -42,11 +43,16 @@ int camera_button_next(int preset)
     return preset + 1;
 }
 
-void camera_button_label(int preset, char *buf, unsigned cap)
+void camera_button_label(int lang, int preset, char *buf, unsigned cap)
 {
     if (preset < 0 || preset >= CAMERA_PRESET_COUNT) {
-        snprintf(buf, cap, "Camera");
+        snprintf(buf, cap, "%s", lang_text(lang, L_KIOSK_CAMERA));
     } else {
-        snprintf(buf, cap, "Camera: %s", camera_preset_name(preset));
+        /* the preset's word in the language: configs/lang's camera.<name> */
+        char key[48];
+        snprintf(key, sizeof key, "camera.%s", camera_preset_name(preset));
+        int k = lang_key_find(key);
+        lang_format(buf, cap, lang, L_KIOSK_CAMERA_IS,
+                    k >= 0 ? lang_text(lang, k) : camera_preset_name(preset));
     }
 }

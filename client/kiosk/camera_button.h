@@ -29,7 +29,8 @@ bool camera_button_hit(int fb_w, int fb_h, int win_w, int win_h, double x, doubl
  * the fitted view (-1) or anything out of range: street. */
 int camera_button_next(int preset);
 
-/* "Camera: street" for the button's face into buf (cap bytes); "Camera" for the fitted view. */
-void camera_button_label(int preset, char *buf, unsigned cap);
+/* "Camera: street" for the button's face in a language (lang.h) into buf (cap bytes);
+ * "Camera" for the fitted view. */
+void camera_button_label(int lang, int preset, char *buf, unsigned cap);
 
 #endif

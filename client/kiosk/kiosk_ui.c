@@ -21,6 +21,7 @@
 #define HEAD2_H    0.032f /* the replay row's headings */
 #define TAB_W      0.22f
 #define TAB_H      0.045f
+#define LANG_W     0.13f /* a language button: "Español" at the tab's text size */
 #define SCEN_MIN_W 0.13f /* two lines of "Category 1 (steady)" fit */
 #define SCEN_MAX_W 0.30f
 
@@ -110,16 +111,21 @@ float kiosk_ui_band_lower_ms(int b)
     }
 }
 
-const char *kiosk_ui_band_label(int b)
+const char *kiosk_ui_band_name(int lang, int b)
 {
-    static const char *const low[3] = { "Calm", "Breeze", "Strong wind" };
     if (b >= 0 && b < 3) {
-        return low[b];
+        return lang_text(lang, L_KIOSK_BAND_CALM + b);
     }
     if (b == 3) {
-        return wind_scale_ss_title(WIND_SCALE_TS);
+        return lang_text(lang, L_SS_0 + WIND_SCALE_TS);
     }
-    return b > 3 && b < KIOSK_UI_BANDS ? wind_scale_ss_abbrev(WIND_SCALE_TS + b - 3) : "?";
+    return b > 3 && b < KIOSK_UI_BANDS ? lang_text(lang, L_SS_ABBREV_0 + WIND_SCALE_TS + b - 3)
+                                       : "?";
+}
+
+const char *kiosk_ui_band_label(int b)
+{
+    return kiosk_ui_band_name(LANG_EN, b);
 }
 
 int kiosk_ui_band(float speed_ms)
@@ -171,6 +177,17 @@ static void add(kiosk_ui *ui, int kind, int index, float x0, float y0, float x1,
     ui->c[ui->n++] = (kiosk_ui_control){ kind, index, { x0, y0, x1, y1 } };
 }
 
+/* The language buttons, each in its own language's name, in a row ending at x1 between
+ * y0 and y1 (beside the panel's tab, where a visitor looks for it shown or hidden). */
+static void add_languages(kiosk_ui *ui, float x1, float y0, float y1)
+{
+    const float w = LANG_W * (float)ui->fb_h, g = GAP * (float)ui->fb_h;
+    for (int l = LANG_COUNT - 1; l >= 0; l--) {
+        add(ui, KIOSK_UI_LANG, l, x1 - w, y0, x1, y1);
+        x1 -= w + g;
+    }
+}
+
 void kiosk_ui_layout(kiosk_ui *ui, int fb_w, int fb_h)
 {
     ui->fb_w = fb_w;
@@ -184,6 +201,7 @@ void kiosk_ui_layout(kiosk_ui *ui, int fb_w, int fb_h)
     if (ui->collapsed) {
         ui->panel_y0 = H;
         add(ui, KIOSK_UI_COLLAPSE, 0, W - m - TAB_W * H, H - m - TAB_H * H, W - m, H - m);
+        add_languages(ui, W - m - TAB_W * H - g, H - m - TAB_H * H, H - m);
         return;
     }
     /* dial and compass side by side at the bottom left */
@@ -246,6 +264,8 @@ void kiosk_ui_layout(kiosk_ui *ui, int fb_w, int fb_h)
     /* the tab that hides the panel, on its top edge at the right */
     add(ui, KIOSK_UI_COLLAPSE, 0, W - m - TAB_W * H, ui->panel_y0 - TAB_H * H - 0.005f * H,
         W - m, ui->panel_y0 - 0.005f * H);
+    add_languages(ui, W - m - TAB_W * H - g, ui->panel_y0 - TAB_H * H - 0.005f * H,
+                  ui->panel_y0 - 0.005f * H);
 }
 
 /* ---- hit-testing and touch ----------------------------------------------------------- */
@@ -378,6 +398,11 @@ bool kiosk_ui_touch(kiosk_ui *ui, int phase, float x, float y, kiosk_ui_action *
         case KIOSK_UI_RESET:
             a->act = KIOSK_UI_ACT_RESET;
             break;
+        case KIOSK_UI_LANG:
+            ui->lang = k.index;
+            a->act = KIOSK_UI_ACT_LANG;
+            a->index = k.index;
+            break;
         case KIOSK_UI_COLLAPSE:
             ui->collapsed = !ui->collapsed;
             a->act = KIOSK_UI_ACT_COLLAPSE;
@@ -391,8 +416,8 @@ bool kiosk_ui_touch(kiosk_ui *ui, int phase, float x, float y, kiosk_ui_action *
     if (a->act != KIOSK_UI_ACT_NONE) {
         kiosk_ui_label(ui, &k, ui->last, sizeof ui->last); /* as it read when touched */
         if (k.kind == KIOSK_UI_COLLAPSE) {
-            snprintf(ui->last, sizeof ui->last, "%s", ui->collapsed ? "Hide controls"
-                                                                    : "Show controls");
+            snprintf(ui->last, sizeof ui->last, "%s",
+                     lang_text(ui->lang, ui->collapsed ? L_KIOSK_HIDE : L_KIOSK_SHOW));
         }
     }
     return a->act != KIOSK_UI_ACT_NONE;
@@ -434,28 +459,33 @@ void kiosk_ui_label(const kiosk_ui *ui, const kiosk_ui_control *k, char *buf, un
     switch (k->kind) {
     case KIOSK_UI_SCENARIO:
         snprintf(buf, cap, "%s",
-                 k->index >= 0 && k->index < ui->n_scen ? ui->scen[k->index].title : "?");
+                 k->index >= 0 && k->index < ui->n_scen
+                     ? lang_scenario_title(ui->lang, ui->scen[k->index].title)
+                     : "?");
         break;
     case KIOSK_UI_PLAY:
-        snprintf(buf, cap, "%s", ui->paused ? "Play" : "Pause");
+        snprintf(buf, cap, "%s", lang_text(ui->lang, ui->paused ? L_KIOSK_PLAY : L_KIOSK_PAUSE));
         break;
     case KIOSK_UI_LANDFALL:
-        snprintf(buf, cap, "Go to landfall");
+        snprintf(buf, cap, "%s", lang_text(ui->lang, L_KIOSK_LANDFALL));
+        break;
+    case KIOSK_UI_LANG:
+        snprintf(buf, cap, "%s", lang_text(k->index, L_LANG_NAME));
         break;
     case KIOSK_UI_SPEED:
         snprintf(buf, cap, "\xC3\x97%.0f", (double)kiosk_ui_speed_x(k->index));
         break;
     case KIOSK_UI_RESET:
-        snprintf(buf, cap, "Reset");
+        snprintf(buf, cap, "%s", lang_text(ui->lang, L_KIOSK_RESET));
         break;
     case KIOSK_UI_COLLAPSE:
-        snprintf(buf, cap, "%s", ui->collapsed ? "Show controls" : "Hide controls");
+        snprintf(buf, cap, "%s", lang_text(ui->lang, ui->collapsed ? L_KIOSK_SHOW : L_KIOSK_HIDE));
         break;
     case KIOSK_UI_DIAL:
-        snprintf(buf, cap, "Wind speed");
+        snprintf(buf, cap, "%s", lang_text(ui->lang, L_KIOSK_WIND_SPEED));
         break;
     case KIOSK_UI_COMPASS:
-        snprintf(buf, cap, "Wind from");
+        lang_format(buf, cap, ui->lang, L_KIOSK_WIND_FROM, "");
         break;
     default:
         snprintf(buf, cap, "?");

@@ -11,6 +11,7 @@
 
 #include <stdbool.h>
 
+#include "lang.h"
 #include "wire.h"
 
 #define KIOSK_UI_MAX_SCENARIOS ((int)WIRE_MAX_SCENARIOS) /* a welcome lists at most these */
@@ -41,6 +42,7 @@ enum kiosk_ui_kind {
     KIOSK_UI_SPEED,     /* index: 0..KIOSK_UI_SPEEDS-1 */
     KIOSK_UI_RESET,     /* heal the forest, back to the first scenario */
     KIOSK_UI_COLLAPSE,  /* hide / show the panel */
+    KIOSK_UI_LANG,      /* index: the language (lang.h) the kiosk speaks */
     KIOSK_UI_KIND_COUNT
 };
 
@@ -71,6 +73,7 @@ enum kiosk_ui_act {
     KIOSK_UI_ACT_REPLAY_SPEED, /* value: storm seconds per second */
     KIOSK_UI_ACT_RESET,
     KIOSK_UI_ACT_COLLAPSE, /* value: 1 hidden, 0 shown (applied by kiosk_ui_touch) */
+    KIOSK_UI_ACT_LANG,     /* index: the language chosen (applied by kiosk_ui_touch) */
 };
 
 typedef struct kiosk_ui_action {
@@ -96,6 +99,7 @@ typedef struct kiosk_ui {
     float replay_speed; /* storm seconds per second */
     int running;        /* index of the scenario WEATHER names, -1 none */
     /* the panel */
+    int lang;           /* the language its words are in (lang.h), as the client shows */
     bool collapsed;
     int pressed;        /* control under the finger, -1 none (drawn pressed) */
     float drag_ms;      /* the dial's value while dragged */
@@ -145,6 +149,8 @@ float kiosk_ui_dial_speed(float angle_rad);
  * and its label ("Calm" ... "Tropical storm", "Cat 1" ... "Cat 5"); -1 / "?" outside. */
 float kiosk_ui_band_lower_ms(int b);
 const char *kiosk_ui_band_label(int b);
+/* Band b's label in a language (lang.h). */
+const char *kiosk_ui_band_name(int lang, int b);
 /* The band of a speed, 0..KIOSK_UI_BANDS-1. */
 int kiosk_ui_band(float speed_ms);
 /* The framebuffer pixel on the dial's ring at speed_ms, and the compass ring's pixel for a

@@ -9,6 +9,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "lang.h"
+#include "wind_scale.h"
+
 static const float band_rgb[KIOSK_UI_BANDS][3] = {
     { 0.62f, 0.82f, 0.95f }, /* calm */
     { 0.45f, 0.80f, 0.60f }, /* breeze */
@@ -101,7 +104,7 @@ static void draw_dial(hud *h, const kiosk_ui *ui, bool dragging)
         int align = s > 0.3f ? -1 : s < -0.3f ? 1 : 0;
         float base = c > 0.3f ? ly - 0.004f * H : c < -0.3f ? ly + 0.8f * label_px
                                                            : ly + 0.35f * label_px;
-        text(h, lx, base, on ? 1.12f * label_px : label_px, kiosk_ui_band_label(b),
+        text(h, lx, base, on ? 1.12f * label_px : label_px, kiosk_ui_band_name(ui->lang, b),
              on ? accent : dim_ink, align);
     }
     /* the streamed wind: a white pointer across the ring */
@@ -117,21 +120,34 @@ static void draw_dial(hud *h, const kiosk_ui *ui, bool dragging)
         disc(h, x, y, 0.5f * (r1 - r0) + 0.006f * H, dark_ink);
         disc(h, x, y, 0.5f * (r1 - r0), ink);
     }
-    /* the figures in the middle */
-    char num[32], kmh[32], mph[32];
-    snprintf(num, sizeof num, "%.0f m/s", (double)v);
-    snprintf(kmh, sizeof kmh, "%.0f km/h", (double)v * 3.6);
-    snprintf(mph, sizeof mph, "%.0f mph", (double)v / 0.44704);
+    /* the figures in the middle: the language's first unit large, then its second and
+     * m/s, each kept inside the range of the class the dial's band names (hud_units.c) */
+    const int lang = ui->lang, cls = wind_scale_ss_class((double)v);
+    const bool kmh_first = lang_kmh_first(lang);
+    char big[32], small1[32], small2[32];
+    long mph = hud_unit_sustained((double)v, HUD_UNIT_MPH, cls);
+    long kmh = hud_unit_sustained((double)v, HUD_UNIT_KMH, cls);
+    lang_format(big, sizeof big, lang, kmh_first ? L_UNIT_KMH : L_UNIT_MPH,
+                (int)(kmh_first ? kmh : mph));
+    lang_format(small1, sizeof small1, lang, kmh_first ? L_UNIT_MPH : L_UNIT_KMH,
+                (int)(kmh_first ? mph : kmh));
+    lang_format(small2, sizeof small2, lang, L_UNIT_MS,
+                (int)hud_unit_sustained((double)v, HUD_UNIT_MS, cls));
     const bool known = ui->have_wx || dragging;
-    text(h, cx, cy - 0.05f * H, 0.019f * H, dragging ? "Let go to set" : "Wind speed",
+    text(h, cx, cy - 0.05f * H, 0.019f * H,
+         lang_text(lang, dragging ? L_KIOSK_LET_GO : L_KIOSK_WIND_SPEED),
          dragging ? accent : dim_ink, 0);
-    text(h, cx, cy + 0.012f * H, 0.043f * H, known ? num : "\xE2\x80\x93", dragging ? accent : ink,
+    /* "211 km/h" is wider than "59 m/s": the figure shrinks to stay inside the ring */
+    const float big_w1 = hud_batch_text_width(h, big, 1.0f);
+    const float big_px = big_w1 > 0.0f ? fminf(0.043f * H, 1.55f * r0 / big_w1) : 0.043f * H;
+    text(h, cx, cy + 0.012f * H, big_px, known ? big : "\xE2\x80\x93", dragging ? accent : ink,
          0);
     if (known) {
-        text(h, cx, cy + 0.042f * H, 0.019f * H, kmh, dim_ink, 0);
-        text(h, cx, cy + 0.064f * H, 0.019f * H, mph, dim_ink, 0);
+        text(h, cx, cy + 0.042f * H, 0.019f * H, small1, dim_ink, 0);
+        text(h, cx, cy + 0.064f * H, 0.019f * H, small2, dim_ink, 0);
     }
-    text(h, cx, cy + r1 * 0.84f, 0.021f * H, ui->dial_held ? "Set here" : "Drag the dial",
+    text(h, cx, cy + r1 * 0.84f, 0.021f * H,
+         lang_text(lang, ui->dial_held ? L_KIOSK_SET_HERE : L_KIOSK_DRAG),
          ui->dial_held ? accent : ink, 0);
 }
 
@@ -159,14 +175,14 @@ static void draw_compass(hud *h, const kiosk_ui *ui, bool dragging)
         sector(h, kx, ky, 0.12f * r, 0.17f * r, 0.0f, 6.2831853f, accent);
     }
     /* the compass points over it, so the ring round one leaves it readable */
-    static const char *const pts[4] = { "N", "E", "S", "W" };
     for (int i = 0; i < 4; i++) {
         float b = (float)i * 1.5707963f;
         text(h, cx + 0.87f * r * sinf(b), cy - 0.87f * r * cosf(b) + 0.35f * 0.024f * H,
-             0.024f * H, pts[i], ink, 0);
+             0.024f * H, lang_text(ui->lang, L_COMPASS_0 + 4 * i), ink, 0);
     }
     char title[48];
-    snprintf(title, sizeof title, "Wind from %s", hud_compass_point(from));
+    lang_format(title, sizeof title, ui->lang, L_KIOSK_WIND_FROM,
+                hud_compass_text(ui->lang, from));
     text(h, cx, cy - r - 0.018f * H, 0.023f * H, title, dragging ? accent : ink, 0);
 }
 
@@ -252,7 +268,8 @@ static uint64_t picture_key(const kiosk_ui *ui)
                           (int32_t)lroundf(ui->wind_ms * 10.0f),
                           (int32_t)lroundf(ui->dir_from_deg),
                           (int32_t)lroundf(ui->drag_ms * 10.0f),
-                          (int32_t)lroundf(ui->drag_from_deg) };
+                          (int32_t)lroundf(ui->drag_from_deg),
+                          ui->lang };
     uint64_t k = 14695981039346656037ull;
     const unsigned char *p = (const unsigned char *)v;
     for (size_t i = 0; i < sizeof v; i++) {
@@ -290,22 +307,26 @@ void kiosk_ui_draw(hud *h, const kiosk_ui *ui)
             break;
         case KIOSK_UI_SCENARIO:
             if (k->index == 0) {
-                text(h, k->r.x0, k->r.y0 - 0.014f * H, 0.024f * H, "Choose the weather", ink,
-                     -1);
+                text(h, k->r.x0, k->r.y0 - 0.014f * H, 0.024f * H,
+                     lang_text(ui->lang, L_KIOSK_CHOOSE), ink, -1);
             }
             draw_button(h, ui, k, pressed, k->index == ui->running);
             break;
         case KIOSK_UI_PLAY:
-            text(h, k->r.x0, k->r.y0 - 0.01f * H, 0.021f * H, "Storm replay", ink, -1);
+            text(h, k->r.x0, k->r.y0 - 0.01f * H, 0.021f * H,
+                 lang_text(ui->lang, L_KIOSK_STORM_REPLAY), ink, -1);
             draw_button(h, ui, k, pressed, false);
             break;
         case KIOSK_UI_SPEED:
             if (k->index == 0) {
                 text(h, k->r.x0, k->r.y0 - 0.01f * H, 0.021f * H,
-                     "Replay speed (\xC3\x97" "1 = real time)", ink, -1);
+                     lang_text(ui->lang, L_KIOSK_REPLAY_SPEED), ink, -1);
             }
             draw_button(h, ui, k, pressed,
                         fabsf(ui->replay_speed - kiosk_ui_speed_x(k->index)) < 0.5f);
+            break;
+        case KIOSK_UI_LANG:
+            draw_button(h, ui, k, pressed, k->index == ui->lang);
             break;
         default:
             draw_button(h, ui, k, pressed, false);

@@ -1,7 +1,8 @@
 /* gale-client's HUD lines of WEATHER (client/hud/hud_format.c hud_format_weather), one JSON
  * object a line, for tests/web/test_hud_js.mjs to hold web/hud_text.js to: each line has
  * the WEATHER frame as hex (protocol/msg_weather.c's encoding, so the browser reads the
- * same float32s) and the lines gale-client's HUD shows for it. The cases sweep the wind
+ * same float32s) and the lines gale-client's HUD shows for it in each language (lang.h).
+ * The cases sweep the wind
  * through every Beaufort force and Saffir-Simpson class (a tie of printf's rounding
  * among them), every compass point, a dial, steady scenarios, and storm replays with and
  * without their clock, name, length and end. */
@@ -9,6 +10,7 @@
 #include <string.h>
 
 #include "hud.h"
+#include "lang.h"
 #include "wind_scale.h"
 #include "wire.h"
 
@@ -35,20 +37,24 @@ static int emit(const wire_weather *w)
         fprintf(stderr, "gale-web-hud-table: %s\n", err.msg);
         return 1;
     }
-    char lines[HUD_MAX_LINES][HUD_LINE_CHARS];
-    int n = hud_format_weather(w, lines);
     printf("{\"hex\":\"");
     for (size_t i = 0; i < len; i++) {
         printf("%02x", buf[i]);
     }
-    printf("\",\"lines\":[");
-    for (int i = 0; i < n; i++) {
-        if (i) {
-            putchar(',');
+    printf("\",\"lines\":{");
+    for (int l = 0; l < LANG_COUNT; l++) {
+        char lines[HUD_MAX_LINES][HUD_LINE_CHARS];
+        int n = hud_format_weather(w, l, lines);
+        printf("%s\"%s\":[", l ? "," : "", lang_code(l));
+        for (int i = 0; i < n; i++) {
+            if (i) {
+                putchar(',');
+            }
+            put_json_string(lines[i]);
         }
-        put_json_string(lines[i]);
+        putchar(']');
     }
-    printf("]}\n");
+    printf("}}\n");
     return 0;
 }
 
@@ -80,7 +86,10 @@ int main(int argc, char **argv)
     /* every force and class, ties of "%.1f" and "%.0f" (2.25, 2.5) among them */
     static const float speeds_ms[] = { 0.0f, 0.2f, 1.0f, 2.25f, 2.5f, 5.4f, 7.95f, 10.7f,
                                        13.8f, 17.1f, 20.7f, 24.4f, 28.4f, 32.6f, 32.7f, 33.0f,
-                                       42.5f, 49.4f, 57.6f, 60.0f, 70.5f, 90.0f, 199.5f };
+                                       42.5f, 49.4f, 57.6f, 60.0f, 70.5f, 90.0f, 199.5f,
+                                       /* NHC's edges where a unit alone would cross: 96 kt
+                                        * (110.5 mph), 136 kt (156.5 mph), 82.5 kt */
+                                       49.39f, 69.96f, 42.44f };
     const int n_speeds = (int)(sizeof speeds_ms / sizeof speeds_ms[0]);
     for (int i = 0; i < n_speeds; i++) {
         float dir = 22.5f * (float)i + (i % 3 == 1 ? 11.25f : 0.0f);
@@ -88,7 +97,10 @@ int main(int argc, char **argv)
             dir -= 360.0f;
         }
         wire_weather w = steady(speeds_ms[i], speeds_ms[i] * 1.4f + 0.5f, dir,
-                                i % 4 == 0 ? "" : i % 4 == 1 ? "Calm" : "Stiff breeze",
+                                i % 4 == 0   ? ""
+                                : i % 4 == 1 ? "Calm"
+                                : i % 4 == 2 ? "Gusty afternoon"
+                                             : "Stiff breeze",
                                 i % 2);
         bad |= emit(&w);
     }
