@@ -1,6 +1,6 @@
 /* Attract mode's clock (client/kiosk/attract.c): it starts once after the idle time without
  * input (default 90 s), a touch during it wakes the kiosk (and is reported, so it is not
- * taken as a control), and input while awake keeps it awake. */
+ * taken as a control), input while awake keeps it awake, and its cards take turns. */
 #include "attract.h"
 #include "check.h"
 
@@ -32,9 +32,27 @@ static void test_input_keeps_awake(void)
     CHECK(attract_tick(&a, 110.0));
 }
 
+/* The cards in turn from when attract mode began: the invitation, then the water card, each
+ * ATTRACT_CARD_S; none while awake. */
+static void test_cards(void)
+{
+    attract a;
+    attract_init(&a, 90.0, 0.0);
+    CHECK(attract_card(&a, 50.0) == -1);
+    CHECK(attract_tick(&a, 90.0));
+    CHECK(attract_card(&a, 90.0) == ATTRACT_CARD_TOUCH);
+    CHECK(attract_card(&a, 90.0 + ATTRACT_CARD_S - 0.01) == ATTRACT_CARD_TOUCH);
+    CHECK(attract_card(&a, 90.0 + ATTRACT_CARD_S) == ATTRACT_CARD_WATER);
+    CHECK(attract_card(&a, 90.0 + 2.0 * ATTRACT_CARD_S + 0.5) == ATTRACT_CARD_TOUCH);
+    CHECK(attract_card(&a, 90.0 + 7.0 * ATTRACT_CARD_S + 0.5) == ATTRACT_CARD_WATER);
+    CHECK(attract_input(&a, 200.0));
+    CHECK(attract_card(&a, 200.0) == -1);
+}
+
 int main(void)
 {
     RUN(test_idle_and_wake);
     RUN(test_input_keeps_awake);
+    RUN(test_cards);
     return check_report();
 }
