@@ -293,19 +293,31 @@ static void build_lists(render *r)
         const uint32_t first = debris ? r->n_trees : 0;
         const uint32_t count = debris ? r->n_debris : cells->cell[c].count;
         for (uint32_t t = 0; t < count; t++) {
-            const uint32_t k = debris ? first + t : cells->tree[cells->cell[c].first + t];
-            const uint32_t i = render_slot_at(r, k);
-            const render_instance *in = &r->inst[i];
-            const render_cull_species cs = render_cull_species_of(&r->sp[in->species]);
+            uint32_t k, species;
             float dist_m;
-            if (!render_cull_visible(inside ? NULL : planes, r->eye, in, &cs, &dist_m)) {
-                continue;
+            if (debris) {
+                k = first + t;
+                const render_instance *in = &r->inst[render_slot_at(r, k)];
+                const render_cull_species cs = render_cull_species_of(&r->sp[in->species]);
+                species = in->species;
+                if (!render_cull_visible(planes, r->eye, in, &cs, &dist_m)) {
+                    continue;
+                }
+            } else {
+                const uint32_t at = cells->cell[c].first + t;
+                k = cells->tree[at];
+                species = cells->species[at];
+                if (!render_cull_sphere_visible(inside ? NULL : planes, r->eye,
+                                                cells->sphere[at], cells->sphere[at][3],
+                                                &dist_m)) {
+                    continue;
+                }
             }
             uint32_t b = render_lod_bin(dist_m);
             if (b < RENDER_LOD_BINS) {
-                r->lod_hist[in->species * RENDER_LOD_BINS + b]++;
+                r->lod_hist[species * RENDER_LOD_BINS + b]++;
             }
-            r->tree_dist[i] = dist_m;
+            r->tree_dist[n_vis] = dist_m;
             r->vis[n_vis++] = k;
         }
     }
@@ -328,16 +340,17 @@ static void build_lists(render *r)
         const render_instance *in = &r->inst[i];
         const rs_species *s = &r->sp[in->species];
         const render_cull_species cs = render_cull_species_of(s);
-        render_tree_lod tl = render_lod_pick(r->tree_dist[i], &cs, &ld, stays_posed(r, k, i));
+        render_tree_lod *const tlp = &r->tree_lod[v];
+        render_lod_pick_into(r->tree_dist[v], &cs, &ld, stays_posed(r, k, i), tlp);
         if (k >= r->n_trees) {
-            tl.n_modes = 0.0f; /* a debris piece: its rest pose needs no modes */
+            tlp->n_modes = 0.0f; /* a debris piece: its rest pose needs no modes */
         }
-        r->tree_group[i] = tl.flags;
+        const render_tree_lod tl = *tlp;
+        r->tree_group[v] = tl.flags;
         if (!tl.flags) {
             r->stats.trees_culled++;
             continue;
         }
-        r->tree_lod[i] = tl;
         if ((tl.flags & RENDER_LOD_FULL) && k < r->n_trees && in->uprooted != 0 &&
             in->fall_rad > 0.02f) {
             r->plates[r->n_plates++] = (float)i;
@@ -353,7 +366,7 @@ static void build_lists(render *r)
         }
         uint32_t *gn = r->grp_n[in->species];
         if (tl.flags & RENDER_LOD_FULL) {
-            r->tree_row[i] = rows++;
+            r->tree_row[v] = rows++;
             gn[G_SKEL]++;
             gn[G_LEAF] += tl.thin_t < 1.0f;
             gn[G_LEAF_THIN] += tl.thin_t > 0.0f;
@@ -379,14 +392,14 @@ static void build_lists(render *r)
        finer with keep share 1 - t, the coarser with -t (shaders/common.glsl dither_keep). */
     for (uint32_t v = 0; v < n_vis; v++) {
         const uint32_t i = render_slot_at(r, r->vis[v]);
-        uint32_t fl = r->tree_group[i];
+        uint32_t fl = r->tree_group[v];
         if (!fl) {
             continue;
         }
         uint32_t sp = r->inst[i].species;
-        const render_tree_lod *tl = &r->tree_lod[i];
+        const render_tree_lod *tl = &r->tree_lod[v];
         const float tb = tl->bill_t, tt = tl->thin_t;
-        float row = (float)r->tree_row[i];
+        float row = (float)r->tree_row[v];
 #define PUT(g, a, b, c, d)                                                 \
     do {                                                                   \
         float *e = &r->list[4 * (r->grp_base[sp][g] + r->grp_n[sp][g]++)]; \
@@ -423,7 +436,7 @@ static void build_lists(render *r)
 #undef PUT
     }
     render_buf_upload(&r->list_buf, GL_RGBA32F, r->list, (size_t)off * 4 * sizeof(float));
-    r->tree_row[r->cap_trees] = rows; /* rows used this frame */
+    r->rows_used = rows;
 }
 
 int render_frame(render *r, const render_camera *cam, double time_s, gale_err *err)
@@ -440,7 +453,7 @@ int render_frame(render *r, const render_camera *cam, double time_s, gale_err *e
     const double cull_t0_s = mono_s();
     build_lists(r);
     r->stats.cull_ms = (mono_s() - cull_t0_s) * 1e3;
-    uint32_t rows = r->tree_row[r->cap_trees];
+    uint32_t rows = r->rows_used;
     int maxw = 1;
     for (uint32_t s = 0; s < r->n_species; s++) {
         maxw = (int)r->sp[s].n_nodes > maxw ? (int)r->sp[s].n_nodes : maxw;

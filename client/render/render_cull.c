@@ -32,6 +32,8 @@ void render_cells_free(render_cells *g)
 {
     free(g->cell);
     free(g->tree);
+    free(g->sphere);
+    free(g->species);
     free(g->cell_of);
     free(g->where);
     *g = (render_cells){ 0 };
@@ -59,8 +61,10 @@ int render_cells_build(render_cells *g, const render_instance *inst, uint32_t n,
     uint32_t *start = calloc((size_t)nx * ny + 1, sizeof *start);
     uint32_t *of = malloc((size_t)n * sizeof *of);
     g->tree = malloc((size_t)n * sizeof *g->tree);
+    g->sphere = malloc((size_t)n * sizeof *g->sphere);
+    g->species = malloc((size_t)n * sizeof *g->species);
     render_cell *all = calloc((size_t)nx * ny, sizeof *all);
-    if (!start || !of || !g->tree || !all) {
+    if (!start || !of || !g->tree || !g->sphere || !g->species || !all) {
         free(start);
         free(of);
         free(all);
@@ -81,9 +85,13 @@ int render_cells_build(render_cells *g, const render_instance *inst, uint32_t n,
     }
     for (uint32_t i = 0; i < n; i++) {
         render_cell *c = &all[of[i]];
-        g->tree[c->first + c->count++] = i;
+        const uint32_t at = c->first + c->count++;
+        g->tree[at] = i;
         float ctr[3];
         float rad = render_cull_sphere(&inst[i], &sp[inst[i].species], ctr);
+        memcpy(g->sphere[at], ctr, sizeof ctr);
+        g->sphere[at][3] = rad;
+        g->species[at] = inst[i].species;
         for (int k = 0; k < 3; k++) {
             c->lo[k] = fminf(c->lo[k], ctr[k] - rad);
             c->hi[k] = fmaxf(c->hi[k], ctr[k] + rad);
@@ -137,15 +145,7 @@ bool render_cull_visible(const float planes[6][4], const float eye[3],
 {
     float c[3];
     float rad = render_cull_sphere(in, s, c);
-    for (int k = 0; planes && k < 6; k++) {
-        if (!(planes[k][0] * c[0] + planes[k][1] * c[1] + planes[k][2] * c[2] + planes[k][3] >
-              -rad)) {
-            return false;
-        }
-    }
-    float dx = c[0] - eye[0], dy = c[1] - eye[1], dz = c[2] - eye[2];
-    *dist_m = sqrtf(dx * dx + dy * dy + dz * dz);
-    return true;
+    return render_cull_sphere_visible(planes, eye, c, rad, dist_m);
 }
 
 render_tree_lod render_cull_tree(const float planes[6][4], const float eye[3],

@@ -5,6 +5,7 @@
 #ifndef GALE_RENDER_CULL_H
 #define GALE_RENDER_CULL_H
 
+#include <math.h>
 #include <stdbool.h>
 #include <stdint.h>
 
@@ -60,6 +61,10 @@ bool render_cull_visible(const float planes[6][4], const float eye[3],
  * the impostors' reach, flags 0. */
 render_tree_lod render_lod_pick(float dist_m, const render_cull_species *s,
                                 const render_lod_desc *d, bool stays_posed);
+/* render_lod_pick written to *out: the frame's pass writes each tree's LOD in place (a
+ * struct returned through the stack and copied cost a stalled store per tree). */
+void render_lod_pick_into(float dist_m, const render_cull_species *s, const render_lod_desc *d,
+                          bool stays_posed, render_tree_lod *out);
 
 /* render_cull_visible, then render_lod_pick of a standing tree; a culled tree has flags 0
  * and the other fields zero. */
@@ -94,6 +99,22 @@ uint32_t render_lod_bin(float dist_m);
 
 /* The sphere render_cull_tree tests: centre c [m] and radius [m]. */
 float render_cull_sphere(const render_instance *in, const render_cull_species *s, float c[3]);
+/* Whether a sphere (centre c, radius rad) is in view (planes NULL: known to be, as the trees
+ * of a cell wholly inside), and its centre's distance from eye into *dist_m. Inline: the
+ * frame calls it once a tree. */
+static inline bool render_cull_sphere_visible(const float planes[6][4], const float eye[3],
+                                              const float c[3], float rad, float *dist_m)
+{
+    for (int k = 0; planes && k < 6; k++) {
+        if (!(planes[k][0] * c[0] + planes[k][1] * c[1] + planes[k][2] * c[2] + planes[k][3] >
+              -rad)) {
+            return false;
+        }
+    }
+    float dx = c[0] - eye[0], dy = c[1] - eye[1], dz = c[2] - eye[2];
+    *dist_m = sqrtf(dx * dx + dy * dy + dz * dz);
+    return true;
+}
 
 /* The scene's trees in cells of a 2D grid, each with the box that holds the culling
  * spheres of its trees (render_cull_tree's), so a frame tests cells against the frustum
@@ -108,6 +129,11 @@ typedef struct render_cells {
     render_cell *cell;  /* owned: [n_cells], the empty ones left out */
     uint32_t n_cells;
     uint32_t *tree;     /* owned: [n_trees] tree indices, cell by cell */
+    /* owned: [n_trees], in tree[]'s order: each tree's culling sphere (centre [m], radius
+       [m]) and species, so a frame's pass over the cells in view reads memory in order and
+       never the instances themselves */
+    float (*sphere)[4];
+    uint32_t *species;
     uint32_t *cell_of;  /* owned: [n_trees] each tree's cell */
     uint8_t *where;     /* owned: [n_cells] scratch for a frame's render_cell_test */
     uint32_t n_trees;

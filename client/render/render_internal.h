@@ -140,12 +140,15 @@ struct render {
     float *list; /* 4 floats per entry */
     uint32_t list_cap;
     rs_buf list_buf;
-    uint32_t *tree_row, *tree_group; /* scratch per tree */
+    /* scratch per visible tree, indexed like vis: its skeleton row, LOD group flags, LOD
+       and distance */
+    uint32_t *tree_row, *tree_group;
+    uint32_t rows_used; /* skeleton rows this frame */
     render_cells cells;              /* the scene's trees in cells (render_set_instances) */
     float lod_scale;                 /* × the LOD distances (render_set_lod_scale) */
     float budget_scale;              /* the last frame's scale under its budget */
-    render_tree_lod *tree_lod;       /* scratch: each tree's LOD this frame */
-    float *tree_dist;                /* scratch: its distance (valid for those in vis) */
+    render_tree_lod *tree_lod;
+    float *tree_dist;
     uint32_t *vis;                   /* scratch: the frame's trees in view (draw order k) */
     uint32_t lod_hist[RENDER_MAX_SPECIES * RENDER_LOD_BINS]; /* render_lod_budget's */
     uint32_t grp_base[RENDER_MAX_SPECIES][G_COUNT], grp_n[RENDER_MAX_SPECIES][G_COUNT];

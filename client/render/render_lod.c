@@ -20,19 +20,32 @@ static float fade_past(float dist_m, float outer_m)
     return smooth01((dist_m - (1.0f - LOD_FADE_SHARE) * outer_m) / (LOD_FADE_SHARE * outer_m));
 }
 
-render_tree_lod render_lod_pick(float dist_m, const render_cull_species *s,
-                                const render_lod_desc *d, bool stays_posed)
+void render_lod_pick_into(float dist_m, const render_cull_species *s, const render_lod_desc *d,
+                          bool stays_posed, render_tree_lod *outp)
 {
     render_tree_lod out = { 0 };
     if (!(dist_m < lod_outer_m[LOD_IMPOSTOR])) {
-        return out;
+        *outp = out;
+        return;
     }
     const float sc = d->scale > 0.0f ? d->scale : 1.0f;
     const float full_m = lod_outer_m[LOD_FULL] * sc, thin_m = lod_outer_m[LOD_THIN] * sc;
+    if (dist_m >= thin_m) {
+        /* past THIN's fade, where most of a landscape is: what the rest works out (both fades
+           whole), without it */
+        if (!stays_posed) {
+            out.level = LOD_IMPOSTOR;
+            out.thin_t = out.bill_t = 1.0f;
+            out.flags = RENDER_LOD_BILLBOARD;
+        }
+        *outp = out;
+        return;
+    }
     out.thin_t = fade_past(dist_m, full_m);
     out.bill_t = fade_past(dist_m, thin_m);
     if (stays_posed && out.bill_t >= 1.0f) {
-        return (render_tree_lod){ 0 }; /* lying past THIN: a few pixels high, not drawn */
+        *outp = (render_tree_lod){ 0 }; /* lying past THIN: a few pixels high, not drawn */
+        return;
     }
     out.level = out.bill_t > 0.0f && !stays_posed ? LOD_IMPOSTOR
                 : out.thin_t > 0.0f                ? LOD_THIN
@@ -62,6 +75,14 @@ render_tree_lod render_lod_pick(float dist_m, const render_cull_species *s,
     if (out.bill_t > 0.0f && !stays_posed) {
         out.flags |= RENDER_LOD_BILLBOARD;
     }
+    *outp = out;
+}
+
+render_tree_lod render_lod_pick(float dist_m, const render_cull_species *s,
+                                const render_lod_desc *d, bool stays_posed)
+{
+    render_tree_lod out;
+    render_lod_pick_into(dist_m, s, d, stays_posed, &out);
     return out;
 }
 
