@@ -280,16 +280,48 @@ static void build_lists(render *r)
         cells->where[c] = (uint8_t)render_cell_test(&cells->cell[c], planes);
     }
     /* pass 0: what is in view (r->vis, cell by cell, then the debris pieces), how far, in
-       the budget's histogram */
+       the budget's histogram. A cell wholly in view, all of it past THIN's reach at the
+       largest scale this frame may take and inside the impostors', is drawn as impostors
+       whole (cells->bulk), its trees never visited one by one: at 100,000 trees most of a
+       landscape. Its trees count in the histogram at the cell's nearest distance, whose
+       bin's near edge is past THIN too, so the budget sees the cost it would tree by tree. */
     memset(r->lod_hist, 0, (size_t)r->n_species * RENDER_LOD_BINS * sizeof r->lod_hist[0]);
     const uint32_t n_drawn = r->n_trees + r->n_debris;
-    uint32_t n_vis = 0;
+    /* the governor's scale caps the budget's, which grows back a step a frame */
+    const float max_scale = fminf(r->lod_scale, r->budget_scale * LOD_GROW_PER_FRAME);
+    const float thin_reach_m = lod_outer_m[LOD_THIN] * fmaxf(max_scale, 1e-3f);
+    uint32_t n_vis = 0, n_bulk = 0, bulk_trees = 0;
+    uint32_t bulk_per_species[RENDER_MAX_SPECIES] = { 0 };
     for (uint32_t c = 0; c <= cells->n_cells; c++) {
         const bool debris = c == cells->n_cells;
         if (!debris && cells->where[c] == RENDER_CELL_OUT) {
             continue;
         }
         const bool inside = !debris && cells->where[c] == RENDER_CELL_IN;
+        if (inside) {
+            const render_cell *cl = &cells->cell[c];
+            float near2 = 0.0f, far2 = 0.0f;
+            for (int a = 0; a < 3; a++) {
+                float dn = fmaxf(fmaxf(cl->lo[a] - r->eye[a], r->eye[a] - cl->hi[a]), 0.0f);
+                float df = fmaxf(fabsf(cl->lo[a] - r->eye[a]), fabsf(cl->hi[a] - r->eye[a]));
+                near2 += dn * dn;
+                far2 += df * df;
+            }
+            const uint32_t b = render_lod_bin(sqrtf(near2));
+            if (b < RENDER_LOD_BINS && render_lod_bin_near_m(b) >= thin_reach_m &&
+                sqrtf(far2) < lod_outer_m[LOD_IMPOSTOR]) {
+                cells->bulk[n_bulk++] = c;
+                for (uint32_t at = cl->first; at < cl->first + cl->count; at++) {
+                    if (cells->bill_leaf[at] >= 0.0f) { /* a lying tree is not drawn here */
+                        const uint32_t sp = cells->species[at];
+                        bulk_per_species[sp]++;
+                        r->lod_hist[sp * RENDER_LOD_BINS + b]++;
+                        bulk_trees++;
+                    }
+                }
+                continue;
+            }
+        }
         const uint32_t first = debris ? r->n_trees : 0;
         const uint32_t count = debris ? r->n_debris : cells->cell[c].count;
         for (uint32_t t = 0; t < count; t++) {
@@ -321,13 +353,11 @@ static void build_lists(render *r)
             r->vis[n_vis++] = k;
         }
     }
-    r->stats.trees_culled = n_drawn - n_vis;
+    r->stats.trees_culled = n_drawn - n_vis - bulk_trees;
     render_lod_cost cost[RENDER_MAX_SPECIES];
     for (uint32_t s = 0; s < r->n_species; s++) {
         cost[s] = species_cost(&r->sp[s]);
     }
-    /* the governor's scale caps the budget's, which grows back a step a frame */
-    float max_scale = fminf(r->lod_scale, r->budget_scale * LOD_GROW_PER_FRAME);
     r->budget_scale = render_lod_budget(r->lod_hist, cost, r->n_species, max_scale,
                                         LOD_BUDGET_TRIANGLES, LOD_BUDGET_NODES);
     r->stats.lod_scale = r->budget_scale;
@@ -380,6 +410,10 @@ static void build_lists(render *r)
             r->stats.trees_billboard++;
         }
     }
+    for (uint32_t s = 0; s < r->n_species; s++) {
+        r->grp_n[s][G_BILL] += bulk_per_species[s];
+    }
+    r->stats.trees_billboard += bulk_trees;
     uint32_t off = 0;
     for (uint32_t s = 0; s < r->n_species; s++) {
         for (int g = 0; g < G_COUNT; g++) {
@@ -427,14 +461,22 @@ static void build_lists(render *r)
             }
         }
         if (fl & RENDER_LOD_BILLBOARD) {
-            /* the share of the crown's leaves left: stripped levels and broken branches */
-            const render_instance *in = &r->inst[i];
-            float leaf = (1.0f - (float)in->leaf_lost / (float)WIRE_DAMAGE_LEVELS) *
-                         (i < r->cap_trees ? r->leaf_attached[i] : 1.0f);
-            PUT(G_BILL, (float)i, leaf, 0.0f, (fl & RENDER_LOD_FULL) ? -tb : 1.0f);
+            PUT(G_BILL, (float)i, render_bill_leaf_share(r, i), 0.0f,
+                (fl & RENDER_LOD_FULL) ? -tb : 1.0f);
         }
-#undef PUT
     }
+    /* the cells drawn as impostors whole: their standing trees, in order */
+    for (uint32_t n = 0; n < n_bulk; n++) {
+        const render_cell *cl = &cells->cell[cells->bulk[n]];
+        for (uint32_t at = cl->first; at < cl->first + cl->count; at++) {
+            const float leaf = cells->bill_leaf[at];
+            if (leaf >= 0.0f) {
+                const uint32_t sp = cells->species[at];
+                PUT(G_BILL, (float)cells->tree[at], leaf, 0.0f, 1.0f);
+            }
+        }
+    }
+#undef PUT
     render_buf_upload(&r->list_buf, GL_RGBA32F, r->list, (size_t)off * 4 * sizeof(float));
     r->rows_used = rows;
 }

@@ -34,6 +34,9 @@ void render_cells_free(render_cells *g)
     free(g->tree);
     free(g->sphere);
     free(g->species);
+    free(g->bill_leaf);
+    free(g->at_of);
+    free(g->bulk);
     free(g->cell_of);
     free(g->where);
     *g = (render_cells){ 0 };
@@ -63,8 +66,11 @@ int render_cells_build(render_cells *g, const render_instance *inst, uint32_t n,
     g->tree = malloc((size_t)n * sizeof *g->tree);
     g->sphere = malloc((size_t)n * sizeof *g->sphere);
     g->species = malloc((size_t)n * sizeof *g->species);
+    g->bill_leaf = malloc((size_t)n * sizeof *g->bill_leaf);
+    g->at_of = malloc((size_t)n * sizeof *g->at_of);
     render_cell *all = calloc((size_t)nx * ny, sizeof *all);
-    if (!start || !of || !g->tree || !g->sphere || !g->species || !all) {
+    if (!start || !of || !g->tree || !g->sphere || !g->species || !g->bill_leaf || !g->at_of ||
+        !all) {
         free(start);
         free(of);
         free(all);
@@ -92,6 +98,8 @@ int render_cells_build(render_cells *g, const render_instance *inst, uint32_t n,
         memcpy(g->sphere[at], ctr, sizeof ctr);
         g->sphere[at][3] = rad;
         g->species[at] = inst[i].species;
+        g->at_of[i] = at;
+        g->bill_leaf[at] = inst[i].fall_rad > 0.0f ? -1.0f : 1.0f;
         for (int k = 0; k < 3; k++) {
             c->lo[k] = fminf(c->lo[k], ctr[k] - rad);
             c->hi[k] = fmaxf(c->hi[k], ctr[k] + rad);
@@ -113,8 +121,9 @@ int render_cells_build(render_cells *g, const render_instance *inst, uint32_t n,
     g->n_cells = m;
     g->cell_of = of;
     g->where = malloc(m);
+    g->bulk = malloc((size_t)m * sizeof *g->bulk);
     g->n_trees = n;
-    if (!g->where) {
+    if (!g->where || !g->bulk) {
         render_cells_free(g);
         return -1;
     }

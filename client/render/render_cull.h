@@ -96,6 +96,8 @@ uint32_t render_leaves_at(uint32_t n_leaves, float share);
 
 /* The histogram bin of distance dist_m; RENDER_LOD_BINS past the impostors' reach. */
 uint32_t render_lod_bin(float dist_m);
+/* The near edge [m] of histogram bin b. */
+float render_lod_bin_near_m(uint32_t b);
 
 /* The sphere render_cull_tree tests: centre c [m] and radius [m]. */
 float render_cull_sphere(const render_instance *in, const render_cull_species *s, float c[3]);
@@ -134,6 +136,12 @@ typedef struct render_cells {
        never the instances themselves */
     float (*sphere)[4];
     uint32_t *species;
+    /* owned: [n_trees], in tree[]'s order: what a standing tree's impostor keeps of its
+       leaves (0..1), or -1 for a tree that lies (never an impostor); the caller keeps it
+       (render: render_bill_leaf_set), so a far cell's impostors are listed from it alone */
+    float *bill_leaf;
+    uint32_t *at_of;    /* owned: [n_trees] each tree's place in tree[] */
+    uint32_t *bulk;     /* owned: [n_cells] scratch: a frame's cells drawn as impostors whole */
     uint32_t *cell_of;  /* owned: [n_trees] each tree's cell */
     uint8_t *where;     /* owned: [n_cells] scratch for a frame's render_cell_test */
     uint32_t n_trees;

@@ -135,6 +135,9 @@ static void leaf_attached_update(render *r, const float *head, const float *node
     }
     free(m);
     free(cut);
+    for (uint32_t t = 0; t < r->n_trees; t++) {
+        render_bill_leaf_set(r, t);
+    }
 }
 
 void render_damage_upload(render *r)

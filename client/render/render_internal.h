@@ -17,6 +17,7 @@
 #include "render.h"
 #include "render_cull.h"
 #include "storm_fx.h"
+#include "wire.h"
 #include "wire_limits.h"
 
 /* Modes per species: the wire's limit; shaders/skel.frag declares u_ab[64] to match. */
@@ -251,6 +252,15 @@ static inline bool render_slot_snapped(const render *r, uint32_t i)
 {
     return i < r->cap_trees && r->inst[i].fall_rad > 0.0f && r->inst[i].uprooted == 0;
 }
+/* What slot i's impostor keeps of its crown's leaves: stripped levels and broken branches. */
+static inline float render_bill_leaf_share(const render *r, uint32_t i)
+{
+    return (1.0f - (float)r->inst[i].leaf_lost / (float)WIRE_DAMAGE_LEVELS) *
+           (i < r->cap_trees ? r->leaf_attached[i] : 1.0f);
+}
+/* Scene tree t's entry of r->cells.bill_leaf, after its damage or leaves changed. */
+void render_bill_leaf_set(render *r, uint32_t t);
+
 /* u_trees slot 1 .z of slot i (shaders/common.glsl tree_fall, tree_snapped, leaf_kept): the
  * fall angle (0..π) plus 4 x the leaf levels lost, plus 256 on a snapped tree. */
 static inline float render_tree_code(const render *r, uint32_t i)

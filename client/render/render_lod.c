@@ -110,6 +110,11 @@ static float bin_near_m(uint32_t b)
     return u * u * lod_outer_m[LOD_IMPOSTOR];
 }
 
+float render_lod_bin_near_m(uint32_t b)
+{
+    return bin_near_m(b);
+}
+
 /* The worst case of scale sc: each bin's trees at its near edge, in both levels inside a
  * fade band (render_lod_pick's bands). */
 static void worst_case(const uint32_t *hist, const render_lod_cost *cost, uint32_t n_species,

@@ -119,6 +119,9 @@ int render_set_instances(render *r, uint32_t n, const render_instance *inst, gal
         return gale_errf(err, GALE_E_NOMEM, "render_set_instances: no memory for the cells of "
                          "%u trees", n);
     }
+    for (uint32_t t = 0; t < n; t++) {
+        render_bill_leaf_set(r, t);
+    }
     r->n_debris = 0;
     r->n_broken = 0;
     r->cut_dirty = true;
@@ -209,6 +212,14 @@ int render_set_obstacles(render *r, uint32_t n, const float *min_max, gale_err *
     return 0;
 }
 
+void render_bill_leaf_set(render *r, uint32_t t)
+{
+    if (t < r->n_trees && t < r->cells.n_trees) {
+        r->cells.bill_leaf[r->cells.at_of[t]] =
+            r->inst[t].fall_rad > 0.0f ? -1.0f : render_bill_leaf_share(r, t);
+    }
+}
+
 void render_set_damage(render *r, uint32_t t, float fall_rad, float fall_az_rad,
                        uint32_t leaf_lost)
 {
@@ -216,6 +227,7 @@ void render_set_damage(render *r, uint32_t t, float fall_rad, float fall_az_rad,
         r->inst[t].fall_rad = fall_rad;
         r->inst[t].fall_az_rad = fall_az_rad;
         r->inst[t].leaf_lost = leaf_lost;
+        render_bill_leaf_set(r, t);
     }
 }
 
