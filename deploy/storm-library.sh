@@ -6,16 +6,17 @@
 # at that L row), a site 1-6 km from the track, a window around the eye's passage and a time
 # scale that replays it in about 6-7.5 minutes. Writes DIR/<stem>.json (default
 # configs/scenarios); tests/test_storm_library.c checks the shipped files equal its output.
-# Usage: deploy/storm-library.sh [DIR]   (GALE_BUILD: the build folder, default build)
+# Usage: deploy/storm-library.sh [DIR]   (GALE_HURDAT: the tool, default
+# $GALE_BUILD/server/gale-hurdat, GALE_BUILD: the build folder, default build)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ "${1:-}" = --help ] || [ "${1:-}" = -h ]; then
     echo "usage: deploy/storm-library.sh [DIR]"
-    sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//'
+    sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'
     exit 0
 fi
 out="${1:-configs/scenarios}"
-hurdat="${GALE_BUILD:-build}/server/gale-hurdat"
+hurdat="${GALE_HURDAT:-${GALE_BUILD:-build}/server/gale-hurdat}"
 [ -x "$hurdat" ] || { echo "storm-library: $hurdat is needed (deploy/build.sh)" >&2; exit 2; }
 mkdir -p "$out"
 
