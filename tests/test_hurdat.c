@@ -60,6 +60,52 @@ static void test_shipped_rows(void)
     hurdat_fini(&f);
 }
 
+/* A row without a central pressure: the nearest row's that has one, its deficit scaled by
+ * the winds squared. Camille 1969-08-18 06:00Z (115 kt, no pressure): the nearest is the
+ * landfall at 04:00Z (150 kt, 900 hPa) → 1013 − 113 (115/150)² = 946.58 hPa; 00:00Z (140
+ * kt) is 4 h from 04:00Z and 6 h from 1969-08-17 18:00Z (919 hPa): 1013 − 113 (140/150)². */
+static void test_pressure_fill(void)
+{
+    hurdat_file f;
+    gale_err err = { 0 };
+    CHECK(hurdat_load(&f, GALE_SOURCE_DIR "/tests/data/hurdat2-landfalls.txt", &err) == 0);
+    CHECK(f.n_storms == 13);
+    const hurdat_storm *c = hurdat_find(&f, "AL091969");
+    CHECK(c != NULL);
+    int n_rows = 0;
+    for (int i = 0; i < f.n_storms; i++) {
+        n_rows += f.storms[i].n_rows;
+    }
+    CHECK(n_rows == 665);
+    for (int i = 0; c && i < c->n_rows; i++) {
+        const hurdat_row *r = &c->rows[i];
+        double p = 0.0;
+        if (r->day == 18 && r->hour == 6) {
+            CHECK(r->pmin_mb == HURDAT_MISSING && r->vmax_kt == 115);
+            CHECK(hurdat_pressure_at(c, i, 1013.0, &p) == 1);
+            CHECK_NEAR(p, 1013.0 - 113.0 * (115.0 / 150.0) * (115.0 / 150.0), 1e-9);
+            CHECK_NEAR(p, 946.58, 0.005);
+        } else if (r->day == 18 && r->hour == 0) {
+            CHECK(hurdat_pressure_at(c, i, 1013.0, &p) == 1);
+            CHECK_NEAR(p, 1013.0 - 113.0 * (140.0 / 150.0) * (140.0 / 150.0), 1e-9);
+        } else if (r->day == 18 && r->hour == 4) {
+            CHECK(hurdat_pressure_at(c, i, 1013.0, &p) == 0 && p == 900.0);
+        }
+    }
+    hurdat_fini(&f);
+    /* no row with a pressure: none to fill from */
+    const char *t = "AL011999, X, 2,\n"
+                    "19990801, 0000,  , HU, 25.0N,  80.0W, 100, -999, -999, -999, -999, -999, "
+                    "-999, -999, -999, -999, -999, -999, -999, -999, -999\n"
+                    "19990801, 0600,  , HU, 25.5N,  80.5W, -999, -999, -999, -999, -999, -999, "
+                    "-999, -999, -999, -999, -999, -999, -999, -999, -999\n";
+    CHECK(hurdat_parse(&f, "t.txt", t, strlen(t), &err) == 0);
+    double p = 0.0;
+    CHECK(f.n_storms == 1 && hurdat_pressure_at(&f.storms[0], 0, 1013.0, &p) == -1);
+    CHECK(f.n_storms == 1 && hurdat_pressure_at(&f.storms[0], 1, 1013.0, &p) == -1);
+    hurdat_fini(&f);
+}
+
 static void test_calendar(void)
 {
     CHECK(hurdat_civil_minutes(1970, 1, 1, 0, 0) == 0);
@@ -213,6 +259,7 @@ int main(void)
 {
     RUN(test_tool_offset);
     RUN(test_shipped_rows);
+    RUN(test_pressure_fill);
     RUN(test_calendar);
     RUN(test_errors);
     return check_report();

@@ -102,8 +102,11 @@ static void test_refusals(void)
     snprintf(log, sizeof log, "%s/ctl.log", kf_dir);
     CHECK(ctl(KIOSK_TOKEN, (const char *[]){ "scenario", "charley2005", NULL }) == 1);
     CHECK(proc_log_count(log, "\"charley2005\": unknown; one of: andrew1992") == 1);
-    CHECK(proc_log_count(log, "the server's scenarios: andrew1992, breeze, calm, cat1, cat2, cat3, "
-                            "cat3-synthetic, cat4, cat5, charley2004, gusty, storm") == 1);
+    CHECK(proc_log_count(log, "the server's scenarios: andrew1992, breeze, calm, camille1969, cat1, "
+                            "cat2, cat3, cat3-synthetic, cat4, cat5, charley2004, gusty, "
+                            "harvey2017, hugo1989, ian2022, ida2021, ike2008, irma2017, "
+                            "katrina2005, laborday1935, laura2020, maria2017, michael2018, storm, "
+                            "wilma2005") == 1);
     CHECK(ctl(KIOSK_TOKEN, (const char *[]){ "replay", "--at", "landfall", NULL }) == 1);
     CHECK(proc_log_count(log, "replays no storm") == 1);
     CHECK(ctl(KIOSK_TOKEN, (const char *[]){ "wind", "--speed", "500", NULL }) == 2);

@@ -33,9 +33,14 @@ static double angle_between(double a, double b)
 static void test_shipped_files(void)
 {
     scenario *s;
-    static const char *const files[] = { "calm",       "breeze",      "gusty",         "storm",
-                                         "andrew1992", "charley2004", "cat3-synthetic", "cat1",
-                                         "cat2",       "cat3",        "cat4",           "cat5" };
+    static const char *const files[] = { "calm",         "breeze",      "gusty",         "storm",
+                                         "andrew1992",   "charley2004", "cat3-synthetic", "cat1",
+                                         "cat2",         "cat3",        "cat4",           "cat5",
+                                         "laborday1935", "camille1969", "hugo1989",
+                                         "katrina2005",  "wilma2005",   "ike2008",
+                                         "harvey2017",   "irma2017",    "maria2017",
+                                         "michael2018",  "laura2020",   "ida2021",
+                                         "ian2022" };
     for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
         char path[512];
         snprintf(path, sizeof path, CONFIGS "%s.json", files[i]);
@@ -358,6 +363,46 @@ static void test_replay_charley(void)
     CHECK(r.eye_min < 0.1 * r.peak1);
     CHECK(angle_between(r.dir1, r.dir2) >= 120.0);
     CHECK(r.duration > 120.0 && r.duration < 900.0);
+}
+
+/* The storm library (configs/scenarios/README.md's table, from gale-wind --timeline): each
+ * replay lasts 5-8 minutes, the wind at the site rises to an eyewall, falls to the calm of
+ * the eye (within 6 km of the site) at about the landfall row's pressure and returns from
+ * the other side; the eyewalls' peaks are the table's to 0.3 m/s (it samples each second). */
+static void test_replay_library(void)
+{
+    static const struct {
+        const char *file;
+        double peak1, peak2, p_hpa; /* README figures; the landfall row's pressure */
+    } lib[] = {
+        { "laborday1935", 65.1, 66.4, 892 }, { "camille1969", 60.5, 61.2, 900 },
+        { "hugo1989", 46.8, 45.3, 934 },     { "katrina2005", 45.2, 45.6, 920 },
+        { "wilma2005", 40.5, 40.8, 950 },    { "ike2008", 37.0, 37.4, 950 },
+        { "harvey2017", 46.0, 43.0, 937 },   { "irma2017", 46.7, 47.1, 931 },
+        { "maria2017", 55.3, 50.5, 920 },    { "michael2018", 55.7, 58.0, 919 },
+        { "laura2020", 51.7, 50.8, 939 },    { "ida2021", 52.5, 53.1, 931 },
+        { "ian2022", 54.8, 48.8, 941 },
+    };
+    for (size_t i = 0; i < sizeof lib / sizeof lib[0]; i++) {
+        char path[512];
+        snprintf(path, sizeof path, CONFIGS "%s.json", lib[i].file);
+        replay_summary r;
+        if (replay(path, &r) < 0) {
+            CHECK(0);
+            continue;
+        }
+        fprintf(stderr,
+                "%-13s %.0f s, start %.1f, eyewall %.1f from %.0f°, eye %.2f, eyewall %.1f from "
+                "%.0f°, %.1f hPa\n",
+                lib[i].file, r.duration, r.start_speed, r.peak1, r.dir1, r.eye_min, r.peak2,
+                r.dir2, r.min_pressure);
+        CHECK(r.duration >= 300.0 && r.duration <= 480.0);
+        CHECK(fabs(r.peak1 - lib[i].peak1) < 0.3 && fabs(r.peak2 - lib[i].peak2) < 0.3);
+        CHECK(r.peak1 > 1.4 * r.start_speed);
+        CHECK(r.eye_min < 0.1 * r.peak1);
+        CHECK(angle_between(r.dir1, r.dir2) >= 120.0);
+        CHECK(r.min_pressure < lib[i].p_hpa + 5.0);
+    }
 }
 
 static void test_time_compression(void)
@@ -699,6 +744,7 @@ int main(void)
     RUN(test_asymmetry);
     RUN(test_replay_andrew);
     RUN(test_replay_charley);
+    RUN(test_replay_library);
     RUN(test_time_compression);
     RUN(test_overrides);
     RUN(test_determinism);

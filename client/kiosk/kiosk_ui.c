@@ -4,6 +4,7 @@
 #include <ctype.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "hud.h"
@@ -20,8 +21,8 @@
 #define HEAD_H     0.045f /* the button block's heading line */
 #define HEAD2_H    0.032f /* the replay row's headings */
 #define TAB_W      0.22f
-#define TAB_H      0.045f
-#define LANG_W     0.13f /* a language button: "Español" at the tab's text size */
+#define TAB_H      0.062f /* 44 px at 720p, the height of a button */
+#define LANG_W     0.13f  /* a language button: "Español" at the tab's text size */
 #define SCEN_MIN_W 0.13f /* two lines of "Category 1 (steady)" fit */
 #define SCEN_MAX_W 0.30f
 
@@ -54,6 +55,7 @@ void kiosk_ui_set_scenario_count(kiosk_ui *ui, int n)
 {
     ui->n_scen = n < 0 ? 0 : n > KIOSK_UI_MAX_SCENARIOS ? KIOSK_UI_MAX_SCENARIOS : n;
     ui->running = -1;
+    ui->page = 0;
     ui->scen_gen++;
 }
 
@@ -169,6 +171,56 @@ float kiosk_ui_speed_x(int i)
 
 /* ---- layout ---------------------------------------------------------------------------- */
 
+/* The year a title ends with ("Andrew 1992" → 1992), 9999 when it ends with none, so a
+ * storm library reads in time order and an undated replay comes last. */
+static int title_year(const char *t)
+{
+    size_t n = strlen(t);
+    if (n >= 4 && isdigit((unsigned char)t[n - 1]) && isdigit((unsigned char)t[n - 2]) &&
+        isdigit((unsigned char)t[n - 3]) && isdigit((unsigned char)t[n - 4]) &&
+        (n == 4 || !isdigit((unsigned char)t[n - 5]))) {
+        return atoi(t + n - 4);
+    }
+    return 9999;
+}
+
+/* Pages of `per` buttons: the steady scenarios in the welcome's order, then the replays by
+ * year (a stable insertion sort: ties keep the welcome's order); a page holds one kind. */
+static void paginate(kiosk_ui *ui, int per)
+{
+    int n = 0;
+    for (int i = 0; i < ui->n_scen; i++) {
+        if (!ui->scen[i].replay) {
+            ui->order[n++] = i;
+        }
+    }
+    const int n_steady = n;
+    for (int i = 0; i < ui->n_scen; i++) {
+        if (!ui->scen[i].replay) {
+            continue;
+        }
+        int y = title_year(ui->scen[i].title), j = n++;
+        while (j > n_steady && title_year(ui->scen[ui->order[j - 1]].title) > y) {
+            ui->order[j] = ui->order[j - 1];
+            j--;
+        }
+        ui->order[j] = i;
+    }
+    ui->n_pages = 0;
+    for (int g = 0; g < 2; g++) {
+        int a = g == 0 ? 0 : n_steady, b = g == 0 ? n_steady : n;
+        for (int i = a; i < b && ui->n_pages < KIOSK_UI_MAX_PAGES; i += per) {
+            ui->page_start[ui->n_pages] = i;
+            ui->page_len[ui->n_pages] = b - i < per ? b - i : per;
+            ui->n_pages++;
+        }
+    }
+    if (ui->page >= ui->n_pages) {
+        ui->page = ui->n_pages > 0 ? ui->n_pages - 1 : 0;
+    }
+    ui->page = ui->page < 0 ? 0 : ui->page;
+}
+
 static void add(kiosk_ui *ui, int kind, int index, float x0, float y0, float x1, float y1)
 {
     if (ui->n >= KIOSK_UI_MAX_CONTROLS) {
@@ -226,6 +278,16 @@ void kiosk_ui_layout(kiosk_ui *ui, int fb_w, int fb_h)
     }
     float sw = fminf((bw_all - (float)(cols - 1) * g) / (float)cols, SCEN_MAX_W * H);
     int scen_rows = (ui->n_scen + cols - 1) / cols;
+    /* more rows than KIOSK_UI_SCEN_UNPAGED buttons take: a page at a time, the last two
+     * places of its last row the Previous and Next buttons */
+    int max_rows = (KIOSK_UI_SCEN_UNPAGED + cols - 1) / cols;
+    max_rows = max_rows < 2 ? 2 : max_rows;
+    const bool paged = scen_rows > max_rows;
+    ui->n_pages = 1;
+    if (paged) {
+        scen_rows = max_rows;
+        paginate(ui, cols * scen_rows - 2);
+    }
     int rows = scen_rows + 1; /* and the replay / reset row */
     float block_h = HEAD_H * H + HEAD2_H * H + (float)rows * bh + (float)(rows - 1) * g;
     float dial_h = KIOSK_UI_PANEL_H_FRAC * H;
@@ -239,10 +301,17 @@ void kiosk_ui_layout(kiosk_ui *ui, int fb_w, int fb_h)
         ui->comp_cy - ui->comp_r - 0.05f * H, ui->comp_cx + 0.5f * comp_w,
         ui->comp_cy + ui->comp_r + 0.02f * H);
     float y = (above ? ui->panel_y0 + m : H - m - block_h) + HEAD_H * H;
-    for (int i = 0; i < ui->n_scen; i++) {
+    const int shown = paged ? ui->page_len[ui->page] : ui->n_scen;
+    for (int i = 0; i < shown; i++) {
         int r = i / cols, k = i % cols;
         float x = bx0 + (float)k * (sw + g), yy = y + (float)r * (bh + g);
-        add(ui, KIOSK_UI_SCENARIO, i, x, yy, x + sw, yy + bh);
+        add(ui, KIOSK_UI_SCENARIO, paged ? ui->order[ui->page_start[ui->page] + i] : i, x, yy,
+            x + sw, yy + bh);
+    }
+    for (int i = 0; paged && i < 2; i++) {
+        int slot = cols * scen_rows - 2 + i, r = slot / cols, k = slot % cols;
+        float x = bx0 + (float)k * (sw + g), yy = y + (float)r * (bh + g);
+        add(ui, KIOSK_UI_PAGE, i, x, yy, x + sw, yy + bh);
     }
     /* the last row: play/pause, landfall, ×1 ×10 ×50 (during a replay), reset at the end */
     float yr = y + (float)scen_rows * (bh + g) + HEAD2_H * H;
@@ -403,6 +472,14 @@ bool kiosk_ui_touch(kiosk_ui *ui, int phase, float x, float y, kiosk_ui_action *
             a->act = KIOSK_UI_ACT_LANG;
             a->index = k.index;
             break;
+        case KIOSK_UI_PAGE:
+            if (ui->n_pages > 0) {
+                ui->page = (ui->page + (k.index ? 1 : ui->n_pages - 1)) % ui->n_pages;
+            }
+            a->act = KIOSK_UI_ACT_PAGE;
+            a->index = ui->page;
+            kiosk_ui_layout(ui, ui->fb_w, ui->fb_h);
+            break;
         case KIOSK_UI_COLLAPSE:
             ui->collapsed = !ui->collapsed;
             a->act = KIOSK_UI_ACT_COLLAPSE;
@@ -481,6 +558,9 @@ void kiosk_ui_label(const kiosk_ui *ui, const kiosk_ui_control *k, char *buf, un
     case KIOSK_UI_COLLAPSE:
         snprintf(buf, cap, "%s", lang_text(ui->lang, ui->collapsed ? L_KIOSK_SHOW : L_KIOSK_HIDE));
         break;
+    case KIOSK_UI_PAGE:
+        snprintf(buf, cap, "%s", lang_text(ui->lang, k->index ? L_KIOSK_NEXT : L_KIOSK_PREVIOUS));
+        break;
     case KIOSK_UI_DIAL:
         snprintf(buf, cap, "%s", lang_text(ui->lang, L_KIOSK_WIND_SPEED));
         break;
@@ -491,6 +571,18 @@ void kiosk_ui_label(const kiosk_ui *ui, const kiosk_ui_control *k, char *buf, un
         snprintf(buf, cap, "?");
         break;
     }
+}
+
+void kiosk_ui_scen_heading(const kiosk_ui *ui, char *buf, unsigned cap)
+{
+    if (ui->n_pages <= 1 || ui->page >= ui->n_pages) {
+        snprintf(buf, cap, "%s", lang_text(ui->lang, L_KIOSK_CHOOSE));
+        return;
+    }
+    bool replays = ui->scen[ui->order[ui->page_start[ui->page]]].replay;
+    lang_format(buf, cap, ui->lang, L_KIOSK_PAGE,
+                lang_text(ui->lang, replays ? L_KIOSK_STORM_REPLAYS : L_KIOSK_STEADY_WINDS),
+                ui->page + 1, ui->n_pages);
 }
 
 void kiosk_ui_describe(const kiosk_ui *ui, char *buf, unsigned cap)

@@ -16,7 +16,12 @@
 
 #define KIOSK_UI_MAX_SCENARIOS ((int)WIRE_MAX_SCENARIOS) /* a welcome lists at most these */
 #define KIOSK_UI_NAME_CHARS    64
-#define KIOSK_UI_MAX_CONTROLS  (KIOSK_UI_MAX_SCENARIOS + 12)
+#define KIOSK_UI_MAX_CONTROLS  (KIOSK_UI_MAX_SCENARIOS + 14)
+/* Scenario buttons are laid out in the rows these many take (at least 2): a longer list (a
+ * storm library) is shown a page at a time, steady winds first, then the replays oldest
+ * first, with Previous / Next buttons, so the panel never grows taller. */
+#define KIOSK_UI_SCEN_UNPAGED 12
+#define KIOSK_UI_MAX_PAGES KIOSK_UI_MAX_SCENARIOS
 
 /* The dial's scale: from calm to a strong Category 5 (the strongest Atlantic landfalls,
  * e.g. Allen 1980, 165 kt = 85 m/s). */
@@ -25,7 +30,7 @@
 
 /* Replay speeds of the ×1, ×10, ×50 buttons: ×N is N storm seconds per second (×1 is real
  * time), the server's replay_speed as PROTOCOL.md "wind" defines it; the shipped replays
- * run at ×50 (their time_scale). */
+ * run at their time_scale, ×30 to ×120. */
 #define KIOSK_UI_SPEEDS 3
 
 /* Sizes [fraction of the framebuffer height]. 9 mm on a 24" 1080p panel is 33 px, 0.03. */
@@ -43,6 +48,7 @@ enum kiosk_ui_kind {
     KIOSK_UI_RESET,     /* heal the forest, back to the first scenario */
     KIOSK_UI_COLLAPSE,  /* hide / show the panel */
     KIOSK_UI_LANG,      /* index: the language (lang.h) the kiosk speaks */
+    KIOSK_UI_PAGE,      /* index: 0 the previous page of scenarios, 1 the next */
     KIOSK_UI_KIND_COUNT
 };
 
@@ -74,6 +80,8 @@ enum kiosk_ui_act {
     KIOSK_UI_ACT_RESET,
     KIOSK_UI_ACT_COLLAPSE, /* value: 1 hidden, 0 shown (applied by kiosk_ui_touch) */
     KIOSK_UI_ACT_LANG,     /* index: the language chosen (applied by kiosk_ui_touch) */
+    KIOSK_UI_ACT_PAGE,     /* index: the page of scenarios now shown (applied by
+                              kiosk_ui_touch; sends nothing) */
 };
 
 typedef struct kiosk_ui_action {
@@ -101,6 +109,11 @@ typedef struct kiosk_ui {
     /* the panel */
     int lang;           /* the language its words are in (lang.h), as the client shows */
     bool collapsed;
+    int page;           /* the page of scenario buttons shown (kiosk_ui_layout clamps it) */
+    int n_pages;        /* pages of the last layout; 1 when every button fits */
+    int page_start[KIOSK_UI_MAX_PAGES], page_len[KIOSK_UI_MAX_PAGES]; /* into order[] */
+    int order[KIOSK_UI_MAX_SCENARIOS]; /* paged: scen[] indices, steady first, then the
+                                          replays by the year their title ends with */
     int pressed;        /* control under the finger, -1 none (drawn pressed) */
     float drag_ms;      /* the dial's value while dragged */
     float drag_from_deg;
@@ -164,6 +177,8 @@ int kiosk_ui_find(const kiosk_ui *ui, int kind, int index);
 float kiosk_ui_speed_x(int i);
 /* A button's face into buf (cap bytes): a scenario's title, "Pause" / "Play", ... */
 void kiosk_ui_label(const kiosk_ui *ui, const kiosk_ui_control *k, char *buf, unsigned cap);
+/* The heading over the scenario buttons ("Choose the weather", paged: "Storm replays 2/3"). */
+void kiosk_ui_scen_heading(const kiosk_ui *ui, char *buf, unsigned cap);
 /* The panel's state as one line for the headless HUD text ("Panel: wind 45 m/s ..."). */
 void kiosk_ui_describe(const kiosk_ui *ui, char *buf, unsigned cap);
 

@@ -256,6 +256,7 @@ static uint64_t picture_key(const kiosk_ui *ui)
     const int32_t v[] = { ui->fb_w,
                           ui->fb_h,
                           ui->collapsed,
+                          ui->page,
                           ui->pressed,
                           ui->n,
                           (int32_t)ui->scen_gen,
@@ -306,9 +307,10 @@ void kiosk_ui_draw(hud *h, const kiosk_ui *ui)
             draw_compass(h, ui, pressed_kind == KIOSK_UI_COMPASS);
             break;
         case KIOSK_UI_SCENARIO:
-            if (k->index == 0) {
-                text(h, k->r.x0, k->r.y0 - 0.014f * H, 0.024f * H,
-                     lang_text(ui->lang, L_KIOSK_CHOOSE), ink, -1);
+            if (i == 0 || ui->c[i - 1].kind != KIOSK_UI_SCENARIO) { /* the block's first */
+                char head[96];
+                kiosk_ui_scen_heading(ui, head, sizeof head);
+                text(h, k->r.x0, k->r.y0 - 0.014f * H, 0.024f * H, head, ink, -1);
             }
             draw_button(h, ui, k, pressed, k->index == ui->running);
             break;

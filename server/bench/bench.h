@@ -9,6 +9,7 @@ int bench_wind(int argc, char **argv);
 int bench_modal(int argc, char **argv);
 int bench_wire(int argc, char **argv);
 int bench_views(int argc, char **argv);
+int bench_ef(int argc, char **argv);
 
 /* The machine's memory bandwidth [GB/s]: a STREAM triad a = b + 3 c over three arrays of
  * 2^24 doubles (384 MiB, far past the caches) on `threads` threads, best of 5, on the

@@ -17,6 +17,7 @@ static const bench_cmd bench_cmds[] = {
     { "modal", bench_modal, "per-tick modal update of many trees, bandwidth (JSON)" },
     { "wire", bench_wire, "state stream bytes per tree and node error, gusty run (JSON)" },
     { "views", bench_views, "per-client view streams: selection and encode per snapshot (JSON)" },
+    { "ef", bench_ef, "wind at the first branch, uproot and snap per species vs the EF scale (JSON)" },
 };
 
 static void usage(FILE *f)

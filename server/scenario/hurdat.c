@@ -403,3 +403,34 @@ const hurdat_storm *hurdat_find(const hurdat_file *f, const char *id_or_name)
     }
     return NULL;
 }
+
+int hurdat_pressure_at(const hurdat_storm *st, int i, double ambient_hpa, double *p_hpa)
+{
+    const hurdat_row *r = &st->rows[i];
+    if (r->pmin_mb != HURDAT_MISSING) {
+        *p_hpa = r->pmin_mb;
+        return 0;
+    }
+    if (r->vmax_kt == HURDAT_MISSING) {
+        return -1;
+    }
+    const hurdat_row *best = NULL;
+    long long best_dt = 0;
+    for (int j = 0; j < st->n_rows; j++) {
+        const hurdat_row *q = &st->rows[j];
+        if (q->pmin_mb == HURDAT_MISSING || q->vmax_kt == HURDAT_MISSING || q->vmax_kt <= 0) {
+            continue;
+        }
+        long long dt = llabs(hurdat_minutes(q) - hurdat_minutes(r));
+        if (!best || dt < best_dt) {
+            best = q;
+            best_dt = dt;
+        }
+    }
+    if (!best) {
+        return -1;
+    }
+    double k = (double)r->vmax_kt / (double)best->vmax_kt;
+    *p_hpa = ambient_hpa - (ambient_hpa - (double)best->pmin_mb) * k * k;
+    return 1;
+}

@@ -45,6 +45,13 @@ int hurdat_load(hurdat_file *f, const char *path, gale_err *err);
 void hurdat_fini(hurdat_file *f);
 /* The storm with this id ("AL041992") or name ("ANDREW", case-insensitive); NULL if none. */
 const hurdat_storm *hurdat_find(const hurdat_file *f, const char *id_or_name);
+/* Central pressure [hPa] of row i of st for a replay: the row's own when it has one
+ * (returns 0); else the nearest row in time that has both a pressure and a max wind, its
+ * deficit below ambient_hpa scaled by the square of the two rows' max winds (returns 1):
+ * Holland's V_max² = B Δp / (ρ e) at an unchanged B (PHYSICS.md "Hurricanes"), so a storm
+ * weakening over land fills as its wind falls. −1 when row i has no max wind or no row has
+ * both. */
+int hurdat_pressure_at(const hurdat_storm *st, int i, double ambient_hpa, double *p_hpa);
 /* Minutes since 1970-01-01 00:00 UTC of a row (proleptic Gregorian). */
 long long hurdat_minutes(const hurdat_row *r);
 /* Minutes since 1970-01-01 00:00 UTC of a civil UTC date and time. */

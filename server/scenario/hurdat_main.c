@@ -1,7 +1,9 @@
 /* gale-hurdat: turns the HURDAT2 best-track rows of one storm around a landfall into a
  * hurricane scenario file (track times relative to a reference, pressure, Rmax, Vmax in
  * SI units), so configs/scenarios/andrew1992.json and charley2004.json can be rebuilt
- * from data/hurdat2-andrew1992-charley2004.txt. See configs/scenarios/README.md. */
+ * from tests/data/hurdat2-andrew1992-charley2004.txt, and the storm library from
+ * tests/data/hurdat2-landfalls.txt (deploy/storm-library.sh). See
+ * configs/scenarios/README.md. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -27,7 +29,10 @@ static void usage(FILE *o)
                "without a radius of maximum wind take the nearest row's that has one (or\n"
                "--rmax-km). --utc-offset-min: the site's local time is UTC + M minutes\n"
                "(-840..840, e.g. -240 for EDT; the kiosk shows it); without it the scenario\n"
-               "takes the longitude's 15-degree zone. The file is validated by loading it back.\n");
+               "takes the longitude's 15-degree zone. A row without a central pressure takes\n"
+               "the nearest row's that has one, its deficit below --ambient-hpa scaled by\n"
+               "(Vmax / that row's Vmax)^2 (the count is noted in \"source\"). The file is\n"
+               "validated by loading it back.\n");
 }
 
 static int parse_utc(const char *s, long long *out)
@@ -181,10 +186,20 @@ int main(int argc, char **argv)
     }
     char title[160];
     snprintf(title, sizeof title, "%s %d", name ? name : st->name, st->rows[first].year);
-    char src[240];
+    /* rows without a central pressure: filled from the nearest that has one (hurdat.h) */
+    int n_filled = 0;
+    for (int i = first; i <= last; i++) {
+        double p;
+        n_filled += hurdat_pressure_at(st, i, ambient, &p) == 1;
+    }
+    char src[240], fill[64] = "";
+    if (n_filled > 0) {
+        snprintf(fill, sizeof fill, "; %d missing p from the nearest row's, x (V/V')^2",
+                 n_filled);
+    }
     snprintf(src, sizeof src,
-             "NHC HURDAT2 %s (%s), rows %s..%s of %s; Vmax kt x 0.514444, RMW nm x 1.852", st->id,
-             st->name, from, to, in);
+             "NHC HURDAT2 %s (%s), rows %s..%s of %s; Vmax kt x 0.514444, RMW nm x 1.852%s",
+             st->id, st->name, from, to, in, fill);
     fprintf(o, "{\n  \"name\": ");
     put_string(o, title);
     fprintf(o, ",\n  \"kind\": \"hurricane\",\n  \"seed\": %.0f,\n  \"z0_m\": 0.3,\n", seed);
@@ -225,17 +240,23 @@ int main(int argc, char **argv)
                 }
             }
         }
-        if (isnan(rkm) || r->vmax_kt == HURDAT_MISSING || r->pmin_mb == HURDAT_MISSING) {
+        double p_hpa = 0.0;
+        int filled = hurdat_pressure_at(st, i, ambient, &p_hpa);
+        if (isnan(rkm) || r->vmax_kt == HURDAT_MISSING || filled < 0) {
             fprintf(stderr, "gale-hurdat: %s:%d: %s lacks %s\n", in, r->line, st->id,
                     isnan(rkm) ? "a radius of maximum wind (give --rmax-km)"
-                               : "max wind or pressure");
+                               : "a max wind, or a pressure on any row");
             rc = 1;
             break;
         }
+        if (filled == 1) {
+            fprintf(stderr, "gale-hurdat: %s:%d: no pressure: %.0f hPa from the nearest row's\n",
+                    in, r->line, p_hpa);
+        }
         fprintf(o,
                 "      { \"t_min\": %lld, \"lat_deg\": %.1f, \"lon_deg\": %.1f, "
-                "\"p_hpa\": %d, \"rmax_km\": %.2f, \"vmax_ms\": %.2f }%s\n",
-                hurdat_minutes(r) - ref_m, r->lat_deg, r->lon_deg, r->pmin_mb, rkm,
+                "\"p_hpa\": %.0f, \"rmax_km\": %.2f, \"vmax_ms\": %.2f }%s\n",
+                hurdat_minutes(r) - ref_m, r->lat_deg, r->lon_deg, p_hpa, rkm,
                 r->vmax_kt * SAFFIR_MS_PER_KT, i < last ? "," : "");
     }
     fprintf(o, "    ]\n  }\n}\n");

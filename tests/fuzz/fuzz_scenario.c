@@ -37,6 +37,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     /* the same bytes as HURDAT2 text */
     hurdat_file f;
     if (hurdat_parse(&f, "fuzz.txt", (const char *)data, size, &err) == 0) {
+        /* every row's pressure, filled where it is missing (gale-hurdat), finite */
+        for (int k = 0; k < f.n_storms; k++) {
+            for (int i = 0; i < f.storms[k].n_rows; i++) {
+                double p = 0.0;
+                if (hurdat_pressure_at(&f.storms[k], i, 1013.0, &p) >= 0 && !isfinite(p)) {
+                    abort();
+                }
+            }
+        }
         hurdat_fini(&f);
     }
     return 0;
