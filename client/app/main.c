@@ -523,6 +523,7 @@ int main(int argc, char **argv)
              * the operator's language again */
             client_kiosk_release(&c);
             c.lang = c.a.lang;
+            c.kiosk.page = 0; /* the next visitor starts at the first page of scenarios */
             c.tour_t0_s = now;
         }
         if (c.attract.active && c.scene_ready) {
