@@ -281,7 +281,7 @@ static void test_errors(void)
     BAD("{\"type\":3}", WIRE_CLOSE_UNKNOWN_TYPE,
         "ctl: type: wrong type: expected a string, got a number");
     BAD("{\"type\":\"launch\"}", WIRE_CLOSE_UNKNOWN_TYPE,
-        "ctl: type: expected one of hello|view|wind|resync|ping|welcome|pong|error|wall_*|reset, got \"launch\"");
+        "ctl: type: expected one of hello|view|wind|resync|ping|welcome|pong|error|wall_*|reset|kiosk_state|schedule, got \"launch\"");
     BAD("{\"type\":\"hello\",\"protocol\":2,\"role\":\"viewer\"}", WIRE_CLOSE_VERSION,
         "ctl: hello.protocol: expected 1, got 2");
     BAD("{\"type\":\"hello\",\"protocol\":\"1\",\"role\":\"viewer\"}", WIRE_CLOSE_BAD_FIELD,
