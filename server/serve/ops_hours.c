@@ -163,9 +163,11 @@ static time_t at_local(const struct tm *now, int days, int sec)
 {
     struct tm t = *now;
     t.tm_mday += days;
-    t.tm_hour = 0;
-    t.tm_min = 0;
-    t.tm_sec = sec;
+    /* hours, minutes and seconds apart: as elapsed seconds from midnight, mktime would
+     * count across a daylight-saving change and land an hour off the clock time */
+    t.tm_hour = sec / 3600;
+    t.tm_min = sec / 60 % 60;
+    t.tm_sec = sec % 60;
     t.tm_isdst = -1;
     return mktime(&t);
 }
