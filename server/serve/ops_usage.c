@@ -2,6 +2,7 @@
 #include "ops_usage.h"
 
 #include <errno.h>
+#include <math.h>
 #include <fcntl.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -116,7 +117,7 @@ char *ops_usage_json(const ops_usage *u)
     bool ok = o && cat && rep && lang && cJSON_AddStringToObject(o, "format", FILE_FORMAT) &&
               json_add_number(o, "version", FILE_VERSION) &&
               json_add_number(o, "sessions", (double)u->sessions) &&
-              json_add_number(o, "dwell_s", u->dwell_s);
+              json_add_number(o, "dwell_s", round(u->dwell_s * 1e3) / 1e3); /* to the ms */
     for (int c = 0; ok && c < WIND_SCALE_SS_COUNT; c++) {
         ok = json_add_number(cat, class_keys[c], (double)u->categories[c]) != NULL;
     }
