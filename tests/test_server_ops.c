@@ -120,9 +120,9 @@ static void test_closed_then_open(void)
     setenv("TZ", "UTC", 1);
     const time_t now = time(NULL);
     char o[16], c[16], hours[40];
-    /* opens 6 s from now (the server takes a moment to start), closes 8 s after */
+    /* opens 6 s from now (the server takes a moment to start), closes 14 s after */
     clock_at(now + 6, o, sizeof o);
-    clock_at(now + 14, c, sizeof c);
+    clock_at(now + 20, c, sizeof c);
     snprintf(hours, sizeof hours, "%s-%s", o, c);
     snprintf(state, sizeof state, "%s/usage.json", kf_dir);
     unlink(state);
@@ -193,15 +193,44 @@ static void test_closed_then_open(void)
     CHECK(mt && strstr(mt, "gale_usage_scenarios_total{scenario=\"andrew1992\"} 1\n"));
     CHECK(mt && strstr(mt, "gale_open 1\n"));
     free(mt);
+    /* a native kiosk drawing through the closing: its last frame carries the card */
+    char clog[300], cout[300], url[64], cache[300], shot[300], tok[300];
+    snprintf(clog, sizeof clog, "%s/client.log", kf_dir);
+    snprintf(cout, sizeof cout, "%s/client.out", kf_dir);
+    snprintf(url, sizeof url, "ws://127.0.0.1:%d", kf_port);
+    snprintf(cache, sizeof cache, "%s/cache", kf_dir);
+    snprintf(shot, sizeof shot, "%s/closed.png", kf_dir);
+    snprintf(tok, sizeof tok, "%s/token", kf_dir);
+    FILE *tf = fopen(tok, "w");
+    if (tf) {
+        fputs(KIOSK_TOKEN "\n", tf);
+        fclose(tf);
+    }
+    char *cargv[] = { GALE_CLIENT_EXE, "--url", url, "--role", "kiosk", "--token-file", tok,
+                      "--headless", "--frames", "300", "--max-fps", "20", "--size", "640x360",
+                      "--wait", "60", "--cache", cache, "--screenshot", shot, NULL };
+    pid_t cl = kf_spawn(cargv, clog, cout);
     /* the closing: told, the tick holds, the connections stay */
-    m = next_text(&k, "\"open\":false", 12);
+    m = next_text(&k, "\"open\":false", 20);
     CHECK(m != NULL);
     free(m);
     usleep(400000);
     const unsigned t2 = tick_now();
     usleep(1000000);
     CHECK(tick_now() == t2);
-    st = get("/status");
+    /* the client saw open then closed, and drew the card */
+    CHECK(proc_wait_exit(cl, 90.0) == 0);
+    char card[80];
+    snprintf(card, sizeof card, "gale-client: exhibit closed, opens at %s", o);
+    CHECK(proc_log_count(clog, "gale-client: exhibit open until") >= 1);
+    CHECK(proc_log_count(clog, card) == 1);
+    snprintf(card, sizeof card, "hud: Closed \xE2\x80\x94 opens at %.5s", o);
+    CHECK(proc_log_count(cout, card) >= 1);
+    if (proc_log_count(cout, card) < 1) {
+        proc_dump(clog);
+        proc_dump(cout);
+    }
+    st = get("/status"); /* the client gone, the two raw connections stay while closed */
     CHECK(st && strstr(st, "\"state\":\"closed\"") && strstr(st, "\"total\":2"));
     free(st);
     /* refusals */

@@ -175,6 +175,7 @@ static void net_text(cli_net *n, const char *text, size_t len, double now)
     case CTL_WALL_SYNC:
     case CTL_WALL_SWAP:
     case CTL_WALL_CAMERA:
+    case CTL_SCHEDULE:
         inbox_put(n, MSG_TEXT, 0, now, text, len);
         break;
     case CTL_ERROR:

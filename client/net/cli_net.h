@@ -49,7 +49,8 @@ typedef struct cli_net_handler {
     void (*on_frame)(void *user, const wire_frame *f, const wire_decoder *dec, double recv_s);
     /* The connection ended (close code or 0 for a transport error, and why). */
     void (*on_lost)(void *user, int close_code, const char *why);
-    /* A display-wall message from the server (wall_sync, wall_swap, wall_camera). */
+    /* A display-wall message from the server (wall_sync, wall_swap, wall_camera), or the
+     * exhibit's schedule (open or closed; every role gets it). */
     void (*on_wall)(void *user, const ctl_msg *m);
 } cli_net_handler;
 
