@@ -4,6 +4,7 @@
 // messages a person can act on, the storm look from WEATHER (web/storm_fx.js; the page's
 // ?storm_fx=off|low|high, default low as gale-client's --storm-fx). window.gale exposes
 // the state for tests and benchmarks.
+import { showSchedule } from './closed.js';
 import { Connection } from './conn.js';
 import { fetchAsset } from './asset.js';
 import { Jitter, Clock, blendWeights } from './jitter.js';
@@ -127,7 +128,8 @@ export class App {
             onWelcome: (w) => this.onWelcome(w),
             onFrame: (f) => this.onFrame(f),
             onPong: (sent, server, recv) => this.clock.pong(sent, server, recv),
-            onText: (m) => this.o.onText && this.o.onText(m),
+            // the schedule is every page's (the closed card, closed.js)
+            onText: (m) => (m.type === 'schedule' ? showSchedule(m) : this.o.onText && this.o.onText(m)),
         });
         this.clock = new Clock();
         this.conn.start();

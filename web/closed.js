@@ -1,0 +1,24 @@
+// The closed card: while the exhibit's opening hours keep it closed (the server's schedule
+// message, PROTOCOL.md "schedule") the page dims under a card that says when it opens and
+// takes the touches, so nobody dials a sleeping exhibit. The card's English text is here and
+// nowhere else; the keys in the comments name it for translation.
+
+const CLOSED_CARD_EN = (at) => `Closed \u2014 opens at ${at}`; // key closed.card (at: "09:30")
+const CLOSED_CARD_NO_TIME_EN = 'Closed'; // key closed.card_no_time
+
+// Shows or hides the card for a schedule message { open, next_change, next_in_s }.
+export function showSchedule(m) {
+    let card = document.getElementById('closed');
+    if (!card) {
+        card = document.createElement('div');
+        card.id = 'closed';
+        card.className = 'closed';
+        card.setAttribute('role', 'status');
+        card.hidden = true;
+        document.body.append(card);
+    }
+    // a visitor reads "09:30", not "09:30:00"
+    const at = (m.next_change || '').slice(0, 5);
+    card.textContent = at ? CLOSED_CARD_EN(at) : CLOSED_CARD_NO_TIME_EN;
+    card.hidden = !!m.open;
+}
