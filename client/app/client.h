@@ -49,6 +49,7 @@ _Static_assert(CLIENT_MAX_SPECIES <= RENDER_MAX_SPECIES,
 
 typedef struct client_args {
     const char *url;
+    const char *tls_ca;     /* --tls-ca: PEM certificates to trust for wss (NULL: system) */
     int role; /* enum ctl_role */
     int width, height;
     bool headless;
