@@ -216,6 +216,9 @@ static void test_file(void)
           "\"categories\":{\"td\":0,\"ts\":0,\"cat1\":0,\"cat2\":0,\"cat3\":0,\"cat4\":0,"
           "\"cat5\":0},\"replays\":{\"a\":1.5},\"languages\":{}}", "a" },
         { "{\"format\":\"other\"}", "format: expected \"gale-usage\"" },
+        { "{\"format\":\"gale-usage\",\"version\":1,\"sessions\":1,\"dwell_s\":0,"
+          "\"categories\":{\"td\":0,\"ts\":0,\"cat1\":0,\"cat2\":0,\"cat3\":0,\"cat4\":0,"
+          "\"cat5\":0},\"replays\":{\"a\":1,\"a\":2},\"languages\":{}}", "replays.a: duplicate key" },
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         put(path, bad[i].text);

@@ -149,6 +149,11 @@ static int load_names(const json_rd *r, const cJSON *root, const char *key, ops_
             return json_fail(r, GALE_E_RANGE, "%s: expected at most %d names, got more", key,
                              OPS_USAGE_MAX_NAMES);
         }
+        for (int i = 0; i < *n; i++) {
+            if (!strcmp(t[i].name, k->string)) {
+                return json_fail(r, GALE_E_PARSE, "%s.%s: duplicate key", key, k->string);
+            }
+        }
         long long v = 0;
         rc = json_int(r, o, key, k->string, true, 0, 1LL << 53, &v, NULL);
         snprintf(t[*n].name, sizeof t[*n].name, "%s", k->string);
@@ -239,14 +244,20 @@ int ops_usage_load(ops_usage *u, const char *path, bool *found, gale_err *err)
         rc = gale_errf(err, GALE_E_PARSE, "%s: expected at most %u bytes, got more", path,
                        FILE_MAX_BYTES);
     } else {
-        json_rd r = { path, JSON_VOICE_FILE, err };
-        rc = parse_file(u, &r, text, n);
+        rc = ops_usage_parse(u, path, text, n, err);
     }
     free(text);
+    *found = rc == 0;
+    return rc;
+}
+
+int ops_usage_parse(ops_usage *u, const char *name, const char *text, size_t len, gale_err *err)
+{
+    ops_usage_init(u);
+    json_rd r = { name, JSON_VOICE_FILE, err };
+    int rc = parse_file(u, &r, text, len);
     if (rc) {
         ops_usage_init(u);
-    } else {
-        *found = true;
     }
     return rc;
 }

@@ -57,6 +57,9 @@ double ops_usage_open_dwell_s(const ops_usage *u);
  * one that cannot be read or does not parse is GALE_E_IO / GALE_E_PARSE naming the file,
  * line:col and key, and *u is left zero. */
 int ops_usage_load(ops_usage *u, const char *path, bool *found, gale_err *err);
+/* The file's text[len] (not NUL-terminated necessarily) into *u, named name in messages;
+ * what ops_usage_load does once it has read the file. *u zero on failure. */
+int ops_usage_parse(ops_usage *u, const char *name, const char *text, size_t len, gale_err *err);
 /* Writes the counters to path atomically: path.tmp written and fsync'ed, renamed over
  * path, the folder fsync'ed; the old file stays whole until the rename. */
 int ops_usage_save(const ops_usage *u, const char *path, gale_err *err);
