@@ -15,10 +15,11 @@ export function showSchedule(m) {
         card.className = 'closed';
         card.setAttribute('role', 'status');
         card.hidden = true;
+        card.append(document.createElement('div'));
         document.body.append(card);
     }
     // a visitor reads "09:30", not "09:30:00"
     const at = (m.next_change || '').slice(0, 5);
-    card.textContent = at ? CLOSED_CARD_EN(at) : CLOSED_CARD_NO_TIME_EN;
+    card.firstChild.textContent = at ? CLOSED_CARD_EN(at) : CLOSED_CARD_NO_TIME_EN;
     card.hidden = !!m.open;
 }
