@@ -5,8 +5,9 @@
  *   opening), the tick stays where it is and the process uses next to no CPU; at the
  *   opening every client is told (open true) and the tick runs; at the closing it holds
  *   again, and the connections stay;
- * - kiosk_state, dials and a pick show in /status and /metrics; a viewer's kiosk_state is
- *   refused (4006), a bad language 4002 with its message;
+ * - kiosk_state, dials and a pick show in /status and /metrics (a session counts the
+ *   language of the kiosk it began at, and a change of language in it); a viewer's
+ *   kiosk_state is refused (4006), a bad language 4002 with its message;
  * - the counters after a restart equal those before (the state file);
  * - a corrupt state file stops the server with the file and key named, and is left as
  *   it was. */
@@ -193,6 +194,15 @@ static void test_closed_then_open(void)
     CHECK(mt && strstr(mt, "gale_usage_scenarios_total{scenario=\"andrew1992\"} 1\n"));
     CHECK(mt && strstr(mt, "gale_open 1\n"));
     free(mt);
+    /* the visitor switches the kiosk to German: counted in the session under way; the
+     * kiosk's first report (above) was its own, not counted */
+    wsraw_text(&k, "{\"type\":\"kiosk_state\",\"token\":\"" KIOSK_TOKEN "\",\"lang\":\"de\","
+                   "\"audio\":\"none\"}");
+    usleep(300000);
+    st = get("/status");
+    CHECK(st && strstr(st, "\"languages\":{\"en\":1,\"de\":1}"));
+    CHECK(st && strstr(st, "\"sessions\":1,"));
+    free(st);
     /* a native kiosk drawing through the closing: its last frame carries the card */
     char clog[300], cout[300], url[64], cache[300], shot[300], tok[300];
     snprintf(clog, sizeof clog, "%s/client.log", kf_dir);

@@ -36,18 +36,20 @@ static void end_session(ops_usage *u)
     }
 }
 
-void ops_usage_interaction(ops_usage *u, double now_s, double idle_s)
+bool ops_usage_interaction(ops_usage *u, double now_s, double idle_s)
 {
     if (u->in_session && now_s - u->last_s > idle_s) {
         end_session(u);
     }
-    if (!u->in_session) {
+    const bool began = !u->in_session;
+    if (began) {
         u->in_session = true;
         u->sessions++;
         u->start_s = now_s;
         u->last_class = -1;
     }
     u->last_s = now_s;
+    return began;
 }
 
 bool ops_usage_poll(ops_usage *u, double now_s, double idle_s)

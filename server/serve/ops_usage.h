@@ -38,8 +38,8 @@ typedef struct ops_usage {
 /* Zero counters, no session. */
 void ops_usage_init(ops_usage *u);
 /* A kiosk interaction at now_s: begins a session when none is under way or the last
- * interaction is more than idle_s ago (ending that one first). */
-void ops_usage_interaction(ops_usage *u, double now_s, double idle_s);
+ * interaction is more than idle_s ago (ending that one first); true when it began one. */
+bool ops_usage_interaction(ops_usage *u, double now_s, double idle_s);
 /* Ends the session under way once idle_s passed since its last interaction; returns true
  * when one ended. */
 bool ops_usage_poll(ops_usage *u, double now_s, double idle_s);

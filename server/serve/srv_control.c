@@ -288,7 +288,7 @@ int srv_on_control(void *user, net_peer *p, const char *text, size_t len, char *
                                    "turbulence); send speed_ms and dir_deg only");
             rc = WIRE_CLOSE_BAD_FIELD;
         } else {
-            srv_ops_interaction(s->ops); /* first: a dial in it counts in its session */
+            srv_ops_interaction(s->ops, p->id); /* first: a dial in it counts in its session */
             rc = kiosk_wind(s, p, w, why, why_cap);
         }
     } else if (m.type == CTL_RESET) {
@@ -303,7 +303,7 @@ int srv_on_control(void *user, net_peer *p, const char *text, size_t len, char *
             snprintf(why, why_cap, "reset.token: wrong kiosk token");
             rc = WIRE_CLOSE_BAD_TOKEN;
         } else {
-            srv_ops_interaction(s->ops);
+            srv_ops_interaction(s->ops, p->id);
             pthread_mutex_lock(&s->scen_lock);
             srv_reset_locked(s, atomic_load(&s->simm.current_tick) / s->d.sc->tick_hz);
             pthread_mutex_unlock(&s->scen_lock);
@@ -320,7 +320,6 @@ int srv_on_control(void *user, net_peer *p, const char *text, size_t len, char *
             snprintf(why, why_cap, "kiosk_state.token: wrong kiosk token");
             rc = WIRE_CLOSE_BAD_TOKEN;
         } else {
-            srv_ops_interaction(s->ops);
             srv_ops_kiosk_state(s->ops, p->id, k->lang, k->audio);
         }
     } else if (m.type >= CTL_WALL_JOIN && m.type <= CTL_WALL_CAMERA) {

@@ -190,13 +190,35 @@ bool srv_ops_open(const srv_ops *o)
     return !o || atomic_load(&o->open);
 }
 
-void srv_ops_interaction(srv_ops *o)
+static ops_kiosk *kiosk_of(srv_ops *o, uint32_t conn)
 {
-    pthread_mutex_lock(&o->lock);
+    for (int i = 0; i < SRV_OPS_MAX_KIOSKS; i++) {
+        if (o->kiosks[i].conn == conn) {
+            return &o->kiosks[i];
+        }
+    }
+    return NULL;
+}
+
+/* Lock held. */
+static void interaction_locked(srv_ops *o, uint32_t conn)
+{
     o->any = true;
     o->last_wall = time(NULL);
     o->last_mono_s = mono_s();
-    ops_usage_interaction(&o->u, o->last_mono_s, o->d.idle_s);
+    if (ops_usage_interaction(&o->u, o->last_mono_s, o->d.idle_s)) {
+        /* a visitor begins at a kiosk showing this language */
+        const ops_kiosk *k = kiosk_of(o, conn);
+        if (k) {
+            ops_usage_count(o->u.langs, &o->u.n_langs, k->lang);
+        }
+    }
+}
+
+void srv_ops_interaction(srv_ops *o, uint32_t conn)
+{
+    pthread_mutex_lock(&o->lock);
+    interaction_locked(o, conn);
     pthread_mutex_unlock(&o->lock);
 }
 
@@ -217,20 +239,17 @@ void srv_ops_pick(srv_ops *o, const char *scenario)
 void srv_ops_kiosk_state(srv_ops *o, uint32_t conn, const char *lang, const char *audio)
 {
     pthread_mutex_lock(&o->lock);
-    ops_kiosk *k = NULL, *free_k = NULL;
-    for (int i = 0; i < SRV_OPS_MAX_KIOSKS && !k; i++) {
-        if (o->kiosks[i].conn == conn) {
-            k = &o->kiosks[i];
-        } else if (!o->kiosks[i].conn && !free_k) {
-            free_k = &o->kiosks[i];
+    ops_kiosk *k = kiosk_of(o, conn);
+    if (k && strcmp(k->lang, lang)) {
+        /* a visitor chose another language: counted in (or as the start of) the session */
+        snprintf(k->lang, sizeof k->lang, "%s", lang);
+        const unsigned long long before = o->u.sessions;
+        interaction_locked(o, conn);
+        if (o->u.sessions == before) {
+            ops_usage_count(o->u.langs, &o->u.n_langs, lang); /* else counted as it began */
         }
     }
-    /* a language is counted when a kiosk takes it up: its first report, or a change */
-    if (!k || strcmp(k->lang, lang)) {
-        ops_usage_count(o->u.langs, &o->u.n_langs, lang);
-    }
-    if (!k && free_k) {
-        k = free_k;
+    if (!k && (k = kiosk_of(o, 0))) { /* the kiosk's first report: a free row */
         k->conn = conn;
     }
     if (k) {

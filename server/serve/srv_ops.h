@@ -42,10 +42,14 @@ void srv_ops_destroy(srv_ops *o);
 /* Open now by the hours (any thread; the simulation idles while false). */
 bool srv_ops_open(const srv_ops *o);
 
-/* Control thread: a kiosk control message was accepted from connection conn. */
-void srv_ops_interaction(srv_ops *o);
+/* Control thread: a visitor's kiosk control message (wind, reset) was accepted from
+ * connection conn. A session it begins counts the language that kiosk shows. */
+void srv_ops_interaction(srv_ops *o, uint32_t conn);
 void srv_ops_dial(srv_ops *o, double speed_ms);
 void srv_ops_pick(srv_ops *o, const char *scenario);
+/* A kiosk's report: its first on a connection is the kiosk's own (no interaction, no
+ * count); a later one that changes the language is a visitor's choice (an interaction,
+ * and the new language counted). */
 void srv_ops_kiosk_state(srv_ops *o, uint32_t conn, const char *lang, const char *audio);
 void srv_ops_conn_closed(srv_ops *o, uint32_t conn);
 
