@@ -97,13 +97,12 @@ static void send_schedule(srv_ops *o, time_t now)
     free(text);
 }
 
-static void save(srv_ops *o)
+/* Writes a copy of the counters (taken under the lock) with the lock released: an fsync
+ * may take a while, and the control handler on the network thread must not wait for it. */
+static void save(const ops_usage *u, const char *path)
 {
-    if (!o->d.state_file) {
-        return;
-    }
     gale_err e;
-    if (ops_usage_save(&o->u, o->d.state_file, &e)) {
+    if (path && ops_usage_save(u, path, &e)) {
         fprintf(stderr, "gale-server: usage counters not saved: %s\n", e.msg);
     }
 }
@@ -136,11 +135,16 @@ static void *poll_thread(void *arg)
             }
             send_schedule(o, now);
         }
-        if (now_s >= o->next_save_s) {
-            o->next_save_s = now_s + SRV_OPS_SAVE_S;
-            save(o);
+        const bool due = now_s >= o->next_save_s;
+        ops_usage copy;
+        if (due) {
+            copy = o->u;
         }
         pthread_mutex_unlock(&o->lock);
+        if (due) {
+            o->next_save_s = now_s + SRV_OPS_SAVE_S;
+            save(&copy, o->d.state_file);
+        }
     }
     return NULL;
 }
@@ -172,8 +176,9 @@ void srv_ops_stop(srv_ops *o)
     }
     pthread_mutex_lock(&o->lock);
     ops_usage_end(&o->u);
-    save(o);
+    ops_usage copy = o->u;
     pthread_mutex_unlock(&o->lock);
+    save(&copy, o->d.state_file);
 }
 
 void srv_ops_destroy(srv_ops *o)
