@@ -103,7 +103,7 @@ static void test_https_wss(void)
     /* a kiosk over wss through a plain request and a garbage handshake beside it */
     char good[300];
     pid_t g = client("wss", cert, "160", good, sizeof good);
-    CHECK(proc_wait_log(good, "exhibit open", 1, 60.0));
+    CHECK(proc_wait_log(good, "receiving state from tick", 1, 60.0));
     for (int i = 0; i < 3; i++) {
         static const char plain[] = "GET /healthz HTTP/1.1\r\nHost: x\r\n\r\n";
         poke(plain, sizeof plain - 1);

@@ -79,6 +79,9 @@ srv_ops *srv_ops_create(const srv_ops_desc *d, gale_err *err)
 /* The schedule notice as it stands (clients' closed card; PROTOCOL.md "schedule"). */
 static void send_schedule(srv_ops *o, time_t now)
 {
+    if (!o->d.hours.set) {
+        return; /* always open: nothing to tell, and the wire stays as it was */
+    }
     ctl_msg m = { .type = CTL_SCHEDULE };
     m.u.schedule.open = atomic_load(&o->open);
     if (o->next > now) {
