@@ -9,7 +9,7 @@ pkgs=(
     libopenblas-dev liblapacke-dev libarpack2-dev
     libglfw3-dev libepoxy-dev libegl-dev libgl-dev libcglm-dev libstb-dev fonts-dejavu-core
     xvfb xauth libgl1-mesa-dri libegl-mesa0 libglx-mesa0
-    clang libclang-rt-14-dev curl
+    clang libclang-rt-14-dev curl openssl
     valgrind
     nats-server libnats-dev
     prometheus lintian dpkg-dev

@@ -23,6 +23,7 @@ fi
 [ "${1:-}" = "--install" ] || exit 0
 leftovers() {
     find /etc /lib/systemd /usr/lib/systemd /usr/bin /usr/share/doc /var/lib/systemd /var/cache \
+        /var/lib/private \
         -name '*gale*' ! -name 'galera*' ! -name '*galeri*' 2>/dev/null | sort
 }
 echo "== dpkg -i"

@@ -1,7 +1,7 @@
 /* JSON control messages of the gale wire (PROTOCOL.md "Control messages"): the
  * dispatcher. ctl_decode bounds, parses (line:col on bad JSON), reads "type" and hands the
  * object to that message's parser (ctl_hello.c, ctl_view.c, ctl_kiosk.c, ctl_link.c,
- * ctl_welcome.c, ctl_scenarios.c, ctl_wall.c); ctl_encode hands the struct to its encoder, which checks what it writes
+ * ctl_welcome.c, ctl_scenarios.c, ctl_wall.c, ctl_ops.c); ctl_encode hands the struct to its encoder, which checks what it writes
  * against the parser's own limits, so no output is parsed again on send. */
 #include "ctl.h"
 
@@ -46,7 +46,7 @@ static int read_type(ctl_rd *c, const cJSON *root, int *type)
         }
     }
     return ctl_fail(c, WIRE_CLOSE_UNKNOWN_TYPE, GALE_E_PARSE,
-                    "type: expected one of hello|view|wind|resync|ping|welcome|pong|error|wall_*|reset, "
+                    "type: expected one of hello|view|wind|resync|ping|welcome|pong|error|wall_*|reset|kiosk_state|schedule, "
                     "got \"%.40s\"",
                     ty->valuestring);
 }
@@ -67,6 +67,8 @@ static int parse_body(ctl_rd *c, const cJSON *root, ctl_msg *m)
     case CTL_WALL_SYNC:
     case CTL_WALL_SWAP: return ctl_wall_parse(c, root, m->type, m);
     case CTL_RESET: return ctl_reset_parse(c, root, &m->u.reset);
+    case CTL_KIOSK_STATE: return ctl_kiosk_state_parse(c, root, &m->u.kiosk_state);
+    case CTL_SCHEDULE: return ctl_schedule_parse(c, root, &m->u.schedule);
     default: return ctl_error_parse(c, root, &m->u.error); /* CTL_ERROR */
     }
 }
@@ -152,6 +154,8 @@ static int encode_body(ctl_rd *c, const ctl_msg *m, cJSON *o)
     case CTL_WALL_SYNC:
     case CTL_WALL_SWAP: return ctl_wall_encode(c, m, o);
     case CTL_RESET: return ctl_reset_encode(c, &m->u.reset, o);
+    case CTL_KIOSK_STATE: return ctl_kiosk_state_encode(c, &m->u.kiosk_state, o);
+    case CTL_SCHEDULE: return ctl_schedule_encode(c, &m->u.schedule, o);
     default: return ctl_error_encode(c, &m->u.error, o); /* CTL_ERROR */
     }
 }

@@ -32,6 +32,9 @@ enum ctl_type {
     CTL_WALL_SWAP,   /* server: swap frame N now */
     /* kiosk */
     CTL_RESET,       /* client (kiosk): heal the forest, drop the dial, back to the playlist */
+    /* operations (ctl_ops.c) */
+    CTL_KIOSK_STATE, /* client (kiosk): the language it shows, the audio device it plays to */
+    CTL_SCHEDULE,    /* server: open or closed by the opening hours, and the next change */
 };
 
 enum ctl_role {
@@ -89,6 +92,23 @@ typedef struct ctl_wind {
 typedef struct ctl_reset {
     char token[CTL_MAX_TOKEN]; /* required */
 } ctl_reset;
+
+/* kiosk_state from a kiosk (PROTOCOL.md "Control messages"): what it shows and plays
+ * through, for the staff's status page and the usage counters. */
+#define CTL_MAX_LANG 16u /* a language tag: "en", "de-CH" (15 bytes at most) */
+typedef struct ctl_kiosk_state {
+    char token[CTL_MAX_TOKEN];  /* required */
+    char lang[CTL_MAX_LANG];    /* a letter, then letters, digits or '-' */
+    char audio[CTL_MAX_NAME];   /* output device name, "none" or "null"; no control bytes */
+} ctl_kiosk_state;
+
+/* schedule from the server: the exhibit's opening hours as they stand now. */
+typedef struct ctl_schedule {
+    bool open;                  /* false: the exhibit is closed (show the closed card) */
+    char next_change[9];        /* local clock time of the next opening or closing, "HH:MM"
+                                   or "HH:MM:SS"; "" when none is ahead (always open) */
+    uint32_t next_in_s;         /* seconds until it, [1, 604800]; 0 exactly when "" */
+} ctl_schedule;
 
 typedef struct ctl_ping {
     uint32_t id;           /* echoed */
@@ -215,6 +235,8 @@ typedef struct ctl_msg {
         ctl_wall_frame wall_frame; /* CTL_WALL_DRAWN, CTL_WALL_SWAP */
         ctl_wall_camera wall_camera;
         ctl_reset reset;
+        ctl_kiosk_state kiosk_state;
+        ctl_schedule schedule;
     } u;
 } ctl_msg;
 
@@ -242,7 +264,7 @@ int ctl_encode(const ctl_msg *m, char **out, size_t *len, gale_err *err);
 int ctl_encode_into(const ctl_msg *m, char *buf, size_t cap, size_t *len, gale_err *err);
 
 /* True for the types a client may send (hello, view, wind, resync, ping, wall_join,
- * wall_drawn, wall_camera, reset). */
+ * wall_drawn, wall_camera, reset, kiosk_state). */
 bool ctl_from_client(int type);
 
 /* Role and type names as on the wire ("viewer", "wall-tile", "hello", ...); NULL for an

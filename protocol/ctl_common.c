@@ -18,7 +18,9 @@ static const char *const type_names[] = { NULL,      "hello",   "view", "wind", 
                                           "wall_join", "wall_drawn", "wall_camera",
                                           "wall_sync", "wall_swap",
                                           /* kiosk */
-                                          "reset" };
+                                          "reset",
+                                          /* operations */
+                                          "kiosk_state", "schedule" };
 
 #define N_TYPES (int)(sizeof type_names / sizeof type_names[0])
 
@@ -35,7 +37,8 @@ const char *ctl_type_name(int type)
 bool ctl_from_client(int type)
 {
     return (type >= CTL_HELLO && type <= CTL_PING) ||
-           (type >= CTL_WALL_JOIN && type <= CTL_WALL_CAMERA) || type == CTL_RESET;
+           (type >= CTL_WALL_JOIN && type <= CTL_WALL_CAMERA) || type == CTL_RESET ||
+           type == CTL_KIOSK_STATE;
 }
 
 int ctl_fail(ctl_rd *c, int close, int code, const char *fmt, ...)

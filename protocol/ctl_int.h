@@ -74,6 +74,11 @@ int ctl_scenarios_encode(ctl_rd *c, const ctl_welcome *w, cJSON *o);
 /* reset: ctl_kiosk.c */
 int ctl_reset_parse(ctl_rd *c, const cJSON *o, ctl_reset *m);
 int ctl_reset_encode(ctl_rd *c, const ctl_reset *m, cJSON *o);
+/* kiosk_state, schedule: ctl_ops.c */
+int ctl_kiosk_state_parse(ctl_rd *c, const cJSON *o, ctl_kiosk_state *k);
+int ctl_kiosk_state_encode(ctl_rd *c, const ctl_kiosk_state *k, cJSON *o);
+int ctl_schedule_parse(ctl_rd *c, const cJSON *o, ctl_schedule *m);
+int ctl_schedule_encode(ctl_rd *c, const ctl_schedule *m, cJSON *o);
 /* display walls: ctl_wall.c */
 int ctl_wall_parse(ctl_rd *c, const cJSON *o, int type, ctl_msg *m);
 int ctl_wall_encode(ctl_rd *c, const ctl_msg *m, cJSON *o);

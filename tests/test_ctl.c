@@ -281,7 +281,7 @@ static void test_errors(void)
     BAD("{\"type\":3}", WIRE_CLOSE_UNKNOWN_TYPE,
         "ctl: type: wrong type: expected a string, got a number");
     BAD("{\"type\":\"launch\"}", WIRE_CLOSE_UNKNOWN_TYPE,
-        "ctl: type: expected one of hello|view|wind|resync|ping|welcome|pong|error|wall_*|reset, got \"launch\"");
+        "ctl: type: expected one of hello|view|wind|resync|ping|welcome|pong|error|wall_*|reset|kiosk_state|schedule, got \"launch\"");
     BAD("{\"type\":\"hello\",\"protocol\":2,\"role\":\"viewer\"}", WIRE_CLOSE_VERSION,
         "ctl: hello.protocol: expected 1, got 2");
     BAD("{\"type\":\"hello\",\"protocol\":\"1\",\"role\":\"viewer\"}", WIRE_CLOSE_BAD_FIELD,
@@ -305,6 +305,26 @@ static void test_errors(void)
         WIRE_CLOSE_BAD_FIELD, "ctl: view.view.dir: expected a nonzero vector, got [0, 0, 0]");
     BAD("{\"type\":\"view\"}", WIRE_CLOSE_BAD_FIELD, "ctl: view.view: missing: expected an object");
     BAD("{\"type\":\"reset\"}", WIRE_CLOSE_BAD_FIELD, "ctl: reset.token: missing: expected a string");
+    /* the exhibit's operation (ctl_ops.c) */
+    BAD("{\"type\":\"kiosk_state\",\"token\":\"t\",\"lang\":\"e n\",\"audio\":\"none\"}",
+        WIRE_CLOSE_BAD_FIELD, "ctl: kiosk_state.lang: expected a language tag (a letter, then "
+                              "letters, digits or '-'), got \"e n\"");
+    BAD("{\"type\":\"kiosk_state\",\"token\":\"t\",\"lang\":\"\",\"audio\":\"none\"}",
+        WIRE_CLOSE_BAD_FIELD, "ctl: kiosk_state.lang: expected a language tag");
+    BAD("{\"type\":\"kiosk_state\",\"token\":\"t\",\"lang\":\"en-GB-oxendict-x\",\"audio\":\"a\"}",
+        WIRE_CLOSE_BAD_FIELD, "ctl: kiosk_state.lang: ");
+    BAD("{\"type\":\"kiosk_state\",\"token\":\"t\",\"lang\":\"en\",\"audio\":\"hw:0\\u0007\"}",
+        WIRE_CLOSE_BAD_FIELD, "ctl: kiosk_state.audio: expected a device name");
+    BAD("{\"type\":\"kiosk_state\",\"token\":\"t\",\"lang\":\"en\"}", WIRE_CLOSE_BAD_FIELD,
+        "ctl: kiosk_state.audio: missing: expected a string");
+    BAD("{\"type\":\"schedule\",\"open\":false,\"next_change\":\"9:30\",\"next_in_s\":60}",
+        WIRE_CLOSE_BAD_FIELD, "ctl: schedule.next_change: expected \"HH:MM\", \"HH:MM:SS\" or \"\"");
+    BAD("{\"type\":\"schedule\",\"open\":false,\"next_change\":\"24:00\",\"next_in_s\":60}",
+        WIRE_CLOSE_BAD_FIELD, "ctl: schedule.next_change: ");
+    BAD("{\"type\":\"schedule\",\"open\":true,\"next_change\":\"\",\"next_in_s\":60}",
+        WIRE_CLOSE_BAD_FIELD, "ctl: schedule.next_in_s: expected 0 exactly when next_change is");
+    BAD("{\"type\":\"schedule\",\"open\":true,\"next_change\":\"17:00\",\"next_in_s\":604801}",
+        WIRE_CLOSE_BAD_FIELD, "ctl: schedule.next_in_s: ");
     BAD("{\"type\":\"reset\",\"token\":\"t\",\"hard\":true}", WIRE_CLOSE_BAD_FIELD,
         "ctl: reset: unknown key \"hard\"");
     BAD("{\"type\":\"wind\",\"token\":\"t\",\"replay_paused\":1}", WIRE_CLOSE_BAD_FIELD,
@@ -475,9 +495,9 @@ static void fill_msg(ctl_msg *m, ctl_species *sp, ctl_instance *in, ctl_obstacle
                      ctl_scenario_info *sc)
 {
     memset(m, 0, sizeof *m);
-    m->type = 1 + (int)rnd(9);
-    if (m->type == 9) {
-        m->type = CTL_RESET;
+    m->type = 1 + (int)rnd(11);
+    if (m->type >= 9) { /* the types past CTL_PONG/CTL_ERROR that this test fills */
+        m->type = (int[]){ CTL_RESET, CTL_KIOSK_STATE, CTL_SCHEDULE }[m->type - 9];
     }
     static const uint64_t us[] = { 0, 1, 9007199254740992ull, 9007199254740993ull,
                                    9007199254740994ull, UINT64_MAX, 123456789 };
@@ -506,6 +526,23 @@ static void fill_msg(ctl_msg *m, ctl_species *sp, ctl_instance *in, ctl_obstacle
         break;
     case CTL_RESET:
         fill_str(m->u.reset.token, sizeof m->u.reset.token);
+        break;
+    case CTL_KIOSK_STATE:
+        fill_str(m->u.kiosk_state.token, sizeof m->u.kiosk_state.token);
+        fill_str(m->u.kiosk_state.lang, sizeof m->u.kiosk_state.lang);
+        if (rnd(2)) {
+            snprintf(m->u.kiosk_state.lang, sizeof m->u.kiosk_state.lang, "de-CH");
+        }
+        fill_str(m->u.kiosk_state.audio, sizeof m->u.kiosk_state.audio);
+        if (rnd(2)) {
+            snprintf(m->u.kiosk_state.audio, sizeof m->u.kiosk_state.audio, "none");
+        }
+        break;
+    case CTL_SCHEDULE:
+        m->u.schedule.open = rnd(2);
+        snprintf(m->u.schedule.next_change, sizeof m->u.schedule.next_change, "%s",
+                 (const char *[]){ "", "09:30", "23:59:59", "24:00", "9:3" }[rnd(5)]);
+        m->u.schedule.next_in_s = rnd(2) ? 0 : rnd(3) ? 3600 : 604801;
         break;
     case CTL_RESYNC:
         m->u.resync_seq = rnd(2) ? UINT32_MAX : rnd(1000);

@@ -462,6 +462,26 @@ static void v_reset(const spec_vector *v)
     json_vector(v, &m, 0);
 }
 
+static void v_kiosk_state(const spec_vector *v)
+{
+    ctl_msg m = msg(CTL_KIOSK_STATE);
+    ctl_kiosk_state *k = &m.u.kiosk_state;
+    snprintf(k->token, sizeof k->token, "s3cret");
+    snprintf(k->lang, sizeof k->lang, "en");
+    snprintf(k->audio, sizeof k->audio, "none");
+    json_vector(v, &m, 0);
+}
+
+static void v_schedule(const spec_vector *v)
+{
+    ctl_msg m = msg(CTL_SCHEDULE);
+    ctl_schedule *k = &m.u.schedule;
+    k->open = false;
+    snprintf(k->next_change, sizeof k->next_change, "09:30");
+    k->next_in_s = 5400;
+    json_vector(v, &m, 0);
+}
+
 static void v_resync(const spec_vector *v)
 {
     ctl_msg m = msg(CTL_RESYNC);
@@ -631,6 +651,8 @@ static const known vectors[] = {
     { "WIND-DIAL", 1, v_wind_msg },
     { "WIND-REPLAY", 1, v_wind_replay },
     { "RESET", 1, v_reset },
+    { "KIOSK-STATE", 1, v_kiosk_state },
+    { "SCHEDULE", 1, v_schedule },
     { "RESYNC", 1, v_resync },
     { "PING", 1, v_ping },
     { "WELCOME", 1, v_welcome },

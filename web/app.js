@@ -4,6 +4,7 @@
 // messages a person can act on, the storm look from WEATHER (web/storm_fx.js; the page's
 // ?storm_fx=off|low|high, default low as gale-client's --storm-fx). window.gale exposes
 // the state for tests and benchmarks.
+import { showSchedule } from './closed.js';
 import { Connection } from './conn.js';
 import { fetchAsset } from './asset.js';
 import { Jitter, Clock, blendWeights } from './jitter.js';
@@ -138,7 +139,8 @@ export class App {
             onWelcome: (w) => this.onWelcome(w),
             onFrame: (f) => this.onFrame(f),
             onPong: (sent, server, recv) => this.clock.pong(sent, server, recv),
-            onText: (m) => this.o.onText && this.o.onText(m),
+            // the schedule is every page's (the closed card, closed.js)
+            onText: (m) => (m.type === 'schedule' ? this.schedule(m) : this.o.onText && this.o.onText(m)),
         });
         this.clock = new Clock();
         this.conn.start();
@@ -382,6 +384,13 @@ export class App {
         this.hudEl.textContent = this.hudLines.concat(detail).join('\n');
     }
 
+    // The server's schedule: the closed card (web/closed.js), kept to say it again in
+    // another language.
+    schedule(m) {
+        this.lastSchedule = m;
+        showSchedule(m, this.lang);
+    }
+
     // The language the page speaks from the next line drawn (a code of lang_texts.js).
     setLang(code) {
         const l = langFind(code);
@@ -389,6 +398,7 @@ export class App {
         this.lang = l;
         document.documentElement.lang = l;
         if (this.weather) this.hudLines = weatherLines(this.weather, l);
+        if (this.lastSchedule) showSchedule(this.lastSchedule, l);
         this.showHud();
         if (this.o.onLang) this.o.onLang(l);
         return true;

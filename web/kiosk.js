@@ -80,7 +80,14 @@ function onWeather(w) {
     }
 }
 
+// What this kiosk shows and plays through, for the staff's status page (PROTOCOL.md
+// "kiosk_state"): English and no audio until the page has others to choose from.
+function sendKioskState() {
+    send({ type: 'kiosk_state', lang: 'en', audio: 'none' });
+}
+
 function onWelcome(w) {
+    sendKioskState();
     $('setup').hidden = true;
     $('panel').hidden = false;
     const box = $('scenarios');

@@ -50,6 +50,7 @@ _Static_assert(CLIENT_MAX_SPECIES <= RENDER_MAX_SPECIES,
 
 typedef struct client_args {
     const char *url;
+    const char *tls_ca;     /* --tls-ca: PEM certificates to trust for wss (NULL: system) */
     int role; /* enum ctl_role */
     int width, height;
     bool headless;
@@ -177,6 +178,8 @@ typedef struct client {
     struct client_damage_fx *dfx; /* owned: falls and debris under way (client_damage.c) */
 
     bool got_state;
+    bool closed;              /* the exhibit's hours keep it closed (client_closed.c) */
+    char opens_at[9];         /* "HH:MM" it opens at; "" unknown */
     double state_t0_s;        /* when the first state arrived */
     uint64_t state_bytes0;    /* bytes received by then */
     bool live_since_welcome;  /* state taken since the last welcome */
@@ -344,6 +347,13 @@ void client_wall_matrices(const client *c, int fb_w, int fb_h, float z_near, flo
 
 /* cli_net's on_wall: the group's clock, swaps and camera. */
 void client_wall_group_on_wall(void *user, const ctl_msg *m);
+/* The server's schedule (open or closed, and when it opens), and the closed card over the
+ * frame while closed (client_closed.c). */
+void client_closed_on_schedule(client *c, const ctl_schedule *s);
+void client_closed_draw(client *c, int fb_w, int fb_h);
+/* Tells the server what a kiosk shows and plays through (kiosk_state), once after each
+ * welcome. */
+void client_kiosk_send_state(client *c);
 /* Before drawing: (re)joins the group on each new connection; with the group's clock,
  * picks the next frame whose instant is ahead (wg.frame, wg.render_t) and its camera (the
  * server's, or the wall file's tour). False without a clock (the frame plays out on the

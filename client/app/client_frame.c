@@ -112,7 +112,7 @@ int client_frame_draw(client *c, double now, gale_err *err)
     };
     /* a kiosk's panel along the bottom edge: captions go above it */
     float cap_y = 0.92f * (float)fb_h - 24.0f;
-    if (c->hud_on && c->a.role == CTL_ROLE_KIOSK && !c->attract.active) {
+    if (c->hud_on && c->a.role == CTL_ROLE_KIOSK && !c->attract.active && !c->closed) {
         /* (attract mode tours the trees with the whole screen; a touch brings it back) */
         client_kiosk_draw_panel(c, fb_w, fb_h);
         /* over the panel's tab (kiosk_ui.c: 0.05 of the height) with a line to spare */
@@ -121,7 +121,7 @@ int client_frame_draw(client *c, double now, gale_err *err)
     if (c->hud_on) {
         hud_draw(c->hud, &hs, fb_w, fb_h);
         c->hud_lines = hud_drawn_lines(c->hud, c->hud_text); /* what the visitor reads */
-        if (c->have_wx) {
+        if (c->have_wx && !c->closed) {
             /* what this wind does, in plain words, along the bottom of the screen */
             const char *cap = caption_for(c->lang, c->wx.ss_class, c->wx.beaufort);
             draw_centred(c, cap, cap_y, -1, fb_w, fb_h);
@@ -151,6 +151,8 @@ int client_frame_draw(client *c, double now, gale_err *err)
     if (c->got_state && hs.conn != HUD_CONN_LIVE) {
         /* the last picture stays, dimmed, under a calm word: never a crash or a desktop */
         hud_draw_veil(c->hud, lang_text(c->lang, L_KIOSK_RECONNECTING), fb_w, fb_h);
+    } else {
+        client_closed_draw(c, fb_w, fb_h);
     }
     return 0;
 }

@@ -103,12 +103,30 @@ void client_kiosk_on_welcome(client *c, const ctl_welcome *w)
     if (c->have_wx) {
         kiosk_ui_set_weather(&c->kiosk, &c->wx);
     }
+    client_kiosk_send_state(c);
+}
+
+void client_kiosk_send_state(client *c)
+{
+    if (c->a.role != CTL_ROLE_KIOSK) {
+        return;
+    }
+    /* the language shown and the audio output, for the staff's /status and the counters */
+    ctl_msg m = { .type = CTL_KIOSK_STATE };
+    snprintf(m.u.kiosk_state.token, sizeof m.u.kiosk_state.token, "%s", c->a.token ? c->a.token : "");
+    snprintf(m.u.kiosk_state.lang, sizeof m.u.kiosk_state.lang, "%s", lang_code(c->lang));
+    snprintf(m.u.kiosk_state.audio, sizeof m.u.kiosk_state.audio, "none");
+    char text[CTL_MAX_CLIENT_BYTES];
+    gale_err err = { 0 };
+    if (cli_net_send_ctl(c->net, &m, text, sizeof text, &err) != 0) {
+        fprintf(stderr, "gale-client: kiosk_state: %s\n", err.msg);
+    }
 }
 
 bool client_kiosk_touch(client *c, int phase, float x, float y)
 {
-    if (c->a.role != CTL_ROLE_KIOSK || !c->hud_on) {
-        return false;
+    if (c->a.role != CTL_ROLE_KIOSK || !c->hud_on || c->closed) {
+        return false; /* closed: the panel is not shown */
     }
     kiosk_ui_action a;
     bool busy = kiosk_ui_busy(&c->kiosk);
@@ -129,6 +147,7 @@ bool client_kiosk_touch(client *c, int phase, float x, float y)
          * operator's (main.c) */
         c->lang = a.index;
         fprintf(stderr, "gale-client: kiosk: language %s\n", lang_code(c->lang));
+        client_kiosk_send_state(c);
         return took;
     }
     if (a.act == KIOSK_UI_ACT_SPEED) {

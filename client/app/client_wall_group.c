@@ -41,7 +41,9 @@ void client_wall_group_on_wall(void *user, const ctl_msg *m)
 {
     client *c = user;
     client_wall_group *g = &c->wg;
-    if (m->type == CTL_WALL_SYNC) {
+    if (m->type == CTL_SCHEDULE) {
+        client_closed_on_schedule(c, &m->u.schedule); /* not a wall's, but every role's */
+    } else if (m->type == CTL_WALL_SYNC) {
         g->sync = m->u.wall_sync;
         g->have_sync = true;
         fprintf(stderr, "gale-client: wall %s: joined at mono_us %" PRIu64 ", %u tile(s), %.1f Hz%s\n",

@@ -35,7 +35,10 @@ static void usage(FILE *f)
             "usage: gale-client --url ws://HOST:PORT [--role viewer|kiosk|wall-tile]\n"
             "                   [--size WxH] [--headless --frames N --screenshot FILE.png]\n"
             "options:\n"
-            "  --url ws://HOST:PORT   server to connect to (required)\n"
+            "  --url ws://HOST:PORT   server to connect to (required); wss://HOST:PORT for a\n"
+            "                         server with TLS (gale-server --tls-cert)\n"
+            "  --tls-ca FILE          wss: trust the certificates of this PEM file (a\n"
+            "                         self-signed server's own; default: the system's)\n"
             "  --role R               viewer (default), kiosk (may dial the wind), wall-tile\n"
             "  --size WxH             window or offscreen size, default 1280x720\n"
             "  --headless             render offscreen; no window, no input\n"
@@ -245,6 +248,8 @@ static int parse_args(int argc, char **argv, client_args *a)
             a->screenshot = v;
         } else if (strcmp(o, "--token") == 0) {
             a->token = v;
+        } else if (strcmp(o, "--tls-ca") == 0) {
+            a->tls_ca = v;
         } else if (strcmp(o, "--token-file") == 0) {
             if (token_file_read("gale-client", v, a->token_buf, sizeof a->token_buf) != 0) {
                 return -1;
@@ -406,7 +411,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "gale-client: %s (running without a disk cache)\n", err.msg);
         gale_err_clear(&err);
     }
-    c.net = cli_net_create(&(cli_net_desc){ .url = c.a.url, .role = c.a.role, .token = c.a.token },
+    c.net = cli_net_create(&(cli_net_desc){ .url = c.a.url, .role = c.a.role, .token = c.a.token,
+                                            .tls_ca = c.a.tls_ca },
                            &(cli_net_handler){ .user = &c,
                                                .on_welcome = client_stream_on_welcome,
                                                .on_frame = client_stream_on_frame,
@@ -522,7 +528,10 @@ int main(int argc, char **argv)
             /* nobody at the kiosk: let the scenario's wind return, tour the cameras, speak
              * the operator's language again */
             client_kiosk_release(&c);
-            c.lang = c.a.lang;
+            if (c.lang != c.a.lang) {
+                c.lang = c.a.lang;
+                client_kiosk_send_state(&c);
+            }
             c.kiosk.page = 0; /* the next visitor starts at the first page of scenarios */
             c.tour_t0_s = now;
         }

@@ -175,6 +175,7 @@ static void net_text(cli_net *n, const char *text, size_t len, double now)
     case CTL_WALL_SYNC:
     case CTL_WALL_SWAP:
     case CTL_WALL_CAMERA:
+    case CTL_SCHEDULE:
         inbox_put(n, MSG_TEXT, 0, now, text, len);
         break;
     case CTL_ERROR:
@@ -403,6 +404,7 @@ static void connect_ws(cli_net *n)
     i.protocol = CLI_NET_WS_PROTOCOL;
     i.local_protocol_name = CLI_NET_WS_PROTOCOL;
     i.opaque_user_data = &n->ws_tag;
+    i.ssl_connection = n->tls ? LCCSCF_USE_SSL : 0;
     n->ws = lws_client_connect_via_info(&i);
     if (!n->ws) {
         if (n->st.state == CLI_NET_CONNECTING) {
@@ -427,6 +429,7 @@ static void start_fetch(cli_net *n)
     i.protocol = CLI_NET_WS_PROTOCOL;
     i.local_protocol_name = CLI_NET_WS_PROTOCOL;
     i.opaque_user_data = &n->http_tag;
+    i.ssl_connection = n->tls ? LCCSCF_USE_SSL : 0;
     n->http_open = true;
     n->http = lws_client_connect_via_info(&i);
     if (!n->http) {
@@ -586,12 +589,14 @@ cli_net *cli_net_create(const cli_net_desc *d, const cli_net_handler *h, gale_er
         goto fail;
     }
     snprintf(n->url, sizeof n->url, "%s", d->url);
-    if (strncmp(d->url, "ws://", 5) != 0 ||
+    n->tls = strncmp(d->url, "wss://", 6) == 0;
+    if ((strncmp(d->url, "ws://", 5) != 0 && !n->tls) ||
         lws_parse_uri(n->url, &prot, &ads, &n->port, &path) != 0 || !ads[0]) {
-        gale_errf(err, GALE_E_ARG, "--url \"%s\": expected ws://HOST:PORT[/PATH]", d->url);
+        gale_errf(err, GALE_E_ARG, "--url \"%s\": expected ws://HOST:PORT[/PATH] or "
+                  "wss://HOST:PORT[/PATH]", d->url);
         goto fail;
     }
-    if (n->port <= 0 || n->port > 65535 || !strstr(d->url + 5, ":")) {
+    if (n->port <= 0 || n->port > 65535 || !strstr(d->url + (n->tls ? 6 : 5), ":")) {
         gale_errf(err, GALE_E_ARG, "--url \"%s\": expected a port 1..65535", d->url);
         goto fail;
     }
@@ -617,9 +622,21 @@ cli_net *cli_net_create(const cli_net_desc *d, const cli_net_handler *h, gale_er
     info.protocols = cli_net_protocols;
     info.fd_limit_per_thread = 1 + 1 + 2;
     info.user = n;
+    if (n->tls) {
+        /* the server's certificate is checked against these (host name included) */
+        const char *ca_file = d->tls_ca ? d->tls_ca : CLI_NET_SYSTEM_CA;
+        if (access(ca_file, R_OK) != 0) {
+            gale_errf(err, GALE_E_IO, "--tls-ca %s: cannot read: %s", ca_file,
+                      strerror(errno));
+            goto fail;
+        }
+        info.options |= LWS_SERVER_OPTION_DO_SSL_GLOBAL_INIT;
+        info.client_ssl_ca_filepath = ca_file;
+    }
     n->ctx = lws_create_context(&info);
     if (!n->ctx) {
-        gale_errf(err, GALE_E_STATE, "net: libwebsockets context creation failed");
+        gale_errf(err, GALE_E_STATE, "net: libwebsockets context creation failed%s",
+                  n->tls ? " (TLS: is the --tls-ca file PEM?)" : "");
         goto fail;
     }
     n->st.state = CLI_NET_IDLE;

@@ -49,12 +49,18 @@ typedef struct cli_net_handler {
     void (*on_frame)(void *user, const wire_frame *f, const wire_decoder *dec, double recv_s);
     /* The connection ended (close code or 0 for a transport error, and why). */
     void (*on_lost)(void *user, int close_code, const char *why);
-    /* A display-wall message from the server (wall_sync, wall_swap, wall_camera). */
+    /* A display-wall message from the server (wall_sync, wall_swap, wall_camera), or the
+     * exhibit's schedule (open or closed; every role gets it). */
     void (*on_wall)(void *user, const ctl_msg *m);
 } cli_net_handler;
 
+/* The system's trusted certificates (Debian's ca-certificates bundle). */
+#define CLI_NET_SYSTEM_CA "/etc/ssl/certs/ca-certificates.crt"
+
 typedef struct cli_net_desc {
-    const char *url;        /* ws://host:port[/path]; required */
+    const char *url;        /* ws://host:port[/path], or wss:// for TLS; required */
+    const char *tls_ca;     /* wss: PEM file of the certificates to trust (a self-signed
+                               server's own); NULL = the system's (CLI_NET_SYSTEM_CA) */
     int role;               /* enum ctl_role */
     const char *token;      /* kiosk token; NULL = none */
     double backoff_min_s;   /* first retry delay; 0 = 0.25 s */

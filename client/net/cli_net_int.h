@@ -60,6 +60,7 @@ struct cli_net {
     char host[256];
     char path[256];
     int port;
+    bool tls;           /* wss:// (https for the asset fetches) */
     char server_name[300];
 
     pthread_t thread;

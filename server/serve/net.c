@@ -48,6 +48,7 @@ static int net_callback(struct lws *wsi, enum lws_callback_reasons reason, void 
             }
         }
         net_deliver_published(s);
+        net_notice_deliver(s);
         return 0;
 
     case LWS_CALLBACK_HTTP:
@@ -310,6 +311,7 @@ net_server *net_create(const net_desc *desc, gale_err *err)
     }
     pthread_mutex_init(&s->pub_lock, NULL);
     pthread_mutex_init(&s->bridge_lock, NULL);
+    pthread_mutex_init(&s->notice_lock, NULL);
     if (!s->d.control || !s->d.snap_cap) {
         gale_errf(err, GALE_E_ARG, "net_create: control callback and snap_cap are required");
         goto fail;
@@ -362,11 +364,25 @@ net_server *net_create(const net_desc *desc, gale_err *err)
     info.user = s;
     info.options = LWS_SERVER_OPTION_DISABLE_IPV6;
     info.timeout_secs = 10;
+    if (s->d.tls_cert) {
+        /* https and wss only on this port (OpenSSL, as Debian builds lws): a handshake
+         * that fails, or plain HTTP, ends that connection alone */
+        info.options |= LWS_SERVER_OPTION_DO_SSL_GLOBAL_INIT;
+        info.ssl_cert_filepath = s->d.tls_cert;
+        info.ssl_private_key_filepath = s->d.tls_key;
+    }
     lws_set_log_level(LLL_ERR, NULL);
     s->ctx = lws_create_context(&info);
     if (!s->ctx) {
-        gale_errf(err, GALE_E_IO, "net_create: cannot listen on %s:%d (lws_create_context failed)",
-                  s->d.iface ? s->d.iface : "*", s->d.port);
+        if (s->d.tls_cert) {
+            gale_errf(err, GALE_E_IO, "net_create: cannot listen on %s:%d with TLS (certificate "
+                      "%s, key %s: lws_create_context failed; check both files are PEM, "
+                      "readable and match, and the port is free)",
+                      s->d.iface ? s->d.iface : "*", s->d.port, s->d.tls_cert, s->d.tls_key);
+        } else {
+            gale_errf(err, GALE_E_IO, "net_create: cannot listen on %s:%d (lws_create_context "
+                      "failed)", s->d.iface ? s->d.iface : "*", s->d.port);
+        }
         goto fail;
     }
     s->vhost = lws_get_vhost_by_name(s->ctx, "default");
@@ -402,6 +418,8 @@ void net_destroy(net_server *s)
     free(s->batch);
     pthread_mutex_destroy(&s->pub_lock);
     pthread_mutex_destroy(&s->bridge_lock);
+    pthread_mutex_destroy(&s->notice_lock);
+    free(s->notice);
     free(s);
 }
 
@@ -485,6 +503,23 @@ void net_publish(net_server *s, net_snap *p)
 void net_reset_streams(net_server *s)
 {
     atomic_store(&s->reset_streams, 1);
+    lws_cancel_service(s->ctx);
+}
+
+void net_set_notice(net_server *s, const char *text, size_t len)
+{
+    char *t = malloc(len + 1);
+    if (!t) {
+        return; /* the last notice stands */
+    }
+    memcpy(t, text, len);
+    t[len] = 0;
+    pthread_mutex_lock(&s->notice_lock);
+    free(s->notice);
+    s->notice = t;
+    s->notice_len = len;
+    atomic_fetch_add(&s->notice_gen, 1);
+    pthread_mutex_unlock(&s->notice_lock);
     lws_cancel_service(s->ctx);
 }
 

@@ -153,6 +153,15 @@ typedef struct net_desc {
     int http_sndbuf;          /* kernel send buffer of HTTP responses [bytes]; 0 → the
                                  kernel's own (autotuned, so downloads keep their speed on
                                  long links) */
+    /* GET /status: the body (JSON, malloc'd, *len bytes) on the service thread; NULL → 404 */
+    char *(*status)(void *user, size_t *len);
+    void *status_user;
+    /* rows appended to /metrics after the registry's (malloc'd Prometheus text, *len
+       bytes), on the service thread; NULL → none */
+    char *(*metrics_more)(void *user, size_t *len);
+    void *metrics_user;
+    const char *tls_cert;     /* PEM certificate chain: serve https and wss only; NULL → plain */
+    const char *tls_key;      /* PEM private key of tls_cert */
 } net_desc;
 
 /* The network's counters, readable from any thread (net_metrics_register makes them
@@ -242,6 +251,11 @@ void net_publish(net_server *s, net_snap *snap);
  * a control reply is queued; 0, or -1 when conn is not an open WebSocket (or its queue is
  * full: it is then closed with 4012 as a reader that does not read its replies). */
 int net_send_text(net_server *s, uint32_t conn, const char *text, size_t len);
+
+/* Any thread: the notice, a control text every connection that said hello is sent once:
+ * at once, and after its welcome when it joins later; a new notice replaces the last (the
+ * exhibit's schedule). Copies text. */
+void net_set_notice(net_server *s, const char *text, size_t len);
 
 /* Service thread: runs lws until net_stop; then tells every client (close 1001, each
  * socket closed within NET_CLOSE_BOUND_MS whatever its peer does) and returns after they

@@ -1,5 +1,5 @@
 /* HTTP on the WebSocket port (server/SERVER.md "HTTP"): baked assets by content hash
- * (ETag, If-None-Match, one Range), /healthz, and /metrics (the registry of
+ * (ETag, If-None-Match, one Range), /healthz, /status (net_desc.status), and /metrics (the registry of
  * net_desc.metrics rendered as Prometheus text), the browser client (net_web.c); GET and HEAD, 405 otherwise. Headers
  * at the request, the body in HTTP_WRITEABLE, as lws minimal-http-server-dynamic does;
  * an idle timeout re-armed on every chunk written. lws service thread. */
@@ -168,12 +168,32 @@ int net_http_request(net_server *s, net_conn *c, const char *uri)
         } else {
             t = s->d.metrics ? metric_reg_render(s->d.metrics, &len) : calloc(1, 1);
             h.type = "text/plain; version=0.0.4";
+            size_t more_len = 0;
+            char *more = t && s->d.metrics_more ? s->d.metrics_more(s->d.metrics_user, &more_len)
+                                                : NULL;
+            char *all = more ? realloc(t, len + more_len + 1) : NULL;
+            if (all) {
+                memcpy(all + len, more, more_len + 1);
+                t = all;
+                len += more_len;
+            }
+            free(more);
         }
         if (!t) {
             return 1;
         }
         c->http_owned = (uint8_t *)t;
         h.length = len;
+        return http_respond(s, c, &h, c->http_owned, len, !head);
+    }
+    if (!strcmp(uri, "/status") && s->d.status) {
+        size_t len = 0;
+        char *t = s->d.status(s->d.status_user, &len);
+        if (!t) {
+            return 1;
+        }
+        c->http_owned = (uint8_t *)t;
+        http_head h = { .code = HTTP_STATUS_OK, .type = "application/json", .length = len };
         return http_respond(s, c, &h, c->http_owned, len, !head);
     }
     if (!strncmp(uri, "/assets/", 8)) {

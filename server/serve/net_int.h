@@ -107,6 +107,7 @@ typedef struct net_conn {
     const uint8_t *http_body;
     size_t http_len, http_off; /* bytes of http_body to send, and sent */
     bool http_active;     /* a response is under way: HTTP_WRITEABLE sends or completes it */
+    unsigned notice_gen;  /* the notice this connection was sent (net_set_notice) */
 } net_conn;
 
 struct net_server {
@@ -141,6 +142,12 @@ struct net_server {
     int log_n;
     unsigned log_suppressed;
     uint8_t http_buf[LWS_PRE + NET_HTTP_CHUNK];
+    /* the notice (net_set_notice): written by any thread under notice_lock */
+    pthread_mutex_t notice_lock;
+    char *notice;          /* owned */
+    size_t notice_len;
+    atomic_uint notice_gen; /* 0: none yet */
+    unsigned notice_done;  /* service thread: the generation every connection was sent */
 };
 
 /* The tick counter the server lent (net_desc.tick), 0 without one. */
@@ -173,6 +180,10 @@ void net_deliver_published(net_server *s);
 int net_ws_writeable(net_server *s, net_conn *c);
 /* RECEIVE: a fragment of a control message, handed to net_desc.control once whole. */
 int net_ws_receive(net_server *s, net_conn *c, const void *in, size_t len);
+/* Sends c the notice when it said hello and has not had this one. */
+void net_ws_notice(net_server *s, net_conn *c);
+/* Sends every connection that said hello the notice, when it changed. */
+void net_notice_deliver(net_server *s);
 /* TIMER: the hello deadline (close 4009) or the close bound (the socket closed hard). */
 int net_ws_timer(net_server *s, net_conn *c);
 

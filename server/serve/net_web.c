@@ -13,6 +13,7 @@ static const struct {
     { "/", "/web/index.html" },
     { "/kiosk", "/web/kiosk.html" },
     { "/wall", "/web/wall.html" },
+    { "/status.html", "/web/status.html" },
 };
 
 static const struct {

@@ -161,6 +161,38 @@ int net_send_text(net_server *s, uint32_t conn, const char *text, size_t len)
     return -1;
 }
 
+void net_ws_notice(net_server *s, net_conn *c)
+{
+    const unsigned gen = atomic_load(&s->notice_gen);
+    if (!gen || c->notice_gen == gen || c->role == NET_ROLE_NONE || c->close_code) {
+        return;
+    }
+    pthread_mutex_lock(&s->notice_lock);
+    char *t = malloc(s->notice_len + 1);
+    size_t n = s->notice_len;
+    if (t) {
+        memcpy(t, s->notice, n);
+    }
+    c->notice_gen = atomic_load(&s->notice_gen);
+    pthread_mutex_unlock(&s->notice_lock);
+    if (t) {
+        conn_queue_text(s, c, t, n, NULL);
+        free(t);
+    }
+}
+
+void net_notice_deliver(net_server *s)
+{
+    const unsigned gen = atomic_load(&s->notice_gen);
+    if (gen == s->notice_done) {
+        return;
+    }
+    s->notice_done = gen;
+    for (net_conn *c = s->conns; c; c = c->next) {
+        net_ws_notice(s, c);
+    }
+}
+
 void net_conn_free(net_server *s, net_conn *c)
 {
     if (c->linked) {
@@ -583,6 +615,7 @@ int net_ws_receive(net_server *s, net_conn *c, const void *in, size_t len)
     } else {
         net_shared_unref(peer.reply_shared); /* a tail without its message: nothing to send */
     }
+    net_ws_notice(s, c); /* a joiner's first after its welcome */
     return 0;
 }
 

@@ -202,6 +202,15 @@ srv *srv_create(const srv_desc *d, gale_err *err)
             }
         }
     }
+    s->ops = srv_ops_create(&(srv_ops_desc){ .hours = d->hours,
+                                             .state_file = d->state_file,
+                                             .idle_s = s->d.kiosk_idle_s > 0 ? s->d.kiosk_idle_s
+                                                                             : SRV_KIOSK_IDLE_S,
+                                             .quiet = d->quiet },
+                            err);
+    if (!s->ops) {
+        goto fail;
+    }
     s->net = net_create(&(net_desc){ .port = d->port,
                                      .iface = d->iface,
                                      .max_clients = d->max_clients,
@@ -222,7 +231,13 @@ srv *srv_create(const srv_desc *d, gale_err *err)
                                      .closed = srv_closed_serial,
                                      .max_streams = SRV_MAX_VIEWS,
                                      .metrics = &s->reg,
-                                     .tick = &s->simm.current_tick },
+                                     .tick = &s->simm.current_tick,
+                                     .status = srv_ops_status,
+                                     .status_user = s->ops,
+                                     .metrics_more = srv_ops_metrics,
+                                     .metrics_user = s->ops,
+                                     .tls_cert = d->tls_cert,
+                                     .tls_key = d->tls_key },
                         err);
     if (!s->net) {
         goto fail;
@@ -263,8 +278,14 @@ int srv_run(srv *s)
         fprintf(stderr, "%s\n", e.msg);
         return GALE_E_STATE;
     }
+    if (srv_ops_start(s->ops, s->net, &s->simm.current_tick, &e)) {
+        fprintf(stderr, "%s\n", e.msg);
+        srv_views_stop(s);
+        return GALE_E_STATE;
+    }
     if (pthread_create(&s->thread, NULL, srv_loop, s)) {
         fprintf(stderr, "gale-server: cannot start the simulation thread\n");
+        srv_ops_stop(s->ops);
         srv_views_stop(s);
         return GALE_E_STATE;
     }
@@ -273,6 +294,7 @@ int srv_run(srv *s)
     atomic_store(&s->stop, 1);
     pthread_join(s->thread, NULL);
     srv_views_stop(s);
+    srv_ops_stop(s->ops); /* the usage counters' last write */
     return rc;
 }
 
@@ -289,6 +311,7 @@ void srv_destroy(srv *s)
     }
     srv_views_stop(s);
     net_destroy(s->net);
+    srv_ops_destroy(s->ops);
     host_steal_close(&s->steal);
     wall_groups_destroy(s->walls);
     tick_destroy(s->tick);

@@ -11,6 +11,7 @@
 
 #include "err.h"
 #include "net.h"
+#include "ops_hours.h"
 #include "scen_lib.h"
 #include "scenario.h"
 #include "scene.h"
@@ -53,6 +54,12 @@ typedef struct srv_desc {
                                      command [s]; 0 → SRV_KIOSK_IDLE_S, < 0 → never */
     double keyframe_s;            /* server time between periodic keyframes on every stream;
                                      0 → SRV_KEYFRAME_S (PROTOCOL.md "Sequence and gaps") */
+    ops_hours hours;              /* opening hours (.set false: always open; SERVER.md
+                                     "Opening hours") */
+    const char *state_file;       /* the usage counters' file; NULL: not kept (SERVER.md
+                                     "Usage counters") */
+    const char *tls_cert;         /* PEM files: serve https and wss; NULL → plain */
+    const char *tls_key;
 } srv_desc;
 
 /* The snapshot publisher's counters (the sim and view threads write, any thread reads). */

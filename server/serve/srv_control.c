@@ -89,6 +89,9 @@ void srv_on_closed(void *user, const net_peer *p)
         view_join(s, p->stream, NULL);
     }
     wall_groups_leave(s->walls, p->id, mono_us());
+    if (p->role == NET_ROLE_KIOSK) {
+        srv_ops_conn_closed(s->ops, p->id);
+    }
     pthread_mutex_lock(&s->scen_lock);
     if (s->dial_owner && s->dial_owner == p->id) {
         /* nobody is left at that kiosk's setting */
@@ -158,6 +161,12 @@ static int kiosk_wind(srv *s, const net_peer *p, const ctl_wind *w, char *why, s
     if (!rc && w->has_scenario && w->scenario[0]) {
         /* a pick is checked and made first: replay fields then steer the new scenario */
         rc = srv_scen_pick_locked(s, w->scenario, t_s, why, why_cap);
+        if (!rc) {
+            /* counted by the library's name, else the running file's (never the text the
+             * kiosk sent) */
+            const int k = s->d.lib ? scen_lib_find(s->d.lib, w->scenario) : -1;
+            srv_ops_pick(s->ops, k >= 0 ? s->d.lib->e[k].name : scenario_name(s->scen));
+        }
     }
     if (!rc && replay_fields &&
         (!s->scen || scenario_get_kind(s->scen) != SCENARIO_HURRICANE)) {
@@ -192,6 +201,9 @@ static int kiosk_wind(srv *s, const net_peer *p, const ctl_wind *w, char *why, s
             snprintf(why, why_cap, "wind.replay_paused: %s", e.msg);
             rc = WIRE_CLOSE_BAD_FIELD;
         }
+    }
+    if (w->has_speed) {
+        srv_ops_dial(s->ops, w->speed_ms);
     }
     if (w->has_speed || w->has_dir) {
         /* a kept dial (a script's) is no connection's: only a release or the idle time
@@ -276,6 +288,7 @@ int srv_on_control(void *user, net_peer *p, const char *text, size_t len, char *
                                    "turbulence); send speed_ms and dir_deg only");
             rc = WIRE_CLOSE_BAD_FIELD;
         } else {
+            srv_ops_interaction(s->ops, p->id); /* first: a dial in it counts in its session */
             rc = kiosk_wind(s, p, w, why, why_cap);
         }
     } else if (m.type == CTL_RESET) {
@@ -290,9 +303,24 @@ int srv_on_control(void *user, net_peer *p, const char *text, size_t len, char *
             snprintf(why, why_cap, "reset.token: wrong kiosk token");
             rc = WIRE_CLOSE_BAD_TOKEN;
         } else {
+            srv_ops_interaction(s->ops, p->id);
             pthread_mutex_lock(&s->scen_lock);
             srv_reset_locked(s, atomic_load(&s->simm.current_tick) / s->d.sc->tick_hz);
             pthread_mutex_unlock(&s->scen_lock);
+        }
+    } else if (m.type == CTL_KIOSK_STATE) {
+        /* what a kiosk shows and plays through, for /status and the language counts */
+        const ctl_kiosk_state *k = &m.u.kiosk_state;
+        if (p->role != NET_ROLE_KIOSK) {
+            snprintf(why, why_cap, "kiosk_state: only a kiosk reports its state (this is a %s)",
+                     ctl_role_name(p->role - 1));
+            rc = WIRE_CLOSE_FORBIDDEN;
+        } else if (!kiosk_gate_token_eq(k->token, s->d.sc->kiosk_token)) {
+            kiosk_gate_count_failure(&s->kgate);
+            snprintf(why, why_cap, "kiosk_state.token: wrong kiosk token");
+            rc = WIRE_CLOSE_BAD_TOKEN;
+        } else {
+            srv_ops_kiosk_state(s->ops, p->id, k->lang, k->audio);
         }
     } else if (m.type >= CTL_WALL_JOIN && m.type <= CTL_WALL_CAMERA) {
         rc = wall_control(s, p, &m, reply, reply_len, why, why_cap);

@@ -15,6 +15,7 @@
 #include "kiosk_gate.h"
 #include "metric.h"
 #include "srv.h"
+#include "srv_ops.h"
 #include "scen_lib.h"
 #include "srv_stream.h"
 #include "view_select.h"
@@ -51,6 +52,8 @@
 #define SRV_PLAYLIST_STEADY_S 120.0 /* a steady playlist entry plays this long before the
                                        next (a replay plays until it finishes) */
 #define SRV_DIAL_KEPT UINT32_MAX /* dial_owner of a dial no connection holds (wind.keep) */
+#define SRV_CLOSED_NAP_MS 50 /* the simulation loop's nap while closed (watchdog pings
+                                 come 4 per WatchdogSec, 1.25 s at the unit's 5 s) */
 #define SRV_OVERRUN_LOG_PER_S 5 /* overrun lines a second at most */
 #define SRV_SOLVE_LOG_S 10 /* seconds between lines about solves out of budget */
 
@@ -90,6 +93,7 @@ typedef struct srv_vjob {
 struct srv {
     srv_desc d;
     net_server *net;
+    srv_ops *ops;                /* opening hours, kiosk reports, usage counters, /status */
     net_asset assets[SCENE_MAX_SPECIES];
     tick_sim *tick;
     tick_species ts[SCENE_MAX_SPECIES]; /* what the tick borrows */

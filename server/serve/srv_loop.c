@@ -50,10 +50,24 @@ void *srv_loop(void *arg)
      * "Debian service"): four pings per interval */
     const uint64_t wd_us = svc_watchdog_us() / 4u;
     uint64_t wd_next_us = 0;
+    bool idled = false;
     while (!atomic_load(&s->stop)) {
         if (wd_us && mono_us() >= wd_next_us) {
             svc_notify("WATCHDOG=1");
             wd_next_us = mono_us() + wd_us;
+        }
+        if (!srv_ops_open(s->ops)) {
+            /* closed by the opening hours (SERVER.md "Opening hours"): no tick, no
+             * snapshot; the loop naps, waking for the watchdog and the opening */
+            idled = true;
+            const struct timespec nap = { 0, SRV_CLOSED_NAP_MS * 1000000L };
+            nanosleep(&nap, NULL);
+            continue;
+        }
+        if (idled) {
+            /* the clock starts over: the closed time is no backlog to catch up */
+            step_clock_init(&clock, period_ns);
+            idled = false;
         }
         uint32_t tick = tick_now(s->tick);
         scenario_state st;

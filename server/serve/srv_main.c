@@ -17,6 +17,7 @@
 #include "scenario.h"
 #include "scene.h"
 #include "link_server.h"
+#include "ops_hours.h"
 #include "species_cache.h"
 #include "srv.h"
 #include "svc_notify.h"
@@ -28,7 +29,8 @@ static void usage(FILE *f)
                "                   [--kiosk-token-file FILE] [--max-connections N]\n"
                "                   [--hello-timeout S] [--no-bundle] [--nats URL] [--check]\n"
                "                   [--scenario FILE [--start-min M] [--replay-speed X]]\n"
-               "                   [--kiosk-idle S]\n"
+               "                   [--kiosk-idle S] [--hours SPEC] [--state-file FILE]\n"
+               "                   [--tls-cert FILE --tls-key FILE]\n"
                "  --config FILE  scene config (default: the embedded town block,\n"
                "                 configs/scenes/default.json)\n"
                "  --port N       listen port, 0 for any free one (default 8080)\n"
@@ -58,7 +60,18 @@ static void usage(FILE *f)
                "                 landfall for the shipped replays) instead of the file's\n"
                "  --replay-speed X  a replay runs X storm seconds per second (1..10000)\n"
                "  --kiosk-idle S  release a kiosk's dial S seconds after its last command\n"
-               "                 (default 300; a disconnect releases it at once)\n");
+               "                 (default 300; a disconnect releases it at once); a kiosk\n"
+               "                 session of the usage counters ends as long after its last\n"
+               "                 interaction\n"
+               "  --hours SPEC   opening hours in the machine's local time (TZ), e.g.\n"
+               "                 09:30-17:00 or \"mon-fri 09:30-17:00; sat,sun 10:00-18:00;\n"
+               "                 tue closed\" (seconds optional: HH:MM:SS); outside them\n"
+               "                 clients show the closed card and the simulation idles\n"
+               "                 (default: always open)\n"
+               "  --state-file FILE  keep the usage counters in FILE (loaded at start,\n"
+               "                 written every 60 s and at shutdown; default: not kept)\n"
+               "  --tls-cert FILE  serve https and wss with this PEM certificate (chain)\n"
+               "  --tls-key FILE  and this PEM private key (both or neither)\n");
 }
 
 /* The wind grid behind tick.h's tick_wind. */
@@ -221,6 +234,8 @@ int main(int argc, char **argv)
     const char *scen_file = NULL;
     double start_min = 0, replay_speed = 0, kiosk_idle_s = 0;
     bool has_start = false;
+    ops_hours hours = { 0 };
+    const char *state_file = NULL, *tls_cert = NULL, *tls_key = NULL;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "--config") && v) {
@@ -262,6 +277,22 @@ int main(int argc, char **argv)
                         v);
                 return 2;
             }
+            i++;
+        } else if (!strcmp(a, "--hours") && v) {
+            gale_err he;
+            if (ops_hours_parse(v, &hours, &he)) {
+                fprintf(stderr, "gale-server: --%s\n", he.msg);
+                return 2;
+            }
+            i++;
+        } else if (!strcmp(a, "--state-file") && v) {
+            state_file = v;
+            i++;
+        } else if (!strcmp(a, "--tls-cert") && v) {
+            tls_cert = v;
+            i++;
+        } else if (!strcmp(a, "--tls-key") && v) {
+            tls_key = v;
             i++;
         } else if (!strcmp(a, "--nats") && v) {
             nats_url = v;
@@ -305,6 +336,19 @@ int main(int argc, char **argv)
             fprintf(stderr, "gale-server: unknown or incomplete argument \"%s\"\n", a);
             usage(stderr);
             return 2;
+        }
+    }
+    if (!tls_cert != !tls_key) {
+        fprintf(stderr, "gale-server: %s: expected --tls-cert and --tls-key together, got only "
+                "the %s\n", tls_cert ? "--tls-key" : "--tls-cert", tls_cert ? "certificate" : "key");
+        return 2;
+    }
+    for (int k = 0; k < 2; k++) {
+        const char *f = k ? tls_key : tls_cert;
+        if (f && access(f, R_OK)) {
+            fprintf(stderr, "gale-server: %s %s: cannot read: %s\n", k ? "--tls-key" : "--tls-cert",
+                    f, strerror(errno));
+            return 1;
         }
     }
     char cache_dir[512];
@@ -458,7 +502,11 @@ int main(int argc, char **argv)
                                 .hello_timeout_ms = hello_s > 0 ? (int)(hello_s * 1000 + 0.5) : 0,
                                 .separate_extras = no_bundle,
                                 .published = link ? link_server_publish : NULL,
-                                .published_user = link },
+                                .published_user = link,
+                                .hours = hours,
+                                .state_file = state_file,
+                                .tls_cert = tls_cert,
+                                .tls_key = tls_key },
                    &err);
     if (!s) {
         fprintf(stderr, "gale-server: %s\n", err.msg);

@@ -27,6 +27,8 @@ static bool same_msg(const ctl_msg *a, const ctl_msg *b)
     case CTL_PONG:
     case CTL_ERROR:
     case CTL_RESET:
+    case CTL_KIOSK_STATE:
+    case CTL_SCHEDULE:
         return memcmp(a, b, sizeof *a) == 0;
     case CTL_WELCOME: {
         const ctl_welcome *x = &a->u.welcome, *y = &b->u.welcome;
