@@ -3,7 +3,9 @@
  * burst decaying over 30 ms; a snap adds the stem's woody modes (decaying partials near
  * 180, 410 and 730 Hz) and a splintering crackle thinning out over half a second; an
  * uprooting is roots tearing (a crackle over a second) over a low thud gliding from 70 to
- * 38 Hz and a low-passed rumble of earth. Each is shaped to peak near 1 before amp. */
+ * 38 Hz and a low-passed rumble of earth. Each begins with the fibres' report, a 1.5 ms
+ * click of white noise at full level (its broad spectrum is what carries through a storm's
+ * wind, whose power lies mostly below 2 kHz), and is shaped to peak near 1 before amp. */
 #include "oneshot.h"
 
 void oneshot_init(oneshot_pool *p, uint32_t seed)
@@ -52,10 +54,11 @@ static float sample(oneshot_voice *v)
 {
     const float s = (float)v->t / (float)SOUND_RATE_HZ;
     const float nz = sound_noise(&v->rng);
+    const float click = s < 0.0015f ? nz : 0.0f;
     switch (v->kind) {
     case SOUND_EV_CRACK: {
         float e = s < 0.001f ? s / 0.001f : expf(-(s - 0.001f) / 0.03f);
-        return e * (1.6f * sound_biquad_run(&v->f[0], nz) + (s < 0.002f ? 0.4f * nz : 0.0f));
+        return click + e * 1.6f * sound_biquad_run(&v->f[0], nz);
     }
     case SOUND_EV_SNAP: {
         float e = s < 0.001f ? s / 0.001f : expf(-(s - 0.001f) / 0.05f);
@@ -63,7 +66,7 @@ static float sample(oneshot_voice *v)
         float w = expf(-s / 0.12f) * (0.35f * sinf(6.2831853f * 180.0f * s) +
                                       0.25f * sinf(6.2831853f * 410.0f * s) +
                                       0.15f * sinf(6.2831853f * 730.0f * s));
-        return 0.7f * burst + w + 0.4f * crackle(v, 220.0f * expf(-s / 0.2f));
+        return click + 0.7f * burst + w + 0.4f * crackle(v, 220.0f * expf(-s / 0.2f));
     }
     default: { /* SOUND_EV_UPROOT */
         float f = 38.0f + 32.0f * expf(-s / 0.15f);
@@ -71,7 +74,7 @@ static float sample(oneshot_voice *v)
         float e = s < 0.015f ? s / 0.015f : expf(-(s - 0.015f) / 0.35f);
         float thud = 0.7f * e * sinf(v->phase);
         float earth = 1.2f * expf(-s / 0.5f) * sound_biquad_run(&v->f[0], nz);
-        return thud + earth + 0.35f * crackle(v, 140.0f * expf(-s / 0.5f));
+        return click + thud + earth + 0.35f * crackle(v, 140.0f * expf(-s / 0.5f));
     }
     }
 }

@@ -181,11 +181,14 @@ wav_stats wav_stats_of(const wav_pcm *w, uint32_t from, uint32_t to)
     return st;
 }
 
+/* RMS of the first difference over [at, at + n): a click's broad spectrum stands out of a
+ * wind whose power is mostly below 2 kHz (the difference weights each octave 6 dB above
+ * the one below it). */
 static double window_rms(const wav_pcm *w, uint32_t at, uint32_t n)
 {
     double ss = 0.0;
-    for (uint32_t i = at; i < at + n && i < w->frames; i++) {
-        double v = mono(w, i);
+    for (uint32_t i = at > 0 ? at : 1; i < at + n && i < w->frames; i++) {
+        double v = mono(w, i) - mono(w, i - 1);
         ss += v * v;
     }
     return sqrt(ss / n);

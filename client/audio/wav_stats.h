@@ -38,9 +38,10 @@ wav_stats wav_stats_of(const wav_pcm *w, uint32_t from, uint32_t to);
  * k · rate / WAV_STATS_FFT Hz). */
 void wav_stats_spectrum(const wav_pcm *w, uint32_t from, uint32_t to, double *p);
 
-/* The first instant [s] at or after from_s where the RMS over 2 ms windows rises by
- * rise_db above its median over the 200 ms before from_s; a negative value when none
- * does before to_s. */
+/* The first instant [s] at or after from_s where the RMS of the signal's first difference
+ * (a high-pass rising 6 dB an octave: where a click stands out of the wind) over 2 ms
+ * windows rises by rise_db above its median over the 200 ms before from_s; a negative
+ * value when none does before to_s. */
 double wav_stats_onset_s(const wav_pcm *w, double from_s, double to_s, double rise_db);
 
 #endif
