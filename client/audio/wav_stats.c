@@ -178,6 +178,29 @@ wav_stats wav_stats_of(const wav_pcm *w, uint32_t from, uint32_t to)
         }
     }
     st.centroid_hz = den > 0.0 ? num / den : 0.0;
+    double band[3] = { 0.0, 0.0, 0.0 };
+    for (int k = 1; k <= WAV_STATS_FFT / 2; k++) {
+        double f = (double)k * w->rate_hz / WAV_STATS_FFT;
+        if (f >= 20.0 && f <= 20000.0) {
+            band[f < 250.0 ? 0 : f < 2000.0 ? 1 : 2] += p[k];
+        }
+    }
+    st.low_share = den > 0.0 ? band[0] / den : 0.0;
+    st.mid_share = den > 0.0 ? band[1] / den : 0.0;
+    st.high_share = den > 0.0 ? band[2] / den : 0.0;
+    st.env_min_dbfs = INFINITY;
+    st.env_max_dbfs = -INFINITY;
+    const uint32_t win = (uint32_t)(0.1 * w->rate_hz);
+    for (uint32_t at = from; at + win <= to; at += win) {
+        double e = 0.0;
+        for (uint32_t i = at; i < at + win; i++) {
+            double v = mono(w, i);
+            e += v * v;
+        }
+        double db = e > 0.0 ? 10.0 * log10(e / win) : -200.0;
+        st.env_min_dbfs = fmin(st.env_min_dbfs, db);
+        st.env_max_dbfs = fmax(st.env_max_dbfs, db);
+    }
     return st;
 }
 

@@ -24,6 +24,8 @@ typedef struct wav_stats {
     int peak;             /* largest |sample| */
     double centroid_hz;
     double peak_hz;       /* the average spectrum's largest bin (20 Hz..20 kHz) */
+    double low_share, mid_share, high_share; /* of the power: < 250 Hz, to 2 kHz, above */
+    double env_min_dbfs, env_max_dbfs;       /* quietest and loudest 100 ms (RMS) */
 } wav_stats;
 
 /* Reads a 16-bit PCM WAV (the chunks it does not know skipped). 0, or GALE_E_IO /

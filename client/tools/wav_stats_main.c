@@ -12,7 +12,9 @@ static void usage(FILE *f)
 {
     fprintf(f, "usage: gale-wav-stats FILE.wav [--from S] [--to S] [--onset S]\n"
                "prints {\"file\", \"seconds\", \"rms_dbfs\", \"peak_dbfs\", \"peak\",\n"
-               "\"centroid_hz\", \"peak_hz\"} of the span [--from, --to) (default the whole\n"
+               "\"centroid_hz\", \"peak_hz\", the power's \"low_share\" (< 250 Hz),\n"
+               "\"mid_share\" (to 2 kHz), \"high_share\", the quietest and loudest 100 ms\n"
+               "\"env_min_dbfs\", \"env_max_dbfs\"} of the span [--from, --to) (default the whole\n"
                "file); --onset S adds \"onset_s\": the first instant from S where the 2 ms\n"
                "RMS rises 12 dB over its median of the 200 ms before (-1: none within 1 s)\n");
 }
@@ -75,7 +77,12 @@ int main(int argc, char **argv)
     jnum("peak_dbfs", st.peak_dbfs, 0);
     jnum("peak", st.peak, 0);
     jnum("centroid_hz", st.centroid_hz, 0);
-    jnum("peak_hz", st.peak_hz, onset < 0.0);
+    jnum("peak_hz", st.peak_hz, 0);
+    jnum("low_share", st.low_share, 0);
+    jnum("mid_share", st.mid_share, 0);
+    jnum("high_share", st.high_share, 0);
+    jnum("env_min_dbfs", st.env_min_dbfs, 0);
+    jnum("env_max_dbfs", st.env_max_dbfs, onset < 0.0);
     if (onset >= 0.0) {
         jnum("onset_s", wav_stats_onset_s(&w, onset, onset + 1.0, 12.0), 1);
     }
