@@ -11,6 +11,63 @@ static uint32_t get32(const uint8_t *p)
     return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
 }
 
+static uint16_t get16(const uint8_t *p)
+{
+    return (uint16_t)(p[0] | p[1] << 8);
+}
+
+/* The chunks walked with every length checked against the bytes left. */
+int wav_pcm_parse(const uint8_t *b, size_t n, const char *name, wav_pcm *w, gale_err *err)
+{
+    memset(w, 0, sizeof *w);
+    if (n < 12 || memcmp(b, "RIFF", 4) || memcmp(b + 8, "WAVE", 4)) {
+        return gale_errf(err, GALE_E_FORMAT, "%s: expected a RIFF WAVE header", name);
+    }
+    int bits = 0;
+    for (size_t at = 12; at + 8 <= n;) {
+        const uint8_t *ck = b + at;
+        const size_t len = get32(ck + 4), left = n - at - 8;
+        if (!memcmp(ck, "fmt ", 4)) {
+            if (len < 16 || left < 16) {
+                return gale_errf(err, GALE_E_FORMAT, "%s: fmt chunk at byte %zu: expected 16 "
+                                 "bytes, got %zu", name, at, len < left ? len : left);
+            }
+            const uint8_t *fm = ck + 8;
+            w->channels = get16(fm + 2);
+            w->rate_hz = (int)(get32(fm + 4) & 0x7fffffffu);
+            bits = get16(fm + 14);
+            if (get16(fm) != 1 || bits != 16 || w->channels < 1 || w->channels > 8 ||
+                w->rate_hz < 1) {
+                return gale_errf(err, GALE_E_FORMAT, "%s: expected 16-bit PCM of 1..8 channels, "
+                                 "got format %d, %d bits, %d channels, %d Hz", name, get16(fm),
+                                 bits, w->channels, w->rate_hz);
+            }
+        } else if (!memcmp(ck, "data", 4)) {
+            if (!bits) {
+                return gale_errf(err, GALE_E_FORMAT, "%s: data chunk at byte %zu before fmt",
+                                 name, at);
+            }
+            const size_t bytes = len < left ? len : left; /* a file cut short: what is there */
+            const uint32_t fr = (uint32_t)(bytes / (size_t)(2 * w->channels));
+            w->s = malloc((size_t)fr * (size_t)w->channels * 2 + 2);
+            if (!w->s) {
+                return gale_errf(err, GALE_E_NOMEM, "%s: no memory for %u frames", name, fr);
+            }
+            const uint8_t *d = ck + 8; /* little-endian on any host */
+            for (size_t i = 0; i < (size_t)fr * (size_t)w->channels; i++) {
+                w->s[i] = (int16_t)get16(d + 2 * i);
+            }
+            w->frames = fr;
+            return 0;
+        }
+        if (len > left) {
+            break;
+        }
+        at += 8 + len + (len & 1);
+    }
+    return gale_errf(err, GALE_E_FORMAT, "%s: no data chunk", name);
+}
+
 int wav_pcm_load(const char *path, wav_pcm *w, gale_err *err)
 {
     memset(w, 0, sizeof *w);
@@ -18,57 +75,30 @@ int wav_pcm_load(const char *path, wav_pcm *w, gale_err *err)
     if (!f) {
         return gale_errf(err, GALE_E_IO, "%s: cannot open", path);
     }
-    uint8_t h[12], ck[8];
-    int rc = 0, bits = 0;
-    if (fread(h, 1, 12, f) != 12 || memcmp(h, "RIFF", 4) || memcmp(h + 8, "WAVE", 4)) {
-        rc = gale_errf(err, GALE_E_FORMAT, "%s: expected a RIFF WAVE header", path);
-        goto out;
-    }
-    while (fread(ck, 1, 8, f) == 8) {
-        uint32_t len = get32(ck + 4);
-        if (!memcmp(ck, "fmt ", 4)) {
-            uint8_t fm[16];
-            if (len < 16 || fread(fm, 1, 16, f) != 16) {
-                rc = gale_errf(err, GALE_E_FORMAT, "%s: fmt chunk: expected 16 bytes", path);
-                goto out;
+    uint8_t *buf = NULL;
+    size_t n = 0, cap = 0;
+    for (;;) {
+        if (n == cap) {
+            cap = cap ? 2 * cap : 1u << 20;
+            uint8_t *nb = realloc(buf, cap);
+            if (!nb) {
+                free(buf);
+                fclose(f);
+                return gale_errf(err, GALE_E_NOMEM, "%s: no memory to read it", path);
             }
-            w->channels = fm[2] | fm[3] << 8;
-            w->rate_hz = (int)get32(fm + 4);
-            bits = fm[14] | fm[15] << 8;
-            if ((fm[0] | fm[1] << 8) != 1 || bits != 16 || w->channels < 1 || w->channels > 8) {
-                rc = gale_errf(err, GALE_E_FORMAT, "%s: expected 16-bit PCM of 1..8 channels, "
-                               "got format %d, %d bits, %d channels", path, fm[0] | fm[1] << 8,
-                               bits, w->channels);
-                goto out;
-            }
-            fseek(f, (long)(len - 16 + (len & 1)), SEEK_CUR);
-        } else if (!memcmp(ck, "data", 4)) {
-            if (!bits) {
-                rc = gale_errf(err, GALE_E_FORMAT, "%s: data before fmt", path);
-                goto out;
-            }
-            uint32_t fr = len / (uint32_t)(2 * w->channels);
-            w->s = malloc((size_t)fr * (size_t)w->channels * 2 + 2);
-            if (!w->s) {
-                rc = gale_errf(err, GALE_E_NOMEM, "%s: no memory for %u frames", path, fr);
-                goto out;
-            }
-            w->frames = (uint32_t)(fread(w->s, (size_t)(2 * w->channels), fr, f));
-            uint8_t *b = (uint8_t *)w->s; /* little-endian on any host */
-            for (size_t i = 0; i < (size_t)w->frames * (size_t)w->channels; i++) {
-                w->s[i] = (int16_t)(uint16_t)(b[2 * i] | b[2 * i + 1] << 8);
-            }
-            goto out;
-        } else {
-            fseek(f, (long)(len + (len & 1)), SEEK_CUR);
+            buf = nb;
+        }
+        size_t k = fread(buf + n, 1, cap - n, f);
+        n += k;
+        if (k == 0) {
+            break;
         }
     }
-    rc = gale_errf(err, GALE_E_FORMAT, "%s: no data chunk", path);
-out:
+    int bad = ferror(f);
     fclose(f);
-    if (rc) {
-        wav_pcm_free(w);
-    }
+    int rc = bad ? gale_errf(err, GALE_E_IO, "%s: read failed", path)
+                 : wav_pcm_parse(buf, n, path, w, err);
+    free(buf);
     return rc;
 }
 

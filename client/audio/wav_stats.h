@@ -31,6 +31,9 @@ typedef struct wav_stats {
 /* Reads a 16-bit PCM WAV (the chunks it does not know skipped). 0, or GALE_E_IO /
  * GALE_E_FORMAT with err naming the file and what is wrong. */
 int wav_pcm_load(const char *path, wav_pcm *w, gale_err *err);
+/* The same from n bytes at b (name: for the messages); a data chunk longer than the
+ * bytes left gives the frames that are there. */
+int wav_pcm_parse(const uint8_t *b, size_t n, const char *name, wav_pcm *w, gale_err *err);
 void wav_pcm_free(wav_pcm *w);
 
 /* The measures of frames [from, to) (to 0: to the end) of w, channels averaged. */
