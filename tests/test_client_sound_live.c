@@ -5,8 +5,11 @@
  * sample of either over the default ceiling (-1 dBFS). Then a calm clearing dialled to
  * 45 m/s (pines uproot, gale-ctl) with --volume 0 --volume-max -6: every event's sound
  * starts within 50 ms of the frame that shows it, by the client's log and in the WAV (the
- * first event's onset), and no sample passes -6 dBFS though the limiter works. */
+ * first event's onset), and no sample passes -6 dBFS though the limiter works; and the same
+ * storm played on ALSA's null PCM: every event's sound out within 50 ms of its frame on
+ * CLOCK_MONOTONIC. */
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -58,6 +61,7 @@ static pid_t start_server(const char *scenario, const char *tag, int *port)
 static pid_t start_client(int port, const char *tag, int frames, const char *extra1,
                           const char *extra2, const char *extra3, const char *extra4)
 {
+    const bool device = extra1 && strcmp(extra1, "--audio-device") == 0;
     char log[300], url[64], fr[16], cache[300], wav[300];
     snprintf(log, sizeof log, "%s/client-%s.log", tmp, tag);
     snprintf(url, sizeof url, "ws://127.0.0.1:%d", port);
@@ -66,7 +70,8 @@ static pid_t start_client(int port, const char *tag, int frames, const char *ext
     snprintf(wav, sizeof wav, "%s/%s.wav", tmp, tag);
     char *argv[] = { GALE_CLIENT_EXE, "--url", url, "--headless", "--frames", fr, "--size",
                      "320x180", "--storm-fx", "off", "--wait", "150", "--cache", cache,
-                     "--audio-out", wav, (char *)extra1, (char *)extra2, (char *)extra3,
+                     device ? (char *)extra1 : "--audio-out", device ? (char *)extra2 : wav,
+                     device ? NULL : (char *)extra1, (char *)extra2, (char *)extra3,
                      (char *)extra4, NULL };
     return proc_spawn(argv, log);
 }
@@ -132,21 +137,25 @@ static void test_breeze_and_cat3(void)
     CHECK(b.rms_dbfs > -60.0); /* a breeze is heard */
 }
 
-/* "... frame_s F sound_s S gap_ms G ..." of each event line. */
-static void test_snap_timing(void)
+/* "... frame_s F sound_s S gap_ms G ..." of each event line. device: played on ALSA's null
+ * PCM (a device that takes sound as fast as it plays it) instead of written to a WAV: the
+ * device thread's path, its times on CLOCK_MONOTONIC. */
+static void snap_timing(bool device)
 {
     int port;
-    pid_t s = start_server(GALE_SOURCE_DIR "/configs/scenarios/calm.json", "snap", &port);
+    const char *tag = device ? "device" : "snap";
+    pid_t s = start_server(GALE_SOURCE_DIR "/configs/scenarios/calm.json", tag, &port);
     if (port <= 0) {
         CHECK(!"no server");
         kill(s, SIGTERM);
         return;
     }
     char log[300], url[64], token[300];
-    snprintf(log, sizeof log, "%s/client-snap.log", tmp);
+    snprintf(log, sizeof log, "%s/client-%s.log", tmp, tag);
     snprintf(url, sizeof url, "ws://127.0.0.1:%d", port);
     snprintf(token, sizeof token, "%s/token", tmp);
-    pid_t c = start_client(port, "snap", 300, "--volume", "0", "--volume-max", "-6");
+    pid_t c = device ? start_client(port, tag, 300, "--audio-device", "null", NULL, NULL)
+                     : start_client(port, tag, 300, "--volume", "0", "--volume-max", "-6");
     CHECK(proc_wait_log(log, "receiving state", 1, 300.0));
     usleep(1500000); /* some frames in calm first */
     char ctl_log[300];
@@ -183,8 +192,14 @@ static void test_snap_timing(void)
     if (f) {
         fclose(f);
     }
-    printf("snap: %d events (%d falls), largest gap in the log %.1f ms\n", events, falls, worst_gap);
+    printf("%s: %d events (%d falls), largest gap in the log %.1f ms\n", tag, events, falls,
+           worst_gap);
     CHECK(falls >= 1);
+    if (device) {
+        CHECK(proc_log_count(log, "(monotonic clock)") == events);
+        CHECK(proc_log_count(log, "gale-client: sound on null") == 1);
+        return;
+    }
     wav_pcm w;
     if (events > 0 && load("snap", &w) == 0) {
         /* the first event's sound in the WAV: where the 2 ms RMS rises 12 dB over the bed */
@@ -212,6 +227,16 @@ static void test_snap_timing(void)
     CHECK(limited);
 }
 
+static void test_snap_timing(void)
+{
+    snap_timing(false);
+}
+
+static void test_device_timing(void)
+{
+    snap_timing(true);
+}
+
 int main(void)
 {
     if (!getenv("DISPLAY")) {
@@ -227,5 +252,8 @@ int main(void)
     mkdir(tmp, 0755);
     RUN(test_breeze_and_cat3);
     RUN(test_snap_timing);
+#ifdef GALE_HAVE_ALSA
+    RUN(test_device_timing);
+#endif
     return check_report();
 }

@@ -12,6 +12,7 @@
 
 #include "audio_out.h"
 #include "client.h"
+#include "mono.h"
 #include "sound_caption.h"
 #include "sound_listener.h"
 #include "sound_mix.h"
@@ -63,8 +64,8 @@ typedef struct client_audio {
 int client_audio_start(client *c)
 {
     const client_args *a = &c->a;
-    if (a->sound_off || (a->headless && !a->audio_out)) {
-        return 0; /* headless runs are silent unless asked for the WAV */
+    if (a->sound_off || (a->headless && !a->audio_out && !a->audio_device)) {
+        return 0; /* headless runs are silent unless asked for the WAV or a device */
     }
     gale_err err = { 0 };
     client_audio *x = calloc(1, sizeof *x);
@@ -274,7 +275,10 @@ void client_audio_frame(client *c, double render_t, double now_mono)
     if (!x) {
         return;
     }
-    x->clock_s = x->out ? now_mono : (double)sound_mix_get_state(x->mix).frames / SOUND_RATE_HZ;
+    /* on a device, the frame's time is now, its picture finished and about to be presented
+       (its start, now_mono, is a software renderer's whole frame earlier) */
+    (void)now_mono;
+    x->clock_s = x->out ? mono_s() : (double)sound_mix_get_state(x->mix).frames / SOUND_RATE_HZ;
     float eye[3];
     camera_eye(&c->cam, eye);
     listener_wind(c, eye, &x->scene);

@@ -87,7 +87,7 @@ static void usage(FILE *f)
             "  --sound on|off         the wind's sound and its captions (default on; headless\n"
             "                         only with --audio-out)\n"
             "  --audio-device PCM     ALSA PCM to play on (default \"default\"); none there:\n"
-            "                         the null device, captions only\n"
+            "                         the null device, captions only; headless, plays there\n"
             "  --volume DB            master gain, -60..0 dB (default -6)\n"
             "  --volume-max DBFS      the limiter's ceiling: no sample louder, -40..0 (default -1)\n"
             "  --quiet                quiet preset (sensory-friendly hours): volume at most\n"

@@ -17,8 +17,8 @@
 #include <alsa/asoundlib.h>
 #endif
 
-#define PERIOD_FRAMES 480u   /* 10 ms */
-#define LATENCY_US 40000u
+#define PERIOD_FRAMES 240u   /* 5 ms */
+#define LATENCY_US 20000u    /* queued: with a period, a sound is out within 25 ms of its frame */
 
 struct audio_out {
     sound_mix *mix;
@@ -49,15 +49,33 @@ static void quiet_alsa(const char *file, int line, const char *fn, int err, cons
     (void)file, (void)line, (void)fn, (void)err, (void)fmt;
 }
 
+/* A PCM that takes periods faster than it plays them (ALSA's null plugin, a file) would
+ * let the mixer run ahead of the picture: the thread keeps at most the latency ahead of
+ * the wall clock. */
+static void pace(double t0_s, uint64_t frames)
+{
+    double ahead = (double)frames / SOUND_RATE_HZ - (mono_now_s() - t0_s) - 1e-6 * LATENCY_US;
+    if (ahead > 0.0) {
+        struct timespec ts = { .tv_sec = (time_t)ahead,
+                               .tv_nsec = (long)((ahead - (double)(time_t)ahead) * 1e9) };
+        nanosleep(&ts, NULL);
+    }
+}
+
 static void *feed(void *arg)
 {
     audio_out *o = arg;
     int16_t buf[PERIOD_FRAMES * SOUND_CHANNELS];
+    double t0 = mono_now_s();
+    uint64_t since_t0 = 0;
     while (!o->stop) {
+        pace(t0, since_t0);
         sound_mix_render(o->mix, buf, PERIOD_FRAMES);
         snd_pcm_sframes_t w = snd_pcm_writei(o->pcm, buf, PERIOD_FRAMES);
         if (w < 0) {
             w = snd_pcm_recover(o->pcm, (int)w, 1); /* an underrun: start again */
+            t0 = mono_now_s();
+            since_t0 = 0;
             if (w < 0) {
                 fprintf(stderr, "gale-client: sound: %s: %s; sound stops\n", o->name,
                         snd_strerror((int)w));
@@ -69,6 +87,7 @@ static void *feed(void *arg)
         if (snd_pcm_delay(o->pcm, &delay) < 0) {
             delay = (snd_pcm_sframes_t)(LATENCY_US * (uint64_t)SOUND_RATE_HZ / 1000000u);
         }
+        since_t0 += (uint64_t)w;
         pthread_mutex_lock(&o->lock);
         o->written += (uint64_t)w;
         o->queued = (long)delay;

@@ -1,6 +1,6 @@
 /* The sound device: ALSA's "default" PCM (through PipeWire or PulseAudio where the desktop
  * runs one, straight to the card where it does not) fed from a mixer by a thread of its
- * own, 10 ms a period, about 40 ms queued. Where there is no device (a headless machine,
+ * own, 5 ms a period, about 20 ms queued. Where there is no device (a headless machine,
  * no sound card, no server) it is the null device: nothing is played, one log line says
  * why, and the client runs on. */
 #ifndef GALE_AUDIO_OUT_H
