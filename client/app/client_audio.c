@@ -327,6 +327,8 @@ void client_audio_stop(client *c)
     if (!x) {
         return;
     }
+    char device[160];
+    snprintf(device, sizeof device, "%s", audio_device_name(x->out)); /* o's, freed below */
     audio_out_close(x->out); /* the thread stops before the mixer goes */
     sound_mix_state st = sound_mix_get_state(x->mix);
     gale_err err = { 0 };
@@ -342,7 +344,7 @@ void client_audio_stop(client *c)
             st.peak > 0 ? 20.0 * log10((double)st.peak / 32767.0) : -(double)INFINITY,
             (double)st.min_gain, (unsigned long long)st.clamped, (unsigned long long)x->played,
             (unsigned long long)x->too_far, (unsigned long long)x->dropped,
-            (double)x->max_gap_us * 1e-3, audio_device_name(x->out));
+            (double)x->max_gap_us * 1e-3, device);
     sound_mix_destroy(x->mix);
     free(x);
     c->aud = NULL;
