@@ -8,6 +8,7 @@ pkgs=(
     libcjson-dev libwebsockets-dev
     libopenblas-dev liblapacke-dev libarpack2-dev
     libglfw3-dev libepoxy-dev libegl-dev libgl-dev libcglm-dev libstb-dev fonts-dejavu-core
+    libasound2-dev
     xvfb xauth libgl1-mesa-dri libegl-mesa0 libglx-mesa0
     clang libclang-rt-14-dev curl openssl
     valgrind

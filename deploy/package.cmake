@@ -2,7 +2,10 @@
 # (deploy/package.sh) makes one package, gale, with gale-server, gale-relay and gale-load,
 # their systemd units, the configuration in /etc/gale/ and a drop-in that restarts
 # Debian's nats-server on failure. gale-client stays out: it reads its shaders from the
-# source tree.
+# source tree. Its sound plays through ALSA (libasound2, client/CLIENT.md "Sound"): the
+# package's runtime dependencies list libasound2 so a console that installs it can run a
+# client built beside it, and a build with gale-client installed would add it again
+# through the shared-library scan.
 include(GNUInstallDirs)
 set(GALE_DEB ${CMAKE_CURRENT_LIST_DIR}/debian)
 install(TARGETS gale-server gale-relay gale-load RUNTIME DESTINATION bin)
@@ -44,6 +47,7 @@ set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION net)
 set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "libasound2")
 set(CPACK_DEBIAN_PACKAGE_SUGGESTS nats-server)
 set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA
     ${GALE_DEB}/postinst ${GALE_DEB}/prerm ${GALE_DEB}/postrm ${GALE_DEB}/conffiles)

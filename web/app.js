@@ -20,6 +20,7 @@ import { Governor, softwareRenderer } from './governor.js';
 import { DATA_W } from './render_data.js';
 import { frustumCone, frustumView, ViewSender } from './view_stream.js';
 import { VIEW_FAR_M, VIEW_LOD_M } from './lod_policy.js';
+import { Sound, soundOptions } from './audio.js';
 
 // the visitor's texts, built from configs/lang/*.po with gale-client's (client/lang)
 setTexts(LANG_CODES, TEXTS);
@@ -100,6 +101,10 @@ export class App {
         this.views = new ViewSender((m) => this.conn && this.conn.send(m));
         this.bytesSeen = []; // [page time s, stream bytes] about every half second
         this.treesSent = 0; // trees the last state frame carried
+        // the wind's sound (web/audio.js): ?sound=off, ?volume=DB, ?volume_max=DBFS, ?quiet=1
+        const so = soundOptions(location.search);
+        this.errors.push(...so.errors);
+        this.sound = new Sound(this, so);
         window.gale = this;
     }
 
@@ -145,6 +150,7 @@ export class App {
         this.clock = new Clock();
         this.conn.start();
         this.attachControls();
+        this.sound.attach();
         requestAnimationFrame((t) => this.frame(t));
     }
 
@@ -205,6 +211,7 @@ export class App {
                 this.bytesAssets += bytes;
                 if (asset.n_modes !== sp.n_modes) throw new Error(`${sp.name}: the asset has ${asset.n_modes} modes, the welcome says ${sp.n_modes}`);
                 this.r.addSpecies(i, asset);
+                this.sound.addSpecies(i, asset);
             }
         } catch (e) {
             this.errors.push(e.message);
@@ -301,6 +308,7 @@ export class App {
         }
         if (f.damage) {
             this.damageEvents = (this.damageEvents || 0) + f.damage.events.length;
+            if (this.damage) this.sound.onDamage(f.hdr, f.damage, this.damage.view, this.welcome.tick_hz);
             if (this.damage) this.damage.take(f.hdr, f.damage);
         }
         if (f.leaves) {
@@ -434,6 +442,7 @@ export class App {
             return;
         }
         const t3 = performance.now();
+        this.sound.frame(shown, this.camera()); // the sound of what this frame shows
         this.followView(t3 * 1e-3);
         this.perf.cull.push(this.r.stats.cull_ms);
         this.perf.interp.push(t2 - t0 - this.r.stats.upload_ms);

@@ -107,6 +107,7 @@ function onWelcome(w) {
 // scenario ""), the panel away, the cameras toured
 function attractBegin() {
     send({ type: 'wind', release: true, scenario: '' });
+    app.sound.visitorReset(); // the next visitor starts at the operator's volume
     $('dial').blur();
     $('compass').blur();
     chosenDir = false;

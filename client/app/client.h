@@ -85,6 +85,13 @@ typedef struct client_args {
        (client_fall_shots.c), ascending */
     double fall_shot_s[8];
     int n_fall_shots;
+    /* sound (client_audio.c) */
+    const char *audio_out;    /* --audio-out F.wav: headless, what the speakers would play */
+    const char *audio_device; /* --audio-device PCM: an ALSA PCM name; NULL "default" */
+    bool sound_off;           /* --sound off */
+    float volume_db;          /* --volume DB: the master gain */
+    float volume_max_dbfs;    /* --volume-max DBFS: the limiter's ceiling */
+    bool quiet;               /* --quiet: the quiet preset (sensory-friendly hours) */
 } client_args;
 
 /* One scripted touch of --touch (headless kiosk tests and screenshots). */
@@ -211,7 +218,33 @@ typedef struct client {
     int win_pos[2], win_size[2];
     client_view view; /* the view last sent (client_view.c) */
     governor gov;     /* the detail a frame-time budget affords (--governor) */
+    struct client_audio *aud; /* owned: the sound, NULL when off (client_audio.c) */
 } client;
+
+/* ---- client_audio.c: the wind's sound ---- */
+
+/* Starts the sound the args ask for: the device (or the null device, logged), or headless
+ * the WAV of --audio-out; nothing headless without it, nor with --sound off. 0, or -1
+ * after printing why (a WAV that cannot be written). */
+int client_audio_start(client *c);
+/* A species' diameter classes and leaves from its asset (borrowed), by render id. */
+void client_audio_species(client *c, int render_id, const asset *a);
+/* A damage event new to the picture whose fall or break begins at server time t0_s (NaN:
+ * an old one, silent): it sounds at the first frame showing that instant. */
+void client_audio_event(client *c, uint32_t tree, int wire_kind, double t0_s);
+/* After the frame of server time render_t is drawn (now_mono: its start): the listener's
+ * wind and trees into the mixer, the events it shows started, headless that frame's sound
+ * into the WAV, the log lines of sounds begun, the caption. */
+void client_audio_frame(client *c, double render_t, double now_mono);
+/* The caption line of what is heard, NULL when the sound is off. */
+const char *client_audio_caption(const client *c);
+/* A visitor's volume step (+1, -1), and its reset to the default (kiosk idle). */
+void client_audio_volume(client *c, int dir);
+void client_audio_idle(client *c);
+/* The output device's name ("null" when there is none or the sound is off). */
+const char *client_audio_device_name(const client *c);
+/* Stops the device, closes the WAV, logs the run's peak, limiter and events; frees. */
+void client_audio_stop(client *c);
 
 /* ---- client_view.c: the view sent as the camera moves ---- */
 

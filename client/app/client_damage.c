@@ -135,9 +135,11 @@ void client_damage_take(client *c, const wire_frame *f)
             !c->dmg.tree[e->tree].fallen) {
             x->fall_t0_s[e->tree] = t0; /* NaN: an old fall, lying at once */
             x->n_tipping += !isnan(t0);
+            client_audio_event(c, e->tree, e->kind, t0);
         } else if (e->kind == WIRE_DAMAGE_BRANCH && !isnan(t0) &&
                    !damage_view_broken(&c->dmg, e->tree, e->node)) {
             spawn_debris(c, x, e->tree, e->node, t0);
+            client_audio_event(c, e->tree, e->kind, t0);
         }
     }
     if (damage_view_apply(&c->dmg, f->damage_full, f->damage, f->n_damage)) {

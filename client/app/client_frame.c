@@ -90,6 +90,7 @@ int client_frame_draw(client *c, double now, gale_err *err)
         c->cull_ms[c->n_cull++] = (float)c->last_stats.cull_ms;
     }
     client_view_update(c, now); /* the stream follows what this frame saw */
+    client_audio_frame(c, render_t, now); /* the sound of what this frame shows */
     cli_net_stats ns = cli_net_get_stats(c->net);
     double rtt = jitter_clock_rtt(cli_net_clock(c->net));
     hud_state hs = {
@@ -128,6 +129,16 @@ int client_frame_draw(client *c, double now, gale_err *err)
             if (c->hud_lines < HUD_MAX_LINES) {
                 snprintf(c->hud_text[c->hud_lines++], HUD_LINE_CHARS, "%s", cap);
             }
+        }
+    }
+    const char *heard = client_audio_caption(c);
+    if (c->hud_on && heard) {
+        /* what is heard, a line above what the wind does (client_audio.c) */
+        float w = hud_text_width(hud_get_font(c->hud), heard);
+        hud_draw_lines(c->hud, &heard, 1, -1, floorf(0.5f * ((float)fb_w - w) - 10.0f),
+                       cap_y - 1.6f * c->hud_px, fb_w, fb_h);
+        if (c->hud_lines < HUD_MAX_LINES) {
+            snprintf(c->hud_text[c->hud_lines++], HUD_LINE_CHARS, "%s", heard);
         }
     }
     if (c->hud_on) {

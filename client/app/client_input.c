@@ -81,6 +81,12 @@ static void key_cb(GLFWwindow *win, int key, int scancode, int action, int mods)
     case GLFW_KEY_KP_SUBTRACT:
         client_kiosk_dial(c, -5.0f);
         break;
+    case GLFW_KEY_RIGHT_BRACKET:
+        client_audio_volume(c, +1);
+        break;
+    case GLFW_KEY_LEFT_BRACKET:
+        client_audio_volume(c, -1);
+        break;
     default:
         break;
     }

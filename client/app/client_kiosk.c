@@ -115,7 +115,7 @@ void client_kiosk_send_state(client *c)
     ctl_msg m = { .type = CTL_KIOSK_STATE };
     snprintf(m.u.kiosk_state.token, sizeof m.u.kiosk_state.token, "%s", c->a.token ? c->a.token : "");
     snprintf(m.u.kiosk_state.lang, sizeof m.u.kiosk_state.lang, "%s", lang_code(c->lang));
-    snprintf(m.u.kiosk_state.audio, sizeof m.u.kiosk_state.audio, "none");
+    snprintf(m.u.kiosk_state.audio, sizeof m.u.kiosk_state.audio, "%s", client_audio_device_name(c));
     char text[CTL_MAX_CLIENT_BYTES];
     gale_err err = { 0 };
     if (cli_net_send_ctl(c->net, &m, text, sizeof text, &err) != 0) {

@@ -55,6 +55,7 @@ int client_scene_setup(client *c, gale_err *err)
             return rc;
         }
         int id = render_add_species(c->r, &a, err);
+        client_audio_species(c, id, &a); /* its diameter classes, for the sound */
         asset_fini(&a);
         if (id < 0) {
             return id;

@@ -16,6 +16,7 @@
 
 #include "mono.h"
 #include "client.h"
+#include "sound_policy.h"
 #include "token_file.h"
 
 static volatile sig_atomic_t quit_flag, shot_flag;
@@ -86,13 +87,24 @@ static void usage(FILE *f)
             "  --fall-shots T,T,...   headless: frame the first fall seen begin live and write\n"
             "                         PREFIX-fall-S.Ss.png T s after its stem gave way (PREFIX:\n"
             "                         --screenshot without .png, else gale); ends after the last\n"
+            "  --audio-out F.wav      headless: write what the speakers would play (48 kHz\n"
+            "                         16-bit stereo; 1/60 s a frame, 1/HZ with --max-fps)\n"
+            "  --sound on|off         the wind's sound and its captions (default on; headless\n"
+            "                         only with --audio-out)\n"
+            "  --audio-device PCM     ALSA PCM to play on (default \"default\"); none there:\n"
+            "                         the null device, captions only; headless, plays there\n"
+            "  --volume DB            master gain, -60..0 dB (default -6)\n"
+            "  --volume-max DBFS      the limiter's ceiling: no sample louder, -40..0 (default -1)\n"
+            "  --quiet                quiet preset (sensory-friendly hours): volume at most\n"
+            "                         -20 dB, ceiling at most -14 dBFS, one-shots 6 dB down\n"
             "  --help                 this text\n"
             "SIGUSR1 writes a screenshot as F12 does (gale-DATE-TIME.png in the working\n"
             "directory).\n"
             "keys: left-drag orbit, right-drag pan, wheel zoom, WASD/QE fly, F11 fullscreen,\n"
             "      F12 or P screenshot, R reset view, C next camera (kiosk: also the Camera\n"
             "      button, top right), kiosk: + / - dial the wind, touch the panel (wind dial,\n"
-            "      direction, scenarios, replay, reset; the cursor is hidden), Esc quit.\n"
+            "      direction, scenarios, replay, reset; the cursor is hidden), ] / [ the sound\n"
+            "      3 dB up / down (back to the default when a kiosk goes idle), Esc quit.\n"
             "Exit status: 0 ok, 2 bad arguments, 3 no state received (headless), 4 kiosk\n"
             "token refused by the server, 5 the scene does not fit in memory, 1 other.\n");
 }
@@ -170,7 +182,9 @@ static int parse_args(int argc, char **argv, client_args *a)
                         .budget_ms = 8,
                         .camera_preset = -1,
                         .storm_fx = STORM_FX_LOW,
-                        .governor_ms = -1.0 };
+                        .governor_ms = -1.0,
+                        .volume_db = SOUND_VOLUME_DB,
+                        .volume_max_dbfs = SOUND_CEILING_DBFS };
     bool role_given = false;
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i];
@@ -187,6 +201,9 @@ static int parse_args(int argc, char **argv, client_args *a)
             takes = false;
         } else if (strcmp(o, "--fullscreen") == 0) {
             a->fullscreen = true;
+            takes = false;
+        } else if (strcmp(o, "--quiet") == 0) {
+            a->quiet = true;
             takes = false;
         } else if (strcmp(o, "--swap-lock") == 0) {
             a->swap_lock = true;
@@ -331,6 +348,26 @@ static int parse_args(int argc, char **argv, client_args *a)
                 return -1;
             }
             a->governor_ms = ms;
+        } else if (strcmp(o, "--audio-out") == 0) {
+            a->audio_out = v;
+        } else if (strcmp(o, "--audio-device") == 0) {
+            a->audio_device = v;
+        } else if (strcmp(o, "--sound") == 0) {
+            if (strcmp(v, "on") != 0 && strcmp(v, "off") != 0) {
+                fprintf(stderr, "gale-client: --sound: expected on or off, got \"%s\"\n", v);
+                return -1;
+            }
+            a->sound_off = strcmp(v, "off") == 0;
+        } else if (strcmp(o, "--volume") == 0 || strcmp(o, "--volume-max") == 0) {
+            char *end = NULL;
+            const bool max = strcmp(o, "--volume-max") == 0;
+            const double db = strtod(v, &end), lo = max ? -40.0 : -60.0;
+            if (end == v || *end || !(db >= lo && db <= 0.0)) {
+                fprintf(stderr, "gale-client: %s: expected %s in %.0f..0, got \"%s\"\n", o,
+                        max ? "a ceiling in dBFS" : "a gain in dB", lo, v);
+                return -1;
+            }
+            *(max ? &a->volume_max_dbfs : &a->volume_db) = (float)db;
         } else if (strcmp(o, "--view") == 0) {
             if (strcmp(v, "follow") != 0 && strcmp(v, "all") != 0) {
                 fprintf(stderr, "gale-client: --view: expected follow or all, got \"%s\"\n", v);
@@ -354,6 +391,11 @@ static int parse_args(int argc, char **argv, client_args *a)
     }
     if (a->tile[2] == 0) {
         a->tile[2] = a->tile[3] = 1;
+    }
+    if (a->audio_out && !a->headless) {
+        fprintf(stderr, "gale-client: --audio-out: only with --headless (a window plays on "
+                        "the device)\n");
+        return -1;
     }
     return 0;
 }
@@ -451,6 +493,10 @@ int main(int argc, char **argv)
         fprintf(stderr, "gale-client: hud: %s\n", err.msg);
         goto done;
     }
+    if (client_audio_start(&c) != 0) {
+        status = 2;
+        goto done;
+    }
     const float origin[3] = { 0, 0, 6 };
     camera_init(&c.cam, origin, 60.0f);
     GLFWwindow *win = render_window(c.r);
@@ -533,6 +579,7 @@ int main(int argc, char **argv)
                 client_kiosk_send_state(&c);
             }
             c.kiosk.page = 0; /* the next visitor starts at the first page of scenarios */
+            client_audio_idle(&c); /* the next visitor starts at the operator's volume */
             c.tour_t0_s = now;
         }
         if (c.attract.active && c.scene_ready) {
@@ -650,6 +697,7 @@ int main(int argc, char **argv)
                 (unsigned long long)c.view.n_sent, stream_bps);
     }
 done:
+    client_audio_stop(&c);
     hud_destroy(c.hud);
     jitter_destroy(c.jit);
     cli_net_destroy(c.net);
