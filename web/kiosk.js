@@ -90,14 +90,13 @@ function onWeather(w) {
     if (storm) {
         const paused = (w.flags & W_PAUSED) !== 0;
         $('pause-text').textContent = kt(paused ? 'replay.play' : 'replay.pause');
-        $('pause').setAttribute('aria-pressed', String(paused));
-        $('pause').classList.toggle('paused', paused);
+        $('pause').classList.toggle('paused', paused); // (its words say what it does: no pressed state)
         for (const b of document.querySelectorAll('[data-speed]')) {
             b.setAttribute('aria-pressed', String(Math.abs(Number(b.dataset.speed) - w.replay_speed) < 0.5));
         }
         const where = replayWhere(w);
         $('replay-at').textContent = where.at;
-        $('replay-pos').textContent = paused ? `${where.pos} · ${kt('replay.paused')}` : where.pos;
+        $('replay-pos').textContent = paused ? kt('replay.paused', where.pos) : where.pos;
         $('replay-bar').style.width = where.share === null ? '100%' : `${(100 * where.share).toFixed(1)}%`;
     }
 }
@@ -208,7 +207,7 @@ for (const x of REPLAY_SPEEDS) {
     $('speeds').append(b);
 }
 tokenFromFragment();
-$('pause').addEventListener('click', () => send({ type: 'wind', replay_paused: $('pause').getAttribute('aria-pressed') !== 'true' }));
+$('pause').addEventListener('click', () => send({ type: 'wind', replay_paused: !$('pause').classList.contains('paused') }));
 $('landfall').addEventListener('click', () => send({ type: 'wind', replay_at_min: 0 }));
 $('reset').addEventListener('click', () => send(msgs.reset()));
 $('collapse').addEventListener('click', () => { collapsed = !collapsed; showPanel(); });

@@ -68,7 +68,7 @@ export const KIOSK_TEXT = {
     'replay.pos': 'Replay {0} of {1}',
     'replay.loop': 'Replay {0}, looping',
     'replay.ended': 'Replay ended',
-    'replay.paused': 'Paused',
+    'replay.paused': '{0} · Paused',
     // nobody at the kiosk (client/app/client_frame.c), and the warning before
     'attract.touch': 'Touch the screen to control the wind',
     'idle.title': 'Still there?',
