@@ -47,7 +47,6 @@ export const KIOSK_TEXT = {
     'compass.W': 'W', 'compass.WNW': 'WNW', 'compass.NW': 'NW', 'compass.NNW': 'NNW',
     'compass.?': '?',
     // the scenarios
-    'choose': 'Choose the weather',
     'group.steady': 'Steady winds',
     'group.replay': 'Storm replays',
     'page.prev': 'Previous page',

@@ -223,6 +223,9 @@ try {
     assert.deepEqual(since(k), [{ type: 'wind', scenario: 'gusty' }]);
     await waitFor(page, () => window.gale.weather.name === 'Gusty afternoon' && !(window.gale.weather.flags & 2), null, 30, 'WEATHER runs Gusty afternoon');
     await waitFor(page, () => [...document.querySelectorAll('button.scen[aria-pressed=true]')].map((b) => b.textContent).join() === 'Gusty afternoon', null, 10, 'Gusty afternoon lit');
+    // the dial shows the scenario's wind, not the one dialled before
+    await waitFor(page, () => !document.getElementById('dial').querySelector('.dial-hint.dial-accent') && Math.abs(window.gale.weather.sustained_ms - 11) < 3
+        && document.querySelector('#dial .dial-num').textContent === `${Math.round(window.gale.weather.sustained_ms)} m/s`, null, 60, 'the dial at Gusty afternoon\'s wind');
     await dialTo(page, 64, { from: 20, steps: 6, ms: 600 });
     await waitFor(page, () => window.gale.weather.flags & 2, null, 30, 'the dial holds the wind');
     await page.evaluate(() => new Promise((r) => setTimeout(r, 500)));
