@@ -42,8 +42,11 @@ class SvgSlider {
         this.svg = svg;
         this.onSet = onSet;
         this.dragging = false;
-        this.sentAt = 0;
+        this.sentAt = -Infinity;
+        this.sentValue = null;
         this.timer = null;
+        this.keyAt = -Infinity; // when a key last set the value, and to what
+        this.keyValue = 0;
         svg.setAttribute('tabindex', '0');
         svg.setAttribute('role', 'slider');
         svg.addEventListener('pointerdown', (e) => this.down(e));
@@ -95,8 +98,10 @@ class SvgSlider {
     send(final) {
         clearTimeout(this.timer);
         const now = performance.now();
+        if (final && this.value === this.sentValue && now - this.sentAt < 2000) return; // (a tap: sent on touching)
         if (final || now - this.sentAt >= SEND_EVERY_MS) {
             this.sentAt = now;
+            this.sentValue = this.value;
             this.onSet(this.value, final);
         } else {
             this.timer = setTimeout(() => this.send(false), SEND_EVERY_MS - (now - this.sentAt));
@@ -104,6 +109,8 @@ class SvgSlider {
     }
 
     setByKey(v) {
+        this.keyAt = performance.now();
+        this.keyValue = v;
         this.value = v;
         this.send(true);
         this.draw();
@@ -160,7 +167,9 @@ export class WindDial extends SvgSlider {
     }
 
     key(e) {
-        const v = this.dragging ? this.value : (this.wind ?? 0);
+        // from the value the last key set while keys are pressed (WEATHER follows the
+        // server's ramp, seconds behind), else from the wind shown
+        const v = this.dragging ? this.value : performance.now() - this.keyAt < 3000 ? this.keyValue : (this.wind ?? 0);
         const step = { ArrowUp: 1, ArrowRight: 1, ArrowDown: -1, ArrowLeft: -1, PageUp: 5, PageDown: -5 }[e.key];
         if (step !== undefined) this.setByKey(Math.min(Math.max(Math.round(v) + step, 0), S.DIAL_MAX_MS));
         else if (e.key === 'Home') this.setByKey(0);
@@ -263,7 +272,7 @@ export class CompassRing extends SvgSlider {
     }
 
     key(e) {
-        const v = this.dragging ? this.value : (this.from ?? 0);
+        const v = this.dragging ? this.value : performance.now() - this.keyAt < 3000 ? this.keyValue : (this.from ?? 0);
         const step = { ArrowUp: 15, ArrowRight: 15, ArrowDown: -15, ArrowLeft: -15, PageUp: 45, PageDown: -45 }[e.key];
         if (step === undefined) return;
         e.preventDefault();

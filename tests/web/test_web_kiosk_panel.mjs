@@ -145,6 +145,12 @@ try {
         const m = JSON.parse(f.payload);
         if (m.type === 'wind' || m.type === 'reset') sent.push({ ...m, at_ms: Date.now() });
     }));
+    // the messages sent after the k-th once at least n more have come (the page's socket
+    // frames reach the test a little after the page sends them) and a moment has passed
+    const settle = async (k, n = 1) => {
+        await until(async () => sent.length >= k + n, 20, `${n} message(s) sent`);
+        await new Promise((r) => setTimeout(r, 400));
+    };
     const since = (k) => sent.slice(k).map(({ at_ms, token, ...m }) => { assert.equal(token, TOKEN, 'every control message carries the token'); return m; });
     await page.goto(`${srv.url}/kiosk?attract=3600#token=${TOKEN}`);
     await waitFor(page, () => window.gale && window.gale.framesDrawn >= 3 && window.gale.weather && window.gale.welcome, null, 120, 'kiosk live and drawn');
@@ -174,6 +180,7 @@ try {
     const t0 = Date.now();
     await dialTo(page, 64, { from: 5, steps: 12, ms: 1500 });
     const drag_s = (Date.now() - t0) / 1000;
+    await settle(k, 2);
     let msgs = since(k);
     out.dial_messages = msgs.length;
     assert.ok(msgs.length >= 2 && msgs.length <= drag_s / 0.25 + 2, `${msgs.length} messages over a ${drag_s} s drag: a few a second`);
@@ -201,6 +208,7 @@ try {
     // the compass: wind from the north-west, with the dialled speed
     k = sent.length;
     await compassTo(page, 315);
+    await settle(k);
     msgs = since(k);
     assert.equal(msgs.length, 1, `one message for a touch on the compass: ${JSON.stringify(msgs)}`);
     assert.ok(Math.abs(msgs[0].dir_deg - towardDeg(315)) < 1.5 && msgs[0].speed_ms === dialled, `compass message ${JSON.stringify(msgs[0])}: dir_deg 270 − 315 + 360 = ${towardDeg(315)}, speed ${dialled}`);
@@ -220,6 +228,7 @@ try {
     // a steady scenario: lit alone; then a dialled storm: nothing lit
     k = sent.length;
     await page.click('#steady button.scen >> text=Gusty afternoon');
+    await settle(k);
     assert.deepEqual(since(k), [{ type: 'wind', scenario: 'gusty' }]);
     await waitFor(page, () => window.gale.weather.name === 'Gusty afternoon' && !(window.gale.weather.flags & 2), null, 30, 'WEATHER runs Gusty afternoon');
     await waitFor(page, () => [...document.querySelectorAll('button.scen[aria-pressed=true]')].map((b) => b.textContent).join() === 'Gusty afternoon', null, 10, 'Gusty afternoon lit');
@@ -238,6 +247,7 @@ try {
     for (let p = 0; p < out.replay_pages && !(await page.$('#replays button.scen >> text=Charley 2004')); p++) await page.click('#replays .page-next');
     k = sent.length;
     await page.click('#replays button.scen >> text=Charley 2004');
+    await settle(k);
     assert.deepEqual(since(k), [{ type: 'wind', scenario: 'charley2004' }]);
     await waitFor(page, () => (window.gale.weather.flags & 1) && window.gale.weather.name === 'Charley 2004', null, 30, 'WEATHER replays Charley');
     await waitFor(page, () => !document.getElementById('replay').hidden, null, 10, 'replay controls shown');
@@ -251,6 +261,7 @@ try {
     await waitFor(page, () => document.getElementById('pause-text').textContent === 'Play', null, 5, 'the pause button offers play');
     await page.click('#landfall');
     await waitFor(page, () => Math.abs(window.gale.weather.storm_min) < 1, null, 30, 'replay at landfall');
+    await settle(k, 3);
     assert.deepEqual(since(k), [{ type: 'wind', replay_speed: 10 }, { type: 'wind', replay_paused: true }, { type: 'wind', replay_at_min: 0 }]);
     await waitFor(page, (t) => document.getElementById('replay-at').textContent === t, kt('replay.at'), 5, 'the replay says it is at landfall');
     out.replay_head = await page.$eval('.replay-head', (e) => e.textContent.replace(/\s+/g, ' ').trim());
@@ -264,8 +275,16 @@ try {
     // reset
     k = sent.length;
     await page.click('#reset');
+    await settle(k);
     assert.deepEqual(since(k), [{ type: 'reset' }]);
     await until(async () => (await metric('gale_wind_dial')) === 0, 30, 'reset dropped the dial');
+    // keys move the dial a whole m/s a press, from the last one pressed
+    k = sent.length;
+    await page.focus('#dial');
+    await page.keyboard.press('Home');
+    for (let i = 0; i < 3; i++) await page.keyboard.press('ArrowUp');
+    await settle(k, 4);
+    assert.deepEqual(since(k).map((m) => m.speed_ms), [0, 1, 2, 3], 'Home and three ArrowUp presses');
     assert.deepEqual(ctx.errors, []);
     console.log(JSON.stringify({ ...out, ok: true }));
 } finally {
