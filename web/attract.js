@@ -4,18 +4,42 @@
 // CAMERA_TOUR_STOP_S each, turning a degree a second); the next touch wakes it and is not
 // taken as a control. Time is the caller's clock [s]. tests/web/test_attract_js.mjs holds
 // the tour to the C function's cameras.
+// The page adds two things for its visitors: a warning before the tour takes the screen
+// (WCAG 2.2.1: at least 20 s to say "still here", which a touch does), and, for a browser
+// that asks for less motion (prefers-reduced-motion), a tour that turns five times slower.
 
 export const ATTRACT_DEFAULT_IDLE_S = 90;
 export const CAMERA_TOUR_STOP_S = 20;
+// the warning comes this long before the tour (half the idle time when that is shorter)
+export const ATTRACT_WARN_S = 20;
+// the tour turns a degree a second (camera_preset_tour); with less motion asked for, 0.2
+export const CAMERA_TOUR_TURN_DEG_S = 1;
+export const CAMERA_TOUR_TURN_REDUCED_DEG_S = 0.2;
 export const CAMERA_PRESETS = ['street', 'garden', 'roof', 'aerial', 'tour'];
 const CAMERA_MIN_DIST = 0.5, CAMERA_MAX_DIST = 5000;
+
+// attract.h ATTRACT_CARD_S, ATTRACT_CARDS: its cards in turn, the invitation to touch (0)
+// and the water card (1), each this long
+export const ATTRACT_CARD_S = 8;
+const ATTRACT_CARDS = 2;
 
 export class Attract {
     // awake, idle from now_s; idle_s 0 (or not > 0) → ATTRACT_DEFAULT_IDLE_S
     constructor(idle_s, now_s) {
         this.idle_s = idle_s > 0 ? idle_s : ATTRACT_DEFAULT_IDLE_S;
+        this.warn_s = Math.min(ATTRACT_WARN_S, 0.5 * this.idle_s);
         this.last_input_s = now_s;
         this.active = false;
+    }
+
+    // seconds left before the tour at now_s (0 once it runs)
+    left_s(now_s) {
+        return this.active ? 0 : Math.max(0, this.idle_s - (now_s - this.last_input_s));
+    }
+
+    // whether the visitor is being warned at now_s: awake, within warn_s of the tour
+    warning(now_s) {
+        return !this.active && this.left_s(now_s) <= this.warn_s;
     }
 
     // true exactly once, when attract mode begins at now_s
@@ -23,6 +47,13 @@ export class Attract {
         if (this.active || now_s - this.last_input_s < this.idle_s) return false;
         this.active = true;
         return true;
+    }
+
+    // the card shown at now_s, counted from when attract mode began; -1 awake (attract_card)
+    card(now_s) {
+        if (!this.active) return -1;
+        const shown_s = Math.max(now_s - this.last_input_s - this.idle_s, 0);
+        return Math.floor(shown_s / ATTRACT_CARD_S) % ATTRACT_CARDS;
     }
 
     // a touch at now_s: true when it woke the kiosk (the caller drops that touch)
@@ -100,12 +131,13 @@ export function cameraPreset(preset, inst, names) {
     return { target, distance: dist, yaw, pitch };
 }
 
-// The tour t_s [s] after it began (camera_preset_tour): that time's stop, turning slowly.
-export function cameraTour(t_s, inst, names) {
+// The tour t_s [s] after it began (camera_preset_tour): that time's stop, turning slowly
+// (turn_deg_s degrees a second, CAMERA_TOUR_TURN_DEG_S as the C's unless less motion is asked).
+export function cameraTour(t_s, inst, names, turn_deg_s = CAMERA_TOUR_TURN_DEG_S) {
     const t = t_s > 0 ? t_s : 0;
     const stop = Math.floor(t / CAMERA_TOUR_STOP_S) % 4;
     const cam = cameraPreset(stop, inst, names);
-    cam.yaw += (t % CAMERA_TOUR_STOP_S) * 0.017453292519943295;
+    cam.yaw += (t % CAMERA_TOUR_STOP_S) * turn_deg_s * 0.017453292519943295;
     cam.stop = stop;
     return cam;
 }

@@ -171,6 +171,8 @@ export class Sound {
                 return;
             }
             this.ctx = new AC({ latencyHint: 'interactive' });
+            // the kiosk reports its device again when it starts or stops (kiosk_state)
+            this.ctx.addEventListener('statechange', () => this.app.o.onSoundState && this.app.o.onSoundState());
             this.build();
         }
         if (this.ctx.state !== 'running') this.ctx.resume().catch(() => {});

@@ -54,9 +54,11 @@ int main(int argc, char **argv)
     };
     for (size_t k = 0; k < sizeof seq / sizeof seq[0]; k++) {
         bool r = seq[k].op == 't' ? attract_tick(&a, seq[k].t) : attract_input(&a, seq[k].t);
-        printf("{\"clock\":{\"idle_s\":5,\"op\":\"%s\",\"t_s\":%.9g,\"result\":%s,\"active\":%s}}\n",
+        printf("{\"clock\":{\"idle_s\":5,\"op\":\"%s\",\"t_s\":%.9g,\"result\":%s,\"active\":%s,"
+               "\"card\":%d,\"card_later\":%d}}\n",
                seq[k].op == 't' ? "tick" : "input", seq[k].t, r ? "true" : "false",
-               a.active ? "true" : "false");
+               a.active ? "true" : "false", attract_card(&a, seq[k].t),
+               attract_card(&a, seq[k].t + 1.5 * ATTRACT_CARD_S));
     }
     return 0;
 }

@@ -25,6 +25,15 @@ export function args(usage) {
     return a;
 }
 
+// The visitor's texts the build wrote beside gale-server (BUILD/lang-gen/lang_texts.js,
+// BUILD/server/gale-server), handed to web/lang.js, for a test that formats the page's words
+// itself.
+export async function useTexts(serverBin) {
+    const file = path.resolve(path.dirname(serverBin), '..', 'lang-gen', 'lang_texts.js');
+    const { LANG_CODES, TEXTS } = await import(pathToFileURL(file).href);
+    (await import('../../web/lang.js')).setTexts(LANG_CODES, TEXTS);
+}
+
 // gale-server with extra arguments; resolves to { url, port, proc, log(), stop() }.
 export function startServer(bin, extra = [], { port = 0, env = {} } = {}) {
     return new Promise((resolve, reject) => {

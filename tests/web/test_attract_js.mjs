@@ -40,6 +40,9 @@ for (const c of clocks) {
     const r = c.op === 'tick' ? at.tick(c.t_s) : at.input(c.t_s);
     assert.equal(r, c.result, `${c.op} at ${c.t_s} s`);
     assert.equal(at.active, c.active, `active after ${c.op} at ${c.t_s} s`);
+    assert.equal(at.card(c.t_s), c.card, `the card after ${c.op} at ${c.t_s} s`);
+    assert.equal(at.card(c.t_s + 12), c.card_later, `the card 12 s after ${c.op} at ${c.t_s} s`);
 }
+assert.ok(clocks.some((c) => c.card_later === 1), 'the water card comes in turn');
 assert.equal(new Attract(0, 0).idle_s, 90);
 console.log(JSON.stringify({ tour_points: tours.length, clock_steps: clocks.length, worst_share_of_tol: worst, ok: true }));

@@ -197,8 +197,10 @@ try {
         return { w: still.w, h: still.h, page: still.pixels, native: bytes(nat), native_size: [img.width, img.height] };
     }, png);
     // the native HUD's boxes (gale-client draws them into its picture; the page's HUD is
-    // HTML over the canvas): the text box top left, the compass top right, the caption
-    const hud = (i, y) => (i < 0.66 * two.w && y < 0.36 * two.h) || (i > 0.8 * two.w && y < 0.25 * two.h) || y > 0.85 * two.h;
+    // HTML over the canvas): the text box top left (seven lines with the expert line, the
+    // wind line's two units and gust across 80 % of a 640 px picture), the compass top right,
+    // the caption
+    const hud = (i, y) => (i < 0.82 * two.w && y < 0.42 * two.h) || (i > 0.8 * two.w && y < 0.25 * two.h) || y > 0.85 * two.h;
     const d = comparePictures(Buffer.from(two.page, 'base64'), Buffer.from(two.native, 'base64'), two.w, two.h, hud);
     const cmp = { mean_abs_diff: +d.mean_abs_diff.toFixed(2), frac_over_32: +d.frac_over_32.toFixed(4), blocks_8px_over_16: +d.blocks_8px_over_16.toFixed(4),
         compared_px: d.compared_px, native_size: two.native_size };

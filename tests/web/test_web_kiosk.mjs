@@ -9,6 +9,7 @@ import assert from 'node:assert/strict';
 import { writeFileSync } from 'node:fs';
 import path from 'node:path';
 import { args, startServer, startBrowser, waitFor, readMetric, until } from './harness.mjs';
+import { dialTo } from './kiosk_touch.mjs';
 
 const [server, work, config] = args('usage: node test_web_kiosk.mjs GALE_SERVER WORK_DIR SCENE.json');
 const TOKEN = 'web-kiosk-test-7f3a';
@@ -93,8 +94,8 @@ try {
     assert.equal(await metric('gale_wind_dial'), 0);
 
     // 60 m/s = 117 kn: Saffir-Simpson Category 4 (113-136 kn)
-    await page.locator('#dial').fill('60');
-    await until(async () => (await metric('gale_wind_dial')) === 1 && Math.abs((await metric('gale_wind_sustained_meters_per_second')) - 60) < 0.5, 60, 'server wind 60 m/s from the dial (the dial moves it 4 m/s a second)');
+    await dialTo(page, 60, { from: 5 });
+    await until(async () => (await metric('gale_wind_dial')) === 1 && Math.abs((await metric('gale_wind_sustained_meters_per_second')) - 60) < 1, 60, 'server wind 60 m/s from the dial (the dial moves it 4 m/s a second)');
     out.metric_sustained_ms = await metric('gale_wind_sustained_meters_per_second');
     await waitFor(page, () => window.gale.weather && window.gale.weather.ss_class === 5 && /Category 4 hurricane/.test(document.getElementById('hud').textContent), null, 30, 'HUD reads Category 4');
     await twoFrames(page);

@@ -146,7 +146,10 @@ try {
     await waitFor(dial, () => window.gale && window.gale.conn && window.gale.conn.status.state === 'live', null, 60, 'kiosk live');
     // (the kiosk page holds the dial while it is open; it need not draw meanwhile)
     await dial.evaluate(() => { window.gale.frozen = true; });
-    await dial.locator('#dial').fill(String(STORM_MS));
+    // (the dial's keys set whole m/s: Home is calm, each ArrowUp one more)
+    await dial.focus('#dial');
+    await dial.keyboard.press('Home');
+    for (let v = 0; v < STORM_MS; v++) await dial.keyboard.press('ArrowUp');
     await until(async () => Math.abs((await metric('gale_wind_sustained_meters_per_second')) - STORM_MS) < 0.5, 60, `server wind ${STORM_MS} m/s from the dial`);
     await waitFor(tile, (ms) => window.gale.weather && Math.abs(window.gale.weather.sustained_ms - ms) < 0.5, STORM_MS, 60, 'the storm\'s WEATHER on the browser tile');
     const calmFrames = await tile.evaluate(() => { window.gale.frozen = false; return window.gale.wallGroup.frames; }); // (still() froze it)
