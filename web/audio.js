@@ -413,8 +413,15 @@ export class Sound {
             el.id = 'sound-caption';
             el.className = 'sound-caption';
             el.setAttribute('aria-hidden', 'true'); // the HUD's line tells screen readers the wind
-            Object.assign(el.style, { position: 'fixed', left: '0', right: '0', bottom: '22%', textAlign: 'center', color: '#fff', textShadow: '0 0 4px #000', font: '600 1.2rem system-ui, sans-serif', pointerEvents: 'none' });
-            document.body.append(el);
+            Object.assign(el.style, { textAlign: 'center', color: '#fff', textShadow: '0 0 4px #000', font: '600 1.2rem system-ui, sans-serif', pointerEvents: 'none' });
+            // on the kiosk page just above the wind's caption, clear of its panel; elsewhere
+            // over the lower scene
+            const cap = document.getElementById('caption');
+            if (cap && cap.parentNode) cap.parentNode.insertBefore(el, cap);
+            else {
+                Object.assign(el.style, { position: 'fixed', left: '0', right: '0', bottom: '22%' });
+                document.body.append(el);
+            }
         }
         const on = this.running() && this.caption !== '';
         el.hidden = !on;

@@ -226,6 +226,9 @@ export class WindDial extends SvgSlider {
         this.title.setAttribute('class', this.dragging ? 'dial-accent' : 'dial-dim');
         this.num.textContent = known ? (first ? kt('dial.kmh', kmh) : kt('dial.mph', mph)) : kt('dial.unknown');
         this.num.setAttribute('class', this.dragging ? 'dial-num dial-accent' : 'dial-num');
+        // "230 km/h" is wider than "64 m/s": the figure shrinks to stay inside the ring
+        // (kiosk_ui_draw.c's rule)
+        this.num.setAttribute('font-size', String(Math.min(43, 43 * 6 / Math.max(6, this.num.textContent.length))));
         this.kmh.textContent = known ? (first ? kt('dial.mph', mph) : kt('dial.kmh', kmh)) : '';
         this.mph.textContent = known ? kt('dial.ms', r) : '';
         this.hint.textContent = kt(this.held ? 'dial.held' : 'dial.drag');
@@ -254,9 +257,11 @@ export class CompassRing extends SvgSlider {
         el(this.arrow, 'line', { x1: 0, y1: f1(-0.6 * COMP_R), x2: 0, y2: f1(0.45 * COMP_R), 'stroke-width': 18 });
         el(this.arrow, 'path', { d: `M0 ${f1(0.72 * COMP_R)}L${f1(0.22 * COMP_R)} ${f1(0.4 * COMP_R)}L${f1(-0.22 * COMP_R)} ${f1(0.4 * COMP_R)}Z` });
         this.knob = el(svg, 'circle', { r: 0.145 * COMP_R, class: 'comp-knob', 'stroke-width': 0.05 * COMP_R, fill: 'none' });
-        ['N', 'E', 'S', 'W'].forEach((p, i) => {
+        this.points = ['N', 'E', 'S', 'W'].map((p, i) => {
             const [x, y] = pt(0.87 * COMP_R, i * Math.PI / 2);
-            text(svg, x, y + 0.35 * 24, 24, 'comp-point').textContent = kt(`compass.${p}`);
+            const t = text(svg, x, y + 0.35 * 24, 24, 'comp-point');
+            t.dataset.point = p;
+            return t;
         });
         this.draw();
     }
@@ -297,6 +302,8 @@ export class CompassRing extends SvgSlider {
         this.knob.setAttribute('cx', f1(kx));
         this.knob.setAttribute('cy', f1(ky));
         const point = kt(S.compassKey(from));
+        // the points' letters in the page's language (O for the west in Spanish)
+        for (const t of this.points) t.textContent = kt(`compass.${t.dataset.point}`);
         this.title.textContent = kt('compass.title', point);
         this.title.setAttribute('class', this.dragging ? 'comp-title dial-accent' : 'comp-title');
         this.svg.setAttribute('aria-label', kt('compass.label'));
