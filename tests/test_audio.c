@@ -332,9 +332,25 @@ static void test_device(void)
     sound_mix_destroy(m);
 }
 
+/* A WAV whose rate leaves the measures' windows without a whole sample (the fuzzer's 3 Hz
+ * file looped for ever in the 0.1 s envelope) is refused with its rate named. */
+static void test_wav_rate_refused(void)
+{
+    static const uint8_t hdr[44] = { 'R', 'I', 'F', 'F', 36, 0, 0, 0, 'W', 'A', 'V', 'E',
+                                     'f', 'm', 't', ' ', 16, 0, 0, 0, 1, 0, 2, 0,
+                                     3, 0, 0, 0, 12, 0, 0, 0, 4, 0, 16, 0,
+                                     'd', 'a', 't', 'a', 0, 0, 0, 0 };
+    wav_pcm w;
+    gale_err e = { 0 };
+    CHECK(wav_pcm_parse(hdr, sizeof hdr, "slow.wav", &w, &e) == GALE_E_FORMAT);
+    CHECK_STR_HAS(e.msg, "slow.wav: expected 16-bit PCM of 1..8 channels at 8000..384000 Hz");
+    CHECK_STR_HAS(e.msg, "3 Hz");
+}
+
 int main(void)
 {
     RUN(test_strouhal);
+    RUN(test_wav_rate_refused);
     RUN(test_limiter);
     RUN(test_mix_ceiling);
     RUN(test_bed_follows_wind);

@@ -36,11 +36,13 @@ int wav_pcm_parse(const uint8_t *b, size_t n, const char *name, wav_pcm *w, gale
             w->channels = get16(fm + 2);
             w->rate_hz = (int)(get32(fm + 4) & 0x7fffffffu);
             bits = get16(fm + 14);
+            /* 8-384 kHz: the measures step in windows of 0.1 s and 2 ms, which need whole
+               samples */
             if (get16(fm) != 1 || bits != 16 || w->channels < 1 || w->channels > 8 ||
-                w->rate_hz < 1) {
-                return gale_errf(err, GALE_E_FORMAT, "%s: expected 16-bit PCM of 1..8 channels, "
-                                 "got format %d, %d bits, %d channels, %d Hz", name, get16(fm),
-                                 bits, w->channels, w->rate_hz);
+                w->rate_hz < 8000 || w->rate_hz > 384000) {
+                return gale_errf(err, GALE_E_FORMAT, "%s: expected 16-bit PCM of 1..8 channels "
+                                 "at 8000..384000 Hz, got format %d, %d bits, %d channels, %d Hz",
+                                 name, get16(fm), bits, w->channels, w->rate_hz);
             }
         } else if (!memcmp(ck, "data", 4)) {
             if (!bits) {
