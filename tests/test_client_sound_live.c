@@ -29,10 +29,10 @@
  * ms at load 12, on 2 cores): there the gap measures the sanitizer, so it is printed, not
  * held. The WAV's gap, exact, is held to 50 ms in every build. */
 #if defined(__SANITIZE_ADDRESS__)
-#define DEVICE_GAP_MS INFINITY
+#define DEVICE_GAP_MS ((double)INFINITY)
 #elif defined(__has_feature)
 #if __has_feature(address_sanitizer)
-#define DEVICE_GAP_MS INFINITY
+#define DEVICE_GAP_MS ((double)INFINITY)
 #endif
 #endif
 #ifndef DEVICE_GAP_MS
