@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "mono.h"
+#include "pi_mutex.h"
 #include "srv_stream.h"
 #include "view_select.h"
 #include "wire.h"
@@ -61,7 +62,7 @@ relay_views *relay_views_create(link_scene *sc, int max_views, gale_err *err)
     v->sc = *sc;
     sc->pos = NULL;
     v->max_views = max_views > 0 ? max_views : 0;
-    pthread_mutex_init(&v->lock, NULL);
+    pi_mutex_init(&v->lock);
     const size_t n = v->sc.n_trees ? v->sc.n_trees : 1;
     const size_t k = v->max_views ? (size_t)v->max_views : 1;
     v->slot = calloc(k, sizeof *v->slot);

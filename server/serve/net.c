@@ -3,6 +3,7 @@
  * the service thread, and routes each callback to net_ws.c or net_http.c. Everything but
  * net_snap_acquire, net_publish and net_stop runs on the one lws service thread. */
 #include "mono.h"
+#include "pi_mutex.h"
 #include "net_int.h"
 
 #include <dirent.h>
@@ -309,9 +310,9 @@ net_server *net_create(const net_desc *desc, gale_err *err)
     if (!s->d.extra_cap) {
         s->d.extra_cap = 65536;
     }
-    pthread_mutex_init(&s->pub_lock, NULL);
-    pthread_mutex_init(&s->bridge_lock, NULL);
-    pthread_mutex_init(&s->notice_lock, NULL);
+    pi_mutex_init(&s->pub_lock);
+    pi_mutex_init(&s->bridge_lock);
+    pi_mutex_init(&s->notice_lock);
     if (!s->d.control || !s->d.snap_cap) {
         gale_errf(err, GALE_E_ARG, "net_create: control callback and snap_cap are required");
         goto fail;

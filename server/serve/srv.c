@@ -5,6 +5,7 @@
  * (snapshots), the scenario lock (kiosk commands), the view lock and a few atomics. */
 #include "srv_int.h"
 #include "big_alloc.h"
+#include "pi_mutex.h"
 #include "sim_lanes.h"
 #include "damage_metrics.h"
 
@@ -41,11 +42,11 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     if (s->d.kiosk_idle_s == 0) {
         s->d.kiosk_idle_s = SRV_KIOSK_IDLE_S;
     }
-    pthread_mutex_init(&s->scen_lock, NULL);
-    pthread_mutex_init(&s->hist_lock, NULL);
-    pthread_mutex_init(&s->view_lock, NULL);
-    pthread_mutex_init(&s->ctl_lock, NULL);
-    pthread_mutex_init(&s->vlock, NULL);
+    pi_mutex_init(&s->scen_lock);
+    pi_mutex_init(&s->hist_lock);
+    pi_mutex_init(&s->view_lock);
+    pi_mutex_init(&s->ctl_lock);
+    pi_mutex_init(&s->vlock);
     pthread_cond_init(&s->vpost, NULL);
     pthread_cond_init(&s->vdone, NULL);
     kiosk_gate_init(&s->kgate);

@@ -13,6 +13,7 @@
 #include <cjson/cJSON.h>
 
 #include "ctl.h"
+#include "pi_mutex.h"
 #include "json.h"
 #include "mono.h"
 #include "ops_usage.h"
@@ -51,7 +52,7 @@ srv_ops *srv_ops_create(const srv_ops_desc *d, gale_err *err)
         return NULL;
     }
     o->d = *d;
-    pthread_mutex_init(&o->lock, NULL);
+    pi_mutex_init(&o->lock);
     ops_usage_init(&o->u);
     if (d->state_file) {
         bool found = false;

@@ -1,6 +1,7 @@
 /* The fixed-step simulation: see tick.h. */
 #include "tick.h"
 #include "mono.h"
+#include "pi_mutex.h"
 
 #include "modal.h"
 #include "sim_lanes.h"
@@ -108,7 +109,7 @@ tick_sim *tick_create(const tick_desc *d, gale_err *err)
         gale_errf(err, GALE_E_NOMEM, "tick_create: no memory");
         return NULL;
     }
-    pthread_mutex_init(&t->lock, NULL);
+    pi_mutex_init(&t->lock);
     t->d = *d;
     const scene *sc = d->sc;
     if (!t->d.max_leaves_per_tick) {

@@ -1,6 +1,7 @@
 /* The wind step on its own thread: see wind_worker.h. */
 #include "wind_worker.h"
 #include "mono.h"
+#include "pi_mutex.h"
 
 #include <pthread.h>
 #include <sched.h>
@@ -120,7 +121,7 @@ wind_worker *wind_worker_create(int (*step)(void *ctx, float dt_s, wind_step_sta
     w->ctx = ctx;
     w->own_thread = own_thread;
     w->idle_ok = own_thread && wind_worker_unidle_permitted();
-    pthread_mutex_init(&w->lock, NULL);
+    pi_mutex_init(&w->lock);
     pthread_cond_init(&w->cond, NULL);
     if (own_thread && pthread_create(&w->thread, NULL, worker_main, w)) {
         pthread_cond_destroy(&w->cond);
