@@ -13,22 +13,28 @@
 // them (window.gale.lod): the cull's CPU time, trees per level, view messages sent. The
 // measured window runs --seconds after the first frame, and at least until --frames more
 // frames were drawn (a software GPU may take a minute a frame). --draw N: the viewer's
-// ?max_trees=N (0: none). js_cpu_per_frame_ms: the four stages' medians (p95s, means)
+// ?max_trees=N (0: none). --cameras street,roof,aerial: each scene from those of the kiosk's
+// presets (the viewer's ?camera=, gale-client's --camera) in turn, one page each, in place of
+// the viewer's default orbit; --size WxH the page's (default 800x600). js_cpu_per_frame_ms: the four stages' medians (p95s, means)
 // summed. ref_ms: the same page's time for a fixed multiply-add over 4,000 × 32 floats,
 // 100 times: the machine's pace in this run.
 //   GALE_WEB_DEPS=build/tests/web node tests/web/bench_web.mjs build/server/gale-server OUT_DIR
 //       [--seconds S] [--frames N] [--draw N] [--scenes town,landscape,forest]
+//       [--cameras street,roof,aerial] [--size WxH]
 import { writeFileSync, mkdirSync, readFileSync } from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { args, startServer, startBrowser, waitFor } from './harness.mjs';
 
-const a = args('usage: node bench_web.mjs GALE_SERVER OUT_DIR [--seconds S] [--frames N] [--draw N] [--scenes town,landscape,forest]');
+const a = args('usage: node bench_web.mjs GALE_SERVER OUT_DIR [--seconds S] [--frames N] [--draw N] [--scenes town,landscape,forest] [--cameras street,roof,aerial] [--size WxH]');
 const [server, work] = a;
 const opt = (k, d) => (a.includes(k) ? Number(a[a.indexOf(k) + 1]) : d);
 const seconds = opt('--seconds', 20), draw = opt('--draw', 0), frames = opt('--frames', 2);
 const scenes = (a.includes('--scenes') ? a[a.indexOf('--scenes') + 1] : 'town,landscape').split(',');
+const cameras = a.includes('--cameras') ? a[a.indexOf('--cameras') + 1].split(',') : [''];
+const size = (a.includes('--size') ? a[a.indexOf('--size') + 1] : '800x600').split('x').map(Number);
+if (size.length !== 2 || !(size[0] > 0 && size[1] > 0)) throw new Error('--size: expected WxH, as 1920x1080');
 const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
 mkdirSync(work, { recursive: true });
 
@@ -63,13 +69,27 @@ function countDraws() {
     wrap('drawElementsInstanced', (x) => x[1] * x[4]);
 }
 
+// The scene's server, and a page for each camera in turn: { camera: figures } (the
+// viewer's default orbit under '').
 async function run(name, extra) {
     const srv = await startServer(server, ['--cache', path.join(work, 'cache'), ...extra]);
-    const ctx = await startBrowser(path.join(work, name), { width: 800, height: 600 });
+    const ctx = await startBrowser(path.join(work, name), { width: size[0], height: size[1] });
     try {
-        const page = await ctx.newPage();
+        const out = {};
+        for (const cam of cameras) out[cam || 'default'] = await runPage(ctx, srv, cam ? `${name}-${cam}` : name, cam);
+        return cameras.length === 1 && !cameras[0] ? out.default : out;
+    } finally {
+        await ctx.close();
+        await srv.stop();
+    }
+}
+
+async function runPage(ctx, srv, name, cam) {
+    const page = await ctx.newPage();
+    try {
         await page.addInitScript(countDraws);
-        await page.goto(`${srv.url}/${draw > 0 ? `?max_trees=${draw}` : ''}`);
+        const q = [draw > 0 ? `max_trees=${draw}` : '', cam ? `camera=${cam}` : ''].filter(Boolean).join('&');
+        await page.goto(`${srv.url}/${q ? `?${q}` : ''}`);
         await waitFor(page, () => window.gale && window.gale.framesDrawn >= 1, null, 900, `${name}: first frame`);
         await page.evaluate(() => { for (const k of Object.keys(window.gale.perf)) window.gale.perf[k] = []; window.gale.ws0 = window.gale.conn.stats.bytes; window.gale.t0 = performance.now();
             window.gale.up0 = window.gale.r.stats.uploads || 0; window.gale.j0 = { ...window.gale.jitter.stats };
@@ -104,12 +124,11 @@ async function run(name, extra) {
         await page.screenshot({ path: path.join(work, `${name}.png`), timeout: 300000 }).catch((e) => { res.screenshot_error = e.message.split('\n')[0]; });
         return res;
     } finally {
-        await ctx.close();
-        await srv.stop();
+        await page.close();
     }
 }
 
-const out = { seconds, frames, draw_cap: draw, load_avg_before: os.loadavg(), scenes: {} };
+const out = { seconds, frames, draw_cap: draw, size: `${size[0]}x${size[1]}`, load_avg_before: os.loadavg(), scenes: {} };
 const landscape = path.join(root, 'configs/scenes/landscape-2km.json');
 for (const sc of scenes) {
     if (sc === 'town') out.scenes.town_block = await run('town', []);
