@@ -92,16 +92,16 @@ static void take_leaves(client *c, const wire_frame *f)
     const double tick_hz = c->w.tick_hz > 0.0f ? (double)c->w.tick_hz : 60.0;
     const double t_hdr = (double)f->hdr.server_time_us * 1e-6;
     for (uint32_t i = 0; i < f->n_leaves; i++) {
-        if (c->leaves_frame >= CLIENT_LEAVES_PER_FRAME) {
-            c->leaves_thinned += f->n_leaves - i;
-            return;
-        }
-        c->leaves_frame++;
         const wire_leaf *l = &f->leaves[i];
         const uint32_t tree = client_hold_tree(c, l->instance);
         if (tree == UINT32_MAX) {
             continue; /* a tree not held sheds no leaf here */
         }
+        if (c->leaves_frame >= CLIENT_LEAVES_PER_FRAME) {
+            c->leaves_thinned += f->n_leaves - i;
+            return;
+        }
+        c->leaves_frame++;
         render_leaf_seed s = {
             .tree = tree,
             .slot = l->slot,
