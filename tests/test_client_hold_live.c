@@ -39,8 +39,8 @@ static int count_from_welcome(void)
     size_t len = 0;
     int op = wsraw_recv(&c, &m, &len, 30000);
     ctl_msg msg = { 0 };
-    int rc = op == 1 ? ctl_decode((const char *)m, len, CTL_MAX_SERVER_BYTES, &msg, NULL, NULL)
-                     : -1;
+    int rc =
+        op == 1 ? ctl_decode((const char *)m, len, CTL_MAX_SERVER_BYTES, &msg, NULL, NULL) : -1;
     free(m);
     wsraw_close(&c);
     if (rc != 0 || msg.type != CTL_WELCOME) {
@@ -78,10 +78,10 @@ static pid_t start_client(const char *name, const char *frames, const char *lang
     snprintf(cache, sizeof cache, "%s/cache", kf_dir);
     snprintf(shot, sizeof shot, "%s/%s.png", kf_dir, name);
     unlink(log); /* a log of an earlier run is not this one's */
-    char *argv[] = { GALE_CLIENT_EXE, "--url",    url,         "--headless",  "--frames",
-                     (char *)frames,  "--size",   "320x180",   "--max-trees", "100",
-                     "--lang",        (char *)lang, "--wait",   "150",         "--cache",
-                     cache,           "--screenshot", shot,     NULL };
+    char *argv[] = { GALE_CLIENT_EXE, "--url",        url,       "--headless",  "--frames",
+                     (char *)frames,  "--size",       "320x180", "--max-trees", "100",
+                     "--lang",        (char *)lang,   "--wait",  "150",         "--cache",
+                     cache,           "--screenshot", shot,      NULL };
     return proc_spawn(argv, log);
 }
 
@@ -119,8 +119,10 @@ static double metric(const char *name)
 static void check_held(const char *log)
 {
     char said[160];
-    snprintf(said, sizeof said, "the scene has %u trees, more than this client holds "
-                                "(--max-trees 100): holding the 100 nearest", want.n);
+    snprintf(said, sizeof said,
+             "the scene has %u trees, more than this client holds "
+             "(--max-trees 100): holding the 100 nearest",
+             want.n);
     CHECK(proc_log_count(log, said) == 1);
     /* the point is the scene's centre, the radius the 100th tree's */
     FILE *f = fopen(log, "r");
@@ -220,8 +222,9 @@ int main(void)
         kf_stop_server();
         return 1;
     }
-    fprintf(stderr, "scene: %u trees, centre (%.3f, %.3f), the 100th nearest %.3f m, the next "
-                    "%.3f m\n",
+    fprintf(stderr,
+            "scene: %u trees, centre (%.3f, %.3f), the 100th nearest %.3f m, the next "
+            "%.3f m\n",
             want.n, want.cx, want.cy, want.r_held_m, want.r_next_m);
     /* the count is only a count where the 100th and 101st are apart */
     CHECK(want.n > HOLD_TREES && want.r_next_m > want.r_held_m + 0.01);

@@ -86,9 +86,9 @@ int client_hold_select(client *c, gale_err *err)
         hold_point(c, p);
         h->held = malloc(((size_t)h->limit + 1) * sizeof *h->held);
         h->slot = malloc(((size_t)n + 1) * sizeof *h->slot);
-        int rc = h->held && h->slot ? hold_nearest(h->scene, n, p[0], p[1], h->limit, h->held,
-                                                   &h->circle, err)
-                                    : gale_errf(err, GALE_E_NOMEM, "no memory to map %u trees", n);
+        int rc = h->held && h->slot
+                     ? hold_nearest(h->scene, n, p[0], p[1], h->limit, h->held, &h->circle, err)
+                     : gale_errf(err, GALE_E_NOMEM, "no memory to map %u trees", n);
         if (rc != 0) {
             return rc;
         }

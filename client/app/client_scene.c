@@ -120,10 +120,10 @@ int client_scene_setup(client *c, gale_err *err)
     free(c->snap);
     c->snap = calloc(c->n_values, sizeof(float));
     size_t fit = CLIENT_JITTER_BYTES / ((size_t)c->n_values * sizeof(float));
-    uint32_t held = fit < CLIENT_JITTER_SNAPSHOTS
-                        ? (fit > CLIENT_JITTER_MIN_SNAPSHOTS ? (uint32_t)fit
-                                                             : CLIENT_JITTER_MIN_SNAPSHOTS)
-                        : CLIENT_JITTER_SNAPSHOTS;
+    uint32_t held =
+        fit < CLIENT_JITTER_SNAPSHOTS
+            ? (fit > CLIENT_JITTER_MIN_SNAPSHOTS ? (uint32_t)fit : CLIENT_JITTER_MIN_SNAPSHOTS)
+            : CLIENT_JITTER_SNAPSHOTS;
     c->jit = jitter_create(
         &(jitter_desc){ .n_values = c->n_values, .capacity = held, .playout_delay_s = c->a.delay_s },
         err);

@@ -43,8 +43,7 @@ static void run(const char *name, const ctl_instance *inst, uint32_t n, const do
             }
             printf("{\"cx\":%.17g,\"cy\":%.17g,\"limit\":%u,\"n_held\":%u,\"radius_m\":%.17g,"
                    "\"edge_m\":%.17g,\"view_radius_m\":%.17g,\"held\":[",
-                   cx, cy, limits[l], h.n_held, h.radius_m, h.edge_m,
-                   hold_view_radius_m(&h, 7.5));
+                   cx, cy, limits[l], h.n_held, h.radius_m, h.edge_m, hold_view_radius_m(&h, 7.5));
             for (uint32_t i = 0; i < h.n_held; i++) {
                 printf("%s%u", i ? "," : "", held[i]);
             }
