@@ -246,6 +246,17 @@ static void test_format(void)
     CHECK_STR_HAS(lines[0], "Viento 180 km/h \xC2\xB7 112 mph");
     CHECK_STR_HAS(lines[1], "Hurac\xC3\xA1n de categor\xC3\xAD" "a 3");
     CHECK_STR_HAS(lines[2], "En directo");
+    /* a reduced view (CLIENT.md): a line under the rates, in the visitor's language */
+    s.trees_held = 20000;
+    s.trees_scene = 100000;
+    n = hud_format(&s, lines);
+    CHECK(n == 6); /* the bad frames' line after it */
+    CHECK_STR_HAS(lines[4], "Vista reducida: los 20000 \xC3\xA1rboles m\xC3\xA1s cercanos de 100000");
+    s.lang = LANG_EN;
+    hud_format(&s, lines);
+    CHECK_STR_HAS(lines[4], "Reduced view: the 20000 nearest of 100000 trees");
+    s.trees_held = s.trees_scene = 0; /* the whole scene held: no line */
+    CHECK(hud_format(&s, lines) == 5);
 }
 
 /* A steady scenario's title is shown until a kiosk dials: then the dial's wind is what

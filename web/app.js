@@ -2,8 +2,9 @@
 // against the welcome's hashes (web/asset.js), snapshots through the jitter buffer
 // (web/jitter.js) into the renderer (web/render_gl.js), the HUD from WEATHER, and the
 // messages a person can act on, the storm look from WEATHER (web/storm_fx.js; the page's
-// ?storm_fx=off|low|high, default low as gale-client's --storm-fx). window.gale exposes
-// the state for tests and benchmarks.
+// ?storm_fx=off|low|high, default low as gale-client's --storm-fx), a scene past what the
+// page holds as a reduced view (web/hold.js; ?hold_trees=N holds at most N trees).
+// window.gale exposes the state for tests and benchmarks.
 import { showSchedule } from './closed.js';
 import { Connection } from './conn.js';
 import { fetchAsset } from './asset.js';
@@ -20,6 +21,7 @@ import { Governor, softwareRenderer } from './governor.js';
 import { DATA_W } from './render_data.js';
 import { frustumCone, frustumView, ViewSender } from './view_stream.js';
 import { VIEW_FAR_M, VIEW_LOD_M } from './lod_policy.js';
+import { holdCentre, holdNearest, holdView } from './hold.js';
 import { Sound, soundOptions } from './audio.js';
 
 // the visitor's texts, built from configs/lang/*.po with gale-client's (client/lang)
@@ -29,23 +31,37 @@ const LEAVES_PER_FRAME = 4096; // CLIENT_LEAVES_PER_FRAME (client/app/client.h):
 // The modal state the page holds: every snapshot's quantised values (n_trees × stride
 // int16) once in the jitter buffer and once in the GPU's ring, up to Q_LAYERS_MAX
 // snapshots, as many as fit this many bytes (?hold_mb=N lowers it), never fewer than
-// Q_LAYERS_MIN (the blend takes up to four); a scene past that holds the motion of its first
-// trees only and draws the others at rest.
+// Q_LAYERS_MIN (the blend takes up to four); a scene past that is a reduced view, its trees
+// nearest one point as many as fit (web/hold.js).
 const Q_HOLD_BYTES = 192 * 1048576;
 const Q_LAYERS_MAX = 32;
 const Q_LAYERS_MIN = 5;
 
-// How much of a scene of n trees × stride modes the page holds: { trees, layers }, within
-// hold_bytes and the GPU's texture height and array layers.
+// How much of a scene of n trees × stride modes the page holds: { trees, layers, why },
+// within hold_bytes and the GPU's texture height and array layers; why says what holds
+// fewer trees than n (null when none does).
 export function qHold(n, stride, hold_bytes, max_rows, max_layers) {
-    const snap = Math.max(1, n * stride * 2);
+    const snap = Math.max(1, n * stride * 2), rows = Math.floor(max_rows * DATA_W / stride);
     let layers = Math.min(Q_LAYERS_MAX, max_layers, Math.floor(hold_bytes / snap));
-    let trees = Math.min(n, Math.floor(max_rows * DATA_W / stride));
+    let trees = Math.min(n, rows), why = rows < n ? `the GPU's ${max_rows} texture rows take ${rows} trees of ${stride} modes` : null;
     if (layers < Q_LAYERS_MIN) {
         layers = Math.min(Q_LAYERS_MIN, max_layers);
-        trees = Math.min(trees, Math.floor(hold_bytes / (layers * stride * 2)));
+        const fit = Math.floor(hold_bytes / (layers * stride * 2));
+        if (fit < trees) {
+            trees = fit;
+            why = `${(hold_bytes / 1048576).toFixed(0)} MB hold ${layers} snapshots of ${fit} trees of ${stride} modes`;
+        }
     }
-    return { trees, layers };
+    return { trees, layers, why };
+}
+
+// Whether two welcomes' rows are the same trees (a reconnection to the same scene).
+function sameTrees(a, b) {
+    if (a.length !== b.length) return false;
+    for (let t = 0; t < a.length; t++) {
+        for (let k = 0; k < 6; k++) if (a[t][k] !== b[t][k]) return false;
+    }
+    return true;
 }
 
 function percentile(a, p) {
@@ -97,6 +113,11 @@ export class App {
         // ?view=all: no view sent, the whole scene streamed (a reference for the stream's size)
         this.followCamera = q.get('view') !== 'all';
         this.holdBytes = mb > 0 ? Math.min(mb * 1048576, Q_HOLD_BYTES) : Q_HOLD_BYTES;
+        // ?hold_trees=N: at most N trees held (gale-client's --max-trees), a reduced view past it
+        const ht = q.get('hold_trees');
+        this.holdTrees = ht !== null && /^[1-9][0-9]*$/.test(ht) ? Number(ht) : 0;
+        if (ht !== null && !this.holdTrees) this.errors.push(`hold_trees=${ht}: expected a whole number of trees above 0; no limit is used`);
+        this.held = null; // a reduced view: web/hold.js's circle, held (scene index of each tree held), slot, why
         // the stream's view follows the camera (web/view_stream.js)
         this.views = new ViewSender((m) => this.conn && this.conn.send(m));
         this.bytesSeen = []; // [page time s, stream bytes] about every half second
@@ -166,14 +187,60 @@ export class App {
         if (this.o.onStatus) this.o.onStatus(s);
     }
 
+    // The trees of welcome w this page holds (client/app/client_hold.c's rule): all of them
+    // within its limit (?hold_trees, the GPU's texture rows, the bytes of Q_LAYERS_MIN
+    // snapshots), else as many as that nearest one point (the one held about before on
+    // this scene, else a fitted camera's target, else the scene's centre): this.held, and
+    // the welcome the rest of the page sees, with those trees alone.
+    holdScene(w, stride) {
+        const rows = w.instances, n = rows.length, gl = this.r.gl;
+        const whole = qHold(n, stride, this.holdBytes, gl.getParameter(gl.MAX_TEXTURE_SIZE), gl.getParameter(gl.MAX_ARRAY_TEXTURE_LAYERS));
+        let limit = Math.max(1, whole.trees), why = whole.why;
+        if (this.holdTrees > 0 && this.holdTrees < limit) {
+            limit = this.holdTrees;
+            why = `?hold_trees=${this.holdTrees}`;
+        }
+        if (!(this.sceneWelcome && sameTrees(this.sceneWelcome.instances, rows))) {
+            this.holdPoint = null; // another scene: its own point, said anew
+            this.heldSaid = false;
+        }
+        this.sceneWelcome = w;
+        this.held = null;
+        if (limit >= n) return w;
+        if (!this.holdPoint) this.holdPoint = this.camSet ? [this.cam.target[0], this.cam.target[1]] : holdCentre(rows);
+        const h = holdNearest(rows, this.holdPoint[0], this.holdPoint[1], limit), slot = new Int32Array(n).fill(-1);
+        h.held.forEach((t, k) => { slot[t] = k; });
+        this.held = { circle: h, held: h.held, slot, why, view: null };
+        return { ...w, instances: Array.from(h.held, (t) => rows[t]) };
+    }
+
+    // The reduced view's circle once the species' heights are known (the server widens a
+    // circle by the tallest tree's), said once a scene on the console.
+    holdCircle() {
+        const h = this.held, rows = this.sceneWelcome.instances;
+        let margin = 0; // the asset's height_m, the server's (not the leaves' reach the culling takes)
+        for (const r of rows) {
+            const sp = this.r.species[r[0]];
+            if (sp) margin = Math.max(margin, sp.a.height_m * (r[5] > 0 ? r[5] : 1));
+        }
+        h.view = holdView(h.circle, margin);
+        if (this.heldSaid) return;
+        this.heldSaid = true;
+        const c = h.circle;
+        console.info(`gale: ${location.host}: the scene has ${rows.length} trees, more than this page holds (${h.why}): holding the ${c.n_held} nearest (${c.cx.toFixed(2)}, ${c.cy.toFixed(2)}), within ${c.radius_m.toFixed(2)} m; the others are not drawn, and the server is asked for these alone (a circle view of ${h.view.radius_m.toFixed(1)} m)`);
+    }
+
     async onWelcome(w) {
-        this.welcome = w;
         this.ready = false;
         this.sceneChecked = null;
         const stride = Math.max(...w.species.map((s) => s.n_modes));
         this.stride = stride;
         this.clock.reset();
-        // the scene's centre and extent: the camera of client/app/client_scene.c
+        // the trees held: every one, or a reduced view's (this.welcome has those alone;
+        // the stream's tree indices are the scene's, this.sceneWelcome's)
+        w = this.holdScene(w, stride);
+        this.welcome = w;
+        // the held trees' centre and extent: the camera of client/app/client_scene.c
         const n = w.instances.length;
         const c = [0, 0, 0];
         for (const r of w.instances) for (let k = 0; k < 3; k++) c[k] += r[1 + k] / n;
@@ -187,10 +254,10 @@ export class App {
         this.qTree = new Float32Array(stride);
         this.qwTree = new Float32Array(4 * stride);
         this.modes = new Uint8Array(n);
-        // the modal state held, from the welcome's size (the GPU's limits, the page's bytes)
+        this.qGather = null;
+        // the modal state of the trees held, from their count (the GPU's limits, the page's bytes)
         const gl = this.r.gl, hold = qHold(n, stride, this.holdBytes, gl.getParameter(gl.MAX_TEXTURE_SIZE), gl.getParameter(gl.MAX_ARRAY_TEXTURE_LAYERS));
         this.qTrees = hold.trees;
-        this.reduced = hold.trees < n ? `This scene has ${n} trees of up to ${stride} modes, more than this browser can hold: the first ${hold.trees} move, the others are drawn at rest.` : '';
         this.jitter = new Jitter(hold.trees * stride, hold.layers);
         this.r.q_trees = hold.trees;
         this.views.reset(this.conn.o.view);
@@ -221,10 +288,8 @@ export class App {
         this.speciesHash = w.species.map((s) => s.hash);
         this.r.setInstances(w.instances, stride);
         this.r.setStride(stride, this.jitter.capacity);
-        if (this.reduced) {
-            this.errors.push(this.reduced);
-            this.say(this.reduced);
-        }
+        if (this.held) this.holdCircle();
+        this.showHud();
         try {
             this.r.setObstacles(w.obstacles || []);
         } catch (e) {
@@ -259,14 +324,15 @@ export class App {
         if (this.conn.lastDecode_ms !== undefined) this.perf.decode.push(this.conn.lastDecode_ms);
         if (f.state && this.jitter) {
             const st = f.state;
-            if (st.scene.stride !== this.stride || st.scene.n_trees !== this.welcome.instances.length) {
-                this.errors.push(`keyframe of ${st.scene.n_trees} trees × ${st.scene.stride} modes, welcome ${this.welcome.instances.length} × ${this.stride}`);
+            const scene = this.sceneWelcome.instances;
+            if (st.scene.stride !== this.stride || st.scene.n_trees !== scene.length) {
+                this.errors.push(`keyframe of ${st.scene.n_trees} trees × ${st.scene.stride} modes, welcome ${scene.length} × ${this.stride}`);
                 return;
             }
             // the skeleton pass dequantises with the steps of the scene's species, which
             // PROTOCOL.md makes the welcome's instance species
             if (st.scene !== this.sceneChecked) {
-                const inst = this.welcome.instances, t = inst.findIndex((r, i) => r[0] !== st.scene.species[i]);
+                const inst = scene, t = inst.findIndex((r, i) => r[0] !== st.scene.species[i]);
                 if (t >= 0) {
                     this.errors.push(`keyframe: tree ${t} of species ${st.scene.species[t]}, welcome ${inst[t][0]}`);
                     return;
@@ -275,17 +341,18 @@ export class App {
             }
             // a tree the server stops sending (out of its view) has 0 modes: the decoder
             // zeroes its values, so it is drawn at rest, never with stale ones
-            this.modes.set(st.n_modes);
             let sent = 0;
             for (let t = 0; t < st.n_modes.length; t++) sent += st.n_modes[t] > 0;
             this.treesSent = sent;
+            const q = this.held ? this.gatherHeld(st) : st.q;
+            if (!this.held) this.modes.set(st.n_modes);
             const t_s = f.hdr.server_time_us * 1e-6;
             this.clock.arrival(t_s, now * 1e-3);
             // Q as decoded into the jitter buffer's copy, later once into the GPU's ring
             // (web/jitter.js, render_skel.js setMix), dequantised and blended there per frame
             const t0 = performance.now();
             try {
-                this.jitter.insert(f.hdr.tick, t_s, st.q, st.scene);
+                this.jitter.insert(f.hdr.tick, t_s, q, st.scene);
             } catch (e) {
                 this.errors.push(e.message);
                 this.jitter.reset();
@@ -308,8 +375,9 @@ export class App {
         }
         if (f.damage) {
             this.damageEvents = (this.damageEvents || 0) + f.damage.events.length;
-            if (this.damage) this.sound.onDamage(f.hdr, f.damage, this.damage.view, this.welcome.tick_hz);
-            if (this.damage) this.damage.take(f.hdr, f.damage);
+            const d = this.heldDamage(f.damage);
+            if (this.damage) this.sound.onDamage(f.hdr, d, this.damage.view, this.welcome.tick_hz);
+            if (this.damage) this.damage.take(f.hdr, d);
         }
         if (f.leaves) {
             this.leavesShed = (this.leavesShed || 0) + f.leaves.length;
@@ -317,19 +385,52 @@ export class App {
         }
     }
 
+    // A reduced view's modes and Q of the trees held, in their order, from a state frame
+    // of the scene's (this.modes, and a scratch the jitter buffer copies).
+    gatherHeld(st) {
+        const held = this.held.held, s = this.stride, src = st.q;
+        if (!this.qGather || this.qGather.constructor !== src.constructor) this.qGather = new src.constructor(held.length * s);
+        const g = this.qGather;
+        for (let k = 0; k < held.length; k++) {
+            const b = held[k] * s, o = k * s;
+            this.modes[k] = st.n_modes[held[k]];
+            for (let m = 0; m < s; m++) g[o + m] = src[b + m];
+        }
+        return g;
+    }
+
+    // A tree of the stream as the page's: its index among the trees held, -1 for one not
+    // held (a tree past the scene stays past the trees held).
+    heldTree(t) {
+        if (!this.held) return t;
+        return t < this.held.slot.length ? this.held.slot[t] : t;
+    }
+
+    // A DAMAGE frame's events of the trees held, their indices the page's.
+    heldDamage(d) {
+        if (!this.held) return d;
+        const events = [];
+        for (const e of d.events) {
+            const k = this.heldTree(e.tree);
+            if (k >= 0) events.push(k === e.tree ? e : { ...e, tree: k });
+        }
+        return { ...d, events };
+    }
+
     // LEAVES seeds released from the trees' pose now on screen, at their spawn time on the
     // server clock (client/app/client_stream.c take_leaves).
     takeLeaves(f) {
         const hz = this.welcome.tick_hz > 0 ? this.welcome.tick_hz : 60, t_hdr = f.hdr.server_time_us * 1e-6;
         for (let i = 0; i < f.leaves.length; i++) {
+            const l = f.leaves[i], tree = this.heldTree(l.instance);
+            if (tree < 0) continue; // a tree not held sheds no leaf here
             if (this.leavesFrame >= LEAVES_PER_FRAME) {
                 this.leavesThinned = (this.leavesThinned || 0) + f.leaves.length - i;
                 return;
             }
             this.leavesFrame++;
-            const l = f.leaves[i];
             const spawn = t_hdr - (f.hdr.tick - l.spawn_tick) / hz;
-            if (!this.r.addFallingLeaf(l.instance, l.slot, l.seed, spawn, this.treeQ(l.instance))) this.leavesBad = (this.leavesBad || 0) + 1;
+            if (!this.r.addFallingLeaf(tree, l.slot, l.seed, spawn, this.treeQ(tree))) this.leavesBad = (this.leavesBad || 0) + 1;
         }
     }
 
@@ -383,13 +484,19 @@ export class App {
         this.showHud();
     }
 
-    // The HUD: the weather's lines, and the governor's step when it draws less detail (as
-    // gale-client's status line: "detail −2").
+    // The HUD: the weather's lines, the governor's step when it draws less detail (as
+    // gale-client's status line: "detail −2") and a reduced view's trees held.
     showHud() {
         if (!this.hudEl) return;
         const step = this.gov ? this.gov.step : 0;
         const detail = step > 0 ? [t(this.lang, 'hud.detail', step).replace(/^ · /, '')] : [];
-        this.hudEl.textContent = this.hudLines.concat(detail).join('\n');
+        const reduced = this.reducedText();
+        this.hudEl.textContent = this.hudLines.concat(detail, reduced ? [reduced] : []).join('\n');
+    }
+
+    // A reduced view's HUD line in the page's language (hud.reduced), '' for none.
+    reducedText() {
+        return this.held ? t(this.lang, 'hud.reduced', this.held.held.length, this.sceneWelcome.instances.length) : '';
     }
 
     // The server's schedule: the closed card (web/closed.js), kept to say it again in
@@ -461,7 +568,15 @@ export class App {
         const r = this.r;
         if (!r.view || !this.conn) return;
         const sc = r.stats.lod_scale || 1, sf = r.stats.lod_scale_far || 1;
-        if (this.followCamera) this.views.update(frustumView(frustumCone(r.view, r.viewproj), VIEW_FAR_M * sf, VIEW_LOD_M * sc), now_s);
+        if (this.held && this.held.view) {
+            // a reduced view asks for the circle of its trees, whatever the camera does and
+            // with ?view=all too: no tree past it can be drawn (client/app/client_view.c)
+            const v = this.held.view;
+            if (JSON.stringify(this.views.sent) !== JSON.stringify(v) && this.conn.send({ type: 'view', view: v })) {
+                this.views.sent = v;
+                this.views.count++;
+            }
+        } else if (this.followCamera) this.views.update(frustumView(frustumCone(r.view, r.viewproj), VIEW_FAR_M * sf, VIEW_LOD_M * sc), now_s);
         this.conn.o.view = this.views.sent;
         const b = this.bytesSeen;
         if (!b.length || now_s - b[b.length - 1][0] >= 0.5) {
@@ -484,7 +599,9 @@ export class App {
             cull_ms: s.cull_ms, lod_scale: s.lod_scale, lod_scale_far: s.lod_scale_far, cells_in_view: s.cells_in_view, views_sent: this.views.count, view: this.views.sent,
             stream_bytes_per_s: b.length && now > b[0][0] ? (bytes - b[0][1]) / (now - b[0][0]) : null,
             governor: this.gov ? { target_ms: this.gov.target_ms, step: this.gov.step, lod_scale: this.gov.lodScale(), res_scale: this.resScale, renderer: this.rendererName } : null,
-            trees_per_snapshot: this.treesSent, trees_held: this.qTrees, reduced: this.reduced };
+            trees_per_snapshot: this.treesSent, trees_held: this.qTrees, scene_trees: this.sceneWelcome ? this.sceneWelcome.instances.length : 0,
+            reduced: this.held ? { text: this.reducedText(), why: this.held.why, cx: this.held.circle.cx, cy: this.held.circle.cy, radius_m: this.held.circle.radius_m,
+                edge_m: this.held.circle.edge_m, view: this.held.view } : null };
     }
 
     // Holds the newest n snapshots from now on (the jitter buffer and the GPU's ring grow;

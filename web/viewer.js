@@ -1,5 +1,6 @@
 // The viewer page (/): the whole scene, an orbit camera, the HUD. ?max_trees=N draws only
-// the N trees nearest the camera (a slow GPU; the benchmark), all are still decoded.
+// the N trees nearest the camera (a slow GPU; the benchmark), all are still decoded;
+// ?hold_trees=N (every page's, web/app.js) holds at most N trees: a reduced view past it.
 // ?camera=street|garden|roof|aerial starts the orbit at that preset of the kiosk's
 // (web/attract.js cameraPreset, gale-client's --camera), so a benchmark or a screenshot of
 // the page frames what gale-client's does.

@@ -25,6 +25,7 @@
 #include "kiosk_ui.h"
 #include "render.h"
 #include "governor.h"
+#include "hold.h"
 
 struct GLFWwindow;
 
@@ -47,6 +48,7 @@ _Static_assert(CLIENT_MAX_SPECIES <= RENDER_MAX_SPECIES,
 
 #define CLIENT_JITTER_SNAPSHOTS 64u
 #define CLIENT_JITTER_BYTES (256u << 20)
+#define CLIENT_JITTER_MIN_SNAPSHOTS 4u
 
 typedef struct client_args {
     const char *url;
@@ -78,6 +80,7 @@ typedef struct client_args {
     double attract_s;       /* kiosk: idle seconds before attract mode; 0 = default 90 */
     int storm_fx;           /* enum storm_fx_quality: --storm-fx, default low */
     bool view_all;          /* --view all: no view sent, the whole scene streamed */
+    uint32_t max_trees;     /* --max-trees: trees held at most (a reduced view past it); 0 none */
     double governor_ms;     /* --governor: frame-time target [ms]; 0 off; < 0 the default */
     bool fullscreen;        /* --fullscreen: open on the primary monitor (F11 toggles) */
     const char *touch;      /* --touch SPEC: headless kiosk touches (client_kiosk.c) */
@@ -127,8 +130,31 @@ typedef struct client_wall_group {
 
 typedef struct client_species {
     char hash[17];
-    int render_id; /* id in gale_render, -1 until loaded */
+    int render_id;  /* id in gale_render, -1 until loaded */
+    float height_m; /* the asset's height at unit scale */
 } client_species;
+
+/* A scene with more trees than this client holds (client_hold.c, CLIENT.md "Reduced
+ * view"): the welcome's trees whole here, those held in client.w_instances. */
+typedef struct client_hold {
+    ctl_instance *scene;  /* owned: [n_scene] the welcome's instances */
+    uint32_t n_scene;
+    bool reduced;         /* fewer trees held than the scene has */
+    uint32_t *held;       /* owned, reduced: [circle.n_held] scene index of each held tree,
+                             ascending */
+    int32_t *slot;        /* owned, reduced: [n_scene] held index of each tree, -1 not held */
+    hold_circle circle;   /* reduced: the trees held about their point */
+    double centre[2];     /* [m] the point held about, kept while the scene is the same */
+    bool have_centre;
+    uint32_t limit;       /* trees held at most */
+    char why[256];        /* what sets the limit */
+    uint32_t nomem_limit; /* after an allocation failed: half the trees it was for; 0 none */
+    char nomem_why[200];
+    float view_radius_m;  /* reduced: the circle view's radius (hold_view_radius_m) */
+    bool said;            /* the reduced view is told on stderr (once a scene) */
+    wire_damage *damage;  /* owned, reduced: [WIRE_MAX_DAMAGE] a frame's events, held trees */
+    uint32_t trees_sent;  /* trees the last state frame carried (modes > 0) */
+} client_hold;
 
 /* The view this client last asked for (PROTOCOL.md "view"): the cone around its frustum. */
 typedef struct client_view {
@@ -158,7 +184,7 @@ typedef struct client {
     bool scene_pending, scene_ready;
     ctl_welcome w;             /* arrays owned below */
     ctl_species *w_species;    /* owned */
-    ctl_instance *w_instances; /* owned */
+    ctl_instance *w_instances; /* owned: the trees held (all but in a reduced view) */
     float *w_boxes;            /* owned: [6 w.n_obstacles] house boxes, min xyz, max xyz */
     client_species loaded[CLIENT_MAX_SPECIES];
     uint32_t n_loaded;
@@ -217,6 +243,7 @@ typedef struct client {
     bool touch_woke; /* the scripted touch down that woke the kiosk: its lift is no control */
     int win_pos[2], win_size[2];
     client_view view; /* the view last sent (client_view.c) */
+    client_hold hold; /* the trees held of the welcome's (client_hold.c) */
     governor gov;     /* the detail a frame-time budget affords (--governor) */
     struct client_audio *aud; /* owned: the sound, NULL when off (client_audio.c) */
 } client;
@@ -245,6 +272,34 @@ void client_audio_idle(client *c);
 const char *client_audio_device_name(const client *c);
 /* Stops the device, closes the WAV, logs the run's peak, limiter and events; frees. */
 void client_audio_stop(client *c);
+
+/* ---- client_hold.c: a scene past what this client holds (CLIENT.md "Reduced view") ---- */
+
+/* A welcome's trees: kept whole in c->hold (a reconnection to the same scene keeps its
+ * point, held before), then client_hold_select. 0, or GALE_E_NOMEM with err set. */
+int client_hold_welcome(client *c, const ctl_welcome *w, gale_err *err);
+/* The trees held of c->hold.scene: all within this client's limit (--max-trees, the
+ * GPU's texture buffers, the jitter budget, an allocation that failed), else as many as
+ * the limit nearest one point (the one held about before, else a fitted camera's ground
+ * point, else the scene's centre); those into c->w_instances and c->w.n_instances, a
+ * damage view sized to them. 0, or GALE_E_NOMEM with err set. */
+int client_hold_select(client *c, gale_err *err);
+/* After an allocation for the scene failed (what: its message): half the trees held, the
+ * scene set up again on this connection. 0, or -1 when one tree or none was held. */
+int client_hold_fewer(client *c, const char *what);
+/* The circle view's radius from the species' heights at unit scale by welcome index
+ * (the server widens a circle by the tallest tree's height). */
+void client_hold_margin(client *c, const float *height_m);
+/* Once a scene: on stderr, the server, the scene's trees, those held, where and why. */
+void client_hold_say(client *c);
+/* Held index of the stream's tree t, UINT32_MAX for one not held. */
+uint32_t client_hold_tree(const client *c, uint32_t t);
+/* A frame whose DAMAGE names the trees held: f itself when the whole scene is held, else
+ * tmp (a copy of f with the events of held trees, their indices held ones; c owns the
+ * events until the next call). */
+const wire_frame *client_hold_damage(client *c, const wire_frame *f, wire_frame *tmp);
+/* Frees what c->hold owns. */
+void client_hold_free(client *c);
 
 /* ---- client_view.c: the view sent as the camera moves ---- */
 

@@ -105,6 +105,8 @@ int client_frame_draw(client *c, double now, gale_err *err)
         .latency_ms = rtt >= 0.0 ? (float)(rtt * 500.0) : -1.0f,
         .delay_ms = (float)(c->a.delay_s * 1e3),
         .frames_bad = ns.frames_bad,
+        .trees_held = c->hold.reduced ? c->w.n_instances : 0,
+        .trees_scene = c->hold.reduced ? c->hold.n_scene : 0,
         .role = ctl_role_name(c->a.role),
         .lang = c->lang,
         .wx = c->have_wx ? &c->wx : NULL,

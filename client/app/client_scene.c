@@ -56,13 +56,27 @@ int client_scene_setup(client *c, gale_err *err)
         }
         int id = render_add_species(c->r, &a, err);
         client_audio_species(c, id, &a); /* its diameter classes, for the sound */
+        const float height_m = a.height_m;
         asset_fini(&a);
         if (id < 0) {
             return id;
         }
         c->species_id[s] = id;
         snprintf(c->loaded[c->n_loaded].hash, sizeof c->loaded[c->n_loaded].hash, "%s", sp->hash);
+        c->loaded[c->n_loaded].height_m = height_m;
         c->loaded[c->n_loaded++].render_id = id;
+    }
+    if (c->hold.reduced) {
+        /* the circle view's radius: the server widens it by the tallest tree */
+        float height_m[CLIENT_MAX_SPECIES] = { 0 };
+        for (uint32_t s = 0; s < c->w.n_species; s++) {
+            for (uint32_t k = 0; k < c->n_loaded; k++) {
+                if (c->loaded[k].render_id == c->species_id[s]) {
+                    height_m[s] = c->loaded[k].height_m;
+                }
+            }
+        }
+        client_hold_margin(c, height_m);
     }
     uint32_t n = c->w.n_instances;
     render_instance *inst = calloc(n ? n : 1, sizeof *inst);
@@ -106,8 +120,10 @@ int client_scene_setup(client *c, gale_err *err)
     free(c->snap);
     c->snap = calloc(c->n_values, sizeof(float));
     size_t fit = CLIENT_JITTER_BYTES / ((size_t)c->n_values * sizeof(float));
-    uint32_t held = fit < CLIENT_JITTER_SNAPSHOTS ? (fit > 4 ? (uint32_t)fit : 4u)
-                                                  : CLIENT_JITTER_SNAPSHOTS;
+    uint32_t held =
+        fit < CLIENT_JITTER_SNAPSHOTS
+            ? (fit > CLIENT_JITTER_MIN_SNAPSHOTS ? (uint32_t)fit : CLIENT_JITTER_MIN_SNAPSHOTS)
+            : CLIENT_JITTER_SNAPSHOTS;
     c->jit = jitter_create(
         &(jitter_desc){ .n_values = c->n_values, .capacity = held, .playout_delay_s = c->a.delay_s },
         err);
@@ -123,5 +139,6 @@ int client_scene_setup(client *c, gale_err *err)
     client_damage_draw(c);
     fprintf(stderr, "gale-client: scene ready: %u species on the GPU, %u trees, %u q per tree\n",
             c->n_loaded, n, c->stride);
+    client_hold_say(c);
     return 0;
 }

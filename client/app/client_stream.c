@@ -19,10 +19,11 @@ void client_stream_on_welcome(void *user, const ctl_welcome *w)
     c->w.scenarios = NULL; /* kept as the kiosk panel's buttons */
     c->w.n_scenarios = 0;
     client_kiosk_on_welcome(c, w);
+    c->w_instances = NULL;
+    c->w.instances = NULL;
     c->w_species = malloc((w->n_species ? w->n_species : 1) * sizeof *c->w_species);
-    c->w_instances = malloc((w->n_instances ? w->n_instances : 1) * sizeof *c->w_instances);
     c->w_boxes = malloc((w->n_obstacles ? w->n_obstacles : 1) * 6 * sizeof *c->w_boxes);
-    if (!c->w_species || !c->w_instances || !c->w_boxes || w->n_species > CLIENT_MAX_SPECIES) {
+    if (!c->w_species || !c->w_boxes || w->n_species > CLIENT_MAX_SPECIES) {
         fprintf(stderr, "gale-client: welcome: cannot hold %u species, %u trees\n", w->n_species,
                 w->n_instances);
         c->w.n_species = c->w.n_instances = c->w.n_obstacles = 0;
@@ -33,16 +34,17 @@ void client_stream_on_welcome(void *user, const ctl_welcome *w)
         memcpy(&c->w_boxes[6 * i + 3], w->obstacles[i].max, 3 * sizeof(float));
     }
     memcpy(c->w_species, w->species, w->n_species * sizeof *c->w_species);
-    memcpy(c->w_instances, w->instances, w->n_instances * sizeof *c->w_instances);
     c->w.species = c->w_species;
-    c->w.instances = c->w_instances;
-    c->scene_pending = true;
     c->scene_ready = false;
-    damage_view_fini(&c->dmg);
-    client_damage_free(c);
-    if (damage_view_init(&c->dmg, w->n_instances ? w->n_instances : 1, NULL) != 0) {
-        fprintf(stderr, "gale-client: no memory for the damage of %u trees\n", w->n_instances);
+    /* the trees this client holds of the scene's, and the damage view of those */
+    gale_err err = { 0 };
+    if (client_hold_welcome(c, w, &err) != 0) {
+        fprintf(stderr, "gale-client: welcome: cannot hold %u trees: %s\n", w->n_instances,
+                err.msg);
+        c->w.n_species = c->w.n_instances = c->w.n_obstacles = 0;
+        return;
     }
+    c->scene_pending = true;
     c->live_since_welcome = false;
     fprintf(stderr,
             "gale-client: %s: welcome as %s, %u species, %u trees, %u houses, %.0f Hz snapshots\n",
@@ -53,12 +55,19 @@ void client_stream_on_welcome(void *user, const ctl_welcome *w)
 static void take_state(client *c, const wire_frame *f, const wire_decoder *dec, double recv_s)
 {
     wire_state st = wire_decoder_state(dec);
-    if (st.n_trees != c->w.n_instances) {
+    if (st.n_trees != c->hold.n_scene) {
         c->frames_mismatch++;
         return;
     }
+    uint32_t sent = 0;
     for (uint32_t t = 0; t < st.n_trees; t++) {
-        wire_decoder_q(dec, t, c->snap + (size_t)t * c->stride, c->stride);
+        sent += st.n_modes[t] > 0;
+    }
+    c->hold.trees_sent = sent;
+    /* the trees held, in their order (a reduced view's are some of the stream's) */
+    for (uint32_t k = 0; k < c->w.n_instances; k++) {
+        const uint32_t t = c->hold.reduced ? c->hold.held[k] : k;
+        wire_decoder_q(dec, t, c->snap + (size_t)k * c->stride, c->stride);
     }
     gale_err err = { 0 };
     if (jitter_insert(c->jit, f->hdr.tick, (double)f->hdr.server_time_us * 1e-6, c->snap, &err) <
@@ -83,14 +92,18 @@ static void take_leaves(client *c, const wire_frame *f)
     const double tick_hz = c->w.tick_hz > 0.0f ? (double)c->w.tick_hz : 60.0;
     const double t_hdr = (double)f->hdr.server_time_us * 1e-6;
     for (uint32_t i = 0; i < f->n_leaves; i++) {
+        const wire_leaf *l = &f->leaves[i];
+        const uint32_t tree = client_hold_tree(c, l->instance);
+        if (tree == UINT32_MAX) {
+            continue; /* a tree not held sheds no leaf here */
+        }
         if (c->leaves_frame >= CLIENT_LEAVES_PER_FRAME) {
             c->leaves_thinned += f->n_leaves - i;
             return;
         }
         c->leaves_frame++;
-        const wire_leaf *l = &f->leaves[i];
         render_leaf_seed s = {
-            .tree = l->instance,
+            .tree = tree,
             .slot = l->slot,
             .spawn_time_s =
                 t_hdr - (double)((int64_t)f->hdr.tick - (int64_t)l->spawn_tick) / tick_hz,
@@ -140,7 +153,8 @@ void client_stream_on_frame(void *user, const wire_frame *f, const wire_decoder 
         take_wind(c, &f->wind);
     }
     if (f->types & (1u << WIRE_MSG_DAMAGE)) {
-        client_damage_take(c, f); /* client_damage.c */
+        wire_frame held;
+        client_damage_take(c, client_hold_damage(c, f, &held)); /* client_damage.c */
     }
     if (f->types & (1u << WIRE_MSG_WEATHER)) {
         c->wx = f->weather; /* the HUD names the server's figures, never an average */

@@ -1,5 +1,8 @@
 /* gale-client's view (PROTOCOL.md "view"): the cone around the last frame's frustum, sent
- * as the camera moves, so the server streams the trees this client draws and no others.
+ * as the camera moves, so the server streams the trees this client draws and no others;
+ * in a reduced view (client_hold.c) the circle of the trees held instead, once a
+ * connection, whatever the camera does and with --view all too: a view is one shape, and
+ * no tree past the circle can be drawn, so the frustum would only ask for less.
  * Past lod_m a tree is drawn thinned or as an impostor (lod_policy.h), which pose with no
  * more than the server's few modes (SERVER.md "Views and LOD"): lod_m is FULL's outer
  * distance at the frame's budget scale, widened by VIEW_LOD_MARGIN since the renderer
@@ -31,9 +34,28 @@ static bool differs(const client_view *v, const float eye[3], const float axis[3
            fabsf(lod_m - v->lod_m) > 0.1f * v->lod_m; /* the budget's scale moved */
 }
 
+/* The reduced view's circle about the trees held, at full modes (the limit bounds the
+ * stream), once a connection. */
+static void send_circle(client *c, double now)
+{
+    ctl_msg m = { .type = CTL_VIEW };
+    m.u.view = (ctl_view){ .kind = CTL_VIEW_CIRCLE,
+                           .x = (float)c->hold.circle.cx,
+                           .y = (float)c->hold.circle.cy,
+                           .radius_m = c->hold.view_radius_m };
+    gale_err err = { 0 };
+    if (cli_net_send_ctl(c->net, &m, NULL, 0, &err) != 0) {
+        return; /* the send queue is full or the connection went: the next frame retries */
+    }
+    c->view.sent = true;
+    c->view.connects = cli_net_get_stats(c->net).connects;
+    c->view.sent_s = now;
+    c->view.n_sent++;
+}
+
 void client_view_update(client *c, double now)
 {
-    if (c->a.view_all || !c->scene_ready) {
+    if ((c->a.view_all && !c->hold.reduced) || !c->scene_ready) {
         return;
     }
     cli_net_stats ns = cli_net_get_stats(c->net);
@@ -43,7 +65,11 @@ void client_view_update(client *c, double now)
     client_view *v = &c->view;
     if (!v->sent || ns.connects != v->connects) {
         v->sent = false; /* a new connection streams the whole scene until told */
-    } else if (now - v->sent_s < CLIENT_VIEW_MIN_S) {
+    } else if (now - v->sent_s < CLIENT_VIEW_MIN_S || c->hold.reduced) {
+        return;
+    }
+    if (c->hold.reduced) {
+        send_circle(c, now);
         return;
     }
     float vp[16], eye[3], axis[3], fov_deg, far_m, full_m;

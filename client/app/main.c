@@ -77,6 +77,11 @@ static void usage(FILE *f)
             "  --view MODE            follow (the default): ask the server for the trees in\n"
             "                         the camera's view only, few modes past the billboards;\n"
             "                         all: the whole scene at full modes\n"
+            "  --max-trees N          hold at most N trees (1..262144): of a scene with more,\n"
+            "                         the N nearest the point the camera looks at (the scene's\n"
+            "                         centre at first), the others not drawn nor streamed\n"
+            "                         (said on stderr and the HUD); default: what the GPU's\n"
+            "                         texture buffers and the snapshot memory take\n"
             "  --governor MS|off      keep frames under MS by drawing less detail far off, in\n"
             "                         steps (shown on the HUD's status line); default 33 in\n"
             "                         a window (a software renderer starts 3 steps down),\n"
@@ -106,7 +111,7 @@ static void usage(FILE *f)
             "      direction, scenarios, replay, reset; the cursor is hidden), ] / [ the sound\n"
             "      3 dB up / down (back to the default when a kiosk goes idle), Esc quit.\n"
             "Exit status: 0 ok, 2 bad arguments, 3 no state received (headless), 4 kiosk\n"
-            "token refused by the server, 5 the scene does not fit in memory, 1 other.\n");
+            "token refused by the server, 5 not one tree of the scene fits in memory, 1 other.\n");
 }
 
 /* --tile and --wall belong to wall tiles: refused with another role; --wall alone sets it. */
@@ -368,6 +373,15 @@ static int parse_args(int argc, char **argv, client_args *a)
                 return -1;
             }
             *(max ? &a->volume_max_dbfs : &a->volume_db) = (float)db;
+        } else if (strcmp(o, "--max-trees") == 0) {
+            char *end = NULL;
+            const unsigned long n = strtoul(v, &end, 10);
+            if (end == v || *end || v[0] == '-' || n < 1 || n > WIRE_MAX_TREES) {
+                fprintf(stderr, "gale-client: --max-trees: expected 1..%u, got \"%s\"\n",
+                        WIRE_MAX_TREES, v);
+                return -1;
+            }
+            a->max_trees = (uint32_t)n;
         } else if (strcmp(o, "--view") == 0) {
             if (strcmp(v, "follow") != 0 && strcmp(v, "all") != 0) {
                 fprintf(stderr, "gale-client: --view: expected follow or all, got \"%s\"\n", v);
@@ -534,19 +548,23 @@ int main(int argc, char **argv)
         }
         if (c.scene_pending) {
             if (client_scene_setup(&c, &err) != 0) {
-                if (err.code == GALE_E_NOMEM) {
-                    /* the scene is past what this machine holds: a new connection would
-                       bring the same scene, so say so once and stop */
+                if (err.code == GALE_E_NOMEM && client_hold_fewer(&c, err.msg) == 0) {
+                    /* fewer trees, the nearest, on this connection: a new one would bring
+                       the same scene */
+                    gale_err_clear(&err);
+                } else if (err.code == GALE_E_NOMEM) {
                     fprintf(stderr,
-                            "gale-client: %s: the scene's %u trees do not fit in this "
+                            "gale-client: %s: not even %u of the scene's %u trees fit in this "
                             "machine's memory (%s); not retrying.\n",
-                            cli_net_server_name(c.net), c.w.n_instances, err.msg);
+                            cli_net_server_name(c.net), c.w.n_instances, c.hold.n_scene,
+                            err.msg);
                     status = 5;
                     break;
+                } else {
+                    fprintf(stderr, "gale-client: scene: %s\n", err.msg);
+                    gale_err_clear(&err);
+                    cli_net_drop(c.net); /* try again on the next connection */
                 }
-                fprintf(stderr, "gale-client: scene: %s\n", err.msg);
-                gale_err_clear(&err);
-                cli_net_drop(c.net); /* try again on the next connection */
             }
         }
         double dt = now - c.last_frame_s;
@@ -689,12 +707,14 @@ int main(int argc, char **argv)
         fprintf(stderr,
                 "gale-client: frames ok %llu, bad %llu, gaps %llu, control bad %llu, "
                 "tree-count mismatches %llu, connects %u; frames left unread %llu, leaf "
-                "seeds left out %llu; views sent %llu; stream %.0f bytes/s\n",
+                "seeds left out %llu; views sent %llu; stream %.0f bytes/s; trees held %u "
+                "of %u, trees a snapshot %u\n",
                 (unsigned long long)ns.frames_ok, (unsigned long long)ns.frames_bad,
                 (unsigned long long)ns.frames_gap, (unsigned long long)ns.ctl_bad,
                 (unsigned long long)c.frames_mismatch, ns.connects,
                 (unsigned long long)ns.inbox_dropped, (unsigned long long)c.leaves_thinned,
-                (unsigned long long)c.view.n_sent, stream_bps);
+                (unsigned long long)c.view.n_sent, stream_bps, c.w.n_instances, c.hold.n_scene,
+                c.hold.trees_sent);
     }
 done:
     client_audio_stop(&c);
@@ -710,6 +730,7 @@ done:
     free(c.w_species);
     free(c.w_instances);
     free(c.w_boxes);
+    client_hold_free(&c);
     if (c.wall) {
         fprintf(stderr, "gale-client: wall frames presented %llu, skipped %llu, swap timeouts %llu\n",
                 (unsigned long long)c.wg.presented, (unsigned long long)c.wg.skipped,

@@ -97,6 +97,8 @@ typedef struct hud_state {
     float delay_ms;      /* playout delay */
     int detail_step;     /* the frame-time governor's step down; 0 = full detail */
     uint64_t frames_bad; /* frames dropped as undecodable */
+    uint32_t trees_held;  /* a reduced view (CLIENT.md): the trees held, fewer than */
+    uint32_t trees_scene; /* the scene's; both 0 when the whole scene is held */
     const char *role;    /* "viewer", "kiosk", "wall-tile" (borrowed) */
     int lang;            /* the language the HUD speaks (lang.h; 0 = English) */
     /* The server's weather (PROTOCOL.md "WEATHER"; borrowed, NULL = none yet): when set,

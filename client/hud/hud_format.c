@@ -201,6 +201,10 @@ int hud_format(const hud_state *s, char lines[HUD_MAX_LINES][HUD_LINE_CHARS])
     }
     lang_format(lines[n++], HUD_LINE_CHARS, lang, L_HUD_PERF, fps, lat, (double)s->delay_ms,
                 detail);
+    if (s->trees_held < s->trees_scene) {
+        lang_format(lines[n++], HUD_LINE_CHARS, lang, L_HUD_REDUCED, s->trees_held,
+                    s->trees_scene);
+    }
     if (s->frames_bad) {
         lang_format(lines[n++], HUD_LINE_CHARS, lang, L_HUD_BAD_FRAMES,
                     (unsigned long long)s->frames_bad);

@@ -123,6 +123,11 @@ int render_add_species(render *r, const asset *a, gale_err *err);
  * RENDER_MAX_TREES). 0 or negative GALE_E_* (GALE_E_NOMEM: no scene is held then). */
 #define RENDER_MAX_TREES (1u << 22)
 int render_set_instances(render *r, uint32_t n, const render_instance *inst, gale_err *err);
+/* The most trees of n_modes q each render_set_instances can take on this GPU: its texture
+ * buffers' texels (GL_MAX_TEXTURE_BUFFER_SIZE) over a tree's (two for its instance, n_modes
+ * for its q), less the room the storage grows by and the debris slots; at most
+ * RENDER_MAX_TREES. What memory allows is found only by trying (GALE_E_NOMEM). */
+uint32_t render_max_trees(const render *r, uint32_t n_modes);
 /* Storm damage of tree t, applied at the next render_trees_commit: tipped by fall_rad (a
  * snapped or uprooted tree lying on the ground) and its crown thinned to the leaf slots
  * wire_damage_leaf_kept keeps at WIRE_DAMAGE_LEVELS - leaf_lost (far away, its billboard by

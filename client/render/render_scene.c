@@ -131,6 +131,21 @@ int render_set_instances(render *r, uint32_t n, const render_instance *inst, gal
     return 0;
 }
 
+uint32_t render_max_trees(const render *r, uint32_t n_modes)
+{
+    (void)r; /* the limit is the context's, current on this thread */
+    GLint texels = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &texels);
+    const uint64_t per_tree = n_modes > 2 ? n_modes : 2;
+    const uint64_t slots = (uint64_t)(texels > 0 ? texels : 0) / per_tree;
+    if (slots <= 1 + RENDER_MAX_DEBRIS) {
+        return 0;
+    }
+    /* render_set_instances takes n + n / 4 slots for n trees, then the debris's */
+    const uint64_t n = (slots - 1 - RENDER_MAX_DEBRIS) * 4 / 5;
+    return n < RENDER_MAX_TREES ? (uint32_t)n : RENDER_MAX_TREES;
+}
+
 int render_set_q(render *r, uint32_t tree, const float *q, uint32_t n, gale_err *err)
 {
     if (tree >= r->n_trees) {

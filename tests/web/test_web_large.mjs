@@ -11,8 +11,8 @@
 //   across it, a new view, its eye the camera's, which the server follows: the stream
 //   shrinks, fewer trees a snapshot and fewer bytes a state frame than a page that sends
 //   none (?view=all);
-// - a page given less memory than the scene needs (?hold_mb=1) says so on the page and
-//   still draws, on its first connection.
+// - a page given less memory than the scene needs (?hold_mb=1) is a reduced view: it says
+//   so on its HUD and draws the trees it holds, on its first connection.
 import assert from 'node:assert/strict';
 import path from 'node:path';
 import { writeFileSync } from 'node:fs';
@@ -158,13 +158,14 @@ try {
     await small.goto(`${srv.url}/?hold_mb=1`);
     await waitFor(small, () => window.gale && window.gale.framesDrawn >= 1, null, 120, 'the reduced page\'s first frame');
     s = await stats(small);
-    assert.match(s.message, /more than this browser can hold: the first \d+ move/);
+    assert.match(s.lod.reduced.text, /^Reduced view: the \d+ nearest of 20000 trees/);
+    assert.match(s.lod.reduced.why, /^1 MB hold 5 snapshots/);
     assert.ok(s.lod.trees_held > 0 && s.lod.trees_held < 20000, `${s.lod.trees_held} trees held`);
     const conn = await small.evaluate(() => ({ status: window.gale.conn.status, lastClose: window.gale.conn.stats.lastClose }));
     console.error(JSON.stringify(conn), srv.log().split('\n').filter((l) => /closing|slow/.test(l)).slice(-5).join('\n'));
     assert.equal(conn.status.state, 'live', JSON.stringify(conn));
     assert.equal(s.decodeErrors, 0);
-    out.reduced = { trees_held: s.lod.trees_held, message: s.message };
+    out.reduced = { trees_held: s.lod.trees_held, message: s.lod.reduced.text };
     assert.deepEqual(ctx.errors, []);
     console.log(JSON.stringify({ ...out, ok: true }));
 } catch (e) {
