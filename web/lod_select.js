@@ -62,7 +62,7 @@ export class LodSelect {
         return LOD_OUTER_M[LOD_LEVELS - 1] * Math.min(1, this.scaleFar * LOD_GROW_PER_FRAME) * (1 + LOD_HYSTERESIS);
     }
 
-    // trees[0..n) in view at distances dist, of species speciesOf(t); cost[s][level][mesh
+    // trees[0..n) in view at distances dist, of species species[t]; cost[s][level][mesh
     // lod]: triangles of one tree of species s at FULL and THIN, of its impostor at
     // IMPOSTOR (null: a species not drawn); nodes[s]: its nodes posed; budget: { triangles,
     // trees, nodes, draws } (trees and nodes: those the skeleton pass poses, FULL and
@@ -71,21 +71,24 @@ export class LodSelect {
     // < 1: drawn both at THIN and as an impostor; 1: as an impostor alone, also at THIN
     // kept by the hysteresis), and returns { scale, scale_far (the impostors' reach's),
     // and the worst case's triangles, trees, nodes, draws }.
-    select(trees, dist, n, speciesOf, cost, out, budget = {}, nodes = [], lying = null, share = null) {
+    select(trees, dist, n, species, cost, out, budget = {}, nodes = [], lying = null, share = null) {
         const maxTris = budget.triangles ?? LOD_BUDGET_TRIANGLES, maxTrees = budget.trees ?? LOD_BUDGET_TREES;
         const maxNodes = budget.nodes ?? LOD_BUDGET_NODES, maxDraws = (budget.draws ?? LOD_BUDGET_DRAWS) - LOD_DRAWS_FIXED;
         const sMax = Math.min(this.cap, this.scale * LOD_GROW_PER_FRAME), fMax = Math.min(1, this.scaleFar * LOD_GROW_PER_FRAME);
         const reach = LOD_OUTER_M[LOD_LEVELS - 1] * fMax * (1 + LOD_HYSTERESIS);
         const ns = cost.length, w = reach / BINS;
+        if (!this.drawn || this.drawn.length !== ns) this.drawn = new Uint8Array(ns);
+        const drawn = this.drawn;
+        for (let s = 0; s < ns; s++) drawn[s] = cost[s] ? 1 : 0;
         // the standing trees' bins, then the lying ones' (at most THIN)
         if (!this.hist || this.hist.length !== 2 * ns * BINS) this.hist = new Uint32Array(2 * ns * BINS);
         const hist = this.hist;
         hist.fill(0);
         for (let i = 0; i < n; i++) {
-            const t = trees[i], s = speciesOf(t);
-            if (!cost[s]) continue;
+            const t = trees[i], s = species[t];
+            if (!drawn[s]) continue;
             const b = Math.floor(dist[i] / w);
-            if (b < BINS) hist[((lying && lying[t] ? ns : 0) + s) * BINS + b]++;
+            if (b < BINS) hist[((lying !== null && lying[t] ? ns : 0) + s) * BINS + b]++;
         }
         // the worst case at scale s: each bin's trees at the level of its near edge, the
         // outer distances widened by the hysteresis; a standing tree past FULL is THIN up to
@@ -178,18 +181,18 @@ export class LodSelect {
         // the edges at this scale, inlined (levelAt), and the arrays read per tree held
         // here: the loop runs over every tree in view (100,000 from over the landscape)
         const eFull = LOD_OUTER_M[LOD.FULL] * sc, eThin = LOD_OUTER_M[LOD.THIN] * sc, eFar = LOD_OUTER_M[LOD.IMPOSTOR] * sf;
-        const eFade = eThin * (1 - LOD_FADE_SHARE), drawn = cost.map((c) => !!c), seen = this.seen, level = this.level;
+        const eFade = eThin * (1 - LOD_FADE_SHARE), seen = this.seen, level = this.level;
         for (let i = 0; i < n; i++) {
             const t = trees[i], d = dist[i];
             let l = d < eFull ? LOD.FULL : d < eThin ? LOD.THIN : d < eFar ? LOD.IMPOSTOR : LOD.NONE, sh = 0;
             const p = seen[t] === f - 1 ? level[t] : LOD.NONE;
-            if (!drawn[speciesOf(t)] || d >= reach) l = LOD.NONE;
+            if (!drawn[species[t]] || d >= reach) l = LOD.NONE;
             else if (p !== LOD.NONE && l > p) l = Math.max(p, levelAt(d, sc * hi, sf * hi)); // coarser: only past the widened edge
             else if (p !== LOD.NONE && l < p) l = Math.min(p, levelAt(d, sc * lo, sf * lo)); // finer: only inside the narrowed edge
             if (l === LOD.THIN || l === LOD.IMPOSTOR) {
                 // a lying tree past THIN is a few pixels high: not drawn (a storm's
                 // thousands posed out to the reach would cost ten times the budget)
-                if (lying && lying[t]) l = d < eThin ? LOD.THIN : LOD.NONE;
+                if (lying !== null && lying[t]) l = d < eThin ? LOD.THIN : LOD.NONE;
                 else if (d > eFade) {
                     // inside THIN's outer distance THIN, fading; past it the hysteresis
                     // keeps a THIN tree's level, wholly in its impostor (share 1, no
@@ -199,7 +202,7 @@ export class LodSelect {
                 } else l = LOD.THIN;
             }
             out[i] = l;
-            if (share) share[i] = sh;
+            if (share !== null) share[i] = sh;
             level[t] = l;
             seen[t] = l === LOD.NONE ? 0 : f;
         }

@@ -75,7 +75,7 @@ export class RendererList {
         const cost = this.species.map((sp) => (sp ? (this.leafLevels(sp), sp.lodCost) : null));
         const g = this.grid, o = g.gather(this.viewproj, cam.eye, this.lod.reach_m());
         const budget = { trees: Math.min(this.max_rows, this.maxSkelRows()) };
-        const sel = this.lod.select(o.trees, o.dist, o.n, (t) => this.speciesOf[t], cost, this.lodLevel, budget,
+        const sel = this.lod.select(o.trees, o.dist, o.n, this.speciesOf, cost, this.lodLevel, budget,
             this.species.map((sp) => (sp ? sp.n_nodes : 0)), this.lying, this.lodShare);
         // keys: per species its FULL rows by mesh LOD, then THIN; impostors apart, per species
         const K = nl + 1, count = new Int32Array(ns * K + 1), impCount = new Int32Array(ns + 1);

@@ -74,7 +74,7 @@ const near = (a, b, tol, what) => assert.ok(Math.abs(a - b) <= tol, `${what}: ${
     const fallenNear = ds.indexOf(150), fallen = ds.indexOf(1000), fallenFar = ds.indexOf(2200);
     lying[fallenNear] = lying[fallen] = lying[fallenFar] = 1;
     const sel = new LodSelect(n), lv = new Uint8Array(n), share = new Float32Array(n);
-    const r = sel.select(trees, dist, n, () => 0, cost, lv, { triangles: 1e12, trees: 1e9, nodes: 1e12 }, [100], lying, share);
+    const r = sel.select(trees, dist, n, new Uint8Array(n), cost, lv, { triangles: 1e12, trees: 1e9, nodes: 1e12 }, [100], lying, share);
     assert.equal(r.scale, 1);
     const fade0 = LOD_OUTER_M[LOD.THIN] * (1 - LOD_FADE_SHARE);
     for (let i = 0; i < n; i++) {
