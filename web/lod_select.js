@@ -62,16 +62,19 @@ export class LodSelect {
         return LOD_OUTER_M[LOD_LEVELS - 1] * Math.min(1, this.scaleFar * LOD_GROW_PER_FRAME) * (1 + LOD_HYSTERESIS);
     }
 
-    // trees[0..n) in view at distances dist, of species species[t]; cost[s][level][mesh
-    // lod]: triangles of one tree of species s at FULL and THIN, of its impostor at
-    // IMPOSTOR (null: a species not drawn); nodes[s]: its nodes posed; budget: { triangles,
-    // trees, nodes, draws } (trees and nodes: those the skeleton pass poses, FULL and
-    // THIN); lying[t]: 1 for a tree never drawn as an impostor (null: none). Writes each
-    // tree's level into out[0..n) and its share in its impostor into share[0..n) (0 < share
-    // < 1: drawn both at THIN and as an impostor; 1: as an impostor alone, also at THIN
-    // kept by the hysteresis), and returns { scale, scale_far (the impostors' reach's),
-    // and the worst case's triangles, trees, nodes, draws }.
-    select(trees, dist, n, species, cost, out, budget = {}, nodes = [], lying = null, share = null) {
+    // ids[0..n) in view at distances dist, of species species[id]: the trees' own numbers,
+    // or any others below n_trees that a caller keeps each tree under from frame to frame
+    // (web/render_list.js: its place in the cells, web/cull_grid.js), which index lying
+    // and this selection's memory of each tree's level; cost[s][level][mesh lod]:
+    // triangles of one tree of species s at FULL and THIN, of its impostor at IMPOSTOR
+    // (null: a species not drawn); nodes[s]: its nodes posed; budget: { triangles, trees,
+    // nodes, draws } (trees and nodes: those the skeleton pass poses, FULL and THIN);
+    // lying[id]: 1 for a tree never drawn as an impostor (null: none). Writes each tree's
+    // level into out[0..n) and its share in its impostor into share[0..n) (0 < share < 1:
+    // drawn both at THIN and as an impostor; 1: as an impostor alone, also at THIN kept by
+    // the hysteresis), and returns { scale, scale_far (the impostors' reach's), and the
+    // worst case's triangles, trees, nodes, draws }.
+    select(ids, dist, n, species, cost, out, budget = {}, nodes = [], lying = null, share = null) {
         const maxTris = budget.triangles ?? LOD_BUDGET_TRIANGLES, maxTrees = budget.trees ?? LOD_BUDGET_TREES;
         const maxNodes = budget.nodes ?? LOD_BUDGET_NODES, maxDraws = (budget.draws ?? LOD_BUDGET_DRAWS) - LOD_DRAWS_FIXED;
         const sMax = Math.min(this.cap, this.scale * LOD_GROW_PER_FRAME), fMax = Math.min(1, this.scaleFar * LOD_GROW_PER_FRAME);
@@ -85,7 +88,7 @@ export class LodSelect {
         const hist = this.hist;
         hist.fill(0);
         for (let i = 0; i < n; i++) {
-            const t = trees[i], s = species[t];
+            const t = ids[i], s = species[t];
             if (!drawn[s]) continue;
             const b = Math.floor(dist[i] / w);
             if (b < BINS) hist[((lying !== null && lying[t] ? ns : 0) + s) * BINS + b]++;
@@ -178,12 +181,13 @@ export class LodSelect {
         this.scale = sc;
         this.scaleFar = sf;
         const f = ++this.frame, lo = 1 - LOD_HYSTERESIS, hi = 1 + LOD_HYSTERESIS;
+        const seen = this.seen, level = this.level;
         // the edges at this scale, inlined (levelAt), and the arrays read per tree held
         // here: the loop runs over every tree in view (100,000 from over the landscape)
         const eFull = LOD_OUTER_M[LOD.FULL] * sc, eThin = LOD_OUTER_M[LOD.THIN] * sc, eFar = LOD_OUTER_M[LOD.IMPOSTOR] * sf;
-        const eFade = eThin * (1 - LOD_FADE_SHARE), seen = this.seen, level = this.level;
+        const eFade = eThin * (1 - LOD_FADE_SHARE);
         for (let i = 0; i < n; i++) {
-            const t = trees[i], d = dist[i];
+            const t = ids[i], d = dist[i];
             let l = d < eFull ? LOD.FULL : d < eThin ? LOD.THIN : d < eFar ? LOD.IMPOSTOR : LOD.NONE, sh = 0;
             const p = seen[t] === f - 1 ? level[t] : LOD.NONE;
             if (!drawn[species[t]] || d >= reach) l = LOD.NONE;

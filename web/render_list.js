@@ -18,18 +18,50 @@ export class RendererList {
     // The welcome's trees into the grid (their heights from the species drawn, 0 for one
     // not loaded); a new selection, none drawn yet; no tree lying, every leaf on.
     setupCulling(rows) {
-        const h = new Float32Array(rows.length);
-        rows.forEach((r, t) => {
-            const sp = this.species[r[0]];
+        const n = rows.length, h = new Float32Array(n);
+        for (let t = 0; t < n; t++) {
+            const r = rows[t], sp = this.species[r[0]];
             h[t] = sp ? sp.height * (r[5] > 0 ? r[5] : 1) : 0;
-        });
+        }
         this.grid = new CellGrid(rows, h);
-        this.lod = new LodSelect(rows.length);
-        this.lodLevel = new Uint8Array(rows.length);
-        this.lodShare = new Float32Array(rows.length);
-        this.speciesOf = Uint8Array.from(rows, (r) => r[0]);
-        this.lying = new Uint8Array(rows.length);
-        this.leafAttached = new Float32Array(rows.length).fill(1);
+        this.lod = new LodSelect(n);
+        this.lodLevel = new Uint8Array(n);
+        this.lodShare = new Float32Array(n);
+        this.lying = new Uint8Array(n);
+        this.leafAttached = new Float32Array(n).fill(1);
+        this.placeLeaf = new Float32Array(n); // each place's impostor share of leaves left
+        this.lodCache = null;
+        this.placeDamage();
+    }
+
+    // The cells' copies, by place (web/cull_grid.js), of each tree's damage that the draw
+    // list reads: whether it lies (this.lying) and its impostor's share of leaves
+    // (leafLeft). setDamage and setCuts (web/render_damage.js) call it after they change
+    // treeData, lying or leafAttached.
+    placeDamage() {
+        const g = this.grid, td = this.treeData, attached = this.leafAttached, leaf = this.placeLeaf;
+        g.setLying(this.lying);
+        for (let at = 0; at < g.n; at++) {
+            const t = g.trees[at];
+            leaf[at] = !td || td[8 * t + 6] === 0 ? attached[t] : this.leafLeft(t);
+        }
+    }
+
+    // Per species the triangles of one tree at each level and mesh LOD (leafLevels; null
+    // for a species not drawn) and its nodes posed, for the selection; built again when a
+    // species arrives. Reused each frame.
+    lodCosts() {
+        const c = this.lodCache, sp = this.species;
+        let same = !!c && c.of.length === sp.length;
+        for (let s = 0; same && s < sp.length; s++) same = c.of[s] === sp[s];
+        if (same) return c;
+        this.lodCache = {
+            of: sp.slice(),
+            cost: sp.map((x) => (x ? (this.leafLevels(x), x.lodCost) : null)),
+            nodes: sp.map((x) => (x ? x.n_nodes : 0)),
+            n_lods: Math.max(1, ...sp.map((x) => (x ? x.n_lods : 1))),
+        };
+        return this.lodCache;
     }
 
     // A species' leaves at FULL and THIN: the data texture of a deterministic share of them
@@ -71,23 +103,29 @@ export class RendererList {
     // modes: per tree mode count (0: not sent: drawn at rest with none).
     drawList(cam, modes) {
         const t0 = performance.now();
-        const ns = this.species.length, nl = Math.max(1, ...this.species.map((sp) => (sp ? sp.n_lods : 1)));
-        const cost = this.species.map((sp) => (sp ? (this.leafLevels(sp), sp.lodCost) : null));
-        const g = this.grid, o = g.gather(this.viewproj, cam.eye, this.lod.reach_m());
-        const budget = { trees: Math.min(this.max_rows, this.maxSkelRows()) };
-        const sel = this.lod.select(o.trees, o.dist, o.n, this.speciesOf, cost, this.lodLevel, budget,
-            this.species.map((sp) => (sp ? sp.n_nodes : 0)), this.lying, this.lodShare);
+        const ns = this.species.length, lc = this.lodCosts(), cost = lc.cost, nl = lc.n_lods;
+        const g = this.grid, lod = this.lod, reach = lod.reach_m();
+        const budget = this.lodBudget || (this.lodBudget = { trees: 0 });
+        budget.trees = Math.min(this.max_rows, this.maxSkelRows());
+        const o = g.gather(this.viewproj, cam.eye, reach);
+        const sel = lod.select(o.at, o.dist, o.n, g.species, cost, this.lodLevel, budget, lc.nodes, g.lying, this.lodShare);
         // keys: per species its FULL rows by mesh LOD, then THIN; impostors apart, per species
-        const K = nl + 1, count = new Int32Array(ns * K + 1), impCount = new Int32Array(ns + 1);
+        const K = nl + 1, nd = this.debris.length;
+        if (!this.listCount || this.listCount.length !== ns * K + 1) {
+            this.listCount = new Int32Array(ns * K + 1);
+            this.listStart = new Int32Array(ns * K);
+            this.impCount = new Int32Array(ns + 1);
+            this.impStart = new Int32Array(ns);
+        }
+        const count = this.listCount.fill(0), impCount = this.impCount.fill(0);
         const ex = cam.eye[0], ey = cam.eye[1], ez = cam.eye[2];
-        const base_m = (t) => Math.hypot(g.x[t] - ex, g.y[t] - ey, g.z[t] - ez);
-        const keyOf = (s, l, d) => s * K + (l === LOD.FULL ? meshLod(d, l, this.species[s].n_lods) : nl);
-        const keys = this.listKeys && this.listKeys.length >= o.n + this.debris.length ? this.listKeys : (this.listKeys = new Int32Array(o.n + this.debris.length + 64));
+        const keys = this.listKeys && this.listKeys.length >= o.n + nd ? this.listKeys : (this.listKeys = new Int32Array(o.n + nd + 64));
         // the arrays read per tree held here: the loops run over every tree in view
-        const lodLevel = this.lodLevel, lodShare = this.lodShare, speciesOf = this.speciesOf, inView = o.trees;
+        const lodLevel = this.lodLevel, lodShare = this.lodShare, gs = g.species, px = g.px, py = g.py, pz = g.pz, inAt = o.at, inView = o.trees;
+        const species = this.species;
         let n = 0, ni = 0, nt = 0;
         for (let i = 0; i < o.n; i++) {
-            const l = lodLevel[i], t = inView[i], s = speciesOf[t], sh = lodShare[i];
+            const l = lodLevel[i], at = inAt[i], s = gs[at], sh = lodShare[i];
             keys[i] = -1;
             if (l === LOD.NONE) continue;
             nt++;
@@ -96,50 +134,69 @@ export class RendererList {
                 ni++;
             }
             if (sh >= 1) continue; // wholly its impostor
-            keys[i] = keyOf(s, l, l === LOD.FULL ? base_m(t) : 0);
-            count[keys[i] + 1]++;
+            let key = s * K + nl;
+            if (l === LOD.FULL) {
+                // the bark mesh by the distance of the tree's base
+                const dx = px[at] - ex, dy = py[at] - ey, dz = pz[at] - ez;
+                key = s * K + meshLod(Math.sqrt(dx * dx + dy * dy + dz * dz), l, species[s].n_lods);
+            }
+            keys[i] = key;
+            count[key + 1]++;
             n++;
         }
         // the debris pieces, in the slots after the trees: every leaf, mesh by distance
-        this.debris.forEach((d, k) => {
-            const sp = this.species[d.species];
-            keys[o.n + k] = sp ? keyOf(d.species, LOD.FULL, Math.hypot(d.pos[0] - ex, d.pos[1] - ey, d.pos[2] - ez)) : -1;
-            if (sp) { count[keys[o.n + k] + 1]++; n++; }
-        });
+        for (let k = 0; k < nd; k++) {
+            const d = this.debris[k], sp = species[d.species];
+            keys[o.n + k] = sp ? d.species * K + meshLod(Math.hypot(d.pos[0] - ex, d.pos[1] - ey, d.pos[2] - ez), LOD.FULL, sp.n_lods) : -1;
+            if (sp) {
+                count[keys[o.n + k] + 1]++;
+                n++;
+            }
+        }
         for (let k = 0; k < ns * K; k++) count[k + 1] += count[k];
         for (let s = 0; s < ns; s++) impCount[s + 1] += impCount[s];
-        const start = count.slice(0, ns * K), impStart = impCount.slice(0, ns);
+        const start = this.listStart, impStart = this.impStart;
+        start.set(count.subarray(0, ns * K));
+        impStart.set(impCount.subarray(0, ns));
         const list = this.listData && this.listData.length >= 4 * n ? this.listData : (this.listData = new Float32Array(4 * Math.max(16, 2 * n)));
         const imp = this.impData && this.impData.length >= 4 * ni ? this.impData : (this.impData = new Float32Array(4 * Math.max(16, 2 * ni)));
         const drawn = this.drawnTrees && this.drawnTrees.length >= n ? this.drawnTrees : (this.drawnTrees = new Int32Array(Math.max(16, 2 * n)));
         const perLevel = [0, 0, 0]; // skeleton rows at FULL and THIN, impostors (a fading tree in both)
-        const treeData = this.treeData, attached = this.leafAttached;
-        for (let i = 0; i < o.n + this.debris.length; i++) {
-            const debris = i >= o.n, t = debris ? this.n_trees + i - o.n : inView[i];
-            const sh = debris ? 0 : lodShare[i];
+        const placeLeaf = this.placeLeaf, q = this.q_trees;
+        // the trees in view, in the cells' order
+        for (let i = 0; i < o.n; i++) {
+            const t = inView[i], sh = lodShare[i], at = inAt[i], s = gs[at];
             if (sh > 0) {
                 // the impostor: tree, its share of leaves left (leafLeft), 0, its fade in
                 // (dither_keep: −sh keeps the pixels that THIN's 1 − sh leaves)
-                const e = impStart[speciesOf[t]]++, z = treeData[8 * t + 6];
-                imp[4 * e] = t;
-                imp[4 * e + 1] = z === 0 ? attached[t] : this.leafLeft(t);
-                imp[4 * e + 2] = 0;
-                imp[4 * e + 3] = sh < 1 ? -sh : 1;
+                const e = 4 * impStart[s]++;
+                imp[e] = t;
+                imp[e + 1] = placeLeaf[at];
+                imp[e + 2] = 0;
+                imp[e + 3] = sh < 1 ? -sh : 1;
                 perLevel[LOD.IMPOSTOR]++;
             }
             if (keys[i] < 0) continue;
-            const row = start[keys[i]]++;
-            const s = debris ? this.debris[i - o.n].species : speciesOf[t], sp = this.species[s];
-            // a debris piece: its rest pose needs no modes; a tree past those whose motion
-            // the page holds (App: q_trees) is drawn at rest
-            // the trees past FULL with the few modes the server sends past lod_m
-            const nm = debris || t >= this.q_trees ? 0 : Math.min(modes ? modes[t] : sp.n_modes, sp.n_modes, LOD_MODES_MAX[lodLevel[i]]);
+            const row = start[keys[i]]++, sp = species[s];
+            // a tree past those whose motion the page holds (App: q_trees) is drawn at
+            // rest; the trees past FULL with the few modes the server sends past lod_m
+            const nm = t >= q ? 0 : Math.min(modes ? modes[t] : sp.n_modes, sp.n_modes, LOD_MODES_MAX[lodLevel[i]]);
             list[4 * row] = t;
             list[4 * row + 1] = row;
             list[4 * row + 2] = nm;
             list[4 * row + 3] = 1 - sh; // fading out into its impostor
             drawn[row] = t;
-            if (!debris) perLevel[lodLevel[i]]++;
+            perLevel[lodLevel[i]]++;
+        }
+        // the debris pieces: their rest pose needs no modes
+        for (let k = 0; k < nd; k++) {
+            if (keys[o.n + k] < 0) continue;
+            const row = start[keys[o.n + k]]++;
+            list[4 * row] = this.n_trees + k;
+            list[4 * row + 1] = row;
+            list[4 * row + 2] = 0;
+            list[4 * row + 3] = 1;
+            drawn[row] = this.n_trees + k;
         }
         const groups = [], imps = [];
         for (let s = 0; s < ns; s++) {
