@@ -12,10 +12,16 @@
 //
 // The trees' positions, heights and species are kept in arrays of the grid's own order (a
 // tree's place: by species, within a species cell by cell, then by tree), so that a frame
-// reads memory in order, and the caller may keep its per-tree state by place too.
+// reads memory in order, and the caller may keep its per-tree state by place too. A cell
+// wholly in view whose trees all lie within a band of distance the caller names (past
+// THIN's reach, inside the impostors': web/lod_select.js) may be listed whole, by its
+// places, never tree by tree.
 import { CELL_TREES, CELL_MIN_M } from './lod_policy.js';
 
 const MAX_CELLS = 1 << 16; // the grid's cells at most (a cell test is cheap; 65,536 are not)
+// A cell's nearest and farthest distances are widened by this share so that they hold
+// its trees' distances as the per-tree pass rounds them (to float32: 6e-8 of them).
+const WHOLE_MARGIN = 1e-6;
 
 // The six planes (a, b, c, d; inside where a x + b y + c z + d >= 0) of the frustum of a
 // column-major view-projection matrix (Gribb and Hartmann): left, right, bottom, top,
@@ -118,18 +124,29 @@ export class CellGrid {
             this.species[at] = r[0];
         }
         // each cell's box [x0, y0, z0, x1, y1, z1]: its extent and its trees' bases, the
-        // tallest tree's height about them; its trees
+        // tallest tree's height about them; the box of its trees' middles; its trees, and
+        // the species among them (bit s, the first 31)
         this.box = new Float64Array(nc * 6);
+        this.mid = new Float64Array(nc * 6);
         this.count = new Int32Array(nc);
+        this.mask = new Int32Array(nc);
+        const M = this.mid;
         for (let c = 0; c < nc; c++) {
             const cx = c % nx, cy = (c - cx) / nx, b = 6 * c;
             let zlo = Infinity, zhi = -Infinity, k = 0;
+            M[b] = M[b + 1] = M[b + 2] = Infinity;
+            M[b + 3] = M[b + 4] = M[b + 5] = -Infinity;
             for (let s = 0; s < ns; s++) {
                 const a = run[s * nc + c], e = run[s * nc + c + 1];
+                if (e > a && s < 31) this.mask[c] |= 1 << s;
                 k += e - a;
                 for (let i = a; i < e; i++) {
-                    zlo = Math.min(zlo, this.pz[i]);
-                    zhi = Math.max(zhi, this.pz[i]);
+                    const z = this.pz[i], mz = z + 0.5 * this.ph[i];
+                    zlo = Math.min(zlo, z);
+                    zhi = Math.max(zhi, z);
+                    M[b] = Math.min(M[b], this.px[i]); M[b + 3] = Math.max(M[b + 3], this.px[i]);
+                    M[b + 1] = Math.min(M[b + 1], this.py[i]); M[b + 4] = Math.max(M[b + 4], this.py[i]);
+                    M[b + 2] = Math.min(M[b + 2], mz); M[b + 5] = Math.max(M[b + 5], mz);
                 }
             }
             this.count[c] = k;
@@ -140,27 +157,49 @@ export class CellGrid {
             this.box[b + 4] = y0 + (cy + 1) * cell + hmax;
             this.box[b + 5] = (k ? zhi : 0) + hmax;
         }
+        this.cellLying = new Int32Array(nc); // each cell's trees lying
         this.planes = new Float64Array(24);
         this.cut = new Float64Array(24); // the planes a cell lies across
         this.out = {
             n: 0, trees: new Int32Array(n), at: new Int32Array(n), dist: new Float32Array(n), cells_tested: 0, cells_in_view: 0,
+            // the cells listed whole: their cells, where in the list of trees each falls
+            // (before tree `before[k]`), their nearest distance [m], their trees in all; the
+            // band they were listed in; the places (run, ns, nc: this grid's)
+            whole: { n: 0, cell: new Int32Array(nc), before: new Int32Array(nc), near_m: new Float64Array(nc), trees: 0, band: null, run, ns, nc },
         };
     }
 
-    // Which trees lie (lying[t] 1), copied by place.
+    // Which trees lie (lying[t] 1), for the cells that may be listed whole: a cell with a
+    // lying tree is gathered tree by tree. Copies it by place.
     setLying(lying) {
-        for (let i = 0; i < this.n; i++) this.lying[i] = lying ? lying[this.trees[i]] : 0;
+        const L = this.lying, cl = this.cellLying, ns = this.ns, nc = this.nc, run = this.run;
+        cl.fill(0);
+        for (let s = 0; s < ns; s++) {
+            for (let c = 0; c < nc; c++) {
+                for (let i = run[s * nc + c], e = run[s * nc + c + 1]; i < e; i++) {
+                    L[i] = lying ? lying[this.trees[i]] : 0;
+                    cl[c] += L[i];
+                }
+            }
+        }
     }
 
     // The trees in view of view-projection viewproj from eye within far_m, into this.out
     // (trees[0..n), their places at[0..n) and distances dist[0..n)), in cell order;
-    // reused each call.
-    gather(viewproj, eye, far_m) {
+    // reused each call. whole (null: none; web/lod_select.js wholeBand) lists whole a cell
+    // wholly in view, no tree of it lying nor of a species with drawn[s] 0, whose trees'
+    // middles all lie at least near_m (the near edge of the bin of width bin_m its
+    // nearest distance falls in) and less than far_m from the eye: into out.whole, none
+    // of its trees into trees[].
+    gather(viewproj, eye, far_m, whole = null) {
         const pl = frustumPlanes(viewproj, this.planes), cut = this.cut;
-        const o = this.out, B = this.box, ex = eye[0], ey = eye[1], ez = eye[2], far2 = far_m * far_m;
+        const o = this.out, W = o.whole, B = this.box, M = this.mid, ex = eye[0], ey = eye[1], ez = eye[2], far2 = far_m * far_m;
         const run = this.run, ns = this.ns, nc = this.nc, px = this.px, py = this.py, pz = this.pz, ph = this.ph, trees = this.trees;
-        const oTrees = o.trees, oAt = o.at, oDist = o.dist, count = this.count;
-        let n = 0, tested = 0, seen = 0;
+        const oTrees = o.trees, oAt = o.at, oDist = o.dist, cl = this.cellLying, count = this.count, mask = this.mask;
+        // the species not drawn, as the cells' masks hold them
+        let hidden = 0;
+        if (whole) for (let s = 0; s < ns && s < 31; s++) if (!whole.drawn[s]) hidden |= 1 << s;
+        let n = 0, tested = 0, seen = 0, nw = 0, wt = 0;
         for (let c = 0; c < nc; c++) {
             if (!count[c]) continue;
             tested++;
@@ -171,6 +210,19 @@ export class CellGrid {
             const across = cellPlanes(pl, B, b);
             if (across < 0) continue;
             seen++;
+            if (across === 0 && whole && cl[c] === 0 && (mask[c] & hidden) === 0 && (ns <= 31 || this.listable(c, whole.drawn))) {
+                // the nearest and farthest of its trees' middles
+                const mx = Math.max(M[b] - ex, 0, ex - M[b + 3]), my = Math.max(M[b + 1] - ey, 0, ey - M[b + 4]), mz = Math.max(M[b + 2] - ez, 0, ez - M[b + 5]);
+                const fx = Math.max(ex - M[b], M[b + 3] - ex), fy = Math.max(ey - M[b + 1], M[b + 4] - ey), fz = Math.max(ez - M[b + 2], M[b + 5] - ez);
+                const near = Math.sqrt(mx * mx + my * my + mz * mz) * (1 - WHOLE_MARGIN), far = Math.sqrt(fx * fx + fy * fy + fz * fz) * (1 + WHOLE_MARGIN);
+                if (far < whole.far_m && far <= far_m && Math.floor(near / whole.bin_m) * whole.bin_m >= whole.near_m) {
+                    W.cell[nw] = c;
+                    W.before[nw] = n;
+                    W.near_m[nw++] = near;
+                    wt += count[c];
+                    continue;
+                }
+            }
             // the planes the cell lies across, for its trees
             let m = 0;
             for (let p = 0; p < 6; p++) {
@@ -202,6 +254,16 @@ export class CellGrid {
         o.n = n;
         o.cells_tested = tested;
         o.cells_in_view = seen;
+        W.n = nw;
+        W.trees = wt;
+        W.band = whole;
         return o;
+    }
+
+    // Whether cell c holds trees of the drawn species alone (drawn[s]: 1 for a drawn one).
+    listable(c, drawn) {
+        const run = this.run, ns = this.ns, nc = this.nc;
+        for (let s = 0; s < ns; s++) if (run[s * nc + c + 1] > run[s * nc + c] && !drawn[s]) return false;
+        return true;
     }
 }

@@ -62,6 +62,25 @@ export class LodSelect {
         return LOD_OUTER_M[LOD_LEVELS - 1] * Math.min(1, this.scaleFar * LOD_GROW_PER_FRAME) * (1 + LOD_HYSTERESIS);
     }
 
+    // The band of distances in which a frame may list a cell's trees whole (web/cull_grid.js
+    // gather's whole), given the species cost draws (select's cost): from the first bin
+    // of the budget's histogram past THIN's reach at the largest scale this frame may take,
+    // widened by the hysteresis, to the impostors' reach narrowed by it. A standing tree
+    // of a drawn species there is an impostor alone (share 1) at any scale the budget picks,
+    // whatever its level last frame, and its bin and the cell's nearest one cost the
+    // budget the same: select gives such a cell's trees that level without looking at
+    // them. Reused each call.
+    wholeBand(cost) {
+        const sMax = Math.min(this.cap, this.scale * LOD_GROW_PER_FRAME), fMax = Math.min(1, this.scaleFar * LOD_GROW_PER_FRAME);
+        const b = this.band || (this.band = { near_m: 0, far_m: 0, bin_m: 0, drawn: null });
+        if (!b.drawn || b.drawn.length !== cost.length) b.drawn = new Uint8Array(cost.length);
+        for (let s = 0; s < cost.length; s++) b.drawn[s] = cost[s] ? 1 : 0;
+        b.near_m = LOD_OUTER_M[LOD.THIN] * (sMax * (1 + LOD_HYSTERESIS));
+        b.far_m = LOD_OUTER_M[LOD.IMPOSTOR] * (fMax * (1 - LOD_HYSTERESIS));
+        b.bin_m = LOD_OUTER_M[LOD_LEVELS - 1] * fMax * (1 + LOD_HYSTERESIS) / BINS;
+        return b;
+    }
+
     // ids[0..n) in view at distances dist, of species species[id]: the trees' own numbers,
     // or any others below n_trees that a caller keeps each tree under from frame to frame
     // (web/render_list.js: its place in the cells, web/cull_grid.js), which index lying
@@ -73,8 +92,12 @@ export class LodSelect {
     // level into out[0..n) and its share in its impostor into share[0..n) (0 < share < 1:
     // drawn both at THIN and as an impostor; 1: as an impostor alone, also at THIN kept by
     // the hysteresis), and returns { scale, scale_far (the impostors' reach's), and the
-    // worst case's triangles, trees, nodes, draws }.
-    select(ids, dist, n, species, cost, out, budget = {}, nodes = [], lying = null, share = null) {
+    // worst case's triangles, trees, nodes, draws }. whole: web/cull_grid.js gather's
+    // out.whole (its ids places), gathered in the band of wholeBand(cost): each of its
+    // cells' trees an impostor alone; null when the budget would pull the impostors'
+    // reach in this frame (whole cells then do not hold), with nothing changed: the caller
+    // gathers again without them.
+    select(ids, dist, n, species, cost, out, budget = {}, nodes = [], lying = null, share = null, whole = null) {
         const maxTris = budget.triangles ?? LOD_BUDGET_TRIANGLES, maxTrees = budget.trees ?? LOD_BUDGET_TREES;
         const maxNodes = budget.nodes ?? LOD_BUDGET_NODES, maxDraws = (budget.draws ?? LOD_BUDGET_DRAWS) - LOD_DRAWS_FIXED;
         const sMax = Math.min(this.cap, this.scale * LOD_GROW_PER_FRAME), fMax = Math.min(1, this.scaleFar * LOD_GROW_PER_FRAME);
@@ -83,6 +106,12 @@ export class LodSelect {
         if (!this.drawn || this.drawn.length !== ns) this.drawn = new Uint8Array(ns);
         const drawn = this.drawn;
         for (let s = 0; s < ns; s++) drawn[s] = cost[s] ? 1 : 0;
+        if (whole && whole.n) {
+            // listed in another frame's band (the governor's cap moved since)
+            const b = whole.band;
+            if (!b || b.near_m !== LOD_OUTER_M[LOD.THIN] * (sMax * (1 + LOD_HYSTERESIS)) || b.bin_m !== w ||
+                b.far_m !== LOD_OUTER_M[LOD.IMPOSTOR] * (fMax * (1 - LOD_HYSTERESIS))) return null;
+        }
         // the standing trees' bins, then the lying ones' (at most THIN)
         if (!this.hist || this.hist.length !== 2 * ns * BINS) this.hist = new Uint32Array(2 * ns * BINS);
         const hist = this.hist;
@@ -92,6 +121,16 @@ export class LodSelect {
             if (!drawn[s]) continue;
             const b = Math.floor(dist[i] / w);
             if (b < BINS) hist[((lying !== null && lying[t] ? ns : 0) + s) * BINS + b]++;
+        }
+        // a whole cell's trees in the bin of its nearest distance (past THIN's, as each
+        // tree's own: the same cost at every scale this frame may take)
+        const nw = whole ? whole.n : 0, run = whole ? whole.run : null, gns = whole ? whole.ns : 0, nc = whole ? whole.nc : 0;
+        for (let k = 0; k < nw; k++) {
+            const c = whole.cell[k], b = Math.floor(whole.near_m[k] / w);
+            for (let s = 0; s < gns; s++) {
+                const m = run[s * nc + c + 1] - run[s * nc + c];
+                if (m && b < BINS) hist[s * BINS + b] += m;
+            }
         }
         // the worst case at scale s: each bin's trees at the level of its near edge, the
         // outer distances widened by the hysteresis; a standing tree past FULL is THIN up to
@@ -178,10 +217,23 @@ export class LodSelect {
                 }
             }
         }
+        if (nw && sf !== fMax) return null;
         this.scale = sc;
         this.scaleFar = sf;
         const f = ++this.frame, lo = 1 - LOD_HYSTERESIS, hi = 1 + LOD_HYSTERESIS;
         const seen = this.seen, level = this.level;
+        // the whole cells' trees, impostors alone: their places, a species' in adjacent
+        // cells at once
+        for (let s = 0; s < gns; s++) {
+            for (let k = 0; k < nw;) {
+                const a = run[s * nc + whole.cell[k]];
+                let e = run[s * nc + whole.cell[k] + 1];
+                for (k++; k < nw && run[s * nc + whole.cell[k]] === e; k++) e = run[s * nc + whole.cell[k] + 1];
+                if (a === e) continue;
+                level.fill(LOD.IMPOSTOR, a, e);
+                seen.fill(f, a, e);
+            }
+        }
         // the edges at this scale, inlined (levelAt), and the arrays read per tree held
         // here: the loop runs over every tree in view (100,000 from over the landscape)
         const eFull = LOD_OUTER_M[LOD.FULL] * sc, eThin = LOD_OUTER_M[LOD.THIN] * sc, eFar = LOD_OUTER_M[LOD.IMPOSTOR] * sf;

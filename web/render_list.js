@@ -29,21 +29,28 @@ export class RendererList {
         this.lodShare = new Float32Array(n);
         this.lying = new Uint8Array(n);
         this.leafAttached = new Float32Array(n).fill(1);
-        this.placeLeaf = new Float32Array(n); // each place's impostor share of leaves left
+        // each place's impostor row (tree, its share of leaves left, 0, 1: drawList's) and
+        // after them the frame's impostors, so that a run of them is copied within one array
+        this.impBuf = new Float32Array(8 * n);
+        this.placeImp = this.impBuf.subarray(0, 4 * n);
+        this.impData = this.impBuf.subarray(4 * n);
         this.lodCache = null;
         this.placeDamage();
     }
 
     // The cells' copies, by place (web/cull_grid.js), of each tree's damage that the draw
-    // list reads: whether it lies (this.lying) and its impostor's share of leaves
-    // (leafLeft). setDamage and setCuts (web/render_damage.js) call it after they change
-    // treeData, lying or leafAttached.
+    // list reads: whether it lies (this.lying) and its impostor's row with its share of
+    // leaves (leafLeft). setDamage and setCuts (web/render_damage.js) call it after they
+    // change treeData, lying or leafAttached.
     placeDamage() {
-        const g = this.grid, td = this.treeData, attached = this.leafAttached, leaf = this.placeLeaf;
+        const g = this.grid, td = this.treeData, attached = this.leafAttached, row = this.placeImp;
         g.setLying(this.lying);
         for (let at = 0; at < g.n; at++) {
             const t = g.trees[at];
-            leaf[at] = !td || td[8 * t + 6] === 0 ? attached[t] : this.leafLeft(t);
+            row[4 * at] = t;
+            row[4 * at + 1] = !td || td[8 * t + 6] === 0 ? attached[t] : this.leafLeft(t);
+            row[4 * at + 2] = 0;
+            row[4 * at + 3] = 1;
         }
     }
 
@@ -101,14 +108,21 @@ export class RendererList {
     // bark: [[base, n, mesh lod]], leaves: [[base, n, level]] }, the impostors per species
     // { s, base, n }, and the trees posed (for the stumps and plates).
     // modes: per tree mode count (0: not sent: drawn at rest with none).
+    // The cells far enough away are listed whole as impostors (web/lod_select.js
+    // wholeBand), unless this.listWhole is false: every tree one by one, the same lists.
     drawList(cam, modes) {
         const t0 = performance.now();
         const ns = this.species.length, lc = this.lodCosts(), cost = lc.cost, nl = lc.n_lods;
         const g = this.grid, lod = this.lod, reach = lod.reach_m();
         const budget = this.lodBudget || (this.lodBudget = { trees: 0 });
         budget.trees = Math.min(this.max_rows, this.maxSkelRows());
-        const o = g.gather(this.viewproj, cam.eye, reach);
-        const sel = lod.select(o.at, o.dist, o.n, g.species, cost, this.lodLevel, budget, lc.nodes, g.lying, this.lodShare);
+        let o = g.gather(this.viewproj, cam.eye, reach, this.listWhole === false ? null : lod.wholeBand(cost));
+        let sel = lod.select(o.at, o.dist, o.n, g.species, cost, this.lodLevel, budget, lc.nodes, g.lying, this.lodShare, o.whole);
+        if (!sel) {
+            // the impostors' reach pulled in this frame: the far cells tree by tree
+            o = g.gather(this.viewproj, cam.eye, reach, null);
+            sel = lod.select(o.at, o.dist, o.n, g.species, cost, this.lodLevel, budget, lc.nodes, g.lying, this.lodShare, o.whole);
+        }
         // keys: per species its FULL rows by mesh LOD, then THIN; impostors apart, per species
         const K = nl + 1, nd = this.debris.length;
         if (!this.listCount || this.listCount.length !== ns * K + 1) {
@@ -122,7 +136,7 @@ export class RendererList {
         const keys = this.listKeys && this.listKeys.length >= o.n + nd ? this.listKeys : (this.listKeys = new Int32Array(o.n + nd + 64));
         // the arrays read per tree held here: the loops run over every tree in view
         const lodLevel = this.lodLevel, lodShare = this.lodShare, gs = g.species, px = g.px, py = g.py, pz = g.pz, inAt = o.at, inView = o.trees;
-        const species = this.species;
+        const species = this.species, W = o.whole, run = W.run, gns = W.ns, nc = W.nc;
         let n = 0, ni = 0, nt = 0;
         for (let i = 0; i < o.n; i++) {
             const l = lodLevel[i], at = inAt[i], s = gs[at], sh = lodShare[i];
@@ -144,6 +158,13 @@ export class RendererList {
             count[key + 1]++;
             n++;
         }
+        // the whole cells' trees: impostors alone
+        const wns = Math.min(gns, ns); // (a whole cell holds drawn species alone)
+        for (let k = 0; k < W.n; k++) {
+            for (let s = 0, r = W.cell[k]; s < wns; s++, r += nc) impCount[s + 1] += run[r + 1] - run[r];
+        }
+        ni += W.trees;
+        nt += W.trees;
         // the debris pieces, in the slots after the trees: every leaf, mesh by distance
         for (let k = 0; k < nd; k++) {
             const d = this.debris[k], sp = species[d.species];
@@ -159,35 +180,62 @@ export class RendererList {
         start.set(count.subarray(0, ns * K));
         impStart.set(impCount.subarray(0, ns));
         const list = this.listData && this.listData.length >= 4 * n ? this.listData : (this.listData = new Float32Array(4 * Math.max(16, 2 * n)));
-        const imp = this.impData && this.impData.length >= 4 * ni ? this.impData : (this.impData = new Float32Array(4 * Math.max(16, 2 * ni)));
         const drawn = this.drawnTrees && this.drawnTrees.length >= n ? this.drawnTrees : (this.drawnTrees = new Int32Array(Math.max(16, 2 * n)));
-        const perLevel = [0, 0, 0]; // skeleton rows at FULL and THIN, impostors (a fading tree in both)
-        const placeLeaf = this.placeLeaf, q = this.q_trees;
-        // the trees in view, in the cells' order
-        for (let i = 0; i < o.n; i++) {
-            const t = inView[i], sh = lodShare[i], at = inAt[i], s = gs[at];
-            if (sh > 0) {
-                // the impostor: tree, its share of leaves left (leafLeft), 0, its fade in
-                // (dither_keep: −sh keeps the pixels that THIN's 1 − sh leaves)
-                const e = 4 * impStart[s]++;
-                imp[e] = t;
-                imp[e + 1] = placeLeaf[at];
-                imp[e + 2] = 0;
-                imp[e + 3] = sh < 1 ? -sh : 1;
-                perLevel[LOD.IMPOSTOR]++;
-            }
-            if (keys[i] < 0) continue;
-            const row = start[keys[i]]++, sp = species[s];
-            // a tree past those whose motion the page holds (App: q_trees) is drawn at
-            // rest; the trees past FULL with the few modes the server sends past lod_m
-            const nm = t >= q ? 0 : Math.min(modes ? modes[t] : sp.n_modes, sp.n_modes, LOD_MODES_MAX[lodLevel[i]]);
-            list[4 * row] = t;
-            list[4 * row + 1] = row;
-            list[4 * row + 2] = nm;
-            list[4 * row + 3] = 1 - sh; // fading out into its impostor
-            drawn[row] = t;
-            perLevel[lodLevel[i]]++;
+        const perLevel = [0, 0, W.trees]; // skeleton rows at FULL and THIN, impostors (a fading tree in both)
+        const imp = this.impData, buf = this.impBuf, imp0 = 4 * g.n, q = this.q_trees;
+        // the whole cells' impostors of each species waiting, places runA[s]..runE[s]
+        if (!this.runA || this.runA.length !== ns) {
+            this.runA = new Int32Array(ns);
+            this.runE = new Int32Array(ns);
         }
+        const runA = this.runA.fill(0), runE = this.runE.fill(0);
+        const flush = (s) => {
+            buf.copyWithin(imp0 + 4 * impStart[s], 4 * runA[s], 4 * runE[s]);
+            impStart[s] += runE[s] - runA[s];
+            runA[s] = runE[s] = 0;
+        };
+        // the trees in view in the cells' order, each whole cell where it falls among them:
+        // a species' impostors in the order of its places, as tree by tree would list them
+        for (let k = 0, i = 0; k <= W.n; k++) {
+            for (const end = k < W.n ? W.before[k] : o.n; i < end; i++) {
+                const t = inView[i], sh = lodShare[i], at = inAt[i], s = gs[at];
+                if (sh > 0) {
+                    // the impostor: tree, its share of leaves left (leafLeft), 0, its fade in
+                    // (dither_keep: −sh keeps the pixels that THIN's 1 − sh leaves)
+                    if (runE[s] > runA[s]) flush(s);
+                    const e = 4 * impStart[s]++;
+                    imp[e] = t;
+                    imp[e + 1] = buf[4 * at + 1];
+                    imp[e + 2] = 0;
+                    imp[e + 3] = sh < 1 ? -sh : 1;
+                    perLevel[LOD.IMPOSTOR]++;
+                }
+                if (keys[i] < 0) continue;
+                const row = start[keys[i]]++, sp = species[s];
+                // a tree past those whose motion the page holds (App: q_trees) is drawn at
+                // rest; the trees past FULL with the few modes the server sends past lod_m
+                const nm = t >= q ? 0 : Math.min(modes ? modes[t] : sp.n_modes, sp.n_modes, LOD_MODES_MAX[lodLevel[i]]);
+                list[4 * row] = t;
+                list[4 * row + 1] = row;
+                list[4 * row + 2] = nm;
+                list[4 * row + 3] = 1 - sh; // fading out into its impostor
+                drawn[row] = t;
+                perLevel[lodLevel[i]]++;
+            }
+            if (k === W.n) break;
+            for (let s = 0, r = W.cell[k]; s < wns; s++, r += nc) {
+                const a = run[r], e = run[r + 1];
+                if (a === e) continue;
+                if (runE[s] === a && a > runA[s]) {
+                    runE[s] = e;
+                    continue;
+                }
+                if (runE[s] > runA[s]) flush(s);
+                runA[s] = a;
+                runE[s] = e;
+            }
+        }
+        for (let s = 0; s < ns; s++) if (runE[s] > runA[s]) flush(s);
         // the debris pieces: their rest pose needs no modes
         for (let k = 0; k < nd; k++) {
             if (keys[o.n + k] < 0) continue;
