@@ -7,7 +7,9 @@
 // stats.cull_ms: the first frame's, then median and p95 of --frames frames (100) after
 // --warmup frames (30: a page's first half second, while V8 compiles the loops); the load
 // average at the start and end (2 shared cores: compare runs at like loads).
-//   node tests/web/bench_cull.mjs [--frames N] [--warmup N]
+// --tree-by-tree: no cell listed whole (RendererList.listWhole false), every tree in view
+// through the gather, levels and draw list one by one.
+//   node tests/web/bench_cull.mjs [--frames N] [--warmup N] [--tree-by-tree]
 import os from 'node:os';
 import { landscape, CAMERAS, viewProj } from './landscape_scene.mjs';
 import { IMP_TRIANGLES } from '../../web/render_list.js';
@@ -17,7 +19,8 @@ const opt = (k, d) => (a.includes(k) ? Number(a[a.indexOf(k) + 1]) : d);
 const frames = opt('--frames', 100), warmup = opt('--warmup', 30);
 const load0 = os.loadavg();
 const { r, species } = landscape();
-const out = { frames, warmup, load_start: load0.map((v) => +v.toFixed(2)), cameras: [] };
+if (a.includes('--tree-by-tree')) r.listWhole = false;
+const out = { frames, warmup, tree_by_tree: r.listWhole === false, load_start: load0.map((v) => +v.toFixed(2)), cameras: [] };
 const pct = (s, p) => s[Math.min(s.length - 1, Math.floor(p * s.length))];
 for (const [name, eye0, target0] of CAMERAS) {
     const ms = [];
@@ -40,7 +43,8 @@ for (const [name, eye0, target0] of CAMERAS) {
             tris += IMP_TRIANGLES * g.n;
         }
         const st = r.stats;
-        first = { camera: name, in_view: r.grid.out.n + (r.grid.out.whole ? r.grid.out.whole.trees : 0), drawn: st.trees_drawn, impostors: st.impostors,
+        const whole = r.grid.out.whole || { n: 0, trees: 0 };
+        first = { camera: name, in_view: r.grid.out.n + whole.trees, listed_whole: whole.trees, cells_whole: whole.n, drawn: st.trees_drawn, impostors: st.impostors,
             rows: list.rows, levels: st.levels, triangles: tris, draws, scale: +st.lod_scale.toFixed(4) };
     }
     const rest = ms.slice(warmup).sort((x, y) => x - y);
