@@ -112,6 +112,7 @@ export class CellGrid {
         this.pz = new Float32Array(n);
         this.ph = new Float32Array(n); // its height [m]
         this.species = new Uint8Array(n);
+        this.cellOf = new Int32Array(n); // its cell
         this.lying = new Uint8Array(n); // 1: the tree lies (setLying), by place
         for (let t = 0; t < n; t++) {
             const r = rows[t], at = fill[keyOf[t]]++;
@@ -140,6 +141,7 @@ export class CellGrid {
                 const a = run[s * nc + c], e = run[s * nc + c + 1];
                 if (e > a && s < 31) this.mask[c] |= 1 << s;
                 k += e - a;
+                this.cellOf.fill(c, a, e);
                 for (let i = a; i < e; i++) {
                     const z = this.pz[i], mz = z + 0.5 * this.ph[i];
                     zlo = Math.min(zlo, z);
@@ -164,8 +166,8 @@ export class CellGrid {
             n: 0, trees: new Int32Array(n), at: new Int32Array(n), dist: new Float32Array(n), cells_tested: 0, cells_in_view: 0,
             // the cells listed whole: their cells, where in the list of trees each falls
             // (before tree `before[k]`), their nearest distance [m], their trees in all; the
-            // band they were listed in; the places (run, ns, nc: this grid's)
-            whole: { n: 0, cell: new Int32Array(nc), before: new Int32Array(nc), near_m: new Float64Array(nc), trees: 0, band: null, run, ns, nc },
+            // band they were listed in; the places (run, ns, nc, cellOf: this grid's)
+            whole: { n: 0, cell: new Int32Array(nc), before: new Int32Array(nc), near_m: new Float64Array(nc), trees: 0, band: null, run, ns, nc, cellOf: this.cellOf },
         };
     }
 

@@ -50,6 +50,10 @@ export class LodSelect {
     constructor(n_trees) {
         this.level = new Uint8Array(n_trees).fill(LOD.NONE); // each tree's level last frame it was in view
         this.seen = new Uint32Array(n_trees); // the frame it was last in view (0: never)
+        // the frame each cell was last listed whole, its trees then impostors, and each
+        // tree's cell (select's whole: web/cull_grid.js)
+        this.cellWhole = null;
+        this.cellOf = null;
         this.frame = 0;
         this.scale = 1; // the budget's scale of FULL's and THIN's distances, last frame
         this.cap = 1; // the frame-time governor's cap on that scale (web/governor.js)
@@ -112,26 +116,11 @@ export class LodSelect {
             if (!b || b.near_m !== LOD_OUTER_M[LOD.THIN] * (sMax * (1 + LOD_HYSTERESIS)) || b.bin_m !== w ||
                 b.far_m !== LOD_OUTER_M[LOD.IMPOSTOR] * (fMax * (1 - LOD_HYSTERESIS))) return null;
         }
-        // the standing trees' bins, then the lying ones' (at most THIN)
         if (!this.hist || this.hist.length !== 2 * ns * BINS) this.hist = new Uint32Array(2 * ns * BINS);
-        const hist = this.hist;
+        const hist = this.hist, nw = whole ? whole.n : 0;
         hist.fill(0);
-        for (let i = 0; i < n; i++) {
-            const t = ids[i], s = species[t];
-            if (!drawn[s]) continue;
-            const b = Math.floor(dist[i] / w);
-            if (b < BINS) hist[((lying !== null && lying[t] ? ns : 0) + s) * BINS + b]++;
-        }
-        // a whole cell's trees in the bin of its nearest distance (past THIN's, as each
-        // tree's own: the same cost at every scale this frame may take)
-        const nw = whole ? whole.n : 0, run = whole ? whole.run : null, gns = whole ? whole.ns : 0, nc = whole ? whole.nc : 0;
-        for (let k = 0; k < nw; k++) {
-            const c = whole.cell[k], b = Math.floor(whole.near_m[k] / w);
-            for (let s = 0; s < gns; s++) {
-                const m = run[s * nc + c + 1] - run[s * nc + c];
-                if (m && b < BINS) hist[s * BINS + b] += m;
-            }
-        }
+        if (nw) this.histWhole(whole, w);
+        this.histTrees(ids, dist, n, species, lying, w);
         // the worst case at scale s: each bin's trees at the level of its near edge, the
         // outer distances widened by the hysteresis; a standing tree past FULL is THIN up to
         // THIN's outer distance and an impostor from its fade on (the fade ignores the
@@ -220,20 +209,62 @@ export class LodSelect {
         if (nw && sf !== fMax) return null;
         this.scale = sc;
         this.scaleFar = sf;
-        const f = ++this.frame, lo = 1 - LOD_HYSTERESIS, hi = 1 + LOD_HYSTERESIS;
-        const seen = this.seen, level = this.level;
-        // the whole cells' trees, impostors alone: their places, a species' in adjacent
-        // cells at once
-        for (let s = 0; s < gns; s++) {
-            for (let k = 0; k < nw;) {
-                const a = run[s * nc + whole.cell[k]];
-                let e = run[s * nc + whole.cell[k] + 1];
-                for (k++; k < nw && run[s * nc + whole.cell[k]] === e; k++) e = run[s * nc + whole.cell[k] + 1];
-                if (a === e) continue;
-                level.fill(LOD.IMPOSTOR, a, e);
-                seen.fill(f, a, e);
+        const f = ++this.frame;
+        if (whole) this.wholeLevels(whole, f);
+        this.levels(ids, dist, n, species, out, lying, share, sc, sf, reach, f);
+        return { scale: sc, scale_far: sf, triangles: wc.tris, trees: wc.count, nodes: wc.posed, draws: wc.draws + LOD_DRAWS_FIXED };
+    }
+
+    // select's passes over the trees, each loop last in a function of its own (the JIT's
+    // code for a loop entered mid-call then holds no later step it has not yet seen run).
+
+    // The budget's histogram (bins of w [m]; per species its standing trees' bins, then its
+    // lying ones', at most THIN): a whole cell's trees in the bin of its nearest distance
+    // (past THIN's, as each tree's own: the same cost at every scale this frame may take).
+    histWhole(whole, w) {
+        const hist = this.hist, run = whole.run, gns = whole.ns, nc = whole.nc, nw = whole.n;
+        for (let k = 0; k < nw; k++) {
+            const c = whole.cell[k], b = Math.floor(whole.near_m[k] / w);
+            for (let s = 0; s < gns; s++) {
+                const m = run[s * nc + c + 1] - run[s * nc + c];
+                if (m && b < BINS) hist[s * BINS + b] += m;
             }
         }
+    }
+
+    // And select's trees one by one.
+    histTrees(ids, dist, n, species, lying, w) {
+        const hist = this.hist, drawn = this.drawn, ns = drawn.length;
+        for (let i = 0; i < n; i++) {
+            const t = ids[i], s = species[t];
+            if (!drawn[s]) continue;
+            const b = Math.floor(dist[i] / w);
+            if (b < BINS) hist[((lying !== null && lying[t] ? ns : 0) + s) * BINS + b]++;
+        }
+    }
+
+    // The whole cells of frame f: their trees impostors alone, as levels reads them
+    // next frame (lastLevel).
+    wholeLevels(whole, f) {
+        if (!this.cellWhole || this.cellWhole.length !== whole.cell.length) this.cellWhole = new Uint32Array(whole.cell.length);
+        this.cellOf = whole.cellOf;
+        const cw = this.cellWhole;
+        for (let k = 0; k < whole.n; k++) cw[whole.cell[k]] = f;
+    }
+
+    // Tree id's level at the last frame select ran (NONE: not drawn, or not in view), as
+    // the hysteresis reads it: its own, or IMPOSTOR in a cell listed whole.
+    lastLevel(id) {
+        const f = this.frame;
+        if (this.seen[id] === f) return this.level[id];
+        return this.cellWhole !== null && this.cellWhole[this.cellOf[id]] === f ? LOD.IMPOSTOR : LOD.NONE;
+    }
+
+    // The level and impostor share of each of select's trees at frame f, scales sc and sf.
+    levels(ids, dist, n, species, out, lying, share, sc, sf, reach, f) {
+        const seen = this.seen, level = this.level, drawn = this.drawn, lo = 1 - LOD_HYSTERESIS, hi = 1 + LOD_HYSTERESIS;
+        // a tree of a cell listed whole last frame: an impostor then
+        const cw = this.cellWhole, cellOf = this.cellOf, f1 = cw !== null ? f - 1 : -1;
         // the edges at this scale, inlined (levelAt), and the arrays read per tree held
         // here: the loop runs over every tree in view (100,000 from over the landscape)
         const eFull = LOD_OUTER_M[LOD.FULL] * sc, eThin = LOD_OUTER_M[LOD.THIN] * sc, eFar = LOD_OUTER_M[LOD.IMPOSTOR] * sf;
@@ -241,7 +272,7 @@ export class LodSelect {
         for (let i = 0; i < n; i++) {
             const t = ids[i], d = dist[i];
             let l = d < eFull ? LOD.FULL : d < eThin ? LOD.THIN : d < eFar ? LOD.IMPOSTOR : LOD.NONE, sh = 0;
-            const p = seen[t] === f - 1 ? level[t] : LOD.NONE;
+            const p = seen[t] === f - 1 ? level[t] : f1 > 0 && cw[cellOf[t]] === f1 ? LOD.IMPOSTOR : LOD.NONE;
             if (!drawn[species[t]] || d >= reach) l = LOD.NONE;
             else if (p !== LOD.NONE && l > p) l = Math.max(p, levelAt(d, sc * hi, sf * hi)); // coarser: only past the widened edge
             else if (p !== LOD.NONE && l < p) l = Math.min(p, levelAt(d, sc * lo, sf * lo)); // finer: only inside the narrowed edge
@@ -262,6 +293,5 @@ export class LodSelect {
             level[t] = l;
             seen[t] = l === LOD.NONE ? 0 : f;
         }
-        return { scale: sc, scale_far: sf, triangles: wc.tris, trees: wc.count, nodes: wc.posed, draws: wc.draws + LOD_DRAWS_FIXED };
     }
 }

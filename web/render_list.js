@@ -14,6 +14,14 @@ import { DAMAGE } from './damage.js';
 // Triangles of one impostor: its quad.
 export const IMP_TRIANGLES = 2;
 
+// The impostor rows of species s's places runA[s]..runE[s] (buf[0..imp0): each place's)
+// onto the end of its impostors in the frame's list (buf from imp0), the run then empty.
+function copyRun(buf, imp0, impStart, runA, runE, s) {
+    buf.copyWithin(imp0 + 4 * impStart[s], 4 * runA[s], 4 * runE[s]);
+    impStart[s] += runE[s] - runA[s];
+    runA[s] = runE[s] = 0;
+}
+
 export class RendererList {
     // The welcome's trees into the grid (their heights from the species drawn, 0 for one
     // not loaded); a new selection, none drawn yet; no tree lying, every leaf on.
@@ -130,122 +138,23 @@ export class RendererList {
             this.listStart = new Int32Array(ns * K);
             this.impCount = new Int32Array(ns + 1);
             this.impStart = new Int32Array(ns);
-        }
-        const count = this.listCount.fill(0), impCount = this.impCount.fill(0);
-        const ex = cam.eye[0], ey = cam.eye[1], ez = cam.eye[2];
-        const keys = this.listKeys && this.listKeys.length >= o.n + nd ? this.listKeys : (this.listKeys = new Int32Array(o.n + nd + 64));
-        // the arrays read per tree held here: the loops run over every tree in view
-        const lodLevel = this.lodLevel, lodShare = this.lodShare, gs = g.species, px = g.px, py = g.py, pz = g.pz, inAt = o.at, inView = o.trees;
-        const species = this.species, W = o.whole, run = W.run, gns = W.ns, nc = W.nc;
-        let n = 0, ni = 0, nt = 0;
-        for (let i = 0; i < o.n; i++) {
-            const l = lodLevel[i], at = inAt[i], s = gs[at], sh = lodShare[i];
-            keys[i] = -1;
-            if (l === LOD.NONE) continue;
-            nt++;
-            if (sh > 0) {
-                impCount[s + 1]++;
-                ni++;
-            }
-            if (sh >= 1) continue; // wholly its impostor
-            let key = s * K + nl;
-            if (l === LOD.FULL) {
-                // the bark mesh by the distance of the tree's base
-                const dx = px[at] - ex, dy = py[at] - ey, dz = pz[at] - ez;
-                key = s * K + meshLod(Math.sqrt(dx * dx + dy * dy + dz * dz), l, species[s].n_lods);
-            }
-            keys[i] = key;
-            count[key + 1]++;
-            n++;
-        }
-        // the whole cells' trees: impostors alone
-        const wns = Math.min(gns, ns); // (a whole cell holds drawn species alone)
-        for (let k = 0; k < W.n; k++) {
-            for (let s = 0, r = W.cell[k]; s < wns; s++, r += nc) impCount[s + 1] += run[r + 1] - run[r];
-        }
-        ni += W.trees;
-        nt += W.trees;
-        // the debris pieces, in the slots after the trees: every leaf, mesh by distance
-        for (let k = 0; k < nd; k++) {
-            const d = this.debris[k], sp = species[d.species];
-            keys[o.n + k] = sp ? d.species * K + meshLod(Math.hypot(d.pos[0] - ex, d.pos[1] - ey, d.pos[2] - ez), LOD.FULL, sp.n_lods) : -1;
-            if (sp) {
-                count[keys[o.n + k] + 1]++;
-                n++;
-            }
-        }
-        for (let k = 0; k < ns * K; k++) count[k + 1] += count[k];
-        for (let s = 0; s < ns; s++) impCount[s + 1] += impCount[s];
-        const start = this.listStart, impStart = this.impStart;
-        start.set(count.subarray(0, ns * K));
-        impStart.set(impCount.subarray(0, ns));
-        const list = this.listData && this.listData.length >= 4 * n ? this.listData : (this.listData = new Float32Array(4 * Math.max(16, 2 * n)));
-        const drawn = this.drawnTrees && this.drawnTrees.length >= n ? this.drawnTrees : (this.drawnTrees = new Int32Array(Math.max(16, 2 * n)));
-        const perLevel = [0, 0, W.trees]; // skeleton rows at FULL and THIN, impostors (a fading tree in both)
-        const imp = this.impData, buf = this.impBuf, imp0 = 4 * g.n, q = this.q_trees;
-        // the whole cells' impostors of each species waiting, places runA[s]..runE[s]
-        if (!this.runA || this.runA.length !== ns) {
             this.runA = new Int32Array(ns);
             this.runE = new Int32Array(ns);
         }
-        const runA = this.runA.fill(0), runE = this.runE.fill(0);
-        const flush = (s) => {
-            buf.copyWithin(imp0 + 4 * impStart[s], 4 * runA[s], 4 * runE[s]);
-            impStart[s] += runE[s] - runA[s];
-            runA[s] = runE[s] = 0;
-        };
-        // the trees in view in the cells' order, each whole cell where it falls among them:
-        // a species' impostors in the order of its places, as tree by tree would list them
-        for (let k = 0, i = 0; k <= W.n; k++) {
-            for (const end = k < W.n ? W.before[k] : o.n; i < end; i++) {
-                const t = inView[i], sh = lodShare[i], at = inAt[i], s = gs[at];
-                if (sh > 0) {
-                    // the impostor: tree, its share of leaves left (leafLeft), 0, its fade in
-                    // (dither_keep: −sh keeps the pixels that THIN's 1 − sh leaves)
-                    if (runE[s] > runA[s]) flush(s);
-                    const e = 4 * impStart[s]++;
-                    imp[e] = t;
-                    imp[e + 1] = buf[4 * at + 1];
-                    imp[e + 2] = 0;
-                    imp[e + 3] = sh < 1 ? -sh : 1;
-                    perLevel[LOD.IMPOSTOR]++;
-                }
-                if (keys[i] < 0) continue;
-                const row = start[keys[i]]++, sp = species[s];
-                // a tree past those whose motion the page holds (App: q_trees) is drawn at
-                // rest; the trees past FULL with the few modes the server sends past lod_m
-                const nm = t >= q ? 0 : Math.min(modes ? modes[t] : sp.n_modes, sp.n_modes, LOD_MODES_MAX[lodLevel[i]]);
-                list[4 * row] = t;
-                list[4 * row + 1] = row;
-                list[4 * row + 2] = nm;
-                list[4 * row + 3] = 1 - sh; // fading out into its impostor
-                drawn[row] = t;
-                perLevel[lodLevel[i]]++;
-            }
-            if (k === W.n) break;
-            for (let s = 0, r = W.cell[k]; s < wns; s++, r += nc) {
-                const a = run[r], e = run[r + 1];
-                if (a === e) continue;
-                if (runE[s] === a && a > runA[s]) {
-                    runE[s] = e;
-                    continue;
-                }
-                if (runE[s] > runA[s]) flush(s);
-                runA[s] = a;
-                runE[s] = e;
-            }
-        }
-        for (let s = 0; s < ns; s++) if (runE[s] > runA[s]) flush(s);
-        // the debris pieces: their rest pose needs no modes
-        for (let k = 0; k < nd; k++) {
-            if (keys[o.n + k] < 0) continue;
-            const row = start[keys[o.n + k]]++;
-            list[4 * row] = this.n_trees + k;
-            list[4 * row + 1] = row;
-            list[4 * row + 2] = 0;
-            list[4 * row + 3] = 1;
-            drawn[row] = this.n_trees + k;
-        }
+        if (!this.listKeys || this.listKeys.length < o.n + nd) this.listKeys = new Int32Array(o.n + nd + 64);
+        const count = this.listCount, impCount = this.impCount;
+        this.listCountsRest(o, cam.eye, K);
+        const nt = this.listCounts(o, cam.eye, K, nl) + o.whole.trees;
+        for (let k = 0; k < ns * K; k++) count[k + 1] += count[k];
+        for (let s = 0; s < ns; s++) impCount[s + 1] += impCount[s];
+        const n = count[ns * K], ni = impCount[ns];
+        this.listStart.set(count.subarray(0, ns * K));
+        this.impStart.set(impCount.subarray(0, ns));
+        if (!this.listData || this.listData.length < 4 * n) this.listData = new Float32Array(4 * Math.max(16, 2 * n));
+        if (!this.drawnTrees || this.drawnTrees.length < n) this.drawnTrees = new Int32Array(Math.max(16, 2 * n));
+        const perLevel = [0, 0, 0]; // skeleton rows at FULL and THIN, impostors (a fading tree in both)
+        this.listFill(o, modes, perLevel);
+        this.listFillEnd(o);
         const groups = [], imps = [];
         for (let s = 0; s < ns; s++) {
             const sp = this.species[s], a = count[s * K], e = count[(s + 1) * K];
@@ -273,9 +182,131 @@ export class RendererList {
         this.stats.lod_worst = sel;
         this.stats.cells_in_view = o.cells_in_view;
         this.stats.cull_ms = performance.now() - t0;
-        this.list = this.dataTex(4, Math.max(1, n), list.subarray(0, Math.max(1, n) * 4), this.list);
-        if (ni) this.impList = this.dataTex(4, ni, imp.subarray(0, ni * 4), this.impList);
-        return { groups, imps, drawn: drawn.subarray(0, n), rows: n };
+        this.list = this.dataTex(4, Math.max(1, n), this.listData.subarray(0, Math.max(1, n) * 4), this.list);
+        if (ni) this.impList = this.dataTex(4, ni, this.impData.subarray(0, ni * 4), this.impList);
+        return { groups, imps, drawn: this.drawnTrees.subarray(0, n), rows: n };
+    }
+
+    // drawList's first pass over the debris pieces and the cells listed whole (o.whole:
+    // web/cull_grid.js gather's): each piece's key (K keys a species: its FULL rows by mesh
+    // LOD, then THIN; -1: no skeleton row) into listKeys after the trees', the rows of each
+    // key into listCount and the impostors of each species into impCount (both counted
+    // from index 1; listCount and impCount zeroed first).
+    listCountsRest(o, eye, K) {
+        const count = this.listCount.fill(0), impCount = this.impCount.fill(0), keys = this.listKeys, species = this.species;
+        // the debris pieces, in the slots after the trees: every leaf, mesh by distance
+        for (let k = 0; k < this.debris.length; k++) {
+            const d = this.debris[k], sp = species[d.species];
+            keys[o.n + k] = sp ? d.species * K + meshLod(Math.hypot(d.pos[0] - eye[0], d.pos[1] - eye[1], d.pos[2] - eye[2]), LOD.FULL, sp.n_lods) : -1;
+            if (sp) count[keys[o.n + k] + 1]++;
+        }
+        // the whole cells' trees: impostors alone
+        const W = o.whole, run = W.run, nc = W.nc, wns = Math.min(W.ns, species.length); // (a whole cell holds drawn species alone)
+        for (let k = 0; k < W.n; k++) {
+            for (let s = 0, r = W.cell[k]; s < wns; s++, r += nc) impCount[s + 1] += run[r + 1] - run[r];
+        }
+    }
+
+    // And over the trees gathered one by one (o): their keys (nl: THIN's within a
+    // species), rows and impostors. Returns the trees drawn among them. (Each of these
+    // passes runs its one loop last: the JIT's code for a loop entered mid-call then holds
+    // no later step it has not yet seen run.)
+    listCounts(o, eye, K, nl) {
+        const count = this.listCount, impCount = this.impCount, keys = this.listKeys, g = this.grid, species = this.species;
+        const ex = eye[0], ey = eye[1], ez = eye[2];
+        // the arrays read per tree held here: the loop runs over every tree in view
+        const lodLevel = this.lodLevel, lodShare = this.lodShare, gs = g.species, px = g.px, py = g.py, pz = g.pz, inAt = o.at;
+        let nt = 0;
+        for (let i = 0; i < o.n; i++) {
+            const l = lodLevel[i], at = inAt[i], s = gs[at], sh = lodShare[i];
+            keys[i] = -1;
+            if (l === LOD.NONE) continue;
+            nt++;
+            if (sh > 0) impCount[s + 1]++;
+            if (sh >= 1) continue; // wholly its impostor
+            let key = s * K + nl;
+            if (l === LOD.FULL) {
+                // the bark mesh by the distance of the tree's base
+                const dx = px[at] - ex, dy = py[at] - ey, dz = pz[at] - ez;
+                key = s * K + meshLod(Math.sqrt(dx * dx + dy * dy + dz * dz), l, species[s].n_lods);
+            }
+            keys[i] = key;
+            count[key + 1]++;
+        }
+        return nt;
+    }
+
+    // drawList's second pass: the skeleton rows (listData, drawnTrees) and the impostors
+    // (impData) of the trees gathered (o) at the places listStart and impStart give
+    // (listCounts' counts summed), and the rows at each level and the impostors into
+    // perLevel; listFillEnd ends it.
+    listFill(o, modes, perLevel) {
+        const g = this.grid, keys = this.listKeys, start = this.listStart, impStart = this.impStart;
+        const list = this.listData, drawn = this.drawnTrees, imp = this.impData, buf = this.impBuf, imp0 = 4 * g.n, q = this.q_trees;
+        const lodLevel = this.lodLevel, lodShare = this.lodShare, gs = g.species, inAt = o.at, inView = o.trees;
+        const species = this.species, W = o.whole, run = W.run, nc = W.nc, wns = Math.min(W.ns, species.length);
+        // the whole cells' impostors of each species waiting, places runA[s]..runE[s]
+        const runA = this.runA.fill(0), runE = this.runE.fill(0);
+        perLevel[LOD.IMPOSTOR] += W.trees;
+        // the trees in view in the cells' order, each whole cell where it falls among them:
+        // a species' impostors in the order of its places, as tree by tree would list them
+        for (let k = 0, i = 0; k <= W.n; k++) {
+            for (const end = k < W.n ? W.before[k] : o.n; i < end; i++) {
+                const t = inView[i], sh = lodShare[i], at = inAt[i], s = gs[at];
+                if (sh > 0) {
+                    // the impostor: tree, its share of leaves left (leafLeft), 0, its fade in
+                    // (dither_keep: −sh keeps the pixels that THIN's 1 − sh leaves)
+                    if (runE[s] > runA[s]) copyRun(buf, imp0, impStart, runA, runE, s);
+                    const e = 4 * impStart[s]++;
+                    imp[e] = t;
+                    imp[e + 1] = buf[4 * at + 1];
+                    imp[e + 2] = 0;
+                    imp[e + 3] = sh < 1 ? -sh : 1;
+                    perLevel[LOD.IMPOSTOR]++;
+                }
+                if (keys[i] < 0) continue;
+                const row = start[keys[i]]++, sp = species[s];
+                // a tree past those whose motion the page holds (App: q_trees) is drawn at
+                // rest; the trees past FULL with the few modes the server sends past lod_m
+                const nm = t >= q ? 0 : Math.min(modes ? modes[t] : sp.n_modes, sp.n_modes, LOD_MODES_MAX[lodLevel[i]]);
+                list[4 * row] = t;
+                list[4 * row + 1] = row;
+                list[4 * row + 2] = nm;
+                list[4 * row + 3] = 1 - sh; // fading out into its impostor
+                drawn[row] = t;
+                perLevel[lodLevel[i]]++;
+            }
+            if (k === W.n) break;
+            for (let s = 0, r = W.cell[k]; s < wns; s++, r += nc) {
+                const a = run[r], e = run[r + 1];
+                if (a === e) continue;
+                if (runE[s] === a && a > runA[s]) {
+                    runE[s] = e;
+                    continue;
+                }
+                if (runE[s] > runA[s]) copyRun(buf, imp0, impStart, runA, runE, s);
+                runA[s] = a;
+                runE[s] = e;
+            }
+        }
+    }
+
+    // The end of listFill (a pass of its own, so that the JIT's code for listFill's loop
+    // holds no call it has not yet seen made): the whole cells' impostors still waiting,
+    // and the debris pieces' rows (their rest pose needs no modes).
+    listFillEnd(o) {
+        const runA = this.runA, runE = this.runE, buf = this.impBuf, imp0 = 4 * this.grid.n, impStart = this.impStart;
+        for (let s = 0; s < runA.length; s++) if (runE[s] > runA[s]) copyRun(buf, imp0, impStart, runA, runE, s);
+        const keys = this.listKeys, start = this.listStart, list = this.listData, drawn = this.drawnTrees;
+        for (let k = 0; k < this.debris.length; k++) {
+            if (keys[o.n + k] < 0) continue;
+            const row = start[keys[o.n + k]]++;
+            list[4 * row] = this.n_trees + k;
+            list[4 * row + 1] = row;
+            list[4 * row + 2] = 0;
+            list[4 * row + 3] = 1;
+            drawn[row] = this.n_trees + k;
+        }
     }
 
     // The most rows the skeleton textures may have: the GPU's largest texture.
