@@ -16,6 +16,7 @@ import { LOD, LOD_LEVELS, LOD_OUTER_M, LOD_HYSTERESIS, LOD_MESH_STEP_M, LOD_BUDG
 const BINS = 512;
 const SCALE_STEP = 0.9; // the budget's search: the distances scaled down by this a try
 const SCALE_MIN = 1e-3;
+const NEVER = 0xffffffff; // a frame select never reaches
 
 // The level of distance d at distance scale s (the policy's distances × s) and the last
 // level's scale sf (its outer distance × sf), NONE past the last.
@@ -50,10 +51,10 @@ export class LodSelect {
     constructor(n_trees) {
         this.level = new Uint8Array(n_trees).fill(LOD.NONE); // each tree's level last frame it was in view
         this.seen = new Uint32Array(n_trees); // the frame it was last in view (0: never)
-        // the frame each cell was last listed whole, its trees then impostors, and each
-        // tree's cell (select's whole: web/cull_grid.js)
-        this.cellWhole = null;
-        this.cellOf = null;
+        // the frame each cell was last listed whole (NEVER: not yet), its trees then
+        // impostors, and each tree's cell (select's whole: web/cull_grid.js; none: one cell)
+        this.cellWhole = new Uint32Array(1).fill(NEVER);
+        this.cellOf = new Int32Array(n_trees);
         this.frame = 0;
         this.scale = 1; // the budget's scale of FULL's and THIN's distances, last frame
         this.cap = 1; // the frame-time governor's cap on that scale (web/governor.js)
@@ -246,7 +247,7 @@ export class LodSelect {
     // The whole cells of frame f: their trees impostors alone, as levels reads them
     // next frame (lastLevel).
     wholeLevels(whole, f) {
-        if (!this.cellWhole || this.cellWhole.length !== whole.cell.length) this.cellWhole = new Uint32Array(whole.cell.length);
+        if (this.cellWhole.length !== whole.cell.length) this.cellWhole = new Uint32Array(whole.cell.length).fill(NEVER);
         this.cellOf = whole.cellOf;
         const cw = this.cellWhole;
         for (let k = 0; k < whole.n; k++) cw[whole.cell[k]] = f;
@@ -257,14 +258,13 @@ export class LodSelect {
     lastLevel(id) {
         const f = this.frame;
         if (this.seen[id] === f) return this.level[id];
-        return this.cellWhole !== null && this.cellWhole[this.cellOf[id]] === f ? LOD.IMPOSTOR : LOD.NONE;
+        return this.cellWhole[this.cellOf[id]] === f ? LOD.IMPOSTOR : LOD.NONE;
     }
 
     // The level and impostor share of each of select's trees at frame f, scales sc and sf.
     levels(ids, dist, n, species, out, lying, share, sc, sf, reach, f) {
         const seen = this.seen, level = this.level, drawn = this.drawn, lo = 1 - LOD_HYSTERESIS, hi = 1 + LOD_HYSTERESIS;
-        // a tree of a cell listed whole last frame: an impostor then
-        const cw = this.cellWhole, cellOf = this.cellOf, f1 = cw !== null ? f - 1 : -1;
+        const cw = this.cellWhole, cellOf = this.cellOf;
         // the edges at this scale, inlined (levelAt), and the arrays read per tree held
         // here: the loop runs over every tree in view (100,000 from over the landscape)
         const eFull = LOD_OUTER_M[LOD.FULL] * sc, eThin = LOD_OUTER_M[LOD.THIN] * sc, eFar = LOD_OUTER_M[LOD.IMPOSTOR] * sf;
@@ -272,7 +272,9 @@ export class LodSelect {
         for (let i = 0; i < n; i++) {
             const t = ids[i], d = dist[i];
             let l = d < eFull ? LOD.FULL : d < eThin ? LOD.THIN : d < eFar ? LOD.IMPOSTOR : LOD.NONE, sh = 0;
-            const p = seen[t] === f - 1 ? level[t] : f1 > 0 && cw[cellOf[t]] === f1 ? LOD.IMPOSTOR : LOD.NONE;
+            // its level last frame: its own, or an impostor in a cell listed whole (read
+            // for every tree: the JIT's code then has seen both)
+            const pw = cw[cellOf[t]] === f - 1 ? LOD.IMPOSTOR : LOD.NONE, p = seen[t] === f - 1 ? level[t] : pw;
             if (!drawn[species[t]] || d >= reach) l = LOD.NONE;
             else if (p !== LOD.NONE && l > p) l = Math.max(p, levelAt(d, sc * hi, sf * hi)); // coarser: only past the widened edge
             else if (p !== LOD.NONE && l < p) l = Math.min(p, levelAt(d, sc * lo, sf * lo)); // finer: only inside the narrowed edge
