@@ -83,7 +83,7 @@ export class CellGrid {
         }
         if (!n) x0 = y0 = x1 = y1 = 0;
         this.hmax_m = hmax;
-        this.ns = ns; // species: the places of cell c's species s are run[c ns + s] .. run[c ns + s + 1]
+        this.ns = ns; // species ids below it: the places of cell c's species s are run[s nc + c] .. run[s nc + c + 1]
         // about CELL_TREES trees a cell over the trees' extent
         const w = x1 - x0, d = y1 - y0;
         let cell = Math.max(CELL_MIN_M, Math.sqrt(Math.max(w * d, 1) * CELL_TREES / Math.max(n, 1)));
@@ -106,7 +106,6 @@ export class CellGrid {
         const fill = run.slice(0, ns * nc);
         this.run = run;
         this.trees = new Int32Array(n); // the tree at each place
-        this.placeOf = new Int32Array(n); // each tree's place
         this.px = new Float32Array(n); // its base [m], by place
         this.py = new Float32Array(n);
         this.pz = new Float32Array(n);
@@ -117,7 +116,6 @@ export class CellGrid {
         for (let t = 0; t < n; t++) {
             const r = rows[t], at = fill[keyOf[t]]++;
             this.trees[at] = t;
-            this.placeOf[t] = at;
             this.px[at] = r[1];
             this.py[at] = r[2];
             this.pz[at] = r[3];
@@ -174,15 +172,11 @@ export class CellGrid {
     // Which trees lie (lying[t] 1), for the cells that may be listed whole: a cell with a
     // lying tree is gathered tree by tree. Copies it by place.
     setLying(lying) {
-        const L = this.lying, cl = this.cellLying, ns = this.ns, nc = this.nc, run = this.run;
+        const L = this.lying, cl = this.cellLying, cellOf = this.cellOf, trees = this.trees;
         cl.fill(0);
-        for (let s = 0; s < ns; s++) {
-            for (let c = 0; c < nc; c++) {
-                for (let i = run[s * nc + c], e = run[s * nc + c + 1]; i < e; i++) {
-                    L[i] = lying ? lying[this.trees[i]] : 0;
-                    cl[c] += L[i];
-                }
-            }
+        for (let i = 0; i < this.n; i++) {
+            L[i] = lying && lying[trees[i]] ? 1 : 0;
+            cl[cellOf[i]] += L[i];
         }
     }
 
