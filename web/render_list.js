@@ -4,7 +4,9 @@
 // distance, then a share of the leaves on the coarsest mesh), so that each species'
 // skeleton pass is two draws, its bark one draw per mesh and its leaves one per level, and
 // apart from them its impostors (web/render_imp.js), one draw a species and no skeleton
-// row. A counting sort by species and level: never a sort of the trees by distance.
+// row. A counting sort by species and level: never a sort of the trees by distance. A
+// cell far enough away (web/lod_select.js wholeBand) is listed whole: its impostors are
+// copied in runs from the rows kept for each place, never tree by tree.
 // Renderer (web/render_gl.js) takes these methods as its own.
 import { CellGrid } from './cull_grid.js';
 import { LodSelect, meshLod } from './lod_select.js';
