@@ -16,6 +16,7 @@ import { LOD, LOD_LEVELS, LOD_OUTER_M, LOD_HYSTERESIS, LOD_MESH_STEP_M, LOD_BUDG
 const BINS = 512;
 const SCALE_STEP = 0.9; // the budget's search: the distances scaled down by this a try
 const SCALE_MIN = 1e-3;
+const NEVER = 0xffffffff; // a frame select never reaches
 
 // The level of distance d at distance scale s (the policy's distances × s) and the last
 // level's scale sf (its outer distance × sf), NONE past the last.
@@ -50,6 +51,10 @@ export class LodSelect {
     constructor(n_trees) {
         this.level = new Uint8Array(n_trees).fill(LOD.NONE); // each tree's level last frame it was in view
         this.seen = new Uint32Array(n_trees); // the frame it was last in view (0: never)
+        // the frame each cell was last listed whole (NEVER: not yet), its trees then
+        // impostors, and each tree's cell (select's whole: web/cull_grid.js; none: one cell)
+        this.cellWhole = new Uint32Array(1).fill(NEVER);
+        this.cellOf = new Int32Array(n_trees);
         this.frame = 0;
         this.scale = 1; // the budget's scale of FULL's and THIN's distances, last frame
         this.cap = 1; // the frame-time governor's cap on that scale (web/governor.js)
@@ -62,31 +67,61 @@ export class LodSelect {
         return LOD_OUTER_M[LOD_LEVELS - 1] * Math.min(1, this.scaleFar * LOD_GROW_PER_FRAME) * (1 + LOD_HYSTERESIS);
     }
 
-    // trees[0..n) in view at distances dist, of species speciesOf(t); cost[s][level][mesh
-    // lod]: triangles of one tree of species s at FULL and THIN, of its impostor at
-    // IMPOSTOR (null: a species not drawn); nodes[s]: its nodes posed; budget: { triangles,
-    // trees, nodes, draws } (trees and nodes: those the skeleton pass poses, FULL and
-    // THIN); lying[t]: 1 for a tree never drawn as an impostor (null: none). Writes each
-    // tree's level into out[0..n) and its share in its impostor into share[0..n) (0 < share
-    // < 1: drawn both at THIN and as an impostor; 1: as an impostor alone, also at THIN
-    // kept by the hysteresis), and returns { scale, scale_far (the impostors' reach's),
-    // and the worst case's triangles, trees, nodes, draws }.
-    select(trees, dist, n, speciesOf, cost, out, budget = {}, nodes = [], lying = null, share = null) {
+    // The band of distances in which a frame may list a cell's trees whole (web/cull_grid.js
+    // gather's whole), given the species cost draws (select's cost): from the first bin
+    // of the budget's histogram past THIN's reach at the largest scale this frame may take,
+    // widened by the hysteresis, to the impostors' reach narrowed by it. A standing tree
+    // of a drawn species there is an impostor alone (share 1) at any scale the budget picks,
+    // whatever its level last frame, and its bin and the cell's nearest one cost the
+    // budget the same: select gives such a cell's trees that level without looking at
+    // them. Reused each call.
+    wholeBand(cost) {
+        const sMax = Math.min(this.cap, this.scale * LOD_GROW_PER_FRAME), fMax = Math.min(1, this.scaleFar * LOD_GROW_PER_FRAME);
+        const b = this.band || (this.band = { near_m: 0, far_m: 0, bin_m: 0, drawn: null });
+        if (!b.drawn || b.drawn.length !== cost.length) b.drawn = new Uint8Array(cost.length);
+        for (let s = 0; s < cost.length; s++) b.drawn[s] = cost[s] ? 1 : 0;
+        b.near_m = LOD_OUTER_M[LOD.THIN] * (sMax * (1 + LOD_HYSTERESIS));
+        b.far_m = LOD_OUTER_M[LOD.IMPOSTOR] * (fMax * (1 - LOD_HYSTERESIS));
+        b.bin_m = LOD_OUTER_M[LOD_LEVELS - 1] * fMax * (1 + LOD_HYSTERESIS) / BINS;
+        return b;
+    }
+
+    // ids[0..n) in view at distances dist, of species species[id]: the trees' own numbers,
+    // or any others below n_trees that a caller keeps each tree under from frame to frame
+    // (web/render_list.js: its place in the cells, web/cull_grid.js), which index lying
+    // and this selection's memory of each tree's level; cost[s][level][mesh lod]:
+    // triangles of one tree of species s at FULL and THIN, of its impostor at IMPOSTOR
+    // (null: a species not drawn); nodes[s]: its nodes posed; budget: { triangles, trees,
+    // nodes, draws } (trees and nodes: those the skeleton pass poses, FULL and THIN);
+    // lying[id]: 1 for a tree never drawn as an impostor (null: none). Writes each tree's
+    // level into out[0..n) and its share in its impostor into share[0..n) (0 < share < 1:
+    // drawn both at THIN and as an impostor; 1: as an impostor alone, also at THIN kept by
+    // the hysteresis), and returns { scale, scale_far (the impostors' reach's), and the
+    // worst case's triangles, trees, nodes, draws }. whole: web/cull_grid.js gather's
+    // out.whole (its ids places), gathered in the band of wholeBand(cost): each of its
+    // cells' trees an impostor alone; null when the budget would pull the impostors'
+    // reach in this frame (whole cells then do not hold), with nothing changed: the caller
+    // gathers again without them.
+    select(ids, dist, n, species, cost, out, budget = {}, nodes = [], lying = null, share = null, whole = null) {
         const maxTris = budget.triangles ?? LOD_BUDGET_TRIANGLES, maxTrees = budget.trees ?? LOD_BUDGET_TREES;
         const maxNodes = budget.nodes ?? LOD_BUDGET_NODES, maxDraws = (budget.draws ?? LOD_BUDGET_DRAWS) - LOD_DRAWS_FIXED;
         const sMax = Math.min(this.cap, this.scale * LOD_GROW_PER_FRAME), fMax = Math.min(1, this.scaleFar * LOD_GROW_PER_FRAME);
         const reach = LOD_OUTER_M[LOD_LEVELS - 1] * fMax * (1 + LOD_HYSTERESIS);
         const ns = cost.length, w = reach / BINS;
-        // the standing trees' bins, then the lying ones' (at most THIN)
-        if (!this.hist || this.hist.length !== 2 * ns * BINS) this.hist = new Uint32Array(2 * ns * BINS);
-        const hist = this.hist;
-        hist.fill(0);
-        for (let i = 0; i < n; i++) {
-            const t = trees[i], s = speciesOf(t);
-            if (!cost[s]) continue;
-            const b = Math.floor(dist[i] / w);
-            if (b < BINS) hist[((lying && lying[t] ? ns : 0) + s) * BINS + b]++;
+        if (!this.drawn || this.drawn.length !== ns) this.drawn = new Uint8Array(ns);
+        const drawn = this.drawn;
+        for (let s = 0; s < ns; s++) drawn[s] = cost[s] ? 1 : 0;
+        if (whole && whole.n) {
+            // listed in another frame's band (the governor's cap moved since)
+            const b = whole.band;
+            if (!b || b.near_m !== LOD_OUTER_M[LOD.THIN] * (sMax * (1 + LOD_HYSTERESIS)) || b.bin_m !== w ||
+                b.far_m !== LOD_OUTER_M[LOD.IMPOSTOR] * (fMax * (1 - LOD_HYSTERESIS))) return null;
         }
+        if (!this.hist || this.hist.length !== 2 * ns * BINS) this.hist = new Uint32Array(2 * ns * BINS);
+        const hist = this.hist, nw = whole ? whole.n : 0;
+        hist.fill(0);
+        if (nw) this.histWhole(whole, w);
+        this.histTrees(ids, dist, n, species, lying, w);
         // the worst case at scale s: each bin's trees at the level of its near edge, the
         // outer distances widened by the hysteresis; a standing tree past FULL is THIN up to
         // THIN's outer distance and an impostor from its fade on (the fade ignores the
@@ -172,24 +207,81 @@ export class LodSelect {
                 }
             }
         }
+        if (nw && sf !== fMax) return null;
         this.scale = sc;
         this.scaleFar = sf;
-        const f = ++this.frame, lo = 1 - LOD_HYSTERESIS, hi = 1 + LOD_HYSTERESIS;
+        const f = ++this.frame;
+        if (whole) this.wholeLevels(whole, f);
+        this.levels(ids, dist, n, species, out, lying, share, sc, sf, reach, f);
+        return { scale: sc, scale_far: sf, triangles: wc.tris, trees: wc.count, nodes: wc.posed, draws: wc.draws + LOD_DRAWS_FIXED };
+    }
+
+    // select's passes over the trees, each loop last in a function of its own (the JIT's
+    // code for a loop entered mid-call then holds no later step it has not yet seen run).
+
+    // The budget's histogram (bins of w [m]; per species its standing trees' bins, then its
+    // lying ones', at most THIN): a whole cell's trees in the bin of its nearest distance
+    // (past THIN's, as each tree's own: the same cost at every scale this frame may take).
+    histWhole(whole, w) {
+        const hist = this.hist, run = whole.run, gns = whole.ns, nc = whole.nc, nw = whole.n;
+        for (let k = 0; k < nw; k++) {
+            const c = whole.cell[k], b = Math.floor(whole.near_m[k] / w);
+            for (let s = 0; s < gns; s++) {
+                const m = run[s * nc + c + 1] - run[s * nc + c];
+                if (m && b < BINS) hist[s * BINS + b] += m;
+            }
+        }
+    }
+
+    // And select's trees one by one.
+    histTrees(ids, dist, n, species, lying, w) {
+        const hist = this.hist, drawn = this.drawn, ns = drawn.length;
+        for (let i = 0; i < n; i++) {
+            const t = ids[i], s = species[t];
+            if (!drawn[s]) continue;
+            const b = Math.floor(dist[i] / w);
+            if (b < BINS) hist[((lying !== null && lying[t] ? ns : 0) + s) * BINS + b]++;
+        }
+    }
+
+    // The whole cells of frame f: their trees impostors alone, as levels reads them
+    // next frame (lastLevel).
+    wholeLevels(whole, f) {
+        if (this.cellWhole.length !== whole.cell.length) this.cellWhole = new Uint32Array(whole.cell.length).fill(NEVER);
+        this.cellOf = whole.cellOf;
+        const cw = this.cellWhole;
+        for (let k = 0; k < whole.n; k++) cw[whole.cell[k]] = f;
+    }
+
+    // Tree id's level at the last frame select ran (NONE: not drawn, or not in view), as
+    // the hysteresis reads it: its own, or IMPOSTOR in a cell listed whole.
+    lastLevel(id) {
+        const f = this.frame;
+        if (this.seen[id] === f) return this.level[id];
+        return this.cellWhole[this.cellOf[id]] === f ? LOD.IMPOSTOR : LOD.NONE;
+    }
+
+    // The level and impostor share of each of select's trees at frame f, scales sc and sf.
+    levels(ids, dist, n, species, out, lying, share, sc, sf, reach, f) {
+        const seen = this.seen, level = this.level, drawn = this.drawn, lo = 1 - LOD_HYSTERESIS, hi = 1 + LOD_HYSTERESIS;
+        const cw = this.cellWhole, cellOf = this.cellOf;
         // the edges at this scale, inlined (levelAt), and the arrays read per tree held
         // here: the loop runs over every tree in view (100,000 from over the landscape)
         const eFull = LOD_OUTER_M[LOD.FULL] * sc, eThin = LOD_OUTER_M[LOD.THIN] * sc, eFar = LOD_OUTER_M[LOD.IMPOSTOR] * sf;
-        const eFade = eThin * (1 - LOD_FADE_SHARE), drawn = cost.map((c) => !!c), seen = this.seen, level = this.level;
+        const eFade = eThin * (1 - LOD_FADE_SHARE);
         for (let i = 0; i < n; i++) {
-            const t = trees[i], d = dist[i];
+            const t = ids[i], d = dist[i];
             let l = d < eFull ? LOD.FULL : d < eThin ? LOD.THIN : d < eFar ? LOD.IMPOSTOR : LOD.NONE, sh = 0;
-            const p = seen[t] === f - 1 ? level[t] : LOD.NONE;
-            if (!drawn[speciesOf(t)] || d >= reach) l = LOD.NONE;
+            // its level last frame: its own, or an impostor in a cell listed whole (read
+            // for every tree: the JIT's code then has seen both)
+            const pw = cw[cellOf[t]] === f - 1 ? LOD.IMPOSTOR : LOD.NONE, p = seen[t] === f - 1 ? level[t] : pw;
+            if (!drawn[species[t]] || d >= reach) l = LOD.NONE;
             else if (p !== LOD.NONE && l > p) l = Math.max(p, levelAt(d, sc * hi, sf * hi)); // coarser: only past the widened edge
             else if (p !== LOD.NONE && l < p) l = Math.min(p, levelAt(d, sc * lo, sf * lo)); // finer: only inside the narrowed edge
             if (l === LOD.THIN || l === LOD.IMPOSTOR) {
                 // a lying tree past THIN is a few pixels high: not drawn (a storm's
                 // thousands posed out to the reach would cost ten times the budget)
-                if (lying && lying[t]) l = d < eThin ? LOD.THIN : LOD.NONE;
+                if (lying !== null && lying[t]) l = d < eThin ? LOD.THIN : LOD.NONE;
                 else if (d > eFade) {
                     // inside THIN's outer distance THIN, fading; past it the hysteresis
                     // keeps a THIN tree's level, wholly in its impostor (share 1, no
@@ -199,10 +291,9 @@ export class LodSelect {
                 } else l = LOD.THIN;
             }
             out[i] = l;
-            if (share) share[i] = sh;
+            if (share !== null) share[i] = sh;
             level[t] = l;
             seen[t] = l === LOD.NONE ? 0 : f;
         }
-        return { scale: sc, scale_far: sf, triangles: wc.tris, trees: wc.count, nodes: wc.posed, draws: wc.draws + LOD_DRAWS_FIXED };
     }
 }

@@ -21,6 +21,7 @@ export class RendererDamage {
             this.lying[i] = fall > 0 || code[i] >= 256 || uprooted[i] ? 1 : 0;
         }
         this.uprooted.set(uprooted.subarray(0, this.n_trees));
+        this.placeDamage(); // the cells' copies (web/render_list.js)
         this.trees = this.dataTex(4, (this.n_trees + MAX_DEBRIS) * 2, t, this.trees);
     }
 
@@ -40,6 +41,7 @@ export class RendererDamage {
             for (let l = 0; l < sp.n_leaves; l++) kept += m[sp.a.leaf_node[l]];
             this.leafAttached[t] = kept / sp.n_leaves;
         }
+        this.placeDamage();
         this.uploadCuts();
     }
 

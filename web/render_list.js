@@ -4,7 +4,9 @@
 // distance, then a share of the leaves on the coarsest mesh), so that each species'
 // skeleton pass is two draws, its bark one draw per mesh and its leaves one per level, and
 // apart from them its impostors (web/render_imp.js), one draw a species and no skeleton
-// row. A counting sort by species and level: never a sort of the trees by distance.
+// row. A counting sort by species and level: never a sort of the trees by distance. A
+// cell far enough away (web/lod_select.js wholeBand) is listed whole: its impostors are
+// copied in runs from the rows kept for each place, never tree by tree.
 // Renderer (web/render_gl.js) takes these methods as its own.
 import { CellGrid } from './cull_grid.js';
 import { LodSelect, meshLod } from './lod_select.js';
@@ -14,22 +16,69 @@ import { DAMAGE } from './damage.js';
 // Triangles of one impostor: its quad.
 export const IMP_TRIANGLES = 2;
 
+// The impostor rows of species s's places runA[s]..runE[s] (buf[0..imp0): each place's)
+// onto the end of its impostors in the frame's list (buf from imp0), the run then empty.
+function copyRun(buf, imp0, impStart, runA, runE, s) {
+    buf.copyWithin(imp0 + 4 * impStart[s], 4 * runA[s], 4 * runE[s]);
+    impStart[s] += runE[s] - runA[s];
+    runA[s] = runE[s] = 0;
+}
+
 export class RendererList {
     // The welcome's trees into the grid (their heights from the species drawn, 0 for one
     // not loaded); a new selection, none drawn yet; no tree lying, every leaf on.
     setupCulling(rows) {
-        const h = new Float32Array(rows.length);
-        rows.forEach((r, t) => {
-            const sp = this.species[r[0]];
+        const n = rows.length, h = new Float32Array(n);
+        for (let t = 0; t < n; t++) {
+            const r = rows[t], sp = this.species[r[0]];
             h[t] = sp ? sp.height * (r[5] > 0 ? r[5] : 1) : 0;
-        });
+        }
         this.grid = new CellGrid(rows, h);
-        this.lod = new LodSelect(rows.length);
-        this.lodLevel = new Uint8Array(rows.length);
-        this.lodShare = new Float32Array(rows.length);
-        this.speciesOf = Uint8Array.from(rows, (r) => r[0]);
-        this.lying = new Uint8Array(rows.length);
-        this.leafAttached = new Float32Array(rows.length).fill(1);
+        this.lod = new LodSelect(n);
+        this.lodLevel = new Uint8Array(n);
+        this.lodShare = new Float32Array(n);
+        this.lying = new Uint8Array(n);
+        this.leafAttached = new Float32Array(n).fill(1);
+        // each place's impostor row (tree, its share of leaves left, 0, 1: drawList's) and
+        // after them the frame's impostors, so that a run of them is copied within one array
+        this.impBuf = new Float32Array(8 * n);
+        this.placeImp = this.impBuf.subarray(0, 4 * n);
+        this.impData = this.impBuf.subarray(4 * n);
+        this.lodCache = null;
+        this.placeDamage();
+    }
+
+    // The cells' copies, by place (web/cull_grid.js), of each tree's damage that the draw
+    // list reads: whether it lies (this.lying) and its impostor's row with its share of
+    // leaves (leafLeft). setDamage and setCuts (web/render_damage.js) call it after they
+    // change treeData, lying or leafAttached.
+    placeDamage() {
+        const g = this.grid, td = this.treeData, attached = this.leafAttached, row = this.placeImp;
+        g.setLying(this.lying);
+        for (let at = 0; at < g.n; at++) {
+            const t = g.trees[at];
+            row[4 * at] = t;
+            row[4 * at + 1] = !td || td[8 * t + 6] === 0 ? attached[t] : this.leafLeft(t);
+            row[4 * at + 2] = 0;
+            row[4 * at + 3] = 1;
+        }
+    }
+
+    // Per species the triangles of one tree at each level and mesh LOD (leafLevels; null
+    // for a species not drawn) and its nodes posed, for the selection; built again when a
+    // species arrives. Reused each frame.
+    lodCosts() {
+        const c = this.lodCache, sp = this.species;
+        let same = !!c && c.of.length === sp.length;
+        for (let s = 0; same && s < sp.length; s++) same = c.of[s] === sp[s];
+        if (same) return c;
+        this.lodCache = {
+            of: sp.slice(),
+            cost: sp.map((x) => (x ? (this.leafLevels(x), x.lodCost) : null)),
+            nodes: sp.map((x) => (x ? x.n_nodes : 0)),
+            n_lods: Math.max(1, ...sp.map((x) => (x ? x.n_lods : 1))),
+        };
+        return this.lodCache;
     }
 
     // A species' leaves at FULL and THIN: the data texture of a deterministic share of them
@@ -69,78 +118,45 @@ export class RendererList {
     // bark: [[base, n, mesh lod]], leaves: [[base, n, level]] }, the impostors per species
     // { s, base, n }, and the trees posed (for the stumps and plates).
     // modes: per tree mode count (0: not sent: drawn at rest with none).
+    // The cells far enough away are listed whole as impostors (web/lod_select.js
+    // wholeBand), unless this.listWhole is false: every tree one by one, the same lists.
     drawList(cam, modes) {
         const t0 = performance.now();
-        const ns = this.species.length, nl = Math.max(1, ...this.species.map((sp) => (sp ? sp.n_lods : 1)));
-        const cost = this.species.map((sp) => (sp ? (this.leafLevels(sp), sp.lodCost) : null));
-        const g = this.grid, o = g.gather(this.viewproj, cam.eye, this.lod.reach_m());
-        const budget = { trees: Math.min(this.max_rows, this.maxSkelRows()) };
-        const sel = this.lod.select(o.trees, o.dist, o.n, (t) => this.speciesOf[t], cost, this.lodLevel, budget,
-            this.species.map((sp) => (sp ? sp.n_nodes : 0)), this.lying, this.lodShare);
-        // keys: per species its FULL rows by mesh LOD, then THIN; impostors apart, per species
-        const K = nl + 1, count = new Int32Array(ns * K + 1), impCount = new Int32Array(ns + 1);
-        const ex = cam.eye[0], ey = cam.eye[1], ez = cam.eye[2];
-        const base_m = (t) => Math.hypot(g.x[t] - ex, g.y[t] - ey, g.z[t] - ez);
-        const keyOf = (s, l, d) => s * K + (l === LOD.FULL ? meshLod(d, l, this.species[s].n_lods) : nl);
-        const keys = this.listKeys && this.listKeys.length >= o.n + this.debris.length ? this.listKeys : (this.listKeys = new Int32Array(o.n + this.debris.length + 64));
-        // the arrays read per tree held here: the loops run over every tree in view
-        const lodLevel = this.lodLevel, lodShare = this.lodShare, speciesOf = this.speciesOf, inView = o.trees;
-        let n = 0, ni = 0, nt = 0;
-        for (let i = 0; i < o.n; i++) {
-            const l = lodLevel[i], t = inView[i], s = speciesOf[t], sh = lodShare[i];
-            keys[i] = -1;
-            if (l === LOD.NONE) continue;
-            nt++;
-            if (sh > 0) {
-                impCount[s + 1]++;
-                ni++;
-            }
-            if (sh >= 1) continue; // wholly its impostor
-            keys[i] = keyOf(s, l, l === LOD.FULL ? base_m(t) : 0);
-            count[keys[i] + 1]++;
-            n++;
+        const ns = this.species.length, lc = this.lodCosts(), cost = lc.cost, nl = lc.n_lods;
+        const g = this.grid, lod = this.lod, reach = lod.reach_m();
+        const budget = this.lodBudget || (this.lodBudget = { trees: 0 });
+        budget.trees = Math.min(this.max_rows, this.maxSkelRows());
+        let o = g.gather(this.viewproj, cam.eye, reach, this.listWhole === false ? null : lod.wholeBand(cost));
+        let sel = lod.select(o.at, o.dist, o.n, g.species, cost, this.lodLevel, budget, lc.nodes, g.lying, this.lodShare, o.whole);
+        if (!sel) {
+            // the impostors' reach pulled in this frame: the far cells tree by tree
+            o = g.gather(this.viewproj, cam.eye, reach, null);
+            sel = lod.select(o.at, o.dist, o.n, g.species, cost, this.lodLevel, budget, lc.nodes, g.lying, this.lodShare, o.whole);
         }
-        // the debris pieces, in the slots after the trees: every leaf, mesh by distance
-        this.debris.forEach((d, k) => {
-            const sp = this.species[d.species];
-            keys[o.n + k] = sp ? keyOf(d.species, LOD.FULL, Math.hypot(d.pos[0] - ex, d.pos[1] - ey, d.pos[2] - ez)) : -1;
-            if (sp) { count[keys[o.n + k] + 1]++; n++; }
-        });
+        // keys: per species its FULL rows by mesh LOD, then THIN; impostors apart, per species
+        const K = nl + 1, nd = this.debris.length;
+        if (!this.listCount || this.listCount.length !== ns * K + 1) {
+            this.listCount = new Int32Array(ns * K + 1);
+            this.listStart = new Int32Array(ns * K);
+            this.impCount = new Int32Array(ns + 1);
+            this.impStart = new Int32Array(ns);
+            this.runA = new Int32Array(ns);
+            this.runE = new Int32Array(ns);
+        }
+        if (!this.listKeys || this.listKeys.length < o.n + nd) this.listKeys = new Int32Array(o.n + nd + 64);
+        const count = this.listCount, impCount = this.impCount;
+        this.listCountsRest(o, cam.eye, K);
+        const nt = this.listCounts(o, cam.eye, K, nl) + o.whole.trees;
         for (let k = 0; k < ns * K; k++) count[k + 1] += count[k];
         for (let s = 0; s < ns; s++) impCount[s + 1] += impCount[s];
-        const start = count.slice(0, ns * K), impStart = impCount.slice(0, ns);
-        const list = this.listData && this.listData.length >= 4 * n ? this.listData : (this.listData = new Float32Array(4 * Math.max(16, 2 * n)));
-        const imp = this.impData && this.impData.length >= 4 * ni ? this.impData : (this.impData = new Float32Array(4 * Math.max(16, 2 * ni)));
-        const drawn = this.drawnTrees && this.drawnTrees.length >= n ? this.drawnTrees : (this.drawnTrees = new Int32Array(Math.max(16, 2 * n)));
+        const n = count[ns * K], ni = impCount[ns];
+        this.listStart.set(count.subarray(0, ns * K));
+        this.impStart.set(impCount.subarray(0, ns));
+        if (!this.listData || this.listData.length < 4 * n) this.listData = new Float32Array(4 * Math.max(16, 2 * n));
+        if (!this.drawnTrees || this.drawnTrees.length < n) this.drawnTrees = new Int32Array(Math.max(16, 2 * n));
         const perLevel = [0, 0, 0]; // skeleton rows at FULL and THIN, impostors (a fading tree in both)
-        const treeData = this.treeData, attached = this.leafAttached;
-        for (let i = 0; i < o.n + this.debris.length; i++) {
-            const debris = i >= o.n, t = debris ? this.n_trees + i - o.n : inView[i];
-            const sh = debris ? 0 : lodShare[i];
-            if (sh > 0) {
-                // the impostor: tree, its share of leaves left (leafLeft), 0, its fade in
-                // (dither_keep: −sh keeps the pixels that THIN's 1 − sh leaves)
-                const e = impStart[speciesOf[t]]++, z = treeData[8 * t + 6];
-                imp[4 * e] = t;
-                imp[4 * e + 1] = z === 0 ? attached[t] : this.leafLeft(t);
-                imp[4 * e + 2] = 0;
-                imp[4 * e + 3] = sh < 1 ? -sh : 1;
-                perLevel[LOD.IMPOSTOR]++;
-            }
-            if (keys[i] < 0) continue;
-            const row = start[keys[i]]++;
-            const s = debris ? this.debris[i - o.n].species : speciesOf[t], sp = this.species[s];
-            // a debris piece: its rest pose needs no modes; a tree past those whose motion
-            // the page holds (App: q_trees) is drawn at rest
-            // the trees past FULL with the few modes the server sends past lod_m
-            const nm = debris || t >= this.q_trees ? 0 : Math.min(modes ? modes[t] : sp.n_modes, sp.n_modes, LOD_MODES_MAX[lodLevel[i]]);
-            list[4 * row] = t;
-            list[4 * row + 1] = row;
-            list[4 * row + 2] = nm;
-            list[4 * row + 3] = 1 - sh; // fading out into its impostor
-            drawn[row] = t;
-            if (!debris) perLevel[lodLevel[i]]++;
-        }
+        this.listFill(o, modes, perLevel);
+        this.listFillEnd(o);
         const groups = [], imps = [];
         for (let s = 0; s < ns; s++) {
             const sp = this.species[s], a = count[s * K], e = count[(s + 1) * K];
@@ -168,9 +184,131 @@ export class RendererList {
         this.stats.lod_worst = sel;
         this.stats.cells_in_view = o.cells_in_view;
         this.stats.cull_ms = performance.now() - t0;
-        this.list = this.dataTex(4, Math.max(1, n), list.subarray(0, Math.max(1, n) * 4), this.list);
-        if (ni) this.impList = this.dataTex(4, ni, imp.subarray(0, ni * 4), this.impList);
-        return { groups, imps, drawn: drawn.subarray(0, n), rows: n };
+        this.list = this.dataTex(4, Math.max(1, n), this.listData.subarray(0, Math.max(1, n) * 4), this.list);
+        if (ni) this.impList = this.dataTex(4, ni, this.impData.subarray(0, ni * 4), this.impList);
+        return { groups, imps, drawn: this.drawnTrees.subarray(0, n), rows: n };
+    }
+
+    // drawList's first pass over the debris pieces and the cells listed whole (o.whole:
+    // web/cull_grid.js gather's): each piece's key (K keys a species: its FULL rows by mesh
+    // LOD, then THIN; -1: no skeleton row) into listKeys after the trees', the rows of each
+    // key into listCount and the impostors of each species into impCount (both counted
+    // from index 1; listCount and impCount zeroed first).
+    listCountsRest(o, eye, K) {
+        const count = this.listCount.fill(0), impCount = this.impCount.fill(0), keys = this.listKeys, species = this.species;
+        // the debris pieces, in the slots after the trees: every leaf, mesh by distance
+        for (let k = 0; k < this.debris.length; k++) {
+            const d = this.debris[k], sp = species[d.species];
+            keys[o.n + k] = sp ? d.species * K + meshLod(Math.hypot(d.pos[0] - eye[0], d.pos[1] - eye[1], d.pos[2] - eye[2]), LOD.FULL, sp.n_lods) : -1;
+            if (sp) count[keys[o.n + k] + 1]++;
+        }
+        // the whole cells' trees: impostors alone
+        const W = o.whole, run = W.run, nc = W.nc, wns = Math.min(W.ns, species.length); // (a whole cell holds drawn species alone)
+        for (let k = 0; k < W.n; k++) {
+            for (let s = 0, r = W.cell[k]; s < wns; s++, r += nc) impCount[s + 1] += run[r + 1] - run[r];
+        }
+    }
+
+    // And over the trees gathered one by one (o): their keys (nl: THIN's within a
+    // species), rows and impostors. Returns the trees drawn among them. (Each of these
+    // passes runs its one loop last: the JIT's code for a loop entered mid-call then holds
+    // no later step it has not yet seen run.)
+    listCounts(o, eye, K, nl) {
+        const count = this.listCount, impCount = this.impCount, keys = this.listKeys, g = this.grid, species = this.species;
+        const ex = eye[0], ey = eye[1], ez = eye[2];
+        // the arrays read per tree held here: the loop runs over every tree in view
+        const lodLevel = this.lodLevel, lodShare = this.lodShare, gs = g.species, px = g.px, py = g.py, pz = g.pz, inAt = o.at;
+        let nt = 0;
+        for (let i = 0; i < o.n; i++) {
+            const l = lodLevel[i], at = inAt[i], s = gs[at], sh = lodShare[i];
+            keys[i] = -1;
+            if (l === LOD.NONE) continue;
+            nt++;
+            if (sh > 0) impCount[s + 1]++;
+            if (sh >= 1) continue; // wholly its impostor
+            let key = s * K + nl;
+            if (l === LOD.FULL) {
+                // the bark mesh by the distance of the tree's base
+                const dx = px[at] - ex, dy = py[at] - ey, dz = pz[at] - ez;
+                key = s * K + meshLod(Math.sqrt(dx * dx + dy * dy + dz * dz), l, species[s].n_lods);
+            }
+            keys[i] = key;
+            count[key + 1]++;
+        }
+        return nt;
+    }
+
+    // drawList's second pass: the skeleton rows (listData, drawnTrees) and the impostors
+    // (impData) of the trees gathered (o) at the places listStart and impStart give
+    // (listCounts' counts summed), and the rows at each level and the impostors into
+    // perLevel; listFillEnd ends it.
+    listFill(o, modes, perLevel) {
+        const g = this.grid, keys = this.listKeys, start = this.listStart, impStart = this.impStart;
+        const list = this.listData, drawn = this.drawnTrees, imp = this.impData, buf = this.impBuf, imp0 = 4 * g.n, q = this.q_trees;
+        const lodLevel = this.lodLevel, lodShare = this.lodShare, gs = g.species, inAt = o.at, inView = o.trees;
+        const species = this.species, W = o.whole, run = W.run, nc = W.nc, wns = Math.min(W.ns, species.length);
+        // the whole cells' impostors of each species waiting, places runA[s]..runE[s]
+        const runA = this.runA.fill(0), runE = this.runE.fill(0);
+        perLevel[LOD.IMPOSTOR] += W.trees;
+        // the trees in view in the cells' order, each whole cell where it falls among them:
+        // a species' impostors in the order of its places, as tree by tree would list them
+        for (let k = 0, i = 0; k <= W.n; k++) {
+            for (const end = k < W.n ? W.before[k] : o.n; i < end; i++) {
+                const t = inView[i], sh = lodShare[i], at = inAt[i], s = gs[at];
+                if (sh > 0) {
+                    // the impostor: tree, its share of leaves left (leafLeft), 0, its fade in
+                    // (dither_keep: −sh keeps the pixels that THIN's 1 − sh leaves)
+                    if (runE[s] > runA[s]) copyRun(buf, imp0, impStart, runA, runE, s);
+                    const e = 4 * impStart[s]++;
+                    imp[e] = t;
+                    imp[e + 1] = buf[4 * at + 1];
+                    imp[e + 2] = 0;
+                    imp[e + 3] = sh < 1 ? -sh : 1;
+                    perLevel[LOD.IMPOSTOR]++;
+                }
+                if (keys[i] < 0) continue;
+                const row = start[keys[i]]++, sp = species[s];
+                // a tree past those whose motion the page holds (App: q_trees) is drawn at
+                // rest; the trees past FULL with the few modes the server sends past lod_m
+                const nm = t >= q ? 0 : Math.min(modes ? modes[t] : sp.n_modes, sp.n_modes, LOD_MODES_MAX[lodLevel[i]]);
+                list[4 * row] = t;
+                list[4 * row + 1] = row;
+                list[4 * row + 2] = nm;
+                list[4 * row + 3] = 1 - sh; // fading out into its impostor
+                drawn[row] = t;
+                perLevel[lodLevel[i]]++;
+            }
+            if (k === W.n) break;
+            for (let s = 0, r = W.cell[k]; s < wns; s++, r += nc) {
+                const a = run[r], e = run[r + 1];
+                if (a === e) continue;
+                if (runE[s] === a && a > runA[s]) {
+                    runE[s] = e;
+                    continue;
+                }
+                if (runE[s] > runA[s]) copyRun(buf, imp0, impStart, runA, runE, s);
+                runA[s] = a;
+                runE[s] = e;
+            }
+        }
+    }
+
+    // The end of listFill (a pass of its own, so that the JIT's code for listFill's loop
+    // holds no call it has not yet seen made): the whole cells' impostors still waiting,
+    // and the debris pieces' rows (their rest pose needs no modes).
+    listFillEnd(o) {
+        const runA = this.runA, runE = this.runE, buf = this.impBuf, imp0 = 4 * this.grid.n, impStart = this.impStart;
+        for (let s = 0; s < runA.length; s++) if (runE[s] > runA[s]) copyRun(buf, imp0, impStart, runA, runE, s);
+        const keys = this.listKeys, start = this.listStart, list = this.listData, drawn = this.drawnTrees;
+        for (let k = 0; k < this.debris.length; k++) {
+            if (keys[o.n + k] < 0) continue;
+            const row = start[keys[o.n + k]]++;
+            list[4 * row] = this.n_trees + k;
+            list[4 * row + 1] = row;
+            list[4 * row + 2] = 0;
+            list[4 * row + 3] = 1;
+            drawn[row] = this.n_trees + k;
+        }
     }
 
     // The most rows the skeleton textures may have: the GPU's largest texture.

@@ -27,7 +27,7 @@ for (let t = 0; t < N; t++) {
     rows.push([t % 3, x, y, 15 * Math.sin(x / 90) * Math.cos(y / 70), 0, 1]);
     height[t] = 6 + 24 * rnd();
 }
-const grid = new CellGrid(rows, height);
+const grid = new CellGrid(rows, height), speciesOf = Uint8Array.from(rows, (r) => r[0]);
 
 // the brute force: the six planes from the matrix's rows, a box out when its eight corners
 // are all behind one plane
@@ -104,7 +104,7 @@ for (const budget of [{ triangles: 1e6, trees: 2048, nodes: 2e6 }, { triangles: 
     for (const c of cams) {
         for (let rep = 0; rep < 3; rep++) {
             const o = grid.gather(c.viewproj, c.eye, sel.reach_m());
-            const r = sel.select(o.trees, o.dist, o.n, (t) => rows[t][0], cost, lv, budget, nodes, null, share);
+            const r = sel.select(o.trees, o.dist, o.n, speciesOf, cost, lv, budget, nodes, null, share);
             let tris = 0, trees = 0, posed = 0;
             for (let i = 0; i < o.n; i++) {
                 if (lv[i] === LOD.NONE) continue;
@@ -129,7 +129,7 @@ for (const budget of [{ triangles: 1e6, trees: 2048, nodes: 2e6 }, { triangles: 
     for (let k = 0; k < 8; k++) {
         const eye = c.eye.map((v, j) => v + (k % 2 ? 1 : -1) * 0.015 * LOD_OUTER_M[0] * (j === 0 ? 1 : 0));
         const o = grid.gather(c.viewproj, eye, far);
-        sel.select(o.trees, o.dist, o.n, (t) => rows[t][0], cost, lv, big);
+        sel.select(o.trees, o.dist, o.n, speciesOf, cost, lv, big);
         const m = new Map();
         for (let i = 0; i < o.n; i++) m.set(o.trees[i], lv[i]);
         levels.push(m);

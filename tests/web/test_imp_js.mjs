@@ -11,10 +11,10 @@
 import assert from 'node:assert/strict';
 import { impostorQuad, crownSway, swayOffset, IMP_SWAY_MAX } from '../../web/imp_sway.js';
 import { LodSelect } from '../../web/lod_select.js';
-import { RendererList, IMP_TRIANGLES } from '../../web/render_list.js';
+import { IMP_TRIANGLES } from '../../web/render_list.js';
 import { LOD, LOD_OUTER_M, LOD_FADE_SHARE, LOD_BUDGET_TRIANGLES, LOD_BUDGET_DRAWS, LOD_BUDGET_TREES, LOD_IMPOSTOR_MODES } from '../../web/lod_policy.js';
-import { perspective, lookAt, mul } from '../../web/view_math.js';
 import { frustumPlanes, boxInFrustum } from '../../web/cull_grid.js';
+import { landscape, CAMERAS, viewProj } from './landscape_scene.mjs';
 
 const near = (a, b, tol, what) => assert.ok(Math.abs(a - b) <= tol, `${what}: ${a}, expected ${b} (tolerance ${tol})`);
 
@@ -74,7 +74,7 @@ const near = (a, b, tol, what) => assert.ok(Math.abs(a - b) <= tol, `${what}: ${
     const fallenNear = ds.indexOf(150), fallen = ds.indexOf(1000), fallenFar = ds.indexOf(2200);
     lying[fallenNear] = lying[fallen] = lying[fallenFar] = 1;
     const sel = new LodSelect(n), lv = new Uint8Array(n), share = new Float32Array(n);
-    const r = sel.select(trees, dist, n, () => 0, cost, lv, { triangles: 1e12, trees: 1e9, nodes: 1e12 }, [100], lying, share);
+    const r = sel.select(trees, dist, n, new Uint8Array(n), cost, lv, { triangles: 1e12, trees: 1e9, nodes: 1e12 }, [100], lying, share);
     assert.equal(r.scale, 1);
     const fade0 = LOD_OUTER_M[LOD.THIN] * (1 - LOD_FADE_SHARE);
     for (let i = 0; i < n; i++) {
@@ -93,28 +93,9 @@ const near = (a, b, tol, what) => assert.ok(Math.abs(a - b) <= tol, `${what}: ${
 
 // --- the landscape's scale: 100,000 trees in a 2 km square, an aerial camera
 {
-    let seed = 777;
-    const rnd = () => ((seed = (seed * 1103515245 + 12345) >>> 0) / 4294967296);
-    const N = 100000, rows = [];
-    for (let t = 0; t < N; t++) {
-        const x = -1000 + 2000 * rnd(), y = -1000 + 2000 * rnd();
-        rows.push([t % 3, x, y, 8 * Math.sin(x / 130) * Math.cos(y / 170), 6.283 * rnd(), 0.8 + 0.4 * rnd()]);
-    }
-    // three species of the baked assets' sizes (oak, pine, palm: nodes, leaves, bark LODs' indices)
-    const species = [[3180, 6000, [72000, 36000, 12072], 22, 9], [1135, 4000, [30000, 15000, 6000], 28, 5], [633, 800, [12000, 6000, 3000], 14, 6]].map(([nn, nlv, lods, h, cr]) => ({
-        n_nodes: nn, n_modes: 32, n_leaves: nlv, n_lods: 3, lod_count: lods, lod_first: [0, 0, 0], height: h, crown_r: cr,
-        a: { n_leaves: nlv, leaf_offset: new Float32Array(3 * nlv), leaf_node: new Uint32Array(nlv), leaf_normal: new Float32Array(3 * nlv), leaf_size: new Float32Array(nlv).fill(0.1) },
-    }));
-    const r = Object.create(RendererList.prototype);
-    Object.assign(r, { species, n_trees: N, debris: [], q_trees: Infinity, max_rows: LOD_BUDGET_TREES, maxTex: 16384, stats: {},
-        treeData: new Float32Array(8 * N), dataTex: (c, n) => ({ w: n, n }) });
-    r.setupCulling(rows);
-    const w = 1280, h = 720, fovy = 50 * Math.PI / 180;
-    // above the square's south-west corner, looking across it to the north-east; then low
-    // over its middle (FULL and THIN near, fading, the budget's scale below 1, the
-    // impostors' reach whole)
-    for (const [name, eye, target] of [['aerial', [-1150, -1150, 600], [0, 0, 0]], ['low', [-100, -100, 40], [200, 150, 0]]]) {
-        const view = lookAt(eye, target, [0, 0, 1]), viewproj = mul(perspective(fovy, w / h, 0.3, 3000), view);
+    const N = 100000, { r, rows, species } = landscape(N);
+    for (const [name, eye, target] of CAMERAS) {
+        const viewproj = viewProj(eye, target);
         r.viewproj = viewproj;
         const frames = [];
         let out;
