@@ -210,10 +210,16 @@ static void test_late_duplicate_underrun(void)
     CHECK(jitter_sample(j, 2.0, out, &inf) == 0);
     CHECK(inf.underrun && out[0] == 5.0f);
     CHECK(jitter_get_stats(j).underruns == 1);
+    /* that underrun showed the newest (1.2) and passed no later time: a snapshot between
+     * it and 2.0 that arrives now is taken */
+    q[0] = 7;
+    CHECK(jitter_insert(j, 13, 1.5, q, NULL) == JITTER_INSERTED);
+    CHECK(jitter_sample(j, 2.1, out, &inf) == 0 && inf.underrun && out[0] == 7.0f);
+    CHECK(jitter_get_stats(j).late == 1);
     /* before the first (after a reset) */
     jitter_reset(j);
     jitter_insert(j, 3, 0.5, q, NULL);
-    CHECK(jitter_sample(j, 0.1, out, &inf) == 0 && inf.before_first && out[0] == 5.0f);
+    CHECK(jitter_sample(j, 0.1, out, &inf) == 0 && inf.before_first && out[0] == 7.0f);
     jitter_destroy(j);
 }
 

@@ -606,11 +606,19 @@ export class App {
 
     // Holds the newest n snapshots from now on (the jitter buffer and the GPU's ring grow;
     // at most the GPU's texture layers), for tests that draw an instant long past with
-    // still(); returns the count held.
+    // still(); returns the count held. Throws when the GPU refuses a ring that large
+    // (SwiftShader refuses 240 snapshots of 100,000 trees × 32 modes, 1.5 GB): the ring
+    // would read q = 0 and every tree be drawn at rest, which no picture shows as an error.
     holdSnapshots(n) {
-        const layers = Math.min(n, this.r.gl.getParameter(this.r.gl.MAX_ARRAY_TEXTURE_LAYERS));
+        const gl = this.r.gl, layers = Math.min(n, gl.getParameter(gl.MAX_ARRAY_TEXTURE_LAYERS));
+        for (let k = 0; k < 8 && gl.getError() !== gl.NO_ERROR; k++); // (earlier calls' errors are not its)
         this.jitter.grow(layers);
         this.r.setStride(this.stride, this.jitter.capacity);
+        const e = gl.getError();
+        if (e !== gl.NO_ERROR) {
+            const mb = (this.qTrees * this.stride * 2 * this.jitter.capacity) / 1048576;
+            throw new Error(`holdSnapshots(${n}): the GPU's ring of ${this.jitter.capacity} snapshots (${mb.toFixed(0)} MB) failed: GL error ${e}`);
+        }
         return this.jitter.capacity;
     }
 

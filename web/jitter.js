@@ -68,11 +68,13 @@ export class Jitter {
 
     // The snapshots and weights of server time t (jitter_sample's): q(t) = Σ_k<w.n c[k]
     // snaps[k].q; one snapshot of weight 1 when t is outside them (held). null when empty.
-    // Counts the sample (playout passed t; an underrun past the newest). w is reused.
+    // Counts the sample (playout passed t, or past the newest, an underrun, only the
+    // newest's time: jitter_sample's). w is reused.
     weights(t) {
         const s = this.snaps, n = s.length;
         if (!n) return null;
-        if (t > this.passed_t) this.passed_t = t;
+        const played = Math.min(t, s[n - 1].t);
+        if (played > this.passed_t) this.passed_t = played;
         if (t > s[n - 1].t) this.stats.underruns++;
         return this.weightsAt(t);
     }

@@ -58,6 +58,7 @@ typedef struct client_args {
     bool headless;
     int frames;             /* headless: frames to draw once state arrives */
     const char *screenshot; /* headless: PNG of the last frame */
+    int shot_every;         /* --screenshot-every K: headless, every Kth frame too; 0 none */
     const char *token;      /* kiosk: --token, or token_buf from --token-file */
     char token_buf[CTL_MAX_TOKEN];
     double delay_s;         /* playout delay */
@@ -344,6 +345,11 @@ int client_fall_shots_parse(const char *spec, client_args *a);
  * PREFIX-fall-S.Ss.png (PREFIX: --screenshot without ".png", else "gale") at each time.
  * 1 once the last is written, else 0. */
 int client_fall_shots_step(client *c);
+/* --screenshot-every (client_fall_shots.c): the frame just drawn as PREFIX-NNNNNN.png, NNNNNN
+ * the number --frame-log gives the frame (a wall tile's group frame); says so on stderr with
+ * the server instant shown (none for a wall tile's frame before it joined its group). A
+ * failed write is said and the run goes on. */
+void client_shot_numbered(client *c);
 /* Frees c->dfx (NULL is a no-op). */
 void client_damage_free(client *c);
 

@@ -2,7 +2,8 @@
  * "Pictures of a fall, live"). Which tree falls is the server's: the first fall this client
  * sees begin (of those starting together, the one with the clearest view) is framed from
  * the side (camera_preset_fall) and shot at the chosen times after its stem gave way, on the
- * server clock the frames are drawn at. */
+ * server clock the frames are drawn at. Also --screenshot-every's numbered frames. */
+#include <inttypes.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -10,6 +11,16 @@
 
 #include "camera_preset.h"
 #include "client.h"
+
+/* --screenshot without ".png", else "gale" */
+static void shot_prefix(const client *c, char *buf, size_t cap)
+{
+    snprintf(buf, cap, "%s", c->a.screenshot ? c->a.screenshot : "gale");
+    size_t n = strlen(buf);
+    if (n > 4 && strcmp(buf + n - 4, ".png") == 0) {
+        buf[n - 4] = '\0';
+    }
+}
 
 int client_fall_shots_parse(const char *spec, client_args *a)
 {
@@ -96,11 +107,7 @@ int client_fall_shots_step(client *c)
         c->fall_shot_next++;
     }
     char prefix[400], name[448];
-    snprintf(prefix, sizeof prefix, "%s", c->a.screenshot ? c->a.screenshot : "gale");
-    size_t n = strlen(prefix);
-    if (n > 4 && strcmp(prefix + n - 4, ".png") == 0) {
-        prefix[n - 4] = '\0';
-    }
+    shot_prefix(c, prefix, sizeof prefix);
     snprintf(name, sizeof name, "%s-fall-%04.1fs.png", prefix, age);
     gale_err err = { 0 };
     if (render_write_png(c->r, name, &err) == 0) {
@@ -110,4 +117,26 @@ int client_fall_shots_step(client *c)
         fprintf(stderr, "gale-client: fall shot: %s\n", err.msg);
     }
     return c->fall_shot_next >= c->a.n_fall_shots;
+}
+
+void client_shot_numbered(client *c)
+{
+    /* the frame log's number: a wall tile's group frame, else the frames presented before;
+     * a tile's frames before it joined its group have none (nor a line in the log) */
+    const client_wall_group *g = &c->wg;
+    if (c->wall && c->wall_tile >= 0 && !g->have_frame) {
+        return;
+    }
+    const uint32_t frame = g->have_frame ? g->frame : (uint32_t)g->presented;
+    const int64_t server_us = g->have_frame ? g->render_us : (int64_t)llround(g->render_t * 1e6);
+    char prefix[400], name[448];
+    shot_prefix(c, prefix, sizeof prefix);
+    snprintf(name, sizeof name, "%s-%06" PRIu32 ".png", prefix, frame);
+    gale_err err = { 0 };
+    if (render_write_png(c->r, name, &err) == 0) {
+        fprintf(stderr, "gale-client: screenshot %s frame %" PRIu32 " server_us %" PRId64 "\n",
+                name, frame, server_us);
+    } else {
+        fprintf(stderr, "gale-client: screenshot: %s\n", err.msg);
+    }
 }

@@ -45,6 +45,9 @@ static void usage(FILE *f)
             "  --headless             render offscreen; no window, no input\n"
             "  --frames N             headless: frames to draw after state arrives (default 60)\n"
             "  --screenshot FILE.png  headless: write the last frame there\n"
+            "  --screenshot-every K   headless: also write every Kth frame as PREFIX-N.png\n"
+            "                         (N the frame number --frame-log gives it, 6 digits;\n"
+            "                         PREFIX: --screenshot without .png, else gale)\n"
             "  --wait S               headless: give up after S s without state (default 30)\n"
             "  --max-fps HZ           draw at most HZ frames a second (0.1..1000; a slow\n"
             "                         renderer's pace; headless default 60)\n"
@@ -268,6 +271,13 @@ static int parse_args(int argc, char **argv, client_args *a)
             }
         } else if (strcmp(o, "--screenshot") == 0) {
             a->screenshot = v;
+        } else if (strcmp(o, "--screenshot-every") == 0) {
+            a->shot_every = v ? atoi(v) : 0;
+            if (a->shot_every < 1) {
+                fprintf(stderr, "gale-client: --screenshot-every: expected >= 1, got \"%s\"\n",
+                        v ? v : "");
+                return -1;
+            }
         } else if (strcmp(o, "--token") == 0) {
             a->token = v;
         } else if (strcmp(o, "--tls-ca") == 0) {
@@ -634,6 +644,10 @@ int main(int argc, char **argv)
                 fprintf(stderr, "gale-client: screenshot: %s\n", err.msg);
             }
             c.want_screenshot = false;
+        }
+        if (draw && c.a.headless && c.a.shot_every > 0 &&
+            (frames_after_state + 1) % c.a.shot_every == 0) {
+            client_shot_numbered(&c);
         }
         if (draw && c.a.headless && client_fall_shots_step(&c) == 1) {
             break; /* --fall-shots: the last is written */

@@ -187,8 +187,9 @@ int jitter_sample(jitter *j, double render_t_s, float *out, jitter_sample_info *
     jitter_sample_info inf = { 0 };
     const uint32_t nv = j->d.n_values;
     const double t_first = j->slot_t[j->order[0]], t_last = j->slot_t[j->order[j->n - 1]];
-    if (render_t_s > j->passed_t) {
-        j->passed_t = render_t_s;
+    const double played_t = fmin(render_t_s, t_last); /* an underrun shows the newest */
+    if (played_t > j->passed_t) {
+        j->passed_t = played_t;
     }
     if (j->n == 1 || render_t_s <= t_first || render_t_s >= t_last) {
         uint32_t slot = render_t_s <= t_first ? j->order[0] : j->order[j->n - 1];

@@ -66,7 +66,11 @@ int jitter_insert(jitter *j, uint64_t tick, double t_s, const float *q, gale_err
  * bracketing snapshots (C1 across snapshots, no steps at any display rate); before the
  * first or after the newest snapshot it holds that snapshot. Returns 0, or GALE_E_STATE
  * when the buffer is empty (out untouched). Marks times before render_t_s as passed, so
- * later arrivals for them count as late. info may be NULL. */
+ * later arrivals for them count as late; past the newest snapshot (an underrun, which holds
+ * it) only the newest's time is passed: the times after it were never shown, and a
+ * snapshot of one of them that arrives is taken, else a client behind its stream (a wall
+ * tile drawing a frame more than its delay ahead, a loaded machine) would refuse every
+ * snapshot and show the one it held until the stream got ahead again. info may be NULL. */
 int jitter_sample(jitter *j, double render_t_s, float *out, jitter_sample_info *info);
 
 /* Drops every snapshot and the passed-time mark (after a reconnect); stats are kept. */

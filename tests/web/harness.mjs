@@ -3,7 +3,7 @@
 // (headless, WebGL2 through SwiftShader, a fresh profile under the build directory, no
 // browser download), and a bounded wait for a condition in the page.
 import { spawn } from 'node:child_process';
-import { existsSync, mkdtempSync, mkdirSync } from 'node:fs';
+import { existsSync, mkdtempSync, mkdirSync, readFileSync } from 'node:fs';
 import path from 'node:path';
 import { pathToFileURL } from 'node:url';
 
@@ -114,6 +114,40 @@ export async function until(fn, timeout_s, what) {
         if (Date.now() > end) throw new Error(`${what}: not within ${timeout_s} s`);
         await new Promise((r) => setTimeout(r, 200));
     }
+}
+
+// Kiosk messages from page (any page, about:blank too) over a WebSocket of its own to
+// wsUrl: a kiosk hello with token and a view of nothing (it needs no state), then each
+// message, then it hangs up a second later. Resolves to what the server closed it with
+// (an empty list: every message was taken).
+export function sendAsKiosk(page, wsUrl, token, messages) {
+    return page.evaluate(([u, token, messages]) => new Promise((resolve) => {
+        const ws = new WebSocket(u), said = [];
+        ws.onopen = () => {
+            ws.send(JSON.stringify({ type: 'hello', protocol: 1, role: 'kiosk', token, view: { kind: 'circle', x: 1e5, y: 1e5, radius_m: 1, lod_m: 1 } }));
+            for (const m of messages) ws.send(JSON.stringify(m));
+            setTimeout(() => { ws.close(); resolve(said); }, 1000);
+        };
+        ws.onclose = (e) => { said.push(`closed ${e.code} ${e.reason}`); resolve(said); };
+    }), [wsUrl, token, messages]);
+}
+
+// A PNG file's pixels, decoded in page: { w, h, rgba } (RGBA rows top first, base64).
+export function decodePng(page, file) {
+    return page.evaluate(async (b64) => {
+        const img = new Image();
+        img.src = `data:image/png;base64,${b64}`;
+        await img.decode();
+        const c = document.createElement('canvas');
+        c.width = img.width;
+        c.height = img.height;
+        const x = c.getContext('2d');
+        x.drawImage(img, 0, 0);
+        const px = x.getImageData(0, 0, c.width, c.height).data;
+        let bin = '';
+        for (let i = 0; i < px.length; i += 0x8000) bin += String.fromCharCode.apply(null, px.subarray(i, i + 0x8000));
+        return { w: img.width, h: img.height, rgba: btoa(bin) };
+    }, readFileSync(file).toString('base64'));
 }
 
 // The pinhole projection of a page's camera (eye, target, fov_y_deg, z up) onto a w × h

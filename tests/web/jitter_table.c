@@ -5,8 +5,8 @@
  * the q the native client draws (Q dequantised as client/app/client_stream.c does, then
  * jitter_sample) and where it fell, the stats at the end. The sequence holds in order,
  * out of order, duplicate and late snapshots, evictions at capacity, holds before the
- * first and past the newest, a single snapshot, a reset and a change of steps (a new
- * keyframe scene). */
+ * first and past the newest, a snapshot taken after the underrun, a single snapshot, a
+ * reset and a change of steps (a new keyframe scene). */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -132,6 +132,9 @@ int main(int argc, char **argv)
         sample(1.0 + (7.0 + 0.33 * k) / 30);
     }
     sample(2.0); /* past the newest: underrun */
+    insert(111, 1.0 + 11.0 / 30); /* after the newest that underrun showed: taken */
+    sample(2.0);
+    sample(1.0 + 10.5 / 30); /* between the two newest */
     jitter_reset(jit);
     printf("{\"op\":\"reset\"}\n");
     insert(200, 3.0);
