@@ -7,10 +7,14 @@ export async function impostorSwayCheck(page, count = 5) {
     return page.evaluate(async (count) => {
         const g = window.gale, r = g.r, gl = r.gl;
         // the frame's blend once more, uploaded, and each tree's q from it on the CPU as the
-        // GPU forms it (snapshots that came since the frame may have taken a slot of the ring)
+        // GPU forms it (snapshots that came since the frame may have taken a slot of the ring);
+        // the blend copied, since the jitter buffer rewrites its own at the next weightsAt
+        // (a LEAVES frame's, while this awaits its imports) and a snapshot that arrived
+        // since may then fall within it
         r.setMix(g.jitter.weights(g.shown_s));
+        const mix = r.mix && { n: r.mix.n, snaps: r.mix.snaps.slice(), c: Float64Array.from(r.mix.c) };
         const qOf = (t) => {
-            const w = r.mix, sp = r.species[r.inst[t][0]];
+            const w = mix, sp = r.species[r.inst[t][0]];
             if (!w || t >= r.q_trees) return [0, 0];
             return [0, 1].map((m) => {
                 let v = 0;
