@@ -150,6 +150,10 @@ try {
     await dial.focus('#dial');
     await dial.keyboard.press('Home');
     for (let v = 0; v < STORM_MS; v++) await dial.keyboard.press('ArrowUp');
+    // a key steps from the last key's value only within 3 s of it, else from the wind shown
+    // (web/kiosk_dial.js): on a loaded machine presses can come further apart than that, so
+    // the dial is set to the storm by its own key path if the presses fell short
+    await dial.evaluate((ms) => { const d = window.gale.kiosk.dial; if (d.keyValue !== ms) d.setByKey(ms); }, STORM_MS);
     await until(async () => Math.abs((await metric('gale_wind_sustained_meters_per_second')) - STORM_MS) < 0.5, 60, `server wind ${STORM_MS} m/s from the dial`);
     await waitFor(tile, (ms) => window.gale.weather && Math.abs(window.gale.weather.sustained_ms - ms) < 0.5, STORM_MS, 60, 'the storm\'s WEATHER on the browser tile');
     const calmFrames = await tile.evaluate(() => { window.gale.frozen = false; return window.gale.wallGroup.frames; }); // (still() froze it)
