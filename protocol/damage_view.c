@@ -34,13 +34,18 @@ void damage_view_fini(damage_view *v)
     memset(v, 0, sizeof *v);
 }
 
-void damage_view_heal(damage_view *v)
+void damage_view_heal_trees(damage_view *v)
 {
     for (uint32_t t = 0; t < v->n_trees; t++) {
         v->tree[t] = (damage_view_tree){ .level = WIRE_DAMAGE_LEVELS };
     }
-    v->n_broken = 0;
     v->generation++;
+}
+
+void damage_view_heal(damage_view *v)
+{
+    damage_view_heal_trees(v);
+    v->n_broken = 0;
 }
 
 /* First index whose key is >= k. */

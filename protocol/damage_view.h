@@ -36,6 +36,9 @@ void damage_view_fini(damage_view *v); /* NULL or an empty view is a no-op */
 
 /* Every tree intact. */
 void damage_view_heal(damage_view *v);
+/* Every tree standing with its full crown; the broken branches kept (a FOREST frame's
+ * state replaces the trees' fall and level only: PROTOCOL.md "FOREST"). */
+void damage_view_heal_trees(damage_view *v);
 
 /* Applies a decoded DAMAGE frame: full heals first. Events naming a tree outside the
  * scene are skipped and counted in the return value (0 = all applied). */

@@ -29,6 +29,7 @@ enum wire_msg_type {
     WIRE_MSG_WEATHER = 5,  /* what the exhibit shows: sustained wind, gust, class, storm */
     WIRE_MSG_DAMAGE = 6,   /* storm damage events, or the whole damage state */
     WIRE_MSG_BUNDLE = 7,   /* container: other frames of one snapshot in one message */
+    WIRE_MSG_FOREST = 8,   /* the trees' fall and leaf level, whole, one byte a tree */
 };
 
 typedef struct wire_header {
@@ -326,6 +327,25 @@ typedef struct wire_damage {
 int wire_encode_damage(const wire_header *h, bool full, const wire_damage *ev, uint32_t n,
                        uint8_t *buf, size_t cap, size_t *len, gale_err *err);
 
+/* ---- the trees' fall and leaf level, whole (PROTOCOL.md "FOREST") ------------------- */
+
+#define WIRE_FOREST_LEVEL_MASK 0x3Fu /* a tree's state byte: leaf level in bits 0-5 */
+#define WIRE_FOREST_FALL_SHIFT 6u    /* and 0, WIRE_DAMAGE_SNAP or _UPROOT in bits 6-7 */
+
+typedef struct wire_forest_fall {
+    uint8_t az;    /* fall azimuth, 1/256 turns (world, x towards y) */
+    uint32_t tick; /* tick it fell */
+} wire_forest_fall;
+
+/* The whole of it at h->tick: trees [first, first + count) as state[i] = fall << 6 | level,
+ * the fallen ones' azimuth and tick in fall[] in tree order (n_fall, as many as state has
+ * fallen trees); every other tree stands with its full crown. Does not allocate. */
+int wire_encode_forest(const wire_header *h, uint32_t first, uint32_t count, const uint8_t *state,
+                       const wire_forest_fall *fall, uint32_t n_fall, uint8_t *buf, size_t cap,
+                       size_t *len, gale_err *err);
+/* The FOREST frame's bytes for count trees of which n_fall lie. */
+size_t wire_forest_bytes(uint32_t count, uint32_t n_fall);
+
 /* The rank of a leaf slot and of a tree in [0, 2^32): a slot's rank on tree t is
  * wire_damage_slot_rank(slot) + wire_damage_tree_rank(t) mod 2^32, so the server can find
  * the slots of a band of ranks in a species' slots sorted once. */
@@ -384,7 +404,19 @@ typedef struct wire_frame {
     uint32_t n_damage;          /* DAMAGE */
     const wire_damage *damage;  /* DAMAGE: [n_damage] */
     wire_weather weather;       /* WEATHER */
+    /* FOREST: trees [forest_first, + forest_count) as wire_encode_forest's state bytes,
+     * the fallen ones' azimuth and tick in tree order; all others intact */
+    uint32_t forest_first, forest_count, n_forest_fall;
+    const uint8_t *forest_state;           /* [forest_count] */
+    const wire_forest_fall *forest_fall;   /* [n_forest_fall] */
 } wire_frame;
+
+/* A decoded FOREST (f->types has it) as the DAMAGE events it stands for, into out[cap]: a
+ * SNAP or UPROOT for each fallen tree (its azimuth and tick), a STRIP for each crown below
+ * WIRE_DAMAGE_LEVELS (the frame's tick), in tree order. Returns how many it has (more than
+ * cap: out holds the first cap). Applied after healing every tree's fall and level (not its
+ * branches), they give the state the frame holds. */
+uint32_t wire_forest_events(const wire_frame *f, wire_damage *out, uint32_t cap);
 
 /* Decodes one binary frame. KEYFRAME replaces the decoder's state; DELTA applies to it.
  * A BUNDLE decodes each inner frame into the one *out (see types); any inner failure

@@ -45,7 +45,9 @@ wire_decoder *wire_decoder_create(const wire_decoder_desc *desc, gale_err *err)
         d->scene[i].species = d->species[i];
     }
     d->wind = calloc((size_t)WIRE_MAX_WIND_SIDE * WIRE_MAX_WIND_SIDE * 3, 1);
-    if (!d->wind) {
+    d->forest_state = malloc(dd.max_trees);
+    d->forest_fall = malloc((size_t)dd.max_trees * sizeof *d->forest_fall);
+    if (!d->wind || !d->forest_state || !d->forest_fall) {
         goto fail;
     }
     d->last = 0;
@@ -71,6 +73,8 @@ void wire_decoder_destroy(wire_decoder *d)
     free(d->species[0]);
     free(d->species[1]);
     free(d->wind);
+    free(d->forest_state);
+    free(d->forest_fall);
     free(d);
 }
 
@@ -112,6 +116,8 @@ int wire_decode_body(wire_decoder *d, wire_reader *r, const wire_header *h, wire
         return rc;
     case WIRE_MSG_WEATHER:
         return wire_decode_weather(r, h, &out->weather, err);
+    case WIRE_MSG_FOREST:
+        return wire_decode_forest(d, r, h, out, err);
     default: /* WIRE_MSG_WIND; wire_get_header checked the type, the callers BUNDLE */
         return wire_decode_wind(r, h, d->wind, &out->wind, err);
     }

@@ -23,6 +23,8 @@ const char *wire_type_name(unsigned type)
         return "BUNDLE";
     case WIRE_MSG_DAMAGE:
         return "DAMAGE";
+    case WIRE_MSG_FOREST:
+        return "FOREST";
     default:
         return "?";
     }
@@ -62,9 +64,9 @@ int wire_get_header(wire_reader *r, wire_header *h, gale_err *err)
                          "wire: header: protocol version: expected %d, got %u",
                          WIRE_PROTOCOL_VERSION, (unsigned)h->version);
     }
-    if (h->type < WIRE_MSG_KEYFRAME || h->type > WIRE_MSG_BUNDLE) {
+    if (h->type < WIRE_MSG_KEYFRAME || h->type > WIRE_MSG_FOREST) {
         return gale_errf(err, GALE_E_FORMAT,
-                         "wire: header: message type: expected 1..7, got %u",
+                         "wire: header: message type: expected 1..8, got %u",
                          (unsigned)h->type);
     }
     if (h->flags != 0) {

@@ -28,6 +28,8 @@ struct wire_decoder {
     wire_leaf leaves[WIRE_MAX_LEAVES];
     int8_t *wind;        /* owned: [WIRE_MAX_WIND_SIDE^2 * 3] */
     wire_damage damage[WIRE_MAX_DAMAGE];
+    uint8_t *forest_state;          /* owned: [max_trees] */
+    wire_forest_fall *forest_fall;  /* owned: [max_trees] */
 };
 
 /* Body decoders (after the header). Return 0 or GALE_E_*; leave the decoder's visible
@@ -38,6 +40,8 @@ int wire_decode_leaves(wire_reader *r, const wire_header *h, wire_leaf *leaves,
                        uint32_t *n, gale_err *err);
 int wire_decode_damage(wire_reader *r, const wire_header *h, wire_damage *ev, uint32_t *n,
                        bool *full, gale_err *err);
+int wire_decode_forest(wire_decoder *d, wire_reader *r, const wire_header *h, wire_frame *out,
+                       gale_err *err);
 int wire_decode_wind(wire_reader *r, const wire_header *h, int8_t *v, wire_wind *out,
                      gale_err *err);
 

@@ -294,6 +294,37 @@ static void v_damage_full(const spec_vector *v)
                   &(wire_header){ .tick = 120, .server_time_us = 2000000 });
 }
 
+/* FOREST: three trees listed; the bytes from wire_encode_forest, the decoded fields, and
+ * the DAMAGE events the spec says they stand for */
+static void v_forest(const spec_vector *v)
+{
+    static const uint8_t state[3] = { 0x14, 0xa0, 0xc8 };
+    static const wire_forest_fall fall[2] = { { 200, 115 }, { 64, 118 } };
+    static const wire_damage as_events[4] = {
+        { .tree = 0, .node = WIRE_DAMAGE_WHOLE, .kind = WIRE_DAMAGE_STRIP, .value = 20, .tick = 120 },
+        { .tree = 1, .node = WIRE_DAMAGE_WHOLE, .kind = WIRE_DAMAGE_SNAP, .value = 200, .tick = 115 },
+        { .tree = 2, .node = WIRE_DAMAGE_WHOLE, .kind = WIRE_DAMAGE_UPROOT, .value = 64, .tick = 118 },
+        { .tree = 2, .node = WIRE_DAMAGE_WHOLE, .kind = WIRE_DAMAGE_STRIP, .value = 8, .tick = 120 },
+    };
+    const wire_header h = { .tick = 120, .server_time_us = 2000000 };
+    size_t len = 0;
+    CHECK(wire_encode_forest(&h, 0, 3, state, fall, 2, buf, sizeof buf, &len, NULL) == 0);
+    CHECK(len == wire_forest_bytes(3, 2));
+    same_bytes(v, buf, len);
+    wire_decoder *d = decoder();
+    wire_frame f;
+    CHECK(wire_decode(d, v->bytes, v->len, &f, NULL) == 0);
+    CHECK(f.types == 1u << WIRE_MSG_FOREST && f.hdr.tick == 120);
+    CHECK(f.forest_first == 0 && f.forest_count == 3 && f.n_forest_fall == 2);
+    CHECK(f.forest_count == 3 && memcmp(f.forest_state, state, 3) == 0);
+    wire_damage ev[4];
+    CHECK(wire_forest_events(&f, ev, 4) == 4);
+    f.damage = ev;
+    f.n_damage = 4;
+    check_damage(&f, false, as_events, 4);
+    wire_decoder_destroy(d);
+}
+
 /* The BUNDLE of the vectors named, built with wire_bundle_wrap from the spec's own bytes. */
 static size_t wrap(const char *const *names, uint32_t n)
 {
@@ -644,6 +675,7 @@ static const known vectors[] = {
     { "WEATHER-STEADY", 0, v_weather_steady },
     { "DAMAGE", 0, v_damage },
     { "DAMAGE-FULL", 0, v_damage_full },
+    { "FOREST", 0, v_forest },
     { "BUNDLE", 0, v_bundle },
     { "BUNDLE-KEYFRAME", 0, v_bundle_keyframe },
     { "HELLO", 1, v_hello },
