@@ -112,6 +112,31 @@ uint32_t damage_view_apply(damage_view *v, bool full, const wire_damage *ev, uin
     return skipped;
 }
 
+uint32_t damage_view_apply_frame(damage_view *v, const wire_frame *f)
+{
+    uint32_t skipped = 0;
+    if (f->types & (1u << WIRE_MSG_DAMAGE)) {
+        skipped += damage_view_apply(v, f->damage_full, f->damage, f->n_damage);
+    }
+    if (f->types & (1u << WIRE_MSG_FOREST)) {
+        /* the FOREST's events a tree at a time (at most two each), so nothing is allocated */
+        damage_view_heal_trees(v);
+        wire_frame one = *f;
+        for (uint32_t i = 0; i < f->forest_count; i++) {
+            wire_damage ev[2];
+            const uint8_t fell = f->forest_state[i] >> WIRE_FOREST_FALL_SHIFT;
+            one.forest_first = f->forest_first + i;
+            one.forest_count = 1;
+            one.forest_state = f->forest_state + i;
+            const uint32_t n = wire_forest_events(&one, ev, 2);
+            one.forest_fall += fell != 0;
+            one.n_forest_fall -= fell != 0;
+            skipped += damage_view_apply(v, false, ev, n);
+        }
+    }
+    return skipped;
+}
+
 bool damage_view_broken(const damage_view *v, uint32_t t, uint32_t node)
 {
     uint64_t k = (uint64_t)t << 32 | node;

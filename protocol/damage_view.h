@@ -44,6 +44,11 @@ void damage_view_heal_trees(damage_view *v);
  * scene are skipped and counted in the return value (0 = all applied). */
 uint32_t damage_view_apply(damage_view *v, bool full, const wire_damage *ev, uint32_t n);
 
+/* Applies what a decoded frame f holds of the damage: its DAMAGE (damage_view_apply), then
+ * its FOREST: every tree's fall and level healed, then set as the frame says (PROTOCOL.md
+ * "FOREST"). Returns the events skipped, as damage_view_apply. */
+uint32_t damage_view_apply_frame(damage_view *v, const wire_frame *f);
+
 /* Whether branch `node` of tree t is broken off (the node itself, not its sub-tree). */
 bool damage_view_broken(const damage_view *v, uint32_t t, uint32_t node);
 

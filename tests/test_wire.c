@@ -151,7 +151,7 @@ static void test_header_golden(void)
     memcpy(bad, gold, sizeof gold);
     bad[6] = 9;
     CHECK(wire_decode(d, bad, sizeof bad, &f, &e) == GALE_E_FORMAT);
-    CHECK_STR_HAS(e.msg, "wire: header: message type: expected 1..7, got 9");
+    CHECK_STR_HAS(e.msg, "wire: header: message type: expected 1..8, got 9");
     memcpy(bad, gold, sizeof gold);
     bad[7] = 1;
     CHECK(wire_decode(d, bad, sizeof bad, &f, &e) == GALE_E_FORMAT);

@@ -86,7 +86,7 @@ static void test_malformed(void)
     memcpy(bad, bundle, nb);
     bad[25 + 29 + 4 + 6] = 9;
     rejects(bad, nb, GALE_E_FORMAT,
-            "wire: BUNDLE tick 122: frame 2 of 2: wire: header: message type: expected 1..7, got 9");
+            "wire: BUNDLE tick 122: frame 2 of 2: wire: header: message type: expected 1..8, got 9");
     memcpy(bad, bundle, nb);
     bad[25 + 29 + 4 + 20] = 2; /* leaves count 2, one leaf's bytes */
     rejects(bad, nb, GALE_E_FORMAT, "frame 2 of 2: wire: LEAVES tick 123: length");

@@ -153,7 +153,8 @@ typedef struct client_hold {
     char nomem_why[200];
     float view_radius_m;  /* reduced: the circle view's radius (hold_view_radius_m) */
     bool said;            /* the reduced view is told on stderr (once a scene) */
-    wire_damage *damage;  /* owned, reduced: [WIRE_MAX_DAMAGE] a frame's events, held trees */
+    wire_damage *damage;  /* owned, reduced: [damage_cap] a frame's events, held trees */
+    uint32_t damage_cap;  /* WIRE_MAX_DAMAGE, or a FOREST's events of n_scene trees */
     uint32_t trees_sent;  /* trees the last state frame carried (modes > 0) */
 } client_hold;
 
@@ -328,6 +329,10 @@ void client_damage_draw(client *c);
 /* A frame's DAMAGE events: starts the falls and debris of recent ones new to the picture,
  * then applies them to c->dmg and draws. */
 void client_damage_take(client *c, const wire_frame *f);
+/* A frame's FOREST (PROTOCOL.md "FOREST"): the trees' fall and level replaced by its (the
+ * broken branches kept), through the same starts of recent new falls; after the frame's
+ * DAMAGE. */
+void client_damage_take_forest(client *c, const wire_frame *f);
 /* Before drawing the frame of server time now_s: falls under way and debris move on. */
 void client_damage_frame(client *c, double now_s);
 /* Debris pieces in flight or lying. */

@@ -6,6 +6,7 @@
  * Only events younger than DAMAGE_RECENT_S animate (damage_clock.h): a late joiner sees
  * fallen trees lying and broken branches gone, never falling. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -25,6 +26,8 @@ struct client_damage_fx {
     uint32_t generation; /* of the damage view last given to render_set_broken */
     bool have_broken;
     double now_s;        /* the instant of the last frame drawn (server clock [s]) */
+    wire_damage *forest_ev; /* owned [forest_cap]: a FOREST read as events */
+    uint32_t forest_cap;
 };
 
 static client_damage_fx *fx_get(client *c)
@@ -54,6 +57,7 @@ void client_damage_free(client *c)
 {
     if (c->dfx) {
         free(c->dfx->fall_t0_s);
+        free(c->dfx->forest_ev);
         free(c->dfx);
         c->dfx = NULL;
     }
@@ -117,11 +121,10 @@ static void spawn_debris(client *c, client_damage_fx *x, uint32_t t, uint32_t no
     memcpy(x->centre[k], centre, sizeof centre);
 }
 
-void client_damage_take(client *c, const wire_frame *f)
+/* f's events new to the picture start, then f applies: after a heal of everything when
+ * it is a whole state (damage_full), of the trees' fall and level when heal_trees. */
+static void take(client *c, const wire_frame *f, bool heal_trees)
 {
-    if (!c->dmg.tree) {
-        return;
-    }
     client_damage_fx *x = fx_get(c);
     /* what is new to this picture (events are idempotent), before it is applied */
     for (uint32_t i = 0; x && i < f->n_damage; i++) {
@@ -142,6 +145,9 @@ void client_damage_take(client *c, const wire_frame *f)
             client_audio_event(c, e->tree, e->kind, t0);
         }
     }
+    if (heal_trees) {
+        damage_view_heal_trees(&c->dmg);
+    }
     if (damage_view_apply(&c->dmg, f->damage_full, f->damage, f->n_damage)) {
         c->leaves_bad++; /* events for trees outside the scene */
     }
@@ -157,6 +163,8 @@ void client_damage_take(client *c, const wire_frame *f)
             }
         }
         x->n_debris = kept;
+    }
+    if (x && (f->damage_full || heal_trees)) {
         for (uint32_t t = 0; t < x->n_trees; t++) {
             if (!c->dmg.tree[t].fallen) {
                 x->fall_t0_s[t] = (double)NAN;
@@ -166,6 +174,37 @@ void client_damage_take(client *c, const wire_frame *f)
     if (c->scene_ready) {
         client_damage_draw(c);
     }
+}
+
+void client_damage_take(client *c, const wire_frame *f)
+{
+    if (c->dmg.tree) {
+        take(c, f, false);
+    }
+}
+
+void client_damage_take_forest(client *c, const wire_frame *f)
+{
+    client_damage_fx *x = c->dmg.tree ? fx_get(c) : NULL;
+    if (!x) {
+        return;
+    }
+    const uint32_t n = wire_forest_events(f, NULL, 0);
+    if (n > x->forest_cap) {
+        wire_damage *ev = realloc(x->forest_ev, (size_t)n * sizeof *ev);
+        if (!ev) {
+            fprintf(stderr, "gale-client: no memory for the state of %u trees: the forest "
+                            "drawn as it was\n", f->forest_count);
+            return;
+        }
+        x->forest_ev = ev;
+        x->forest_cap = n;
+    }
+    wire_forest_events(f, x->forest_ev, n);
+    const wire_frame ev = { .hdr = f->hdr, .types = 1u << WIRE_MSG_DAMAGE, .n_damage = n,
+                            .damage = x->forest_ev };
+    wire_frame held;
+    take(c, client_hold_damage(c, &ev, &held), true);
 }
 
 void client_damage_draw(client *c)

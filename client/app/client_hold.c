@@ -99,11 +99,15 @@ int client_hold_select(client *c, gale_err *err)
         for (uint32_t i = 0; i < k; i++) {
             h->slot[h->held[i]] = (int32_t)i;
         }
-        if (!h->damage) {
-            h->damage = malloc(WIRE_MAX_DAMAGE * sizeof *h->damage);
-            if (!h->damage) {
+        /* a FOREST stands for up to two events a tree of the scene */
+        const uint32_t cap = WIRE_MAX_DAMAGE > 2 * n ? WIRE_MAX_DAMAGE : 2 * n;
+        if (h->damage_cap < cap) {
+            wire_damage *dmg = realloc(h->damage, (size_t)cap * sizeof *dmg);
+            if (!dmg) {
                 return gale_errf(err, GALE_E_NOMEM, "no memory for a frame's damage");
             }
+            h->damage = dmg;
+            h->damage_cap = cap;
         }
     }
     ctl_instance *inst = realloc(c->w_instances, ((size_t)k + 1) * sizeof *inst);
@@ -207,7 +211,7 @@ const wire_frame *client_hold_damage(client *c, const wire_frame *f, wire_frame 
     }
     *tmp = *f;
     uint32_t k = 0;
-    for (uint32_t i = 0; i < f->n_damage && k < WIRE_MAX_DAMAGE; i++) {
+    for (uint32_t i = 0; i < f->n_damage && k < c->hold.damage_cap; i++) {
         const uint32_t t = f->damage[i].tree;
         const uint32_t held = client_hold_tree(c, t);
         if (held != UINT32_MAX || t >= c->hold.n_scene) {

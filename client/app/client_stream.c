@@ -156,6 +156,9 @@ void client_stream_on_frame(void *user, const wire_frame *f, const wire_decoder 
         wire_frame held;
         client_damage_take(c, client_hold_damage(c, f, &held)); /* client_damage.c */
     }
+    if (f->types & (1u << WIRE_MSG_FOREST)) {
+        client_damage_take_forest(c, f); /* after the whole state's DAMAGE, which heals */
+    }
     if (f->types & (1u << WIRE_MSG_WEATHER)) {
         c->wx = f->weather; /* the HUD names the server's figures, never an average */
         c->have_wx = true;

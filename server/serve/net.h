@@ -26,11 +26,11 @@ enum { NET_ROLE_NONE, NET_ROLE_VIEWER, NET_ROLE_KIOSK, NET_ROLE_WALL, NET_ROLE_L
  * each encoded once and shared by every connection. A connection that holds snapshots
  * seq-1 and seq-2 gets delta2 (linear prediction from both), one that holds only seq-1
  * (it was a keyframe) gets delta1, any other (late joiner, after drops, after a resync
- * request) the keyframe. Extra messages (leaf seeds, coarse wind, damage, weather) follow
+ * request) the keyframe. Extra messages (leaf seeds, coarse wind, damage, weather, forest) follow
  * the state; one whose bit is set in extra_key_only goes only with a keyframe. Unless
  * net_desc.separate_extras, net_publish wraps each state variant and its extras into one
  * BUNDLE and clears extra_len. */
-#define NET_SNAP_MAX_EXTRA 5
+#define NET_SNAP_MAX_EXTRA 6
 typedef struct net_snap {
     atomic_int refs;        /* 0 = free in the pool */
     uint32_t seq;           /* snapshot sequence number (wire.h) */

@@ -104,6 +104,8 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     s->leaves = calloc(WIRE_MAX_LEAVES, sizeof *s->leaves);
     s->dmg_ev = calloc(WIRE_MAX_DAMAGE, sizeof *s->dmg_ev);
     s->dmg_state = calloc(WIRE_MAX_DAMAGE, sizeof *s->dmg_state);
+    s->forest_state = malloc(n > 0 ? (size_t)n : 1);
+    s->forest_fall = malloc((n > 0 ? (size_t)n : 1) * sizeof *s->forest_fall);
     s->wspecies = calloc((size_t)sc->n_species, sizeof *s->wspecies);
     s->winst = calloc((size_t)n, sizeof *s->winst);
     s->tree_pos = calloc((size_t)n * 3, sizeof *s->tree_pos);
@@ -113,7 +115,8 @@ srv *srv_create(const srv_desc *d, gale_err *err)
         vsel_ok = vsel_ok && s->vsel[k].modes;
     }
     if (!vsel_ok || !s->tree_pos || !s->tree_species || !s->tree_modes || !qbuf_ok ||
-        !s->leaves || !s->wspecies || !s->winst || !s->dmg_ev || !s->dmg_state) {
+        !s->leaves || !s->wspecies || !s->winst || !s->dmg_ev || !s->dmg_state ||
+        !s->forest_state || !s->forest_fall) {
         gale_errf(err, GALE_E_NOMEM, "srv_create: no memory for %d trees", n);
         goto fail;
     }
@@ -191,6 +194,9 @@ srv *srv_create(const srv_desc *d, gale_err *err)
     size_t extra = WIRE_HEADER_BYTES + 64 + (size_t)WIRE_MAX_LEAVES * 16;
     if (s->coarse && extra < WIRE_HEADER_BYTES + 64 + (size_t)s->coarse_cap) {
         extra = WIRE_HEADER_BYTES + 64 + (size_t)s->coarse_cap; /* one layer ≤ all layers */
+    }
+    if (extra < wire_forest_bytes((uint32_t)n, (uint32_t)n)) {
+        extra = wire_forest_bytes((uint32_t)n, (uint32_t)n); /* every tree fallen */
     }
     s->snap_cap = cap;
     s->extra_cap = extra;
@@ -324,6 +330,8 @@ void srv_destroy(srv *s)
     free(s->leaves);
     free(s->dmg_ev);
     free(s->dmg_state);
+    free(s->forest_state);
+    free(s->forest_fall);
     srv_welcome_fini(s);
     free(s->wspecies);
     free(s->winst);

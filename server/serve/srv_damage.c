@@ -1,7 +1,8 @@
-/* Storm damage on the wire, on the sim thread (PROTOCOL.md "DAMAGE"): each tick's events
- * are gathered and go out with the next snapshot; every snapshot also carries the whole
- * damage state, which the network sends only to a connection that gets that snapshot's
- * keyframe (a late joiner, a resync), so it sees the same broken forest. */
+/* Storm damage on the wire, on the sim thread (PROTOCOL.md "DAMAGE", "FOREST"): each
+ * tick's events are gathered and go out with the next snapshot; every snapshot also
+ * carries the whole damage state (the broken branches as DAMAGE, the trees as FOREST),
+ * which the network sends only to a connection that gets that snapshot's keyframe (a late
+ * joiner, a resync), so it sees the same broken forest. */
 #include "srv_int.h"
 
 void srv_damage_gather(srv *s)
@@ -35,13 +36,25 @@ int srv_damage_encode(srv *s, const wire_header *h, net_snap *p, gale_err *e)
     if (!d) {
         return GALE_OK;
     }
-    uint32_t n = damage_state(d, s->dmg_state, WIRE_MAX_DAMAGE);
+    /* the whole state: the branches in a DAMAGE frame (the first WIRE_MAX_DAMAGE: PROTOCOL.md
+     * "Limits"), every tree's fall and level in a FOREST after it */
+    uint32_t n = damage_branches(d, s->dmg_state, WIRE_MAX_DAMAGE);
     if (n > WIRE_MAX_DAMAGE) {
-        n = WIRE_MAX_DAMAGE; /* PROTOCOL.md "Limits": the first WIRE_MAX_DAMAGE events */
+        n = WIRE_MAX_DAMAGE;
     }
     int rc = wire_encode_damage(h, true, s->dmg_state, n, p->extra[SRV_EXTRA_DAMAGE_STATE],
                                 p->extra_cap, &p->extra_len[SRV_EXTRA_DAMAGE_STATE], e);
     p->extra_key_only |= 1u << SRV_EXTRA_DAMAGE_STATE;
+    uint32_t first = 0, n_fall = 0;
+    const uint32_t count = damage_forest(d, s->forest_state, s->forest_fall, &first, &n_fall);
+    if (!rc) {
+        rc = wire_encode_forest(h, first, count, s->forest_state, s->forest_fall, n_fall,
+                                p->extra[SRV_EXTRA_FOREST], p->extra_cap,
+                                &p->extra_len[SRV_EXTRA_FOREST], e);
+    }
+    if (!s->dmg_full_due) {
+        p->extra_key_only |= 1u << SRV_EXTRA_FOREST; /* else everyone's, with the heal */
+    }
     if (!rc && s->dmg_full_due) {
         rc = wire_encode_damage(h, true, s->dmg_state, n, p->extra[SRV_EXTRA_DAMAGE],
                                 p->extra_cap, &p->extra_len[SRV_EXTRA_DAMAGE], e);

@@ -148,6 +148,8 @@ struct srv {
     bool dmg_full_due;
     unsigned long long dmg_heals;/* heals seen (damage_counts.heals) */
     wire_damage *dmg_state;      /* owned [WIRE_MAX_DAMAGE] */
+    uint8_t *forest_state;       /* owned [n_trees]: the FOREST frame's state bytes */
+    wire_forest_fall *forest_fall; /* owned [n_trees] */
     /* the welcome's scene part (srv_welcome.c), under ctl_lock: what it is built from,
      * and the text built once per scene that every connection's welcome shares */
     ctl_species *wspecies;       /* owned [n_species] */
@@ -267,14 +269,17 @@ enum srv_extra {
     SRV_EXTRA_DAMAGE = 2,       /* DAMAGE events of the snapshot */
     SRV_EXTRA_DAMAGE_STATE = 3, /* DAMAGE: the whole state, with keyframes only */
     SRV_EXTRA_WEATHER = 4,      /* WEATHER: every SRV_WEATHER_EVERY snapshots and keyframes */
+    SRV_EXTRA_FOREST = 5,       /* FOREST: the trees' whole state, with keyframes and with the
+                                   whole state of extra[SRV_EXTRA_DAMAGE] */
 };
-_Static_assert(SRV_EXTRA_WEATHER < NET_SNAP_MAX_EXTRA, "net_snap holds every extra");
+_Static_assert(SRV_EXTRA_FOREST < NET_SNAP_MAX_EXTRA, "net_snap holds every extra");
 
 /* srv_damage.c, sim thread: gathers the damage events of the last tick (a heal makes the
  * next snapshot carry the whole state to everyone). */
 void srv_damage_gather(srv *s);
 /* Encodes the damage frames of this snapshot into p: extra[SRV_EXTRA_DAMAGE] the events (or
- * the whole state after a heal), extra[SRV_EXTRA_DAMAGE_STATE] the whole state, key-only. */
+ * the whole state's branches after a heal), extra[SRV_EXTRA_DAMAGE_STATE] the whole state's
+ * branches, key-only, extra[SRV_EXTRA_FOREST] its trees (key-only but after a heal). */
 int srv_damage_encode(srv *s, const wire_header *h, net_snap *p, gale_err *e);
 
 /* srv_weather.c, sim thread: a tick's scenario state (NULL: no scenario, the steady

@@ -682,6 +682,40 @@ uint32_t damage_state(const damage_sim *s, wire_damage *out, uint32_t cap)
     return n;
 }
 
+uint32_t damage_branches(const damage_sim *s, wire_damage *out, uint32_t cap)
+{
+    const uint32_t n = s->n_log < cap ? s->n_log : cap;
+    memcpy(out, s->log, sizeof *out * n);
+    return s->n_log;
+}
+
+uint32_t damage_forest(const damage_sim *s, uint8_t *state, wire_forest_fall *fall,
+                       uint32_t *first, uint32_t *n_fall)
+{
+    uint32_t lo = UINT32_MAX, hi = 0;
+    for (uint32_t t = 0; t < s->d.n_trees; t++) {
+        const damage_tree_st *ts = &s->tree[t];
+        if (ts->fallen || ts->level < WIRE_DAMAGE_LEVELS) {
+            lo = lo == UINT32_MAX ? t : lo;
+            hi = t;
+        }
+    }
+    *first = 0;
+    *n_fall = 0;
+    if (lo == UINT32_MAX) {
+        return 0;
+    }
+    for (uint32_t t = lo; t <= hi; t++) {
+        const damage_tree_st *ts = &s->tree[t];
+        state[t - lo] = (uint8_t)(ts->fallen << WIRE_FOREST_FALL_SHIFT | ts->level);
+        if (ts->fallen) {
+            fall[(*n_fall)++] = (wire_forest_fall){ ts->fall_az, ts->fall_tick };
+        }
+    }
+    *first = lo;
+    return hi - lo + 1;
+}
+
 void damage_heal(damage_sim *s, modal *m)
 {
     /* a tree's strength is its seed's draw, the same every time: kept rather than drawn

@@ -97,6 +97,17 @@ int damage_events(const damage_sim *s, const wire_damage **out);
  * cap when it does not fit: out holds the first cap). */
 uint32_t damage_state(const damage_sim *s, wire_damage *out, uint32_t cap);
 
+/* The broken branches in the order they broke into out[cap]; returns how many there are
+ * (more than cap: out holds the first cap). */
+uint32_t damage_branches(const damage_sim *s, wire_damage *out, uint32_t cap);
+
+/* Every tree's fall and level as a FOREST frame lists them (PROTOCOL.md "FOREST"): the
+ * trees from the first damaged one to the last as state bytes into state[n_trees], the
+ * fallen ones' azimuth and tick into fall[n_trees] (*n_fall of them), the first tree
+ * listed into *first; returns how many are listed (0: the forest is intact). */
+uint32_t damage_forest(const damage_sim *s, uint8_t *state, wire_forest_fall *fall,
+                       uint32_t *first, uint32_t *n_fall);
+
 /* Heals every tree: intact, full crowns, drag multiplier 1 in m. */
 void damage_heal(damage_sim *s, modal *m);
 
