@@ -98,12 +98,19 @@ export class DamageView {
         this.heal();
     }
 
+    // Every tree intact.
     heal() {
+        this.healTrees();
+        this.broken.length = 0;
+    }
+
+    // Every tree standing with its full crown, the broken branches kept
+    // (damage_view_heal_trees: a FOREST's state replaces the trees' fall and level only).
+    healTrees() {
         this.fallen.fill(0);
         this.fall_az.fill(0);
         this.level.fill(DAMAGE.LEVELS);
         this.fall_tick.fill(0);
-        this.broken.length = 0;
         this.generation++;
     }
 
@@ -207,7 +214,11 @@ export class DamageFx {
         return out;
     }
 
-    // A frame's DAMAGE (f.hdr, f.damage): what is new to this picture, then applied.
+    // A frame's DAMAGE (f.hdr, f.damage), or its FOREST as { full: false, healTrees: true,
+    // events: forestEvents(f) } (web/wire.js): what is new to this picture, then applied.
+    // A FOREST heals the trees' fall and level (not the branches) just before its events
+    // are applied, so a tree it lists as fallen that this picture already holds fallen is
+    // not new: it keeps its fall's start and goes on falling from where it is.
     take(hdr, d) {
         const v = this.view;
         for (const e of d.events) {
@@ -219,10 +230,11 @@ export class DamageFx {
                 this.spawnDebris(e.tree, e.node, t0);
             }
         }
+        if (d.healTrees) v.healTrees();
         this.bad += v.apply(d.full, d.events);
-        if (d.full) {
-            // a heal: what no longer stands broken stops moving
-            this.debris = this.debris.filter((dp) => v.isBroken(dp.path.tree, dp.path.node));
+        if (d.full || d.healTrees) {
+            // a heal: what no longer stands broken stops moving (a FOREST keeps the branches)
+            if (d.full) this.debris = this.debris.filter((dp) => v.isBroken(dp.path.tree, dp.path.node));
             for (let t = 0; t < v.n_trees; t++) if (!v.fallen[t]) this.fall_t0_s[t] = NaN;
         }
         this.dirty = true;

@@ -2,8 +2,8 @@
 // checks and the same error texts as protocol/msg_*.c, so a frame the C decoder rejects is
 // rejected here too. Pure: no DOM, runs under Node for the spec-vector test.
 
-export const MSG = { KEYFRAME: 1, DELTA: 2, LEAVES: 3, WIND: 4, WEATHER: 5, DAMAGE: 6, BUNDLE: 7 };
-const NAMES = ['?', 'KEYFRAME', 'DELTA', 'LEAVES', 'WIND', 'WEATHER', 'DAMAGE', 'BUNDLE'];
+export const MSG = { KEYFRAME: 1, DELTA: 2, LEAVES: 3, WIND: 4, WEATHER: 5, DAMAGE: 6, BUNDLE: 7, FOREST: 8 };
+const NAMES = ['?', 'KEYFRAME', 'DELTA', 'LEAVES', 'WIND', 'WEATHER', 'DAMAGE', 'BUNDLE', 'FOREST'];
 export const LIMITS = {
     MAX_TREES: 262144, MAX_MODES: 64, MAX_SPECIES: 64, MAX_LEAVES: 4096, MAX_WIND_SIDE: 256,
     MAX_DAMAGE: 4096, MAX_BUNDLE: 16, MAX_FRAME_BYTES: 16 << 20, QMAX: 32767, MAX_STEP: 1e30,
@@ -86,7 +86,7 @@ export function decodeHeader(bytes) {
     const version = v.getUint16(4, true);
     if (version !== 1) throw new WireError(`wire: version at byte 4: expected 1, got ${version}`);
     const type = bytes[6], flags = bytes[7];
-    if (type < 1 || type > 7) throw new WireError(`wire: type at byte 6: expected 1..7, got ${type}`);
+    if (type < 1 || type > 8) throw new WireError(`wire: type at byte 6: expected 1..8, got ${type}`);
     if (flags !== 0) throw new WireError(`wire: flags at byte 7: expected 0, got ${flags}`);
     const tick = v.getUint32(8, true);
     const lo = v.getUint32(12, true), hi = v.getUint32(16, true);
@@ -134,6 +134,7 @@ export class Decoder {
         case MSG.WIND: f.wind = wind(r); break;
         case MSG.WEATHER: f.weather = weather(r); break;
         case MSG.DAMAGE: f.damage = damage(r); break;
+        case MSG.FOREST: f.forest = forest(r, h); break;
         default: throw new WireError(`${r.where}: type: a BUNDLE inside a BUNDLE`);
         }
         r.end();
@@ -553,6 +554,59 @@ function damage(r) {
         events.push(e);
     }
     return { full: full === 1, events };
+}
+
+// FOREST (PROTOCOL.md "FOREST (type 8)"; wire_decode_forest in protocol/msg_forest.c): trees
+// [first, first + count) as a state byte each, fall << 6 | level, then the fallen ones'
+// azimuth and tick in tree order. The checks and texts are the C's (which also refuses a
+// count over its decoder's trees; this decoder has no such bound).
+const FOREST_FIXED = HEADER_BYTES + 8, FOREST_FALL = 5, FOREST_LEVEL_MASK = 0x3f, FOREST_FALL_SHIFT = 6;
+const forestStateValid = (s) => (s & FOREST_LEVEL_MASK) <= 32 && (s >> FOREST_FALL_SHIFT) !== 1;
+
+function forest(r, h) {
+    if (r.left() < 8) throw new WireError(`${r.where}: first, count at byte ${HEADER_BYTES}: truncated`);
+    const first = r.u32('first'), count = r.u32('count');
+    if (count > LIMITS.MAX_TREES || first > LIMITS.MAX_TREES - count) {
+        throw new WireError(`${r.where}: count at byte ${HEADER_BYTES + 4}: expected first + count <= ${LIMITS.MAX_TREES}, got ${first} + ${count}`);
+    }
+    if (r.left() < count) {
+        throw new WireError(`${r.where}: length: expected >= ${FOREST_FIXED + count} bytes for ${count} trees, got ${FOREST_FIXED + r.left()}`);
+    }
+    const state = r.b.slice(r.p, r.p + count);
+    let fallen = 0;
+    for (let i = 0; i < count; i++) {
+        const s = state[i];
+        if (!forestStateValid(s)) {
+            throw new WireError(`${r.where}: tree ${first + i} at byte ${FOREST_FIXED + i}: expected level <= 32 and fall 0, 2 or 3, got 0x${s.toString(16).padStart(2, '0')}`);
+        }
+        fallen += s >> FOREST_FALL_SHIFT ? 1 : 0;
+    }
+    r.p += count;
+    if (r.left() !== fallen * FOREST_FALL) {
+        throw new WireError(`${r.where}: length: expected ${FOREST_FIXED + count + fallen * FOREST_FALL} bytes for ${count} trees, ${fallen} fallen, got ${FOREST_FIXED + count + r.left()}`);
+    }
+    const falls = [];
+    for (let i = 0; i < fallen; i++) falls.push({ az: r.u8('azimuth'), tick: r.u32('tick') });
+    return { first, count, state, falls };
+}
+
+// A decoded frame's FOREST (f.forest, f.hdr) as the DAMAGE events it stands for
+// (wire_forest_events): in tree order a SNAP or UPROOT for each fallen tree (its azimuth
+// and tick) and a STRIP for each crown below 32 (the frame's tick); [] without a FOREST.
+// Applied after healing every tree's fall and level (not its branches), they give the
+// state the frame holds (DamageView.healTrees, web/damage.js).
+export function forestEvents(f) {
+    const fo = f.forest, out = [];
+    if (!fo) return out;
+    for (let i = 0, k = 0; i < fo.count; i++) {
+        const s = fo.state[i], tree = fo.first + i, fall = s >> FOREST_FALL_SHIFT, level = s & FOREST_LEVEL_MASK;
+        if (fall && k < fo.falls.length) {
+            const fl = fo.falls[k++];
+            out.push({ tree, node: 0xffffffff, kind: fall, value: fl.az, tick: fl.tick, kindName: DAMAGE_KINDS[fall] });
+        }
+        if (level < 32) out.push({ tree, node: 0xffffffff, kind: 4, value: level, tick: f.hdr.tick, kindName: DAMAGE_KINDS[4] });
+    }
+    return out;
 }
 
 // Each value's step [n_trees × stride]: step_m of the tree's species, 0 past its modes;

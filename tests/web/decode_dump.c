@@ -8,7 +8,8 @@
  * A rejected input prints "E state" (GALE_E_STATE: the client resyncs) or "E bad", then
  * the error's text (not compared: the fuzzer prints it beside a disagreement). An
  * accepted one prints its values, floats as their bit patterns (u32), in the order the
- * fuzzer prints the JavaScript decoders' (every field the browser reads). */
+ * fuzzer prints the JavaScript decoders' (every field the browser reads; a FOREST's also as
+ * the DAMAGE events wire_forest_events makes of it). */
 #include <inttypes.h>
 #include <stdbool.h>
 #include <stdint.h>
@@ -128,6 +129,28 @@ static void frame(const wire_decoder *d, const wire_frame *f)
             const wire_damage *e = &f->damage[i];
             printf("%s%" PRIu32 ",%" PRIu32 ",%u,%u,%" PRIu32, i ? ";" : "", e->tree, e->node,
                    (unsigned)e->kind, (unsigned)e->value, e->tick);
+        }
+    }
+    if (f->types & (1u << WIRE_MSG_FOREST)) {
+        printf(" F%" PRIu32 ",%" PRIu32 ":", f->forest_first, f->forest_count);
+        hex("", f->forest_state, f->forest_count);
+        printf(" :");
+        for (uint32_t i = 0; i < f->n_forest_fall; i++) {
+            printf("%s%u,%" PRIu32, i ? ";" : "", (unsigned)f->forest_fall[i].az,
+                   f->forest_fall[i].tick);
+        }
+        /* and as the DAMAGE events it stands for (wire_forest_events) */
+        const uint32_t n = wire_forest_events(f, NULL, 0);
+        wire_damage *ev = malloc((size_t)n * sizeof *ev + 1);
+        if (!ev) {
+            printf(" G?");
+        } else {
+            printf(" G%" PRIu32 ":", wire_forest_events(f, ev, n));
+            for (uint32_t i = 0; i < n; i++) {
+                printf("%s%" PRIu32 ",%" PRIu32 ",%u,%u,%" PRIu32, i ? ";" : "", ev[i].tree,
+                       ev[i].node, (unsigned)ev[i].kind, (unsigned)ev[i].value, ev[i].tick);
+            }
+            free(ev);
         }
     }
     printf("\n");

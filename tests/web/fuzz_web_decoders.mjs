@@ -11,7 +11,9 @@
 // predictors 1 and 2 are reached); an asset goes as it is or with its header and CRCs
 // repaired (so a mutation reaches the sections, as tests/fuzz/fuzz_asset.c does). Besides
 // the seeds, KEYFRAMEs and DELTAs are built from parts (random trees, runs, mode lists,
-// and groups of every width and predictor) so every path of the value decoders is reached.
+// and groups of every width and predictor) so every path of the value decoders is reached,
+// and FOREST frames (random states and falls, alone or in a KEYFRAME's BUNDLE after a
+// DAMAGE), whose lines hold the DAMAGE events each side makes of them as well.
 // The browser's asset reader draws with a subset of the file: it skips MODE's arrays (the
 // server's), params_json and the optional sections, and checks no range of a value it
 // only draws with; an asset asset_decode refuses for one of those alone (RELAXED below)
@@ -23,7 +25,7 @@ import { spawnSync } from 'node:child_process';
 import { mkdirSync, readdirSync, readFileSync, writeFileSync } from 'node:fs';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { Decoder, WireError } from '../../web/wire.js';
+import { Decoder, WireError, forestEvents } from '../../web/wire.js';
 import { decodeAsset, AssetError, hash64, crc32 } from '../../web/asset.js';
 import { readVectors } from './spec_vectors.mjs';
 
@@ -216,6 +218,11 @@ function frameLine(f) {
         s += hex('N', utf8.encode(w.name));
     }
     if (f.damage) s += ` D${f.damage.full ? 1 : 0}:${f.damage.events.map((e) => `${e.tree},${e.node},${e.kind},${e.value},${e.tick}`).join(';')}`;
+    if (f.forest) {
+        const fo = f.forest, ev = forestEvents(f);
+        s += ` F${fo.first},${fo.count}:${hex('', fo.state)} :${fo.falls.map((x) => `${x.az},${x.tick}`).join(';')}`;
+        s += ` G${ev.length}:${ev.map((e) => `${e.tree},${e.node},${e.kind},${e.value},${e.tick}`).join(';')}`;
+    }
     return s;
 }
 
@@ -338,8 +345,48 @@ function stateSequence() {
     return frames;
 }
 
+// A FOREST from parts: up to 40 trees from a random first (now and then against
+// WIRE_MAX_TREES), standing, snapped or uprooted, crowns whole or stripped, now and then a
+// state byte no FOREST has.
+function forestFrame() {
+    const count = rnd() < 0.2 ? 0 : 1 + ri(40), tick = 100 + ri(1000);
+    const first = rnd() < 0.1 ? 262144 - count - 1 + ri(3) : ri(1000);
+    const b = [...header(8, tick), 0, 0, 0, 0, 0, 0, 0, 0];
+    put(b, 20, first, 4);
+    put(b, 24, count, 4);
+    const st = [];
+    for (let i = 0; i < count; i++) st.push((pick([0, 0, 0, 2, 3]) << 6) | (rnd() < 0.5 ? 32 : ri(33)));
+    if (count && rnd() < 0.1) st[ri(count)] = rnd() < 0.5 ? 0x40 | ri(64) : ri(256);
+    b.push(...st);
+    for (const x of st) {
+        if (!(x >> 6)) continue;
+        const fall = [ri(256), 0, 0, 0, 0];
+        put(fall, 1, (tick - ri(400)) >>> 0, 4);
+        b.push(...fall);
+    }
+    return Uint8Array.from(b);
+}
+// The spec's FOREST vector and the refusals PROTOCOL.md names, alone and in a BUNDLE with
+// the keyframe's whole damage state, as seeds (the first few cases, then mutated).
+{
+    const fv = vec.FOREST, at = (k, v) => { const c = fv.slice(); c[k] = v; return c; };
+    const grown = new Uint8Array(fv.length + 1);
+    grown.set(fv);
+    const far = fv.slice();
+    put(far, 20, 262142, 4);
+    wireSeeds.push(at(0x1c, 0x54), at(0x1e, 0xe1), fv.subarray(0, 40), grown, far,
+        bundleOf([keyframe, vec['DAMAGE-FULL'], fv]), bundleOf([vec['DAMAGE-FULL'], fv]));
+}
+
 // ---- cases ----
 function wireCase(i) {
+    if (i >= wireSeeds.length && rnd() < 0.1) {
+        // a built FOREST, alone or in a KEYFRAME's BUNDLE after its DAMAGE, mutated now and then
+        let fo = forestFrame();
+        if (rnd() < 0.3) fo = mutate(fo, wireSeeds, wireFields);
+        const prefix = rnd() < 0.5 ? [] : [keyframe];
+        return { kind: 'W', frames: [...prefix, rnd() < 0.3 ? bundleOf([keyframe, vec['DAMAGE-FULL'], fo]) : fo] };
+    }
     if (i >= wireSeeds.length && rnd() < 0.3) {
         // a built keyframe and deltas, one of them mutated now and then
         const frames = stateSequence();
@@ -389,7 +436,7 @@ for (let at = 24, a = assetSeeds[0]; at + 4 <= a.length; at++) {
     }
 }
 const t_end = seconds ? Date.now() + seconds * 1000 : Infinity;
-const stats = { cases: 0, wire_frames: 0, wire_accepted: 0, wire_state_refusals: 0, assets: 0, assets_accepted: 0,
+const stats = { cases: 0, wire_frames: 0, wire_accepted: 0, wire_state_refusals: 0, forest_accepted: 0, assets: 0, assets_accepted: 0,
     assets_relaxed: 0, assets_nocorr: 0, batches: 0 };
 let n = 0;
 for (let batch = 0; n < cases && Date.now() < t_end; batch++) {
@@ -441,6 +488,7 @@ for (let batch = 0; n < cases && Date.now() < t_end; batch++) {
             stats.wire_frames += js.length;
             stats.wire_accepted += js.filter((l) => l.startsWith('T')).length;
             stats.wire_state_refusals += js.filter((l) => l.startsWith('E state')).length;
+            stats.forest_accepted += js.filter((l) => l.startsWith('T') && / G\d+:/.test(l)).length;
         } else {
             stats.assets++;
             if (js[1].startsWith(' ok')) stats.assets_accepted++;

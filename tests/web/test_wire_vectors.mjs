@@ -2,7 +2,7 @@
 // tests read, tests/test_spec_vectors.c): each decoded to the values the spec states; then
 // corruptions each decoder must refuse. node test_wire_vectors.mjs PROTOCOL.md
 import assert from 'node:assert/strict';
-import { Decoder, MSG, dequantise, WireError } from '../../web/wire.js';
+import { Decoder, MSG, dequantise, WireError, forestEvents } from '../../web/wire.js';
 import { readVectors } from './spec_vectors.mjs';
 
 const path = process.argv[2];
@@ -12,11 +12,11 @@ if (!path || path === '--help') {
 }
 const vec = readVectors(path).hex;
 const KNOWN = ['KEYFRAME', 'DELTA', 'LEAVES', 'WIND', 'WEATHER', 'WEATHER-STEADY', 'DAMAGE',
-    'DAMAGE-FULL', 'BUNDLE', 'BUNDLE-KEYFRAME'];
+    'DAMAGE-FULL', 'FOREST', 'BUNDLE', 'BUNDLE-KEYFRAME'];
 for (const name of KNOWN) assert.ok(vec[name], `no vector ${name} in ${path}`);
 for (const name of Object.keys(vec)) assert.ok(KNOWN.includes(name), `${path}: vector ${name} is not one this test knows`);
 const byType = {};
-for (const name of ['KEYFRAME', 'DELTA', 'LEAVES', 'WIND', 'WEATHER', 'DAMAGE']) {
+for (const name of ['KEYFRAME', 'DELTA', 'LEAVES', 'WIND', 'WEATHER', 'DAMAGE', 'FOREST']) {
     assert.equal(vec[name][6], MSG[name], `${name}: type byte`);
     byType[MSG[name]] = vec[name];
 }
@@ -109,6 +109,65 @@ assert.deepEqual(df.events.map((e) => [e.tree, e.node, e.kind, e.value, e.tick])
     [[0, 0xffffffff, 4, 20, 110], [1, 0xffffffff, 2, 200, 115]]);
 checks += 2;
 
+// FOREST: trees 0..2 from tree 0; tree 0 standing at 20/32, tree 1 snapped at 200/256 turn
+// (tick 115) with its crown whole, tree 2 uprooted at 64/256 (tick 118) with 8/32 left
+const fo = new Decoder().decode(vec.FOREST);
+assert.deepEqual([fo.hdr.type, fo.hdr.tick, fo.hdr.server_time_us, fo.types], [8, 120, 2000000, 1 << MSG.FOREST]);
+assert.deepEqual([fo.forest.first, fo.forest.count], [0, 3]);
+assert.ok(fo.forest.state instanceof Uint8Array);
+assert.deepEqual([...fo.forest.state], [0x14, 0xa0, 0xc8]);
+assert.deepEqual(fo.forest.falls, [{ az: 200, tick: 115 }, { az: 64, tick: 118 }]);
+assert.equal(fo.damage, undefined);
+// as DAMAGE events (PROTOCOL.md): (0, STRIP 20, tick 120), (1, SNAP 200, tick 115),
+// (2, UPROOT 64, tick 118), (2, STRIP 8, tick 120), each as the DAMAGE decoder's
+const W = 0xffffffff;
+assert.deepEqual(forestEvents(fo), [
+    { tree: 0, node: W, kind: 4, value: 20, tick: 120, kindName: 'STRIP' },
+    { tree: 1, node: W, kind: 2, value: 200, tick: 115, kindName: 'SNAP' },
+    { tree: 2, node: W, kind: 3, value: 64, tick: 118, kindName: 'UPROOT' },
+    { tree: 2, node: W, kind: 4, value: 8, tick: 120, kindName: 'STRIP' }]);
+assert.deepEqual(Object.keys(forestEvents(fo)[0]), Object.keys(df.events[0]), 'FOREST events shaped as DAMAGE events');
+assert.deepEqual(forestEvents(d.decode(byType[MSG.LEAVES])), [], 'no FOREST, no events');
+checks += 10;
+// listed from tree 5: the same bytes name trees 5..7 (events and errors)
+const fo5 = Uint8Array.from(vec.FOREST);
+fo5[0x14] = 5;
+assert.deepEqual(forestEvents(new Decoder().decode(fo5)).map((e) => [e.tree, e.kind, e.value, e.tick]),
+    [[5, 4, 20, 120], [6, 2, 200, 115], [7, 3, 64, 118], [7, 4, 8, 120]]);
+// a calm forest: count 0, 28 bytes, no events
+const calm = Uint8Array.from(vec.FOREST.subarray(0, 28));
+calm[0x18] = 0;
+const fc = new Decoder().decode(calm);
+assert.deepEqual([fc.forest.count, fc.forest.state.length, fc.forest.falls.length, forestEvents(fc).length], [0, 0, 0, 0]);
+checks += 2;
+// the refusals, in protocol/msg_forest.c's words
+const forestBad = (bytes, text) => {
+    assert.throws(() => new Decoder().decode(bytes), (e) => e instanceof WireError && !e.state && e.message === text,
+        `expected "${text}"`);
+    checks++;
+};
+const forestAt = (at, val) => { const c = Uint8Array.from(vec.FOREST); c[at] = val; return c; };
+forestBad(forestAt(0x1c, 0x54), 'wire: FOREST tick 120: tree 0 at byte 28: expected level <= 32 and fall 0, 2 or 3, got 0x54'); // fall bits 1
+forestBad(forestAt(0x1e, 0xe1), 'wire: FOREST tick 120: tree 2 at byte 30: expected level <= 32 and fall 0, 2 or 3, got 0xe1'); // level 33
+forestBad(forestAt(0x1c, 0x21), 'wire: FOREST tick 120: tree 0 at byte 28: expected level <= 32 and fall 0, 2 or 3, got 0x21'); // level 33 standing
+forestBad(forestAt(0x1c, 0x94), 'wire: FOREST tick 120: length: expected 46 bytes for 3 trees, 3 fallen, got 41'); // a third fall unsaid
+forestBad(vec.FOREST.subarray(0, 40), 'wire: FOREST tick 120: length: expected 41 bytes for 3 trees, 2 fallen, got 40'); // a fall cut
+forestBad(vec.FOREST.subarray(0, 30), 'wire: FOREST tick 120: length: expected >= 31 bytes for 3 trees, got 30');
+forestBad(vec.FOREST.subarray(0, 26), 'wire: FOREST tick 120: first, count at byte 20: truncated');
+const grown = new Uint8Array(vec.FOREST.length + 1);
+grown.set(vec.FOREST);
+forestBad(grown, 'wire: FOREST tick 120: length: expected 41 bytes for 3 trees, 2 fallen, got 42'); // a trailing byte
+const far = Uint8Array.from(vec.FOREST);
+new DataView(far.buffer).setUint32(0x14, 262142, true);
+forestBad(far, 'wire: FOREST tick 120: count at byte 24: expected first + count <= 262144, got 262142 + 3');
+new DataView(far.buffer).setUint32(0x14, 262141, true); // the last tree the protocol has
+assert.deepEqual(forestEvents(new Decoder().decode(far)).map((e) => e.tree), [262141, 262142, 262143, 262143]);
+const huge = Uint8Array.from(vec.FOREST);
+new DataView(huge.buffer).setUint32(0x18, 0xffffffff, true);
+forestBad(huge, 'wire: FOREST tick 120: count at byte 24: expected first + count <= 262144, got 0 + 4294967295');
+forestBad(forestAt(6, 9), 'wire: type at byte 6: expected 1..8, got 9');
+checks++;
+
 // BUNDLE-KEYFRAME: every member a snapshot can carry, decoded by a new decoder
 const bk = new Decoder().decode(vec['BUNDLE-KEYFRAME']);
 assert.equal(bk.state.seq, 5);
@@ -142,6 +201,32 @@ assert.deepEqual([...b.state.q], [4, -2, 0, 0, 7, 0]);
 assert.equal(b.leaves.length, 1);
 assert.equal(b.types, (1 << MSG.DELTA) | (1 << MSG.LEAVES));
 checks += 4;
+
+// a KEYFRAME's BUNDLE with the whole damage state, DAMAGE-FULL and then FOREST (gale-server's
+// order): one frame with both; the FOREST's events at the bundle's tick; a second FOREST
+// refuses it
+const wrap = (frames) => {
+    const n = frames.reduce((s, f) => s + 4 + f.length, 21), out = new Uint8Array(n), dw = new DataView(out.buffer);
+    out.set(frames[0].subarray(0, 20));
+    out[6] = MSG.BUNDLE;
+    out[20] = frames.length;
+    let p = 21;
+    for (const f of frames) { dw.setUint32(p, f.length, true); out.set(f, p + 4); p += 4 + f.length; }
+    return out;
+};
+const bf = new Decoder().decode(wrap([byType[MSG.KEYFRAME], vec['DAMAGE-FULL'], vec.FOREST]));
+assert.equal(bf.types, (1 << MSG.KEYFRAME) | (1 << MSG.DAMAGE) | (1 << MSG.FOREST));
+assert.equal(bf.state.seq, 5);
+assert.equal(bf.damage.full, true);
+assert.deepEqual(bf.forest.falls, fo.forest.falls);
+assert.deepEqual(forestEvents(bf), forestEvents(fo));
+assert.throws(() => new Decoder().decode(wrap([byType[MSG.KEYFRAME], vec.FOREST, vec.FOREST])), /frame 3 of 3: a second FOREST/);
+// a broken FOREST inside refuses the whole BUNDLE, its state frame not taken
+const d4 = new Decoder();
+assert.throws(() => d4.decode(wrap([byType[MSG.KEYFRAME], vec['DAMAGE-FULL'], forestAt(0x1c, 0x54)])),
+    /wire: BUNDLE tick 120: frame 3 of 3: wire: FOREST tick 120: tree 0 at byte 28: expected level <= 32/);
+assert.equal(d4.last, null);
+checks += 8;
 
 // Refusals: every one-byte change below breaks a rule the spec states.
 const bad = (bytes, at, val, re, dec = new Decoder()) => {
