@@ -92,11 +92,10 @@ int wire_decode_forest(wire_decoder *d, wire_reader *r, const wire_header *h, wi
                          "wire: FOREST tick %u: count at byte %u: expected first + count <= %u, "
                          "got %u + %u", h->tick, WIRE_HEADER_BYTES + 4, WIRE_MAX_TREES, first, count);
     }
-    if (first + count > d->max_trees) {
+    if (count > d->max_trees) {
         return gale_errf(err, GALE_E_RANGE,
-                         "wire: FOREST tick %u: count at byte %u: expected first + count <= %u "
-                         "(the decoder's trees), got %u + %u", h->tick, WIRE_HEADER_BYTES + 4,
-                         d->max_trees, first, count);
+                         "wire: FOREST tick %u: count at byte %u: expected <= %u (the decoder's "
+                         "trees), got %u", h->tick, WIRE_HEADER_BYTES + 4, d->max_trees, count);
     }
     if (wire_reader_left(r) < count) {
         return gale_errf(err, GALE_E_FORMAT,

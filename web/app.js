@@ -13,8 +13,7 @@ import { Renderer } from './render_gl.js';
 import { WebGL2Missing } from './render_data.js';
 import { orbitEye } from './view_math.js';
 import { stormFxFromWeather, stormFxQualityParse, STORM_FX_LOW } from './storm_fx.js';
-import { DamageFx, DAMAGE } from './damage.js';
-import { forestEvents } from './wire.js';
+import { DamageFx, DAMAGE, frameDamage } from './damage.js';
 import { weatherLines } from './hud_text.js';
 import { setTexts, langFind, t } from './lang.js';
 import { LANG_CODES, TEXTS } from './lang_texts.js';
@@ -374,16 +373,10 @@ export class App {
             this.lastWind = f.wind;
             if (this.r) this.r.setWind(f.wind);
         }
-        if (f.damage) {
-            this.damageEvents = (this.damageEvents || 0) + f.damage.events.length;
-            const d = this.heldDamage(f.damage);
-            if (this.damage) this.sound.onDamage(f.hdr, d, this.damage.view, this.welcome.tick_hz);
-            if (this.damage) this.damage.take(f.hdr, d);
-        }
-        if (f.forest) {
-            // the trees' whole state, after the same frame's DAMAGE (the branches): their
-            // fall and level healed, then its events applied (PROTOCOL.md "FOREST")
-            const d = this.heldDamage({ full: false, healTrees: true, events: forestEvents(f) });
+        if (f.damage) this.damageEvents = (this.damageEvents || 0) + f.damage.events.length;
+        const fd = frameDamage(f); // a FOREST with its DAMAGE as one (web/damage.js)
+        if (fd) {
+            const d = this.heldDamage(fd);
             if (this.damage) this.sound.onDamage(f.hdr, d, this.damage.view, this.welcome.tick_hz);
             if (this.damage) this.damage.take(f.hdr, d);
         }

@@ -11,6 +11,7 @@
 // tests/web/test_damage_js.mjs holds them to the C (gale-web-damage-table).
 import { hashMix32 } from './hash.js';
 import { DebrisPath, debrisFrameMatrix, debrisFrameAngles } from './debris_path.js';
+import { forestEvents } from './wire.js';
 
 export const DAMAGE = { BRANCH: 1, SNAP: 2, UPROOT: 3, STRIP: 4, LEVELS: 32 }; // protocol/wire.h
 export const DAMAGE_RECENT_S = 3.0;          // client/motion/damage_clock.h
@@ -27,6 +28,17 @@ export function leafKept(tree, slot, level) {
 
 // damage_event_start_s: the server time [s] of an event of tick eventTick carried by a
 // frame of tick frameTick sent at frameTime_us; NaN when older than DAMAGE_RECENT_S.
+// What a decoded frame f gives DamageFx.take (null: no damage): its DAMAGE, or its FOREST
+// with its DAMAGE if it has one, as one (client/app/client_damage.c
+// client_damage_take_forest): the trees' fall and level healed, then both frames' events,
+// so a fall under way across a keyframe's whole state is one the picture holds, not new
+// after the heal (PROTOCOL.md "FOREST").
+export function frameDamage(f) {
+    if (!f.forest) return f.damage || null;
+    const ev = forestEvents(f);
+    return { full: !!(f.damage && f.damage.full), healTrees: true, events: f.damage ? f.damage.events.concat(ev) : ev };
+}
+
 export function damageEventStart_s(frameTick, frameTime_us, eventTick, tick_hz) {
     const hz = tick_hz > 0 ? tick_hz : 60;
     // ticks wrap at 2^32: the signed difference is the age

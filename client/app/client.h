@@ -329,9 +329,10 @@ void client_damage_draw(client *c);
 /* A frame's DAMAGE events: starts the falls and debris of recent ones new to the picture,
  * then applies them to c->dmg and draws. */
 void client_damage_take(client *c, const wire_frame *f);
-/* A frame's FOREST (PROTOCOL.md "FOREST"): the trees' fall and level replaced by its (the
- * broken branches kept), through the same starts of recent new falls; after the frame's
- * DAMAGE. */
+/* A frame's FOREST (PROTOCOL.md "FOREST") with its DAMAGE if it has one, taken as one:
+ * the DAMAGE applies, then the trees' fall and level are replaced by the FOREST's (the
+ * broken branches kept); what is new to the picture before either starts as in
+ * client_damage_take. */
 void client_damage_take_forest(client *c, const wire_frame *f);
 /* Before drawing the frame of server time now_s: falls under way and debris move on. */
 void client_damage_frame(client *c, double now_s);

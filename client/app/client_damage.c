@@ -189,7 +189,10 @@ void client_damage_take_forest(client *c, const wire_frame *f)
     if (!x) {
         return;
     }
-    const uint32_t n = wire_forest_events(f, NULL, 0);
+    /* the frame's DAMAGE (a whole state's heal and branches) and its FOREST as one: a fall
+     * under way is then seen as one this picture holds, not as new after the heal */
+    const uint32_t nd = (f->types & (1u << WIRE_MSG_DAMAGE)) ? f->n_damage : 0;
+    const uint32_t n = nd + wire_forest_events(f, NULL, 0);
     if (n > x->forest_cap) {
         wire_damage *ev = realloc(x->forest_ev, (size_t)n * sizeof *ev);
         if (!ev) {
@@ -200,9 +203,12 @@ void client_damage_take_forest(client *c, const wire_frame *f)
         x->forest_ev = ev;
         x->forest_cap = n;
     }
-    wire_forest_events(f, x->forest_ev, n);
+    if (nd) {
+        memcpy(x->forest_ev, f->damage, (size_t)nd * sizeof *f->damage);
+    }
+    wire_forest_events(f, x->forest_ev + nd, n - nd);
     const wire_frame ev = { .hdr = f->hdr, .types = 1u << WIRE_MSG_DAMAGE, .n_damage = n,
-                            .damage = x->forest_ev };
+                            .damage = x->forest_ev, .damage_full = nd && f->damage_full };
     wire_frame held;
     take(c, client_hold_damage(c, &ev, &held), true);
 }

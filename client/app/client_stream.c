@@ -152,12 +152,11 @@ void client_stream_on_frame(void *user, const wire_frame *f, const wire_decoder 
     if (f->types & (1u << WIRE_MSG_WIND)) {
         take_wind(c, &f->wind);
     }
-    if (f->types & (1u << WIRE_MSG_DAMAGE)) {
+    if (f->types & (1u << WIRE_MSG_FOREST)) {
+        client_damage_take_forest(c, f); /* with the frame's DAMAGE, if any (client_damage.c) */
+    } else if (f->types & (1u << WIRE_MSG_DAMAGE)) {
         wire_frame held;
         client_damage_take(c, client_hold_damage(c, f, &held)); /* client_damage.c */
-    }
-    if (f->types & (1u << WIRE_MSG_FOREST)) {
-        client_damage_take_forest(c, f); /* after the whole state's DAMAGE, which heals */
     }
     if (f->types & (1u << WIRE_MSG_WEATHER)) {
         c->wx = f->weather; /* the HUD names the server's figures, never an average */

@@ -703,6 +703,14 @@ int main(int argc, char **argv)
                st->draw_calls, (unsigned long long)st->triangles, st->trees_full,
                st->trees_thin, st->trees_billboard, st->trees_culled, (double)st->lod_scale,
                median_ms(c.cull_ms, c.n_cull));
+        /* and the storm damage it holds (a late joiner's whole state: PROTOCOL.md "FOREST") */
+        uint32_t fallen = 0, stripped = 0;
+        for (uint32_t t = 0; c.dmg.tree && t < c.dmg.n_trees; t++) {
+            fallen += c.dmg.tree[t].fallen != 0;
+            stripped += c.dmg.tree[t].level < WIRE_DAMAGE_LEVELS;
+        }
+        printf("damage: trees %u fallen %u stripped %u branches_broken %u\n", c.dmg.n_trees,
+               fallen, stripped, c.dmg.n_broken);
         fflush(stdout);
         if (!c.got_state) {
             cli_net_stats ns = cli_net_get_stats(c.net);

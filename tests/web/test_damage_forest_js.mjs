@@ -1,6 +1,6 @@
-// A FOREST frame taken by the page (web/damage.js DamageFx.take with healTrees, the path
-// web/app.js gives it: { full: false, healTrees: true, events: forestEvents(f) } after the
-// same frame's DAMAGE, the sound told before): the trees' fall and level become the
+// A FOREST frame taken by the page (web/damage.js frameDamage, as web/app.js takes a frame:
+// with the same frame's DAMAGE as one, the trees' fall and level healed first; the sound
+// told before DamageFx.take): the trees' fall and level become the
 // frame's, the broken branches stay, a tree the frame leaves out stands again with its
 // full crown, a tree already lying or falling the same way keeps its fall's start, a new
 // recent fall starts at its tick and alone sounds; and a page that joins with the
@@ -10,7 +10,7 @@
 //   node test_damage_forest_js.mjs
 import assert from 'node:assert/strict';
 import { Decoder, MSG, forestEvents } from '../../web/wire.js';
-import { DamageFx, DamageView, DAMAGE, TIP_FALL, damageEventStart_s } from '../../web/damage.js';
+import { DamageFx, DamageView, DAMAGE, TIP_FALL, damageEventStart_s, frameDamage } from '../../web/damage.js';
 import { Sound, soundOptions } from '../../web/audio.js';
 
 if (process.argv.includes('--help')) {
@@ -56,12 +56,8 @@ function bundle(frames) {
 }
 // What web/app.js's onFrame does with a frame's DAMAGE and FOREST (the trees all held).
 function onFrame(fx, sound, f) {
-    if (f.damage) {
-        sound.onDamage(f.hdr, f.damage, fx.view, HZ);
-        fx.take(f.hdr, f.damage);
-    }
-    if (f.forest) {
-        const d = { full: false, healTrees: true, events: forestEvents(f) };
+    const d = frameDamage(f); // as web/app.js takes a frame
+    if (d) {
         sound.onDamage(f.hdr, d, fx.view, HZ);
         fx.take(f.hdr, d);
     }
@@ -151,6 +147,25 @@ sameView(v, before, 'the same FOREST again');
 assert.deepEqual([...fx.fall_t0_s].map(String), [...t0s].map(String));
 assert.equal(sound.pending.length, 0);
 checks += 3;
+
+// The watching page's periodic keyframe 1/6 s later: the whole state's BUNDLE, the DAMAGE
+// (full: it heals everything, then the branch) with the FOREST. Taken as one, tree 6's fall
+// under way is not new after the heal: it keeps its start and goes on, nothing sounds.
+{
+    const fallStart = fx.fall_t0_s.slice(), view0 = { fallen: v.fallen.slice(), fall_az: v.fall_az.slice(), level: v.level.slice(), fall_tick: v.fall_tick.slice(), broken: [...v.broken] };
+    sound.pending.length = 0;
+    onFrame(fx, sound, dec.decode(bundle([damageBytes(1020, true, [{ tree: 1, node: 5, kind: DAMAGE.BRANCH, value: 0, tick: 990 }]),
+        forestBytes(1020, 3, [
+            { fall: 0, level: 20 },
+            { fall: 0, level: 32 },
+            { fall: 3, level: 32, az: 77, tick: 100 },
+            { fall: 2, level: 32, az: 30, tick: 995 },
+            { fall: 3, level: 16, az: 128, tick: 1008 }])])));
+    sameView(v, view0, 'after the keyframe\'s whole state');
+    assert.ok(Object.is(fx.fall_t0_s[6], fallStart[6]) && Object.is(fx.fall_t0_s[7], fallStart[7]), 'the falls under way keep their starts across the keyframe');
+    assert.equal(sound.pending.length, 0, 'a keyframe sounds no fall again');
+    checks += 3;
+}
 
 // A page that joins now: the keyframe's BUNDLE with the whole state, the DAMAGE (full, the
 // branch) then the FOREST, at tick 1012: the same picture; the falls under 3 s old start
