@@ -406,6 +406,46 @@ static void test_dolly_no_pop(void)
  * centroid of the upper rows' pixels should move by that shift averaged over the calm
  * pixels' heights: within 25 % (the tilt of a view 0.5 m up over 400 m, the rows'
  * quantisation, pixels that leave or enter the upper half). */
+/* A far impostor keeps its coverage: the same tree through the same lens at 300 and at
+ * 1200 m covers about 16 times fewer pixels (1/d²), not none, though at 1200 m the
+ * sampler reads a mip about six levels down whose alpha is the crown's mean coverage
+ * (shaders/bill.frag coverage). Without fog (a renderer of its own), which at 1200 m
+ * leaves the tree too faint to count. */
+static void test_far_impostor_coverage(void)
+{
+    const float fov = 10.0f, near_m = 300.0f, far_m = 4.0f * near_m;
+    render_instance one = { .species = 0, .pos = { 0.0f, 0.0f, 0.0f }, .scale = 1.0f };
+    int cover[2] = { 0, 0 };
+    render *keep = R;
+    R = render_create(&(render_desc){ .width = W, .height = H, .headless = true, .max_trees = 4,
+                                      .fog_dist = 1e7f }, &err);
+    CHECK(R != NULL && render_add_species(R, &A[0], &err) == 0);
+    if (!R) {
+        R = keep;
+        return;
+    }
+    for (int k = 0; k < 2; k++) {
+        const float d = k ? far_m : near_m;
+        render_camera cam = { .eye = { 0.0f, -d, 4.0f }, .target = { 0.0f, 0.0f, 4.0f },
+                              .fov_y_deg = fov };
+        CHECK(render_set_instances(R, 0, &one, &err) == 0);
+        uint8_t *bg = shot(&cam, 0.0);
+        CHECK(render_set_instances(R, 1, &one, &err) == 0);
+        uint8_t *img = shot(&cam, 0.0);
+        double col[3];
+        tree_stats(img, bg, &cover[k], col);
+        free(bg);
+        free(img);
+    }
+    render_destroy(R);
+    R = keep;
+    const double ratio = (double)cover[1] * 16.0 / (double)(cover[0] > 0 ? cover[0] : 1);
+    fprintf(stderr, "impostor coverage: %d px at %.0f m, %d px at %.0f m: %.2f of 1/d^2\n",
+            cover[0], (double)near_m, cover[1], (double)far_m, ratio);
+    CHECK(cover[0] > 100);
+    CHECK(ratio > 0.5 && ratio < 2.0);
+}
+
 static void test_impostor_sways(void)
 {
     const float d = 400.0f, half_m = 7.0f;
@@ -646,6 +686,7 @@ int main(void)
     RUN(test_wind_moves_crowns_downwind);
     RUN(test_dolly_no_pop);
     RUN(test_impostor_sways);
+    RUN(test_far_impostor_coverage);
     RUN(test_res_scale);
     RUN(test_bad_input);
     RUN(test_house);
