@@ -53,12 +53,12 @@ bool render_cull_visible(const float planes[6][4], const float eye[3],
                          const render_instance *in, const render_cull_species *s,
                          float *dist_m);
 
-/* The LOD of a tree at distance dist_m (lod_policy.h, scaled by d). stays_posed: a fallen,
- * uprooted or snapped tree or a debris piece, which an impostor of the standing tree would
- * misdraw: it is never an impostor, and over THIN's fade band it fades out (bill_t, with
- * no impostor fading in): past THIN a lying tree is a few pixels high, and a storm's
- * thousands of them posed out to the reach would cost ten times the frame's budget. Past
- * the impostors' reach, flags 0. */
+/* The LOD of a tree at distance dist_m (lod_policy.h, scaled by d). stays_posed: a debris
+ * piece, which no impostor draws: it is never an impostor, and over THIN's fade band it
+ * fades out (bill_t, with no impostor fading in); past THIN it is not drawn. A fallen,
+ * uprooted or snapped tree is not one: past THIN it is an impostor as a standing tree is,
+ * laid along its fall (render_bill_fall, shaders/bill.vert). Past the impostors' reach,
+ * flags 0. */
 render_tree_lod render_lod_pick(float dist_m, const render_cull_species *s,
                                 const render_lod_desc *d, bool stays_posed);
 /* render_lod_pick written to *out: the frame's pass writes each tree's LOD in place (a
@@ -136,10 +136,13 @@ typedef struct render_cells {
        never the instances themselves */
     float (*sphere)[4];
     uint32_t *species;
-    /* owned: [n_trees], in tree[]'s order: what a standing tree's impostor keeps of its
-       leaves (0..1), or -1 for a tree that lies (never an impostor); the caller keeps it
-       (render: render_bill_leaf_set), so a far cell's impostors are listed from it alone */
+    /* owned: [n_trees], in tree[]'s order: what a tree's impostor keeps of its leaves
+       (0..1), and its fall as the impostor list entry's third component holds it (0
+       standing; 1 + azimuth in 1/256 turns + fall angle / π for a tipped tree: render:
+       render_bill_fall); the caller keeps both (render: render_bill_leaf_set), so a far
+       cell's impostors, lying trees among them, are listed from them alone */
     float *bill_leaf;
+    float *bill_fall;
     uint32_t *at_of;    /* owned: [n_trees] each tree's place in tree[] */
     uint32_t *bulk;     /* owned: [n_cells] scratch: a frame's cells drawn as impostors whole */
     uint32_t *cell_of;  /* owned: [n_trees] each tree's cell */

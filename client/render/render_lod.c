@@ -44,7 +44,7 @@ void render_lod_pick_into(float dist_m, const render_cull_species *s, const rend
     out.thin_t = fade_past(dist_m, full_m);
     out.bill_t = fade_past(dist_m, thin_m);
     if (stays_posed && out.bill_t >= 1.0f) {
-        *outp = (render_tree_lod){ 0 }; /* lying past THIN: a few pixels high, not drawn */
+        *outp = (render_tree_lod){ 0 }; /* a debris piece past THIN: not drawn */
         return;
     }
     out.level = out.bill_t > 0.0f && !stays_posed ? LOD_IMPOSTOR
