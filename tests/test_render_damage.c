@@ -367,7 +367,7 @@ static void test_fallen_billboard(void)
     free(fcut);
 
     /* a picture: three standing impostors and one fallen towards +x between them, seen
-       from 330 m off and 120 m up */
+       from 333 m off and 220 m up */
     render_instance four[4];
     for (int k = 0; k < 4; k++) {
         four[k] = (render_instance){ .species = 0, .pos = { -18.0f + 12.0f * (float)k, 0.0f, 0.0f },
@@ -376,7 +376,7 @@ static void test_fallen_billboard(void)
     CHECK(render_set_instances(R, 4, four, &err) == 0);
     render_set_damage(R, 2, 1.5707963f, 0.0f, 0);
     render_trees_commit(R);
-    const render_camera side = { .eye = { 0.0f, -310.0f, 120.0f }, .target = { 0.0f, 0.0f, 3.0f },
+    const render_camera side = { .eye = { 0.0f, -250.0f, 220.0f }, .target = { 0.0f, 0.0f, 3.0f },
                                  .fov_y_deg = 6.0f };
     uint8_t *pic = shot_cam(&side);
     st = render_get_stats(R);
