@@ -24,7 +24,7 @@ export const IMP_TRIANGLES = 2;
 export function impFall(z, az) {
     const y = z >= 256 ? z - 256 : z, fall = Math.fround(y - 4 * Math.floor(y * 0.25));
     if (!(fall > 0)) return 0;
-    const k = ((Math.round(Math.fround(az) * (256 / (2 * Math.PI))) % 256) + 256) % 256;
+    const k = ((Math.floor(Math.fround(az) * (256 / (2 * Math.PI)) + 0.5) % 256) + 256) % 256;
     return 1 + k + Math.min(fall, Math.fround(Math.PI / 2)) / Math.PI;
 }
 

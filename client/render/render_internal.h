@@ -270,7 +270,7 @@ static inline float render_bill_fall(const render *r, uint32_t i)
         return 0.0f;
     }
     const float turn = 6.2831853f;
-    long k = lroundf(in->fall_az_rad * (256.0f / turn)) % 256;
+    long k = (long)floorf(in->fall_az_rad * (256.0f / turn) + 0.5f) % 256;
     k = k < 0 ? k + 256 : k;
     const float a = fminf(in->fall_rad, 1.5707963f);
     return 1.0f + (float)k + a / 3.1415927f;
