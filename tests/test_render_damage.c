@@ -3,8 +3,9 @@
  * from a render of the intact tree and nothing else does, the same branch drawn as a
  * debris piece in place fills them again, and a piece placed by debris_frame_matrix lands
  * on screen where the C copy of tree_frame puts it; far away a fallen tree is an impostor
- * laid along its fall (seen from above, its pixels lie along it), an uprooted one shows its root plate, a snapped one stands on a stump, and a
- * far tree's billboard thins by the leaves its crown lost. */
+ * laid along its fall (seen from above, its pixels lie along it, alike whether its cell is
+ * listed whole or walked tree by tree), an uprooted one shows its root plate, a snapped one
+ * stands on a stump, and a far tree's billboard thins by the leaves its crown lost. */
 #include <cglm/cglm.h>
 #include <math.h>
 #include <stdbool.h>
@@ -355,7 +356,8 @@ static void test_fallen_billboard(void)
     st = render_get_stats(R);
     CHECK(st.trees_billboard == 1 && st.trees_full == 0);
     const blob bc = blob_of(fcut, bg_cut);
-    fprintf(stderr, "cut cell: fallen +x %d px at (%.0f, %.0f), listed whole %.0f px further right\n",
+    fprintf(stderr,
+            "cut cell: fallen +x %d px at (%.0f, %.0f), listed whole %.0f px further right\n",
             bc.n, bc.cx, bc.cy, 8.0 * (double)px_m);
     CHECK(abs(bc.n - bx.n) < bx.n / 10);
     CHECK(fabs(bc.cx + 8.0 * (double)px_m - bx.cx) < 3.0 && fabs(bc.cy - bx.cy) < 2.0);

@@ -260,9 +260,8 @@ static render_lod_cost species_cost(const rs_species *s)
 /* A piece no impostor draws: a debris piece (slot past the trees). A tipped or snapped
  * tree is an impostor past THIN as a standing one is, laid along its fall (its entry's
  * render_bill_fall, shaders/bill.vert). */
-static bool stays_posed(const render *r, uint32_t k, uint32_t i)
+static bool stays_posed(const render *r, uint32_t k)
 {
-    (void)i;
     return k >= r->n_trees;
 }
 
@@ -371,7 +370,7 @@ static void build_lists(render *r)
         const rs_species *s = &r->sp[in->species];
         const render_cull_species cs = render_cull_species_of(s);
         render_tree_lod *const tlp = &r->tree_lod[v];
-        render_lod_pick_into(r->tree_dist[v], &cs, &ld, stays_posed(r, k, i), tlp);
+        render_lod_pick_into(r->tree_dist[v], &cs, &ld, stays_posed(r, k), tlp);
         if (k >= r->n_trees) {
             tlp->n_modes = 0.0f; /* a debris piece: its rest pose needs no modes */
         }
