@@ -94,6 +94,11 @@ float render_lod_budget(const uint32_t *hist, const render_lod_cost *cost, uint3
  * least 1; 0 for a share of 0. The page takes the same (web/render_list.js). */
 uint32_t render_leaves_at(uint32_t n_leaves, float share);
 
+/* A tree's fall as its impostor list entry's third component holds it (shaders/bill.vert,
+ * common.glsl bill_fallen; the page's web/render_list.js impFall): 0 standing (fall_rad not
+ * > 0); else 1 + fall_az_rad in 1/256 turns (rounded, 0..255) + min(fall_rad, π/2) / π. */
+float render_bill_fall_code(float fall_rad, float fall_az_rad);
+
 /* The histogram bin of distance dist_m; RENDER_LOD_BINS past the impostors' reach. */
 uint32_t render_lod_bin(float dist_m);
 /* The near edge [m] of histogram bin b. */

@@ -8,7 +8,6 @@
 
 #include <epoxy/gl.h>
 
-#include <math.h>
 #include <stdbool.h>
 #include <stdint.h>
 
@@ -265,15 +264,7 @@ static inline float render_bill_leaf_share(const render *r, uint32_t i)
  * impostor lies along its fall as the posed tree does. */
 static inline float render_bill_fall(const render *r, uint32_t i)
 {
-    const render_instance *in = &r->inst[i];
-    if (!(in->fall_rad > 0.0f)) {
-        return 0.0f;
-    }
-    const float turn = 6.2831853f;
-    long k = (long)floorf(in->fall_az_rad * (256.0f / turn) + 0.5f) % 256;
-    k = k < 0 ? k + 256 : k;
-    const float a = fminf(in->fall_rad, 1.5707963f);
-    return 1.0f + (float)k + a / 3.1415927f;
+    return render_bill_fall_code(r->inst[i].fall_rad, r->inst[i].fall_az_rad);
 }
 /* Scene tree t's entries of r->cells.bill_leaf and bill_fall, after its damage or leaves
  * changed. */

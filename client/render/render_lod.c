@@ -95,6 +95,16 @@ uint32_t render_leaves_at(uint32_t n_leaves, float share)
     return k < 1 ? 1 : k > n_leaves ? n_leaves : k;
 }
 
+float render_bill_fall_code(float fall_rad, float fall_az_rad)
+{
+    if (!(fall_rad > 0.0f)) {
+        return 0.0f;
+    }
+    long k = (long)floorf(fall_az_rad * (256.0f / 6.2831853f) + 0.5f) % 256;
+    k = k < 0 ? k + 256 : k;
+    return 1.0f + (float)k + fminf(fall_rad, 1.5707963f) / 3.1415927f;
+}
+
 uint32_t render_lod_bin(float dist_m)
 {
     /* bins even in √d: fine near the eye, where a tree costs the most */
