@@ -5,7 +5,15 @@
 // crown's middle where the modes put it), c_k the crown's mean translation per unit q_k, z_c its height
 // (client/render/render_species.c impostor_sway; the page's impostors bend the same) and
 // q̃_k = a_k atan(b_k q_k) the pose's saturated coordinate (Diener 2008 eq. 16).
-uniform GALE_BUF u_list;  // per billboard: tree, share of its leaves left, 0, fade
+//
+// A fallen tree (snapped or uprooted, the list entry's third component f >= 1: f - 1 =
+// azimuth in 1/256 turns + fall angle / π, render_bill_fall) lies along its fall: the
+// quad's up axis turns from the vertical towards the azimuth by the angle about the
+// tree's base (a snapped tree's break height is not seen this far), its right axis goes
+// from the camera-facing one (standing) to the horizontal across the fall (lying) as the
+// angle goes to π/2, made square to the up axis, and a lying quad is lifted off the
+// ground by half its half width; it does not sway.
+uniform GALE_BUF u_list;  // per billboard: tree, share of its leaves left, fall, fade
 uniform GALE_BUF u_trees;
 uniform GALE_BUF u_q;     // [tree stride + m]
 uniform int u_qstride;
@@ -31,6 +39,15 @@ void main()
     vec2 f = normalize(toc.xy + vec2(1e-6, 0.0));
     vec3 right = vec3(-f.y, f.x, 0.0);
     float z = u_bsize.z + t * u_bsize.y;
+    if (e.z >= 1.0) {
+        v_wpos = t0.xyz + t1.x * bill_fallen(e.z, right, s * 2.0 - 1.0, z, u_bsize.x);
+        v_uv = vec2(s, t);
+        v_fade = e.w;
+        v_leaf = e.y;
+        v_tree = tree;
+        gl_Position = u_viewproj * vec4(v_wpos, 1.0);
+        return;
+    }
     vec3 sway = vec3(0.0);
     for (int k = 0; k < 2 && k < u_qstride; k++) {
         float q = buf_fetch(u_q, tree * u_qstride + k).x;

@@ -205,6 +205,27 @@ mat3 tree_frame(float yaw, float fall, float az)
     return (mat3(1.0) + s * kx + (1.0 - c) * kx * kx) * rot_z(yaw);
 }
 
+// A corner of a fallen tree's impostor quad (shaders/bill.vert; the page's
+// web/imp_shader.js), relative to the tree's base [m, unit scale]: f the list entry's fall
+// (1 + azimuth in 1/256 turns + fall angle / π, render_bill_fall), right the camera-facing
+// axis of a standing one, x -1..1 across the quad, z its height up the quad [m], hw its
+// half width [m]. The up axis tips towards the azimuth by the angle about the base; the
+// right axis goes from right (standing) to the horizontal across the fall (lying) by
+// angle / (π/2), square to the up axis; a lying quad is lifted by hw / 2 off the ground.
+vec3 bill_fallen(float f, vec3 right, float x, float z, float hw)
+{
+    float g = f - 1.0, k = floor(g);
+    float ang = (g - k) * 3.14159265, az = k * (6.28318531 / 256.0);
+    vec2 d = vec2(cos(az), sin(az));
+    vec3 up = vec3(sin(ang) * d, cos(ang));
+    vec3 across = vec3(-d.y, d.x, 0.0);
+    across = dot(across, right) < 0.0 ? -across : across;
+    float w = clamp(ang / 1.57079633, 0.0, 1.0);
+    vec3 r = mix(right, across, w);
+    r = normalize(r - dot(r, up) * up);
+    return r * (x * hw) + up * z + vec3(0.0, 0.0, 0.5 * hw * w);
+}
+
 // A point p of the tree frame [m, unit scale] in the world: turned by rz (tree_frame)
 // about the pivot piv_m up the stem (tree_pivot_m; rz's yaw keeps the stem axis), scaled
 // by `scale`, placed at `pos`.

@@ -2,7 +2,8 @@
  * tree ahead is kept, one behind the camera or far to the side is culled; near trees get
  * every mode and mesh LOD 0, distance lowers the mode count (never below 4) and raises the
  * mesh LOD, the leaves thin past FULL and the impostor fades in past THIN over the last
- * 20 % of each level (lod_policy.h), a tipped tree never turns into an impostor, and the
+ * 20 % of each level (lod_policy.h), a piece that stays posed (debris) never turns into an
+ * impostor, and the
  * frame's budget scale pulls the levels in so that what is drawn fits. The cone a client asks the server for holds
  * every point of its frustum (PROTOCOL.md's cone rule, no margin), symmetric or off-axis,
  * and is no wider than the frustum's diagonal. Culling by cells keeps exactly the trees
@@ -127,7 +128,8 @@ static void test_fade_bands(void)
     CHECK(b.flags == (RENDER_LOD_FULL | RENDER_LOD_BILLBOARD));
     CHECK_NEAR(b.bill_t, smooth01((crown_dist(210.0f) - 200.0f) / 50.0f), 1e-6);
     CHECK(at(0.0f, 195.0f, 1.0f).flags == RENDER_LOD_FULL);
-    /* a tipped or snapped tree is never an impostor: THIN, fading out over THIN's band
+    /* a piece that stays posed (a debris piece; a fallen tree is an impostor as a standing
+       one is, laid along its fall) is never an impostor: THIN, fading out over THIN's band
        with no impostor fading in, and past it not drawn */
     const render_lod_desc d1 = { .mode_dist_m = 40.0f, .scale = 1.0f };
     render_tree_lod p = render_lod_pick(150.0f, &sp, &d1, true);

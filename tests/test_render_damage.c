@@ -2,9 +2,10 @@
  * is hidden exactly as damage_cut_mask says (the skeleton pass read back), its pixels go
  * from a render of the intact tree and nothing else does, the same branch drawn as a
  * debris piece in place fills them again, and a piece placed by debris_frame_matrix lands
- * on screen where the C copy of tree_frame puts it; far away a fallen tree is no standing
- * billboard, an uprooted one shows its root plate, a snapped one stands on a stump, and a
- * far tree's billboard thins by the leaves its crown lost. */
+ * on screen where the C copy of tree_frame puts it; far away a fallen tree is an impostor
+ * laid along its fall (seen from above, its pixels lie along it, alike whether its cell is
+ * listed whole or walked tree by tree), an uprooted one shows its root plate, a snapped one
+ * stands on a stump, and a far tree's billboard thins by the leaves its crown lost. */
 #include <cglm/cglm.h>
 #include <math.h>
 #include <stdbool.h>
@@ -245,9 +246,41 @@ static void test_piece_frame(void)
     free(mask);
 }
 
-/* far away a standing tree is an impostor, a fallen one is not (the impostor stands): past
- * THIN it is not drawn (a few pixels high), and within THIN it lies as it lies */
-static void test_fallen_no_billboard(void)
+/* The pixels of img that bg lacks: their count, centroid and extent [px]. */
+typedef struct blob {
+    int n;
+    double cx, cy, sx, sy;
+} blob;
+
+static blob blob_of(const uint8_t *img, const uint8_t *bg)
+{
+    blob b = { 0 };
+    double sx = 0, sy = 0, sxx = 0, syy = 0;
+    for (int i = 0; i < W * H; i++) {
+        if (differs(img, bg, i)) {
+            const double x = i % W, y = i / W;
+            b.n++;
+            sx += x;
+            sy += y;
+            sxx += x * x;
+            syy += y * y;
+        }
+    }
+    if (b.n > 0) {
+        b.cx = sx / b.n;
+        b.cy = sy / b.n;
+        b.sx = sqrt(fmax(sxx / b.n - b.cx * b.cx, 0.0));
+        b.sy = sqrt(fmax(syy / b.n - b.cy * b.cy, 0.0));
+    }
+    return b;
+}
+
+/* far away a fallen tree is an impostor laid along its fall, as a standing one is an
+ * impostor standing: from 320 m straight above (image right +x, up +y) a tree fallen towards
+ * +x covers pixels right of its base, long along x and narrow along y, one fallen towards
+ * +y pixels above its base; a standing one seen from above is a quad on edge. Within THIN
+ * it is posed and lies as it lies; in THIN's fade band both. */
+static void test_fallen_billboard(void)
 {
     render_instance in = { .species = 0, .pos = { 0.0f, 400.0f, 0.0f }, .scale = 1.0f };
     CHECK(render_set_instances(R, 1, &in, &err) == 0);
@@ -258,7 +291,7 @@ static void test_fallen_no_billboard(void)
     render_trees_commit(R);
     free(shot());
     st = render_get_stats(R);
-    CHECK(st.trees_billboard == 0 && st.trees_full == 0);
+    CHECK(st.trees_billboard == 1 && st.trees_full == 0);
     in.pos[1] = 150.0f;
     CHECK(render_set_instances(R, 1, &in, &err) == 0);
     render_set_damage(R, 0, 1.536f, 0.0f, 0);
@@ -266,6 +299,94 @@ static void test_fallen_no_billboard(void)
     free(shot());
     st = render_get_stats(R);
     CHECK(st.trees_billboard == 0 && st.trees_full == 1 && st.trees_thin == 1);
+    in.pos[1] = 220.0f; /* 235 m from the eye: in THIN's fade band */
+    CHECK(render_set_instances(R, 1, &in, &err) == 0);
+    render_set_damage(R, 0, 1.536f, 0.0f, 0);
+    render_trees_commit(R);
+    free(shot());
+    st = render_get_stats(R);
+    CHECK(st.trees_billboard == 1 && st.trees_full == 1);
+
+    /* from above */
+    const render_camera top = { .eye = { 0.0f, 0.0f, 320.0f }, .target = { 0.0f, 0.0f, 0.0f },
+                                .up = { 0.0f, 1.0f, 0.0f }, .fov_y_deg = 3.0f };
+    in.pos[1] = 0.0f;
+    CHECK(render_set_instances(R, 1, &in, &err) == 0);
+    render_set_damage(R, 0, 0.0f, 0.0f, 0);
+    render_trees_commit(R);
+    render_instance none = { .species = 0, .pos = { 5000.0f, 5000.0f, 0.0f }, .scale = 1.0f };
+    CHECK(render_set_instances(R, 1, &none, &err) == 0);
+    uint8_t *bg = shot_cam(&top);
+    CHECK(render_set_instances(R, 1, &in, &err) == 0);
+    uint8_t *standing = shot_cam(&top);
+    st = render_get_stats(R);
+    CHECK(st.trees_billboard == 1 && st.trees_full == 0);
+    const blob bs = blob_of(standing, bg);
+    render_set_damage(R, 0, 1.5707963f, 0.0f, 0); /* towards +x */
+    render_trees_commit(R);
+    uint8_t *fx = shot_cam(&top);
+    st = render_get_stats(R);
+    CHECK(st.trees_billboard == 1 && st.trees_full == 0);
+    const blob bx = blob_of(fx, bg);
+    render_set_damage(R, 0, 1.5707963f, 1.5707963f, 0); /* towards +y */
+    render_trees_commit(R);
+    uint8_t *fy = shot_cam(&top);
+    const blob by = blob_of(fy, bg);
+    fprintf(stderr,
+            "from above: standing %d px; fallen +x %d px at (%.0f, %.0f) spread %.0f x %.0f; "
+            "fallen +y %d px at (%.0f, %.0f) spread %.0f x %.0f (base at %d, %d)\n",
+            bs.n, bx.n, bx.cx, bx.cy, bx.sx, bx.sy, by.n, by.cx, by.cy, by.sx, by.sy, W / 2,
+            H / 2);
+    CHECK(bx.n > 20 * (bs.n + 10));
+    CHECK(bx.cx > W / 2 + 30 && fabs(bx.cy - H / 2) < 15 && bx.sx > 2.0 * bx.sy);
+    CHECK(by.n > 20 * (bs.n + 10));
+    CHECK(by.cy < H / 2 - 30 && fabs(by.cx - W / 2) < 15 && by.sy > 2.0 * by.sx);
+    stbi_write_png(GALE_TEST_DIR "/render_fallen_impostor_top.png", W, H, 3, fx, W * 3);
+    /* the view moved 8 m along +x: its edge cuts the tree's cell, which is then walked tree
+       by tree, not listed whole as above; the same impostor, 8 m to the left */
+    const render_camera cut = { .eye = { 8.0f, 0.0f, 320.0f }, .target = { 8.0f, 0.0f, 0.0f },
+                                .up = { 0.0f, 1.0f, 0.0f }, .fov_y_deg = 3.0f };
+    const float px_m = (float)H / (2.0f * 320.0f * tanf(1.5f * 3.1415927f / 180.0f));
+    CHECK(render_set_instances(R, 1, &none, &err) == 0);
+    uint8_t *bg_cut = shot_cam(&cut);
+    CHECK(render_set_instances(R, 1, &in, &err) == 0);
+    render_set_damage(R, 0, 1.5707963f, 0.0f, 0);
+    render_trees_commit(R);
+    uint8_t *fcut = shot_cam(&cut);
+    st = render_get_stats(R);
+    CHECK(st.trees_billboard == 1 && st.trees_full == 0);
+    const blob bc = blob_of(fcut, bg_cut);
+    fprintf(stderr,
+            "cut cell: fallen +x %d px at (%.0f, %.0f), listed whole %.0f px further right\n",
+            bc.n, bc.cx, bc.cy, 8.0 * (double)px_m);
+    CHECK(abs(bc.n - bx.n) < bx.n / 10);
+    CHECK(fabs(bc.cx + 8.0 * (double)px_m - bx.cx) < 3.0 && fabs(bc.cy - bx.cy) < 2.0);
+    free(bg);
+    free(bg_cut);
+    free(standing);
+    free(fx);
+    free(fy);
+    free(fcut);
+
+    /* a picture: three standing impostors and one fallen towards +x between them, seen
+       from 333 m off and 220 m up */
+    render_instance four[4];
+    for (int k = 0; k < 4; k++) {
+        four[k] = (render_instance){ .species = 0, .pos = { -18.0f + 12.0f * (float)k, 0.0f, 0.0f },
+                                     .scale = 1.0f };
+    }
+    CHECK(render_set_instances(R, 4, four, &err) == 0);
+    render_set_damage(R, 2, 1.5707963f, 0.0f, 0);
+    render_trees_commit(R);
+    const render_camera side = { .eye = { 0.0f, -250.0f, 220.0f }, .target = { 0.0f, 0.0f, 3.0f },
+                                 .fov_y_deg = 6.0f };
+    uint8_t *pic = shot_cam(&side);
+    st = render_get_stats(R);
+    CHECK(st.trees_billboard == 4 && st.trees_full == 0);
+    stbi_write_png(GALE_TEST_DIR "/render_fallen_impostor.png", W, H, 3, pic, W * 3);
+    free(pic);
+    render_set_damage(R, 2, 0.0f, 0.0f, 0);
+    render_trees_commit(R);
 }
 
 /* an uprooted tree lifts its root plate: soil-brown pixels at its base that a snapped one
@@ -467,7 +588,7 @@ int main(void)
     }
     RUN(test_branch_hidden);
     RUN(test_piece_frame);
-    RUN(test_fallen_no_billboard);
+    RUN(test_fallen_billboard);
     RUN(test_root_plate);
     RUN(test_stump);
     RUN(test_billboard_thins);

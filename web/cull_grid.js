@@ -112,7 +112,6 @@ export class CellGrid {
         this.ph = new Float32Array(n); // its height [m]
         this.species = new Uint8Array(n);
         this.cellOf = new Int32Array(n); // its cell
-        this.lying = new Uint8Array(n); // 1: the tree lies (setLying), by place
         for (let t = 0; t < n; t++) {
             const r = rows[t], at = fill[keyOf[t]]++;
             this.trees[at] = t;
@@ -157,7 +156,6 @@ export class CellGrid {
             this.box[b + 4] = y0 + (cy + 1) * cell + hmax;
             this.box[b + 5] = (k ? zhi : 0) + hmax;
         }
-        this.cellLying = new Int32Array(nc); // each cell's trees lying
         this.planes = new Float64Array(24);
         this.cut = new Float64Array(24); // the planes a cell lies across
         this.out = {
@@ -169,21 +167,11 @@ export class CellGrid {
         };
     }
 
-    // Which trees lie (lying[t] 1), for the cells that may be listed whole: a cell with a
-    // lying tree is gathered tree by tree. Copies it by place.
-    setLying(lying) {
-        const L = this.lying, cl = this.cellLying, cellOf = this.cellOf, trees = this.trees;
-        cl.fill(0);
-        for (let i = 0; i < this.n; i++) {
-            L[i] = lying && lying[trees[i]] ? 1 : 0;
-            cl[cellOf[i]] += L[i];
-        }
-    }
-
     // The trees in view of view-projection viewproj from eye within far_m, into this.out
     // (trees[0..n), their places at[0..n) and distances dist[0..n)), in cell order;
     // reused each call. whole (null: none; web/lod_select.js wholeBand) lists whole a cell
-    // wholly in view, no tree of it lying nor of a species with drawn[s] 0, whose trees'
+    // wholly in view, no tree of it of a species with drawn[s] 0 (a lying tree is listed
+    // as a standing one: its impostor lies, web/render_list.js impFall), whose trees'
     // middles all lie at least near_m (the near edge of the bin of width bin_m its
     // nearest distance falls in) and less than far_m from the eye: into out.whole, none
     // of its trees into trees[].
@@ -191,7 +179,7 @@ export class CellGrid {
         const pl = frustumPlanes(viewproj, this.planes), cut = this.cut;
         const o = this.out, W = o.whole, B = this.box, M = this.mid, ex = eye[0], ey = eye[1], ez = eye[2], far2 = far_m * far_m;
         const run = this.run, ns = this.ns, nc = this.nc, px = this.px, py = this.py, pz = this.pz, ph = this.ph, trees = this.trees;
-        const oTrees = o.trees, oAt = o.at, oDist = o.dist, cl = this.cellLying, count = this.count, mask = this.mask;
+        const oTrees = o.trees, oAt = o.at, oDist = o.dist, count = this.count, mask = this.mask;
         // the species not drawn, as the cells' masks hold them
         let hidden = 0;
         if (whole) for (let s = 0; s < ns && s < 31; s++) if (!whole.drawn[s]) hidden |= 1 << s;
@@ -206,7 +194,7 @@ export class CellGrid {
             const across = cellPlanes(pl, B, b);
             if (across < 0) continue;
             seen++;
-            if (across === 0 && whole && cl[c] === 0 && (mask[c] & hidden) === 0 && (ns <= 31 || this.listable(c, whole.drawn))) {
+            if (across === 0 && whole && (mask[c] & hidden) === 0 && (ns <= 31 || this.listable(c, whole.drawn))) {
                 // the nearest and farthest of its trees' middles
                 const mx = Math.max(M[b] - ex, 0, ex - M[b + 3]), my = Math.max(M[b + 1] - ey, 0, ey - M[b + 4]), mz = Math.max(M[b + 2] - ez, 0, ez - M[b + 5]);
                 const fx = Math.max(ex - M[b], M[b + 3] - ex), fy = Math.max(ey - M[b + 1], M[b + 4] - ey), fz = Math.max(ez - M[b + 2], M[b + 5] - ez);

@@ -4,13 +4,15 @@
 // (web/imp_sway.js swayOffset: min(max(z, 0) / z_c, 3) Σ_k q̃_k c_k, turned by the
 // tree's yaw and scaled with it). q is read as the skeleton pass reads it
 // (shaders/skel.frag modal_q): blended from the snapshot ring, or the float path's q.
+// A fallen tree (the entry's third component >= 1: web/render_list.js impFall) lies along
+// its fall and does not sway, as shaders/bill.vert draws it (common.glsl bill_fallen).
 import { LOD_IMPOSTOR_MODES } from './lod_policy.js';
 import { IMP_SWAY_MAX } from './imp_sway.js';
 
 export const IMP_VERT_NAME = 'web/imp_shader.js (impostor vertex stage)';
 
 export const IMP_VERT = `
-uniform GALE_BUF u_list;  // per impostor: tree, share of its leaves left, 0, fade
+uniform GALE_BUF u_list;  // per impostor: tree, share of its leaves left, fall, fade
 uniform GALE_BUF u_trees;
 uniform int u_base;
 uniform vec3 u_bsize;     // half width, height, bottom of the impostor [m, tree frame]
@@ -57,6 +59,15 @@ void main()
     vec2 f = normalize(toc.xy + vec2(1e-6, 0.0));
     vec3 right = vec3(-f.y, f.x, 0.0);
     float z = u_bsize.z + t * u_bsize.y;
+    if (e.z >= 1.0) {
+        v_wpos = t0.xyz + t1.x * bill_fallen(e.z, right, s * 2.0 - 1.0, z, u_bsize.x);
+        v_uv = vec2(s, t);
+        v_fade = e.w;
+        v_leaf = e.y;
+        v_tree = tree;
+        gl_Position = u_viewproj * vec4(v_wpos, 1.0);
+        return;
+    }
     vec3 sway = vec3(0.0);
     if (tree < u_qtrees) {
         for (int k = 0; k < ${LOD_IMPOSTOR_MODES}; k++) {

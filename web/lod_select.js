@@ -8,8 +8,8 @@
 // more than the histogram said. Between THIN and IMPOSTOR a tree cross-fades over the last
 // LOD_FADE_SHARE of THIN's outer distance: a share of it in the impostor that grows with
 // its distance, 1 from that distance on, whatever its level. A tree that lies (fallen,
-// uprooted, snapped) is never an impostor, whose picture stands: it is THIN within THIN's
-// distance and not drawn past it.
+// uprooted, snapped) is chosen as a standing one is: its impostor lies along its fall
+// (web/render_list.js impFall, web/imp_shader.js).
 import { LOD, LOD_LEVELS, LOD_OUTER_M, LOD_HYSTERESIS, LOD_MESH_STEP_M, LOD_BUDGET_TRIANGLES, LOD_BUDGET_TREES,
     LOD_BUDGET_NODES, LOD_BUDGET_DRAWS, LOD_GROW_PER_FRAME, LOD_FADE_SHARE } from './lod_policy.js';
 
@@ -88,12 +88,12 @@ export class LodSelect {
 
     // ids[0..n) in view at distances dist, of species species[id]: the trees' own numbers,
     // or any others below n_trees that a caller keeps each tree under from frame to frame
-    // (web/render_list.js: its place in the cells, web/cull_grid.js), which index lying
-    // and this selection's memory of each tree's level; cost[s][level][mesh lod]:
+    // (web/render_list.js: its place in the cells, web/cull_grid.js), which index this
+    // selection's memory of each tree's level; cost[s][level][mesh lod]:
     // triangles of one tree of species s at FULL and THIN, of its impostor at IMPOSTOR
     // (null: a species not drawn); nodes[s]: its nodes posed; budget: { triangles, trees,
-    // nodes, draws } (trees and nodes: those the skeleton pass poses, FULL and THIN);
-    // lying[id]: 1 for a tree never drawn as an impostor (null: none). Writes each tree's
+    // nodes, draws } (trees and nodes: those the skeleton pass poses, FULL and THIN).
+    // Writes each tree's
     // level into out[0..n) and its share in its impostor into share[0..n) (0 < share < 1:
     // drawn both at THIN and as an impostor; 1: as an impostor alone, also at THIN kept by
     // the hysteresis), and returns { scale, scale_far (the impostors' reach's), and the
@@ -102,7 +102,7 @@ export class LodSelect {
     // cells' trees an impostor alone; null when the budget would pull the impostors'
     // reach in this frame (whole cells then do not hold), with nothing changed: the caller
     // gathers again without them.
-    select(ids, dist, n, species, cost, out, budget = {}, nodes = [], lying = null, share = null, whole = null) {
+    select(ids, dist, n, species, cost, out, budget = {}, nodes = [], share = null, whole = null) {
         const maxTris = budget.triangles ?? LOD_BUDGET_TRIANGLES, maxTrees = budget.trees ?? LOD_BUDGET_TREES;
         const maxNodes = budget.nodes ?? LOD_BUDGET_NODES, maxDraws = (budget.draws ?? LOD_BUDGET_DRAWS) - LOD_DRAWS_FIXED;
         const sMax = Math.min(this.cap, this.scale * LOD_GROW_PER_FRAME), fMax = Math.min(1, this.scaleFar * LOD_GROW_PER_FRAME);
@@ -117,11 +117,11 @@ export class LodSelect {
             if (!b || b.near_m !== LOD_OUTER_M[LOD.THIN] * (sMax * (1 + LOD_HYSTERESIS)) || b.bin_m !== w ||
                 b.far_m !== LOD_OUTER_M[LOD.IMPOSTOR] * (fMax * (1 - LOD_HYSTERESIS))) return null;
         }
-        if (!this.hist || this.hist.length !== 2 * ns * BINS) this.hist = new Uint32Array(2 * ns * BINS);
+        if (!this.hist || this.hist.length !== ns * BINS) this.hist = new Uint32Array(ns * BINS);
         const hist = this.hist, nw = whole ? whole.n : 0;
         hist.fill(0);
         if (nw) this.histWhole(whole, w);
-        this.histTrees(ids, dist, n, species, lying, w);
+        this.histTrees(ids, dist, n, species, w);
         // the worst case at scale s: each bin's trees at the level of its near edge, the
         // outer distances widened by the hysteresis; a standing tree past FULL is THIN up to
         // THIN's outer distance and an impostor from its fade on (the fade ignores the
@@ -135,39 +135,34 @@ export class LodSelect {
                 if (!c) continue;
                 const nl = c[0].length;
                 let meshes = 0, levels = 0, imp = false;
-                for (let ly = 0; ly < 2; ly++) {
-                    for (let b = 0; b < BINS; b++) {
-                        const k = hist[(ly * ns + s) * BINS + b];
-                        if (!k) continue;
-                        const d = b * w;
-                        let l = levelAt(d, sc * (1 + LOD_HYSTERESIS), sf * (1 + LOD_HYSTERESIS));
-                        if (l === LOD.NONE) break;
-                        let thin = l === LOD.THIN, bill = false;
-                        if (l === LOD.IMPOSTOR && ly) thin = false;
-                        else if (!ly) {
-                            // (a FULL bin reaches the fade only at a tiny scale)
-                            if (l !== LOD.FULL) thin = d < e;
-                            bill = d + w > e0;
-                        }
-                        if (l === LOD.FULL) {
-                            const m = meshLod(d, l, nl);
-                            tris += k * c[l][m];
-                            meshes |= 1 << m;
-                            levels |= 1;
-                        }
-                        if (thin) {
-                            tris += k * c[LOD.THIN][nl - 1];
-                            meshes |= 1 << (nl - 1);
-                            levels |= 2;
-                        }
-                        if (l === LOD.FULL || thin) {
-                            count += k;
-                            posed += k * (nodes[s] || 0);
-                        }
-                        if (bill) {
-                            tris += k * c[LOD.IMPOSTOR][nl - 1];
-                            imp = true;
-                        }
+                for (let b = 0; b < BINS; b++) {
+                    const k = hist[s * BINS + b];
+                    if (!k) continue;
+                    const d = b * w;
+                    const l = levelAt(d, sc * (1 + LOD_HYSTERESIS), sf * (1 + LOD_HYSTERESIS));
+                    if (l === LOD.NONE) break;
+                    let thin = l === LOD.THIN;
+                    // (a FULL bin reaches the fade only at a tiny scale)
+                    if (l !== LOD.FULL) thin = d < e;
+                    const bill = d + w > e0;
+                    if (l === LOD.FULL) {
+                        const m = meshLod(d, l, nl);
+                        tris += k * c[l][m];
+                        meshes |= 1 << m;
+                        levels |= 1;
+                    }
+                    if (thin) {
+                        tris += k * c[LOD.THIN][nl - 1];
+                        meshes |= 1 << (nl - 1);
+                        levels |= 2;
+                    }
+                    if (l === LOD.FULL || thin) {
+                        count += k;
+                        posed += k * (nodes[s] || 0);
+                    }
+                    if (bill) {
+                        tris += k * c[LOD.IMPOSTOR][nl - 1];
+                        imp = true;
                     }
                 }
                 draws += (levels ? 2 : 0) + bitCount(meshes) + bitCount(levels) + (imp ? 1 : 0);
@@ -212,15 +207,14 @@ export class LodSelect {
         this.scaleFar = sf;
         const f = ++this.frame;
         if (whole) this.wholeLevels(whole, f);
-        this.levels(ids, dist, n, species, out, lying, share, sc, sf, reach, f);
+        this.levels(ids, dist, n, species, out, share, sc, sf, reach, f);
         return { scale: sc, scale_far: sf, triangles: wc.tris, trees: wc.count, nodes: wc.posed, draws: wc.draws + LOD_DRAWS_FIXED };
     }
 
     // select's passes over the trees, each loop last in a function of its own (the JIT's
     // code for a loop entered mid-call then holds no later step it has not yet seen run).
 
-    // The budget's histogram (bins of w [m]; per species its standing trees' bins, then its
-    // lying ones', at most THIN): a whole cell's trees in the bin of its nearest distance
+    // The budget's histogram (bins of w [m]; per species its trees' bins): a whole cell's trees in the bin of its nearest distance
     // (past THIN's, as each tree's own: the same cost at every scale this frame may take).
     histWhole(whole, w) {
         const hist = this.hist, run = whole.run, gns = whole.ns, nc = whole.nc, nw = whole.n;
@@ -234,13 +228,13 @@ export class LodSelect {
     }
 
     // And select's trees one by one.
-    histTrees(ids, dist, n, species, lying, w) {
-        const hist = this.hist, drawn = this.drawn, ns = drawn.length;
+    histTrees(ids, dist, n, species, w) {
+        const hist = this.hist, drawn = this.drawn;
         for (let i = 0; i < n; i++) {
             const t = ids[i], s = species[t];
             if (!drawn[s]) continue;
             const b = Math.floor(dist[i] / w);
-            if (b < BINS) hist[((lying !== null && lying[t] ? ns : 0) + s) * BINS + b]++;
+            if (b < BINS) hist[s * BINS + b]++;
         }
     }
 
@@ -262,7 +256,7 @@ export class LodSelect {
     }
 
     // The level and impostor share of each of select's trees at frame f, scales sc and sf.
-    levels(ids, dist, n, species, out, lying, share, sc, sf, reach, f) {
+    levels(ids, dist, n, species, out, share, sc, sf, reach, f) {
         const seen = this.seen, level = this.level, drawn = this.drawn, lo = 1 - LOD_HYSTERESIS, hi = 1 + LOD_HYSTERESIS;
         const cw = this.cellWhole, cellOf = this.cellOf;
         // the edges at this scale, inlined (levelAt), and the arrays read per tree held
@@ -279,10 +273,7 @@ export class LodSelect {
             else if (p !== LOD.NONE && l > p) l = Math.max(p, levelAt(d, sc * hi, sf * hi)); // coarser: only past the widened edge
             else if (p !== LOD.NONE && l < p) l = Math.min(p, levelAt(d, sc * lo, sf * lo)); // finer: only inside the narrowed edge
             if (l === LOD.THIN || l === LOD.IMPOSTOR) {
-                // a lying tree past THIN is a few pixels high: not drawn (a storm's
-                // thousands posed out to the reach would cost ten times the budget)
-                if (lying !== null && lying[t]) l = d < eThin ? LOD.THIN : LOD.NONE;
-                else if (d > eFade) {
+                if (d > eFade) {
                     // inside THIN's outer distance THIN, fading; past it the hysteresis
                     // keeps a THIN tree's level, wholly in its impostor (share 1, no
                     // skeleton row), so a camera rocking there flips nothing

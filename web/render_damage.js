@@ -11,14 +11,13 @@ export class RendererDamage {
     // Storm damage of every tree (web/damage.js DamageFx.update): u_trees slot 1 .z
     // (render_tree_code: fall angle + 4 x leaf levels lost + 256 when snapped) and .w (fall
     // azimuth), and which trees lie on their root plate; a tree tipping or lying (fallen,
-    // uprooted, snapped) is never drawn as an impostor, whose picture stands (this.lying).
+    // uprooted, snapped) is drawn far away as an impostor laid along its fall (the cells'
+    // rows, web/render_list.js placeDamage and impFall).
     setDamage(code, az, uprooted) {
         const t = this.treeData;
         for (let i = 0; i < this.n_trees; i++) {
             t[8 * i + 6] = code[i];
             t[8 * i + 7] = az[i];
-            const fall = code[i] - 4 * Math.floor(code[i] * 0.25);
-            this.lying[i] = fall > 0 || code[i] >= 256 || uprooted[i] ? 1 : 0;
         }
         this.uprooted.set(uprooted.subarray(0, this.n_trees));
         this.placeDamage(); // the cells' copies (web/render_list.js)

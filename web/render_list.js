@@ -16,6 +16,18 @@ import { DAMAGE } from './damage.js';
 // Triangles of one impostor: its quad.
 export const IMP_TRIANGLES = 2;
 
+// A tree's fall as its impostor row's third component holds it (client/render/
+// render_internal.h render_bill_fall; web/imp_shader.js lays the quad along it), from its
+// damage code z (render_tree_code: fall angle + 4 x leaf levels lost + 256 when snapped)
+// and fall azimuth az [rad]: 0 standing; 1 + the azimuth in 1/256 turns (0..255) + the
+// fall angle (at most π/2) / π for a tipped one.
+export function impFall(z, az) {
+    const y = z >= 256 ? z - 256 : z, fall = Math.fround(y - 4 * Math.floor(y * 0.25));
+    if (!(fall > 0)) return 0;
+    const k = ((Math.floor(Math.fround(az) * (256 / (2 * Math.PI)) + 0.5) % 256) + 256) % 256;
+    return 1 + k + Math.min(fall, Math.fround(Math.PI / 2)) / Math.PI;
+}
+
 // The impostor rows of species s's places runA[s]..runE[s] (buf[0..imp0): each place's)
 // onto the end of its impostors in the frame's list (buf from imp0), the run then empty.
 function copyRun(buf, imp0, impStart, runA, runE, s) {
@@ -37,9 +49,8 @@ export class RendererList {
         this.lod = new LodSelect(n);
         this.lodLevel = new Uint8Array(n);
         this.lodShare = new Float32Array(n);
-        this.lying = new Uint8Array(n);
         this.leafAttached = new Float32Array(n).fill(1);
-        // each place's impostor row (tree, its share of leaves left, 0, 1: drawList's) and
+        // each place's impostor row (tree, its share of leaves left, its fall, 1: drawList's) and
         // after them the frame's impostors, so that a run of them is copied within one array
         this.impBuf = new Float32Array(8 * n);
         this.placeImp = this.impBuf.subarray(0, 4 * n);
@@ -49,17 +60,16 @@ export class RendererList {
     }
 
     // The cells' copies, by place (web/cull_grid.js), of each tree's damage that the draw
-    // list reads: whether it lies (this.lying) and its impostor's row with its share of
-    // leaves (leafLeft). setDamage and setCuts (web/render_damage.js) call it after they
-    // change treeData, lying or leafAttached.
+    // list reads: its impostor's row with its share of leaves (leafLeft) and its fall
+    // (impFall). setDamage and setCuts (web/render_damage.js) call it after they change
+    // treeData or leafAttached.
     placeDamage() {
         const g = this.grid, td = this.treeData, attached = this.leafAttached, row = this.placeImp;
-        g.setLying(this.lying);
         for (let at = 0; at < g.n; at++) {
             const t = g.trees[at];
             row[4 * at] = t;
             row[4 * at + 1] = !td || td[8 * t + 6] === 0 ? attached[t] : this.leafLeft(t);
-            row[4 * at + 2] = 0;
+            row[4 * at + 2] = td ? impFall(td[8 * t + 6], td[8 * t + 7]) : 0;
             row[4 * at + 3] = 1;
         }
     }
@@ -127,11 +137,11 @@ export class RendererList {
         const budget = this.lodBudget || (this.lodBudget = { trees: 0 });
         budget.trees = Math.min(this.max_rows, this.maxSkelRows());
         let o = g.gather(this.viewproj, cam.eye, reach, this.listWhole === false ? null : lod.wholeBand(cost));
-        let sel = lod.select(o.at, o.dist, o.n, g.species, cost, this.lodLevel, budget, lc.nodes, g.lying, this.lodShare, o.whole);
+        let sel = lod.select(o.at, o.dist, o.n, g.species, cost, this.lodLevel, budget, lc.nodes, this.lodShare, o.whole);
         if (!sel) {
             // the impostors' reach pulled in this frame: the far cells tree by tree
             o = g.gather(this.viewproj, cam.eye, reach, null);
-            sel = lod.select(o.at, o.dist, o.n, g.species, cost, this.lodLevel, budget, lc.nodes, g.lying, this.lodShare, o.whole);
+            sel = lod.select(o.at, o.dist, o.n, g.species, cost, this.lodLevel, budget, lc.nodes, this.lodShare, o.whole);
         }
         // keys: per species its FULL rows by mesh LOD, then THIN; impostors apart, per species
         const K = nl + 1, nd = this.debris.length;
@@ -256,13 +266,14 @@ export class RendererList {
             for (const end = k < W.n ? W.before[k] : o.n; i < end; i++) {
                 const t = inView[i], sh = lodShare[i], at = inAt[i], s = gs[at];
                 if (sh > 0) {
-                    // the impostor: tree, its share of leaves left (leafLeft), 0, its fade in
-                    // (dither_keep: −sh keeps the pixels that THIN's 1 − sh leaves)
+                    // the impostor: tree, its share of leaves left (leafLeft), its fall
+                    // (impFall), its fade in (dither_keep: −sh keeps the pixels that THIN's
+                    // 1 − sh leaves)
                     if (runE[s] > runA[s]) copyRun(buf, imp0, impStart, runA, runE, s);
                     const e = 4 * impStart[s]++;
                     imp[e] = t;
                     imp[e + 1] = buf[4 * at + 1];
-                    imp[e + 2] = 0;
+                    imp[e + 2] = buf[4 * at + 2];
                     imp[e + 3] = sh < 1 ? -sh : 1;
                     perLevel[LOD.IMPOSTOR]++;
                 }

@@ -11,7 +11,8 @@
  * deterministic share of the leaves, each grown so the crown covers as much, on the
  * coarsest bark mesh, posed with the few modes the server sends past lod_m; IMPOSTOR: a
  * billboard of the species at rest that sways with the tree's lowest modes and keeps the
- * share of its crown the storm left. */
+ * share of its crown the storm left; a fallen tree's lies along its fall, unswayed
+ * (shaders/bill.vert). A debris piece is never an impostor: past THIN it is not drawn. */
 enum { LOD_FULL = 0, LOD_THIN = 1, LOD_IMPOSTOR = 2, LOD_LEVELS = 3 };
 
 /* Outer distance of each level [m]; past the last nothing is drawn: the whole 2 km

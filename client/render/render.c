@@ -257,11 +257,12 @@ static render_lod_cost species_cost(const rs_species *s)
     return c;
 }
 
-/* A tree an impostor of the standing species would misdraw: a debris piece (slot past the
- * trees), a tipped or snapped tree. */
-static bool stays_posed(const render *r, uint32_t k, uint32_t i)
+/* A piece no impostor draws: a debris piece (slot past the trees). A tipped or snapped
+ * tree is an impostor past THIN as a standing one is, laid along its fall (its entry's
+ * render_bill_fall, shaders/bill.vert). */
+static bool stays_posed(const render *r, uint32_t k)
 {
-    return k >= r->n_trees || r->inst[i].fall_rad > 0.0f || render_slot_snapped(r, i);
+    return k >= r->n_trees;
 }
 
 /* Cull (render_cull.c), fit the frame's budget and choose each tree's LOD (render_lod.c),
@@ -312,13 +313,11 @@ static void build_lists(render *r)
                 sqrtf(far2) < lod_outer_m[LOD_IMPOSTOR]) {
                 cells->bulk[n_bulk++] = c;
                 for (uint32_t at = cl->first; at < cl->first + cl->count; at++) {
-                    if (cells->bill_leaf[at] >= 0.0f) { /* a lying tree is not drawn here */
-                        const uint32_t sp = cells->species[at];
-                        bulk_per_species[sp]++;
-                        r->lod_hist[sp * RENDER_LOD_BINS + b]++;
-                        bulk_trees++;
-                    }
+                    const uint32_t sp = cells->species[at];
+                    bulk_per_species[sp]++;
+                    r->lod_hist[sp * RENDER_LOD_BINS + b]++;
                 }
+                bulk_trees += cl->count;
                 continue;
             }
         }
@@ -371,7 +370,7 @@ static void build_lists(render *r)
         const rs_species *s = &r->sp[in->species];
         const render_cull_species cs = render_cull_species_of(s);
         render_tree_lod *const tlp = &r->tree_lod[v];
-        render_lod_pick_into(r->tree_dist[v], &cs, &ld, stays_posed(r, k, i), tlp);
+        render_lod_pick_into(r->tree_dist[v], &cs, &ld, stays_posed(r, k), tlp);
         if (k >= r->n_trees) {
             tlp->n_modes = 0.0f; /* a debris piece: its rest pose needs no modes */
         }
@@ -461,19 +460,16 @@ static void build_lists(render *r)
             }
         }
         if (fl & RENDER_LOD_BILLBOARD) {
-            PUT(G_BILL, (float)i, render_bill_leaf_share(r, i), 0.0f,
+            PUT(G_BILL, (float)i, render_bill_leaf_share(r, i), render_bill_fall(r, i),
                 (fl & RENDER_LOD_FULL) ? -tb : 1.0f);
         }
     }
-    /* the cells drawn as impostors whole: their standing trees, in order */
+    /* the cells drawn as impostors whole: their trees, standing or lying, in order */
     for (uint32_t n = 0; n < n_bulk; n++) {
         const render_cell *cl = &cells->cell[cells->bulk[n]];
         for (uint32_t at = cl->first; at < cl->first + cl->count; at++) {
-            const float leaf = cells->bill_leaf[at];
-            if (leaf >= 0.0f) {
-                const uint32_t sp = cells->species[at];
-                PUT(G_BILL, (float)cells->tree[at], leaf, 0.0f, 1.0f);
-            }
+            const uint32_t sp = cells->species[at];
+            PUT(G_BILL, (float)cells->tree[at], cells->bill_leaf[at], cells->bill_fall[at], 1.0f);
         }
     }
 #undef PUT

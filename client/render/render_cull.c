@@ -35,6 +35,7 @@ void render_cells_free(render_cells *g)
     free(g->sphere);
     free(g->species);
     free(g->bill_leaf);
+    free(g->bill_fall);
     free(g->at_of);
     free(g->bulk);
     free(g->cell_of);
@@ -67,10 +68,11 @@ int render_cells_build(render_cells *g, const render_instance *inst, uint32_t n,
     g->sphere = malloc((size_t)n * sizeof *g->sphere);
     g->species = malloc((size_t)n * sizeof *g->species);
     g->bill_leaf = malloc((size_t)n * sizeof *g->bill_leaf);
+    g->bill_fall = malloc((size_t)n * sizeof *g->bill_fall);
     g->at_of = malloc((size_t)n * sizeof *g->at_of);
     render_cell *all = calloc((size_t)nx * ny, sizeof *all);
-    if (!start || !of || !g->tree || !g->sphere || !g->species || !g->bill_leaf || !g->at_of ||
-        !all) {
+    if (!start || !of || !g->tree || !g->sphere || !g->species || !g->bill_leaf ||
+        !g->bill_fall || !g->at_of || !all) {
         free(start);
         free(of);
         free(all);
@@ -99,7 +101,8 @@ int render_cells_build(render_cells *g, const render_instance *inst, uint32_t n,
         g->sphere[at][3] = rad;
         g->species[at] = inst[i].species;
         g->at_of[i] = at;
-        g->bill_leaf[at] = inst[i].fall_rad > 0.0f ? -1.0f : 1.0f;
+        g->bill_leaf[at] = 1.0f;
+        g->bill_fall[at] = 0.0f;
         for (int k = 0; k < 3; k++) {
             c->lo[k] = fminf(c->lo[k], ctr[k] - rad);
             c->hi[k] = fmaxf(c->hi[k], ctr[k] + rad);

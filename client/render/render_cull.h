@@ -53,12 +53,12 @@ bool render_cull_visible(const float planes[6][4], const float eye[3],
                          const render_instance *in, const render_cull_species *s,
                          float *dist_m);
 
-/* The LOD of a tree at distance dist_m (lod_policy.h, scaled by d). stays_posed: a fallen,
- * uprooted or snapped tree or a debris piece, which an impostor of the standing tree would
- * misdraw: it is never an impostor, and over THIN's fade band it fades out (bill_t, with
- * no impostor fading in): past THIN a lying tree is a few pixels high, and a storm's
- * thousands of them posed out to the reach would cost ten times the frame's budget. Past
- * the impostors' reach, flags 0. */
+/* The LOD of a tree at distance dist_m (lod_policy.h, scaled by d). stays_posed: a debris
+ * piece, which no impostor draws: it is never an impostor, and over THIN's fade band it
+ * fades out (bill_t, with no impostor fading in); past THIN it is not drawn. A fallen,
+ * uprooted or snapped tree is not one: past THIN it is an impostor as a standing tree is,
+ * laid along its fall (render_bill_fall, shaders/bill.vert). Past the impostors' reach,
+ * flags 0. */
 render_tree_lod render_lod_pick(float dist_m, const render_cull_species *s,
                                 const render_lod_desc *d, bool stays_posed);
 /* render_lod_pick written to *out: the frame's pass writes each tree's LOD in place (a
@@ -93,6 +93,11 @@ float render_lod_budget(const uint32_t *hist, const render_lod_cost *cost, uint3
 /* The leaves drawn of n_leaves at a level's share (lod_policy.h): round(n × share), at
  * least 1; 0 for a share of 0. The page takes the same (web/render_list.js). */
 uint32_t render_leaves_at(uint32_t n_leaves, float share);
+
+/* A tree's fall as its impostor list entry's third component holds it (shaders/bill.vert,
+ * common.glsl bill_fallen; the page's web/render_list.js impFall): 0 standing (fall_rad not
+ * > 0); else 1 + fall_az_rad in 1/256 turns (rounded, 0..255) + min(fall_rad, π/2) / π. */
+float render_bill_fall_code(float fall_rad, float fall_az_rad);
 
 /* The histogram bin of distance dist_m; RENDER_LOD_BINS past the impostors' reach. */
 uint32_t render_lod_bin(float dist_m);
@@ -136,10 +141,13 @@ typedef struct render_cells {
        never the instances themselves */
     float (*sphere)[4];
     uint32_t *species;
-    /* owned: [n_trees], in tree[]'s order: what a standing tree's impostor keeps of its
-       leaves (0..1), or -1 for a tree that lies (never an impostor); the caller keeps it
-       (render: render_bill_leaf_set), so a far cell's impostors are listed from it alone */
+    /* owned: [n_trees], in tree[]'s order: what a tree's impostor keeps of its leaves
+       (0..1), and its fall as the impostor list entry's third component holds it (0
+       standing; 1 + azimuth in 1/256 turns + fall angle / π for a tipped tree: render:
+       render_bill_fall); the caller keeps both (render: render_bill_leaf_set), so a far
+       cell's impostors, lying trees among them, are listed from them alone */
     float *bill_leaf;
+    float *bill_fall;
     uint32_t *at_of;    /* owned: [n_trees] each tree's place in tree[] */
     uint32_t *bulk;     /* owned: [n_cells] scratch: a frame's cells drawn as impostors whole */
     uint32_t *cell_of;  /* owned: [n_trees] each tree's cell */

@@ -258,7 +258,16 @@ static inline float render_bill_leaf_share(const render *r, uint32_t i)
     return (1.0f - (float)r->inst[i].leaf_lost / (float)WIRE_DAMAGE_LEVELS) *
            (i < r->cap_trees ? r->leaf_attached[i] : 1.0f);
 }
-/* Scene tree t's entry of r->cells.bill_leaf, after its damage or leaves changed. */
+/* Slot i's fall as its impostor list entry's third component holds it (shaders/bill.vert):
+ * 0 for a standing tree; for a tipped one (fallen, snapped or uprooted: fall_rad > 0)
+ * 1 + its fall azimuth in 1/256 turns (0..255) + its fall angle (0..π/2) / π, so that the
+ * impostor lies along its fall as the posed tree does. */
+static inline float render_bill_fall(const render *r, uint32_t i)
+{
+    return render_bill_fall_code(r->inst[i].fall_rad, r->inst[i].fall_az_rad);
+}
+/* Scene tree t's entries of r->cells.bill_leaf and bill_fall, after its damage or leaves
+ * changed. */
 void render_bill_leaf_set(render *r, uint32_t t);
 
 /* u_trees slot 1 .z of slot i (shaders/common.glsl tree_fall, tree_snapped, leaf_kept): the

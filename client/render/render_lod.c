@@ -44,7 +44,7 @@ void render_lod_pick_into(float dist_m, const render_cull_species *s, const rend
     out.thin_t = fade_past(dist_m, full_m);
     out.bill_t = fade_past(dist_m, thin_m);
     if (stays_posed && out.bill_t >= 1.0f) {
-        *outp = (render_tree_lod){ 0 }; /* lying past THIN: a few pixels high, not drawn */
+        *outp = (render_tree_lod){ 0 }; /* a debris piece past THIN: not drawn */
         return;
     }
     out.level = out.bill_t > 0.0f && !stays_posed ? LOD_IMPOSTOR
@@ -93,6 +93,16 @@ uint32_t render_leaves_at(uint32_t n_leaves, float share)
     }
     uint32_t k = (uint32_t)lroundf((float)n_leaves * share);
     return k < 1 ? 1 : k > n_leaves ? n_leaves : k;
+}
+
+float render_bill_fall_code(float fall_rad, float fall_az_rad)
+{
+    if (!(fall_rad > 0.0f)) {
+        return 0.0f;
+    }
+    long k = (long)floorf(fall_az_rad * (256.0f / 6.2831853f) + 0.5f) % 256;
+    k = k < 0 ? k + 256 : k;
+    return 1.0f + (float)k + fminf(fall_rad, 1.5707963f) / 3.1415927f;
 }
 
 uint32_t render_lod_bin(float dist_m)

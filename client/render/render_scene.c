@@ -230,8 +230,9 @@ int render_set_obstacles(render *r, uint32_t n, const float *min_max, gale_err *
 void render_bill_leaf_set(render *r, uint32_t t)
 {
     if (t < r->n_trees && t < r->cells.n_trees) {
-        r->cells.bill_leaf[r->cells.at_of[t]] =
-            r->inst[t].fall_rad > 0.0f ? -1.0f : render_bill_leaf_share(r, t);
+        const uint32_t at = r->cells.at_of[t];
+        r->cells.bill_leaf[at] = render_bill_leaf_share(r, t);
+        r->cells.bill_fall[at] = render_bill_fall(r, t);
     }
 }
 

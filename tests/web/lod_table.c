@@ -1,8 +1,8 @@
 /* gale-client's level-of-detail policy (client/render/lod_policy.h) as one JSON object, for
  * tests/web/test_lod_policy_js.mjs to hold web/lod_policy.js to: every number, the leaves
  * drawn at each level for a range of leaf counts (render_leaves_at), the fog distance of a
- * few scenes' boxes, and the level render_lod_pick gives a standing tree at distances
- * outside the fade bands. */
+ * few scenes' boxes, the level render_lod_pick gives a standing tree at distances
+ * outside the fade bands, and a few falls' impostor codes (render_bill_fall_code). */
 #include <stdio.h>
 #include <string.h>
 
@@ -66,6 +66,16 @@ int main(int argc, char **argv)
     for (size_t i = 0; i < sizeof dist / sizeof dist[0]; i++) {
         render_tree_lod t = render_lod_pick(dist[i], &sp, &d, false);
         printf("%s[%.9g,%d]", i ? "," : "", (double)dist[i], t.flags ? (int)t.level : 255);
+    }
+    printf("],\"bill_fall\":[");
+    static const float falls[][2] = { { 0.0f, 1.0f },       { 1.5707963f, 0.0f },
+                                      { 0.3f, 1.87f },      { 1.2f, -0.4f },
+                                      { 2.9f, 3.1f },       { 1e-4f, 6.2830f },
+                                      { 0.7f, -6.2f },      { 1.536f, 4.71238898f },
+                                      { 0.01f, 0.0122718f } };
+    for (size_t i = 0; i < sizeof falls / sizeof falls[0]; i++) {
+        printf("%s[%.9g,%.9g,%.9g]", i ? "," : "", (double)falls[i][0], (double)falls[i][1],
+               (double)render_bill_fall_code(falls[i][0], falls[i][1]));
     }
     printf("]}\n");
     return 0;

@@ -4,7 +4,8 @@
 // trees (tests/web/landscape_scene.mjs): frame after frame, from the air down to low over
 // the middle and back, from afar with trees past the impostors' reach and from overhead, the two give the same skeleton rows, impostor list (in order),
 // groups, stats and budget, and keep the same level for every tree (the hysteresis' memory);
-// also with trees lying and leaves lost in a storm, with the governor's cap on the scale
+// also with trees lying (impostors laid along their fall, in cells listed whole too) and
+// leaves lost in a storm, with the governor's cap on the scale
 // moving, and with a triangle budget that the impostors alone exceed (the impostors'
 // reach pulled in: no cell is then listed whole).
 import assert from 'node:assert/strict';
@@ -61,17 +62,22 @@ for (const [eye, target, fovy, far] of path) {
 const first = frame(airEye, airTarget, 'aerial');
 assert.ok(first > 0.8 * fast.stats.trees_drawn, `from the air ${first} of ${fast.stats.trees_drawn} trees listed whole: expected most`);
 
-// a storm: trees lying here and there (never impostors), leaves lost (the impostors' share)
+// a storm: trees lying here and there (impostors with their fall), leaves lost (the
+// impostors' share)
 for (const r of [fast, ref]) {
-    for (let t = 0; t < N; t += 401) r.lying[t] = 1;
     for (let t = 5; t < N; t += 11) r.treeData[8 * t + 6] = 4 * (1 + (t % 3)) + (t % 2 ? 256 : 0);
+    for (let t = 0; t < N; t += 401) {
+        r.treeData[8 * t + 6] += 0.2 + 1.3 * ((t % 5) / 4);
+        r.treeData[8 * t + 7] = -3 + 0.01 * (t % 600);
+    }
     for (let t = 3; t < N; t += 13) r.leafAttached[t] = 0.25 + 0.5 * ((t % 7) / 7);
     r.placeDamage();
 }
 for (const [name, eye, target] of CAMERAS) {
     for (let k = 0; k < 3; k++) whole += frame(eye.map((v) => v + 2 * k), target, `${name} in the storm, frame ${k}`);
-    const lyingInView = fast.grid.out.at.subarray(0, fast.grid.out.n).some((at) => fast.grid.lying[at]);
-    assert.ok(fast.grid.out.whole.n > 0 && lyingInView, `${name} in the storm: cells listed whole and lying trees in view`);
+    let lyingImp = 0;
+    for (let e = 0; e < fast.stats.impostors; e++) lyingImp += fast.impData[4 * e + 2] >= 1;
+    assert.ok(fast.grid.out.whole.n > 0 && lyingImp > 0, `${name} in the storm: cells listed whole, ${lyingImp} lying impostors`);
 }
 // the governor caps the scale, then lets it go
 for (const cap of [0.5, 0.2, 1]) {

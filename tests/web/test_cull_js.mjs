@@ -104,7 +104,7 @@ for (const budget of [{ triangles: 1e6, trees: 2048, nodes: 2e6 }, { triangles: 
     for (const c of cams) {
         for (let rep = 0; rep < 3; rep++) {
             const o = grid.gather(c.viewproj, c.eye, sel.reach_m());
-            const r = sel.select(o.trees, o.dist, o.n, speciesOf, cost, lv, budget, nodes, null, share);
+            const r = sel.select(o.trees, o.dist, o.n, speciesOf, cost, lv, budget, nodes, share);
             let tris = 0, trees = 0, posed = 0;
             for (let i = 0; i < o.n; i++) {
                 if (lv[i] === LOD.NONE) continue;

@@ -3,15 +3,17 @@
 // - the crown's sway and the quad's offset against a hand computation on a tiny asset,
 //   and the quad's extent against client/render/render_species.c's numbers;
 // - a line of trees: FULL, THIN, fading (both), impostors past THIN's outer distance, none
-//   past IMPOSTOR's; a fallen tree is THIN within THIN's distance, never an impostor, and
-//   not drawn past it;
+//   past IMPOSTOR's, a fallen tree the same;
+// - a fallen tree's impostor row (impFall): 0 standing, 1 + azimuth in 1/256 turns + fall
+//   angle / π lying, and on the landscape a far fallen tree listed as an impostor with it,
+//   tree by tree and in a cell listed whole;
 // - the 2 km landscape's scale: 100,000 trees in a 2 km square seen from the air draw every
 //   tree in view (the frustum and the draw distance by brute force), within the frame's
 //   budget of triangles and draw calls; the cull and levels' CPU time is printed.
 import assert from 'node:assert/strict';
 import { impostorQuad, crownSway, swayOffset, IMP_SWAY_MAX } from '../../web/imp_sway.js';
 import { LodSelect } from '../../web/lod_select.js';
-import { IMP_TRIANGLES } from '../../web/render_list.js';
+import { IMP_TRIANGLES, impFall } from '../../web/render_list.js';
 import { LOD, LOD_OUTER_M, LOD_FADE_SHARE, LOD_BUDGET_TRIANGLES, LOD_BUDGET_DRAWS, LOD_BUDGET_TREES, LOD_IMPOSTOR_MODES } from '../../web/lod_policy.js';
 import { frustumPlanes, boxInFrustum } from '../../web/cull_grid.js';
 import { landscape, CAMERAS, viewProj } from './landscape_scene.mjs';
@@ -64,31 +66,56 @@ const near = (a, b, tol, what) => assert.ok(Math.abs(a - b) <= tol, `${what}: ${
     near(qd.top_m, 21.4, 1e-9, 'top');
 }
 
-// --- a line of trees along x from the eye: their levels, shares and the lying one
+// --- a line of trees along x from the eye: their levels and shares (a fallen tree's alike)
 {
     const ds = [];
     for (let d = 10; d < 2800; d += 5) ds.push(d);
     const n = ds.length, trees = Int32Array.from(ds, (_, i) => i), dist = Float32Array.from(ds);
     const cost = [[[9000, 9000, 9000], [900, 900, 900], [2, 2, 2]]];
-    const lying = new Uint8Array(n);
-    const fallenNear = ds.indexOf(150), fallen = ds.indexOf(1000), fallenFar = ds.indexOf(2200);
-    lying[fallenNear] = lying[fallen] = lying[fallenFar] = 1;
     const sel = new LodSelect(n), lv = new Uint8Array(n), share = new Float32Array(n);
-    const r = sel.select(trees, dist, n, new Uint8Array(n), cost, lv, { triangles: 1e12, trees: 1e9, nodes: 1e12 }, [100], lying, share);
+    const r = sel.select(trees, dist, n, new Uint8Array(n), cost, lv, { triangles: 1e12, trees: 1e9, nodes: 1e12 }, [100], share);
     assert.equal(r.scale, 1);
     const fade0 = LOD_OUTER_M[LOD.THIN] * (1 - LOD_FADE_SHARE);
     for (let i = 0; i < n; i++) {
         const d = ds[i];
         let want = d < LOD_OUTER_M[LOD.FULL] ? LOD.FULL : d < LOD_OUTER_M[LOD.THIN] ? LOD.THIN : d < LOD_OUTER_M[LOD.IMPOSTOR] ? LOD.IMPOSTOR : LOD.NONE;
-        let sh = want === LOD.THIN ? Math.max(0, (d - fade0) / (LOD_OUTER_M[LOD.THIN] - fade0)) : want === LOD.IMPOSTOR ? 1 : 0;
-        if (lying[i]) {
-            want = d < LOD_OUTER_M[LOD.THIN] ? LOD.THIN : LOD.NONE;
-            sh = 0;
-        }
+        const sh = want === LOD.THIN ? Math.max(0, (d - fade0) / (LOD_OUTER_M[LOD.THIN] - fade0)) : want === LOD.IMPOSTOR ? 1 : 0;
         assert.equal(lv[i], want, `tree at ${d} m: level ${lv[i]}, expected ${want}`);
         near(share[i], sh, 1e-6, `impostor share at ${d} m`);
     }
     assert.ok(share.some((x) => x > 0 && x < 1), 'no tree fading');
+}
+
+// --- a fallen tree's impostor row: its fall, and a far one listed with it
+{
+    near(impFall(0, 1.0), 0, 0, 'standing');
+    near(impFall(8, 2.0), 0, 0, 'standing, leaves lost');
+    near(impFall(Math.PI / 2, 0), 1.5, 1e-7, 'lying towards +x');
+    near(impFall(256 + 4 * 3 + 0.7, Math.PI / 2), 1 + 64 + 0.7 / Math.PI, 1e-6, 'snapped, towards +y, leaves lost');
+    near(impFall(3.0, -Math.PI / 2), 1 + 192 + 0.5, 1e-6, 'tumbled past π/2, towards -y: lies flat');
+    near(impFall(1.0, 2 * Math.PI - 1e-4), 1 + 1 / Math.PI, 1e-6, 'a whole turn is azimuth 0');
+    // on the landscape from the air: trees far off fallen towards +x, every one listed as an
+    // impostor with its fall (tree by tree, and in a cell listed whole alike)
+    const N = 20000, { r } = landscape(N), [, eye, target] = CAMERAS[0];
+    r.viewproj = viewProj(eye, target);
+    const fallen = [];
+    for (let t = 7; t < N; t += 97) {
+        r.treeData[8 * t + 6] = 1.5 + (t % 2 ? 256 : 0);
+        r.treeData[8 * t + 7] = 0;
+        fallen.push(t);
+    }
+    r.placeDamage();
+    r.drawList({ eye }, null);
+    const ni = r.stats.impostors, got = new Map();
+    for (let e = 0; e < ni; e++) got.set(r.impData[4 * e], r.impData[4 * e + 2]);
+    let listed = 0;
+    for (const t of fallen) {
+        if (!got.has(t)) continue;
+        listed++;
+        near(got.get(t), 1 + 1.5 / Math.PI, 1e-6, `fallen tree ${t}'s impostor`);
+    }
+    for (const [t, f] of got) if (!fallen.includes(t)) assert.equal(f, 0, `standing tree ${t}'s impostor`);
+    assert.ok(listed > 0.5 * fallen.length && r.grid.out.whole.n > 0, `${listed} of ${fallen.length} fallen trees listed as impostors, ${r.grid.out.whole.n} cells whole`);
 }
 
 // --- the landscape's scale: 100,000 trees in a 2 km square, an aerial camera

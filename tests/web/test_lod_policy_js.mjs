@@ -2,11 +2,13 @@
 // client/render/lod_policy.h and render_lod.c by tests/web/CMakeLists.txt): every number the
 // two clients share is the same, each level keeps as many leaves for the same leaf count,
 // a scene's box gives the same fog distance, and a standing tree outside the fade bands is
-// at the same level at the same distance.
+// at the same level at the same distance, and a fallen tree's impostor row holds the same
+// fall (render_bill_fall_code, impFall).
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
 import * as P from '../../web/lod_policy.js';
 import { levelAt } from '../../web/lod_select.js';
+import { impFall } from '../../web/render_list.js';
 
 const a = process.argv.slice(2);
 if (a.includes('--help') || a.length !== 1) {
@@ -17,7 +19,7 @@ const c = JSON.parse(execFileSync(a[0], { encoding: 'utf8' }));
 const f32 = (x) => Math.fround(x);
 let n = 0;
 for (const [name, want] of Object.entries(c)) {
-    if (['leaves_at', 'fog', 'levels'].includes(name)) continue;
+    if (['leaves_at', 'fog', 'levels', 'bill_fall'].includes(name)) continue;
     assert.ok(name in P, `web/lod_policy.js has no ${name}`);
     const got = P[name];
     if (name === 'LOD') {
@@ -39,4 +41,9 @@ for (const [x0, y0, x1, y1, want] of c.fog) {
 for (const [d, want] of c.levels) {
     assert.equal(levelAt(d, 1), want, `level at ${d} m`);
 }
-console.log(`lod policy: ${n} numbers, ${c.leaves_at.length} leaf counts, ${c.fog.length} fog boxes, ${c.levels.length} distances agree`);
+for (const [fall, az, want] of c.bill_fall) {
+    // (the damage code of a tree of that fall, no leaves lost, standing on its root: the angle)
+    const got = Math.fround(impFall(fall, az));
+    assert.ok(Math.abs(got - want) <= 4e-5 && Math.floor(got) === Math.floor(want), `impFall(${fall}, ${az}): ${got}, gale-client ${want}`);
+}
+console.log(`lod policy: ${n} numbers, ${c.leaves_at.length} leaf counts, ${c.fog.length} fog boxes, ${c.levels.length} distances, ${c.bill_fall.length} falls agree`);

@@ -14,6 +14,9 @@
 //   gone in the damaged one;
 // - a snapped stem (PROTOCOL.md's DAMAGE-FULL vector, tree 1 snapped, given to the page as
 //   if received): one stump drawn, the stem above the break gone, the stump where the stem was;
+// - far away (320 m, an impostor) a fallen tree lies along its fall: seen steeply from
+//   above, fallen across the view each way against standing, its changed pixels' middle
+//   lies more than 2 m along the fall from its base (far_fallen.png: a picture of it);
 // - after a reconnect the page holds the server's damage again.
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
@@ -322,6 +325,77 @@ try {
         out.snapped = { break_m: +snap.break_m.toFixed(3), stump_changed: win(0.4 * snap.break_m), above_changed: win(snap.break_m + 2.5) };
         assert.ok(out.snapped.stump_changed <= 0.3, `the stump below the break differs from the standing stem (${out.snapped.stump_changed} of its window)`);
         assert.ok(out.snapped.above_changed >= 0.7, `the stem 2.5 m above the break is still there (${out.snapped.above_changed} of its window changed)`);
+    }
+
+    // far away a fallen tree is an impostor laid along its fall (web/imp_shader.js,
+    // shaders/common.glsl bill_fallen, as gale-client's test_render_damage): the tree
+    // farthest from the others seen from 320 m through a 10° lens, steeply from above,
+    // fallen across the view one way, then the other, against it standing: many pixels
+    // change, and their middle lies along the fall from its base (the standing crown's
+    // pixels lie about the base across the view)
+    const far = await page.evaluate(() => {
+        const g = window.gale, r = g.r, n = r.n_trees, rows = g.welcome.instances;
+        let t = 0, best = -1;
+        for (let i = 0; i < n; i++) {
+            let m = Infinity;
+            for (let j = 0; j < n; j++) if (j !== i) m = Math.min(m, Math.hypot(rows[j][1] - rows[i][1], rows[j][2] - rows[i][2]));
+            if (m > best) { best = m; t = i; }
+        }
+        const cam0 = { ...g.cam, target: g.cam.target.slice() }, row = rows[t];
+        Object.assign(g.cam, { target: [row[1], row[2], row[3]], distance: 320, yaw: 0.3, pitch: -1.2, fov_y_deg: 10 });
+        const code = new Float32Array(n), az = new Float32Array(n), up = new Uint8Array(n);
+        r.setDamage(code, az, up);
+        const standing = g.still(true), levels = r.stats.levels.slice();
+        const e = standing.cam.eye, across = Math.atan2(row[2] - e[1], row[1] - e[0]) + Math.PI / 2;
+        const fallen = [];
+        for (const a of [across, across + Math.PI]) {
+            code[t] = Math.PI / 2;
+            az[t] = a;
+            r.setDamage(code, az, up);
+            fallen.push({ az: a, pic: g.still(true), levels: r.stats.levels.slice() });
+        }
+        // a picture (far_fallen.png, without the HUD): it lies across the view among the
+        // standing impostors
+        Object.assign(g.cam, { pitch: -0.9, fov_y_deg: 12 });
+        const pic = g.still(true), c = document.createElement('canvas');
+        c.width = pic.w;
+        c.height = pic.h;
+        const x = c.getContext('2d'), im = x.createImageData(pic.w, pic.h), raw = atob(pic.pixels), row4 = 4 * pic.w;
+        for (let y = 0; y < pic.h; y++) for (let i = 0; i < row4; i++) im.data[y * row4 + i] = raw.charCodeAt((pic.h - 1 - y) * row4 + i);
+        x.putImageData(im, 0, 0);
+        g.farCam0 = cam0;
+        return { tree: t, base: row.slice(1, 4), apart_m: best, standing, levels, fallen, png: c.toDataURL('image/png').split(',')[1] };
+    });
+    writeFileSync(path.join(work, 'far_fallen.png'), Buffer.from(far.png, 'base64'));
+    await page.evaluate(() => {
+        const g = window.gale;
+        g.damageGen = -1;
+        Object.assign(g.cam, g.farCam0);
+        g.damage.dirty = true;
+        g.applyDamage(g.shown_s);
+    });
+    {
+        const proj = projector(far.standing.cam, W, H), b = proj(far.base);
+        out.far_fallen = { tree: far.tree, apart_m: +far.apart_m.toFixed(1), levels: far.levels, sides: [] };
+        assert.deepEqual(far.levels, [0, 0, far.levels[2]], 'from 320 m the trees are impostors alone');
+        for (const f of far.fallen) {
+            assert.deepEqual(f.levels, far.levels, 'a fallen tree 320 m off is an impostor too');
+            const d = diffAt(Buffer.from(f.pic.pixels, 'base64'), Buffer.from(far.standing.pixels, 'base64'), W);
+            // the fall's direction on screen and the length of 3 m along it
+            const tip = proj([far.base[0] + 3 * Math.cos(f.az), far.base[1] + 3 * Math.sin(f.az), far.base[2]]);
+            const ux = tip[0] - b[0], uy = tip[1] - b[1], l3 = Math.hypot(ux, uy);
+            let changed = 0, sum = 0, beyond = 0;
+            for (let y = 0; y < H; y++) for (let x = 0; x < W; x++) {
+                if (d(x, y) <= 24) continue;
+                const along = ((x - b[0]) * ux + (y - b[1]) * uy) / l3;
+                changed++;
+                sum += along;
+                beyond += along > l3;
+            }
+            const s = { changed_px: changed, beyond_3m_px: beyond, middle_along_m: +(changed ? 3 * sum / changed / l3 : 0).toFixed(2), px_per_3m: +l3.toFixed(1) };
+            out.far_fallen.sides.push(s);
+            assert.ok(changed >= 100 && beyond >= 40 && s.middle_along_m > 2, `tree ${far.tree} fallen towards ${f.az.toFixed(2)} rad: ${JSON.stringify(s)} (expected >= 100 px changed, >= 40 more than 3 m along the fall, their middle > 2 m along it)`);
+        }
     }
 
     // a reconnect: the page gets the whole damage again with its keyframe
