@@ -15,6 +15,10 @@ mkdirSync(work, { recursive: true });
 const tokenFile = path.join(work, 'token');
 writeFileSync(tokenFile, `${TOKEN}\n`, { mode: 0o600 });
 const hhmmss = (t) => new Date(t).toISOString().slice(11, 19);
+// a window may not span midnight: a run that starts in the day's last 45 s waits for the
+// next day (UTC, as the server's TZ)
+const DAY_MS = 86400000, left_ms = DAY_MS - (Date.now() % DAY_MS);
+if (left_ms < 45000) await new Promise((r) => setTimeout(r, left_ms + 1000));
 const t0 = Date.now();
 const opens = t0 + 15000, closes = t0 + 30000;
 const srv = await startServer(server, ['--cache', path.join(work, '..', 'cache'), '--config', config,
