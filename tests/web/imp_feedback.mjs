@@ -6,11 +6,16 @@
 export async function impostorSwayCheck(page, count = 5) {
     return page.evaluate(async (count) => {
         const g = window.gale, r = g.r, gl = r.gl;
+        const { IMP_VERT } = await import('/web/imp_shader.js');
+        const { PREAMBLE } = await import('/web/shaders.js');
+        const { swayOffset } = await import('/web/imp_sway.js');
+        const { RU } = await import('/web/render_data.js');
+        const common = await (await fetch('/shaders/common.glsl')).text();
         // the frame's blend once more, uploaded, and each tree's q from it on the CPU as the
-        // GPU forms it (snapshots that came since the frame may have taken a slot of the ring);
-        // the blend copied, since the jitter buffer rewrites its own at the next weightsAt
-        // (a LEAVES frame's, while this awaits its imports) and a snapshot that arrived
-        // since may then fall within it
+        // GPU forms it (snapshots that came since the frame may have taken a slot of the
+        // ring); from here on nothing awaits, so no snapshot arrives to take a slot of the
+        // ring between this blend and the draws that read it (under load one did, while
+        // the imports above were awaited: corners 6-12 mm off a 12 cm sway)
         r.setMix(g.jitter.weights(g.shown_s));
         const mix = r.mix && { n: r.mix.n, snaps: r.mix.snaps.slice(), c: Float64Array.from(r.mix.c) };
         const qOf = (t) => {
@@ -22,11 +27,6 @@ export async function impostorSwayCheck(page, count = 5) {
                 return v;
             });
         };
-        const { IMP_VERT } = await import('/web/imp_shader.js');
-        const { PREAMBLE } = await import('/web/shaders.js');
-        const { swayOffset } = await import('/web/imp_sway.js');
-        const { RU } = await import('/web/render_data.js');
-        const common = await (await fetch('/shaders/common.glsl')).text();
         const sh = (stage, src) => { const s = gl.createShader(stage); gl.shaderSource(s, src); gl.compileShader(s); if (!gl.getShaderParameter(s, gl.COMPILE_STATUS)) throw new Error(gl.getShaderInfoLog(s)); return s; };
         const p = gl.createProgram();
         gl.attachShader(p, sh(gl.VERTEX_SHADER, PREAMBLE + '#define GALE_VERT 1\n#define GALE_Q_RING 1\n' + common + '\n' + IMP_VERT));
