@@ -184,10 +184,10 @@ static void test_budget(void)
         at1 += (t.flags & RENDER_LOD_BILLBOARD) ? 2.0 : 0.0;
     }
     /* a budget above the whole cost keeps scale 1 */
-    CHECK(render_lod_budget(hist, &cost, 1, 1.0f, 2.0 * at1, 1e12) == 1.0f);
+    CHECK(render_lod_budget(hist, NULL, &cost, 1, 1.0f, 2.0 * at1, 1e12) == 1.0f);
     /* a quarter of it: the scale drops, and what the frame then draws fits */
     const double budget = 0.25 * at1;
-    float sc = render_lod_budget(hist, &cost, 1, 1.0f, budget, 1e12);
+    float sc = render_lod_budget(hist, NULL, &cost, 1, 1.0f, budget, 1e12);
     CHECK(sc > 0.05f && sc < 1.0f);
     const render_lod_desc ds = { .mode_dist_m = 40.0f * sc, .scale = sc };
     double drawn = 0.0;
@@ -201,13 +201,33 @@ static void test_budget(void)
     /* and not far below it: the scale 5 % larger would not fit the worst case */
     CHECK(drawn > 0.5 * budget);
     /* the nodes' budget binds the same way */
-    float sn = render_lod_budget(hist, &cost, 1, 1.0f, 1e12, 50.0 * 1000.0);
+    float sn = render_lod_budget(hist, NULL, &cost, 1, 1.0f, 1e12, 50.0 * 1000.0);
     uint32_t posed = 0;
     const render_lod_desc dn = { .mode_dist_m = 40.0f * sn, .scale = sn };
     for (uint32_t i = 0; i < n; i++) {
         posed += (render_lod_pick(dist[i], &sp, &dn, false).flags & RENDER_LOD_FULL) != 0;
     }
     CHECK(posed <= 50 && posed > 20);
+    /* every tree felled: each posed draws a root plate or stump besides itself, which
+       for trees of few leaves is most of their cost; the frame with them still fits */
+    static uint32_t felled[RENDER_LOD_BINS];
+    memcpy(felled, hist, sizeof felled);
+    const render_lod_cost small = { .full_leaves = 100.0f, .mesh = { 0.0f }, .n_lods = 1,
+                                    .thin = 20.0f, .impostor = 2.0f, .nodes = 10.0f };
+    const double tight = 20000.0;
+    float sf = render_lod_budget(hist, felled, &small, 1, 1.0f, tight, 1e12);
+    float s0 = render_lod_budget(hist, NULL, &small, 1, 1.0f, tight, 1e12);
+    CHECK(sf > 0.0f && sf < 0.8f * s0);
+    double with_felled = 0.0;
+    const render_lod_desc df = { .mode_dist_m = 40.0f * sf, .scale = sf };
+    for (uint32_t i = 0; i < n; i++) {
+        render_tree_lod t = render_lod_pick(dist[i], &sp, &df, false);
+        with_felled += (t.flags & RENDER_LOD_FULL) && t.thin_t < 1.0f ? 100.0 : 0.0;
+        with_felled += (t.flags & RENDER_LOD_FULL) && t.thin_t > 0.0f ? 20.0 : 0.0;
+        with_felled += (t.flags & RENDER_LOD_FULL) ? (double)RENDER_FELLED_TRIS_MAX : 0.0;
+        with_felled += (t.flags & RENDER_LOD_BILLBOARD) ? 2.0 : 0.0;
+    }
+    CHECK(with_felled <= tight);
 }
 
 /* PROTOCOL.md view "frustum": in the cone when out <= 0 and 0 <= along <= far_m. */

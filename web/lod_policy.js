@@ -79,6 +79,9 @@ export const LOD_BUDGET_TREES = 2048;
 // and nodes posed (the skeleton pass's fragments, twice: 630 oaks of 3,180 nodes, 3,160
 // palms of 633)
 export const LOD_BUDGET_NODES = 2000000;
+// What a felled tree posed adds to the budget (web/render_damage.js): an uprooted one's root
+// plate (4 × 24 triangles) or a snapped one's stump (7 × 12); the larger for either.
+export const LOD_FELLED_TRIANGLES = 4 * 24;
 // Draw calls a frame may issue; the draws are per species and level (a few dozen: one a
 // species for all its impostors), and web/render_gl.js counts them against this.
 export const LOD_BUDGET_DRAWS = 100;

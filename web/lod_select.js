@@ -10,7 +10,7 @@
 // its distance, 1 from that distance on, whatever its level. A tree that lies (fallen,
 // uprooted, snapped) is chosen as a standing one is: its impostor lies along its fall
 // (web/render_list.js impFall, web/imp_shader.js).
-import { LOD, LOD_LEVELS, LOD_OUTER_M, LOD_HYSTERESIS, LOD_MESH_STEP_M, LOD_BUDGET_TRIANGLES, LOD_BUDGET_TREES,
+import { LOD, LOD_LEVELS, LOD_OUTER_M, LOD_HYSTERESIS, LOD_MESH_STEP_M, LOD_BUDGET_TRIANGLES, LOD_BUDGET_TREES, LOD_FELLED_TRIANGLES,
     LOD_BUDGET_NODES, LOD_BUDGET_DRAWS, LOD_GROW_PER_FRAME, LOD_FADE_SHARE } from './lod_policy.js';
 
 const BINS = 512;
@@ -92,7 +92,9 @@ export class LodSelect {
     // selection's memory of each tree's level; cost[s][level][mesh lod]:
     // triangles of one tree of species s at FULL and THIN, of its impostor at IMPOSTOR
     // (null: a species not drawn); nodes[s]: its nodes posed; budget: { triangles, trees,
-    // nodes, draws } (trees and nodes: those the skeleton pass poses, FULL and THIN).
+    // nodes, draws } (trees and nodes: those the skeleton pass poses, FULL and THIN), and
+    // optionally felled (per id a row of 4 whose third value is not 0 for a felled tree:
+    // web/render_list.js placeImp), each posed one costing LOD_FELLED_TRIANGLES more.
     // Writes each tree's
     // level into out[0..n) and its share in its impostor into share[0..n) (0 < share < 1:
     // drawn both at THIN and as an impostor; 1: as an impostor alone, also at THIN kept by
@@ -104,6 +106,7 @@ export class LodSelect {
     // gathers again without them.
     select(ids, dist, n, species, cost, out, budget = {}, nodes = [], share = null, whole = null) {
         const maxTris = budget.triangles ?? LOD_BUDGET_TRIANGLES, maxTrees = budget.trees ?? LOD_BUDGET_TREES;
+        const felled = budget.felled ?? null;
         const maxNodes = budget.nodes ?? LOD_BUDGET_NODES, maxDraws = (budget.draws ?? LOD_BUDGET_DRAWS) - LOD_DRAWS_FIXED;
         const sMax = Math.min(this.cap, this.scale * LOD_GROW_PER_FRAME), fMax = Math.min(1, this.scaleFar * LOD_GROW_PER_FRAME);
         const reach = LOD_OUTER_M[LOD_LEVELS - 1] * fMax * (1 + LOD_HYSTERESIS);
@@ -118,10 +121,13 @@ export class LodSelect {
                 b.far_m !== LOD_OUTER_M[LOD.IMPOSTOR] * (fMax * (1 - LOD_HYSTERESIS))) return null;
         }
         if (!this.hist || this.hist.length !== ns * BINS) this.hist = new Uint32Array(ns * BINS);
-        const hist = this.hist, nw = whole ? whole.n : 0;
+        if (!this.felledHist) this.felledHist = new Uint32Array(BINS);
+        const hist = this.hist, felledHist = this.felledHist, nw = whole ? whole.n : 0;
         hist.fill(0);
+        felledHist.fill(0);
         if (nw) this.histWhole(whole, w);
         this.histTrees(ids, dist, n, species, w);
+        if (felled) this.histFelled(ids, dist, n, species, w, felled);
         // the worst case at scale s: each bin's trees at the level of its near edge, the
         // outer distances widened by the hysteresis; a standing tree past FULL is THIN up to
         // THIN's outer distance and an impostor from its fade on (the fade ignores the
@@ -130,6 +136,8 @@ export class LodSelect {
         const worst = (sc, sf) => {
             let tris = 0, count = 0, posed = 0, draws = 0;
             const e = LOD_OUTER_M[LOD.THIN] * sc, e0 = e * (1 - LOD_FADE_SHARE);
+            // a felled tree posed (short of THIN's outer distance) draws its plate or stump too
+            for (let b = 0; felled && b < BINS && b * w < e; b++) tris += felledHist[b] * LOD_FELLED_TRIANGLES;
             for (let s = 0; s < ns; s++) {
                 const c = cost[s];
                 if (!c) continue;
@@ -235,6 +243,17 @@ export class LodSelect {
             if (!drawn[s]) continue;
             const b = Math.floor(dist[i] / w);
             if (b < BINS) hist[s * BINS + b]++;
+        }
+    }
+
+    // And the felled ones among them (a whole cell's lie past THIN: never posed).
+    histFelled(ids, dist, n, species, w, felled) {
+        const fh = this.felledHist, drawn = this.drawn;
+        for (let i = 0; i < n; i++) {
+            const t = ids[i];
+            if (!drawn[species[t]] || felled[4 * t + 2] === 0) continue;
+            const b = Math.floor(dist[i] / w);
+            if (b < BINS) fh[b]++;
         }
     }
 

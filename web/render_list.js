@@ -10,7 +10,7 @@
 // Renderer (web/render_gl.js) takes these methods as its own.
 import { CellGrid } from './cull_grid.js';
 import { LodSelect, meshLod } from './lod_select.js';
-import { LOD, LOD_LEAF_SHARE, LOD_LEAF_GROW, LOD_BARK, LOD_MODES_MAX, leavesAt } from './lod_policy.js';
+import { LOD, LOD_LEAF_SHARE, LOD_LEAF_GROW, LOD_BARK, LOD_MODES_MAX, LOD_BUDGET_TRIANGLES, leavesAt } from './lod_policy.js';
 import { DAMAGE } from './damage.js';
 
 // Triangles of one impostor: its quad.
@@ -134,8 +134,13 @@ export class RendererList {
         const t0 = performance.now();
         const ns = this.species.length, lc = this.lodCosts(), cost = lc.cost, nl = lc.n_lods;
         const g = this.grid, lod = this.lod, reach = lod.reach_m();
-        const budget = this.lodBudget || (this.lodBudget = { trees: 0 });
+        const budget = this.lodBudget || (this.lodBudget = { trees: 0, triangles: 0, felled: null });
         budget.trees = Math.min(this.max_rows, this.maxSkelRows());
+        // the budget (frameTriangles: the whole frame's, LOD_BUDGET_TRIANGLES unless a test
+        // sets another) less what the houses and the falling leaves take
+        const other = (this.hideHouses ? 0 : (this.houseVerts || 0) / 3) + 2 * (this.ringCount || 0);
+        budget.triangles = Math.max(0, (this.frameTriangles ?? LOD_BUDGET_TRIANGLES) - other);
+        budget.felled = this.placeImp;
         let o = g.gather(this.viewproj, cam.eye, reach, this.listWhole === false ? null : lod.wholeBand(cost));
         let sel = lod.select(o.at, o.dist, o.n, g.species, cost, this.lodLevel, budget, lc.nodes, this.lodShare, o.whole);
         if (!sel) {

@@ -287,6 +287,7 @@ static void build_lists(render *r)
        landscape. Its trees count in the histogram at the cell's nearest distance, whose
        bin's near edge is past THIN too, so the budget sees the cost it would tree by tree. */
     memset(r->lod_hist, 0, (size_t)r->n_species * RENDER_LOD_BINS * sizeof r->lod_hist[0]);
+    memset(r->felled_hist, 0, sizeof r->felled_hist);
     const uint32_t n_drawn = r->n_trees + r->n_debris;
     /* the governor's scale caps the budget's, which grows back a step a frame */
     const float max_scale = fminf(r->lod_scale, r->budget_scale * LOD_GROW_PER_FRAME);
@@ -347,6 +348,8 @@ static void build_lists(render *r)
             uint32_t b = render_lod_bin(dist_m);
             if (b < RENDER_LOD_BINS) {
                 r->lod_hist[species * RENDER_LOD_BINS + b]++;
+                /* a felled tree (its impostor's fall code set) may draw a plate or stump */
+                r->felled_hist[b] += !debris && cells->bill_fall[cells->cell[c].first + t] != 0.0f;
             }
             r->tree_dist[n_vis] = dist_m;
             r->vis[n_vis++] = k;
@@ -357,8 +360,11 @@ static void build_lists(render *r)
     for (uint32_t s = 0; s < r->n_species; s++) {
         cost[s] = species_cost(&r->sp[s]);
     }
-    r->budget_scale = render_lod_budget(r->lod_hist, cost, r->n_species, max_scale,
-                                        LOD_BUDGET_TRIANGLES, LOD_BUDGET_NODES);
+    /* the budget is the whole frame's: the houses and the falling leaves come off it first */
+    const double other_tris = (double)(r->house_verts / 3u) + 2.0 * (double)r->ring_count;
+    r->budget_scale = render_lod_budget(r->lod_hist, r->felled_hist, cost, r->n_species,
+                                        max_scale, fmax(LOD_BUDGET_TRIANGLES - other_tris, 0.0),
+                                        LOD_BUDGET_NODES);
     r->stats.lod_scale = r->budget_scale;
     const render_lod_desc ld = { .mode_dist_m = r->desc.lod_mode_dist * r->budget_scale,
                                  .scale = r->budget_scale };

@@ -87,8 +87,18 @@ typedef struct render_lod_cost {
     float impostor;                 /* 2 */
     float nodes;                    /* skeleton nodes posed for one tree at FULL or THIN */
 } render_lod_cost;
-float render_lod_budget(const uint32_t *hist, const render_lod_cost *cost, uint32_t n_species,
-                        float max_scale, double budget_triangles, double budget_nodes);
+/* debris_hist (NULL: none): per bin, the felled trees whose root plate or stump a tree posed
+ * there (FULL or THIN) draws besides itself, each costed at RENDER_FELLED_TRIS_MAX. */
+float render_lod_budget(const uint32_t *hist, const uint32_t *debris_hist,
+                        const render_lod_cost *cost, uint32_t n_species, float max_scale,
+                        double budget_triangles, double budget_nodes);
+
+/* What a felled tree posed (FULL or THIN) adds: an uprooted one's root plate (shaders/plate.vert:
+ * two fans and a side band of 24 segments) or a snapped one's stump (shaders/stump.vert:
+ * 7 triangles a segment, 12 segments); the budget takes the larger for either. */
+#define RENDER_PLATE_TRIS (4u * 24u)
+#define RENDER_STUMP_TRIS (7u * 12u)
+#define RENDER_FELLED_TRIS_MAX RENDER_PLATE_TRIS
 
 /* The leaves drawn of n_leaves at a level's share (lod_policy.h): round(n × share), at
  * least 1; 0 for a share of 0. The page takes the same (web/render_list.js). */

@@ -251,7 +251,7 @@ void render_plates_draw(render *r, float time_rel)
     /* shaders/plate.vert: two fans and the side band of PLATE_SEG = 24 segments */
     glDrawArraysInstanced(GL_TRIANGLES, 0, 12 * 24, (GLsizei)r->n_plates);
     r->stats.draw_calls++;
-    r->stats.triangles += 4u * 24u * (uint64_t)r->n_plates;
+    r->stats.triangles += RENDER_PLATE_TRIS * (uint64_t)r->n_plates;
 }
 
 void render_stumps_draw(render *r, float time_rel)
@@ -269,5 +269,5 @@ void render_stumps_draw(render *r, float time_rel)
     /* shaders/stump.vert: 21 vertices per segment, STUMP_SEG = 12 segments */
     glDrawArraysInstanced(GL_TRIANGLES, 0, 21 * 12, (GLsizei)r->n_stumps);
     r->stats.draw_calls++;
-    r->stats.triangles += 7u * 12u * (uint64_t)r->n_stumps;
+    r->stats.triangles += RENDER_STUMP_TRIS * (uint64_t)r->n_stumps;
 }

@@ -152,6 +152,7 @@ struct render {
     float *tree_dist;
     uint32_t *vis;                   /* scratch: the frame's trees in view (draw order k) */
     uint32_t lod_hist[RENDER_MAX_SPECIES * RENDER_LOD_BINS]; /* render_lod_budget's */
+    uint32_t felled_hist[RENDER_LOD_BINS]; /* and its felled trees' (root plates, stumps) */
     uint32_t grp_base[RENDER_MAX_SPECIES][G_COUNT], grp_n[RENDER_MAX_SPECIES][G_COUNT];
 
     /* storm damage drawn by the skeleton pass (render_damage.c, shaders/skel.frag) */

@@ -34,10 +34,11 @@ int main(int argc, char **argv)
            lod_modes_max[1], lod_modes_max[2]);
     printf("\"LOD_IMPOSTOR_MODES\":%d,\"LOD_FADE_SHARE\":%.9g,\"LOD_HYSTERESIS\":%.9g,"
            "\"LOD_MESH_STEP_M\":%.9g,\"LOD_BUDGET_TRIANGLES\":%d,\"LOD_BUDGET_NODES\":%d,"
-           "\"LOD_BUDGET_DRAWS\":%d,\"LOD_GROW_PER_FRAME\":%.9g,\"VIEW_FAR_M\":%.9g,"
+           "\"LOD_BUDGET_DRAWS\":%d,\"LOD_FELLED_TRIANGLES\":%u,\"LOD_GROW_PER_FRAME\":%.9g,\"VIEW_FAR_M\":%.9g,"
            "\"VIEW_LOD_M\":%.9g,\"FOG_MIN_M\":%.9g,\"FOG_PER_SCENE_RADIUS_M\":%.9g,",
            LOD_IMPOSTOR_MODES, (double)LOD_FADE_SHARE, (double)LOD_HYSTERESIS,
            (double)LOD_MESH_STEP_M, LOD_BUDGET_TRIANGLES, LOD_BUDGET_NODES, LOD_BUDGET_DRAWS,
+           RENDER_FELLED_TRIS_MAX,
            (double)LOD_GROW_PER_FRAME, (double)VIEW_FAR_M, (double)VIEW_LOD_M,
            (double)FOG_MIN_M, (double)FOG_PER_SCENE_RADIUS_M);
     printf("\"leaves_at\":[");

@@ -85,7 +85,7 @@ for (const cap of [0.5, 0.2, 1]) {
     for (const [name, eye, target] of CAMERAS) whole += frame(eye, target, `${name} at cap ${cap}`);
 }
 // a budget the impostors alone exceed: the impostors' reach comes in, tree by tree
-for (const r of [fast, ref]) r.lodBudget = { trees: 0, triangles: 1e5 };
+for (const r of [fast, ref]) r.frameTriangles = 1e5;
 for (let k = 0; k < 3; k++) {
     frame(airEye.map((v) => v - 3 * k), airTarget, `aerial over budget, frame ${k}`);
     assert.ok(fast.stats.lod_scale_far < 1 && fast.grid.out.whole.n === 0, `over budget: the impostors' reach ${fast.stats.lod_scale_far}, ${fast.grid.out.whole.n} cells whole`);

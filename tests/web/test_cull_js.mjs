@@ -12,7 +12,7 @@
 import assert from 'node:assert/strict';
 import { CellGrid } from '../../web/cull_grid.js';
 import { LodSelect } from '../../web/lod_select.js';
-import { LOD, LOD_OUTER_M, LOD_HYSTERESIS } from '../../web/lod_policy.js';
+import { LOD, LOD_OUTER_M, LOD_HYSTERESIS, LOD_FELLED_TRIANGLES } from '../../web/lod_policy.js';
 import { perspective, lookAt, mul, invert } from '../../web/view_math.js';
 import { offaxis } from '../../web/wall_view.js';
 import { frustumCone, frustumView, ViewSender } from '../../web/view_stream.js';
@@ -120,6 +120,34 @@ for (const budget of [{ triangles: 1e6, trees: 2048, nodes: 2e6 }, { triangles: 
             assert.ok(tris <= r.triangles && trees <= r.trees && posed <= r.nodes, 'the frame costs more than its worst case');
         }
     }
+}
+// felled trees: every other one lies, and each posed draws its root plate or stump besides
+// its own few triangles (cheap trees, so the plates are most of the cost); still within
+{
+    const cheap = [[[300, 200, 150], [60, 60, 60], [2, 2, 2]], [[200, 150, 100], [40, 40, 40], [2, 2, 2]],
+        [[250, 180, 120], [50, 50, 50], [2, 2, 2]]];
+    const felled = new Float32Array(4 * N);
+    for (let t = 0; t < N; t += 2) felled[4 * t + 2] = 1.5;
+    const budget = { triangles: 4e4, trees: 1e6, nodes: 1e12, felled };
+    const sel = new LodSelect(N), lv = new Uint8Array(N), share = new Float32Array(N);
+    let worst = 0;
+    for (const c of cams) {
+        for (let rep = 0; rep < 3; rep++) {
+            const o = grid.gather(c.viewproj, c.eye, sel.reach_m());
+            const r = sel.select(o.trees, o.dist, o.n, speciesOf, cheap, lv, budget, nodes, share);
+            let tris = 0;
+            for (let i = 0; i < o.n; i++) {
+                if (lv[i] === LOD.NONE) continue;
+                const cs = cheap[rows[o.trees[i]][0]];
+                if (share[i] > 0) tris += cs[LOD.IMPOSTOR][2];
+                if (share[i] >= 1) continue;
+                tris += cs[lv[i]][meshOf(o.dist[i], lv[i])] + (felled[4 * o.trees[i] + 2] ? LOD_FELLED_TRIANGLES : 0);
+            }
+            worst = Math.max(worst, tris);
+            assert.ok(tris <= budget.triangles && tris <= r.triangles, `${tris} triangles with the felled trees' plates over ${budget.triangles} (scale ${r.scale}, worst case ${r.triangles})`);
+        }
+    }
+    assert.ok(worst > 0.3 * budget.triangles, `the felled trees' frames use ${worst} triangles of ${budget.triangles}: the budget binds`);
 }
 // hysteresis: a camera rocking by 3 % of a distance back and forth, no tree flips
 {
