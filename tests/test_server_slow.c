@@ -56,6 +56,7 @@ typedef struct seen {
     uint32_t last_seq;
     int states, keys, deltas, bad, orphan_deltas, closes;
     int steps1; /* state frames whose seq follows the last one's */
+    size_t bytes; /* of every binary message */
 } seen;
 
 static void take(seen *s, const uint8_t *b, size_t n)
@@ -93,6 +94,7 @@ static void drain(wsraw *c, seen *s, double wait_s)
         int op = wsraw_recv(c, &b, &n, wait_s > 0 ? 10 : 0);
         if (op == 2) {
             take(s, b, n);
+            s->bytes += n;
         }
         s->closes += op == 8;
         free(b);
@@ -113,11 +115,14 @@ static void test_bursty_reader(void)
     /* slow: 10 bursts, one a second (the socket untouched between them) */
     double gauge_max = 0;
     int states_late = 0;
+    size_t bytes_late = 0;
     for (int k = 0; k < 10; k++) {
         usleep(1000000);
         int before = s.states;
+        size_t bytes_before = s.bytes;
         drain(&c, &s, 0);
         states_late += k >= 5 ? s.states - before : 0;
+        bytes_late += k >= 5 ? s.bytes - bytes_before : 0;
         double g = metric("gale_readers_decimated");
         gauge_max = g > gauge_max ? g : gauge_max;
     }
@@ -146,12 +151,18 @@ static void test_bursty_reader(void)
     }
     /* a second more at full rate: consecutive seqs, deltas again */
     int steps_mid = s.steps1, states_mid = s.states, deltas_mid = s.deltas;
+    size_t bytes_mid = s.bytes;
     drain(&c, &s, 1.0);
     fprintf(stderr,
             "  steady again: full rate after %.1f s; then %d state frames in 1 s, %d in "
-            "sequence, %d deltas; %d bad, %d orphan deltas in all\n",
+            "sequence, %d deltas, %zu bytes (%.0f a second while slow); %d bad, %d orphan "
+            "deltas in all\n",
             recovered, s.states - states_mid, s.steps1 - steps_mid, s.deltas - deltas_mid,
-            s.bad, s.orphan_deltas);
+            s.bytes - bytes_mid, (double)bytes_late / 5.0, s.bad, s.orphan_deltas);
+    /* the lower rate sends fewer bytes a second than the full one, not more: each snapshot
+       a decimated reader gets is a keyframe, several deltas' worth (the margin: the
+       weather and leaves, which follow the snapshots' own rate) */
+    CHECK((double)bytes_late / 5.0 <= 1.1 * (double)(s.bytes - bytes_mid));
     CHECK(recovered >= 0);
     CHECK(s.states - states_mid >= 20);
     CHECK(s.steps1 - steps_mid >= s.states - states_mid - 3);

@@ -86,6 +86,8 @@ typedef struct net_conn {
     bool resync;          /* the client asked for a keyframe */
     /* the slow reader's rate (net_ws.c deliver_one) */
     int decim;            /* 1: every snapshot; n: one in n (net_desc.snapshot_hz at most) */
+    float key_per_delta;  /* its stream's last keyframe bytes (with what rides only with
+                             keyframes) over its delta's, 0 unknown: min_decim's */
     bool queued_any;      /* queued_seq and queued_stream hold the last snapshot queued */
     uint32_t queued_seq, queued_stream;
     uint64_t rate_ns;     /* mono_ns of the last rate change */

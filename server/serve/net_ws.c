@@ -3,6 +3,7 @@
  * (see net.h; shaped after lws minimal-ws-server-ring). Runs on the lws service thread. */
 #include "mono.h"
 #include "net_int.h"
+#include "net_rate.h"
 
 #include <inttypes.h>
 #include <stdarg.h>
@@ -327,11 +328,15 @@ static void deliver_one(net_server *s, net_conn *c, net_snap *p, uint64_t now)
         net_conn_close(s, c, WIRE_CLOSE_SLOW, why);
         return;
     }
+    const float kd = net_rate_key_per_delta(p);
+    if (kd > 0.0f) {
+        c->key_per_delta = kd;
+    }
     const bool behind = c->decim > 1 ? waiting >= 2 : c->q.count == c->q.cap;
     if (behind) {
         c->ahead_ns = now;
         if (c->decim < s->d.snapshot_hz && now - c->rate_ns >= NET_RATE_DOWN_MS * 1000000ull) {
-            int d = 2 * c->decim < s->d.snapshot_hz ? 2 * c->decim : s->d.snapshot_hz;
+            const int d = net_rate_lower(c->decim, c->key_per_delta, s->d.snapshot_hz);
             set_rate(s, c, d, now);
             atomic_fetch_add(&s->m.decimations, 1);
             net_conn_log(s, c, "slow reader: %.3g snapshots a second (one in %d)",
@@ -344,7 +349,7 @@ static void deliver_one(net_server *s, net_conn *c, net_snap *p, uint64_t now)
         c->ahead_ns = now;
     } else if (c->decim > 1 && now - c->ahead_ns >= NET_RATE_UP_MS * 1000000ull &&
                now - c->rate_ns >= NET_RATE_UP_MS * 1000000ull) {
-        set_rate(s, c, c->decim / 2 > 1 ? c->decim / 2 : 1, now);
+        set_rate(s, c, net_rate_raise(c->decim, c->key_per_delta, s->d.snapshot_hz), now);
         net_conn_log(s, c, "reader keeps up: %.3g snapshots a second (one in %d)",
                      (double)s->d.snapshot_hz / c->decim, c->decim);
     }

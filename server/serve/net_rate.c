@@ -1,0 +1,39 @@
+/* A slow reader's rate steps: see net_rate.h. */
+#include "net_rate.h"
+
+#include <math.h>
+
+float net_rate_key_per_delta(const net_snap *p)
+{
+    const size_t delta = p->delta2_len ? p->delta2_len : p->delta1_len;
+    if (!p->key_len || !delta) {
+        return 0.0f;
+    }
+    size_t key = p->key_len;
+    for (int x = 0; x < NET_SNAP_MAX_EXTRA; x++) {
+        key += (p->extra_key_only >> x & 1u) ? p->extra_len[x] : 0u;
+    }
+    return (float)key / (float)delta;
+}
+
+int net_rate_floor(float key_per_delta, int hz)
+{
+    int n = key_per_delta > 2.0f ? (key_per_delta < (float)hz ? (int)ceilf(key_per_delta) : hz) : 2;
+    return n < hz ? n : hz;
+}
+
+int net_rate_lower(int decim, float key_per_delta, int hz)
+{
+    int d = 2 * decim < hz ? 2 * decim : hz;
+    if (decim <= 1) {
+        const int floor_n = net_rate_floor(key_per_delta, hz);
+        d = d > floor_n ? d : floor_n;
+    }
+    return d;
+}
+
+int net_rate_raise(int decim, float key_per_delta, int hz)
+{
+    const int half = decim / 2;
+    return half >= 2 && half >= net_rate_floor(key_per_delta, hz) ? half : 1;
+}

@@ -1,0 +1,28 @@
+/* A slow reader's rate steps (SERVER.md "Slow readers", net_ws.c deliver_one): one
+ * snapshot in n of those published, each then the snapshot's KEYFRAME with what rides only
+ * with keyframes (the whole damage state). A keyframe is several deltas' worth, so a rate
+ * just below the full one would send more bytes, not fewer; the steps never go there.
+ * Pure functions. */
+#ifndef GALE_NET_RATE_H
+#define GALE_NET_RATE_H
+
+#include "net.h"
+
+/* The bytes of p's keyframe and of its extras that go only with it over those of its
+ * delta (delta2's, else delta1's); 0 when p lacks either. */
+float net_rate_key_per_delta(const net_snap *p);
+
+/* The fewest snapshots in one a decimated reader may take: one in n costs key/n bytes a
+ * snapshot against a delta's at full rate, so n >= key_per_delta (rounded up); at least 2,
+ * at most hz (the snapshot rate). key_per_delta 0 (unknown): 2. */
+int net_rate_floor(float key_per_delta, int hz);
+
+/* The rate after a reader at one in decim fell behind: doubled, and from full rate at
+ * least net_rate_floor; at most hz. */
+int net_rate_lower(int decim, float key_per_delta, int hz);
+
+/* The rate after a reader at one in decim kept up: halved, or full rate (1) where the
+ * half is below net_rate_floor. */
+int net_rate_raise(int decim, float key_per_delta, int hz);
+
+#endif
