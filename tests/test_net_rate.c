@@ -10,21 +10,21 @@
 
 static void test_ratio(void)
 {
-    net_snap p = { .key_len = 4000, .delta2_len = 800 };
-    CHECK_NEAR(net_rate_key_per_delta(&p), 5.0, 1e-6);
+    net_snap p = { .key_len = 4000, .delta2_len = 800, .delta1_len = 1000 };
+    CHECK(net_rate_key_bytes(&p) == 4000);
+    CHECK(net_rate_delta_bytes(&p) == 800); /* delta2: what a reader at full rate takes */
     p.delta2_len = 0;
-    p.delta1_len = 1000;
-    CHECK_NEAR(net_rate_key_per_delta(&p), 4.0, 1e-6);
+    CHECK(net_rate_delta_bytes(&p) == 1000);
     /* the FOREST (extra 5) goes only with keyframes; the leaves (extra 0) with every frame */
     p.extra_key_only = 1u << 5;
     p.extra_len[5] = 6000;
     p.extra_len[0] = 3000;
-    CHECK_NEAR(net_rate_key_per_delta(&p), 10.0, 1e-6);
-    p.delta1_len = 0;
-    CHECK(net_rate_key_per_delta(&p) == 0.0f); /* no delta: unknown */
-    p.delta2_len = 10;
-    p.key_len = 0;
-    CHECK(net_rate_key_per_delta(&p) == 0.0f);
+    CHECK(net_rate_key_bytes(&p) == 10000);
+    p.key_len = 0; /* frames on demand: no keyframe in this snapshot */
+    CHECK(net_rate_key_bytes(&p) == 0);
+    CHECK_NEAR(net_rate_key_per_delta(10000, 1000), 10.0, 1e-6);
+    CHECK(net_rate_key_per_delta(0, 1000) == 0.0f);
+    CHECK(net_rate_key_per_delta(10000, 0) == 0.0f);
 }
 
 static void test_fewer_bytes(void)

@@ -86,8 +86,9 @@ typedef struct net_conn {
     bool resync;          /* the client asked for a keyframe */
     /* the slow reader's rate (net_ws.c deliver_one) */
     int decim;            /* 1: every snapshot; n: one in n (net_desc.snapshot_hz at most) */
-    float key_per_delta;  /* its stream's last keyframe bytes (with what rides only with
-                             keyframes) over its delta's, 0 unknown: min_decim's */
+    size_t key_bytes;     /* its stream's last keyframe's bytes, with what rides only with
+                             keyframes, and its last delta's (0: none seen), for the */
+    size_t delta_bytes;   /* rate steps (net_rate.h) */
     bool queued_any;      /* queued_seq and queued_stream hold the last snapshot queued */
     uint32_t queued_seq, queued_stream;
     uint64_t rate_ns;     /* mono_ns of the last rate change */

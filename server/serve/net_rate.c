@@ -3,17 +3,26 @@
 
 #include <math.h>
 
-float net_rate_key_per_delta(const net_snap *p)
+size_t net_rate_key_bytes(const net_snap *p)
 {
-    const size_t delta = p->delta2_len ? p->delta2_len : p->delta1_len;
-    if (!p->key_len || !delta) {
-        return 0.0f;
+    if (!p->key_len) {
+        return 0;
     }
     size_t key = p->key_len;
     for (int x = 0; x < NET_SNAP_MAX_EXTRA; x++) {
         key += (p->extra_key_only >> x & 1u) ? p->extra_len[x] : 0u;
     }
-    return (float)key / (float)delta;
+    return key;
+}
+
+size_t net_rate_delta_bytes(const net_snap *p)
+{
+    return p->delta2_len ? p->delta2_len : p->delta1_len;
+}
+
+float net_rate_key_per_delta(size_t key_bytes, size_t delta_bytes)
+{
+    return key_bytes && delta_bytes ? (float)key_bytes / (float)delta_bytes : 0.0f;
 }
 
 int net_rate_floor(float key_per_delta, int hz)

@@ -8,9 +8,16 @@
 
 #include "net.h"
 
-/* The bytes of p's keyframe and of its extras that go only with it over those of its
- * delta (delta2's, else delta1's); 0 when p lacks either. */
-float net_rate_key_per_delta(const net_snap *p);
+/* The bytes of p's keyframe and of its extras that go only with it; 0 when p has no
+ * keyframe (frames on demand: a stream whose every reader holds the last snapshots). */
+size_t net_rate_key_bytes(const net_snap *p);
+
+/* The bytes of p's delta (delta2's, else delta1's); 0 when p has none. */
+size_t net_rate_delta_bytes(const net_snap *p);
+
+/* A stream's keyframe-to-delta ratio from the last of each a reader saw (a stream's
+ * snapshot often carries only one of them); 0 while either is unknown. */
+float net_rate_key_per_delta(size_t key_bytes, size_t delta_bytes);
 
 /* The fewest snapshots in one a decimated reader may take: one in n costs key/n bytes a
  * snapshot against a delta's at full rate, so n >= key_per_delta (rounded up); at least 2,

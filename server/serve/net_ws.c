@@ -328,15 +328,17 @@ static void deliver_one(net_server *s, net_conn *c, net_snap *p, uint64_t now)
         net_conn_close(s, c, WIRE_CLOSE_SLOW, why);
         return;
     }
-    const float kd = net_rate_key_per_delta(p);
-    if (kd > 0.0f) {
-        c->key_per_delta = kd;
+    if (c->stream != c->queued_stream || !c->queued_any) {
+        c->key_bytes = c->delta_bytes = 0; /* another stream: its sizes are not these */
     }
+    c->key_bytes = net_rate_key_bytes(p) ? net_rate_key_bytes(p) : c->key_bytes;
+    c->delta_bytes = net_rate_delta_bytes(p) ? net_rate_delta_bytes(p) : c->delta_bytes;
+    const float key_per_delta = net_rate_key_per_delta(c->key_bytes, c->delta_bytes);
     const bool behind = c->decim > 1 ? waiting >= 2 : c->q.count == c->q.cap;
     if (behind) {
         c->ahead_ns = now;
         if (c->decim < s->d.snapshot_hz && now - c->rate_ns >= NET_RATE_DOWN_MS * 1000000ull) {
-            const int d = net_rate_lower(c->decim, c->key_per_delta, s->d.snapshot_hz);
+            const int d = net_rate_lower(c->decim, key_per_delta, s->d.snapshot_hz);
             set_rate(s, c, d, now);
             atomic_fetch_add(&s->m.decimations, 1);
             net_conn_log(s, c, "slow reader: %.3g snapshots a second (one in %d)",
@@ -349,7 +351,7 @@ static void deliver_one(net_server *s, net_conn *c, net_snap *p, uint64_t now)
         c->ahead_ns = now;
     } else if (c->decim > 1 && now - c->ahead_ns >= NET_RATE_UP_MS * 1000000ull &&
                now - c->rate_ns >= NET_RATE_UP_MS * 1000000ull) {
-        set_rate(s, c, net_rate_raise(c->decim, c->key_per_delta, s->d.snapshot_hz), now);
+        set_rate(s, c, net_rate_raise(c->decim, key_per_delta, s->d.snapshot_hz), now);
         net_conn_log(s, c, "reader keeps up: %.3g snapshots a second (one in %d)",
                      (double)s->d.snapshot_hz / c->decim, c->decim);
     }
