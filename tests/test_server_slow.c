@@ -2,7 +2,8 @@
  * socket's bytes only once a second, in a burst, stays connected and is sent fewer
  * snapshots, every one of which decodes (a DELTA only ever follows the seq just before
  * it); reading steadily again brings it back to the full rate; one that takes nothing
- * at all is closed with 4008 once stall_ms has passed, not before. The rate is read off
+ * at all is closed with 4008 once stall_ms has passed, not before; a slow reader's own
+ * view stream is encoded only for the snapshots it takes. The rate is read off
  * the seqs received and /metrics (gale_readers_decimated, gale_decimations_total). */
 #include "check.h"
 #include "server_wsraw.h"
@@ -17,20 +18,26 @@
 
 #define STALL_S 2.0 /* the fixture's srv_desc.stall_ms */
 
-static int open_hello(wsraw *c, int rcvbuf)
+/* view_json: a view object for the hello (NULL: none, the shared stream) */
+static int open_hello_view(wsraw *c, int rcvbuf, const char *view_json)
 {
     if (wsraw_open(c, srv_port(S), rcvbuf)) {
         return -1;
     }
-    char h[160];
-    snprintf(h, sizeof h, "{\"type\": \"hello\", \"protocol\": %d, \"role\": \"viewer\"}",
-             WIRE_PROTOCOL_VERSION);
+    char h[320];
+    snprintf(h, sizeof h, "{\"type\": \"hello\", \"protocol\": %d, \"role\": \"viewer\"%s%s}",
+             WIRE_PROTOCOL_VERSION, view_json ? ", \"view\": " : "", view_json ? view_json : "");
     wsraw_text(c, h);
     uint8_t *m;
     size_t n;
     int op = wsraw_recv(c, &m, &n, 3000);
     free(m);
     return op == 1 ? 0 : -1;
+}
+
+static int open_hello(wsraw *c, int rcvbuf)
+{
+    return open_hello_view(c, rcvbuf, NULL);
 }
 
 /* A /metrics row's value, -1 when absent. */
@@ -174,6 +181,42 @@ static void test_bursty_reader(void)
     wsraw_close(&c);
 }
 
+/* A slow reader on a view stream of its own: the stream is not encoded for the snapshots
+ * it would not take (gale_view_snapshots_idle_total), and every frame it gets decodes. */
+static void test_bursty_viewer(void)
+{
+    wsraw c;
+    CHECK(open_hello_view(&c, 4096, "{\"kind\": \"circle\", \"x\": 0, \"y\": 0, "
+                                    "\"radius_m\": 500, \"lod_m\": 5}") == 0);
+    seen s = { .dec = wire_decoder_create(&(wire_decoder_desc){ N_TREES, N_MODES }, NULL) };
+    CHECK(s.dec != NULL);
+    const double idle0 = metric("gale_view_snapshots_idle_total");
+    const double views0 = metric("gale_view_snapshots_total");
+    CHECK(idle0 >= 0 && views0 >= 0);
+    int states_late = 0;
+    for (int k = 0; k < 8; k++) {
+        usleep(1000000);
+        int before = s.states;
+        drain(&c, &s, 0);
+        states_late += k >= 4 ? s.states - before : 0;
+    }
+    const double idle = metric("gale_view_snapshots_idle_total") - idle0;
+    const double views = metric("gale_view_snapshots_total") - views0;
+    fprintf(stderr,
+            "  bursty viewer: %d state frames in 8 s (%d in the last 4 s), %d keyframes, "
+            "%d bad, %d orphan deltas; its stream encoded %.0f snapshots, %.0f not\n",
+            s.states, states_late, s.keys, s.bad, s.orphan_deltas, views, idle);
+    CHECK(s.closes == 0 && c.close_code == 0);
+    CHECK(s.bad == 0);
+    CHECK(s.orphan_deltas == 0);
+    CHECK(states_late > 0);
+    /* the snapshots it skipped at the lower rate were never encoded */
+    CHECK(idle > 0.1 * 8 * 30);
+    CHECK(views + idle > 0.8 * 8 * 30);
+    wire_decoder_destroy(s.dec);
+    wsraw_close(&c);
+}
+
 static void test_stalled_reader(void)
 {
     const double closed0 = metric("gale_laggards_closed_total");
@@ -212,6 +255,7 @@ int main(void)
     }
     usleep(300000);
     RUN(test_bursty_reader);
+    RUN(test_bursty_viewer);
     RUN(test_stalled_reader);
     stop_server();
     return check_report();

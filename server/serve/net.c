@@ -475,6 +475,11 @@ unsigned net_frames_wanted_apart(net_server *s)
     return atomic_load(&s->want_standing) | atomic_exchange(&s->want_asked, 0u);
 }
 
+uint32_t net_stream_due(net_server *s, uint32_t stream)
+{
+    return s->d.published ? 0u : atomic_load(&s->due_seq[stream % NET_DUE_SLOTS]);
+}
+
 void net_publish(net_server *s, net_snap *p)
 {
     if (!s->d.separate_extras) {

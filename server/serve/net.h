@@ -239,6 +239,12 @@ unsigned net_frames_wanted(net_server *s);
 #define NET_WANT_VIEWS(mask) (((mask) >> NET_WANT_VIEWS_SHIFT) & NET_WANT_BITS)
 unsigned net_frames_wanted_apart(net_server *s);
 
+/* A view encoder, before it encodes a snapshot of view stream `stream` (not 0): the seq
+ * from which the stream's connections next take one, as the service thread last saw them
+ * (SERVER.md "Slow readers": each of a slow reader's is one in n); 0 when any of them may
+ * take the next, or the stream has none yet. Streams sharing a slot take the lowest. */
+uint32_t net_stream_due(net_server *s, uint32_t stream);
+
 /* Publishing threads (the simulation's, a view encoder's): a free snapshot from the pool
  * to fill (refs set to 1), or NULL when all are still in flight (counted; the caller
  * skips publishing this one). */

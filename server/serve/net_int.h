@@ -38,6 +38,7 @@
  * doubled, at most to one snapshot a second) when its queue backs up, at most once per
  * NET_RATE_DOWN_MS so a short stall costs one step; raised (halved) after it took every
  * snapshot offered for NET_RATE_UP_MS. */
+#define NET_DUE_SLOTS 256
 #define NET_RATE_DOWN_MS 500
 #define NET_RATE_UP_MS 3000
 
@@ -138,6 +139,9 @@ struct net_server {
     /* net_frames_wanted: the connections' needs at the last delivery, and those asked
        for since the publisher's last call */
     atomic_uint want_standing, want_asked;
+    /* net_stream_due: per slot (a stream's id mod NET_DUE_SLOTS) the seq from which the
+       connections following its streams next take a snapshot, 0 any, at the last delivery */
+    atomic_uint due_seq[NET_DUE_SLOTS];
     atomic_ullong pool_exhausted;
     atomic_ullong pub_overflow;
     /* rate limit of the bad-input log */

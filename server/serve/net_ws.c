@@ -388,11 +388,21 @@ void net_deliver_published(net_server *s)
         }
         net_snap_unref(p); /* the publisher's reference */
     }
-    /* what the connections will need of the next snapshots (net_frames_wanted) */
+    /* what the connections will need of the next snapshots (net_frames_wanted), and from
+       which seq each view stream's followers take one (net_stream_due: UINT32_MAX none) */
     unsigned want = 0;
+    uint32_t due[NET_DUE_SLOTS];
+    memset(due, 0xff, sizeof due);
     for (net_conn *c = s->conns; c; c = c->next) {
         if (c->role == NET_ROLE_NONE || c->close_code) {
             continue;
+        }
+        /* a slow reader takes its next at queued_seq + decim (deliver_one) */
+        const bool waits = c->decim > 1 && c->queued_any && c->queued_stream == c->stream;
+        const uint32_t next = waits ? c->queued_seq + (uint32_t)c->decim : 0u;
+        uint32_t *d = &due[c->stream % NET_DUE_SLOTS];
+        if (*d != 0 && (next == 0 || *d == UINT32_MAX || (int32_t)(next - *d) < 0)) {
+            *d = next;
         }
         want |= want_of(c->stream, NET_WANT_ANY);
         if (c->decim > 1 || c->resync || c->chain == 0 || c->stream != c->last_stream) {
@@ -402,6 +412,10 @@ void net_deliver_published(net_server *s)
         }
     }
     atomic_store(&s->want_standing, want);
+    for (int k = 0; k < NET_DUE_SLOTS; k++) {
+        atomic_store_explicit(&s->due_seq[k], due[k] == UINT32_MAX ? 0u : due[k],
+                              memory_order_relaxed);
+    }
 }
 
 static int ws_write(net_server *s, net_conn *c, uint8_t *data, size_t len,

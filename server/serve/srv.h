@@ -69,6 +69,8 @@ typedef struct srv_pub_counters {
     atomic_ullong view_encode_ns; /* time spent encoding them [ns] */
     atomic_ullong view_missed;    /* snapshots the view streams skipped: the view thread was
                                      still busy with an earlier one */
+    atomic_ullong view_idle;      /* view-stream snapshots not encoded: every reader of the
+                                     stream a slow one, none due (net_stream_due) */
 } srv_pub_counters;
 
 typedef struct srv srv;

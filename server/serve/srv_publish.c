@@ -162,6 +162,9 @@ static const metric_row pub_rows[] = {
     { "gale_view_encode_seconds_total", NULL, "Time spent encoding them.", METRIC_COUNTER, 6 },
     { "gale_view_snapshots_missed_total", NULL,
       "Snapshots the view streams skipped, the view thread still busy.", METRIC_COUNTER, 0 },
+    { "gale_view_snapshots_idle_total", NULL,
+      "View-stream snapshots not encoded: every reader a slow one, none due.", METRIC_COUNTER,
+      0 },
 };
 
 static void pub_fill(void *ctx, double *v)
@@ -171,6 +174,7 @@ static void pub_fill(void *ctx, double *v)
     v[1] = (double)atomic_load(&m->view_snapshots);
     v[2] = (double)atomic_load(&m->view_encode_ns) * 1e-9;
     v[3] = (double)atomic_load(&m->view_missed);
+    v[4] = (double)atomic_load(&m->view_idle);
 }
 
 int srv_publish_register(srv *s, metric_reg *r, gale_err *err)

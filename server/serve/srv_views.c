@@ -45,6 +45,14 @@ static void encode_views(srv *s, const srv_vjob *j)
                              SRV_LOD_MODES, vs->modes);
             srv_stream_start(&vs->enc, streams[k], vs->modes, s->key_every);
         }
+        /* a stream whose every reader is a slow one, none due yet, is not encoded: each
+           snapshot such a reader takes is a keyframe, which the stream's next one is */
+        const uint32_t due = net_stream_due(s->net, streams[k]);
+        if (due && (int32_t)(j->seq - due) < 0) {
+            srv_stream_skip(&vs->enc);
+            atomic_fetch_add(&s->pubm.view_idle, 1);
+            continue;
+        }
         net_snap *q = net_snap_acquire(s->net);
         if (!q) {
             srv_stream_skip(&vs->enc); /* its connections see a gap and get a keyframe */
@@ -53,8 +61,11 @@ static void encode_views(srv *s, const srv_vjob *j)
         gale_err e;
         int rc = srv_stream_encode(&vs->enc, &j->h, j->seq, &s->wscene, &qh, j->want, q, &e);
         for (int x = 0; x < NET_SNAP_MAX_EXTRA && !rc; x++) {
-            q->extra_len[x] = j->extra_len[x];
-            memcpy(q->extra[x], j->extra[x], j->extra_len[x]);
+            /* what goes only with a keyframe (the whole damage state: after a storm on the
+               landscape 0.5 MB) is copied only into a snapshot that has one */
+            const bool key_only = (j->extra_key_only >> x & 1u) != 0;
+            q->extra_len[x] = key_only && !q->key_len ? 0 : j->extra_len[x];
+            memcpy(q->extra[x], j->extra[x], q->extra_len[x]);
         }
         q->extra_key_only = j->extra_key_only;
         if (rc) {
