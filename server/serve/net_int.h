@@ -90,6 +90,9 @@ typedef struct net_conn {
     size_t key_bytes;     /* its stream's last keyframe's bytes, with what rides only with
                              keyframes, and its last delta's (0: none seen), for the */
     size_t delta_bytes;   /* rate steps (net_rate.h) */
+    uint64_t took_bytes;  /* bytes written since took_ns (ws_write) */
+    uint64_t took_ns;     /* mono_ns the count began */
+    double take_bytes_s;  /* bytes a second it took over the last whole second, 0 unknown */
     bool queued_any;      /* queued_seq and queued_stream hold the last snapshot queued */
     uint32_t queued_seq, queued_stream;
     uint64_t rate_ns;     /* mono_ns of the last rate change */

@@ -31,14 +31,22 @@ int net_rate_floor(float key_per_delta, int hz)
     return n < hz ? n : hz;
 }
 
-int net_rate_lower(int decim, float key_per_delta, int hz)
+int net_rate_take_floor(size_t key_bytes, double take_bytes_s, int hz)
+{
+    if (!key_bytes || !(take_bytes_s > 0.0)) {
+        return 1;
+    }
+    const double n = ceil((double)key_bytes * (double)hz / take_bytes_s);
+    return n < (double)hz ? (int)n : hz;
+}
+
+int net_rate_lower(int decim, float key_per_delta, int take_floor, int hz)
 {
     int d = 2 * decim < hz ? 2 * decim : hz;
-    if (decim <= 1) {
-        const int floor_n = net_rate_floor(key_per_delta, hz);
-        d = d > floor_n ? d : floor_n;
-    }
-    return d;
+    const int floor_n = net_rate_floor(key_per_delta, hz);
+    d = d > floor_n ? d : floor_n;
+    d = d > take_floor ? d : take_floor;
+    return d < hz ? d : hz;
 }
 
 int net_rate_raise(int decim, float key_per_delta, int hz)

@@ -24,9 +24,14 @@ float net_rate_key_per_delta(size_t key_bytes, size_t delta_bytes);
  * at most hz (the snapshot rate). key_per_delta 0 (unknown): 2. */
 int net_rate_floor(float key_per_delta, int hz);
 
-/* The rate after a reader at one in decim fell behind: doubled, and from full rate at
- * least net_rate_floor; at most hz. */
-int net_rate_lower(int decim, float key_per_delta, int hz);
+/* The fewest snapshots in one that a reader which took take_bytes_s bytes a second (over
+ * the last second, while behind) can take, each a keyframe of key_bytes: n >=
+ * key_bytes * hz / take_bytes_s, rounded up; at most hz; 1 when either is unknown (0). */
+int net_rate_take_floor(size_t key_bytes, double take_bytes_s, int hz);
+
+/* The rate after a reader at one in decim fell behind: doubled, at least net_rate_floor
+ * (the ratio may have grown since) and take_floor (net_rate_take_floor), at most hz. */
+int net_rate_lower(int decim, float key_per_delta, int take_floor, int hz);
 
 /* The rate after a reader at one in decim kept up: halved, or full rate (1) where the
  * half is below net_rate_floor. */

@@ -328,21 +328,32 @@ static void deliver_one(net_server *s, net_conn *c, net_snap *p, uint64_t now)
         net_conn_close(s, c, WIRE_CLOSE_SLOW, why);
         return;
     }
-    if (c->stream != c->queued_stream || !c->queued_any) {
-        c->key_bytes = c->delta_bytes = 0; /* another stream: its sizes are not these */
-    }
+    /* (another stream's sizes, a view's after the whole scene's, stand in until its own
+       are seen: a reader that falls behind as it changes streams has a ratio at once) */
     c->key_bytes = net_rate_key_bytes(p) ? net_rate_key_bytes(p) : c->key_bytes;
     c->delta_bytes = net_rate_delta_bytes(p) ? net_rate_delta_bytes(p) : c->delta_bytes;
     const float key_per_delta = net_rate_key_per_delta(c->key_bytes, c->delta_bytes);
+    if (!c->took_ns || now - c->took_ns >= 1000000000ull) {
+        c->take_bytes_s = c->took_ns ? (double)c->took_bytes * 1e9 / (double)(now - c->took_ns)
+                                     : 0.0;
+        c->took_bytes = 0;
+        c->took_ns = now;
+    }
     const bool behind = c->decim > 1 ? waiting >= 2 : c->q.count == c->q.cap;
     if (behind) {
         c->ahead_ns = now;
         if (c->decim < s->d.snapshot_hz && now - c->rate_ns >= NET_RATE_DOWN_MS * 1000000ull) {
-            const int d = net_rate_lower(c->decim, key_per_delta, s->d.snapshot_hz);
+            const int d = net_rate_lower(c->decim, key_per_delta,
+                                         net_rate_take_floor(c->key_bytes, c->take_bytes_s,
+                                                             s->d.snapshot_hz),
+                                         s->d.snapshot_hz);
             set_rate(s, c, d, now);
             atomic_fetch_add(&s->m.decimations, 1);
-            net_conn_log(s, c, "slow reader: %.3g snapshots a second (one in %d)",
-                         (double)s->d.snapshot_hz / d, d);
+            net_conn_log(s, c,
+                         "slow reader: %.3g snapshots a second (one in %d; a keyframe %.3g "
+                         "deltas, %.0f kB; it took %.0f kB/s)",
+                         (double)s->d.snapshot_hz / d, d, (double)key_per_delta,
+                         (double)c->key_bytes * 1e-3, c->take_bytes_s * 1e-3);
         }
         if (c->decim > 1) {
             sendq_clear(&c->q); /* newest wins: what waits is older than a whole interval */
@@ -405,9 +416,12 @@ void net_deliver_published(net_server *s)
             *d = next;
         }
         want |= want_of(c->stream, NET_WANT_ANY);
-        if (c->decim > 1 || c->resync || c->chain == 0 || c->stream != c->last_stream) {
+        /* a slow reader of a view stream needs no standing keyframe: its stream is not
+           encoded until its turn (net_stream_due), so that snapshot is one */
+        if ((c->decim > 1 && !c->stream) || c->resync || c->chain == 0 ||
+            c->stream != c->last_stream) {
             want |= want_of(c->stream, NET_WANT_KEY);
-        } else if (c->chain == 1) {
+        } else if (c->chain == 1 && c->decim == 1) {
             want |= want_of(c->stream, NET_WANT_DELTA1);
         }
     }
@@ -428,6 +442,7 @@ static int ws_write(net_server *s, net_conn *c, uint8_t *data, size_t len,
     atomic_fetch_add_explicit(&s->m.bytes_sent, len, memory_order_relaxed);
     atomic_fetch_add_explicit(&s->m.frames_sent, 1, memory_order_relaxed);
     c->take_ns = mono_ns();
+    c->took_bytes += len;
     return 0;
 }
 
