@@ -282,6 +282,13 @@ void relay_views_publish(relay_views *v, net_server *net, const net_snap *p)
         if (restart) {
             srv_stream_skip(&re->enc);
         }
+        /* as the server's view thread: a stream whose readers are all slow ones, none due,
+           is not encoded, and its next snapshot is the keyframe such a reader takes */
+        const uint32_t due = net_stream_due(net, v->streams[k]);
+        if (due && (int32_t)(p->seq - due) < 0) {
+            srv_stream_skip(&re->enc);
+            continue;
+        }
         net_snap *q = net_snap_acquire(net);
         if (!q) {
             srv_stream_skip(&re->enc); /* its connections see a gap and get a keyframe */
