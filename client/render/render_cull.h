@@ -87,9 +87,9 @@ typedef struct render_lod_cost {
     float impostor;                 /* 2 */
     float nodes;                    /* skeleton nodes posed for one tree at FULL or THIN */
 } render_lod_cost;
-/* debris_hist (NULL: none): per bin, the felled trees whose root plate or stump a tree posed
+/* felled_hist (NULL: none): per bin, the felled trees whose root plate or stump a tree posed
  * there (FULL or THIN) draws besides itself, each costed at RENDER_FELLED_TRIS_MAX. */
-float render_lod_budget(const uint32_t *hist, const uint32_t *debris_hist,
+float render_lod_budget(const uint32_t *hist, const uint32_t *felled_hist,
                         const render_lod_cost *cost, uint32_t n_species, float max_scale,
                         double budget_triangles, double budget_nodes);
 

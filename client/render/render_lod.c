@@ -127,15 +127,15 @@ float render_lod_bin_near_m(uint32_t b)
 
 /* The worst case of scale sc: each bin's trees at its near edge, in both levels inside a
  * fade band (render_lod_pick's bands). */
-static void worst_case(const uint32_t *hist, const uint32_t *debris_hist,
+static void worst_case(const uint32_t *hist, const uint32_t *felled_hist,
                        const render_lod_cost *cost, uint32_t n_species, float sc, double *tris,
                        double *nodes)
 {
     const float full_m = lod_outer_m[LOD_FULL] * sc, thin_m = lod_outer_m[LOD_THIN] * sc;
     *tris = 0.0;
     *nodes = 0.0;
-    for (uint32_t b = 0; debris_hist && b < RENDER_LOD_BINS && bin_near_m(b) < thin_m; b++) {
-        *tris += (double)debris_hist[b] * (double)RENDER_FELLED_TRIS_MAX;
+    for (uint32_t b = 0; felled_hist && b < RENDER_LOD_BINS && bin_near_m(b) < thin_m; b++) {
+        *tris += (double)felled_hist[b] * (double)RENDER_FELLED_TRIS_MAX;
     }
     for (uint32_t s = 0; s < n_species; s++) {
         const render_lod_cost *c = &cost[s];
@@ -170,13 +170,13 @@ static void worst_case(const uint32_t *hist, const uint32_t *debris_hist,
     }
 }
 
-float render_lod_budget(const uint32_t *hist, const uint32_t *debris_hist,
+float render_lod_budget(const uint32_t *hist, const uint32_t *felled_hist,
                         const render_lod_cost *cost, uint32_t n_species, float max_scale,
                         double budget_triangles, double budget_nodes)
 {
     double tris, nodes;
     float sc = max_scale;
-    worst_case(hist, debris_hist, cost, n_species, sc, &tris, &nodes);
+    worst_case(hist, felled_hist, cost, n_species, sc, &tris, &nodes);
     if (tris <= budget_triangles && nodes <= budget_nodes) {
         return sc;
     }
@@ -185,7 +185,7 @@ float render_lod_budget(const uint32_t *hist, const uint32_t *debris_hist,
     float lo = 0.0f, hi = sc;
     for (int it = 0; it < 14; it++) {
         float mid = 0.5f * (lo + hi);
-        worst_case(hist, debris_hist, cost, n_species, mid, &tris, &nodes);
+        worst_case(hist, felled_hist, cost, n_species, mid, &tris, &nodes);
         if (tris <= budget_triangles && nodes <= budget_nodes) {
             lo = mid;
         } else {

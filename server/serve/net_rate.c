@@ -42,9 +42,8 @@ int net_rate_take_floor(size_t key_bytes, double take_bytes_s, int hz)
 
 int net_rate_lower(int decim, float key_per_delta, int take_floor, int hz)
 {
-    int d = 2 * decim < hz ? 2 * decim : hz;
     const int floor_n = net_rate_floor(key_per_delta, hz);
-    d = d > floor_n ? d : floor_n;
+    int d = 2 * decim > floor_n ? 2 * decim : floor_n;
     d = d > take_floor ? d : take_floor;
     return d < hz ? d : hz;
 }
